@@ -1,0 +1,1 @@
+//! Saiho `haptic-loop`: placeholder crate, filled in by its own issue.

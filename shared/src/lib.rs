@@ -1,0 +1,1 @@
+//! Saiho `shared`: placeholder crate, filled in by its own issue.

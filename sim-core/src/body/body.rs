@@ -1,0 +1,142 @@
+//! A static body: its surface, OBB tree and pseudo-normals (Bærentzen & Aanæs 2005) for a
+//! robust inside/outside sign at faces, edges and corners.
+
+use std::collections::HashMap;
+
+use glam::Vec3;
+
+use super::shapes::Analytic;
+use crate::error::GeometryError;
+use crate::obb::{BuildOptions, Feature, ObbTree};
+
+#[derive(Clone, Debug)]
+pub struct Body {
+    pub name: String,
+    pub vertices: Vec<Vec3>,
+    pub triangles: Vec<[u32; 3]>,
+    pub tree: ObbTree,
+    face_normals: Vec<Vec3>,
+    vertex_normals: Vec<Vec3>,
+    /// Per triangle, per local edge k (corner k to k+1): the sum of the two face normals.
+    edge_normals: Vec<[Vec3; 3]>,
+    /// Exact shape when the body is made of primitives; used for reporting penetration.
+    pub analytic: Option<Analytic>,
+}
+
+/// The body surface near a point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyContact {
+    pub tri: u32,
+    pub point: Vec3,
+    /// Outward unit direction from the surface toward where the point should be.
+    pub normal: Vec3,
+    /// Distance to the surface, negative inside.
+    pub signed_distance: f32,
+}
+
+impl Body {
+    /// Builds a body from an outward-wound surface.
+    pub fn new(
+        name: impl Into<String>,
+        vertices: Vec<Vec3>,
+        triangles: Vec<[u32; 3]>,
+        analytic: Option<Analytic>,
+    ) -> Result<Self, GeometryError> {
+        let tree = ObbTree::build(&vertices, &triangles, BuildOptions::default())?;
+        let mut face_normals = Vec::with_capacity(triangles.len());
+        let mut vertex_normals = vec![Vec3::ZERO; vertices.len()];
+        let mut edge_sum: HashMap<(u32, u32), Vec3> = HashMap::with_capacity(triangles.len() * 2);
+        for (t, tri) in triangles.iter().enumerate() {
+            let [a, b, c] = tri.map(|i| vertices[i as usize]);
+            let n = (b - a).cross(c - a);
+            if n.length_squared() <= 1e-30 {
+                return Err(GeometryError::Degenerate { triangle: t });
+            }
+            let n = n.normalize();
+            face_normals.push(n);
+            let p = [a, b, c];
+            for k in 0..3 {
+                let e1 = (p[(k + 1) % 3] - p[k]).normalize_or_zero();
+                let e2 = (p[(k + 2) % 3] - p[k]).normalize_or_zero();
+                let angle = e1.dot(e2).clamp(-1.0, 1.0).acos();
+                vertex_normals[tri[k] as usize] += n * angle;
+                let (i, j) = (tri[k], tri[(k + 1) % 3]);
+                *edge_sum.entry((i.min(j), i.max(j))).or_insert(Vec3::ZERO) += n;
+            }
+        }
+        let edge_normals = triangles
+            .iter()
+            .map(|tri| {
+                std::array::from_fn(|k| {
+                    let (i, j) = (tri[k], tri[(k + 1) % 3]);
+                    edge_sum.get(&(i.min(j), i.max(j))).copied().unwrap_or(Vec3::Y)
+                })
+            })
+            .collect();
+        Ok(Self {
+            name: name.into(),
+            vertices,
+            triangles,
+            tree,
+            face_normals,
+            vertex_normals,
+            edge_normals,
+            analytic,
+        })
+    }
+
+    pub fn face_normal(&self, tri: u32) -> Vec3 {
+        self.face_normals[tri as usize]
+    }
+
+    /// The nearest surface point within `max_dist`, with the side the query point is on.
+    /// `hint` is a triangle likely to be near (last frame's), or `u32::MAX`.
+    pub fn contact(&self, p: Vec3, max_dist: f32, hint: u32) -> Option<BodyContact> {
+        let hint = (hint != u32::MAX).then_some(hint);
+        let hit = self.tree.nearest_with_hint(p, max_dist, hint)?;
+        Some(self.contact_from(p, hit.tri, hit.point, hit.feature))
+    }
+
+    pub(crate) fn contact_from(&self, p: Vec3, tri: u32, point: Vec3, feature: Feature) -> BodyContact {
+        let t = tri as usize;
+        let pseudo = match feature {
+            Feature::Face => self.face_normals[t],
+            Feature::Edge(k) => self.edge_normals[t][k as usize],
+            Feature::Vertex(k) => self.vertex_normals[self.triangles[t][k as usize] as usize],
+        };
+        let d = p - point;
+        let dist = d.length();
+        let outside = d.dot(pseudo) >= 0.0;
+        let normal = if matches!(feature, Feature::Face) || dist < 1e-7 {
+            self.face_normals[t]
+        } else if outside {
+            d / dist
+        } else {
+            -d / dist
+        };
+        let normal = if normal.is_finite() { normal } else { self.face_normals[t] };
+        BodyContact { tri, point, normal, signed_distance: if outside { dist } else { -dist } }
+    }
+
+    /// Signed distance from the surface mesh (negative inside), searched up to `max_dist`;
+    /// `None` when the surface is farther.
+    pub fn signed_distance(&self, p: Vec3, max_dist: f32) -> Option<f32> {
+        self.contact(p, max_dist, u32::MAX).map(|c| c.signed_distance)
+    }
+
+    /// How deep `p` is inside the body (0 when outside): exact for primitive bodies, from
+    /// the mesh otherwise.
+    pub fn penetration(&self, p: Vec3) -> f32 {
+        match &self.analytic {
+            Some(a) => (-a.signed_distance(p)).max(0.0),
+            None => self.signed_distance(p, 1e3).map_or(0.0, |d| (-d).max(0.0)),
+        }
+    }
+
+    /// Axis-aligned bounds.
+    pub fn bounds(&self) -> (Vec3, Vec3) {
+        let mn = self.vertices.iter().fold(Vec3::splat(f32::INFINITY), |a, &p| a.min(p));
+        let mx = self.vertices.iter().fold(Vec3::splat(f32::NEG_INFINITY), |a, &p| a.max(p));
+        (mn, mx)
+    }
+}

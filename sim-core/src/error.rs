@@ -1,0 +1,63 @@
+//! Error types, one per kind of operation.
+
+use std::path::PathBuf;
+
+/// A triangle mesh that cannot be used (bad indices, NaN, degenerate or non-manifold).
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum GeometryError {
+    #[error("the mesh has no triangles")]
+    Empty,
+    #[error("vertex {vertex} has a non-finite coordinate (NaN or infinity)")]
+    NonFinite { vertex: usize },
+    #[error("triangle {triangle} refers to a vertex past the end of the {vertices} vertices")]
+    IndexOutOfRange { triangle: usize, vertices: usize },
+    #[error("triangle {triangle} is degenerate (repeated vertex or zero area)")]
+    Degenerate { triangle: usize },
+    #[error("edge ({a}, {b}) is shared by {count} triangles; a cloth must be manifold (at most 2)")]
+    NonManifoldEdge { a: u32, b: u32, count: usize },
+    #[error("UV {vertex} is not finite")]
+    BadUv { vertex: usize },
+    #[error("the mesh has {vertices} vertices, more than the supported {max}")]
+    TooLarge { vertices: usize, max: usize },
+}
+
+/// Failure to read a mesh file.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    #[error("cannot read {path}: {source}")]
+    Io { path: PathBuf, source: std::io::Error },
+    #[error("{path} is not a readable OBJ file: {reason}")]
+    Parse { path: PathBuf, reason: String },
+    #[error("{path}: {source}")]
+    Invalid { path: PathBuf, source: GeometryError },
+}
+
+/// A setting that is out of range.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum ConfigError {
+    #[error("{name} must be {rule}, got {value}")]
+    OutOfRange { name: &'static str, rule: &'static str, value: String },
+    #[error(
+        "the seed model is unstable at a step of {step_s:.3e} s: its stable bound is {bound_s:.3e} s \
+         (stiffness {stiffness} N/m, unit masses); use at least {needed} substeps per frame or omit --substeps"
+    )]
+    UnstableStep { step_s: f64, bound_s: f64, stiffness: f32, needed: usize },
+    #[error("unknown {what} '{name}' (expected one of: {expected})")]
+    Unknown { what: &'static str, name: String, expected: &'static str },
+}
+
+pub(crate) fn check_positive(name: &'static str, value: f32) -> Result<(), ConfigError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(ConfigError::OutOfRange { name, rule: "a positive finite number", value: value.to_string() })
+    }
+}
+
+pub(crate) fn check_non_negative(name: &'static str, value: f32) -> Result<(), ConfigError> {
+    if value.is_finite() && value >= 0.0 {
+        Ok(())
+    } else {
+        Err(ConfigError::OutOfRange { name, rule: "a finite number >= 0", value: value.to_string() })
+    }
+}

@@ -1,0 +1,167 @@
+//! OBJ input (through `tobj`, then validated) and output (written here: positions, UVs,
+//! normals, faces, and an optional material library).
+
+use std::io::Write;
+use std::path::Path;
+
+use glam::{Vec2, Vec3};
+
+use super::cloth_mesh::ClothMesh;
+use crate::error::LoadError;
+
+/// Loads every object of an OBJ file into one mesh. Missing UVs become a planar projection
+/// onto the mesh's two widest axes. The result is validated (finite, in range, no
+/// degenerate triangle, manifold).
+pub fn load_obj(path: &Path) -> Result<ClothMesh, LoadError> {
+    let opts = tobj::LoadOptions { single_index: true, triangulate: true, ignore_points: true, ignore_lines: true };
+    let (models, _materials) = tobj::load_obj(path, &opts).map_err(|e| match e {
+        tobj::LoadError::OpenFileFailed | tobj::LoadError::ReadError => LoadError::Io {
+            path: path.to_owned(),
+            source: std::fs::metadata(path).err().unwrap_or_else(|| std::io::Error::other(e.to_string())),
+        },
+        other => LoadError::Parse { path: path.to_owned(), reason: other.to_string() },
+    })?;
+    let mut mesh = ClothMesh { positions: Vec::new(), uvs: Vec::new(), triangles: Vec::new() };
+    let mut has_uvs = true;
+    for model in &models {
+        let m = &model.mesh;
+        let base = mesh.positions.len() as u32;
+        let nv = m.positions.len() / 3;
+        if m.positions.len() % 3 != 0 || m.indices.len() % 3 != 0 {
+            return Err(LoadError::Parse { path: path.to_owned(), reason: "malformed vertex or face data".into() });
+        }
+        mesh.positions.extend(m.positions.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])));
+        if m.texcoords.len() == nv * 2 {
+            mesh.uvs.extend(m.texcoords.chunks_exact(2).map(|c| Vec2::new(c[0], c[1])));
+        } else {
+            has_uvs = false;
+            mesh.uvs.extend(std::iter::repeat_n(Vec2::ZERO, nv));
+        }
+        for f in m.indices.chunks_exact(3) {
+            mesh.triangles.push([base + f[0], base + f[1], base + f[2]]);
+        }
+    }
+    if !has_uvs {
+        planar_uvs(&mut mesh);
+    }
+    mesh.validate().map_err(|source| LoadError::Invalid { path: path.to_owned(), source })?;
+    Ok(mesh)
+}
+
+/// Projects positions onto the two axes with the largest extent, normalised to [0, 1].
+fn planar_uvs(mesh: &mut ClothMesh) {
+    let mn = mesh.positions.iter().fold(Vec3::splat(f32::INFINITY), |a, &p| a.min(p));
+    let mx = mesh.positions.iter().fold(Vec3::splat(f32::NEG_INFINITY), |a, &p| a.max(p));
+    let ext = mx - mn;
+    let mut axes = [0usize, 1, 2];
+    axes.sort_by(|&a, &b| ext[b].total_cmp(&ext[a]));
+    for (uv, p) in mesh.uvs.iter_mut().zip(&mesh.positions) {
+        let u = (p[axes[0]] - mn[axes[0]]) / ext[axes[0]].max(1e-9);
+        let v = (p[axes[1]] - mn[axes[1]]) / ext[axes[1]].max(1e-9);
+        *uv = Vec2::new(u, v);
+    }
+}
+
+/// Area-weighted vertex normals.
+pub fn vertex_normals(positions: &[Vec3], triangles: &[[u32; 3]]) -> Vec<Vec3> {
+    let mut n = vec![Vec3::ZERO; positions.len()];
+    for t in triangles {
+        let [a, b, c] = t.map(|i| positions[i as usize]);
+        let fnrm = (b - a).cross(c - a);
+        for &i in t {
+            n[i as usize] += fnrm;
+        }
+    }
+    for v in &mut n {
+        *v = v.normalize_or(Vec3::Y);
+    }
+    n
+}
+
+/// Writes an OBJ with positions, optional UVs, normals and faces. `mtl` names a material
+/// library and material to reference (written separately).
+pub fn write_obj(
+    path: &Path,
+    name: &str,
+    positions: &[Vec3],
+    uvs: Option<&[Vec2]>,
+    triangles: &[[u32; 3]],
+    mtl: Option<(&str, &str)>,
+) -> std::io::Result<()> {
+    let normals = vertex_normals(positions, triangles);
+    let mut w = std::io::BufWriter::new(std::fs::File::create(path)?);
+    writeln!(w, "# Saiho cloth-sim export: metres, Y up")?;
+    if let Some((lib, _)) = mtl {
+        writeln!(w, "mtllib {lib}")?;
+    }
+    writeln!(w, "o {name}")?;
+    for p in positions {
+        writeln!(w, "v {} {} {}", p.x, p.y, p.z)?;
+    }
+    if let Some(uvs) = uvs {
+        for t in uvs {
+            writeln!(w, "vt {} {}", t.x, t.y)?;
+        }
+    }
+    for n in &normals {
+        writeln!(w, "vn {} {} {}", n.x, n.y, n.z)?;
+    }
+    if let Some((_, mat)) = mtl {
+        writeln!(w, "usemtl {mat}")?;
+    }
+    for t in triangles {
+        let [a, b, c] = t.map(|i| i + 1);
+        if uvs.is_some() {
+            writeln!(w, "f {a}/{a}/{a} {b}/{b}/{b} {c}/{c}/{c}")?;
+        } else {
+            writeln!(w, "f {a}//{a} {b}//{b} {c}//{c}")?;
+        }
+    }
+    w.flush()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tmp(name: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("saiho-obj-{}-{name}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        dir.join(name)
+    }
+
+    #[test]
+    fn round_trip_keeps_geometry_and_uvs() {
+        let m = ClothMesh::grid(1.0, 0.5, 4, 3, 0.2).unwrap();
+        let p = tmp("rt.obj");
+        write_obj(&p, "cloth", &m.positions, Some(&m.uvs), &m.triangles, None).unwrap();
+        let back = load_obj(&p).unwrap();
+        // tobj renumbers vertices by first use, so compare triangle by triangle.
+        assert_eq!(back.triangles.len(), m.triangles.len());
+        for (ta, tb) in back.triangles.iter().zip(&m.triangles) {
+            for k in 0..3 {
+                let (a, b) = (ta[k] as usize, tb[k] as usize);
+                assert!((back.positions[a] - m.positions[b]).length() < 1e-6);
+                assert!((back.uvs[a] - m.uvs[b]).length() < 1e-6);
+            }
+        }
+    }
+
+    #[test]
+    fn bad_files_give_clear_errors() {
+        let p = tmp("nan.obj");
+        std::fs::write(&p, "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n").unwrap();
+        let e = load_obj(&p).unwrap_err();
+        assert!(e.to_string().contains("non-finite"), "{e}");
+        let p = tmp("degen.obj");
+        std::fs::write(&p, "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n").unwrap();
+        assert!(load_obj(&p).unwrap_err().to_string().contains("degenerate"));
+        let p = tmp("nonmanifold.obj");
+        std::fs::write(&p, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n").unwrap();
+        assert!(load_obj(&p).unwrap_err().to_string().contains("shared by 3"));
+        let p = tmp("range.obj");
+        std::fs::write(&p, "v 0 0 0\nv 1 0 0\nf 1 2 7\n").unwrap();
+        assert!(load_obj(&p).is_err());
+        assert!(matches!(load_obj(Path::new("/nonexistent/x.obj")), Err(LoadError::Io { .. })));
+    }
+}

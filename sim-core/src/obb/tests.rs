@@ -1,0 +1,144 @@
+//! Property tests: every query equals a brute-force answer on random meshes and points.
+
+use glam::{Mat3, Quat, Vec3};
+use proptest::prelude::*;
+
+use super::geometry::{Obb, closest_point_on_triangle, ray_triangle};
+use super::tree::{BuildOptions, ObbTree};
+
+fn vec3(r: f32) -> impl Strategy<Value = Vec3> {
+    (-r..r, -r..r, -r..r).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
+/// A random triangle soup: `n` triangles with corners near random centres, so the tree
+/// sees clusters, slivers and overlaps.
+fn soup() -> impl Strategy<Value = (Vec<Vec3>, Vec<[u32; 3]>)> {
+    prop::collection::vec((vec3(1.0), vec3(0.2), vec3(0.2), vec3(0.2)), 1..120).prop_map(|tris| {
+        let mut v = Vec::new();
+        let mut idx = Vec::new();
+        for (c, a, b, d) in tris {
+            let base = v.len() as u32;
+            v.extend([c + a, c + b, c + d]);
+            idx.push([base, base + 1, base + 2]);
+        }
+        (v, idx)
+    })
+}
+
+fn brute_nearest(v: &[Vec3], idx: &[[u32; 3]], p: Vec3) -> f32 {
+    idx.iter()
+        .map(|t| {
+            let (q, _) = closest_point_on_triangle(p, v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]);
+            (q - p).length()
+        })
+        .fold(f32::INFINITY, f32::min)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    #[test]
+    fn tree_is_valid((v, idx) in soup(), leaf in 1usize..6) {
+        let tree = ObbTree::build(&v, &idx, BuildOptions { max_leaf_triangles: leaf }).unwrap();
+        prop_assert_eq!(tree.validate(), Ok(()));
+        prop_assert_eq!(tree.triangle_count(), idx.len());
+    }
+
+    #[test]
+    fn nearest_equals_brute_force((v, idx) in soup(), pts in prop::collection::vec(vec3(1.5), 1..20), max_d in 0.05f32..3.0) {
+        let tree = ObbTree::build(&v, &idx, BuildOptions::default()).unwrap();
+        for p in pts {
+            let want = brute_nearest(&v, &idx, p);
+            match tree.nearest(p, max_d) {
+                Some(hit) => {
+                    prop_assert!((hit.distance - want).abs() <= 1e-5 * (1.0 + want), "tree {} brute {}", hit.distance, want);
+                    prop_assert!(hit.distance <= max_d * (1.0 + 1e-6));
+                    let t = idx[hit.tri as usize];
+                    let (q, _) = closest_point_on_triangle(p, v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]);
+                    prop_assert!((q - hit.point).length() <= 1e-5);
+                }
+                None => prop_assert!(want > max_d * (1.0 - 1e-6), "missed a triangle at {} within {}", want, max_d),
+            }
+            // A hint never changes the answer.
+            let hinted = tree.nearest_with_hint(p, max_d, Some((idx.len() as u32) / 2));
+            prop_assert_eq!(hinted.map(|h| (h.distance * 1e4).round()), tree.nearest(p, max_d).map(|h| (h.distance * 1e4).round()));
+        }
+    }
+
+    #[test]
+    fn ray_equals_brute_force((v, idx) in soup(), o in vec3(2.0), d in vec3(1.0)) {
+        prop_assume!(d.length() > 1e-3);
+        let tree = ObbTree::build(&v, &idx, BuildOptions::default()).unwrap();
+        let want = idx.iter().filter_map(|t| ray_triangle(o, d, v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]))
+            .fold(f32::INFINITY, f32::min);
+        match tree.ray_cast(o, d, 100.0) {
+            Some(hit) => prop_assert!((hit.t - want).abs() <= 1e-4 * (1.0 + want), "tree {} brute {}", hit.t, want),
+            None => prop_assert!(want > 100.0, "missed a hit at t = {}", want),
+        }
+    }
+
+    #[test]
+    fn box_overlap_equals_brute_force((v, idx) in soup(), c in vec3(1.0), h in vec3(0.6), axis in vec3(1.0), angle in 0.0f32..3.0) {
+        prop_assume!(axis.length() > 1e-3);
+        let tree = ObbTree::build(&v, &idx, BuildOptions::default()).unwrap();
+        let q = Obb { center: c, axes: Mat3::from_quat(Quat::from_axis_angle(axis.normalize(), angle)), half: h.abs() + Vec3::splat(0.01) };
+        let mut got = Vec::new();
+        tree.overlap_box(&q, &mut got);
+        got.sort_unstable();
+        let want: Vec<u32> = (0..idx.len() as u32)
+            .filter(|&t| { let t = idx[t as usize]; q.overlaps_triangle(v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]) })
+            .collect();
+        prop_assert_eq!(got, want);
+    }
+
+    #[test]
+    fn refit_matches_rebuild_answers((v, idx) in soup(), shift in vec3(0.3), p in vec3(1.5)) {
+        let mut tree = ObbTree::build(&v, &idx, BuildOptions::default()).unwrap();
+        let moved: Vec<Vec3> = v.iter().enumerate().map(|(i, x)| *x + shift * ((i % 7) as f32 / 7.0)).collect();
+        tree.refit(&moved).unwrap();
+        prop_assert_eq!(tree.validate(), Ok(()));
+        let want = brute_nearest(&moved, &idx, p);
+        let got = tree.nearest(p, 10.0).map(|h| h.distance).unwrap_or(f32::INFINITY);
+        prop_assert!((got - want).abs() <= 1e-5 * (1.0 + want));
+    }
+}
+
+#[test]
+fn box_query_uses_the_triangle_test_not_just_boxes() {
+    // One triangle whose leaf box overlaps the query box but whose plane does not.
+    let v = vec![Vec3::new(2.5, 0.0, 0.0), Vec3::new(0.0, 2.5, 0.0), Vec3::new(2.5, 0.0, 5.0)];
+    let tree = ObbTree::build(&v, &[[0, 1, 2]], BuildOptions::default()).unwrap();
+    let mut out = Vec::new();
+    tree.overlap_box(&Obb::aabb(Vec3::splat(-1.0), Vec3::splat(1.0)), &mut out);
+    assert!(out.is_empty());
+}
+
+#[test]
+fn bad_meshes_are_rejected() {
+    assert!(ObbTree::build(&[Vec3::ZERO], &[], BuildOptions::default()).is_err());
+    assert!(ObbTree::build(&[Vec3::ZERO, Vec3::X], &[[0, 1, 2]], BuildOptions::default()).is_err());
+    assert!(ObbTree::build(&[Vec3::ZERO, Vec3::X, Vec3::NAN], &[[0, 1, 2]], BuildOptions::default()).is_err());
+}
+
+#[test]
+fn depth_is_logarithmic_on_a_big_grid() {
+    let n = 100;
+    let mut v = Vec::new();
+    let mut idx = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            v.push(Vec3::new(i as f32, (i as f32 * 0.3).sin(), j as f32));
+        }
+    }
+    for j in 0..n {
+        for i in 0..n {
+            let a = (j * (n + 1) + i) as u32;
+            idx.push([a, a + 1, a + n as u32 + 1]);
+            idx.push([a + 1, a + n as u32 + 2, a + n as u32 + 1]);
+        }
+    }
+    let tree = ObbTree::build(&v, &idx, BuildOptions::default()).unwrap();
+    tree.validate().unwrap();
+    // 20k triangles in leaves of <= 4: a balanced tree is ~13 deep.
+    assert!(tree.depth() <= 20, "depth {}", tree.depth());
+}

@@ -1,0 +1,1 @@
+//! Saiho `tests`: placeholder crate, filled in by its own issue.

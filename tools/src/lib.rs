@@ -1,0 +1,1 @@
+//! Saiho `tools`: placeholder crate, filled in by its own issue.

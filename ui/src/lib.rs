@@ -1,0 +1,1 @@
+//! Saiho `ui`: placeholder crate, filled in by its own issue.
