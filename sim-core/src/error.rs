@@ -25,32 +25,55 @@ pub enum GeometryError {
 #[derive(Debug, thiserror::Error)]
 pub enum LoadError {
     #[error("cannot read {path}: {source}")]
-    Io { path: PathBuf, source: std::io::Error },
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
     #[error("{path} is not a readable OBJ file: {reason}")]
     Parse { path: PathBuf, reason: String },
     #[error("{path}: {source}")]
-    Invalid { path: PathBuf, source: GeometryError },
+    Invalid {
+        path: PathBuf,
+        source: GeometryError,
+    },
 }
 
 /// A setting that is out of range.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum ConfigError {
     #[error("{name} must be {rule}, got {value}")]
-    OutOfRange { name: &'static str, rule: &'static str, value: String },
+    OutOfRange {
+        name: &'static str,
+        rule: &'static str,
+        value: String,
+    },
     #[error(
         "the seed model is unstable at a step of {step_s:.3e} s: its stable bound is {bound_s:.3e} s \
          (stiffness {stiffness} N/m, unit masses); use at least {needed} substeps per frame or omit --substeps"
     )]
-    UnstableStep { step_s: f64, bound_s: f64, stiffness: f32, needed: usize },
+    UnstableStep {
+        step_s: f64,
+        bound_s: f64,
+        stiffness: f32,
+        needed: usize,
+    },
     #[error("unknown {what} '{name}' (expected one of: {expected})")]
-    Unknown { what: &'static str, name: String, expected: &'static str },
+    Unknown {
+        what: &'static str,
+        name: String,
+        expected: &'static str,
+    },
 }
 
 pub(crate) fn check_positive(name: &'static str, value: f32) -> Result<(), ConfigError> {
     if value.is_finite() && value > 0.0 {
         Ok(())
     } else {
-        Err(ConfigError::OutOfRange { name, rule: "a positive finite number", value: value.to_string() })
+        Err(ConfigError::OutOfRange {
+            name,
+            rule: "a positive finite number",
+            value: value.to_string(),
+        })
     }
 }
 
@@ -58,6 +81,10 @@ pub(crate) fn check_non_negative(name: &'static str, value: f32) -> Result<(), C
     if value.is_finite() && value >= 0.0 {
         Ok(())
     } else {
-        Err(ConfigError::OutOfRange { name, rule: "a finite number >= 0", value: value.to_string() })
+        Err(ConfigError::OutOfRange {
+            name,
+            rule: "a finite number >= 0",
+            value: value.to_string(),
+        })
     }
 }

@@ -8,3 +8,4 @@ pub mod cloth;
 pub mod error;
 pub mod mesh;
 pub mod obb;
+pub mod scenario;

@@ -1,1 +1,221 @@
-fn main(){}
+//! `cloth-sim`: the cloth simulation process. Today it runs headless scenarios; the
+//! `run` subcommand (the live service) arrives with the processes issue.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+use sim_core::body::BodyKind;
+use sim_core::cloth::{Material, ModelKind};
+use sim_core::scenario::{ScenarioConfig, ScenarioName, max_realtime_grid, run_scenario};
+
+#[derive(Parser)]
+#[command(
+    name = "cloth-sim",
+    version,
+    about = "Saiho cloth simulation: headless scenarios and measurements"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scenario headless; writes DIR/report.json, DIR/cloth.obj and DIR/body.obj.
+    Scenario(ScenarioArgs),
+    /// Find the largest cloth grid a model steps in real time (drape-cube, 60 Hz frames).
+    MaxRealtimeGrid {
+        /// Cloth model.
+        #[arg(long, value_parser = parse_model, default_value = "xpbd")]
+        model: ModelKind,
+        /// Frames measured per grid size.
+        #[arg(long, default_value_t = 60)]
+        frames: u64,
+        /// Also write the results as JSON here.
+        #[arg(long)]
+        json: Option<PathBuf>,
+    },
+}
+
+#[derive(Args)]
+struct ScenarioArgs {
+    /// Scenario: drape-cube (the paper's experiment) or drape-mannequin.
+    #[arg(value_parser = parse_scenario)]
+    name: ScenarioName,
+    /// Output directory (created if missing).
+    #[arg(long)]
+    out: PathBuf,
+    /// Cells per side of the square cloth: N x N cells, (N+1)^2 vertices.
+    #[arg(long, default_value_t = 64)]
+    grid: usize,
+    /// Cloth model: xpbd (default), seed (the paper's mass-spring) or implicit (reference).
+    #[arg(long, value_parser = parse_model, default_value = "xpbd")]
+    model: ModelKind,
+    /// Frames of 1/60 s to simulate.
+    #[arg(long, default_value_t = 600)]
+    frames: u64,
+    /// Body: cube, sphere, mannequin or a path to an .obj (metres, Y up, closed, outward
+    /// winding). Default: the scenario's own.
+    #[arg(long, value_parser = parse_body)]
+    body: Option<BodyKind>,
+    /// Substeps per frame (default: 6 for xpbd, 1 for implicit, the stable count for seed).
+    #[arg(long)]
+    substeps: Option<usize>,
+    /// Side of the square cloth, m.
+    #[arg(long, default_value_t = 1.0)]
+    cloth_size: f32,
+    #[command(flatten)]
+    material: MaterialArgs,
+    /// No progress lines on stderr.
+    #[arg(long)]
+    quiet: bool,
+}
+
+#[derive(Args)]
+struct MaterialArgs {
+    /// Areal density, kg/m^2.
+    #[arg(long, default_value_t = Material::default().density, allow_negative_numbers = true)]
+    density: f32,
+    /// Stretch modulus (warp and weft), N/m.
+    #[arg(long, default_value_t = Material::default().stretch, allow_negative_numbers = true)]
+    stretch: f32,
+    /// Shear modulus, N/m.
+    #[arg(long, default_value_t = Material::default().shear, allow_negative_numbers = true)]
+    shear: f32,
+    /// Bending rigidity, N m.
+    #[arg(long, default_value_t = Material::default().bending, allow_negative_numbers = true)]
+    bending: f32,
+    /// Velocity damping, 1/s.
+    #[arg(long, default_value_t = Material::default().damping, allow_negative_numbers = true)]
+    damping: f32,
+    /// Air drag on normal velocity, kg/(m^2 s).
+    #[arg(long, default_value_t = Material::default().drag, allow_negative_numbers = true)]
+    drag: f32,
+    /// Friction coefficient against bodies and the floor.
+    #[arg(long, default_value_t = Material::default().friction, allow_negative_numbers = true)]
+    friction: f32,
+    /// Contact thickness, m.
+    #[arg(long, default_value_t = Material::default().thickness, allow_negative_numbers = true)]
+    thickness: f32,
+    /// Seed model spring constant k, N/m (unit masses).
+    #[arg(long, default_value_t = Material::default().seed_stiffness, allow_negative_numbers = true)]
+    seed_stiffness: f32,
+}
+
+impl MaterialArgs {
+    fn material(&self) -> Material {
+        Material {
+            density: self.density,
+            stretch: self.stretch,
+            shear: self.shear,
+            bending: self.bending,
+            damping: self.damping,
+            drag: self.drag,
+            friction: self.friction,
+            thickness: self.thickness,
+            seed_stiffness: self.seed_stiffness,
+        }
+    }
+}
+
+fn parse_model(s: &str) -> Result<ModelKind, String> {
+    ModelKind::parse(s).map_err(|e| e.to_string())
+}
+fn parse_body(s: &str) -> Result<BodyKind, String> {
+    BodyKind::parse(s).map_err(|e| e.to_string())
+}
+fn parse_scenario(s: &str) -> Result<ScenarioName, String> {
+    ScenarioName::parse(s).map_err(|e| e.to_string())
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Scenario(a) => scenario(a),
+        Command::MaxRealtimeGrid {
+            model,
+            frames,
+            json,
+        } => realtime(model, frames, json),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>> {
+    let mut cfg = ScenarioConfig::new(a.name);
+    cfg.grid = a.grid;
+    cfg.model = a.model;
+    cfg.frames = a.frames;
+    if let Some(b) = a.body {
+        cfg.body = b;
+    }
+    cfg.substeps = a.substeps;
+    cfg.cloth_size = a.cloth_size;
+    cfg.material = a.material.material();
+    cfg.progress = !a.quiet;
+    let r = run_scenario(&cfg, &a.out)?;
+    eprintln!(
+        "{}: {} model, {} vertices, {} frames x {} substeps: frame p50 {:.2} ms p99 {:.2} ms; \
+         max penetration {:.2e} m; final kinetic energy {:.2e} J; settled {}; mesh valid {}",
+        r.scenario,
+        r.model,
+        r.vertices,
+        r.frames,
+        r.substeps,
+        r.step_ms.p50,
+        r.step_ms.p99,
+        r.max_penetration_m,
+        r.kinetic_energy_final_j,
+        r.settled,
+        r.mesh_valid
+    );
+    eprintln!("wrote {}", a.out.join("report.json").display());
+    Ok(())
+}
+
+fn realtime(
+    model: ModelKind,
+    frames: u64,
+    json: Option<PathBuf>,
+) -> Result<(), Box<dyn std::error::Error>> {
+    if frames < 4 {
+        return Err("--frames must be at least 4".into());
+    }
+    let tried = max_realtime_grid(model, frames, |grid, p50, sub| {
+        eprintln!(
+            "{}: grid {grid} ({} vertices), {sub} substeps: frame p50 {p50:.2} ms",
+            model.name(),
+            (grid + 1) * (grid + 1)
+        );
+    })?;
+    let best = tried
+        .iter()
+        .filter(|(_, ms)| *ms <= 1e3 / 60.0)
+        .map(|(g, _)| *g)
+        .max();
+    match best {
+        Some(g) => println!(
+            "{}: largest real-time grid {g} x {g} ({} vertices)",
+            model.name(),
+            (g + 1) * (g + 1)
+        ),
+        None => println!("{}: no grid size keeps real time", model.name()),
+    }
+    if let Some(path) = json {
+        let v = serde_json::json!({
+            "model": model.name(),
+            "frame_dt_s": 1.0 / 60.0,
+            "largest_realtime_grid": best,
+            "tried": tried.iter().map(|(g, ms)| serde_json::json!({"grid": g, "vertices": (g + 1) * (g + 1), "frame_p50_ms": ms})).collect::<Vec<_>>(),
+        });
+        std::fs::write(&path, serde_json::to_string_pretty(&v)? + "\n")?;
+    }
+    Ok(())
+}

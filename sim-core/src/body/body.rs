@@ -69,7 +69,10 @@ impl Body {
             .map(|tri| {
                 std::array::from_fn(|k| {
                     let (i, j) = (tri[k], tri[(k + 1) % 3]);
-                    edge_sum.get(&(i.min(j), i.max(j))).copied().unwrap_or(Vec3::Y)
+                    edge_sum
+                        .get(&(i.min(j), i.max(j)))
+                        .copied()
+                        .unwrap_or(Vec3::Y)
                 })
             })
             .collect();
@@ -97,7 +100,13 @@ impl Body {
         Some(self.contact_from(p, hit.tri, hit.point, hit.feature))
     }
 
-    pub(crate) fn contact_from(&self, p: Vec3, tri: u32, point: Vec3, feature: Feature) -> BodyContact {
+    pub(crate) fn contact_from(
+        &self,
+        p: Vec3,
+        tri: u32,
+        point: Vec3,
+        feature: Feature,
+    ) -> BodyContact {
         let t = tri as usize;
         let pseudo = match feature {
             Feature::Face => self.face_normals[t],
@@ -114,14 +123,24 @@ impl Body {
         } else {
             -d / dist
         };
-        let normal = if normal.is_finite() { normal } else { self.face_normals[t] };
-        BodyContact { tri, point, normal, signed_distance: if outside { dist } else { -dist } }
+        let normal = if normal.is_finite() {
+            normal
+        } else {
+            self.face_normals[t]
+        };
+        BodyContact {
+            tri,
+            point,
+            normal,
+            signed_distance: if outside { dist } else { -dist },
+        }
     }
 
     /// Signed distance from the surface mesh (negative inside), searched up to `max_dist`;
     /// `None` when the surface is farther.
     pub fn signed_distance(&self, p: Vec3, max_dist: f32) -> Option<f32> {
-        self.contact(p, max_dist, u32::MAX).map(|c| c.signed_distance)
+        self.contact(p, max_dist, u32::MAX)
+            .map(|c| c.signed_distance)
     }
 
     /// How deep `p` is inside the body (0 when outside): exact for primitive bodies, from
@@ -135,8 +154,14 @@ impl Body {
 
     /// Axis-aligned bounds.
     pub fn bounds(&self) -> (Vec3, Vec3) {
-        let mn = self.vertices.iter().fold(Vec3::splat(f32::INFINITY), |a, &p| a.min(p));
-        let mx = self.vertices.iter().fold(Vec3::splat(f32::NEG_INFINITY), |a, &p| a.max(p));
+        let mn = self
+            .vertices
+            .iter()
+            .fold(Vec3::splat(f32::INFINITY), |a, &p| a.min(p));
+        let mx = self
+            .vertices
+            .iter()
+            .fold(Vec3::splat(f32::NEG_INFINITY), |a, &p| a.max(p));
         (mn, mx)
     }
 }

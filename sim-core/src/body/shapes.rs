@@ -4,7 +4,7 @@
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
-use glam::{Mat3, Quat, Vec3};
+use glam::Vec3;
 
 use super::body::Body;
 use crate::error::{ConfigError, GeometryError, LoadError};
@@ -48,7 +48,10 @@ impl BodyKind {
     }
 
     pub fn build(&self) -> Result<Body, LoadError> {
-        let internal = |e: GeometryError| LoadError::Invalid { path: PathBuf::from(self.name()), source: e };
+        let internal = |e: GeometryError| LoadError::Invalid {
+            path: PathBuf::from(self.name()),
+            source: e,
+        };
         match self {
             Self::Cube => cube(Vec3::new(0.0, 0.2, 0.0), 0.2, 8).map_err(internal),
             Self::Sphere => sphere(Vec3::new(0.0, 0.3, 0.0), 0.3, 4).map_err(internal),
@@ -95,7 +98,10 @@ pub struct Analytic {
 
 impl Analytic {
     pub fn signed_distance(&self, p: Vec3) -> f32 {
-        self.parts.iter().map(|s| s.signed_distance(p)).fold(f32::INFINITY, f32::min)
+        self.parts
+            .iter()
+            .map(|s| s.signed_distance(p))
+            .fold(f32::INFINITY, f32::min)
     }
 }
 
@@ -106,7 +112,11 @@ fn weld(vertices: &[Vec3], triangles: &[[u32; 3]], eps: f32) -> (Vec<Vec3>, Vec<
     let remap: Vec<u32> = vertices
         .iter()
         .map(|p| {
-            let key = [(p.x / eps).round() as i64, (p.y / eps).round() as i64, (p.z / eps).round() as i64];
+            let key = [
+                (p.x / eps).round() as i64,
+                (p.y / eps).round() as i64,
+                (p.z / eps).round() as i64,
+            ];
             *map.entry(key).or_insert_with(|| {
                 out.push(*p);
                 (out.len() - 1) as u32
@@ -150,14 +160,34 @@ pub fn cube(center: Vec3, half: f32, n: usize) -> Result<Body, GeometryError> {
         }
     }
     let (v, t) = weld(&v, &t, half * 1e-4);
-    Body::new("cube", v, t, Some(Analytic { parts: vec![Primitive::Box { center, half: Vec3::splat(half) }] }))
+    Body::new(
+        "cube",
+        v,
+        t,
+        Some(Analytic {
+            parts: vec![Primitive::Box {
+                center,
+                half: Vec3::splat(half),
+            }],
+        }),
+    )
 }
 
 /// An icosphere (`subdiv` 4 gives 5,120 triangles).
 pub fn sphere(center: Vec3, radius: f32, subdiv: usize) -> Result<Body, GeometryError> {
     let (v, t) = icosphere(subdiv);
     let v = v.into_iter().map(|p| center + p * radius).collect();
-    Body::new("sphere", v, t, Some(Analytic { parts: vec![Primitive::Ellipsoid { center, radii: Vec3::splat(radius) }] }))
+    Body::new(
+        "sphere",
+        v,
+        t,
+        Some(Analytic {
+            parts: vec![Primitive::Ellipsoid {
+                center,
+                radii: Vec3::splat(radius),
+            }],
+        }),
+    )
 }
 
 fn icosphere(subdiv: usize) -> (Vec<Vec3>, Vec<[u32; 3]>) {
@@ -221,82 +251,26 @@ fn icosphere(subdiv: usize) -> (Vec<Vec3>, Vec<[u32; 3]>) {
     (v, t)
 }
 
-/// Revolves a profile `(radius, height)` from bottom pole to top pole around +Y.
-fn revolve(profile: &[(f32, f32)], segments: usize) -> (Vec<Vec3>, Vec<[u32; 3]>) {
-    let mut v = vec![Vec3::new(0.0, profile[0].1, 0.0)];
-    let rings = &profile[1..profile.len() - 1];
-    for &(r, y) in rings {
-        for s in 0..segments {
-            let a = s as f32 / segments as f32 * std::f32::consts::TAU;
-            v.push(Vec3::new(r * a.cos(), y, -r * a.sin()));
-        }
-    }
-    let top = v.len() as u32;
-    v.push(Vec3::new(0.0, profile[profile.len() - 1].1, 0.0));
-    let seg = segments as u32;
-    let ring = |k: usize, s: u32| 1 + k as u32 * seg + s % seg;
-    let mut t = Vec::new();
-    for s in 0..seg {
-        t.push([0, ring(0, s + 1), ring(0, s)]);
-    }
-    for k in 0..rings.len() - 1 {
-        for s in 0..seg {
-            let (a, b, c, d) = (ring(k, s), ring(k, s + 1), ring(k + 1, s), ring(k + 1, s + 1));
-            t.push([a, b, d]);
-            t.push([a, d, c]);
-        }
-    }
-    let last = rings.len() - 1;
-    for s in 0..seg {
-        t.push([top, ring(last, s), ring(last, s + 1)]);
-    }
-    (v, t)
-}
-
-fn primitive_mesh(p: &Primitive, segments: usize, rings: usize) -> (Vec<Vec3>, Vec<[u32; 3]>) {
-    let half_pi = std::f32::consts::FRAC_PI_2;
-    match *p {
-        Primitive::Ellipsoid { center, radii } => {
-            let profile: Vec<(f32, f32)> = (0..=rings)
-                .map(|k| {
-                    let th = -half_pi + std::f32::consts::PI * k as f32 / rings as f32;
-                    (th.cos().max(0.0), th.sin())
-                })
-                .collect();
-            let (v, t) = revolve(&profile, segments);
-            (v.into_iter().map(|q| center + q * radii).collect(), t)
-        }
-        Primitive::Capsule { a, b, radius } => {
-            let len = (b - a).length();
-            let half = rings / 2;
-            let mut profile = Vec::new();
-            for k in 0..=half {
-                let th = -half_pi + half_pi * k as f32 / half as f32;
-                profile.push((radius * th.cos().max(0.0), radius * th.sin()));
-            }
-            for k in 0..=half {
-                let th = half_pi * k as f32 / half as f32;
-                profile.push((radius * th.cos().max(0.0), len + radius * th.sin()));
-            }
-            let (v, t) = revolve(&profile, segments);
-            let rot = Quat::from_rotation_arc(Vec3::Y, (b - a).normalize_or(Vec3::Y));
-            (v.into_iter().map(|q| a + rot * q).collect(), t)
-        }
-        Primitive::Box { center, half } => {
-            let unit = Mat3::from_diagonal(half);
-            let (v, t) = icosphere(0);
-            (v.into_iter().map(|q| center + unit * q).collect(), t)
-        }
-    }
-}
-
 /// The mannequin's parts, metres, feet on the floor, facing +Z, arms slightly out.
 pub fn mannequin_parts() -> Vec<Primitive> {
     let mut parts = vec![
-        Primitive::Ellipsoid { center: Vec3::new(0.0, 1.30, 0.0), radii: Vec3::new(0.18, 0.20, 0.11) },
-        Primitive::Ellipsoid { center: Vec3::new(0.0, 1.03, 0.0), radii: Vec3::new(0.165, 0.22, 0.105) },
-        Primitive::Capsule { a: Vec3::new(0.0, 1.44, 0.0), b: Vec3::new(0.0, 1.56, 0.0), radius: 0.055 },
-        Primitive::Ellipsoid { center: Vec3::new(0.0, 1.66, 0.01), radii: Vec3::new(0.08, 0.11, 0.095) },
+        Primitive::Ellipsoid {
+            center: Vec3::new(0.0, 1.30, 0.0),
+            radii: Vec3::new(0.18, 0.20, 0.11),
+        },
+        Primitive::Ellipsoid {
+            center: Vec3::new(0.0, 1.03, 0.0),
+            radii: Vec3::new(0.165, 0.22, 0.105),
+        },
+        Primitive::Capsule {
+            a: Vec3::new(0.0, 1.44, 0.0),
+            b: Vec3::new(0.0, 1.56, 0.0),
+            radius: 0.055,
+        },
+        Primitive::Ellipsoid {
+            center: Vec3::new(0.0, 1.66, 0.01),
+            radii: Vec3::new(0.08, 0.11, 0.095),
+        },
     ];
     for s in [-1.0f32, 1.0] {
         parts.push(Primitive::Capsule {
@@ -328,44 +302,159 @@ pub fn mannequin_parts() -> Vec<Primitive> {
     parts
 }
 
-/// The procedural mannequin: each part meshed, and triangles buried inside another part
-/// dropped, so the surface is (nearly) the union's boundary.
+/// The procedural mannequin: one closed, manifold surface of the parts' union, extracted
+/// from the union's signed distance by surface nets at `MANNEQUIN_CELL` and projected onto
+/// the exact surface. (Meshing each part and trimming buried triangles leaves gaps where
+/// parts meet, and a point in such a gap gets the wrong inside/outside sign.)
 pub fn mannequin() -> Result<Body, GeometryError> {
-    let parts = mannequin_parts();
-    let mut v = Vec::new();
-    let mut t = Vec::new();
-    for (k, part) in parts.iter().enumerate() {
-        let (pv, pt) = primitive_mesh(part, 36, 24);
-        let base = v.len() as u32;
-        for tri in pt {
-            let buried = parts.iter().enumerate().any(|(j, other)| {
-                j != k && tri.iter().all(|&i| other.signed_distance(pv[i as usize]) < -1e-4)
-            });
-            if !buried {
-                t.push(tri.map(|i| i + base));
-            }
-        }
-        v.extend(pv);
-    }
-    // Drop vertices no triangle uses.
-    let mut used = vec![u32::MAX; v.len()];
-    let mut out = Vec::new();
-    for tri in &mut t {
-        for i in tri.iter_mut() {
-            if used[*i as usize] == u32::MAX {
-                used[*i as usize] = out.len() as u32;
-                out.push(v[*i as usize]);
-            }
-            *i = used[*i as usize];
-        }
-    }
-    Body::new("mannequin", out, t, Some(Analytic { parts }))
+    let analytic = Analytic {
+        parts: mannequin_parts(),
+    };
+    let (v, t) = surface_nets(|p| analytic.signed_distance(p), MANNEQUIN_CELL);
+    Body::new("mannequin", v, t, Some(analytic))
 }
+
+/// Grid spacing for the mannequin's surface, m (about 10k triangles).
+pub const MANNEQUIN_CELL: f32 = 0.021;
+
+/// Surface nets over the union's bounding box: one vertex per cell the surface crosses,
+/// one quad (two triangles) per grid edge with a sign change, wound outward.
+fn surface_nets(sdf: impl Fn(Vec3) -> f32, h: f32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+    // Bounds from a coarse scan of where the field is negative, padded by two cells.
+    let (lo, hi) = (Vec3::new(-1.0, -0.1, -0.5), Vec3::new(1.0, 2.0, 0.5));
+    let min = lo - Vec3::splat(2.0 * h);
+    let dims = ((hi - lo) / h).ceil().as_uvec3() + glam::UVec3::splat(5);
+    let (nx, ny, nz) = (dims.x as usize, dims.y as usize, dims.z as usize);
+    let at = |i: usize, j: usize, k: usize| min + Vec3::new(i as f32, j as f32, k as f32) * h;
+    let idx = |i: usize, j: usize, k: usize| (k * ny + j) * nx + i;
+    let mut field = vec![0.0f32; nx * ny * nz];
+    for k in 0..nz {
+        for j in 0..ny {
+            for i in 0..nx {
+                field[idx(i, j, k)] = sdf(at(i, j, k));
+            }
+        }
+    }
+    let inside = |i: usize, j: usize, k: usize| field[idx(i, j, k)] < 0.0;
+    // One vertex per mixed cell (cell (i,j,k) spans points i..i+1 etc.).
+    let mut cell_vertex = vec![u32::MAX; nx * ny * nz];
+    let mut verts = Vec::new();
+    for k in 0..nz - 1 {
+        for j in 0..ny - 1 {
+            for i in 0..nx - 1 {
+                let mut sum = Vec3::ZERO;
+                let mut count = 0;
+                for (a, b) in CUBE_EDGES {
+                    let pa = (i + a[0], j + a[1], k + a[2]);
+                    let pb = (i + b[0], j + b[1], k + b[2]);
+                    let (fa, fb) = (field[idx(pa.0, pa.1, pa.2)], field[idx(pb.0, pb.1, pb.2)]);
+                    if (fa < 0.0) != (fb < 0.0) {
+                        let t = fa / (fa - fb);
+                        sum += at(pa.0, pa.1, pa.2).lerp(at(pb.0, pb.1, pb.2), t);
+                        count += 1;
+                    }
+                }
+                if count > 0 {
+                    cell_vertex[idx(i, j, k)] = verts.len() as u32;
+                    verts.push(sum / count as f32);
+                }
+            }
+        }
+    }
+    let mut tris = Vec::new();
+    let n = [nx, ny, nz];
+    for k in 1..nz - 1 {
+        for j in 1..ny - 1 {
+            for i in 1..nx - 1 {
+                let p = [i, j, k];
+                for axis in 0..3 {
+                    let mut q = p;
+                    q[axis] += 1;
+                    if q[axis] >= n[axis] {
+                        continue;
+                    }
+                    let (a_in, b_in) = (inside(p[0], p[1], p[2]), inside(q[0], q[1], q[2]));
+                    if a_in == b_in {
+                        continue;
+                    }
+                    let (u, w) = ((axis + 1) % 3, (axis + 2) % 3);
+                    let cell = |du: usize, dw: usize| {
+                        let mut c = p;
+                        c[u] -= du;
+                        c[w] -= dw;
+                        cell_vertex[idx(c[0], c[1], c[2])]
+                    };
+                    let mut quad = [cell(1, 1), cell(0, 1), cell(0, 0), cell(1, 0)];
+                    if quad.contains(&u32::MAX) {
+                        continue;
+                    }
+                    if !a_in {
+                        quad.reverse();
+                    }
+                    // Split along the shorter diagonal.
+                    let [q0, q1, q2, q3] = quad.map(|v| verts[v as usize]);
+                    if (q0 - q2).length_squared() <= (q1 - q3).length_squared() {
+                        tris.push([quad[0], quad[1], quad[2]]);
+                        tris.push([quad[0], quad[2], quad[3]]);
+                    } else {
+                        tris.push([quad[0], quad[1], quad[3]]);
+                        tris.push([quad[1], quad[2], quad[3]]);
+                    }
+                }
+            }
+        }
+    }
+    // Project onto the exact surface (Newton steps along the numerical gradient).
+    let e = h * 1e-2;
+    for p in &mut verts {
+        for _ in 0..4 {
+            let d = sdf(*p);
+            let g = Vec3::new(
+                sdf(*p + Vec3::X * e) - sdf(*p - Vec3::X * e),
+                sdf(*p + Vec3::Y * e) - sdf(*p - Vec3::Y * e),
+                sdf(*p + Vec3::Z * e) - sdf(*p - Vec3::Z * e),
+            ) / (2.0 * e);
+            let step = g.normalize_or_zero() * d;
+            if step.length() < h * 0.5 {
+                *p -= step;
+            }
+        }
+    }
+    // Projection can collapse a triangle; drop those.
+    tris.retain(|t| {
+        let [a, b, c] = t.map(|i| verts[i as usize]);
+        (b - a).cross(c - a).length_squared() > 1e-16
+    });
+    (verts, tris)
+}
+
+const CUBE_EDGES: [([usize; 3], [usize; 3]); 12] = [
+    ([0, 0, 0], [1, 0, 0]),
+    ([0, 1, 0], [1, 1, 0]),
+    ([0, 0, 1], [1, 0, 1]),
+    ([0, 1, 1], [1, 1, 1]),
+    ([0, 0, 0], [0, 1, 0]),
+    ([1, 0, 0], [1, 1, 0]),
+    ([0, 0, 1], [0, 1, 1]),
+    ([1, 0, 1], [1, 1, 1]),
+    ([0, 0, 0], [0, 0, 1]),
+    ([1, 0, 0], [1, 0, 1]),
+    ([0, 1, 0], [0, 1, 1]),
+    ([1, 1, 0], [1, 1, 1]),
+];
 
 fn obj_body(path: &Path) -> Result<Body, LoadError> {
     let mesh = crate::mesh::obj::load_obj(path)?;
-    Body::new(path.display().to_string(), mesh.positions, mesh.triangles, None)
-        .map_err(|source| LoadError::Invalid { path: path.to_owned(), source })
+    Body::new(
+        path.display().to_string(),
+        mesh.positions,
+        mesh.triangles,
+        None,
+    )
+    .map_err(|source| LoadError::Invalid {
+        path: path.to_owned(),
+        source,
+    })
 }
 
 #[cfg(test)]
@@ -379,7 +468,9 @@ mod tests {
         // Points near faces, edges and corners, inside and out.
         let mut rng = 1u64;
         let mut next = || {
-            rng = rng.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            rng = rng
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             ((rng >> 33) as f32 / (1u64 << 31) as f32) * 2.0 - 1.0
         };
         for _ in 0..2000 {
@@ -401,6 +492,34 @@ mod tests {
         assert!((5_000..=15_000).contains(&n), "mannequin has {n} triangles");
         let (mn, mx) = m.bounds();
         assert!(mn.y >= -1e-3 && (1.7..1.85).contains(&mx.y), "{mn} {mx}");
+        // Watertight and consistently wound: every directed edge is matched by its reverse.
+        // (Where the arm meets the torso in a thin wedge two sheets may share an edge.)
+        let mut count: std::collections::HashMap<(u32, u32), i32> = Default::default();
+        for t in &m.triangles {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                *count.entry((a.min(b), a.max(b))).or_default() += if a < b { 1 } else { -1 };
+            }
+        }
+        assert!(
+            count.values().all(|&c| c == 0),
+            "the mannequin surface has holes or flipped faces"
+        );
+        // The mesh's inside/outside agrees with the exact union, also where parts meet.
+        let a = m.analytic.clone().unwrap();
+        for p in [
+            Vec3::new(0.018, 1.556, 0.044),
+            Vec3::new(-0.015, 1.60, 0.011),
+            Vec3::new(0.2, 1.44, 0.0),
+            Vec3::new(0.0, 0.9, 0.0),
+        ] {
+            let (mesh_d, exact) = (m.signed_distance(p, 1.0).unwrap(), a.signed_distance(p));
+            assert_eq!(
+                mesh_d < 0.0,
+                exact < 0.0,
+                "{p}: mesh {mesh_d} exact {exact}"
+            );
+        }
         // A point in the chest is inside, one in front of it outside.
         assert!(m.penetration(Vec3::new(0.0, 1.3, 0.0)) > 0.05);
         assert_eq!(m.penetration(Vec3::new(0.0, 1.3, 0.3)), 0.0);

@@ -24,8 +24,18 @@ impl Cloth {
         rest.validate()?;
         let topology = Topology::build(&rest)?;
         let mass = rest.lumped_masses(material.density);
-        let inv_mass = mass.iter().map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 }).collect();
-        Ok(Self { x: rest.positions.clone(), v: vec![Vec3::ZERO; rest.positions.len()], topology, mass, inv_mass, rest })
+        let inv_mass = mass
+            .iter()
+            .map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 })
+            .collect();
+        Ok(Self {
+            x: rest.positions.clone(),
+            v: vec![Vec3::ZERO; rest.positions.len()],
+            topology,
+            mass,
+            inv_mass,
+            rest,
+        })
     }
 
     pub fn len(&self) -> usize {

@@ -48,17 +48,32 @@ pub fn build_membranes(mesh: &ClothMesh) -> Vec<Membrane> {
             // Warp direction: where U grows, projected into the triangle's plane.
             let (du1, du2) = (t1 - t0, t2 - t0);
             let det = du1.x * du2.y - du2.x * du1.y;
-            let mut tangent = if det.abs() > 1e-12 { (e1 * du2.y - e2 * du1.y) / det } else { e1 };
+            let mut tangent = if det.abs() > 1e-12 {
+                (e1 * du2.y - e2 * du1.y) / det
+            } else {
+                e1
+            };
             tangent -= n * n.dot(tangent);
-            let tangent = tangent.try_normalize().unwrap_or_else(|| e1.normalize_or(Vec3::X));
+            let tangent = tangent
+                .try_normalize()
+                .unwrap_or_else(|| e1.normalize_or(Vec3::X));
             let bitangent = n.cross(tangent);
             let p1 = Vec2::new(e1.dot(tangent), e1.dot(bitangent));
             let p2 = Vec2::new(e2.dot(tangent), e2.dot(bitangent));
             let dm = Mat2::from_cols(p1, p2);
-            let inv = if dm.determinant().abs() > 1e-20 { dm.inverse() } else { Mat2::ZERO };
+            let inv = if dm.determinant().abs() > 1e-20 {
+                dm.inverse()
+            } else {
+                Mat2::ZERO
+            };
             // F = Ds * inv, Ds = [x1 - x0, x2 - x0]; column j of F is sum over rows of inv.
             let (p, q, r, s) = (inv.x_axis.x, inv.y_axis.x, inv.x_axis.y, inv.y_axis.y);
-            Membrane { v, c: [-(p + r), p, r], d: [-(q + s), q, s], area }
+            Membrane {
+                v,
+                c: [-(p + r), p, r],
+                d: [-(q + s), q, s],
+                area,
+            }
         })
         .collect()
 }
@@ -91,7 +106,12 @@ pub fn build_bending(mesh: &ClothMesh, topology: &Topology) -> Vec<BendConstrain
             }
             let k = [c03 + c04, c01 + c02, -c01 - c03, -c02 - c04];
             let rest = x0 * k[0] + x1 * k[1] + x2 * k[2] + x3 * k[3];
-            Some(BendConstraint { v: h.v, k, rest, weight: 1.0 / (a0 + a1) })
+            Some(BendConstraint {
+                v: h.v,
+                k,
+                rest,
+                weight: 1.0 / (a0 + a1),
+            })
         })
         .collect()
 }
@@ -101,7 +121,12 @@ pub fn bending_energy(bends: &[BendConstraint], x: &[Vec3], b: f32) -> f64 {
     bends
         .iter()
         .map(|c| {
-            let cv = c.v.iter().zip(c.k).map(|(&i, k)| x[i as usize] * k).sum::<Vec3>() - c.rest;
+            let cv =
+                c.v.iter()
+                    .zip(c.k)
+                    .map(|(&i, k)| x[i as usize] * k)
+                    .sum::<Vec3>()
+                    - c.rest;
             0.5 * (b * c.weight) as f64 * cv.length_squared() as f64
         })
         .sum()
@@ -118,7 +143,11 @@ mod tests {
             let x = mem.v.map(|i| m.positions[i as usize]);
             let fu: Vec3 = (0..3).map(|a| x[a] * mem.c[a]).sum();
             let fv: Vec3 = (0..3).map(|a| x[a] * mem.d[a]).sum();
-            assert!((fu.length() - 1.0).abs() < 1e-4 && (fv.length() - 1.0).abs() < 1e-4 && fu.dot(fv).abs() < 1e-4);
+            assert!(
+                (fu.length() - 1.0).abs() < 1e-4
+                    && (fv.length() - 1.0).abs() < 1e-4
+                    && fu.dot(fv).abs() < 1e-4
+            );
             // Warp follows +U (the grid's +X).
             assert!(fu.x > 0.99, "{fu}");
         }
@@ -130,7 +159,9 @@ mod tests {
     fn stretching_along_warp_is_measured() {
         let m = ClothMesh::grid(1.0, 1.0, 4, 4, 0.0).unwrap();
         for mem in build_membranes(&m) {
-            let x = mem.v.map(|i| m.positions[i as usize] * Vec3::new(1.1, 1.0, 1.0));
+            let x = mem
+                .v
+                .map(|i| m.positions[i as usize] * Vec3::new(1.1, 1.0, 1.0));
             let fu: Vec3 = (0..3).map(|a| x[a] * mem.c[a]).sum();
             let fv: Vec3 = (0..3).map(|a| x[a] * mem.d[a]).sum();
             assert!((fu.length() - 1.1).abs() < 1e-4 && (fv.length() - 1.0).abs() < 1e-4);
@@ -145,13 +176,20 @@ mod tests {
         let m = ClothMesh::grid(w, w, 60, 60, 0.0).unwrap();
         let t = Topology::build(&m).unwrap();
         let bends = build_bending(&m, &t);
-        let rolled: Vec<Vec3> = m.positions.iter().map(|p| {
-            let th = p.x / r;
-            Vec3::new(r * th.sin(), r * (1.0 - th.cos()), p.z)
-        }).collect();
+        let rolled: Vec<Vec3> = m
+            .positions
+            .iter()
+            .map(|p| {
+                let th = p.x / r;
+                Vec3::new(r * th.sin(), r * (1.0 - th.cos()), p.z)
+            })
+            .collect();
         let got = bending_energy(&bends, &rolled, b);
         let want = (b * w * w / (2.0 * r * r)) as f64;
         // Boundary hinges are missing from a finite sheet: allow a few percent.
-        assert!((got / want - 1.0).abs() < 0.06, "discrete {got} continuum {want}");
+        assert!(
+            (got / want - 1.0).abs() < 0.06,
+            "discrete {got} continuum {want}"
+        );
     }
 }

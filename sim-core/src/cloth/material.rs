@@ -22,7 +22,11 @@ impl ModelKind {
             "xpbd" => Ok(Self::Xpbd),
             "seed" => Ok(Self::Seed),
             "implicit" => Ok(Self::Implicit),
-            other => Err(ConfigError::Unknown { what: "model", name: other.into(), expected: "xpbd, seed, implicit" }),
+            other => Err(ConfigError::Unknown {
+                what: "model",
+                name: other.into(),
+                expected: "xpbd, seed, implicit",
+            }),
         }
     }
 

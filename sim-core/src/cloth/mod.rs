@@ -16,5 +16,5 @@ pub use contact::{ContactCache, ContactParams};
 pub use implicit::Implicit;
 pub use material::{Material, ModelKind};
 pub use seed::{Seed, seed_stable_step};
-pub use sim::{Environment, FrameStats, Simulation};
+pub use sim::{Environment, FrameStats, Simulation, StepError, XPBD_DEFAULT_SUBSTEPS};
 pub use xpbd::Xpbd;

@@ -21,13 +21,25 @@ impl ClothMesh {
     /// A horizontal `width` x `depth` sheet in the XZ plane at height `y`, centred on the Y
     /// axis, with `nx` x `nz` cells. Diagonals alternate so the sheet has no preferred
     /// shear direction. UV (0,0) is the -X,-Z corner.
-    pub fn grid(width: f32, depth: f32, nx: usize, nz: usize, y: f32) -> Result<Self, GeometryError> {
-        if nx == 0 || nz == 0 || !(width > 0.0 && depth > 0.0 && width.is_finite() && depth.is_finite()) {
+    pub fn grid(
+        width: f32,
+        depth: f32,
+        nx: usize,
+        nz: usize,
+        y: f32,
+    ) -> Result<Self, GeometryError> {
+        if nx == 0
+            || nz == 0
+            || !(width > 0.0 && depth > 0.0 && width.is_finite() && depth.is_finite())
+        {
             return Err(GeometryError::Empty);
         }
         let nv = (nx + 1).checked_mul(nz + 1).unwrap_or(usize::MAX);
         if nv > MAX_VERTICES {
-            return Err(GeometryError::TooLarge { vertices: nv, max: MAX_VERTICES });
+            return Err(GeometryError::TooLarge {
+                vertices: nv,
+                max: MAX_VERTICES,
+            });
         }
         let mut positions = Vec::with_capacity(nv);
         let mut uvs = Vec::with_capacity(nv);
@@ -55,7 +67,11 @@ impl ClothMesh {
                 }
             }
         }
-        Ok(Self { positions, uvs, triangles })
+        Ok(Self {
+            positions,
+            uvs,
+            triangles,
+        })
     }
 
     pub fn vertex_count(&self) -> usize {
@@ -69,13 +85,18 @@ impl ClothMesh {
             return Err(GeometryError::Empty);
         }
         if self.positions.len() > MAX_VERTICES {
-            return Err(GeometryError::TooLarge { vertices: self.positions.len(), max: MAX_VERTICES });
+            return Err(GeometryError::TooLarge {
+                vertices: self.positions.len(),
+                max: MAX_VERTICES,
+            });
         }
         if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
             return Err(GeometryError::NonFinite { vertex: i });
         }
         if self.uvs.len() != self.positions.len() {
-            return Err(GeometryError::BadUv { vertex: self.uvs.len().min(self.positions.len()) });
+            return Err(GeometryError::BadUv {
+                vertex: self.uvs.len().min(self.positions.len()),
+            });
         }
         if let Some(i) = self.uvs.iter().position(|p| !p.is_finite()) {
             return Err(GeometryError::BadUv { vertex: i });
@@ -83,11 +104,21 @@ impl ClothMesh {
         let n = self.positions.len();
         for (t, tri) in self.triangles.iter().enumerate() {
             if tri.iter().any(|&i| i as usize >= n) {
-                return Err(GeometryError::IndexOutOfRange { triangle: t, vertices: n });
+                return Err(GeometryError::IndexOutOfRange {
+                    triangle: t,
+                    vertices: n,
+                });
             }
             let [a, b, c] = tri.map(|i| self.positions[i as usize]);
-            let scale = (b - a).length_squared().max((c - a).length_squared()).max(1e-30);
-            if tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2] || (b - a).cross(c - a).length_squared() <= 1e-12 * scale * scale {
+            let scale = (b - a)
+                .length_squared()
+                .max((c - a).length_squared())
+                .max(1e-30);
+            if tri[0] == tri[1]
+                || tri[1] == tri[2]
+                || tri[0] == tri[2]
+                || (b - a).cross(c - a).length_squared() <= 1e-12 * scale * scale
+            {
                 return Err(GeometryError::Degenerate { triangle: t });
             }
         }
@@ -138,9 +169,18 @@ mod tests {
 
     #[test]
     fn bad_grids_are_rejected() {
-        assert_eq!(ClothMesh::grid(1.0, 1.0, 0, 4, 0.0), Err(GeometryError::Empty));
-        assert_eq!(ClothMesh::grid(-1.0, 1.0, 4, 4, 0.0), Err(GeometryError::Empty));
-        assert!(matches!(ClothMesh::grid(1.0, 1.0, 100_000, 100_000, 0.0), Err(GeometryError::TooLarge { .. })));
+        assert_eq!(
+            ClothMesh::grid(1.0, 1.0, 0, 4, 0.0),
+            Err(GeometryError::Empty)
+        );
+        assert_eq!(
+            ClothMesh::grid(-1.0, 1.0, 4, 4, 0.0),
+            Err(GeometryError::Empty)
+        );
+        assert!(matches!(
+            ClothMesh::grid(1.0, 1.0, 100_000, 100_000, 0.0),
+            Err(GeometryError::TooLarge { .. })
+        ));
     }
 
     #[test]
@@ -151,7 +191,10 @@ mod tests {
         assert_eq!(m.validate(), Err(GeometryError::NonFinite { vertex: 0 }));
         let mut m = good.clone();
         m.triangles[1][2] = 99;
-        assert!(matches!(m.validate(), Err(GeometryError::IndexOutOfRange { triangle: 1, .. })));
+        assert!(matches!(
+            m.validate(),
+            Err(GeometryError::IndexOutOfRange { triangle: 1, .. })
+        ));
         let mut m = good.clone();
         m.triangles[0] = [0, 0, 1];
         assert_eq!(m.validate(), Err(GeometryError::Degenerate { triangle: 0 }));
@@ -161,6 +204,9 @@ mod tests {
         m.uvs.push(Vec2::ZERO);
         // Edge t[1]-t[2] is the interior diagonal: already in two triangles.
         m.triangles.push([t[1], t[2], 9]);
-        assert!(matches!(m.validate(), Err(GeometryError::NonManifoldEdge { count: 3, .. })));
+        assert!(matches!(
+            m.validate(),
+            Err(GeometryError::NonManifoldEdge { count: 3, .. })
+        ));
     }
 }

@@ -13,26 +13,48 @@ use crate::error::LoadError;
 /// onto the mesh's two widest axes. The result is validated (finite, in range, no
 /// degenerate triangle, manifold).
 pub fn load_obj(path: &Path) -> Result<ClothMesh, LoadError> {
-    let opts = tobj::LoadOptions { single_index: true, triangulate: true, ignore_points: true, ignore_lines: true };
+    let opts = tobj::LoadOptions {
+        single_index: true,
+        triangulate: true,
+        ignore_points: true,
+        ignore_lines: true,
+    };
     let (models, _materials) = tobj::load_obj(path, &opts).map_err(|e| match e {
         tobj::LoadError::OpenFileFailed | tobj::LoadError::ReadError => LoadError::Io {
             path: path.to_owned(),
-            source: std::fs::metadata(path).err().unwrap_or_else(|| std::io::Error::other(e.to_string())),
+            source: std::fs::metadata(path)
+                .err()
+                .unwrap_or_else(|| std::io::Error::other(e.to_string())),
         },
-        other => LoadError::Parse { path: path.to_owned(), reason: other.to_string() },
+        other => LoadError::Parse {
+            path: path.to_owned(),
+            reason: other.to_string(),
+        },
     })?;
-    let mut mesh = ClothMesh { positions: Vec::new(), uvs: Vec::new(), triangles: Vec::new() };
+    let mut mesh = ClothMesh {
+        positions: Vec::new(),
+        uvs: Vec::new(),
+        triangles: Vec::new(),
+    };
     let mut has_uvs = true;
     for model in &models {
         let m = &model.mesh;
         let base = mesh.positions.len() as u32;
         let nv = m.positions.len() / 3;
         if m.positions.len() % 3 != 0 || m.indices.len() % 3 != 0 {
-            return Err(LoadError::Parse { path: path.to_owned(), reason: "malformed vertex or face data".into() });
+            return Err(LoadError::Parse {
+                path: path.to_owned(),
+                reason: "malformed vertex or face data".into(),
+            });
         }
-        mesh.positions.extend(m.positions.chunks_exact(3).map(|c| Vec3::new(c[0], c[1], c[2])));
+        mesh.positions.extend(
+            m.positions
+                .chunks_exact(3)
+                .map(|c| Vec3::new(c[0], c[1], c[2])),
+        );
         if m.texcoords.len() == nv * 2 {
-            mesh.uvs.extend(m.texcoords.chunks_exact(2).map(|c| Vec2::new(c[0], c[1])));
+            mesh.uvs
+                .extend(m.texcoords.chunks_exact(2).map(|c| Vec2::new(c[0], c[1])));
         } else {
             has_uvs = false;
             mesh.uvs.extend(std::iter::repeat_n(Vec2::ZERO, nv));
@@ -44,14 +66,23 @@ pub fn load_obj(path: &Path) -> Result<ClothMesh, LoadError> {
     if !has_uvs {
         planar_uvs(&mut mesh);
     }
-    mesh.validate().map_err(|source| LoadError::Invalid { path: path.to_owned(), source })?;
+    mesh.validate().map_err(|source| LoadError::Invalid {
+        path: path.to_owned(),
+        source,
+    })?;
     Ok(mesh)
 }
 
 /// Projects positions onto the two axes with the largest extent, normalised to [0, 1].
 fn planar_uvs(mesh: &mut ClothMesh) {
-    let mn = mesh.positions.iter().fold(Vec3::splat(f32::INFINITY), |a, &p| a.min(p));
-    let mx = mesh.positions.iter().fold(Vec3::splat(f32::NEG_INFINITY), |a, &p| a.max(p));
+    let mn = mesh
+        .positions
+        .iter()
+        .fold(Vec3::splat(f32::INFINITY), |a, &p| a.min(p));
+    let mx = mesh
+        .positions
+        .iter()
+        .fold(Vec3::splat(f32::NEG_INFINITY), |a, &p| a.max(p));
     let ext = mx - mn;
     let mut axes = [0usize, 1, 2];
     axes.sort_by(|&a, &b| ext[b].total_cmp(&ext[a]));
@@ -157,11 +188,23 @@ mod tests {
         std::fs::write(&p, "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n").unwrap();
         assert!(load_obj(&p).unwrap_err().to_string().contains("degenerate"));
         let p = tmp("nonmanifold.obj");
-        std::fs::write(&p, "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n").unwrap();
-        assert!(load_obj(&p).unwrap_err().to_string().contains("shared by 3"));
+        std::fs::write(
+            &p,
+            "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n",
+        )
+        .unwrap();
+        assert!(
+            load_obj(&p)
+                .unwrap_err()
+                .to_string()
+                .contains("shared by 3")
+        );
         let p = tmp("range.obj");
         std::fs::write(&p, "v 0 0 0\nv 1 0 0\nf 1 2 7\n").unwrap();
         assert!(load_obj(&p).is_err());
-        assert!(matches!(load_obj(Path::new("/nonexistent/x.obj")), Err(LoadError::Io { .. })));
+        assert!(matches!(
+            load_obj(Path::new("/nonexistent/x.obj")),
+            Err(LoadError::Io { .. })
+        ));
     }
 }

@@ -51,9 +51,15 @@ impl Topology {
                 return Err(GeometryError::NonManifoldEdge { a, b, count });
             }
             let second = if count == 2 { half[i + 1].1 } else { u32::MAX };
-            edges.push(Edge { a, b, tris: [half[i].1, second] });
+            edges.push(Edge {
+                a,
+                b,
+                tris: [half[i].1, second],
+            });
             if count == 2 {
-                hinges.push(Hinge { v: [a, b, half[i].2, half[i + 1].2] });
+                hinges.push(Hinge {
+                    v: [a, b, half[i].2, half[i + 1].2],
+                });
             }
             i = j;
         }

@@ -12,7 +12,11 @@ use crate::error::GeometryError;
 impl ObbTree {
     /// Builds the tree over `vertices`/`indices`. Fails on out-of-range indices, non-finite
     /// coordinates or an empty mesh.
-    pub fn build(vertices: &[Vec3], indices: &[[u32; 3]], opts: BuildOptions) -> Result<Self, GeometryError> {
+    pub fn build(
+        vertices: &[Vec3],
+        indices: &[[u32; 3]],
+        opts: BuildOptions,
+    ) -> Result<Self, GeometryError> {
         if indices.is_empty() {
             return Err(GeometryError::Empty);
         }
@@ -21,12 +25,23 @@ impl ObbTree {
         }
         for (t, tri) in indices.iter().enumerate() {
             if tri.iter().any(|&i| i as usize >= vertices.len()) {
-                return Err(GeometryError::IndexOutOfRange { triangle: t, vertices: vertices.len() });
+                return Err(GeometryError::IndexOutOfRange {
+                    triangle: t,
+                    vertices: vertices.len(),
+                });
             }
         }
         let max_leaf = opts.max_leaf_triangles.max(1);
-        let tris: Vec<[Vec3; 3]> =
-            indices.iter().map(|t| [vertices[t[0] as usize], vertices[t[1] as usize], vertices[t[2] as usize]]).collect();
+        let tris: Vec<[Vec3; 3]> = indices
+            .iter()
+            .map(|t| {
+                [
+                    vertices[t[0] as usize],
+                    vertices[t[1] as usize],
+                    vertices[t[2] as usize],
+                ]
+            })
+            .collect();
         let centroids: Vec<Vec3> = tris.iter().map(|t| (t[0] + t[1] + t[2]) / 3.0).collect();
         let mut order: Vec<u32> = (0..indices.len() as u32).collect();
         let mut nodes = Vec::with_capacity(2 * indices.len() / max_leaf + 1);
@@ -38,7 +53,12 @@ impl ObbTree {
             depth = depth.max(d);
             let slice = &mut order[start..start + count];
             let obb = fit_obb(&tris, slice);
-            nodes[node] = ObbNode { obb, tri_start: start as u32, tri_count: count as u32, child: u32::MAX };
+            nodes[node] = ObbNode {
+                obb,
+                tri_start: start as u32,
+                tri_count: count as u32,
+                child: u32::MAX,
+            };
             if count <= max_leaf {
                 continue;
             }
@@ -56,18 +76,34 @@ impl ObbTree {
         for (slot, &t) in order.iter().enumerate() {
             slot_of[t as usize] = slot as u32;
         }
-        Ok(ObbTree { nodes, tri_ids: order, slot_of, tri_verts, indices: indices.to_vec(), depth })
+        Ok(ObbTree {
+            nodes,
+            tri_ids: order,
+            slot_of,
+            tri_verts,
+            indices: indices.to_vec(),
+            depth,
+        })
     }
 }
 
 fn placeholder() -> ObbNode {
-    ObbNode { obb: Obb::aabb(Vec3::ZERO, Vec3::ZERO), tri_start: 0, tri_count: 0, child: u32::MAX }
+    ObbNode {
+        obb: Obb::aabb(Vec3::ZERO, Vec3::ZERO),
+        tri_start: 0,
+        tri_count: 0,
+        child: u32::MAX,
+    }
 }
 
 /// Covariance frame of the triangles' corners, sorted so `x_axis` has the largest variance.
 pub(super) fn covariance_axes(tris: &[[Vec3; 3]], ids: &[u32]) -> Mat3 {
     let n = (ids.len() * 3) as f32;
-    let mean = ids.iter().map(|&t| tris[t as usize].iter().copied().sum::<Vec3>()).sum::<Vec3>() / n;
+    let mean = ids
+        .iter()
+        .map(|&t| tris[t as usize].iter().copied().sum::<Vec3>())
+        .sum::<Vec3>()
+        / n;
     let mut c = [[0.0f32; 3]; 3];
     for &t in ids {
         for p in tris[t as usize] {
@@ -88,7 +124,11 @@ pub(super) fn covariance_axes(tris: &[[Vec3; 3]], ids: &[u32]) -> Mat3 {
     let vals = eig.eigenvalues;
     let mut idx = [0usize, 1, 2];
     idx.sort_by(|&a, &b| vals[b].total_cmp(&vals[a]));
-    let cols = [eig.eigenvectors.x_axis, eig.eigenvectors.y_axis, eig.eigenvectors.z_axis];
+    let cols = [
+        eig.eigenvectors.x_axis,
+        eig.eigenvectors.y_axis,
+        eig.eigenvectors.z_axis,
+    ];
     let x = cols[idx[0]].normalize_or(Vec3::X);
     let mut y = cols[idx[1]] - x * x.dot(cols[idx[1]]);
     if y.length_squared() < 1e-12 {
@@ -114,7 +154,11 @@ pub(super) fn fit_with_axes(tris: &[[Vec3; 3]], ids: &[u32], axes: Mat3) -> Obb 
             mx = mx.max(l);
         }
     }
-    Obb { center: axes * ((mn + mx) * 0.5), axes, half: (mx - mn) * 0.5 }
+    Obb {
+        center: axes * ((mn + mx) * 0.5),
+        axes,
+        half: (mx - mn) * 0.5,
+    }
 }
 
 fn fit_obb(tris: &[[Vec3; 3]], ids: &[u32]) -> Obb {
@@ -129,7 +173,11 @@ fn split(centroids: &[Vec3], ids: &mut [u32], obb: &Obb) -> usize {
     order.sort_by(|&a, &b| obb.half[b].total_cmp(&obb.half[a]));
     for &k in &order {
         let axis = axes[k];
-        let mean = ids.iter().map(|&t| axis.dot(centroids[t as usize])).sum::<f32>() / ids.len() as f32;
+        let mean = ids
+            .iter()
+            .map(|&t| axis.dot(centroids[t as usize]))
+            .sum::<f32>()
+            / ids.len() as f32;
         let mut lo = 0;
         for i in 0..ids.len() {
             if axis.dot(centroids[ids[i] as usize]) < mean {
@@ -146,7 +194,8 @@ fn split(centroids: &[Vec3], ids: &mut [u32], obb: &Obb) -> usize {
     let axis = axes[order[0]];
     let mid = ids.len() / 2;
     ids.select_nth_unstable_by(mid, |&a, &b| {
-        axis.dot(centroids[a as usize]).total_cmp(&axis.dot(centroids[b as usize]))
+        axis.dot(centroids[a as usize])
+            .total_cmp(&axis.dot(centroids[b as usize]))
     });
     mid
 }

@@ -93,7 +93,11 @@ pub struct Obb {
 impl Obb {
     /// An axis-aligned box as an OBB.
     pub fn aabb(min: Vec3, max: Vec3) -> Self {
-        Self { center: (min + max) * 0.5, axes: Mat3::IDENTITY, half: (max - min) * 0.5 }
+        Self {
+            center: (min + max) * 0.5,
+            axes: Mat3::IDENTITY,
+            half: (max - min) * 0.5,
+        }
     }
 
     /// `p` in the box's frame (relative to its centre).
@@ -106,7 +110,11 @@ impl Obb {
     #[inline]
     pub fn distance_squared(&self, p: Vec3) -> f32 {
         let d = p - self.center;
-        let l = Vec3::new(self.axes.x_axis.dot(d), self.axes.y_axis.dot(d), self.axes.z_axis.dot(d));
+        let l = Vec3::new(
+            self.axes.x_axis.dot(d),
+            self.axes.y_axis.dot(d),
+            self.axes.z_axis.dot(d),
+        );
         let excess = (l.abs() - self.half).max(Vec3::ZERO);
         excess.length_squared()
     }
@@ -244,10 +252,22 @@ mod tests {
         let (a, b, c) = (Vec3::ZERO, Vec3::X, Vec3::Y);
         let (q, f) = closest_point_on_triangle(Vec3::new(0.2, 0.2, 1.0), a, b, c);
         assert!((q - Vec3::new(0.2, 0.2, 0.0)).length() < 1e-6 && f == Feature::Face);
-        assert_eq!(closest_point_on_triangle(Vec3::new(-1.0, -1.0, 0.0), a, b, c).1, Feature::Vertex(0));
-        assert_eq!(closest_point_on_triangle(Vec3::new(0.5, -1.0, 0.0), a, b, c).1, Feature::Edge(0));
-        assert_eq!(closest_point_on_triangle(Vec3::new(1.0, 1.0, 0.0), a, b, c).1, Feature::Edge(1));
-        assert_eq!(closest_point_on_triangle(Vec3::new(-1.0, 0.5, 0.0), a, b, c).1, Feature::Edge(2));
+        assert_eq!(
+            closest_point_on_triangle(Vec3::new(-1.0, -1.0, 0.0), a, b, c).1,
+            Feature::Vertex(0)
+        );
+        assert_eq!(
+            closest_point_on_triangle(Vec3::new(0.5, -1.0, 0.0), a, b, c).1,
+            Feature::Edge(0)
+        );
+        assert_eq!(
+            closest_point_on_triangle(Vec3::new(1.0, 1.0, 0.0), a, b, c).1,
+            Feature::Edge(1)
+        );
+        assert_eq!(
+            closest_point_on_triangle(Vec3::new(-1.0, 0.5, 0.0), a, b, c).1,
+            Feature::Edge(2)
+        );
     }
 
     #[test]
@@ -255,18 +275,40 @@ mod tests {
         let (a, b, c) = (Vec3::ZERO, Vec3::X, Vec3::Y);
         let t = ray_triangle(Vec3::new(0.2, 0.2, 2.0), -Vec3::Z, a, b, c);
         assert!((t.unwrap_or(f32::NAN) - 2.0).abs() < 1e-6);
-        assert_eq!(ray_triangle(Vec3::new(0.8, 0.8, 2.0), -Vec3::Z, a, b, c), None);
-        assert_eq!(ray_triangle(Vec3::new(0.2, 0.2, 2.0), Vec3::Z, a, b, c), None);
+        assert_eq!(
+            ray_triangle(Vec3::new(0.8, 0.8, 2.0), -Vec3::Z, a, b, c),
+            None
+        );
+        assert_eq!(
+            ray_triangle(Vec3::new(0.2, 0.2, 2.0), Vec3::Z, a, b, c),
+            None
+        );
     }
 
     #[test]
     fn box_triangle_overlap() {
         let bx = Obb::aabb(Vec3::splat(-1.0), Vec3::splat(1.0));
-        assert!(bx.overlaps_triangle(Vec3::new(0.0, 0.0, 0.5), Vec3::new(5.0, 0.0, 0.5), Vec3::new(0.0, 5.0, 0.5)));
-        assert!(!bx.overlaps_triangle(Vec3::new(0.0, 0.0, 1.5), Vec3::new(5.0, 0.0, 1.5), Vec3::new(0.0, 5.0, 1.5)));
+        assert!(bx.overlaps_triangle(
+            Vec3::new(0.0, 0.0, 0.5),
+            Vec3::new(5.0, 0.0, 0.5),
+            Vec3::new(0.0, 5.0, 0.5)
+        ));
+        assert!(!bx.overlaps_triangle(
+            Vec3::new(0.0, 0.0, 1.5),
+            Vec3::new(5.0, 0.0, 1.5),
+            Vec3::new(0.0, 5.0, 1.5)
+        ));
         // On the plane x + y = 2.5, past the box's edge at x + y = 2: only the triangle's
         // own normal separates them.
-        assert!(!bx.overlaps_triangle(Vec3::new(2.5, 0.0, 0.0), Vec3::new(0.0, 2.5, 0.0), Vec3::new(2.5, 0.0, 5.0)));
-        assert!(bx.overlaps_triangle(Vec3::new(1.9, 0.0, 0.0), Vec3::new(0.0, 1.9, 0.0), Vec3::new(1.9, 0.0, 5.0)));
+        assert!(!bx.overlaps_triangle(
+            Vec3::new(2.5, 0.0, 0.0),
+            Vec3::new(0.0, 2.5, 0.0),
+            Vec3::new(2.5, 0.0, 5.0)
+        ));
+        assert!(bx.overlaps_triangle(
+            Vec3::new(1.9, 0.0, 0.0),
+            Vec3::new(0.0, 1.9, 0.0),
+            Vec3::new(1.9, 0.0, 5.0)
+        ));
     }
 }

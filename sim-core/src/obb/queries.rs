@@ -38,7 +38,12 @@ impl ObbTree {
     /// As [`nearest`](Self::nearest), seeding the search bound with a triangle that is
     /// probably close (e.g. last frame's answer). The answer is the same with or without
     /// the hint; the hint only prunes more of the tree.
-    pub fn nearest_with_hint(&self, p: Vec3, max_dist: f32, hint: Option<u32>) -> Option<NearestHit> {
+    pub fn nearest_with_hint(
+        &self,
+        p: Vec3,
+        max_dist: f32,
+        hint: Option<u32>,
+    ) -> Option<NearestHit> {
         if !(max_dist >= 0.0) || !p.is_finite() {
             return None;
         }
@@ -86,7 +91,11 @@ impl ObbTree {
             let dl = self.nodes[l as usize].obb.distance_squared(p);
             let dr = self.nodes[r as usize].obb.distance_squared(p);
             // Push the farther child first so the nearer one is explored first.
-            let (near, dn, far, df) = if dl <= dr { (l, dl, r, dr) } else { (r, dr, l, dl) };
+            let (near, dn, far, df) = if dl <= dr {
+                (l, dl, r, dr)
+            } else {
+                (r, dr, l, dl)
+            };
             if df <= best_d2 && top < STACK {
                 stack[top] = (far, df);
                 top += 1;
@@ -186,7 +195,11 @@ impl ObbTree {
                 }
             }
         }
-        best.map(|slot| RayHit { tri: self.tri_ids[slot as usize], t: best_t, point: origin + dir * best_t })
+        best.map(|slot| RayHit {
+            tri: self.tri_ids[slot as usize],
+            t: best_t,
+            point: origin + dir * best_t,
+        })
     }
 
     /// Appends to `out` the original index of every triangle that overlaps the solid box.

@@ -14,12 +14,23 @@ impl ObbTree {
         if let Some(i) = vertices.iter().position(|v| !v.is_finite()) {
             return Err(GeometryError::NonFinite { vertex: i });
         }
-        if let Some(t) = self.indices.iter().position(|t| t.iter().any(|&i| i as usize >= vertices.len())) {
-            return Err(GeometryError::IndexOutOfRange { triangle: t, vertices: vertices.len() });
+        if let Some(t) = self
+            .indices
+            .iter()
+            .position(|t| t.iter().any(|&i| i as usize >= vertices.len()))
+        {
+            return Err(GeometryError::IndexOutOfRange {
+                triangle: t,
+                vertices: vertices.len(),
+            });
         }
         for (slot, &t) in self.tri_ids.iter().enumerate() {
             let [a, b, c] = self.indices[t as usize];
-            self.tri_verts[slot] = [vertices[a as usize], vertices[b as usize], vertices[c as usize]];
+            self.tri_verts[slot] = [
+                vertices[a as usize],
+                vertices[b as usize],
+                vertices[c as usize],
+            ];
         }
         // Nodes cover contiguous slot ranges, so each box is refit directly from its range.
         let ids: Vec<u32> = (0..self.tri_verts.len() as u32).collect();

@@ -28,7 +28,8 @@ fn soup() -> impl Strategy<Value = (Vec<Vec3>, Vec<[u32; 3]>)> {
 fn brute_nearest(v: &[Vec3], idx: &[[u32; 3]], p: Vec3) -> f32 {
     idx.iter()
         .map(|t| {
-            let (q, _) = closest_point_on_triangle(p, v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]);
+            let (q, _) =
+                closest_point_on_triangle(p, v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]);
             (q - p).length()
         })
         .fold(f32::INFINITY, f32::min)
@@ -106,7 +107,11 @@ proptest! {
 #[test]
 fn box_query_uses_the_triangle_test_not_just_boxes() {
     // One triangle whose leaf box overlaps the query box but whose plane does not.
-    let v = vec![Vec3::new(2.5, 0.0, 0.0), Vec3::new(0.0, 2.5, 0.0), Vec3::new(2.5, 0.0, 5.0)];
+    let v = vec![
+        Vec3::new(2.5, 0.0, 0.0),
+        Vec3::new(0.0, 2.5, 0.0),
+        Vec3::new(2.5, 0.0, 5.0),
+    ];
     let tree = ObbTree::build(&v, &[[0, 1, 2]], BuildOptions::default()).unwrap();
     let mut out = Vec::new();
     tree.overlap_box(&Obb::aabb(Vec3::splat(-1.0), Vec3::splat(1.0)), &mut out);
@@ -116,8 +121,22 @@ fn box_query_uses_the_triangle_test_not_just_boxes() {
 #[test]
 fn bad_meshes_are_rejected() {
     assert!(ObbTree::build(&[Vec3::ZERO], &[], BuildOptions::default()).is_err());
-    assert!(ObbTree::build(&[Vec3::ZERO, Vec3::X], &[[0, 1, 2]], BuildOptions::default()).is_err());
-    assert!(ObbTree::build(&[Vec3::ZERO, Vec3::X, Vec3::NAN], &[[0, 1, 2]], BuildOptions::default()).is_err());
+    assert!(
+        ObbTree::build(
+            &[Vec3::ZERO, Vec3::X],
+            &[[0, 1, 2]],
+            BuildOptions::default()
+        )
+        .is_err()
+    );
+    assert!(
+        ObbTree::build(
+            &[Vec3::ZERO, Vec3::X, Vec3::NAN],
+            &[[0, 1, 2]],
+            BuildOptions::default()
+        )
+        .is_err()
+    );
 }
 
 #[test]

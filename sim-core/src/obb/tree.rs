@@ -32,7 +32,9 @@ pub struct BuildOptions {
 
 impl Default for BuildOptions {
     fn default() -> Self {
-        Self { max_leaf_triangles: 4 }
+        Self {
+            max_leaf_triangles: 4,
+        }
     }
 }
 
@@ -68,6 +70,8 @@ impl ObbTree {
 
     /// Corners of the triangle with original index `tri`.
     pub fn triangle(&self, tri: u32) -> Option<[Vec3; 3]> {
-        self.slot_of.get(tri as usize).map(|&slot| self.tri_verts[slot as usize])
+        self.slot_of
+            .get(tri as usize)
+            .map(|&slot| self.tri_verts[slot as usize])
     }
 }

@@ -9,7 +9,11 @@ pub enum ValidationError {
     #[error("node {node}: axes are not orthonormal")]
     AxesNotOrthonormal { node: usize },
     #[error("node {node}: triangle slot {slot} pokes out of the box by {excess} m")]
-    TriangleOutside { node: usize, slot: usize, excess: f32 },
+    TriangleOutside {
+        node: usize,
+        slot: usize,
+        excess: f32,
+    },
     #[error("triangle order is not a permutation")]
     NotAPermutation,
     #[error("the tree is deeper ({depth}) than its query stack allows")]
@@ -32,7 +36,10 @@ impl ObbTree {
         }
         for (i, node) in self.nodes.iter().enumerate() {
             let a = node.obb.axes;
-            let ortho = (a.transpose() * a - glam::Mat3::IDENTITY).to_cols_array().iter().all(|x| x.abs() < 1e-4);
+            let ortho = (a.transpose() * a - glam::Mat3::IDENTITY)
+                .to_cols_array()
+                .iter()
+                .all(|x| x.abs() < 1e-4);
             if !ortho {
                 return Err(ValidationError::AxesNotOrthonormal { node: i });
             }
@@ -41,14 +48,22 @@ impl ObbTree {
                 for p in self.tri_verts[slot] {
                     let l = node.obb.to_local(p);
                     let excess = (l.abs() - node.obb.half).max_element();
-                    let tol = 1e-4 * (1.0 + node.obb.half.max_element() + node.obb.center.abs().max_element());
+                    let tol = 1e-4
+                        * (1.0 + node.obb.half.max_element() + node.obb.center.abs().max_element());
                     if excess > tol {
-                        return Err(ValidationError::TriangleOutside { node: i, slot, excess });
+                        return Err(ValidationError::TriangleOutside {
+                            node: i,
+                            slot,
+                            excess,
+                        });
                     }
                 }
             }
             if !node.is_leaf() {
-                let (l, r) = (&self.nodes[node.child as usize], &self.nodes[node.child as usize + 1]);
+                let (l, r) = (
+                    &self.nodes[node.child as usize],
+                    &self.nodes[node.child as usize + 1],
+                );
                 let ok = l.tri_start == node.tri_start
                     && l.tri_start + l.tri_count == r.tri_start
                     && r.tri_start + r.tri_count == node.tri_start + node.tri_count

@@ -1,0 +1,228 @@
+//! One simulated scene: a cloth, an optional body, a model, and the frame loop.
+
+use std::time::Instant;
+
+use glam::Vec3;
+
+use super::cloth::Cloth;
+use super::contact::{ContactCache, ContactParams};
+use super::implicit::{Implicit, ImplicitError};
+use super::material::{Material, ModelKind};
+use super::seed::{Seed, seed_stable_step};
+use super::xpbd::Xpbd;
+use crate::body::Body;
+use crate::error::ConfigError;
+
+/// The world around the cloth.
+#[derive(Clone, Copy, Debug)]
+pub struct Environment {
+    pub gravity: Vec3,
+    /// Duration of one frame, s (substeps are inside it).
+    pub frame_dt: f32,
+    /// Floor height, if there is a floor.
+    pub floor: Option<f32>,
+}
+
+impl Default for Environment {
+    fn default() -> Self {
+        Self {
+            gravity: Vec3::new(0.0, -9.81, 0.0),
+            frame_dt: 1.0 / 60.0,
+            floor: Some(0.0),
+        }
+    }
+}
+
+/// What one frame cost.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FrameStats {
+    /// Wall time of the whole frame (collision broad phase + all substeps), ms.
+    pub wall_ms: f64,
+    pub collision_ms: f64,
+    pub contacts: usize,
+    pub queries: usize,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum StepError {
+    #[error(
+        "the simulation diverged (NaN or infinite positions) at frame {frame}; the step is too large for this model and stiffness"
+    )]
+    Diverged { frame: u64 },
+    #[error(transparent)]
+    Implicit(#[from] ImplicitError),
+}
+
+#[derive(Debug)]
+enum Solver {
+    Xpbd(Xpbd),
+    Seed(Seed),
+    Implicit(Box<Implicit>),
+}
+
+#[derive(Debug)]
+pub struct Simulation {
+    pub cloth: Cloth,
+    pub body: Option<Body>,
+    pub env: Environment,
+    pub material: Material,
+    pub model: ModelKind,
+    pub substeps: usize,
+    /// For the seed model, its stable step bound, s.
+    pub stable_step: Option<f64>,
+    /// Things the user should be told (e.g. substeps raised to stay stable).
+    pub notices: Vec<String>,
+    pub frame: u64,
+    contacts: ContactCache,
+    solver: Solver,
+}
+
+/// Default substeps per 1/60 s frame for XPBD: enough for a stiff cotton, within the
+/// 128 x 128 budget on one core.
+pub const XPBD_DEFAULT_SUBSTEPS: usize = 6;
+
+impl Simulation {
+    pub fn new(
+        cloth: Cloth,
+        body: Option<Body>,
+        model: ModelKind,
+        material: Material,
+        env: Environment,
+        substeps: Option<usize>,
+    ) -> Result<Self, ConfigError> {
+        material.validate()?;
+        if !(env.frame_dt.is_finite() && env.frame_dt > 0.0) {
+            return Err(ConfigError::OutOfRange {
+                name: "frame dt",
+                rule: "a positive number of seconds",
+                value: env.frame_dt.to_string(),
+            });
+        }
+        if substeps == Some(0) {
+            return Err(ConfigError::OutOfRange {
+                name: "substeps",
+                rule: ">= 1",
+                value: "0".into(),
+            });
+        }
+        let mut notices = Vec::new();
+        let mut stable_step = None;
+        let contact = ContactParams {
+            thickness: material.thickness,
+            friction: material.friction,
+            floor: env.floor,
+        };
+        let (solver, substeps) = match model {
+            ModelKind::Xpbd => (
+                Solver::Xpbd(Xpbd::new(&cloth, &material)),
+                substeps.unwrap_or(XPBD_DEFAULT_SUBSTEPS),
+            ),
+            ModelKind::Implicit => (
+                Solver::Implicit(Box::new(Implicit::new(&cloth, &material))),
+                substeps.unwrap_or(1),
+            ),
+            ModelKind::Seed => {
+                let bound = seed_stable_step(&cloth, material.seed_stiffness);
+                stable_step = Some(bound);
+                // Keep a 10% margin under the bound.
+                let needed = ((env.frame_dt as f64) / (0.9 * bound)).ceil().max(1.0) as usize;
+                let n = match substeps {
+                    Some(n) if (env.frame_dt as f64 / n as f64) > bound => {
+                        return Err(ConfigError::UnstableStep {
+                            step_s: env.frame_dt as f64 / n as f64,
+                            bound_s: bound,
+                            stiffness: material.seed_stiffness,
+                            needed,
+                        });
+                    }
+                    Some(n) => n,
+                    None => {
+                        notices.push(format!(
+                            "seed model: stable step bound {:.3e} s (k = {} N/m, unit masses); using {needed} substeps per {:.4} s frame",
+                            bound, material.seed_stiffness, env.frame_dt
+                        ));
+                        needed
+                    }
+                };
+                (
+                    Solver::Seed(Seed::new(&cloth, material.seed_stiffness, contact)),
+                    n,
+                )
+            }
+        };
+        let contacts = ContactCache::new(cloth.len());
+        Ok(Self {
+            cloth,
+            body,
+            env,
+            material,
+            model,
+            substeps,
+            stable_step,
+            notices,
+            frame: 0,
+            contacts,
+            solver,
+        })
+    }
+
+    /// Steps one frame. On divergence the error says so; the state is then not usable.
+    pub fn step(&mut self) -> Result<FrameStats, StepError> {
+        let t0 = Instant::now();
+        let mut stats = FrameStats::default();
+        if let Some(body) = &self.body {
+            let cp = ContactParams {
+                thickness: self.material.thickness,
+                friction: self.material.friction,
+                floor: self.env.floor,
+            };
+            self.contacts.update(
+                body,
+                &self.cloth.x,
+                &self.cloth.v,
+                self.env.frame_dt,
+                self.env.gravity.length(),
+                &cp,
+            );
+            stats.contacts = self.contacts.active_count();
+            stats.queries = self.contacts.last_queries;
+        }
+        stats.collision_ms = t0.elapsed().as_secs_f64() * 1e3;
+        match &mut self.solver {
+            Solver::Xpbd(s) => s.step(&mut self.cloth, &self.contacts, &self.env, self.substeps),
+            Solver::Seed(s) => s.step(&mut self.cloth, &self.contacts, &self.env, self.substeps),
+            Solver::Implicit(s) => {
+                s.step(&mut self.cloth, &self.contacts, &self.env, self.substeps)?
+            }
+        }
+        self.frame += 1;
+        stats.wall_ms = t0.elapsed().as_secs_f64() * 1e3;
+        if !self.cloth.is_finite() {
+            return Err(StepError::Diverged { frame: self.frame });
+        }
+        Ok(stats)
+    }
+
+    /// Pins vertex `i` where it is (rebuilds what depends on the free set).
+    pub fn pin(&mut self, i: usize) {
+        self.cloth.pin(i);
+        if let Solver::Implicit(s) = &mut self.solver {
+            s.repin(&self.cloth);
+        }
+    }
+
+    /// Total energy for the seed model (kinetic + spring + gravity with unit masses).
+    pub fn seed_energy(&self) -> Option<f64> {
+        match &self.solver {
+            Solver::Seed(s) => Some(s.energy(&self.cloth, self.env.gravity)),
+            _ => None,
+        }
+    }
+
+    pub fn constraint_count(&self) -> usize {
+        match &self.solver {
+            Solver::Xpbd(s) => s.constraint_count(),
+            _ => self.cloth.topology.edges.len(),
+        }
+    }
+}

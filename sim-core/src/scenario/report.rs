@@ -1,0 +1,89 @@
+//! `report.json`: what a scenario measured.
+
+use serde::Serialize;
+
+/// Percentiles of a sample, in the sample's unit.
+#[derive(Clone, Copy, Debug, Default, Serialize, PartialEq)]
+pub struct Percentiles {
+    pub p50: f64,
+    pub p99: f64,
+    pub max: f64,
+}
+
+impl Percentiles {
+    /// Nearest-rank percentiles; all zero for an empty sample.
+    pub fn of(samples: &[f64]) -> Self {
+        if samples.is_empty() {
+            return Self::default();
+        }
+        let mut s = samples.to_vec();
+        s.sort_by(f64::total_cmp);
+        let rank = |q: f64| s[((q * s.len() as f64).ceil() as usize).clamp(1, s.len()) - 1];
+        Self {
+            p50: rank(0.50),
+            p99: rank(0.99),
+            max: s[s.len() - 1],
+        }
+    }
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Report {
+    pub scenario: String,
+    pub model: String,
+    pub body: String,
+    pub grid: usize,
+    pub vertices: usize,
+    pub triangles: usize,
+    pub constraints: usize,
+    pub frames: u64,
+    pub frame_dt_s: f64,
+    pub substeps: usize,
+    /// Wall time of one whole frame (broad phase + all substeps), ms.
+    pub step_ms: Percentiles,
+    /// The frame's collision broad phase alone, ms.
+    pub collision_ms: Percentiles,
+    pub threads: usize,
+    pub max_penetration_m: f64,
+    pub thickness_m: f64,
+    pub kinetic_energy_final_j: f64,
+    pub kinetic_energy_max_j: f64,
+    pub mesh_valid: bool,
+    /// Drape-cube only: the largest distance from the top-face part of the cloth to the
+    /// plane it should rest on (top + thickness), m.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub top_face_gap_max_m: Option<f64>,
+    /// Seed model only: the stable step bound, s.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub stable_step_s: Option<f64>,
+    pub settled: bool,
+    pub wall_s: f64,
+    pub notices: Vec<String>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn percentiles_nearest_rank() {
+        let s: Vec<f64> = (1..=100).map(f64::from).collect();
+        assert_eq!(
+            Percentiles::of(&s),
+            Percentiles {
+                p50: 50.0,
+                p99: 99.0,
+                max: 100.0
+            }
+        );
+        assert_eq!(
+            Percentiles::of(&[3.0]),
+            Percentiles {
+                p50: 3.0,
+                p99: 3.0,
+                max: 3.0
+            }
+        );
+        assert_eq!(Percentiles::of(&[]), Percentiles::default());
+    }
+}

@@ -1,0 +1,313 @@
+//! Running a scenario: build the scene, step it, measure, export.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use super::report::{Percentiles, Report};
+use crate::body::{Body, BodyKind};
+use crate::cloth::{Cloth, Environment, Material, ModelKind, Simulation, StepError};
+use crate::error::{ConfigError, GeometryError, LoadError};
+use crate::mesh::{ClothMesh, obj};
+
+/// The scenarios `cloth-sim scenario` knows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ScenarioName {
+    /// The paper's experiment: a square cloth dropped on the cube until it settles.
+    DrapeCube,
+    /// The same cloth dropped over the mannequin's head and shoulders.
+    DrapeMannequin,
+}
+
+impl ScenarioName {
+    pub const ALL: &'static str = "drape-cube, drape-mannequin";
+
+    pub fn parse(s: &str) -> Result<Self, ConfigError> {
+        match s {
+            "drape-cube" => Ok(Self::DrapeCube),
+            "drape-mannequin" => Ok(Self::DrapeMannequin),
+            other => Err(ConfigError::Unknown {
+                what: "scenario",
+                name: other.into(),
+                expected: Self::ALL,
+            }),
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::DrapeCube => "drape-cube",
+            Self::DrapeMannequin => "drape-mannequin",
+        }
+    }
+
+    pub fn default_body(self) -> BodyKind {
+        match self {
+            Self::DrapeCube => BodyKind::Cube,
+            Self::DrapeMannequin => BodyKind::Mannequin,
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct ScenarioConfig {
+    pub scenario: ScenarioName,
+    /// Cells per side of the square cloth (N x N cells, (N+1)^2 vertices).
+    pub grid: usize,
+    pub model: ModelKind,
+    pub frames: u64,
+    pub body: BodyKind,
+    pub substeps: Option<usize>,
+    pub material: Material,
+    /// Side of the square cloth, m.
+    pub cloth_size: f32,
+    pub frame_dt: f32,
+    /// Print progress to stderr (once a second) while running.
+    pub progress: bool,
+}
+
+impl ScenarioConfig {
+    pub fn new(scenario: ScenarioName) -> Self {
+        Self {
+            scenario,
+            grid: 64,
+            model: ModelKind::Xpbd,
+            frames: 600,
+            body: scenario.default_body(),
+            substeps: None,
+            material: Material::default(),
+            cloth_size: 1.0,
+            frame_dt: 1.0 / 60.0,
+            progress: false,
+        }
+    }
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum ScenarioError {
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    #[error("body: {0}")]
+    Body(#[from] LoadError),
+    #[error("cloth: {0}")]
+    Cloth(#[from] GeometryError),
+    #[error(transparent)]
+    Step(#[from] StepError),
+    #[error("cannot write {path}: {source}")]
+    Write {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+}
+
+/// Builds the scene of a scenario: the body, and the cloth centred 5 cm above it.
+pub fn build_simulation(cfg: &ScenarioConfig) -> Result<Simulation, ScenarioError> {
+    if cfg.grid == 0 || cfg.grid > 2000 {
+        return Err(ConfigError::OutOfRange {
+            name: "grid",
+            rule: "between 1 and 2000 cells",
+            value: cfg.grid.to_string(),
+        }
+        .into());
+    }
+    if cfg.frames == 0 {
+        return Err(ConfigError::OutOfRange {
+            name: "frames",
+            rule: ">= 1",
+            value: "0".into(),
+        }
+        .into());
+    }
+    crate::error::check_positive("cloth size", cfg.cloth_size)?;
+    cfg.material.validate()?;
+    let body = cfg.body.build()?;
+    let (_, top) = body.bounds();
+    let (mn, mx) = body.bounds();
+    let cx = (mn.x + mx.x) * 0.5;
+    let cz = (mn.z + mx.z) * 0.5;
+    let mut mesh = ClothMesh::grid(
+        cfg.cloth_size,
+        cfg.cloth_size,
+        cfg.grid,
+        cfg.grid,
+        top.y + 0.05,
+    )?;
+    for p in &mut mesh.positions {
+        p.x += cx;
+        p.z += cz;
+    }
+    let cloth = Cloth::new(mesh, &cfg.material)?;
+    let env = Environment {
+        frame_dt: cfg.frame_dt,
+        ..Environment::default()
+    };
+    Ok(Simulation::new(
+        cloth,
+        Some(body),
+        cfg.model,
+        cfg.material,
+        env,
+        cfg.substeps,
+    )?)
+}
+
+/// Runs a scenario and writes `out/cloth.obj`, `out/body.obj` and `out/report.json`.
+pub fn run_scenario(cfg: &ScenarioConfig, out: &Path) -> Result<Report, ScenarioError> {
+    let started = Instant::now();
+    let mut sim = build_simulation(cfg)?;
+    let write_err = |path: &Path| {
+        let path = path.to_owned();
+        move |source| ScenarioError::Write { path, source }
+    };
+    std::fs::create_dir_all(out).map_err(write_err(out))?;
+    for n in &sim.notices {
+        eprintln!("note: {n}");
+    }
+    let mut step_ms = Vec::with_capacity(cfg.frames as usize);
+    let mut coll_ms = Vec::with_capacity(cfg.frames as usize);
+    let mut ke_max = 0.0f64;
+    let mut last_print = Instant::now();
+    for f in 0..cfg.frames {
+        let stats = sim.step()?;
+        step_ms.push(stats.wall_ms);
+        coll_ms.push(stats.collision_ms);
+        ke_max = ke_max.max(sim.cloth.kinetic_energy());
+        if cfg.progress && last_print.elapsed().as_secs_f64() >= 1.0 {
+            last_print = Instant::now();
+            let p = Percentiles::of(&step_ms);
+            eprintln!(
+                "{}: frame {}/{} ({:.0}%), frame p50 {:.2} ms, kinetic energy {:.2e} J, {} contacts",
+                cfg.scenario.name(),
+                f + 1,
+                cfg.frames,
+                100.0 * (f + 1) as f64 / cfg.frames as f64,
+                p.p50,
+                sim.cloth.kinetic_energy(),
+                stats.contacts
+            );
+        }
+    }
+    let body = sim.body.as_ref().ok_or(GeometryError::Empty)?;
+    let max_pen = sim
+        .cloth
+        .x
+        .iter()
+        .map(|&p| body.penetration(p) as f64)
+        .fold(0.0, f64::max);
+    let mesh_valid = ClothMesh {
+        positions: sim.cloth.x.clone(),
+        uvs: sim.cloth.rest.uvs.clone(),
+        triangles: sim.cloth.rest.triangles.clone(),
+    }
+    .validate()
+    .is_ok();
+    let ke = sim.cloth.kinetic_energy();
+    let top_face_gap = (cfg.scenario == ScenarioName::DrapeCube && cfg.body == BodyKind::Cube)
+        .then(|| top_face_gap(&sim, body));
+    // "Settled": RMS speed under 1 cm/s.
+    let total_mass: f64 = sim.cloth.mass.iter().map(|&m| m as f64).sum();
+    let settled = ke <= 0.5 * total_mass * 0.01f64.powi(2);
+    let cloth_path = out.join("cloth.obj");
+    obj::write_obj(
+        &cloth_path,
+        "cloth",
+        &sim.cloth.x,
+        Some(&sim.cloth.rest.uvs),
+        &sim.cloth.rest.triangles,
+        None,
+    )
+    .map_err(write_err(&cloth_path))?;
+    let body_path = out.join("body.obj");
+    obj::write_obj(
+        &body_path,
+        &body.name,
+        &body.vertices,
+        None,
+        &body.triangles,
+        None,
+    )
+    .map_err(write_err(&body_path))?;
+    let report = Report {
+        scenario: cfg.scenario.name().into(),
+        model: cfg.model.name().into(),
+        body: cfg.body.name(),
+        grid: cfg.grid,
+        vertices: sim.cloth.len(),
+        triangles: sim.cloth.rest.triangles.len(),
+        constraints: sim.constraint_count(),
+        frames: sim.frame,
+        frame_dt_s: cfg.frame_dt as f64,
+        substeps: sim.substeps,
+        step_ms: Percentiles::of(&step_ms),
+        collision_ms: Percentiles::of(&coll_ms),
+        threads: 1,
+        max_penetration_m: max_pen,
+        thickness_m: sim.material.thickness as f64,
+        kinetic_energy_final_j: ke,
+        kinetic_energy_max_j: ke_max,
+        mesh_valid,
+        top_face_gap_max_m: top_face_gap,
+        stable_step_s: sim.stable_step,
+        settled,
+        wall_s: started.elapsed().as_secs_f64(),
+        notices: sim.notices.clone(),
+    };
+    let report_path = out.join("report.json");
+    let json = serde_json::to_string_pretty(&report).map_err(|e| ScenarioError::Write {
+        path: report_path.clone(),
+        source: e.into(),
+    })?;
+    std::fs::write(&report_path, json + "\n").map_err(write_err(&report_path))?;
+    Ok(report)
+}
+
+/// For the cube: over the cloth vertices above the top face (inset 2 cm from its edges),
+/// the largest distance from the plane they should rest on.
+fn top_face_gap(sim: &Simulation, body: &Body) -> f64 {
+    let (mn, mx) = body.bounds();
+    let rest_y = mx.y + sim.material.thickness;
+    sim.cloth
+        .x
+        .iter()
+        .filter(|p| {
+            p.x > mn.x + 0.02
+                && p.x < mx.x - 0.02
+                && p.z > mn.z + 0.02
+                && p.z < mx.z - 0.02
+                && p.y > mn.y
+        })
+        .map(|p| (p.y - rest_y).abs() as f64)
+        .fold(0.0, f64::max)
+}
+
+/// The largest square grid (from a fixed ladder) whose median frame time stays within
+/// the frame period, for drape-cube with `model`. Returns `(grid, p50_ms)` for each size
+/// tried, in order; the search stops at the first size that misses real time.
+pub fn max_realtime_grid(
+    model: ModelKind,
+    frames: u64,
+    mut log: impl FnMut(usize, f64, usize),
+) -> Result<Vec<(usize, f64)>, ScenarioError> {
+    let ladder = [
+        8usize, 12, 16, 24, 32, 48, 64, 96, 128, 160, 192, 256, 320, 384,
+    ];
+    let mut tried = Vec::new();
+    for &grid in &ladder {
+        let mut cfg = ScenarioConfig::new(ScenarioName::DrapeCube);
+        cfg.grid = grid;
+        cfg.model = model;
+        cfg.frames = frames;
+        let mut sim = build_simulation(&cfg)?;
+        let mut ms = Vec::new();
+        for _ in 0..frames {
+            ms.push(sim.step()?.wall_ms);
+        }
+        // Skip the first frames (cold caches, first contacts).
+        let p50 = Percentiles::of(&ms[ms.len() / 4..]).p50;
+        log(grid, p50, sim.substeps);
+        tried.push((grid, p50));
+        if p50 > cfg.frame_dt as f64 * 1e3 {
+            break;
+        }
+    }
+    Ok(tried)
+}
