@@ -1,31 +1,31 @@
+use glam::Vec3;
+use sim_core::body::BodyKind;
 use sim_core::scenario::*;
 fn main() {
-    let mut cfg = ScenarioConfig::new(ScenarioName::DrapeMannequin);
-    cfg.grid = std::env::args()
-        .nth(1)
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(64);
+    let mut cfg = ScenarioConfig::new(ScenarioName::DrapeCube);
+    cfg.grid = 24;
+    cfg.body = BodyKind::Mannequin;
+    cfg.cloth_size = 0.6;
     let mut sim = build_simulation(&cfg).unwrap();
-    for f in 0..240 {
+    for (p, v) in sim.cloth.x.iter_mut().zip(sim.cloth.v.iter_mut()) {
+        p.y += 0.05;
+        *v = Vec3::new(0.0, -2.0, 0.0);
+    }
+    let b = sim.body.clone().unwrap();
+    for f in 0..30 {
+        let before = sim.cloth.x.clone();
+        let vb = sim.cloth.v.clone();
         sim.step().unwrap();
-        if f % 40 == 39 {
-            let body = sim.body.as_ref().unwrap();
-            let mut worst: Vec<(f32, usize)> = sim
-                .cloth
-                .x
-                .iter()
-                .enumerate()
-                .map(|(i, &p)| (body.penetration(p), i))
-                .collect();
-            worst.sort_by(|a, b| b.0.total_cmp(&a.0));
-            let n = worst.iter().filter(|w| w.0 > 0.001).count();
-            println!(
-                "frame {f}: {n} verts deeper than 1mm; worst {:?}",
-                &worst[..3]
-                    .iter()
-                    .map(|&(d, i)| (d, sim.cloth.x[i], body.signed_distance(sim.cloth.x[i], 1.0)))
-                    .collect::<Vec<_>>()
-            );
+        for (i, &p) in sim.cloth.x.iter().enumerate() {
+            let d = b.penetration(p);
+            if d > 0.004 {
+                println!(
+                    "frame {f} vertex {i} pen {d:.4} at {p} from {} v {} mesh sd {:?}",
+                    before[i],
+                    vb[i],
+                    b.signed_distance(p, 1.0)
+                );
+            }
         }
     }
 }

@@ -101,6 +101,9 @@ struct MaterialArgs {
     /// Seed model spring constant k, N/m (unit masses).
     #[arg(long, default_value_t = Material::default().seed_stiffness, allow_negative_numbers = true)]
     seed_stiffness: f32,
+    /// XPBD: no long-range tethers to pinned vertices.
+    #[arg(long)]
+    no_tethers: bool,
 }
 
 impl MaterialArgs {
@@ -115,6 +118,7 @@ impl MaterialArgs {
             friction: self.friction,
             thickness: self.thickness,
             seed_stiffness: self.seed_stiffness,
+            tethers: !self.no_tethers,
         }
     }
 }

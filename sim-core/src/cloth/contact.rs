@@ -135,6 +135,45 @@ impl ContactCache {
         }
     }
 
+    /// The frame's safety net. A single cached plane per particle cannot stop a particle
+    /// sliding into a concave corner (a neck above a shoulder) at speed. A particle that
+    /// moved less than its clearance since its query cannot be inside (distance to the
+    /// surface is 1-Lipschitz); the others are checked, and any found inside is projected
+    /// out to `thickness` with its inward velocity removed. Returns how many were moved.
+    pub fn resolve_penetrations(
+        &mut self,
+        body: &Body,
+        x: &mut [Vec3],
+        v: &mut [Vec3],
+        inv_mass: &[f32],
+        thickness: f32,
+    ) -> usize {
+        let mut fixed = 0;
+        for i in 0..x.len() {
+            if inv_mass[i] == 0.0 {
+                continue;
+            }
+            let moved = (x[i] - self.query_pos[i]).length();
+            if moved < self.clear[i] {
+                continue;
+            }
+            let hint = self.hint[i];
+            let Some(c) = body.contact(x[i], moved + thickness, hint) else {
+                continue;
+            };
+            if c.signed_distance < 0.0 {
+                x[i] = c.point + c.normal * thickness;
+                let vn = v[i].dot(c.normal);
+                if vn < 0.0 {
+                    v[i] -= c.normal * vn;
+                }
+                self.hint[i] = c.tri;
+                fixed += 1;
+            }
+        }
+        fixed
+    }
+
     /// Drops all cached planes (e.g. after the cloth was moved by an edit).
     pub fn reset(&mut self) {
         let n = self.normal.len();

@@ -61,6 +61,8 @@ pub struct Material {
     pub thickness: f32,
     /// Seed model only: the spring constant k of the paper, N/m, with unit masses.
     pub seed_stiffness: f32,
+    /// XPBD only: long-range tethers from free vertices to pins (see `xpbd`).
+    pub tethers: bool,
 }
 
 impl Default for Material {
@@ -76,6 +78,7 @@ impl Default for Material {
             friction: 0.4,
             thickness: 0.004,
             seed_stiffness: 2.0e4,
+            tethers: true,
         }
     }
 }

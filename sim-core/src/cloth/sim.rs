@@ -41,6 +41,8 @@ pub struct FrameStats {
     pub collision_ms: f64,
     pub contacts: usize,
     pub queries: usize,
+    /// Particles the end-of-frame check found inside the body and pushed out.
+    pub rescued: usize,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -195,6 +197,17 @@ impl Simulation {
                 s.step(&mut self.cloth, &self.contacts, &self.env, self.substeps)?
             }
         }
+        if let Some(body) = &self.body {
+            let t1 = Instant::now();
+            stats.rescued = self.contacts.resolve_penetrations(
+                body,
+                &mut self.cloth.x,
+                &mut self.cloth.v,
+                &self.cloth.inv_mass,
+                self.material.thickness,
+            );
+            stats.collision_ms += t1.elapsed().as_secs_f64() * 1e3;
+        }
         self.frame += 1;
         stats.wall_ms = t0.elapsed().as_secs_f64() * 1e3;
         if !self.cloth.is_finite() {
@@ -206,8 +219,10 @@ impl Simulation {
     /// Pins vertex `i` where it is (rebuilds what depends on the free set).
     pub fn pin(&mut self, i: usize) {
         self.cloth.pin(i);
-        if let Solver::Implicit(s) = &mut self.solver {
-            s.repin(&self.cloth);
+        match &mut self.solver {
+            Solver::Implicit(s) => s.repin(&self.cloth),
+            Solver::Xpbd(s) => s.repin(&self.cloth),
+            Solver::Seed(_) => {}
         }
     }
 

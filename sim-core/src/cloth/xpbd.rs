@@ -4,6 +4,14 @@
 //! `alpha / h^2` is recomputed for the substep, so material stiffness does not depend on
 //! the substep count. With one iteration per substep the Lagrange multipliers start at
 //! zero every substep and need not be stored.
+//!
+//! Gauss-Seidel moves a correction about one vertex per pass, so with few passes a long
+//! hanging span stretches more than its material would (the sag then depends on the
+//! substep count). Long-range attachments (Kim, Chentanez & Mueller 2012) fix that for
+//! pinned cloth: every free vertex gets a unilateral tether to its nearest pins, as long
+//! as the geodesic rest distance times `1 + strain`, where `strain` is what the material
+//! itself would stretch under its full weight (`density * g * extent / stretch`). Tethers
+//! never make the cloth stiffer than its material; they only stop the solver's lag.
 
 use glam::Vec3;
 
@@ -21,6 +29,8 @@ pub struct Xpbd {
     normals: Vec<Vec3>,
     area: Vec<f32>,
     material: Material,
+    /// (vertex, pin, maximum length) long-range attachments.
+    tethers: Vec<(u32, u32, f32)>,
 }
 
 impl Xpbd {
@@ -43,7 +53,13 @@ impl Xpbd {
             normals: vec![Vec3::Y; cloth.len()],
             area,
             material: *material,
+            tethers: tethers(cloth, material),
         }
+    }
+
+    /// Rebuilds what depends on which vertices are pinned.
+    pub fn repin(&mut self, cloth: &Cloth) {
+        self.tethers = tethers(cloth, &self.material);
     }
 
     pub fn constraint_count(&self) -> usize {
@@ -90,6 +106,7 @@ impl Xpbd {
                     cloth.x[i] += cloth.v[i] * h;
                 }
             }
+            solve_tethers(&self.tethers, &mut cloth.x);
             solve_membranes(
                 &self.membranes,
                 &mut cloth.x,
@@ -99,6 +116,11 @@ impl Xpbd {
             );
             if a_bend.is_finite() {
                 solve_bending(&self.bends, &mut cloth.x, &cloth.inv_mass, a_bend);
+            }
+            // Tethers of one vertex to two pins conflict within a pass; three passes settle
+            // them (they are cheap: two per free vertex).
+            for _ in 0..3 {
+                solve_tethers(&self.tethers, &mut cloth.x);
             }
             contacts.project(&mut cloth.x, &self.prev, &cloth.inv_mass, &cp);
             let inv_h = 1.0 / h;
@@ -211,4 +233,102 @@ fn solve_bending(bends: &[BendConstraint], x: &mut [Vec3], w: &[f32], a_bend: f3
             x[idx[a]] += dl * (w[idx[a]] * b.k[a]);
         }
     }
+}
+
+/// Unilateral tethers: pull a vertex back inside its sphere around the pin.
+fn solve_tethers(tethers: &[(u32, u32, f32)], x: &mut [Vec3]) {
+    for &(i, p, max) in tethers {
+        let d = x[i as usize] - x[p as usize];
+        let l = d.length();
+        if l > max {
+            x[i as usize] -= d * ((l - max) / l);
+        }
+    }
+}
+
+/// Tethers from every free vertex to its (up to) two nearest pins by geodesic rest
+/// distance along mesh edges (Dijkstra from each pin; with more than 8 pins, one
+/// multi-source pass and the nearest pin only).
+fn tethers(cloth: &Cloth, material: &Material) -> Vec<(u32, u32, f32)> {
+    use std::cmp::Reverse;
+    use std::collections::BinaryHeap;
+    let pins: Vec<u32> = (0..cloth.len() as u32)
+        .filter(|&i| cloth.is_pinned(i as usize))
+        .collect();
+    if !material.tethers || pins.is_empty() || pins.len() == cloth.len() {
+        return Vec::new();
+    }
+    let n = cloth.len();
+    let mut adj: Vec<Vec<(u32, f32)>> = vec![Vec::new(); n];
+    for e in &cloth.topology.edges {
+        let l = (cloth.rest.positions[e.a as usize] - cloth.rest.positions[e.b as usize]).length();
+        adj[e.a as usize].push((e.b, l));
+        adj[e.b as usize].push((e.a, l));
+    }
+    let (mn, mx) = cloth.rest.positions.iter().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(a, b), &p| (a.min(p), b.max(p)),
+    );
+    let extent = (mx - mn).length();
+    let strain = material.density * 9.81 * extent / material.stretch;
+    let dijkstra = |sources: &[u32]| -> (Vec<f32>, Vec<u32>) {
+        let mut dist = vec![f32::INFINITY; n];
+        let mut from = vec![u32::MAX; n];
+        let mut heap = BinaryHeap::new();
+        for &s in sources {
+            dist[s as usize] = 0.0;
+            from[s as usize] = s;
+            heap.push(Reverse((0u32, s)));
+        }
+        while let Some(Reverse((dbits, u))) = heap.pop() {
+            let du = f32::from_bits(dbits);
+            if du > dist[u as usize] {
+                continue;
+            }
+            for &(v, l) in &adj[u as usize] {
+                let nd = du + l;
+                if nd < dist[v as usize] {
+                    dist[v as usize] = nd;
+                    from[v as usize] = from[u as usize];
+                    // Non-negative floats order like their bit patterns.
+                    heap.push(Reverse((nd.to_bits(), v)));
+                }
+            }
+        }
+        (dist, from)
+    };
+    let mut out = Vec::new();
+    if pins.len() > 8 {
+        let (dist, from) = dijkstra(&pins);
+        for i in 0..n {
+            if !cloth.is_pinned(i) && dist[i].is_finite() {
+                out.push((i as u32, from[i], dist[i] * (1.0 + strain)));
+            }
+        }
+        return out;
+    }
+    let mut best: Vec<[(f32, u32); 2]> = vec![[(f32::INFINITY, u32::MAX); 2]; n];
+    for &p in &pins {
+        let (dist, _) = dijkstra(&[p]);
+        for i in 0..n {
+            let b = &mut best[i];
+            if dist[i] < b[0].0 {
+                b[1] = b[0];
+                b[0] = (dist[i], p);
+            } else if dist[i] < b[1].0 {
+                b[1] = (dist[i], p);
+            }
+        }
+    }
+    for i in 0..n {
+        if cloth.is_pinned(i) {
+            continue;
+        }
+        for &(d, p) in &best[i] {
+            if d.is_finite() {
+                out.push((i as u32, p, d * (1.0 + strain)));
+            }
+        }
+    }
+    out
 }

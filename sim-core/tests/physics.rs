@@ -1,0 +1,314 @@
+//! Behaviour of the cloth models: stability bound of the seed model, substep independence
+//! of XPBD, XPBD against the implicit reference, and contact robustness.
+
+use glam::Vec3;
+use sim_core::body::BodyKind;
+use sim_core::cloth::{
+    Cloth, ContactCache, ContactParams, Environment, Material, ModelKind, Seed, Simulation,
+    seed_stable_step,
+};
+use sim_core::mesh::ClothMesh;
+use sim_core::scenario::{ScenarioConfig, ScenarioName, build_simulation};
+
+/// A `size` square cloth, `n` x `n` cells, pinned at the two corners of its -Z edge, in
+/// free space (no floor, no body).
+fn hanging(
+    n: usize,
+    size: f32,
+    model: ModelKind,
+    substeps: Option<usize>,
+    material: Material,
+) -> Simulation {
+    let mut mesh = ClothMesh::grid(size, size, n, n, 1.0).unwrap();
+    // Start hanging in the vertical plane z = 0, pinned edge on top at y = 1.
+    for p in &mut mesh.positions {
+        *p = Vec3::new(p.x, 1.0 - (p.z + size / 2.0), 0.0);
+    }
+    let mut cloth = Cloth::new(mesh, &material).unwrap();
+    cloth.pin(0);
+    cloth.pin(n);
+    let env = Environment {
+        floor: None,
+        ..Environment::default()
+    };
+    let mut sim = Simulation::new(cloth, None, model, material, env, substeps).unwrap();
+    sim.pin(0);
+    sim.pin(n);
+    sim
+}
+
+fn run_until_still(sim: &mut Simulation, max_frames: usize) {
+    for _ in 0..max_frames {
+        sim.step().unwrap();
+    }
+}
+
+/// Drop of the midpoint of the pinned edge below the pins, and of the lowest point.
+fn sag(sim: &Simulation, n: usize) -> (f32, f32) {
+    let mid = sim.cloth.x[n / 2].y;
+    let low = sim
+        .cloth
+        .x
+        .iter()
+        .map(|p| p.y)
+        .fold(f32::INFINITY, f32::min);
+    (1.0 - mid, 1.0 - low)
+}
+
+#[test]
+fn seed_energy_bounded_below_the_bound_and_blows_up_above() {
+    let n = 10;
+    let k = 1.0e5;
+    let material = Material {
+        seed_stiffness: k,
+        ..Material::default()
+    };
+    let make = || {
+        let mut c = Cloth::new(ClothMesh::grid(0.5, 0.5, n, n, 1.0).unwrap(), &material).unwrap();
+        c.pin(0);
+        c.pin(n);
+        // A little noise so every mode is excited.
+        for (i, p) in c.x.iter_mut().enumerate() {
+            p.y += 1e-4 * ((i * 7919) % 13) as f32 / 13.0;
+        }
+        c
+    };
+    let bound = seed_stable_step(&make(), k);
+    assert!(bound.is_finite() && bound > 0.0);
+    let contact = ContactParams {
+        thickness: 0.004,
+        friction: 0.0,
+        floor: None,
+    };
+    let run = |h: f64| -> (f64, f64, bool) {
+        let mut cloth = make();
+        let mut seed = Seed::new(&cloth, k, contact);
+        let contacts = ContactCache::new(cloth.len());
+        let env = Environment {
+            frame_dt: h as f32,
+            floor: None,
+            ..Environment::default()
+        };
+        let e0 = seed.energy(&cloth, env.gravity);
+        let mut emax: f64 = e0;
+        for _ in 0..10_000 {
+            seed.step(&mut cloth, &contacts, &env, 1);
+            if !cloth.is_finite() {
+                return (e0, f64::INFINITY, false);
+            }
+            emax = emax.max(seed.energy(&cloth, env.gravity));
+        }
+        (e0, emax, true)
+    };
+    // Energy scale: the potential energy the cloth can release by falling its own size.
+    let scale = ((n + 1) * (n + 1)) as f64 * 9.81 * 0.5;
+    let (e0, emax, finite) = run(0.9 * bound);
+    assert!(finite, "diverged below the bound");
+    assert!(
+        emax - e0 < 0.5 * scale,
+        "energy grew from {e0} to {emax} below the bound (h = {:.3e})",
+        0.9 * bound
+    );
+    let (e0, emax, _) = run(1.1 * bound);
+    assert!(
+        emax - e0 > 1e3 * scale,
+        "energy stayed bounded ({e0} -> {emax}) above the bound: the bound is wrong"
+    );
+}
+
+#[test]
+fn seed_refuses_an_unstable_substep_count_and_says_why() {
+    let material = Material::default();
+    let cloth = Cloth::new(ClothMesh::grid(1.0, 1.0, 16, 16, 1.0).unwrap(), &material).unwrap();
+    let err = Simulation::new(
+        cloth.clone(),
+        None,
+        ModelKind::Seed,
+        material,
+        Environment::default(),
+        Some(1),
+    )
+    .unwrap_err();
+    assert!(err.to_string().contains("unstable"), "{err}");
+    let sim = Simulation::new(
+        cloth,
+        None,
+        ModelKind::Seed,
+        material,
+        Environment::default(),
+        None,
+    )
+    .unwrap();
+    assert!(sim.substeps > 1);
+    assert!(sim.notices.iter().any(|n| n.contains("substeps")));
+    assert!((sim.env.frame_dt as f64 / sim.substeps as f64) < sim.stable_step.unwrap());
+}
+
+/// Lowest point's drop below the pins of a cloth hanging from `pins`, after settling.
+fn settled_drop(n: usize, pins: &[usize], substeps: usize, material: Material) -> (f32, f32) {
+    let mesh = ClothMesh::grid(0.5, 0.5, n, n, 1.0).unwrap();
+    let mut cloth = Cloth::new(mesh, &material).unwrap();
+    for &p in pins {
+        cloth.pin(p);
+    }
+    let env = Environment {
+        floor: None,
+        ..Environment::default()
+    };
+    let mut sim =
+        Simulation::new(cloth, None, ModelKind::Xpbd, material, env, Some(substeps)).unwrap();
+    run_until_still(&mut sim, 900);
+    assert!(
+        sim.cloth.kinetic_energy() < 1e-6,
+        "not at rest: {}",
+        sim.cloth.kinetic_energy()
+    );
+    sag(&sim, n)
+}
+
+#[test]
+fn xpbd_sag_does_not_depend_on_substeps() {
+    // A curtain: cotton pinned along its whole top edge. Its sag is its stretch under
+    // its own weight.
+    let n = 16;
+    let pins: Vec<usize> = (0..=n).collect();
+    let drops: Vec<f32> = [5, 10, 20]
+        .iter()
+        .map(|&s| settled_drop(n, &pins, s, Material::default()).1)
+        .collect();
+    eprintln!("curtain drop at 5/10/20 substeps: {drops:?}");
+    for d in &drops {
+        assert!(
+            (d - drops[2]).abs() < 0.001,
+            "drops differ by more than 1 mm: {drops:?}"
+        );
+        // It does stretch (a little) and does not go slack.
+        assert!(*d > 0.5 && *d < 0.505, "{d}");
+    }
+}
+
+#[test]
+fn tethers_cut_the_substep_dependence_of_corner_pinned_cloth() {
+    // Pinned at two corners, Gauss-Seidel lag shows as extra sag at few substeps.
+    let n = 16;
+    let spread = |tethers: bool| {
+        let m = Material {
+            tethers,
+            ..Material::default()
+        };
+        let d: Vec<f32> = [5, 20]
+            .iter()
+            .map(|&s| settled_drop(n, &[0, n], s, m).1)
+            .collect();
+        (d[0] - d[1]).abs()
+    };
+    let (with, without) = (spread(true), spread(false));
+    eprintln!("lowest-point spread 5 vs 20 substeps: {with} m with tethers, {without} m without");
+    assert!(with < 0.015, "{with}");
+    assert!(
+        with * 3.0 < without,
+        "tethers did not help: {with} vs {without}"
+    );
+}
+
+#[test]
+fn xpbd_rest_shape_matches_the_implicit_equilibrium() {
+    let n = 12;
+    // The constraint model alone (no tethers), soft enough that the equilibrium has
+    // visible stretch to compare.
+    let material = Material {
+        stretch: 50.0,
+        shear: 5.0,
+        bending: 1e-5,
+        tethers: false,
+        ..Material::default()
+    };
+    let mut x = hanging(n, 0.5, ModelKind::Xpbd, Some(20), material);
+    run_until_still(&mut x, 900);
+    let mut im = hanging(n, 0.5, ModelKind::Implicit, Some(1), material);
+    run_until_still(&mut im, 900);
+    assert!(x.cloth.kinetic_energy() < 1e-6 && im.cloth.kinetic_energy() < 1e-6);
+    // Wrinkles may buckle to either side of the hanging plane: compare modulo that mirror.
+    let dist = |mirror: f32| {
+        x.cloth
+            .x
+            .iter()
+            .zip(&im.cloth.x)
+            .map(|(a, b)| (*a - *b * Vec3::new(1.0, 1.0, mirror)).length())
+            .fold(0.0f32, f32::max)
+    };
+    let worst = dist(1.0).min(dist(-1.0));
+    let (sx, si) = (sag(&x, n), sag(&im, n));
+    eprintln!("max vertex distance XPBD vs implicit: {worst} m; sags {sx:?} vs {si:?}");
+    assert!(
+        worst < TOL_IMPLICIT,
+        "XPBD rest shape is {worst} m from the implicit equilibrium"
+    );
+}
+
+/// 2% of the cloth's side: the GS lag of 20 one-pass substeps at this stiffness.
+const TOL_IMPLICIT: f32 = 0.01;
+
+#[test]
+fn drape_cube_settles_on_the_cube() {
+    let mut cfg = ScenarioConfig::new(ScenarioName::DrapeCube);
+    cfg.grid = 32;
+    cfg.frames = 420;
+    let dir = std::env::temp_dir().join(format!("saiho-drape-{}", std::process::id()));
+    let r = sim_core::scenario::run_scenario(&cfg, &dir).unwrap();
+    assert!(r.mesh_valid);
+    assert!(r.settled, "kinetic energy {}", r.kinetic_energy_final_j);
+    assert!(r.kinetic_energy_final_j < 1e-6);
+    assert!(
+        r.max_penetration_m <= r.thickness_m,
+        "penetration {}",
+        r.max_penetration_m
+    );
+    let gap = r.top_face_gap_max_m.unwrap();
+    assert!(
+        gap < 0.003,
+        "the cloth above the cube is {gap} m off its top face"
+    );
+    // It drapes: the corners hang well below the top.
+    let obj = std::fs::read_to_string(dir.join("cloth.obj")).unwrap();
+    let min_y = obj
+        .lines()
+        .filter_map(|l| l.strip_prefix("v "))
+        .map(|l| l.split(' ').nth(1).unwrap().parse::<f32>().unwrap())
+        .fold(f32::INFINITY, f32::min);
+    assert!(min_y < 0.2, "lowest cloth point {min_y}");
+    assert!(dir.join("body.obj").exists() && dir.join("report.json").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn no_tunnelling_at_two_metres_per_second() {
+    for body in [BodyKind::Cube, BodyKind::Sphere, BodyKind::Mannequin] {
+        let mut cfg = ScenarioConfig::new(ScenarioName::DrapeCube);
+        cfg.grid = 24;
+        cfg.body = body.clone();
+        cfg.cloth_size = 0.6;
+        let mut sim = build_simulation(&cfg).unwrap();
+        // Throw the cloth down at 2 m/s from 10 cm above the body.
+        for (p, v) in sim.cloth.x.iter_mut().zip(sim.cloth.v.iter_mut()) {
+            p.y += 0.05;
+            *v = Vec3::new(0.0, -2.0, 0.0);
+        }
+        let b = sim.body.clone().unwrap();
+        let mut worst = 0.0f32;
+        for _ in 0..30 {
+            sim.step().unwrap();
+            worst = sim
+                .cloth
+                .x
+                .iter()
+                .map(|&p| b.penetration(p))
+                .fold(worst, f32::max);
+        }
+        assert!(
+            worst <= sim.material.thickness,
+            "{}: a particle went {worst} m into the body",
+            b.name
+        );
+    }
+}
