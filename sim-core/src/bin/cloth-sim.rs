@@ -67,6 +67,9 @@ struct ScenarioArgs {
     cloth_size: f32,
     #[command(flatten)]
     material: MaterialArgs,
+    /// Threads for the XPBD constraint passes (1 or 2; the result does not depend on it).
+    #[arg(long, default_value_t = 2)]
+    threads: usize,
     /// No progress lines on stderr.
     #[arg(long)]
     quiet: bool,
@@ -164,6 +167,10 @@ fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>> {
     cfg.cloth_size = a.cloth_size;
     cfg.material = a.material.material();
     cfg.progress = !a.quiet;
+    if a.threads == 0 {
+        return Err("--threads must be at least 1".into());
+    }
+    cfg.threads = a.threads;
     let r = run_scenario(&cfg, &a.out)?;
     eprintln!(
         "{}: {} model, {} vertices, {} frames x {} substeps: frame p50 {:.2} ms p99 {:.2} ms; \

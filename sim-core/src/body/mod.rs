@@ -1,8 +1,10 @@
 //! Rigid bodies the cloth collides with: the paper's cube, a sphere, a procedural
 //! mannequin, or any closed OBJ surface.
 
-mod body;
 mod shapes;
+mod surface;
 
-pub use body::{Body, BodyContact};
-pub use shapes::{Analytic, BodyKind, Primitive};
+pub use shapes::{
+    Analytic, BodyKind, MANNEQUIN_CELL, Primitive, cube, mannequin, mannequin_parts, sphere,
+};
+pub use surface::{Body, BodyContact};

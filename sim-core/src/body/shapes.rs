@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 
-use super::body::Body;
+use super::surface::Body;
 use crate::error::{ConfigError, GeometryError, LoadError};
 
 /// Which body a scene uses.

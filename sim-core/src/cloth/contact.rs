@@ -16,6 +16,11 @@ use glam::Vec3;
 
 use crate::body::Body;
 
+/// How far a particle may move from where its nearest triangle was last searched before
+/// it is searched again, m. The cached triangle's distance is then within twice this of
+/// the true nearest distance, well under any sensible thickness.
+pub const REUSE_DISTANCE: f32 = 0.001;
+
 /// Contact settings.
 #[derive(Clone, Copy, Debug)]
 pub struct ContactParams {
@@ -39,6 +44,8 @@ pub struct ContactCache {
     clear: Vec<f32>,
     /// Particles with an active plane this frame.
     active: Vec<u32>,
+    /// Whether any particle can reach the floor this frame.
+    floor_near: bool,
     /// Queries run in the last update (for reports).
     pub last_queries: usize,
 }
@@ -52,6 +59,7 @@ impl ContactCache {
             query_pos: vec![Vec3::splat(f32::INFINITY); n],
             clear: vec![0.0; n],
             active: Vec::with_capacity(n),
+            floor_near: true,
             last_queries: 0,
         }
     }
@@ -77,6 +85,15 @@ impl ContactCache {
         }
         self.active.clear();
         self.last_queries = 0;
+        self.floor_near = p.floor.is_none_or(|floor| {
+            let level = floor + p.thickness;
+            x.iter().zip(v).any(|(x, v)| {
+                x.y - v.length() * reach_time * 1.5
+                    - 0.5 * max_accel * reach_time * reach_time
+                    - 1e-3
+                    < level
+            })
+        });
         // Query a little farther than needed so quiet particles can be skipped next frame.
         let slack = 0.02f32;
         for i in 0..n {
@@ -87,6 +104,22 @@ impl ContactCache {
             let moved = (x[i] - self.query_pos[i]).length();
             if self.clear[i] - moved > reach {
                 self.normal[i] = Vec3::ZERO;
+                continue;
+            }
+            // Barely moved since its last full query: its nearest triangle is (to within
+            // 2 * REUSE_DISTANCE) still the one found then; re-project onto it.
+            if moved < REUSE_DISTANCE
+                && self.hint[i] != u32::MAX
+                && self.clear[i] < reach
+                && let Some(c) = body.contact_on(x[i], self.hint[i])
+            {
+                if c.signed_distance < reach {
+                    self.normal[i] = c.normal;
+                    self.offset[i] = c.normal.dot(c.point);
+                    self.active.push(i as u32);
+                } else {
+                    self.normal[i] = Vec3::ZERO;
+                }
                 continue;
             }
             self.last_queries += 1;
@@ -195,7 +228,7 @@ impl ContactCache {
                 friction(&mut x[i], prev[i], n, -s, p.friction);
             }
         }
-        if let Some(floor) = p.floor {
+        if let Some(floor) = p.floor.filter(|_| self.floor_near) {
             let level = floor + p.thickness;
             for i in 0..x.len() {
                 if x[i].y < level && inv_mass[i] > 0.0 {

@@ -15,11 +15,11 @@ use faer::sparse::{SparseColMat, Triplet};
 use faer::{Mat, Side};
 use glam::{DVec3, Vec3};
 
-use super::cloth::Cloth;
 use super::constraints::{BendConstraint, Membrane, build_bending, build_membranes};
 use super::contact::{ContactCache, ContactParams};
 use super::material::Material;
 use super::sim::Environment;
+use super::state::Cloth;
 
 #[derive(Debug, thiserror::Error)]
 pub enum ImplicitError {

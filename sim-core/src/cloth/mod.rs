@@ -1,20 +1,22 @@
 //! Cloth state and the three models: `xpbd` (default), `seed` (the paper's mass-spring)
 //! and `implicit` (backward Euler, the reference).
 
-mod cloth;
+mod coloring;
 mod constraints;
 mod contact;
 mod implicit;
 mod material;
 mod seed;
 mod sim;
+mod state;
 mod xpbd;
+mod xpbd_simd;
 
-pub use cloth::Cloth;
 pub use constraints::{BendConstraint, Membrane, bending_energy, build_bending, build_membranes};
 pub use contact::{ContactCache, ContactParams};
 pub use implicit::Implicit;
 pub use material::{Material, ModelKind};
 pub use seed::{Seed, seed_stable_step};
 pub use sim::{Environment, FrameStats, Simulation, StepError, XPBD_DEFAULT_SUBSTEPS};
+pub use state::Cloth;
 pub use xpbd::Xpbd;

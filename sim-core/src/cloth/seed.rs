@@ -10,9 +10,9 @@
 
 use glam::Vec3;
 
-use super::cloth::Cloth;
 use super::contact::{ContactCache, ContactParams};
 use super::sim::Environment;
+use super::state::Cloth;
 
 #[derive(Clone, Debug)]
 pub struct Seed {

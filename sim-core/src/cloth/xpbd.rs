@@ -15,55 +15,192 @@
 
 use glam::Vec3;
 
-use super::cloth::Cloth;
+use super::coloring::color_order;
 use super::constraints::{BendConstraint, Membrane, build_bending, build_membranes};
 use super::contact::{ContactCache, ContactParams};
 use super::material::Material;
 use super::sim::Environment;
+use super::state::Cloth;
+use super::xpbd_simd::{self, BendBlock, LANES, MembraneBlock};
+
+/// Constraints whose vertices all lie in one contiguous vertex range, with indices
+/// relative to the range's start, coloured and packed into SIMD blocks.
+#[derive(Clone, Debug, Default)]
+struct Group {
+    /// End of the group's vertex range (it starts where the previous group ends).
+    end: usize,
+    membranes: Vec<Membrane>,
+    bends: Vec<BendConstraint>,
+    /// Per colour: full SIMD blocks, then the colour's remainder (solved scalar).
+    membrane_batches: Vec<(Vec<MembraneBlock>, std::ops::Range<usize>)>,
+    bend_batches: Vec<(Vec<BendBlock>, std::ops::Range<usize>)>,
+}
+
+impl Group {
+    fn new(
+        range: std::ops::Range<usize>,
+        mut membranes: Vec<Membrane>,
+        mut bends: Vec<BendConstraint>,
+        w: &[f32],
+    ) -> Self {
+        let off = range.start as u32;
+        for m in &mut membranes {
+            m.v = m.v.map(|i| i - off);
+        }
+        for b in &mut bends {
+            b.v = b.v.map(|i| i - off);
+        }
+        // Spatial order first (locality), then colour (independence within a colour).
+        membranes.sort_by_key(|m| m.v.iter().copied().min().unwrap_or(0));
+        bends.sort_by_key(|b| b.v.iter().copied().min().unwrap_or(0));
+        let len = range.end - range.start;
+        let membrane_colors = color_order(&mut membranes, len, |m| &m.v[..]);
+        let bend_colors = color_order(&mut bends, len, |b| &b.v[..]);
+        let mut g = Self {
+            end: range.end,
+            membranes,
+            bends,
+            ..Default::default()
+        };
+        g.pack(&w[range], &membrane_colors, &bend_colors);
+        g
+    }
+
+    fn pack(&mut self, w: &[f32], membrane_colors: &[usize], bend_colors: &[usize]) {
+        self.membrane_batches = membrane_colors
+            .windows(2)
+            .map(|r| {
+                let full = r[0] + (r[1] - r[0]) / LANES * LANES;
+                let blocks = self.membranes[r[0]..full]
+                    .chunks_exact(LANES)
+                    .map(|c| MembraneBlock::pack(c, w))
+                    .collect();
+                (blocks, full..r[1])
+            })
+            .collect();
+        self.bend_batches = bend_colors
+            .windows(2)
+            .map(|r| {
+                let full = r[0] + (r[1] - r[0]) / LANES * LANES;
+                let blocks = self.bends[r[0]..full]
+                    .chunks_exact(LANES)
+                    .map(|c| BendBlock::pack(c, w))
+                    .collect();
+                (blocks, full..r[1])
+            })
+            .collect();
+    }
+
+    /// One pass over the group's membranes then hinges. `x` and `w` are the group's range.
+    fn solve(&self, x: &mut [Vec3], w: &[f32], a_stretch: f32, a_shear: f32, a_bend: f32) {
+        let shear = a_shear.is_finite().then_some(a_shear);
+        for (blocks, rest) in &self.membrane_batches {
+            for b in blocks {
+                xpbd_simd::membranes8(b, x, a_stretch, shear);
+            }
+            solve_membranes(&self.membranes[rest.clone()], x, w, a_stretch, a_shear);
+        }
+        if a_bend.is_finite() {
+            for (blocks, rest) in &self.bend_batches {
+                for b in blocks {
+                    xpbd_simd::bends8(b, x, a_bend);
+                }
+                solve_bending(&self.bends[rest.clone()], x, w, a_bend);
+            }
+        }
+    }
+}
 
 #[derive(Clone, Debug)]
 pub struct Xpbd {
+    /// All membranes (global indices), for normals and counts.
     membranes: Vec<Membrane>,
-    bends: Vec<BendConstraint>,
+    bend_count: usize,
     prev: Vec<Vec3>,
     normals: Vec<Vec3>,
     area: Vec<f32>,
     material: Material,
     /// (vertex, pin, maximum length) long-range attachments.
     tethers: Vec<(u32, u32, f32)>,
+    /// The vertex range split in two halves, solved side by side, then the constraints
+    /// that straddle the split (`boundary`). The halves share no vertex, so the result is
+    /// the same whether they run on one thread or two.
+    halves: [Group; 2],
+    boundary: Group,
+    all_bends: Vec<BendConstraint>,
+    /// Threads for the halves (1 or 2).
+    pub threads: usize,
 }
 
 impl Xpbd {
     pub fn new(cloth: &Cloth, material: &Material) -> Self {
-        let mut membranes = build_membranes(&cloth.rest);
-        let mut bends = build_bending(&cloth.rest, &cloth.topology);
-        // Visit constraints in vertex order: neighbouring constraints share cache lines.
-        membranes.sort_by_key(|m| m.v.iter().copied().min().unwrap_or(0));
-        bends.sort_by_key(|b| b.v.iter().copied().min().unwrap_or(0));
+        let membranes = build_membranes(&cloth.rest);
+        let bends = build_bending(&cloth.rest, &cloth.topology);
         let mut area = vec![0.0f32; cloth.len()];
         for m in &membranes {
             for &i in &m.v {
                 area[i as usize] += m.area / 3.0;
             }
         }
+        let (halves, boundary) = split_groups(cloth.len(), &membranes, &bends, &cloth.inv_mass);
         Self {
+            bend_count: bends.len(),
+            all_bends: bends,
             membranes,
-            bends,
             prev: cloth.x.clone(),
             normals: vec![Vec3::Y; cloth.len()],
             area,
             material: *material,
             tethers: tethers(cloth, material),
+            halves,
+            boundary,
+            threads: 1,
         }
     }
 
     /// Rebuilds what depends on which vertices are pinned.
     pub fn repin(&mut self, cloth: &Cloth) {
         self.tethers = tethers(cloth, &self.material);
+        let (halves, boundary) = split_groups(
+            cloth.len(),
+            &self.membranes,
+            &self.all_bends,
+            &cloth.inv_mass,
+        );
+        self.halves = halves;
+        self.boundary = boundary;
+    }
+
+    /// Solves every membrane and hinge once: the two halves (in parallel when
+    /// `threads > 1`), then the boundary.
+    fn solve_constraints(
+        &self,
+        x: &mut [Vec3],
+        w: &[f32],
+        a_stretch: f32,
+        a_shear: f32,
+        a_bend: f32,
+    ) {
+        let mid = self.halves[0].end;
+        {
+            let (xa, xb) = x.split_at_mut(mid);
+            let (wa, wb) = w.split_at(mid);
+            let [ga, gb] = &self.halves;
+            if self.threads > 1 && !gb.membranes.is_empty() {
+                std::thread::scope(|s| {
+                    s.spawn(|| gb.solve(xb, wb, a_stretch, a_shear, a_bend));
+                    ga.solve(xa, wa, a_stretch, a_shear, a_bend);
+                });
+            } else {
+                ga.solve(xa, wa, a_stretch, a_shear, a_bend);
+                gb.solve(xb, wb, a_stretch, a_shear, a_bend);
+            }
+        }
+        self.boundary.solve(x, w, a_stretch, a_shear, a_bend);
     }
 
     pub fn constraint_count(&self) -> usize {
-        3 * self.membranes.len() + self.bends.len()
+        3 * self.membranes.len() + self.bend_count
     }
 
     /// Advances one frame of `env.frame_dt` in `substeps` substeps.
@@ -107,16 +244,7 @@ impl Xpbd {
                 }
             }
             solve_tethers(&self.tethers, &mut cloth.x);
-            solve_membranes(
-                &self.membranes,
-                &mut cloth.x,
-                &cloth.inv_mass,
-                a_stretch,
-                a_shear,
-            );
-            if a_bend.is_finite() {
-                solve_bending(&self.bends, &mut cloth.x, &cloth.inv_mass, a_bend);
-            }
+            self.solve_constraints(&mut cloth.x, &cloth.inv_mass, a_stretch, a_shear, a_bend);
             // Tethers of one vertex to two pins conflict within a pass; three passes settle
             // them (they are cheap: two per free vertex).
             for _ in 0..3 {
@@ -331,4 +459,39 @@ fn tethers(cloth: &Cloth, material: &Material) -> Vec<(u32, u32, f32)> {
         }
     }
     out
+}
+
+/// Splits the vertex range at its middle: constraints entirely below go to the first
+/// half, entirely above to the second, the rest to the boundary group.
+fn split_groups(
+    n: usize,
+    membranes: &[Membrane],
+    bends: &[BendConstraint],
+    w: &[f32],
+) -> ([Group; 2], Group) {
+    let mid = (n / 2) as u32;
+    let side = |v: &[u32]| {
+        if v.iter().all(|&i| i < mid) {
+            0
+        } else if v.iter().all(|&i| i >= mid) {
+            1
+        } else {
+            2
+        }
+    };
+    let mut ms: [Vec<Membrane>; 3] = Default::default();
+    let mut bs: [Vec<BendConstraint>; 3] = Default::default();
+    for m in membranes {
+        ms[side(&m.v)].push(*m);
+    }
+    for b in bends {
+        bs[side(&b.v)].push(*b);
+    }
+    let [m0, m1, m2] = ms;
+    let [b0, b1, b2] = bs;
+    let mid = mid as usize;
+    (
+        [Group::new(0..mid, m0, b0, w), Group::new(mid..n, m1, b1, w)],
+        Group::new(0..n, m2, b2, w),
+    )
 }

@@ -34,7 +34,7 @@ impl ClothMesh {
         {
             return Err(GeometryError::Empty);
         }
-        let nv = (nx + 1).checked_mul(nz + 1).unwrap_or(usize::MAX);
+        let nv = (nx + 1).saturating_mul(nz + 1);
         if nv > MAX_VERTICES {
             return Err(GeometryError::TooLarge {
                 vertices: nv,

@@ -44,7 +44,7 @@ impl ObbTree {
         max_dist: f32,
         hint: Option<u32>,
     ) -> Option<NearestHit> {
-        if !(max_dist >= 0.0) || !p.is_finite() {
+        if max_dist.is_nan() || max_dist < 0.0 || !p.is_finite() {
             return None;
         }
         let mut best_d2 = max_dist * max_dist;

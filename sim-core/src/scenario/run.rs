@@ -63,6 +63,8 @@ pub struct ScenarioConfig {
     pub frame_dt: f32,
     /// Print progress to stderr (once a second) while running.
     pub progress: bool,
+    /// Threads for the XPBD constraint passes (1 or 2).
+    pub threads: usize,
 }
 
 impl ScenarioConfig {
@@ -78,6 +80,7 @@ impl ScenarioConfig {
             cloth_size: 1.0,
             frame_dt: 1.0 / 60.0,
             progress: false,
+            threads: 1,
         }
     }
 }
@@ -140,14 +143,16 @@ pub fn build_simulation(cfg: &ScenarioConfig) -> Result<Simulation, ScenarioErro
         frame_dt: cfg.frame_dt,
         ..Environment::default()
     };
-    Ok(Simulation::new(
+    let mut sim = Simulation::new(
         cloth,
         Some(body),
         cfg.model,
         cfg.material,
         env,
         cfg.substeps,
-    )?)
+    )?;
+    sim.set_threads(cfg.threads);
+    Ok(sim)
 }
 
 /// Runs a scenario and writes `out/cloth.obj`, `out/body.obj` and `out/report.json`.
@@ -239,7 +244,7 @@ pub fn run_scenario(cfg: &ScenarioConfig, out: &Path) -> Result<Report, Scenario
         substeps: sim.substeps,
         step_ms: Percentiles::of(&step_ms),
         collision_ms: Percentiles::of(&coll_ms),
-        threads: 1,
+        threads: sim.set_threads(cfg.threads),
         max_penetration_m: max_pen,
         thickness_m: sim.material.thickness as f64,
         kinetic_energy_final_j: ke,

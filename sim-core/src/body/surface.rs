@@ -100,6 +100,13 @@ impl Body {
         Some(self.contact_from(p, hit.tri, hit.point, hit.feature))
     }
 
+    /// The contact with one given triangle (its closest point and side).
+    pub fn contact_on(&self, p: Vec3, tri: u32) -> Option<BodyContact> {
+        let [a, b, c] = self.tree.triangle(tri)?;
+        let (q, f) = crate::obb::geometry::closest_point_on_triangle(p, a, b, c);
+        Some(self.contact_from(p, tri, q, f))
+    }
+
     pub(crate) fn contact_from(
         &self,
         p: Vec3,

@@ -1,0 +1,258 @@
+//! The `cloth-sim` binary: scenarios produce their files; bad input gives a clear error
+//! and a non-zero exit, never a panic.
+
+// Test helpers: a failed unwrap is a failed test, with its location.
+#![allow(clippy::unwrap_used)]
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn cloth_sim(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cloth-sim"))
+        .args(args)
+        .output()
+        .expect("run cloth-sim")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("saiho-cli-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn fails_cleanly(args: &[&str], expect: &str) {
+    let out = cloth_sim(args);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{args:?} succeeded");
+    assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+    assert!(
+        err.to_lowercase().contains(&expect.to_lowercase()),
+        "{args:?}: expected '{expect}' in: {err}"
+    );
+}
+
+#[test]
+fn help_is_available_everywhere() {
+    for args in [
+        &["--help"][..],
+        &["scenario", "--help"],
+        &["max-realtime-grid", "--help"],
+    ] {
+        let out = cloth_sim(args);
+        assert!(out.status.success());
+        assert!(String::from_utf8_lossy(&out.stdout).contains("Usage"));
+    }
+}
+
+#[test]
+fn drape_cube_writes_report_and_meshes() {
+    let dir = tmp("drape");
+    let out = cloth_sim(&[
+        "scenario",
+        "drape-cube",
+        "--out",
+        dir.to_str().unwrap(),
+        "--grid",
+        "12",
+        "--frames",
+        "30",
+        "--quiet",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    for key in [
+        "scenario",
+        "model",
+        "vertices",
+        "triangles",
+        "frames",
+        "frame_dt_s",
+        "substeps",
+        "step_ms",
+        "max_penetration_m",
+        "kinetic_energy_final_j",
+        "mesh_valid",
+    ] {
+        assert!(report.get(key).is_some(), "report lacks {key}");
+    }
+    for key in ["p50", "p99", "max"] {
+        assert!(report["step_ms"][key].as_f64().unwrap() > 0.0);
+    }
+    assert_eq!(report["vertices"], 169);
+    assert_eq!(report["frames"], 30);
+    assert_eq!(report["mesh_valid"], true);
+    let cloth = std::fs::read_to_string(dir.join("cloth.obj")).unwrap();
+    assert_eq!(cloth.lines().filter(|l| l.starts_with("vt ")).count(), 169);
+    assert_eq!(cloth.lines().filter(|l| l.starts_with("f ")).count(), 288);
+    assert!(
+        std::fs::read_to_string(dir.join("body.obj"))
+            .unwrap()
+            .lines()
+            .any(|l| l.starts_with("f "))
+    );
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn every_model_and_body_runs() {
+    let obj = tmp("body").join("tetra.obj");
+    // A closed, outward-wound tetrahedron, 0.5 m.
+    std::fs::write(
+        &obj,
+        "v 0 0 0\nv 0.5 0 0\nv 0 0 0.5\nv 0 0.5 0\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n",
+    )
+    .unwrap();
+    for (model, body) in [
+        ("seed", "cube"),
+        ("implicit", "sphere"),
+        ("xpbd", "mannequin"),
+        ("xpbd", obj.to_str().unwrap()),
+    ] {
+        let dir = tmp(&format!("m-{model}"));
+        let out = cloth_sim(&[
+            "scenario",
+            "drape-cube",
+            "--out",
+            dir.to_str().unwrap(),
+            "--grid",
+            "8",
+            "--frames",
+            "5",
+            "--model",
+            model,
+            "--body",
+            body,
+            "--quiet",
+        ]);
+        assert!(
+            out.status.success(),
+            "{model}/{body}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let r: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap())
+                .unwrap();
+        assert_eq!(r["model"], model);
+        std::fs::remove_dir_all(dir).ok();
+    }
+}
+
+#[test]
+fn bad_input_is_a_clear_error() {
+    let dir = tmp("bad");
+    let o = dir.to_str().unwrap();
+    fails_cleanly(
+        &["scenario", "drape-cube", "--out", o, "--grid", "0"],
+        "grid",
+    );
+    fails_cleanly(
+        &["scenario", "drape-cube", "--out", o, "--density", "-0.1"],
+        "density",
+    );
+    fails_cleanly(
+        &["scenario", "drape-cube", "--out", o, "--density", "NaN"],
+        "density",
+    );
+    fails_cleanly(
+        &["scenario", "drape-cube", "--out", o, "--body", "teapot"],
+        "unknown body",
+    );
+    fails_cleanly(
+        &["scenario", "drape-cube", "--out", o, "--model", "magic"],
+        "unknown model",
+    );
+    fails_cleanly(
+        &["scenario", "fold-laundry", "--out", o],
+        "unknown scenario",
+    );
+    fails_cleanly(
+        &["scenario", "drape-cube", "--out", o, "--frames", "0"],
+        "frames",
+    );
+    fails_cleanly(
+        &[
+            "scenario",
+            "drape-cube",
+            "--out",
+            o,
+            "--model",
+            "seed",
+            "--substeps",
+            "1",
+        ],
+        "unstable",
+    );
+    fails_cleanly(
+        &[
+            "scenario",
+            "drape-cube",
+            "--out",
+            o,
+            "--body",
+            "/no/such/file.obj",
+        ],
+        "cannot read",
+    );
+    let nan = dir.join("nan.obj");
+    std::fs::write(&nan, "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n").unwrap();
+    fails_cleanly(
+        &[
+            "scenario",
+            "drape-cube",
+            "--out",
+            o,
+            "--body",
+            nan.to_str().unwrap(),
+        ],
+        "non-finite",
+    );
+    let degenerate = dir.join("flat.obj");
+    std::fs::write(&degenerate, "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n").unwrap();
+    fails_cleanly(
+        &[
+            "scenario",
+            "drape-cube",
+            "--out",
+            o,
+            "--body",
+            degenerate.to_str().unwrap(),
+        ],
+        "degenerate",
+    );
+    let nonmanifold = dir.join("fin.obj");
+    std::fs::write(
+        &nonmanifold,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n",
+    )
+    .unwrap();
+    fails_cleanly(
+        &[
+            "scenario",
+            "drape-cube",
+            "--out",
+            o,
+            "--body",
+            nonmanifold.to_str().unwrap(),
+        ],
+        "shared by 3",
+    );
+    let garbage = dir.join("garbage.obj");
+    std::fs::write(&garbage, "f 1 2 3\nv x y z\n").unwrap();
+    fails_cleanly(
+        &[
+            "scenario",
+            "drape-cube",
+            "--out",
+            o,
+            "--body",
+            garbage.to_str().unwrap(),
+        ],
+        "error",
+    );
+    std::fs::remove_dir_all(dir).ok();
+}
