@@ -99,6 +99,65 @@ fn drape_cube_writes_report_and_meshes() {
 }
 
 #[test]
+fn a_cloth_can_come_from_an_obj_file() {
+    let dir = tmp("objcloth");
+    // A 0.6 m square, 6 x 6 cells, with UVs.
+    let mut s = String::new();
+    for j in 0..=6 {
+        for i in 0..=6 {
+            s += &format!(
+                "v {} 0 {}\nvt {} {}\n",
+                i as f32 * 0.1,
+                j as f32 * 0.1,
+                i as f32 / 6.0,
+                j as f32 / 6.0
+            );
+        }
+    }
+    for j in 0..6 {
+        for i in 0..6 {
+            let a = j * 7 + i + 1;
+            s += &format!(
+                "f {a}/{a} {}/{} {}/{}\nf {}/{} {}/{} {}/{}\n",
+                a + 7,
+                a + 7,
+                a + 1,
+                a + 1,
+                a + 1,
+                a + 1,
+                a + 7,
+                a + 7,
+                a + 8,
+                a + 8
+            );
+        }
+    }
+    let path = dir.join("square.obj");
+    std::fs::write(&path, s).unwrap();
+    let out = cloth_sim(&[
+        "scenario",
+        "drape-cube",
+        "--out",
+        dir.to_str().unwrap(),
+        "--cloth",
+        path.to_str().unwrap(),
+        "--frames",
+        "20",
+        "--quiet",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    assert_eq!(r["vertices"], 49);
+    assert_eq!(r["triangles"], 72);
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
 fn every_model_and_body_runs() {
     let obj = tmp("body").join("tetra.obj");
     // A closed, outward-wound tetrahedron, 0.5 m.
@@ -240,6 +299,17 @@ fn bad_input_is_a_clear_error() {
             nonmanifold.to_str().unwrap(),
         ],
         "shared by 3",
+    );
+    fails_cleanly(
+        &[
+            "scenario",
+            "drape-cube",
+            "--out",
+            o,
+            "--cloth",
+            nan.to_str().unwrap(),
+        ],
+        "cloth",
     );
     let garbage = dir.join("garbage.obj");
     std::fs::write(&garbage, "f 1 2 3\nv x y z\n").unwrap();

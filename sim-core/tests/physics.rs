@@ -256,7 +256,8 @@ const TOL_IMPLICIT: f32 = 0.003;
 fn two_threads_give_the_same_cloth_as_one() {
     let run = |threads: usize| {
         let mut cfg = ScenarioConfig::new(ScenarioName::DrapeCube);
-        cfg.grid = 24;
+        // Large enough (4,225 vertices) that the broad phase splits too.
+        cfg.grid = 64;
         cfg.threads = threads;
         let mut sim = build_simulation(&cfg).unwrap();
         assert_eq!(sim.set_threads(threads), threads);

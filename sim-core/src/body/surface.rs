@@ -32,6 +32,9 @@ pub struct BodyContact {
     pub normal: Vec3,
     /// Distance to the surface, negative inside.
     pub signed_distance: f32,
+    /// The closest point is inside the triangle's face (not on an edge or corner), so the
+    /// contact plane is the triangle's own plane.
+    pub on_face: bool,
 }
 
 impl Body {
@@ -140,6 +143,7 @@ impl Body {
             point,
             normal,
             signed_distance: if outside { dist } else { -dist },
+            on_face: matches!(feature, Feature::Face),
         }
     }
 

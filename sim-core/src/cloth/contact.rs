@@ -42,10 +42,15 @@ pub struct ContactCache {
     /// Where the particle was at its last query and how far the surface was known to be.
     query_pos: Vec<Vec3>,
     clear: Vec<f32>,
+    /// The cached plane is the hint triangle's face plane (valid while within reuse range).
+    on_face: Vec<bool>,
     /// Particles with an active plane this frame.
     active: Vec<u32>,
     /// Whether any particle can reach the floor this frame.
     floor_near: bool,
+    /// Threads for the broad phase (1 or 2); the result does not depend on it.
+    pub threads: usize,
+    spare_active: Vec<u32>,
     /// Queries run in the last update (for reports).
     pub last_queries: usize,
 }
@@ -58,8 +63,11 @@ impl ContactCache {
             hint: vec![u32::MAX; n],
             query_pos: vec![Vec3::splat(f32::INFINITY); n],
             clear: vec![0.0; n],
+            on_face: vec![false; n],
             active: Vec::with_capacity(n),
             floor_near: true,
+            threads: 1,
+            spare_active: Vec::new(),
             last_queries: 0,
         }
     }
@@ -81,7 +89,9 @@ impl ContactCache {
     ) {
         let n = x.len();
         if self.normal.len() != n {
+            let threads = self.threads;
             *self = Self::new(n);
+            self.threads = threads;
         }
         self.active.clear();
         self.last_queries = 0;
@@ -94,78 +104,78 @@ impl ContactCache {
                     < level
             })
         });
-        // Query a little farther than needed so quiet particles can be skipped next frame.
-        let slack = 0.02f32;
-        for i in 0..n {
-            let reach = p.thickness
-                + v[i].length() * reach_time * 1.5
-                + 0.5 * max_accel * reach_time * reach_time
-                + 1e-3;
-            let moved = (x[i] - self.query_pos[i]).length();
-            if self.clear[i] - moved > reach {
-                self.normal[i] = Vec3::ZERO;
-                continue;
-            }
-            // Barely moved since its last full query: its nearest triangle is (to within
-            // 2 * REUSE_DISTANCE) still the one found then; re-project onto it.
-            if moved < REUSE_DISTANCE
-                && self.hint[i] != u32::MAX
-                && self.clear[i] < reach
-                && let Some(c) = body.contact_on(x[i], self.hint[i])
-            {
-                if c.signed_distance < reach {
-                    self.normal[i] = c.normal;
-                    self.offset[i] = c.normal.dot(c.point);
-                    self.active.push(i as u32);
-                } else {
-                    self.normal[i] = Vec3::ZERO;
-                }
-                continue;
-            }
-            self.last_queries += 1;
-            let radius = reach + slack;
-            self.query_pos[i] = x[i];
-            match body.contact(x[i], radius, self.hint[i]) {
-                Some(c) => {
-                    self.hint[i] = c.tri;
-                    self.clear[i] = c.signed_distance.max(0.0);
-                    if c.signed_distance < reach {
-                        self.normal[i] = c.normal;
-                        self.offset[i] = c.normal.dot(c.point);
-                        self.active.push(i as u32);
-                    } else {
-                        self.normal[i] = Vec3::ZERO;
-                    }
-                }
-                // Nothing within the radius: outside and far, or deep inside (dragged in by
-                // the cloth faster than its own velocity says). Inside the body's root box,
-                // find out with an unbounded query.
-                None if body.tree.nodes()[0].obb.distance_squared(x[i]) == 0.0 => {
-                    match body.contact(x[i], f32::INFINITY, self.hint[i]) {
-                        Some(c) if c.signed_distance < reach => {
-                            self.hint[i] = c.tri;
-                            self.clear[i] = c.signed_distance.max(0.0);
-                            self.normal[i] = c.normal;
-                            self.offset[i] = c.normal.dot(c.point);
-                            self.active.push(i as u32);
-                        }
-                        Some(c) => {
-                            self.hint[i] = c.tri;
-                            self.clear[i] = c.signed_distance;
-                            self.normal[i] = Vec3::ZERO;
-                        }
-                        None => {
-                            self.clear[i] = radius;
-                            self.normal[i] = Vec3::ZERO;
-                        }
-                    }
-                }
-                None => {
-                    self.clear[i] = radius;
-                    self.normal[i] = Vec3::ZERO;
-                }
-            }
-        }
+        let env = Reach {
+            thickness: p.thickness,
+            reach_time,
+            max_accel,
+        };
+        let mid = if self.threads > 1 && n >= 4096 {
+            n / 2
+        } else {
+            n
+        };
+        let (n0, n1) = self.normal.split_at_mut(mid);
+        let (o0, o1) = self.offset.split_at_mut(mid);
+        let (h0, h1) = self.hint.split_at_mut(mid);
+        let (q0, q1) = self.query_pos.split_at_mut(mid);
+        let (c0, c1) = self.clear.split_at_mut(mid);
+        let (f0, f1) = self.on_face.split_at_mut(mid);
+        let mut first = Slots {
+            normal: n0,
+            offset: o0,
+            hint: h0,
+            query_pos: q0,
+            clear: c0,
+            on_face: f0,
+        };
+        let mut second = Slots {
+            normal: n1,
+            offset: o1,
+            hint: h1,
+            query_pos: q1,
+            clear: c1,
+            on_face: f1,
+        };
+        let mut active_b = std::mem::take(&mut self.spare_active);
+        active_b.clear();
+        let (qa, qb) = if mid < n {
+            std::thread::scope(|s| {
+                let hb = s.spawn(|| {
+                    update_range(
+                        body,
+                        &x[mid..],
+                        &v[mid..],
+                        &mut second,
+                        mid,
+                        &mut active_b,
+                        &env,
+                    )
+                });
+                let qa = update_range(
+                    body,
+                    &x[..mid],
+                    &v[..mid],
+                    &mut first,
+                    0,
+                    &mut self.active,
+                    &env,
+                );
+                // A panic in the worker is a bug: re-raise it here.
+                (
+                    qa,
+                    hb.join().unwrap_or_else(|e| std::panic::resume_unwind(e)),
+                )
+            })
+        } else {
+            (
+                update_range(body, x, v, &mut first, 0, &mut self.active, &env),
+                0,
+            )
+        };
+        // Same order as one thread: the first half's particles, then the second's.
+        self.active.extend_from_slice(&active_b);
+        self.spare_active = active_b;
+        self.last_queries = qa + qb;
     }
 
     /// The frame's safety net. A single cached plane per particle cannot stop a particle
@@ -209,8 +219,9 @@ impl ContactCache {
 
     /// Drops all cached planes (e.g. after the cloth was moved by an edit).
     pub fn reset(&mut self) {
-        let n = self.normal.len();
+        let (n, threads) = (self.normal.len(), self.threads);
         *self = Self::new(n);
+        self.threads = threads;
     }
 
     /// The narrow phase of one substep: pushes particles out along their planes (and above
@@ -254,4 +265,111 @@ fn friction(x: &mut Vec3, prev: Vec3, n: Vec3, depth: f32, mu: f32) {
     } else if len > 0.0 {
         *x -= tangential * (limit / len);
     }
+}
+
+/// How far particles can get this frame.
+struct Reach {
+    thickness: f32,
+    reach_time: f32,
+    max_accel: f32,
+}
+
+/// One contiguous range of the cache's per-particle arrays.
+struct Slots<'a> {
+    normal: &'a mut [Vec3],
+    offset: &'a mut [f32],
+    hint: &'a mut [u32],
+    query_pos: &'a mut [Vec3],
+    clear: &'a mut [f32],
+    on_face: &'a mut [bool],
+}
+
+impl Slots<'_> {
+    fn set(
+        &mut self,
+        k: usize,
+        c: Option<&crate::body::BodyContact>,
+        reach: f32,
+        active: &mut Vec<u32>,
+        index: usize,
+    ) {
+        match c {
+            Some(c) if c.signed_distance < reach => {
+                self.normal[k] = c.normal;
+                self.offset[k] = c.normal.dot(c.point);
+                self.on_face[k] = c.on_face;
+                active.push(index as u32);
+            }
+            _ => {
+                self.normal[k] = Vec3::ZERO;
+                self.on_face[k] = false;
+            }
+        }
+    }
+}
+
+/// The broad phase for particles `base .. base + x.len()`; returns how many tree queries
+/// it ran. Appends active particles (global indices) in order.
+fn update_range(
+    body: &Body,
+    x: &[Vec3],
+    v: &[Vec3],
+    s: &mut Slots,
+    base: usize,
+    active: &mut Vec<u32>,
+    r: &Reach,
+) -> usize {
+    // Query a little farther than needed so quiet particles can be skipped next frame.
+    let slack = 0.02f32;
+    let mut queries = 0;
+    for k in 0..x.len() {
+        let reach = r.thickness
+            + v[k].length() * r.reach_time * 1.5
+            + 0.5 * r.max_accel * r.reach_time * r.reach_time
+            + 1e-3;
+        let moved = (x[k] - s.query_pos[k]).length();
+        if s.clear[k] - moved > reach {
+            s.normal[k] = Vec3::ZERO;
+            continue;
+        }
+        // Barely moved since its last full query: its nearest triangle is (to within
+        // 2 * REUSE_DISTANCE) still the one found then. A face contact keeps its plane
+        // (the triangle's own); edge and corner contacts re-project onto the triangle.
+        if moved < REUSE_DISTANCE && s.on_face[k] && s.normal[k] != Vec3::ZERO {
+            if x[k].dot(s.normal[k]) - s.offset[k] < reach {
+                active.push((base + k) as u32);
+            } else {
+                s.normal[k] = Vec3::ZERO;
+                s.on_face[k] = false;
+            }
+            continue;
+        }
+        if moved < REUSE_DISTANCE
+            && s.hint[k] != u32::MAX
+            && s.clear[k] < reach
+            && let Some(c) = body.contact_on(x[k], s.hint[k])
+        {
+            s.set(k, Some(&c), reach, active, base + k);
+            continue;
+        }
+        queries += 1;
+        let radius = reach + slack;
+        s.query_pos[k] = x[k];
+        let mut found = body.contact(x[k], radius, s.hint[k]);
+        // Nothing within the radius: outside and far, or deep inside (dragged in by the
+        // cloth faster than its own velocity says). Inside the body's root box, find out
+        // with an unbounded query.
+        if found.is_none() && body.tree.nodes()[0].obb.distance_squared(x[k]) == 0.0 {
+            found = body.contact(x[k], f32::INFINITY, s.hint[k]);
+        }
+        match &found {
+            Some(c) => {
+                s.hint[k] = c.tri;
+                s.clear[k] = c.signed_distance.max(0.0);
+            }
+            None => s.clear[k] = radius,
+        }
+        s.set(k, found.as_ref(), reach, active, base + k);
+    }
+    queries
 }

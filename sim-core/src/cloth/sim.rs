@@ -226,15 +226,16 @@ impl Simulation {
         }
     }
 
-    /// Threads for the XPBD constraint passes (1 or 2; other models use one). The result
-    /// does not depend on it. Returns the count in use.
+    /// Threads for the XPBD constraint passes and the collision broad phase (1 or 2). The
+    /// result does not depend on it. Returns the count in use.
     pub fn set_threads(&mut self, threads: usize) -> usize {
+        self.contacts.threads = threads.clamp(1, 2);
         match &mut self.solver {
             Solver::Xpbd(s) => {
                 s.threads = threads.clamp(1, 2);
                 s.threads
             }
-            _ => 1,
+            _ => self.contacts.threads,
         }
     }
 
