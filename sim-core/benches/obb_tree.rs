@@ -39,6 +39,15 @@ fn points_near(body: &Body, n: usize, band: f32) -> Vec<Vec3> {
         .collect()
 }
 
+fn mean_edge(b: &Body) -> f32 {
+    let sum: f32 = b
+        .triangles
+        .iter()
+        .map(|t| (b.vertices[t[0] as usize] - b.vertices[t[1] as usize]).length())
+        .sum();
+    sum / b.triangles.len() as f32
+}
+
 fn sphere(subdiv: usize) -> Body {
     sim_core::body::sphere(Vec3::new(0.0, 0.3, 0.0), 0.3, subdiv).unwrap()
 }
@@ -68,17 +77,21 @@ fn scaling(c: &mut Criterion) {
             &body,
             |b, body| b.iter(|| parry_mesh(black_box(body))),
         );
-        let pts = points_near(&body, 1000, 0.01);
+        // Band and radius scale with the triangles, so the number of triangles a correct
+        // answer must look at stays the same and only the tree's depth grows.
+        let edge = mean_edge(&body);
+        let pts = points_near(&body, 1000, 0.25 * edge);
+        let radius = 2.0 * edge;
         let tree = &body.tree;
         let pm = parry_mesh(&body);
         g.throughput(Throughput::Elements(pts.len() as u64));
         g.bench_with_input(BenchmarkId::new("nearest_1k/obb", n), &pts, |b, pts| {
-            b.iter(|| pts.iter().filter_map(|&p| tree.nearest(p, 0.02)).count())
+            b.iter(|| pts.iter().filter_map(|&p| tree.nearest(p, radius)).count())
         });
         g.bench_with_input(BenchmarkId::new("nearest_1k/parry", n), &pts, |b, pts| {
             b.iter(|| {
                 pts.iter()
-                    .filter_map(|&p| pm.project_local_point_with_max_dist(p, false, 0.02))
+                    .filter_map(|&p| pm.project_local_point_with_max_dist(p, false, radius))
                     .count()
             })
         });

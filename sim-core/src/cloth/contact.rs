@@ -226,7 +226,11 @@ impl ContactCache {
 
     /// The narrow phase of one substep: pushes particles out along their planes (and above
     /// the floor) and applies friction to the displacement `x - prev` of this substep.
-    pub fn project(&self, x: &mut [Vec3], prev: &[Vec3], inv_mass: &[f32], p: &ContactParams) {
+    ///
+    /// Penetration that was already there at the substep's start (a contact plane that
+    /// moved between frames, a corner) is undone without creating velocity: `prev` moves
+    /// out with `x` by that much, so `(x - prev) / h` carries no kick.
+    pub fn project(&self, x: &mut [Vec3], prev: &mut [Vec3], inv_mass: &[f32], p: &ContactParams) {
         for &i in &self.active {
             let i = i as usize;
             if inv_mass[i] == 0.0 {
@@ -236,6 +240,10 @@ impl ContactCache {
             let s = x[i].dot(n) - self.offset[i] - p.thickness;
             if s < 0.0 {
                 x[i] -= n * s;
+                let s0 = prev[i].dot(n) - self.offset[i] - p.thickness;
+                if s0 < 0.0 {
+                    prev[i] -= n * s0.max(s);
+                }
                 friction(&mut x[i], prev[i], n, -s, p.friction);
             }
         }
@@ -245,6 +253,9 @@ impl ContactCache {
                 if x[i].y < level && inv_mass[i] > 0.0 {
                     let depth = level - x[i].y;
                     x[i].y = level;
+                    if prev[i].y < level {
+                        prev[i].y += (level - prev[i].y).min(depth);
+                    }
                     friction(&mut x[i], prev[i], Vec3::Y, depth, p.friction);
                 }
             }

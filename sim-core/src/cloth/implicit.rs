@@ -315,10 +315,10 @@ impl Implicit {
                     cloth.v[i] = ((x[i] - x0[i]) / h * damp).as_vec3();
                 }
             }
-            contacts.project(&mut cloth.x, &self.prev, &cloth.inv_mass, &cp);
+            contacts.project(&mut cloth.x, &mut self.prev, &cloth.inv_mass, &cp);
             for i in 0..n {
                 if !cloth.is_pinned(i) && cloth.x[i] != x[i].as_vec3() {
-                    cloth.v[i] = ((d(cloth.x[i]) - x0[i]) / h).as_vec3();
+                    cloth.v[i] = (cloth.x[i] - self.prev[i]) / h as f32;
                 }
             }
         }

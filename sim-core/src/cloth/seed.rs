@@ -76,7 +76,7 @@ impl Seed {
                     cloth.v[i] = Vec3::ZERO;
                 }
             }
-            contacts.project(&mut cloth.x, &self.prev, &cloth.inv_mass, &self.contact);
+            contacts.project(&mut cloth.x, &mut self.prev, &cloth.inv_mass, &self.contact);
             for i in 0..cloth.len() {
                 if cloth.inv_mass[i] > 0.0 && cloth.x[i] != self.prev[i] + cloth.v[i] * h {
                     cloth.v[i] = (cloth.x[i] - self.prev[i]) / h;

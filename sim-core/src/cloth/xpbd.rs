@@ -250,7 +250,7 @@ impl Xpbd {
             for _ in 0..3 {
                 solve_tethers(&self.tethers, &mut cloth.x);
             }
-            contacts.project(&mut cloth.x, &self.prev, &cloth.inv_mass, &cp);
+            contacts.project(&mut cloth.x, &mut self.prev, &cloth.inv_mass, &cp);
             let inv_h = 1.0 / h;
             for i in 0..cloth.len() {
                 if cloth.inv_mass[i] == 0.0 {

@@ -44,6 +44,18 @@ impl ObbTree {
         max_dist: f32,
         hint: Option<u32>,
     ) -> Option<NearestHit> {
+        self.nearest_counted(p, max_dist, hint, &mut 0)
+    }
+
+    /// As [`nearest_with_hint`](Self::nearest_with_hint), adding to `visits` the number
+    /// of tree nodes the search opened: the operation count, free of cache effects.
+    pub fn nearest_counted(
+        &self,
+        p: Vec3,
+        max_dist: f32,
+        hint: Option<u32>,
+        visits: &mut usize,
+    ) -> Option<NearestHit> {
         if max_dist.is_nan() || max_dist < 0.0 || !p.is_finite() {
             return None;
         }
@@ -72,6 +84,7 @@ impl ObbTree {
             if lb > best_d2 {
                 continue;
             }
+            *visits += 1;
             let node = &self.nodes[ni as usize];
             if node.is_leaf() {
                 let s = node.tri_start as usize;

@@ -140,6 +140,47 @@ fn bad_meshes_are_rejected() {
 }
 
 #[test]
+fn query_work_grows_like_log_n() {
+    // Icospheres from 1,280 to 81,920 triangles; points within a quarter edge of the
+    // surface, radius two edges, so the answer's neighbourhood has the same number of
+    // triangles at every size and only the depth grows.
+    let mut mean_visits = Vec::new();
+    for subdiv in [3usize, 4, 5, 6] {
+        let body = crate::body::sphere(Vec3::ZERO, 1.0, subdiv).unwrap();
+        let tree = &body.tree;
+        let t0 = body.triangles[0];
+        let edge = (body.vertices[t0[0] as usize] - body.vertices[t0[1] as usize]).length();
+        let mut visits = 0usize;
+        let mut s = 11u64;
+        let n = 2000;
+        for _ in 0..n {
+            let mut r = || {
+                s = s
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                (s >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
+            };
+            let dir = Vec3::new(r(), r(), r()).normalize_or(Vec3::Y);
+            let p = dir * (1.0 + 0.25 * edge * r());
+            assert!(
+                tree.nearest_counted(p, 2.0 * edge, None, &mut visits)
+                    .is_some()
+            );
+        }
+        mean_visits.push((body.triangles.len(), visits as f64 / n as f64));
+    }
+    eprintln!("triangles, mean nodes visited per nearest query: {mean_visits:?}");
+    let (n0, v0) = mean_visits[0];
+    let (n3, v3) = mean_visits[3];
+    // 64x the triangles: log2 grows by a factor 1.6 (10.3 -> 16.3); linear would be 64x.
+    let log_ratio = (n3 as f64).log2() / (n0 as f64).log2();
+    assert!(
+        v3 / v0 < 1.5 * log_ratio,
+        "visits grew {v0} -> {v3}, more than logarithmically"
+    );
+}
+
+#[test]
 fn depth_is_logarithmic_on_a_big_grid() {
     let n = 100;
     let mut v = Vec::new();
