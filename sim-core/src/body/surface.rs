@@ -165,14 +165,6 @@ impl Body {
 
     /// Axis-aligned bounds.
     pub fn bounds(&self) -> (Vec3, Vec3) {
-        let mn = self
-            .vertices
-            .iter()
-            .fold(Vec3::splat(f32::INFINITY), |a, &p| a.min(p));
-        let mx = self
-            .vertices
-            .iter()
-            .fold(Vec3::splat(f32::NEG_INFINITY), |a, &p| a.max(p));
-        (mn, mx)
+        crate::mesh::bounds(&self.vertices)
     }
 }

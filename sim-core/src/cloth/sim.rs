@@ -229,14 +229,17 @@ impl Simulation {
     /// Threads for the XPBD constraint passes and the collision broad phase (1 or 2). The
     /// result does not depend on it. Returns the count in use.
     pub fn set_threads(&mut self, threads: usize) -> usize {
-        self.contacts.threads = threads.clamp(1, 2);
-        match &mut self.solver {
-            Solver::Xpbd(s) => {
-                s.threads = threads.clamp(1, 2);
-                s.threads
-            }
-            _ => self.contacts.threads,
+        let threads = threads.clamp(1, 2);
+        self.contacts.threads = threads;
+        if let Solver::Xpbd(s) = &mut self.solver {
+            s.threads = threads;
         }
+        threads
+    }
+
+    /// Threads in use (see [`set_threads`](Self::set_threads)).
+    pub fn threads(&self) -> usize {
+        self.contacts.threads
     }
 
     /// Total energy for the seed model (kinetic + spring + gravity with unit masses).

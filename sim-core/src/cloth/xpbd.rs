@@ -22,6 +22,7 @@ use super::material::Material;
 use super::sim::Environment;
 use super::state::Cloth;
 use super::xpbd_simd::{self, BendBlock, LANES, MembraneBlock};
+use crate::mesh::bounds;
 
 /// Constraints whose vertices all lie in one contiguous vertex range, with indices
 /// relative to the range's start, coloured and packed into SIMD blocks.
@@ -56,39 +57,14 @@ impl Group {
         let len = range.end - range.start;
         let membrane_colors = color_order(&mut membranes, len, |m| &m.v[..]);
         let bend_colors = color_order(&mut bends, len, |b| &b.v[..]);
-        let mut g = Self {
+        let w = &w[range.clone()];
+        Self {
             end: range.end,
+            membrane_batches: batches(&membranes, &membrane_colors, |c| MembraneBlock::pack(c, w)),
+            bend_batches: batches(&bends, &bend_colors, |c| BendBlock::pack(c, w)),
             membranes,
             bends,
-            ..Default::default()
-        };
-        g.pack(&w[range], &membrane_colors, &bend_colors);
-        g
-    }
-
-    fn pack(&mut self, w: &[f32], membrane_colors: &[usize], bend_colors: &[usize]) {
-        self.membrane_batches = membrane_colors
-            .windows(2)
-            .map(|r| {
-                let full = r[0] + (r[1] - r[0]) / LANES * LANES;
-                let blocks = self.membranes[r[0]..full]
-                    .chunks_exact(LANES)
-                    .map(|c| MembraneBlock::pack(c, w))
-                    .collect();
-                (blocks, full..r[1])
-            })
-            .collect();
-        self.bend_batches = bend_colors
-            .windows(2)
-            .map(|r| {
-                let full = r[0] + (r[1] - r[0]) / LANES * LANES;
-                let blocks = self.bends[r[0]..full]
-                    .chunks_exact(LANES)
-                    .map(|c| BendBlock::pack(c, w))
-                    .collect();
-                (blocks, full..r[1])
-            })
-            .collect();
+        }
     }
 
     /// One pass over the group's membranes then hinges. `x` and `w` are the group's range.
@@ -363,6 +339,25 @@ fn solve_bending(bends: &[BendConstraint], x: &mut [Vec3], w: &[f32], a_bend: f3
     }
 }
 
+/// Per colour (`colors` as `color_order` returns them): the colour's full SIMD blocks of
+/// `LANES`, then the range of its remainder, solved scalar.
+fn batches<T, B>(
+    items: &[T],
+    colors: &[usize],
+    pack: impl Fn(&[T]) -> B,
+) -> Vec<(Vec<B>, std::ops::Range<usize>)> {
+    colors
+        .windows(2)
+        .map(|r| {
+            let full = r[0] + (r[1] - r[0]) / LANES * LANES;
+            (
+                items[r[0]..full].chunks_exact(LANES).map(&pack).collect(),
+                full..r[1],
+            )
+        })
+        .collect()
+}
+
 /// Unilateral tethers: pull a vertex back inside its sphere around the pin.
 fn solve_tethers(tethers: &[(u32, u32, f32)], x: &mut [Vec3]) {
     for &(i, p, max) in tethers {
@@ -393,10 +388,7 @@ fn tethers(cloth: &Cloth, material: &Material) -> Vec<(u32, u32, f32)> {
         adj[e.a as usize].push((e.b, l));
         adj[e.b as usize].push((e.a, l));
     }
-    let (mn, mx) = cloth.rest.positions.iter().fold(
-        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-        |(a, b), &p| (a.min(p), b.max(p)),
-    );
+    let (mn, mx) = bounds(&cloth.rest.positions);
     let extent = (mx - mn).length();
     let strain = material.density * 9.81 * extent / material.stretch;
     let dijkstra = |sources: &[u32]| -> (Vec<f32>, Vec<u32>) {

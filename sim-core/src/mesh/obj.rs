@@ -75,14 +75,7 @@ pub fn load_obj(path: &Path) -> Result<ClothMesh, LoadError> {
 
 /// Projects positions onto the two axes with the largest extent, normalised to [0, 1].
 fn planar_uvs(mesh: &mut ClothMesh) {
-    let mn = mesh
-        .positions
-        .iter()
-        .fold(Vec3::splat(f32::INFINITY), |a, &p| a.min(p));
-    let mx = mesh
-        .positions
-        .iter()
-        .fold(Vec3::splat(f32::NEG_INFINITY), |a, &p| a.max(p));
+    let (mn, mx) = super::bounds(&mesh.positions);
     let ext = mx - mn;
     let mut axes = [0usize, 1, 2];
     axes.sort_by(|&a, &b| ext[b].total_cmp(&ext[a]));

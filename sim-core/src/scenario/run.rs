@@ -139,10 +139,7 @@ pub fn build_simulation(cfg: &ScenarioConfig) -> Result<Simulation, ScenarioErro
         Some(path) => obj::load_obj(path).map_err(ScenarioError::ClothFile)?,
     };
     // Centre the cloth over the body, its lowest point 5 cm above the body's top.
-    let (cmin, cmax) = mesh.positions.iter().fold(
-        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-        |(a, b), &p| (a.min(p), b.max(p)),
-    );
+    let (cmin, cmax) = crate::mesh::bounds(&mesh.positions);
     let shift = Vec3::new(
         cx - (cmin.x + cmax.x) * 0.5,
         top.y + 0.05 - cmin.y,
@@ -257,7 +254,7 @@ pub fn run_scenario(cfg: &ScenarioConfig, out: &Path) -> Result<Report, Scenario
         substeps: sim.substeps,
         step_ms: Percentiles::of(&step_ms),
         collision_ms: Percentiles::of(&coll_ms),
-        threads: sim.set_threads(cfg.threads),
+        threads: sim.threads(),
         max_penetration_m: max_pen,
         thickness_m: sim.material.thickness as f64,
         kinetic_energy_final_j: ke,
