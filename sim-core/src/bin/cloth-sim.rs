@@ -63,7 +63,7 @@ struct ScenarioArgs {
     /// winding). Default: the scenario's own.
     #[arg(long, value_parser = parse_body)]
     body: Option<BodyKind>,
-    /// Substeps per frame (default: 6 for xpbd, 1 for implicit, the stable count for seed).
+    /// Substeps per frame (default: 5 for xpbd, 1 for implicit, the stable count for seed).
     #[arg(long)]
     substeps: Option<usize>,
     /// Use this OBJ (metres, Y up, with UVs for the warp/weft directions) as the cloth
