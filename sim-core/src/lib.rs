@@ -5,6 +5,7 @@
 
 pub mod body;
 pub mod cloth;
+pub mod edit;
 pub mod error;
 pub mod mesh;
 pub mod obb;

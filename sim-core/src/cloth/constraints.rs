@@ -12,12 +12,14 @@
 
 use glam::{Mat2, Vec2, Vec3};
 
-use crate::mesh::{ClothMesh, Topology};
+use crate::mesh::{ClothMesh, Topology, edge_key};
 
 /// One triangle's membrane: `F_u = sum c[a] x[a]`, `F_v = sum d[a] x[a]`.
 #[derive(Clone, Copy, Debug)]
 pub struct Membrane {
     pub v: [u32; 3],
+    /// The triangle's slot in the live mesh (its index in the pattern until edited).
+    pub id: u32,
     pub c: [f32; 3],
     pub d: [f32; 3],
     pub area: f32,
@@ -27,6 +29,8 @@ pub struct Membrane {
 #[derive(Clone, Copy, Debug)]
 pub struct BendConstraint {
     pub v: [u32; 4],
+    /// The hinge's edge, `edge_key(v[0], v[1])`.
+    pub key: u64,
     pub k: [f32; 4],
     /// `sum K_a x_a` at rest (zero for a flat pattern).
     pub rest: Vec3,
@@ -38,44 +42,56 @@ pub struct BendConstraint {
 pub fn build_membranes(mesh: &ClothMesh) -> Vec<Membrane> {
     mesh.triangles
         .iter()
-        .map(|&v| {
-            let [x0, x1, x2] = v.map(|i| mesh.positions[i as usize]);
-            let [t0, t1, t2] = v.map(|i| mesh.uvs[i as usize]);
-            let (e1, e2) = (x1 - x0, x2 - x0);
-            let n = e1.cross(e2);
-            let area = 0.5 * n.length();
-            let n = n.normalize_or(Vec3::Y);
-            // Warp direction: where U grows, projected into the triangle's plane.
-            let (du1, du2) = (t1 - t0, t2 - t0);
-            let det = du1.x * du2.y - du2.x * du1.y;
-            let mut tangent = if det.abs() > 1e-12 {
-                (e1 * du2.y - e2 * du1.y) / det
-            } else {
-                e1
-            };
-            tangent -= n * n.dot(tangent);
-            let tangent = tangent
-                .try_normalize()
-                .unwrap_or_else(|| e1.normalize_or(Vec3::X));
-            let bitangent = n.cross(tangent);
-            let p1 = Vec2::new(e1.dot(tangent), e1.dot(bitangent));
-            let p2 = Vec2::new(e2.dot(tangent), e2.dot(bitangent));
-            let dm = Mat2::from_cols(p1, p2);
-            let inv = if dm.determinant().abs() > 1e-20 {
-                dm.inverse()
-            } else {
-                Mat2::ZERO
-            };
-            // F = Ds * inv, Ds = [x1 - x0, x2 - x0]; column j of F is sum over rows of inv.
-            let (p, q, r, s) = (inv.x_axis.x, inv.y_axis.x, inv.x_axis.y, inv.y_axis.y);
-            Membrane {
+        .enumerate()
+        .map(|(t, &v)| {
+            membrane_of(
                 v,
-                c: [-(p + r), p, r],
-                d: [-(q + s), q, s],
-                area,
-            }
+                t as u32,
+                v.map(|i| mesh.positions[i as usize]),
+                v.map(|i| mesh.uvs[i as usize]),
+            )
         })
         .collect()
+}
+
+/// One triangle's membrane from its rest corners and their UVs.
+pub fn membrane_of(v: [u32; 3], id: u32, rest: [Vec3; 3], uv: [Vec2; 3]) -> Membrane {
+    let [x0, x1, x2] = rest;
+    let [t0, t1, t2] = uv;
+    let (e1, e2) = (x1 - x0, x2 - x0);
+    let n = e1.cross(e2);
+    let area = 0.5 * n.length();
+    let n = n.normalize_or(Vec3::Y);
+    // Warp direction: where U grows, projected into the triangle's plane.
+    let (du1, du2) = (t1 - t0, t2 - t0);
+    let det = du1.x * du2.y - du2.x * du1.y;
+    let mut tangent = if det.abs() > 1e-12 {
+        (e1 * du2.y - e2 * du1.y) / det
+    } else {
+        e1
+    };
+    tangent -= n * n.dot(tangent);
+    let tangent = tangent
+        .try_normalize()
+        .unwrap_or_else(|| e1.normalize_or(Vec3::X));
+    let bitangent = n.cross(tangent);
+    let p1 = Vec2::new(e1.dot(tangent), e1.dot(bitangent));
+    let p2 = Vec2::new(e2.dot(tangent), e2.dot(bitangent));
+    let dm = Mat2::from_cols(p1, p2);
+    let inv = if dm.determinant().abs() > 1e-20 {
+        dm.inverse()
+    } else {
+        Mat2::ZERO
+    };
+    // F = Ds * inv, Ds = [x1 - x0, x2 - x0]; column j of F is sum over rows of inv.
+    let (p, q, r, s) = (inv.x_axis.x, inv.y_axis.x, inv.x_axis.y, inv.y_axis.y);
+    Membrane {
+        v,
+        id,
+        c: [-(p + r), p, r],
+        d: [-(q + s), q, s],
+        area,
+    }
 }
 
 fn cot(a: Vec3, b: Vec3) -> f32 {
@@ -90,30 +106,47 @@ pub fn build_bending(mesh: &ClothMesh, topology: &Topology) -> Vec<BendConstrain
         .iter()
         .filter_map(|h| {
             let [x0, x1, x2, x3] = h.v.map(|i| mesh.positions[i as usize]);
-            let e0 = x1 - x0;
-            let e1 = x2 - x0;
-            let e2 = x3 - x0;
-            let e3 = x2 - x1;
-            let e4 = x3 - x1;
-            let c01 = cot(e0, e1);
-            let c02 = cot(e0, e2);
-            let c03 = cot(-e0, e3);
-            let c04 = cot(-e0, e4);
-            let a0 = 0.5 * e0.cross(e1).length();
-            let a1 = 0.5 * e0.cross(e2).length();
-            if a0 + a1 <= 1e-20 {
-                return None;
-            }
-            let k = [c03 + c04, c01 + c02, -c01 - c03, -c02 - c04];
-            let rest = x0 * k[0] + x1 * k[1] + x2 * k[2] + x3 * k[3];
-            Some(BendConstraint {
-                v: h.v,
-                k,
-                rest,
-                weight: 1.0 / (a0 + a1),
-            })
+            bend_of(h.v, [x0, x1, x2], [x0, x1, x3])
         })
         .collect()
+}
+
+/// The hinge `v = [a, b, c, d]` between triangles `(a, b, c)` and `(a, b, d)`, from each
+/// triangle's own rest corners (`r0` for `a, b, c`; `r1` for `a, b, d`). When the two agree
+/// on the shared edge the rest shape is theirs; otherwise (a seam between two pattern
+/// pieces) the hinge rests flat.
+pub fn bend_of(v: [u32; 4], r0: [Vec3; 3], r1: [Vec3; 3]) -> Option<BendConstraint> {
+    let [x0, x1, x2] = r0;
+    let e0 = x1 - x0;
+    let e1 = x2 - x0;
+    let e3 = x2 - x1;
+    let f0 = r1[1] - r1[0];
+    let e2 = r1[2] - r1[0];
+    let e4 = r1[2] - r1[1];
+    let c01 = cot(e0, e1);
+    let c02 = cot(f0, e2);
+    let c03 = cot(-e0, e3);
+    let c04 = cot(-f0, e4);
+    let a0 = 0.5 * e0.cross(e1).length();
+    let a1 = 0.5 * f0.cross(e2).length();
+    if a0 + a1 <= 1e-20 {
+        return None;
+    }
+    let k = [c03 + c04, c01 + c02, -c01 - c03, -c02 - c04];
+    let same_edge =
+        (r0[0] - r1[0]).length() + (r0[1] - r1[1]).length() <= 1e-6 * (1.0 + e0.length());
+    let rest = if same_edge {
+        x0 * k[0] + x1 * k[1] + x2 * k[2] + r1[2] * k[3]
+    } else {
+        Vec3::ZERO
+    };
+    Some(BendConstraint {
+        v,
+        key: edge_key(v[0], v[1]),
+        k,
+        rest,
+        weight: 1.0 / (a0 + a1),
+    })
 }
 
 /// Total bending energy of positions `x` for rigidity `b`, J.

@@ -72,6 +72,21 @@ impl ContactCache {
         }
     }
 
+    /// Follows the cloth's vertex count after an edit, keeping what is known about the
+    /// vertices that stay; new ones are queried on the next update.
+    pub fn resize(&mut self, n: usize) {
+        if self.normal.len() == n {
+            return;
+        }
+        self.normal.resize(n, Vec3::ZERO);
+        self.offset.resize(n, 0.0);
+        self.hint.resize(n, u32::MAX);
+        self.query_pos.resize(n, Vec3::splat(f32::INFINITY));
+        self.clear.resize(n, 0.0);
+        self.on_face.resize(n, false);
+        self.active.retain(|&i| (i as usize) < n);
+    }
+
     pub fn active_count(&self) -> usize {
         self.active.len()
     }
@@ -88,11 +103,7 @@ impl ContactCache {
         p: &ContactParams,
     ) {
         let n = x.len();
-        if self.normal.len() != n {
-            let threads = self.threads;
-            *self = Self::new(n);
-            self.threads = threads;
-        }
+        self.resize(n);
         self.active.clear();
         self.last_queries = 0;
         self.floor_near = p.floor.is_none_or(|floor| {

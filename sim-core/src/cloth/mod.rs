@@ -7,9 +7,10 @@ mod contact;
 mod implicit;
 mod material;
 mod seed;
-mod sim;
+pub(crate) mod sim;
 mod state;
 mod xpbd;
+mod xpbd_edit;
 mod xpbd_simd;
 
 pub use constraints::{BendConstraint, Membrane, bending_energy, build_bending, build_membranes};

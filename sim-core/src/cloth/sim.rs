@@ -43,6 +43,8 @@ pub struct FrameStats {
     pub queries: usize,
     /// Particles the end-of-frame check found inside the body and pushed out.
     pub rescued: usize,
+    /// Edges torn this frame.
+    pub torn: usize,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -56,7 +58,7 @@ pub enum StepError {
 }
 
 #[derive(Debug)]
-enum Solver {
+pub(crate) enum Solver {
     Xpbd(Box<Xpbd>),
     Seed(Seed),
     Implicit(Box<Implicit>),
@@ -75,13 +77,22 @@ pub struct Simulation {
     /// Things the user should be told (e.g. substeps raised to stay stable).
     pub notices: Vec<String>,
     pub frame: u64,
-    contacts: ContactCache,
-    solver: Solver,
+    /// The cloth's painted texture.
+    pub texture: crate::edit::Texture,
+    /// Undo and redo of operations.
+    pub history: crate::edit::History,
+    /// Tearing of overstretched edges.
+    pub tear: crate::edit::TearSettings,
+    pub(crate) contacts: ContactCache,
+    pub(crate) solver: Solver,
 }
 
 /// Default substeps per 1/60 s frame for XPBD (3.3 ms steps): stable and tethered for a
 /// stiff cotton, within the 128 x 128 budget on one core.
 pub const XPBD_DEFAULT_SUBSTEPS: usize = 5;
+
+/// Side of the cloth's texture, texels.
+pub const TEXTURE_SIZE: usize = 1024;
 
 impl Simulation {
     pub fn new(
@@ -163,6 +174,9 @@ impl Simulation {
             stable_step,
             notices,
             frame: 0,
+            texture: crate::edit::Texture::new(TEXTURE_SIZE, TEXTURE_SIZE, [235, 235, 230, 255]),
+            history: crate::edit::History::default(),
+            tear: crate::edit::TearSettings::default(),
             contacts,
             solver,
         })
@@ -208,6 +222,7 @@ impl Simulation {
             );
             stats.collision_ms += t1.elapsed().as_secs_f64() * 1e3;
         }
+        stats.torn = self.tear_overstretched();
         self.frame += 1;
         stats.wall_ms = t0.elapsed().as_secs_f64() * 1e3;
         if !self.cloth.is_finite() {
@@ -221,7 +236,7 @@ impl Simulation {
         self.cloth.pin(i);
         match &mut self.solver {
             Solver::Implicit(s) => s.repin(&self.cloth),
-            Solver::Xpbd(s) => s.repin(&self.cloth),
+            Solver::Xpbd(s) => s.sync(&self.cloth, &[], &[], &[i as u32]),
             Solver::Seed(_) => {}
         }
     }

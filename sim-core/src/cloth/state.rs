@@ -4,13 +4,19 @@ use glam::Vec3;
 
 use super::material::Material;
 use crate::error::GeometryError;
-use crate::mesh::{ClothMesh, Topology};
+use crate::mesh::{ClothMesh, LiveMesh, Topology};
 
 #[derive(Clone, Debug)]
 pub struct Cloth {
-    /// The rest pattern (positions define rest lengths and angles; UVs the warp/weft axes).
+    /// The rest pattern as loaded (positions define rest lengths and angles; UVs the
+    /// warp/weft axes). Edits do not change it; see `live`.
     pub rest: ClothMesh,
+    /// The pattern's topology (used by models that do not support edits).
     pub topology: Topology,
+    /// The triangles as they are now, after cuts, tears and sews.
+    pub live: LiveMesh,
+    /// Vertices held in place by the user (inverse mass 0).
+    pub pinned: Vec<bool>,
     pub x: Vec<Vec3>,
     pub v: Vec<Vec3>,
     /// Lumped masses from triangle areas and the density.
@@ -29,6 +35,8 @@ impl Cloth {
             .map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 })
             .collect();
         Ok(Self {
+            live: LiveMesh::from_mesh(&rest),
+            pinned: vec![false; rest.positions.len()],
             x: rest.positions.clone(),
             v: vec![Vec3::ZERO; rest.positions.len()],
             topology,
@@ -47,14 +55,42 @@ impl Cloth {
     }
 
     pub fn pin(&mut self, i: usize) {
-        if let Some(w) = self.inv_mass.get_mut(i) {
-            *w = 0.0;
+        self.set_pinned(i, true);
+    }
+
+    /// Pins or frees vertex `i` (out of range: nothing).
+    pub fn set_pinned(&mut self, i: usize, pinned: bool) {
+        if let Some(p) = self.pinned.get_mut(i) {
+            *p = pinned;
             self.v[i] = Vec3::ZERO;
+            self.update_inv_mass(i);
         }
     }
 
     pub fn is_pinned(&self, i: usize) -> bool {
-        self.inv_mass.get(i).is_some_and(|&w| w == 0.0)
+        self.pinned.get(i).copied().unwrap_or(false)
+    }
+
+    /// Recomputes vertex `i`'s lumped mass from its live triangles.
+    pub fn update_mass(&mut self, i: usize, density: f32) {
+        let m: f32 = self
+            .live
+            .tris_of(i as u32)
+            .iter()
+            .filter_map(|&t| self.live.tri(t))
+            .map(|t| density * t.rest_area() / 3.0)
+            .sum();
+        self.mass[i] = m;
+        self.update_inv_mass(i);
+    }
+
+    fn update_inv_mass(&mut self, i: usize) {
+        let m = self.mass[i];
+        self.inv_mass[i] = if self.pinned[i] || m <= 0.0 {
+            0.0
+        } else {
+            1.0 / m
+        };
     }
 
     /// Kinetic energy with the lumped masses, J.

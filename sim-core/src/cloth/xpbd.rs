@@ -16,7 +16,9 @@
 use glam::Vec3;
 
 use super::coloring::color_order;
-use super::constraints::{BendConstraint, Membrane, build_bending, build_membranes};
+use std::collections::HashMap;
+
+use super::constraints::{BendConstraint, Membrane, bend_of, membrane_of};
 use super::contact::{ContactCache, ContactParams};
 use super::material::Material;
 use super::sim::Environment;
@@ -27,14 +29,19 @@ use crate::mesh::bounds;
 /// Constraints whose vertices all lie in one contiguous vertex range, with indices
 /// relative to the range's start, coloured and packed into SIMD blocks.
 #[derive(Clone, Debug, Default)]
-struct Group {
-    /// End of the group's vertex range (it starts where the previous group ends).
+pub(super) struct Group {
+    /// Start and end of the group's vertex range; constraints hold indices relative to
+    /// `off`.
+    pub(super) off: u32,
     end: usize,
-    membranes: Vec<Membrane>,
-    bends: Vec<BendConstraint>,
+    pub(super) membranes: Vec<Membrane>,
+    pub(super) bends: Vec<BendConstraint>,
+    /// Start of each colour in `membranes` / `bends`, then the end.
+    pub(super) membrane_colors: Vec<usize>,
+    pub(super) bend_colors: Vec<usize>,
     /// Per colour: full SIMD blocks, then the colour's remainder (solved scalar).
-    membrane_batches: Vec<(Vec<MembraneBlock>, std::ops::Range<usize>)>,
-    bend_batches: Vec<(Vec<BendBlock>, std::ops::Range<usize>)>,
+    pub(super) membrane_batches: Vec<(Vec<MembraneBlock>, std::ops::Range<usize>)>,
+    pub(super) bend_batches: Vec<(Vec<BendBlock>, std::ops::Range<usize>)>,
 }
 
 impl Group {
@@ -59,11 +66,14 @@ impl Group {
         let bend_colors = color_order(&mut bends, len, |b| &b.v[..]);
         let w = &w[range.clone()];
         Self {
+            off,
             end: range.end,
             membrane_batches: batches(&membranes, &membrane_colors, |c| MembraneBlock::pack(c, w)),
             bend_batches: batches(&bends, &bend_colors, |c| BendBlock::pack(c, w)),
             membranes,
             bends,
+            membrane_colors,
+            bend_colors,
         }
     }
 
@@ -87,64 +97,96 @@ impl Group {
     }
 }
 
+/// Where a constraint lives: an item of one of the three groups (packed or in a colour's
+/// scalar remainder), or the list of constraints added by edits.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Loc {
+    None,
+    Group { group: u8, item: u32 },
+    Extra(u32),
+}
+
 #[derive(Clone, Debug)]
 pub struct Xpbd {
-    /// All membranes (global indices), for normals and counts.
-    membranes: Vec<Membrane>,
-    bend_count: usize,
-    prev: Vec<Vec3>,
-    normals: Vec<Vec3>,
-    area: Vec<f32>,
-    material: Material,
+    pub(super) prev: Vec<Vec3>,
+    pub(super) normals: Vec<Vec3>,
+    /// A third of the area of the triangles around each vertex (for air drag).
+    pub(super) area: Vec<f32>,
+    pub(super) material: Material,
     /// (vertex, pin, maximum length) long-range attachments.
-    tethers: Vec<(u32, u32, f32)>,
+    pub(super) tethers: Vec<(u32, u32, f32)>,
     /// The vertex range split in two halves, solved side by side, then the constraints
-    /// that straddle the split (`boundary`). The halves share no vertex, so the result is
-    /// the same whether they run on one thread or two.
-    halves: [Group; 2],
-    boundary: Group,
-    all_bends: Vec<BendConstraint>,
+    /// that straddle the split (the third, boundary group). The halves share no vertex, so
+    /// the result is the same whether they run on one thread or two.
+    pub(super) groups: [Group; 3],
+    /// Membranes (by triangle slot) and hinges (by edge key): where each one is.
+    pub(super) membrane_loc: Vec<Loc>,
+    pub(super) bend_loc: HashMap<u64, Loc>,
+    /// Constraints created by edits since the last build, solved after the groups.
+    pub(super) extra_membranes: Vec<Membrane>,
+    pub(super) extra_bends: Vec<BendConstraint>,
     /// Threads for the halves (1 or 2).
     pub threads: usize,
+    /// The pointer's spring, while pinching.
+    pub(crate) pinch: Option<crate::edit::Pinch>,
+    /// The pinch force on the cloth in each substep of the last frame, N.
+    pub(crate) pinch_forces: Vec<Vec3>,
 }
 
 impl Xpbd {
     pub fn new(cloth: &Cloth, material: &Material) -> Self {
-        let membranes = build_membranes(&cloth.rest);
-        let bends = build_bending(&cloth.rest, &cloth.topology);
+        let live = &cloth.live;
+        let membranes: Vec<Membrane> = live
+            .iter()
+            .map(|(slot, t)| membrane_of(t.v, slot, t.rest, t.uv))
+            .collect();
+        let bends: Vec<BendConstraint> = live
+            .hinge_keys()
+            .into_iter()
+            .filter_map(|k| live.hinge(k))
+            .filter_map(|(v, r0, r1)| bend_of(v, r0, r1))
+            .collect();
         let mut area = vec![0.0f32; cloth.len()];
         for m in &membranes {
             for &i in &m.v {
                 area[i as usize] += m.area / 3.0;
             }
         }
-        let (halves, boundary) = split_groups(cloth.len(), &membranes, &bends, &cloth.inv_mass);
+        let groups = split_groups(cloth.len(), &membranes, &bends, &cloth.inv_mass);
+        let mut membrane_loc = vec![Loc::None; live.slots()];
+        let mut bend_loc = HashMap::with_capacity(bends.len());
+        for (g, group) in groups.iter().enumerate() {
+            for (item, m) in group.membranes.iter().enumerate() {
+                membrane_loc[m.id as usize] = Loc::Group {
+                    group: g as u8,
+                    item: item as u32,
+                };
+            }
+            for (item, b) in group.bends.iter().enumerate() {
+                bend_loc.insert(
+                    b.key,
+                    Loc::Group {
+                        group: g as u8,
+                        item: item as u32,
+                    },
+                );
+            }
+        }
         Self {
-            bend_count: bends.len(),
-            all_bends: bends,
-            membranes,
             prev: cloth.x.clone(),
             normals: vec![Vec3::Y; cloth.len()],
             area,
             material: *material,
             tethers: tethers(cloth, material),
-            halves,
-            boundary,
+            groups,
+            membrane_loc,
+            bend_loc,
+            extra_membranes: Vec::new(),
+            extra_bends: Vec::new(),
             threads: 1,
+            pinch: None,
+            pinch_forces: Vec::new(),
         }
-    }
-
-    /// Rebuilds what depends on which vertices are pinned.
-    pub fn repin(&mut self, cloth: &Cloth) {
-        self.tethers = tethers(cloth, &self.material);
-        let (halves, boundary) = split_groups(
-            cloth.len(),
-            &self.membranes,
-            &self.all_bends,
-            &cloth.inv_mass,
-        );
-        self.halves = halves;
-        self.boundary = boundary;
     }
 
     /// Solves every membrane and hinge once: the two halves (in parallel when
@@ -157,11 +199,11 @@ impl Xpbd {
         a_shear: f32,
         a_bend: f32,
     ) {
-        let mid = self.halves[0].end;
+        let mid = self.groups[0].end;
         {
             let (xa, xb) = x.split_at_mut(mid);
             let (wa, wb) = w.split_at(mid);
-            let [ga, gb] = &self.halves;
+            let [ga, gb, _] = &self.groups;
             if self.threads > 1 && !gb.membranes.is_empty() {
                 std::thread::scope(|s| {
                     s.spawn(|| gb.solve(xb, wb, a_stretch, a_shear, a_bend));
@@ -172,11 +214,20 @@ impl Xpbd {
                 gb.solve(xb, wb, a_stretch, a_shear, a_bend);
             }
         }
-        self.boundary.solve(x, w, a_stretch, a_shear, a_bend);
+        self.groups[2].solve(x, w, a_stretch, a_shear, a_bend);
+        solve_membranes(&self.extra_membranes, x, w, a_stretch, a_shear);
+        if a_bend.is_finite() {
+            solve_bending(&self.extra_bends, x, w, a_bend);
+        }
     }
 
     pub fn constraint_count(&self) -> usize {
-        3 * self.membranes.len() + self.bend_count
+        let membranes = self
+            .membrane_loc
+            .iter()
+            .filter(|l| **l != Loc::None)
+            .count();
+        3 * membranes + self.bend_loc.len()
     }
 
     /// Advances one frame of `env.frame_dt` in `substeps` substeps.
@@ -194,6 +245,7 @@ impl Xpbd {
             floor: env.floor,
         };
         self.update_normals(cloth);
+        self.pinch_forces.clear();
         let damp = (-self.material.damping * h).exp();
         let m = self.material;
         let inv_h2 = 1.0 / (h * h);
@@ -226,6 +278,18 @@ impl Xpbd {
             for _ in 0..3 {
                 solve_tethers(&self.tethers, &mut cloth.x);
             }
+            if let Some(p) = self.pinch {
+                // A zero-length XPBD spring to the pointer: compliance 1 / stiffness.
+                let i = p.vertex as usize;
+                if let (Some(&w), Some(x)) = (cloth.inv_mass.get(i), cloth.x.get_mut(i))
+                    && w > 0.0
+                {
+                    let alpha = inv_h2 / p.stiffness;
+                    let dx = (p.target - *x) * (w / (w + alpha));
+                    *x += dx;
+                    self.pinch_forces.push(dx * (inv_h2 / w));
+                }
+            }
             contacts.project(&mut cloth.x, &mut self.prev, &cloth.inv_mass, &cp);
             let inv_h = 1.0 / h;
             for i in 0..cloth.len() {
@@ -246,10 +310,10 @@ impl Xpbd {
 
     fn update_normals(&mut self, cloth: &Cloth) {
         self.normals.iter_mut().for_each(|n| *n = Vec3::ZERO);
-        for m in &self.membranes {
-            let [a, b, c] = m.v.map(|i| cloth.x[i as usize]);
+        for (_, t) in cloth.live.iter() {
+            let [a, b, c] = t.v.map(|i| cloth.x[i as usize]);
             let n = (b - a).cross(c - a);
-            for &i in &m.v {
+            for &i in &t.v {
                 self.normals[i as usize] += n;
             }
         }
@@ -372,7 +436,7 @@ fn solve_tethers(tethers: &[(u32, u32, f32)], x: &mut [Vec3]) {
 /// Tethers from every free vertex to its (up to) two nearest pins by geodesic rest
 /// distance along mesh edges (Dijkstra from each pin; with more than 8 pins, one
 /// multi-source pass and the nearest pin only).
-fn tethers(cloth: &Cloth, material: &Material) -> Vec<(u32, u32, f32)> {
+pub(super) fn tethers(cloth: &Cloth, material: &Material) -> Vec<(u32, u32, f32)> {
     use std::cmp::Reverse;
     use std::collections::BinaryHeap;
     let pins: Vec<u32> = (0..cloth.len() as u32)
@@ -382,12 +446,30 @@ fn tethers(cloth: &Cloth, material: &Material) -> Vec<(u32, u32, f32)> {
         return Vec::new();
     }
     let n = cloth.len();
-    let mut adj: Vec<Vec<(u32, f32)>> = vec![Vec::new(); n];
-    for e in &cloth.topology.edges {
-        let l = (cloth.rest.positions[e.a as usize] - cloth.rest.positions[e.b as usize]).length();
-        adj[e.a as usize].push((e.b, l));
-        adj[e.b as usize].push((e.a, l));
+    // Rest lengths from the live triangles, so cut pieces lose their tethers. The
+    // adjacency is compressed rows (one allocation, not one per vertex).
+    let mut start = vec![0u32; n + 1];
+    for (_, t) in cloth.live.iter() {
+        for &v in &t.v {
+            start[v as usize + 1] += 2;
+        }
     }
+    for i in 0..n {
+        start[i + 1] += start[i];
+    }
+    let mut fill = start.clone();
+    let mut adj = vec![(0u32, 0.0f32); start[n] as usize];
+    for (_, t) in cloth.live.iter() {
+        for k in 0..3 {
+            let (a, b) = (t.v[k], t.v[(k + 1) % 3]);
+            let l = (t.rest[k] - t.rest[(k + 1) % 3]).length();
+            for (from, to) in [(a, b), (b, a)] {
+                adj[fill[from as usize] as usize] = (to, l);
+                fill[from as usize] += 1;
+            }
+        }
+    }
+    let adj_of = |u: u32| &adj[start[u as usize] as usize..start[u as usize + 1] as usize];
     let (mn, mx) = bounds(&cloth.rest.positions);
     let extent = (mx - mn).length();
     let strain = material.density * 9.81 * extent / material.stretch;
@@ -405,7 +487,7 @@ fn tethers(cloth: &Cloth, material: &Material) -> Vec<(u32, u32, f32)> {
             if du > dist[u as usize] {
                 continue;
             }
-            for &(v, l) in &adj[u as usize] {
+            for &(v, l) in adj_of(u) {
                 let nd = du + l;
                 if nd < dist[v as usize] {
                     dist[v as usize] = nd;
@@ -460,7 +542,7 @@ fn split_groups(
     membranes: &[Membrane],
     bends: &[BendConstraint],
     w: &[f32],
-) -> ([Group; 2], Group) {
+) -> [Group; 3] {
     let mid = (n / 2) as u32;
     let side = |v: &[u32]| {
         if v.iter().all(|&i| i < mid) {
@@ -482,8 +564,9 @@ fn split_groups(
     let [m0, m1, m2] = ms;
     let [b0, b1, b2] = bs;
     let mid = mid as usize;
-    (
-        [Group::new(0..mid, m0, b0, w), Group::new(mid..n, m1, b1, w)],
+    [
+        Group::new(0..mid, m0, b0, w),
+        Group::new(mid..n, m1, b1, w),
         Group::new(0..n, m2, b2, w),
-    )
+    ]
 }

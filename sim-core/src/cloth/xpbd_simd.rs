@@ -54,7 +54,52 @@ impl MembraneBlock {
     }
 }
 
+#[inline]
+fn set_lane(v: &mut f32x8, lane: usize, x: f32) {
+    let mut a = v.to_array();
+    a[lane] = x;
+    *v = f32x8::new(a);
+}
+
+impl MembraneBlock {
+    /// Makes one lane a no-op (its triangle was removed).
+    pub fn disable(&mut self, lane: usize) {
+        for a in 0..3 {
+            set_lane(&mut self.c[a], lane, 0.0);
+            set_lane(&mut self.d[a], lane, 0.0);
+            set_lane(&mut self.w[a], lane, 0.0);
+        }
+    }
+
+    /// The inverse mass of one lane's corner.
+    pub fn set_w(&mut self, lane: usize, corner: usize, w: f32) {
+        set_lane(&mut self.w[corner], lane, w);
+    }
+}
+
 impl BendBlock {
+    /// Makes one lane a no-op (its hinge is gone).
+    pub fn disable(&mut self, lane: usize) {
+        for a in 0..4 {
+            set_lane(&mut self.k[a], lane, 0.0);
+            set_lane(&mut self.wk[a], lane, 0.0);
+        }
+        for r in 0..3 {
+            set_lane(&mut self.rest[r], lane, 0.0);
+        }
+        set_lane(&mut self.wkk, lane, 0.0);
+    }
+
+    /// The inverse mass of one lane's corner.
+    pub fn set_w(&mut self, lane: usize, corner: usize, w: f32) {
+        let k = self.k[corner].to_array()[lane];
+        set_lane(&mut self.wk[corner], lane, w * k);
+        let wkk: f32 = (0..4)
+            .map(|a| self.wk[a].to_array()[lane] * self.k[a].to_array()[lane])
+            .sum();
+        set_lane(&mut self.wkk, lane, wkk);
+    }
+
     pub fn pack(b: &[BendConstraint], w: &[f32]) -> Self {
         debug_assert_eq!(b.len(), LANES);
         let k: [f32x8; 4] = std::array::from_fn(|a| lanes(b, |h| h.k[a]));

@@ -1,10 +1,12 @@
 //! Triangle meshes: the cloth's pattern, its topology, and OBJ input/output.
 
 mod cloth_mesh;
+pub mod live;
 pub mod obj;
 mod topology;
 
 pub use cloth_mesh::{ClothMesh, MAX_VERTICES};
+pub use live::{LiveMesh, Tri, edge_key};
 pub use topology::{Edge, Hinge, Topology};
 
 use glam::Vec3;

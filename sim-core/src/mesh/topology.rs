@@ -31,7 +31,7 @@ impl Topology {
         for (t, tri) in mesh.triangles.iter().enumerate() {
             for k in 0..3 {
                 let (a, b, opp) = (tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]);
-                let key = ((a.min(b) as u64) << 32) | a.max(b) as u64;
+                let key = super::live::edge_key(a, b);
                 half.push((key, t as u32, opp));
             }
         }
