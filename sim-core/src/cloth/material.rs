@@ -41,7 +41,7 @@ impl ModelKind {
 
 /// Cloth material. Membrane moduli are 2D (force per unit width), so they do not depend on
 /// the mesh resolution; bending rigidity is force x length.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Material {
     /// Areal density, kg/m^2. Cotton shirting: ~0.12-0.2.
     pub density: f32,

@@ -45,6 +45,8 @@ pub struct FrameStats {
     pub rescued: usize,
     /// Edges torn this frame.
     pub torn: usize,
+    /// Seam stitches welded this frame.
+    pub welded: usize,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -83,6 +85,8 @@ pub struct Simulation {
     pub history: crate::edit::History,
     /// Tearing of overstretched edges.
     pub tear: crate::edit::TearSettings,
+    /// Seams being stitched (welded pairs stay, as `a == b`).
+    pub seams: Vec<crate::edit::Seam>,
     pub(crate) contacts: ContactCache,
     pub(crate) solver: Solver,
 }
@@ -177,6 +181,7 @@ impl Simulation {
             texture: crate::edit::Texture::new(TEXTURE_SIZE, TEXTURE_SIZE, [235, 235, 230, 255]),
             history: crate::edit::History::default(),
             tear: crate::edit::TearSettings::default(),
+            seams: Vec::new(),
             contacts,
             solver,
         })
@@ -204,6 +209,7 @@ impl Simulation {
             stats.queries = self.contacts.last_queries;
         }
         stats.collision_ms = t0.elapsed().as_secs_f64() * 1e3;
+        self.load_stitches();
         match &mut self.solver {
             Solver::Xpbd(s) => s.step(&mut self.cloth, &self.contacts, &self.env, self.substeps),
             Solver::Seed(s) => s.step(&mut self.cloth, &self.contacts, &self.env, self.substeps),
@@ -223,6 +229,7 @@ impl Simulation {
             stats.collision_ms += t1.elapsed().as_secs_f64() * 1e3;
         }
         stats.torn = self.tear_overstretched();
+        stats.welded = self.weld_close_stitches();
         self.frame += 1;
         stats.wall_ms = t0.elapsed().as_secs_f64() * 1e3;
         if !self.cloth.is_finite() {

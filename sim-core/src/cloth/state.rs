@@ -46,6 +46,40 @@ impl Cloth {
         })
     }
 
+    /// A cloth from an edited design: the live triangles, positions and velocities, and a
+    /// pattern mesh for the models that do not edit (same vertices, live triangles).
+    /// `live` must already be validated against `x`.
+    pub fn from_parts(
+        rest: ClothMesh,
+        live: LiveMesh,
+        x: Vec<Vec3>,
+        v: Vec<Vec3>,
+        material: &Material,
+    ) -> Result<Self, GeometryError> {
+        let n = x.len();
+        if rest.positions.len() != n || v.len() != n || live.vertex_count() != n {
+            return Err(GeometryError::IndexOutOfRange {
+                triangle: 0,
+                vertices: n,
+            });
+        }
+        let topology = Topology::build(&rest)?;
+        let mut c = Self {
+            rest,
+            topology,
+            live,
+            pinned: vec![false; n],
+            x,
+            v,
+            mass: vec![0.0; n],
+            inv_mass: vec![0.0; n],
+        };
+        for i in 0..n {
+            c.update_mass(i, material.density);
+        }
+        Ok(c)
+    }
+
     pub fn len(&self) -> usize {
         self.x.len()
     }

@@ -131,7 +131,12 @@ pub struct Xpbd {
     pub(crate) pinch: Option<crate::edit::Pinch>,
     /// The pinch force on the cloth in each substep of the last frame, N.
     pub(crate) pinch_forces: Vec<Vec3>,
+    /// Open seam stitches: (a, b, largest force in N).
+    pub(crate) stitches: Vec<(u32, u32, f32)>,
 }
+
+/// Stiffness of a seam stitch, N/m (its force is also capped per seam).
+const STITCH_STIFFNESS: f32 = 100.0;
 
 impl Xpbd {
     pub fn new(cloth: &Cloth, material: &Material) -> Self {
@@ -186,6 +191,7 @@ impl Xpbd {
             threads: 1,
             pinch: None,
             pinch_forces: Vec::new(),
+            stitches: Vec::new(),
         }
     }
 
@@ -277,6 +283,9 @@ impl Xpbd {
             // them (they are cheap: two per free vertex).
             for _ in 0..3 {
                 solve_tethers(&self.tethers, &mut cloth.x);
+            }
+            for &st in &self.stitches {
+                crate::edit::stitch(&mut cloth.x, &cloth.inv_mass, st, inv_h2, STITCH_STIFFNESS);
             }
             if let Some(p) = self.pinch {
                 // A zero-length XPBD spring to the pointer: compliance 1 / stiffness.

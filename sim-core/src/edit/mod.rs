@@ -9,15 +9,20 @@
 //! the touched vertices' masses, the solver's constraints for the touched triangles and
 //! edges (see `cloth::xpbd_edit`), and the contact cache's size.
 
+pub mod design;
+pub mod export;
 mod history;
 mod ops;
 mod paint;
+mod seam;
 
 use glam::Vec3;
 
 pub use history::History;
 pub use ops::{Pinch, TearMode, TearSettings};
 pub use paint::{PaintPatch, TILE, Texture};
+pub(crate) use seam::stitch;
+pub use seam::{STITCH_FORCE, Seam};
 
 use crate::cloth::Simulation;
 use crate::cloth::sim::Solver;
@@ -57,6 +62,12 @@ pub enum EditError {
     },
     #[error("the edit would break the mesh: {0}")]
     Geometry(#[from] GeometryError),
+    #[error("({0}, {1}) is not an edge on the cloth's border")]
+    NotBorderEdge(u32, u32),
+    #[error("the two seam paths share vertex {0}")]
+    SeamOverlap(u32),
+    #[error("the design changed underneath this edit (seam {0})")]
+    StaleSeam(u32),
     #[error("the design changed underneath this edit (triangle slot {0})")]
     Stale(u32),
     #[error("nothing to undo")]
@@ -98,6 +109,12 @@ pub enum Prim {
         new: bool,
     },
     Paint(PaintPatch),
+    /// Seam `index` goes from `old` to `new` (`index == len` with `old == None` appends).
+    Seam {
+        index: u32,
+        old: Option<Seam>,
+        new: Option<Seam>,
+    },
 }
 
 impl Prim {
@@ -121,6 +138,11 @@ impl Prim {
                 new: old,
             },
             Prim::Paint(p) => Prim::Paint(p.inverse()),
+            Prim::Seam { index, old, new } => Prim::Seam {
+                index,
+                old: new,
+                new: old,
+            },
         }
     }
 
@@ -129,6 +151,10 @@ impl Prim {
         std::mem::size_of::<Prim>()
             + match self {
                 Prim::Paint(p) => p.bytes(),
+                Prim::Seam { old, new, .. } => {
+                    8 * (old.as_ref().map_or(0, |s| s.pairs.len())
+                        + new.as_ref().map_or(0, |s| s.pairs.len()))
+                }
                 _ => 0,
             }
     }
@@ -238,6 +264,7 @@ impl Simulation {
                 touched.verts.push(*vertex);
             }
             Prim::Paint(patch) => self.texture.apply(patch, false),
+            Prim::Seam { index, old, new } => self.set_seam(*index, old, new)?,
         }
         Ok(())
     }
