@@ -190,7 +190,7 @@ fn a_pinched_cloth_pulled_hard_tears_and_reports_the_spring_force() {
     s.tear.threshold = 1.5;
     let far = (n * (n + 1) + n / 2) as u32;
     let start = s.cloth.x[far as usize];
-    let v = s.pinch_begin(start, 0.01, 200.0).unwrap();
+    let v = s.pinch_begin(start, 0.01, 0.0, 200.0).unwrap();
     assert_eq!(v, far);
     let t0 = s.cloth.live.tri_count();
     let mut torn = 0;

@@ -7,6 +7,7 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand};
 use sim_core::body::BodyKind;
 use sim_core::cloth::{Material, ModelKind};
+use sim_core::edit::TearMode;
 use sim_core::scenario::{ScenarioConfig, ScenarioName, max_realtime_grid, run_scenario};
 
 #[derive(Parser)]
@@ -22,7 +23,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Run a scenario headless; writes DIR/report.json, DIR/cloth.obj and DIR/body.obj.
+    /// Run a scenario headless; writes DIR/report.json, the cloth as DIR/cloth.obj + .mtl +
+    /// .png, DIR/body.obj and the design as DIR/design.saiho.
     Scenario(ScenarioArgs),
     /// Find the largest cloth grid a model steps in real time (drape-cube, 60 Hz frames).
     MaxRealtimeGrid {
@@ -42,21 +44,40 @@ enum Command {
     },
 }
 
+fn parse_tear_mode(s: &str) -> Result<TearMode, String> {
+    match s {
+        "delete" => Ok(TearMode::Delete),
+        "split" => Ok(TearMode::Split),
+        other => Err(format!(
+            "unknown tear mode '{other}' (expected delete or split)"
+        )),
+    }
+}
+
 #[derive(Args)]
 struct ScenarioArgs {
-    /// Scenario: drape-cube (the paper's experiment) or drape-mannequin.
+    /// Scenario: drape-cube (the paper's drape), drape-mannequin, fit-cube (the paper's
+    /// experiment end to end: drape, cut the corners away, sew the flaps), tear (pull a
+    /// gripped corner until the cloth tears) or paint (paint a pattern, export the texture).
     #[arg(value_parser = parse_scenario)]
     name: ScenarioName,
     /// Output directory (created if missing).
     #[arg(long)]
     out: PathBuf,
+    /// tear: an edge tears when stretched past this ratio of its rest length.
+    #[arg(long, default_value_t = 1.6)]
+    tear_threshold: f32,
+    /// tear: delete (the paper's: the two triangles go) or split (the material separates,
+    /// the triangles stay).
+    #[arg(long, value_parser = parse_tear_mode, default_value = "delete")]
+    tear_mode: TearMode,
     /// Cells per side of the square cloth: N x N cells, (N+1)^2 vertices.
     #[arg(long, default_value_t = 64)]
     grid: usize,
     /// Cloth model: xpbd (default), seed (the paper's mass-spring) or implicit (reference).
     #[arg(long, value_parser = parse_model, default_value = "xpbd")]
     model: ModelKind,
-    /// Frames of 1/60 s to simulate.
+    /// Frames of 1/60 s to simulate (the operation scenarios act at frame 240).
     #[arg(long, default_value_t = 600)]
     frames: u64,
     /// Body: cube, sphere, mannequin or a path to an .obj (metres, Y up, closed, outward
@@ -181,6 +202,8 @@ fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>> {
         return Err("--threads must be at least 1".into());
     }
     cfg.threads = a.threads;
+    cfg.tear_threshold = a.tear_threshold;
+    cfg.tear_mode = a.tear_mode;
     let r = run_scenario(&cfg, &a.out)?;
     eprintln!(
         "{}: {} model, {} vertices, {} frames x {} substeps: frame p50 {:.2} ms p99 {:.2} ms; \

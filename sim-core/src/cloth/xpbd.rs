@@ -287,17 +287,22 @@ impl Xpbd {
             for &st in &self.stitches {
                 crate::edit::stitch(&mut cloth.x, &cloth.inv_mass, st, inv_h2, STITCH_STIFFNESS);
             }
-            if let Some(p) = self.pinch {
-                // A zero-length XPBD spring to the pointer: compliance 1 / stiffness.
-                let i = p.vertex as usize;
-                if let (Some(&w), Some(x)) = (cloth.inv_mass.get(i), cloth.x.get_mut(i))
-                    && w > 0.0
-                {
-                    let alpha = inv_h2 / p.stiffness;
-                    let dx = (p.target - *x) * (w / (w + alpha));
-                    *x += dx;
-                    self.pinch_forces.push(dx * (inv_h2 / w));
+            if let Some(p) = &self.pinch {
+                // Zero-length XPBD springs to the pointer: compliance 1 / stiffness each.
+                let k = p.stiffness / p.held.len().max(1) as f32;
+                let alpha = inv_h2 / k;
+                let mut force = Vec3::ZERO;
+                for &(v, offset) in &p.held {
+                    let i = v as usize;
+                    if let (Some(&w), Some(x)) = (cloth.inv_mass.get(i), cloth.x.get_mut(i))
+                        && w > 0.0
+                    {
+                        let dx = (p.target + offset - *x) * (w / (w + alpha));
+                        *x += dx;
+                        force += dx * (inv_h2 / w);
+                    }
                 }
+                self.pinch_forces.push(force);
             }
             contacts.project(&mut cloth.x, &mut self.prev, &cloth.inv_mass, &cp);
             let inv_h = 1.0 / h;

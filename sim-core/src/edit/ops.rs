@@ -40,12 +40,17 @@ impl Default for TearSettings {
     }
 }
 
-/// The pinch spring between the pointer and one vertex.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// The pinch: the pointer holds the vertex nearest to it (the paper's pinch) and, with a
+/// grip radius, the vertices around it too, each by a spring to the pointer plus its
+/// offset at the moment of grabbing. The springs share the stiffness.
+#[derive(Clone, Debug, PartialEq)]
 pub struct Pinch {
+    /// The vertex nearest to the pointer when grabbed.
     pub vertex: u32,
+    /// Held vertices and their offsets from the pointer.
+    pub held: Vec<(u32, Vec3)>,
     pub target: Vec3,
-    /// N/m.
+    /// Total stiffness of the springs, N/m.
     pub stiffness: f32,
 }
 
@@ -307,6 +312,30 @@ impl Simulation {
         Ok(prims)
     }
 
+    /// Cuts a piece away: removes the triangles in `slots` (alive ones; at least one) as
+    /// one undoable operation. Returns how many went.
+    pub fn remove_triangles(&mut self, slots: &[u32]) -> Result<usize, EditError> {
+        self.check_editable()?;
+        let mut seen = std::collections::HashSet::new();
+        let prims: Vec<Prim> = slots
+            .iter()
+            .filter(|s| seen.insert(**s))
+            .filter_map(|&s| {
+                self.cloth.live.tri(s).map(|t| Prim::Tri {
+                    slot: s,
+                    old: Some(*t),
+                    new: None,
+                })
+            })
+            .collect();
+        if prims.is_empty() {
+            return Err(EditError::NothingNear { radius: 0.0 });
+        }
+        let n = prims.len();
+        self.commit("cut away", prims)?;
+        Ok(n)
+    }
+
     /// Tears edge `(a, b)` by hand, in `mode`.
     pub fn tear_edge(&mut self, a: u32, b: u32, mode: TearMode) -> Result<(), EditError> {
         let prims = self.tear_prims(a, b, mode)?;
@@ -439,8 +468,15 @@ impl Simulation {
         self.commit("paint", vec![Prim::Paint(patch)])
     }
 
-    /// Grabs the vertex nearest to `p` within `radius` with a spring of `stiffness` N/m.
-    pub fn pinch_begin(&mut self, p: Vec3, radius: f32, stiffness: f32) -> Result<u32, EditError> {
+    /// Grabs the vertex nearest to `p` within `radius` with a spring of `stiffness` N/m,
+    /// and with `grip > 0` every vertex within `grip` of that one as well.
+    pub fn pinch_begin(
+        &mut self,
+        p: Vec3,
+        radius: f32,
+        grip: f32,
+        stiffness: f32,
+    ) -> Result<u32, EditError> {
         if !(stiffness.is_finite() && stiffness > 0.0) {
             return Err(EditError::BadValue {
                 name: "pinch stiffness",
@@ -448,18 +484,29 @@ impl Simulation {
                 value: stiffness.to_string(),
             });
         }
-        if !p.is_finite() {
+        if !(p.is_finite() && grip.is_finite() && grip >= 0.0) {
             return Err(EditError::BadDirection);
         }
         self.check_editable()?;
         let v = self
             .nearest_vertex(p, radius)
             .ok_or(EditError::NothingNear { radius })?;
+        let centre = self.cloth.x[v as usize];
+        let mut held = vec![(v, centre - p)];
+        if grip > 0.0 {
+            for (i, x) in self.cloth.x.iter().enumerate() {
+                let i = i as u32;
+                if i != v && (*x - centre).length() <= grip && self.cloth.live.vertex_alive(i) {
+                    held.push((i, *x - p));
+                }
+            }
+        }
         let Solver::Xpbd(s) = &mut self.solver else {
             return Err(EditError::Model("seed or implicit"));
         };
         s.pinch = Some(Pinch {
             vertex: v,
+            held,
             target: p,
             stiffness,
         });
@@ -483,15 +530,15 @@ impl Simulation {
         }
     }
 
-    pub fn pinch(&self) -> Option<Pinch> {
+    pub fn pinch(&self) -> Option<&Pinch> {
         match &self.solver {
-            Solver::Xpbd(s) => s.pinch,
+            Solver::Xpbd(s) => s.pinch.as_ref(),
             _ => None,
         }
     }
 
-    /// The force the pinch spring put on the cloth in each substep of the last frame, N
-    /// (the pen feels the opposite).
+    /// The force the pinch springs put on the cloth (their sum) in each substep of the
+    /// last frame, N (the pen feels the opposite).
     pub fn pinch_forces(&self) -> &[Vec3] {
         match &self.solver {
             Solver::Xpbd(s) => &s.pinch_forces,

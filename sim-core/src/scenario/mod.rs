@@ -3,6 +3,7 @@
 
 mod report;
 mod run;
+pub mod scripts;
 
 pub use report::{Percentiles, Report};
 pub use run::{

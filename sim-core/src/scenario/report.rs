@@ -27,6 +27,40 @@ impl Percentiles {
     }
 }
 
+/// The operation scenarios' part of the report.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct OpsReport {
+    /// fit-cube: corner pieces cut away.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub cuts: Option<usize>,
+    /// fit-cube: seams added and stitched pairs in them.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub seams: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub seam_pairs: Option<usize>,
+    /// fit-cube: stitched pairs welded (each weld is a sew of two vertices).
+    #[serde(rename = "sews", skip_serializing_if = "Option::is_none")]
+    pub welds: Option<usize>,
+    /// drape-cube and fit-cube: distance from the side panels to the cube's side faces
+    /// beyond the contact thickness, m.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fit_gap_mean_m: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fit_gap_max_m: Option<f64>,
+    /// tear: edges torn, the frame of the first, and the largest pinch force.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tears: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub first_tear_frame: Option<u64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pinch_force_max_n: Option<f64>,
+    /// paint: strokes that landed and texels no longer the base colour.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub paint_strokes: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub texels_painted: Option<usize>,
+}
+
 #[derive(Clone, Debug, Serialize)]
 pub struct Report {
     pub scenario: String,
@@ -57,6 +91,11 @@ pub struct Report {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stable_step_s: Option<f64>,
     pub settled: bool,
+    /// What the operation scenarios did and measured (absent fields: not this scenario).
+    #[serde(flatten)]
+    pub ops: OpsReport,
+    /// Files written besides report.json: the cloth as OBJ + MTL + PNG, and the design.
+    pub exported: Vec<String>,
     pub wall_s: f64,
     pub notices: Vec<String>,
 }
