@@ -89,7 +89,10 @@ fn drape_cube_writes_report_and_meshes() {
     let cloth = std::fs::read_to_string(dir.join("cloth.obj")).unwrap();
     assert_eq!(cloth.lines().filter(|l| l.starts_with("v ")).count(), 169);
     // UVs per triangle corner (a sewn vertex can have two), so three per face.
-    assert_eq!(cloth.lines().filter(|l| l.starts_with("vt ")).count(), 3 * 288);
+    assert_eq!(
+        cloth.lines().filter(|l| l.starts_with("vt ")).count(),
+        3 * 288
+    );
     assert_eq!(cloth.lines().filter(|l| l.starts_with("f ")).count(), 288);
     assert!(cloth.contains("mtllib cloth.mtl"));
     for f in ["cloth.mtl", "cloth.png", "design.saiho"] {

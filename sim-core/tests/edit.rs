@@ -147,13 +147,25 @@ fn sewing_closes_a_cut_and_bad_sews_change_nothing() {
 #[test]
 fn a_sew_that_would_make_an_edge_non_manifold_is_refused() {
     let mut s = flat(4, false);
-    // Cut a slit at the centre then sew across it in a way that doubles an edge:
-    // merging vertex 1 into 6 (both on... ) is refused unless manifold. Use the border:
-    // corners 0 and 4 are border vertices; 0's neighbour 5 (row 1) shares edges with 0.
     let before = snapshot(&s);
-    // 1 and 5 share a triangle (grid diagonal or edge) -> refused.
-    let r = s.sew(1, 5);
-    assert!(r.is_err());
+    // Some pairs of border vertices share a neighbour across an interior edge: merging
+    // them would put a third triangle on that edge.
+    let border: Vec<u32> = (0..25).filter(|&v| s.cloth.live.is_boundary(v)).collect();
+    let mut refused = 0;
+    for &a in &border {
+        for &b in &border {
+            if let Err(EditError::Geometry(sim_core::error::GeometryError::NonManifoldEdge {
+                ..
+            })) = s.sew(a, b)
+            {
+                refused += 1;
+                assert_eq!(snapshot(&s), before, "sew({a}, {b}) changed the design");
+            } else if s.history.undo_len() > 0 {
+                s.undo().unwrap();
+            }
+        }
+    }
+    assert!(refused > 0);
     assert_eq!(snapshot(&s), before);
 }
 
@@ -281,12 +293,81 @@ fn operations_need_the_xpbd_model() {
     assert_eq!(s.cut_vertex(12, Vec3::X), Err(EditError::Model("seed")));
 }
 
+/// The border path of `len` vertices starting at `v` along border edges (if there is one).
+fn border_path(s: &Simulation, v: u32, len: usize) -> Option<Vec<u32>> {
+    let live = &s.cloth.live;
+    if !live.vertex_alive(v) || !live.is_boundary(v) {
+        return None;
+    }
+    let mut path = vec![v];
+    while path.len() < len {
+        let last = *path.last()?;
+        let next = live
+            .neighbours(last)
+            .into_iter()
+            .find(|&u| !path.contains(&u) && live.edge(last, u)[1] == sim_core::mesh::live::NONE)?;
+        path.push(next);
+    }
+    Some(path)
+}
+
+#[test]
+fn a_seam_pulls_two_cut_pieces_together_and_welds_them() {
+    let n = 12;
+    let mut s = flat(n, false);
+    // Cut across the middle, then pull the two halves 3 cm apart.
+    let z = 0.0021;
+    s.cut_stroke(&[Vec3::new(-0.3, 1.0, z), Vec3::new(0.3, 1.0, z)], 0.015)
+        .unwrap();
+    assert_eq!(pieces(&s), 2);
+    let row = (n / 2 * (n + 1)) as u32;
+    let a: Vec<u32> = (row..row + n as u32 + 1).collect();
+    let b: Vec<u32> = a
+        .iter()
+        .map(|&v| {
+            (0..s.cloth.len() as u32)
+                .rev()
+                .find(|&u| u != v && s.cloth.x[u as usize] == s.cloth.x[v as usize])
+                .unwrap()
+        })
+        .collect();
+    for i in 0..s.cloth.len() {
+        if s.cloth.x[i].z > 0.0 || b.contains(&(i as u32)) {
+            s.cloth.x[i].z += 0.03;
+        }
+    }
+    let before = snapshot(&s);
+    // Bad seams change nothing.
+    assert_eq!(s.add_seam(&a, &a, 0.05), Err(EditError::SeamOverlap(a[0])));
+    let centre = center_vertex(n) - n as u32 - 1;
+    assert!(matches!(
+        s.add_seam(&[centre, centre + 1], &b[..2], 0.05),
+        Err(EditError::SewInterior(_) | EditError::NotBorderEdge(..))
+    ));
+    assert!(s.add_seam(&a, &b, f32::NAN).is_err());
+    assert_eq!(snapshot(&s), before);
+    assert_eq!(s.add_seam(&a, &b, 0.05).unwrap(), n + 1);
+    let mut welded = 0;
+    for _ in 0..120 {
+        welded += s.step().unwrap().welded;
+    }
+    assert_eq!(welded, n + 1, "every pair welded");
+    assert_eq!(pieces(&s), 1);
+    assert!(s.seams[0].pairs.iter().all(|(p, q)| p == q));
+    s.validate().unwrap();
+    // Undo the last weld: that pair is open again.
+    assert_eq!(s.undo().unwrap(), "weld");
+    assert_eq!(s.seams[0].pairs.iter().filter(|(p, q)| p != q).count(), 1);
+    s.validate().unwrap();
+}
+
 /// One random operation, as the property test draws it.
 #[derive(Clone, Debug)]
 enum Op {
     Cut(u32, f32),
     Stroke(u32, u32),
     Sew(u32, u32),
+    Seam(u32, u32),
     Tear(u32, usize, bool),
     Pin(u32, bool),
     Paint(u32),
@@ -300,6 +381,7 @@ fn op() -> impl Strategy<Value = Op> {
         4 => (any::<u32>(), 0.0f32..6.3).prop_map(|(v, a)| Op::Cut(v, a)),
         1 => (any::<u32>(), any::<u32>()).prop_map(|(a, b)| Op::Stroke(a, b)),
         3 => (any::<u32>(), any::<u32>()).prop_map(|(a, b)| Op::Sew(a, b)),
+        1 => (any::<u32>(), any::<u32>()).prop_map(|(a, b)| Op::Seam(a, b)),
         3 => (any::<u32>(), any::<usize>(), any::<bool>()).prop_map(|(v, k, d)| Op::Tear(v, k, d)),
         1 => (any::<u32>(), any::<bool>()).prop_map(|(v, p)| Op::Pin(v, p)),
         1 => any::<u32>().prop_map(Op::Paint),
@@ -336,6 +418,10 @@ fn run(s: &mut Simulation, op: &Op) -> bool {
                 s.sew(a, b)
             }
         }
+        Op::Seam(a, b) => match (border_path(s, a % n, 3), border_path(s, b % n, 3)) {
+            (Some(p), Some(q)) => s.add_seam(&p, &q, 0.05).map(|_| ()),
+            _ => Ok(()),
+        },
         Op::Tear(v, k, delete) => {
             let v = v % n;
             let nb = s.cloth.live.neighbours(v);
