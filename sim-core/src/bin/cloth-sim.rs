@@ -24,7 +24,7 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Run a scenario headless; writes DIR/report.json, the cloth as DIR/cloth.obj + .mtl +
-    /// .png, DIR/body.obj and the design as DIR/design.saiho.
+    /// .png and DIR/cloth.glb, DIR/body.obj and the design as DIR/design.saiho.
     Scenario(ScenarioArgs),
     /// Find the largest cloth grid a model steps in real time (drape-cube, 60 Hz frames).
     MaxRealtimeGrid {

@@ -316,7 +316,8 @@ pub fn run_scenario(cfg: &ScenarioConfig, out: &Path) -> Result<Report, Scenario
     // "Settled": RMS speed under 1 cm/s.
     let total_mass: f64 = sim.cloth.mass.iter().map(|&m| m as f64).sum();
     let settled = ke <= 0.5 * total_mass * 0.01f64.powi(2);
-    let exported = crate::edit::export::export_obj(&sim, out, "cloth")?;
+    let mut exported = crate::edit::export::export_obj(&sim, out, "cloth")?;
+    exported.push(crate::edit::export::export_glb(&sim, out, "cloth")?);
     let design_path = out.join("design.saiho");
     sim.save_design_file(&design_path)?;
     if matches!(
