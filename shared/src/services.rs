@@ -1,0 +1,134 @@
+//! One function per service, so every process opens each with the same quality of
+//! service (iceoryx2 refuses to open a service whose settings differ).
+//!
+//! | service | payload | direction | history | buffer |
+//! |---|---|---|---|---|
+//! | `saiho/device` | [`DeviceSample`] | haptic -> sim, ui | 1 (latest) | 1, overwrite |
+//! | `saiho/applied-force` | [`AppliedForce`] | haptic -> sim | 1 | 4, overwrite |
+//! | `saiho/local-model` | [`LocalModel`] | sim -> haptic | 1 (latest) | 1, overwrite |
+//! | `saiho/pointer` | [`PointerInput`] | ui -> haptic | 1 (latest) | 1, overwrite |
+//! | `saiho/telemetry/haptic` | [`LoopTelemetry`] | haptic -> ui, tools | 1 | 2, overwrite |
+//!
+//! History 1 gives a process that starts late the current value at once.
+
+use iceoryx2::port::publisher::Publisher;
+use iceoryx2::port::subscriber::Subscriber;
+use iceoryx2::prelude::*;
+use iceoryx2::service::port_factory::publish_subscribe::PortFactory;
+
+use crate::haptic_to_sim::{AppliedForce, DeviceSample};
+use crate::sim_to_haptic::LocalModel;
+use crate::telemetry::LoopTelemetry;
+use crate::ui_to_haptic::PointerInput;
+
+pub const DEVICE: &str = "saiho/device";
+pub const APPLIED_FORCE: &str = "saiho/applied-force";
+pub const LOCAL_MODEL: &str = "saiho/local-model";
+pub const POINTER: &str = "saiho/pointer";
+pub const HAPTIC_TELEMETRY: &str = "saiho/telemetry/haptic";
+
+#[derive(Debug, thiserror::Error)]
+pub enum ServiceError {
+    #[error(
+        "service {service}: its message type differs from this build's (protocol mismatch between processes; run matching builds)"
+    )]
+    Mismatch { service: &'static str },
+    #[error("service {service}: {detail}")]
+    Open {
+        service: &'static str,
+        detail: String,
+    },
+}
+
+pub type Factory<T> = PortFactory<ipc::Service, T, ()>;
+pub type Pub<T> = Publisher<ipc::Service, T, ()>;
+pub type Sub<T> = Subscriber<ipc::Service, T, ()>;
+
+fn open<T: core::fmt::Debug + ZeroCopySend + 'static>(
+    node: &Node<ipc::Service>,
+    service: &'static str,
+    history: usize,
+    buffer: usize,
+) -> Result<Factory<T>, ServiceError> {
+    let name: ServiceName = service.try_into().map_err(|e| ServiceError::Open {
+        service,
+        detail: format!("{e:?}"),
+    })?;
+    node.service_builder(&name)
+        .publish_subscribe::<T>()
+        .history_size(history)
+        .subscriber_max_buffer_size(buffer)
+        .subscriber_max_borrowed_samples(2)
+        .max_publishers(2)
+        .max_subscribers(8)
+        .enable_safe_overflow(true)
+        .open_or_create()
+        .map_err(|e| {
+            let detail = format!("{e:?}");
+            if detail.contains("IncompatibleTypes") {
+                ServiceError::Mismatch { service }
+            } else {
+                ServiceError::Open { service, detail }
+            }
+        })
+}
+
+pub fn device(node: &Node<ipc::Service>) -> Result<Factory<DeviceSample>, ServiceError> {
+    open(node, DEVICE, 1, 1)
+}
+
+pub fn applied_force(node: &Node<ipc::Service>) -> Result<Factory<AppliedForce>, ServiceError> {
+    open(node, APPLIED_FORCE, 1, 4)
+}
+
+pub fn local_model(node: &Node<ipc::Service>) -> Result<Factory<LocalModel>, ServiceError> {
+    open(node, LOCAL_MODEL, 1, 1)
+}
+
+pub fn pointer(node: &Node<ipc::Service>) -> Result<Factory<PointerInput>, ServiceError> {
+    open(node, POINTER, 1, 1)
+}
+
+pub fn haptic_telemetry(node: &Node<ipc::Service>) -> Result<Factory<LoopTelemetry>, ServiceError> {
+    open(node, HAPTIC_TELEMETRY, 1, 2)
+}
+
+/// A node in `domain`, with iceoryx2's own signal handlers off (each process handles
+/// SIGINT/SIGTERM itself) and stale resources of dead nodes removed.
+pub fn node(
+    domain: &crate::domain::Domain,
+    name: &str,
+) -> Result<Node<ipc::Service>, ServiceError> {
+    let cfg = domain.config().map_err(|e| ServiceError::Open {
+        service: "node",
+        detail: e.to_string(),
+    })?;
+    cleanup_dead_nodes(&cfg);
+    let node_name: NodeName = name.try_into().map_err(|e| ServiceError::Open {
+        service: "node",
+        detail: format!("{e:?}"),
+    })?;
+    NodeBuilder::new()
+        .name(&node_name)
+        .config(&cfg)
+        .signal_handling_mode(SignalHandlingMode::Disabled)
+        .create::<ipc::Service>()
+        .map_err(|e| ServiceError::Open {
+            service: "node",
+            detail: format!("{e:?}"),
+        })
+}
+
+/// Removes what dead processes of this domain left behind; returns how many nodes.
+pub fn cleanup_dead_nodes(cfg: &Config) -> usize {
+    let mut removed = 0;
+    let _ = Node::<ipc::Service>::list(cfg, |state| {
+        if let NodeState::Dead(view) = state
+            && view.try_remove_stale_resources().is_ok()
+        {
+            removed += 1;
+        }
+        CallbackProgression::Continue
+    });
+    removed
+}

@@ -1,0 +1,132 @@
+//! every process -> cloth-ui, cloth-latency: loop timing as allocation-free histograms.
+
+use iceoryx2::prelude::ZeroCopySend;
+
+use crate::{Checked, Header};
+
+/// Buckets of a [`Histogram`]: 1 µs wide up to 1 ms, then 100 µs wide up to 10 ms; the
+/// last bucket counts everything above.
+pub const FINE_BUCKETS: usize = 1000;
+pub const COARSE_BUCKETS: usize = 91;
+pub const BUCKETS: usize = FINE_BUCKETS + COARSE_BUCKETS;
+
+/// A fixed-size histogram of durations (no allocation, so the haptic tick can record).
+#[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend)]
+#[repr(C)]
+pub struct Histogram {
+    pub counts: [u32; BUCKETS],
+    pub total: u64,
+    pub max_ns: u64,
+}
+
+impl Default for Histogram {
+    fn default() -> Self {
+        Self {
+            counts: [0; BUCKETS],
+            total: 0,
+            max_ns: 0,
+        }
+    }
+}
+
+impl Histogram {
+    pub fn bucket_of(ns: u64) -> usize {
+        let us = ns / 1000;
+        if us < FINE_BUCKETS as u64 {
+            us as usize
+        } else {
+            (FINE_BUCKETS + ((us - 1000) / 100) as usize).min(BUCKETS - 1)
+        }
+    }
+
+    /// The lower edge of bucket `b`, ns.
+    pub fn bucket_floor_ns(b: usize) -> u64 {
+        if b < FINE_BUCKETS {
+            b as u64 * 1000
+        } else {
+            1_000_000 + (b - FINE_BUCKETS) as u64 * 100_000
+        }
+    }
+
+    #[inline]
+    pub fn record(&mut self, ns: u64) {
+        let b = Self::bucket_of(ns);
+        self.counts[b] = self.counts[b].saturating_add(1);
+        self.total += 1;
+        self.max_ns = self.max_ns.max(ns);
+    }
+
+    /// The value under which a fraction `q` of the records fall (the bucket's upper edge,
+    /// or the maximum for the last bucket), ns.
+    pub fn quantile_ns(&self, q: f64) -> u64 {
+        if self.total == 0 {
+            return 0;
+        }
+        let want = ((q * self.total as f64).ceil() as u64).clamp(1, self.total);
+        let mut seen = 0u64;
+        for (b, &c) in self.counts.iter().enumerate() {
+            seen += c as u64;
+            if seen >= want {
+                return if b + 1 < BUCKETS {
+                    Self::bucket_floor_ns(b + 1).min(self.max_ns)
+                } else {
+                    self.max_ns
+                };
+            }
+        }
+        self.max_ns
+    }
+}
+
+/// The haptic loop's timing since it started.
+#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("saiho::LoopTelemetry")]
+pub struct LoopTelemetry {
+    pub header: Header,
+    pub ticks: u64,
+    /// Ticks that started more than one period late.
+    pub missed: u64,
+    /// Tick start minus its absolute deadline.
+    pub lateness: Histogram,
+    /// Time between tick starts.
+    pub period: Histogram,
+    /// Work inside a tick (device, proxy, messages).
+    pub compute: Histogram,
+    /// Latest rendered force magnitude, N, and whether the local model is fresh.
+    pub force_n: f32,
+    pub model_fresh: u32,
+}
+
+impl Checked for LoopTelemetry {
+    const WHAT: &'static str = "loop telemetry";
+    fn header(&self) -> &Header {
+        &self.header
+    }
+    fn check_body(&self) -> Result<(), String> {
+        if !self.force_n.is_finite() {
+            return Err("force is not finite".into());
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn histogram_quantiles() {
+        let mut h = Histogram::default();
+        for us in 1..=1000u64 {
+            h.record(us * 1000 + 500);
+        }
+        h.record(5_000_000);
+        assert_eq!(h.total, 1001);
+        // p50 is about 500 µs (bucket edges are 1 µs apart there).
+        let p50 = h.quantile_ns(0.5);
+        assert!((500_000..=502_000).contains(&p50), "{p50}");
+        assert_eq!(h.quantile_ns(1.0), 5_000_000);
+        assert_eq!(Histogram::bucket_of(20_000_000), BUCKETS - 1);
+    }
+}
