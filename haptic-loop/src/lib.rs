@@ -1,1 +1,7 @@
-//! Saiho `haptic-loop`: placeholder crate, filled in by its own issue.
+//! Saiho `haptic-loop`: the 1 kHz process that owns the haptic device. It renders force
+//! at every tick from the latest local model cloth-sim sent ([`proxy`]), through the
+//! force safety ([`safety`]), and never waits on another process.
+
+pub mod device;
+pub mod proxy;
+pub mod safety;

@@ -1,0 +1,242 @@
+//! The device abstraction and the simulated pen.
+
+use shared::haptic_to_sim::{BUTTON_1, BUTTON_2};
+
+/// What a device reports at a tick (scene frame, metres, Y up).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct DeviceState {
+    pub position: [f32; 3],
+    pub velocity: [f32; 3],
+    pub buttons: u32,
+}
+
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum DeviceError {
+    #[error("device error {code:#06x}: {what}")]
+    Device { code: u32, what: String },
+    #[error("cannot open the device: {0}")]
+    Open(String),
+}
+
+/// A haptic device: read the pen, then command a force, once per tick.
+pub trait HapticDevice {
+    fn name(&self) -> &str;
+    /// Reads the pen at the start of a tick, `dt` seconds after the previous one.
+    fn read(&mut self, dt: f32) -> Result<DeviceState, DeviceError>;
+    /// Commands the force (N, scene frame) for this tick.
+    fn write_force(&mut self, force: [f32; 3]) -> Result<(), DeviceError>;
+}
+
+/// Where the simulated pen's hand wants to be.
+pub trait TargetSource {
+    /// The hand target and buttons at `t` seconds since start.
+    fn target(&mut self, t: f64) -> ([f32; 3], u32);
+}
+
+/// The Touch's workspace, about 160 x 120 x 70 mm, mapped into the scene at a scale
+/// (scene metres per device metre) around a centre.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Workspace {
+    pub half_extent_m: [f32; 3],
+    pub scale: f32,
+    pub centre: [f32; 3],
+}
+
+impl Default for Workspace {
+    fn default() -> Self {
+        Self {
+            half_extent_m: [0.080, 0.060, 0.035],
+            scale: 5.0,
+            centre: [0.0, 0.6, 0.0],
+        }
+    }
+}
+
+impl Workspace {
+    /// Clamps a scene point into the mapped workspace.
+    pub fn clamp(&self, p: [f32; 3]) -> [f32; 3] {
+        std::array::from_fn(|i| {
+            let h = self.half_extent_m[i] * self.scale;
+            p[i].clamp(self.centre[i] - h, self.centre[i] + h)
+        })
+    }
+}
+
+/// A simulated pen: a mass held by a hand (a spring-damper to the hand's target), moved by
+/// the rendered force, inside the Touch's workspace. It moves and reacts like a held pen:
+/// a stiff spring pushing on it displaces it until the hand's pull balances.
+pub struct SimDevice<T: TargetSource> {
+    pub mass: f32,
+    pub hand_stiffness: f32,
+    pub hand_damping: f32,
+    pub workspace: Workspace,
+    source: T,
+    t: f64,
+    x: [f32; 3],
+    v: [f32; 3],
+    force: [f32; 3],
+    buttons: u32,
+}
+
+impl<T: TargetSource> SimDevice<T> {
+    pub fn new(mut source: T, workspace: Workspace) -> Self {
+        let (x, buttons) = source.target(0.0);
+        let (mass, hand_stiffness) = (0.05f32, 150.0f32);
+        Self {
+            mass,
+            hand_stiffness,
+            // Slightly under-critical, like a relaxed grip.
+            hand_damping: 0.8 * 2.0 * (mass * hand_stiffness).sqrt(),
+            workspace,
+            source,
+            t: 0.0,
+            x: workspace.clamp(x),
+            v: [0.0; 3],
+            force: [0.0; 3],
+            buttons,
+        }
+    }
+}
+
+impl<T: TargetSource> HapticDevice for SimDevice<T> {
+    fn name(&self) -> &str {
+        "sim"
+    }
+
+    fn read(&mut self, dt: f32) -> Result<DeviceState, DeviceError> {
+        let dt = if dt.is_finite() { dt.clamp(0.0, 0.005) } else { 0.0 };
+        self.t += dt as f64;
+        let (target, buttons) = self.source.target(self.t);
+        let target = self.workspace.clamp(target);
+        self.buttons = buttons & (BUTTON_1 | BUTTON_2);
+        // Semi-implicit Euler: hand spring-damper plus the rendered force.
+        for i in 0..3 {
+            let a = (self.hand_stiffness * (target[i] - self.x[i]) - self.hand_damping * self.v[i]
+                + self.force[i])
+                / self.mass;
+            self.v[i] += a * dt;
+            self.x[i] += self.v[i] * dt;
+        }
+        let clamped = self.workspace.clamp(self.x);
+        for i in 0..3 {
+            if clamped[i] != self.x[i] {
+                self.v[i] = 0.0;
+            }
+        }
+        self.x = clamped;
+        Ok(DeviceState {
+            position: self.x,
+            velocity: self.v,
+            buttons: self.buttons,
+        })
+    }
+
+    fn write_force(&mut self, force: [f32; 3]) -> Result<(), DeviceError> {
+        self.force = force;
+        Ok(())
+    }
+}
+
+/// A fixed target (the pen held still), for tests and idle runs.
+#[derive(Debug, Clone, Copy)]
+pub struct Still(pub [f32; 3], pub u32);
+
+impl TargetSource for Still {
+    fn target(&mut self, _t: f64) -> ([f32; 3], u32) {
+        (self.0, self.1)
+    }
+}
+
+/// Timed targets: `(time s, position, buttons)`, linearly interpolated, sorted by time.
+#[derive(Debug, Clone)]
+pub struct Script {
+    pub points: Vec<(f64, [f32; 3], u32)>,
+}
+
+impl Script {
+    /// Parses lines `t x y z buttons` (seconds, metres, bit mask); `#` starts a comment.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let mut points = Vec::new();
+        for (n, line) in text.lines().enumerate() {
+            let line = line.split('#').next().unwrap_or("").trim();
+            if line.is_empty() {
+                continue;
+            }
+            let f: Vec<&str> = line.split_whitespace().collect();
+            if f.len() != 5 {
+                return Err(format!("line {}: expected 't x y z buttons', got '{line}'", n + 1));
+            }
+            let num = |s: &str| -> Result<f64, String> {
+                s.parse::<f64>()
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .ok_or_else(|| format!("line {}: '{s}' is not a finite number", n + 1))
+            };
+            let t = num(f[0])?;
+            let p = [num(f[1])? as f32, num(f[2])? as f32, num(f[3])? as f32];
+            let b: u32 = f[4]
+                .parse()
+                .map_err(|_| format!("line {}: buttons '{}' is not a bit mask", n + 1, f[4]))?;
+            if let Some(&(last, _, _)) = points.last()
+                && t < last
+            {
+                return Err(format!("line {}: time {t} goes backwards", n + 1));
+            }
+            points.push((t, p, b));
+        }
+        if points.is_empty() {
+            return Err("the script has no points".into());
+        }
+        Ok(Self { points })
+    }
+}
+
+impl TargetSource for Script {
+    fn target(&mut self, t: f64) -> ([f32; 3], u32) {
+        let pts = &self.points;
+        let k = pts.partition_point(|p| p.0 <= t);
+        if k == 0 {
+            return (pts[0].1, pts[0].2);
+        }
+        if k >= pts.len() {
+            let l = pts[pts.len() - 1];
+            return (l.1, l.2);
+        }
+        let (a, b) = (pts[k - 1], pts[k]);
+        let s = ((t - a.0) / (b.0 - a.0).max(1e-9)) as f32;
+        (std::array::from_fn(|i| a.1[i] + (b.1[i] - a.1[i]) * s), a.2)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_pen_follows_its_hand_and_yields_to_force() {
+        let mut d = SimDevice::new(Still([0.0, 0.6, 0.0], 0), Workspace::default());
+        for _ in 0..1000 {
+            d.read(0.001).unwrap();
+        }
+        let s = d.read(0.001).unwrap();
+        assert!((s.position[1] - 0.6).abs() < 1e-4);
+        // A steady 1.5 N up: it settles 1.5 / 150 = 1 cm above the hand's target.
+        d.write_force([0.0, 1.5, 0.0]).unwrap();
+        for _ in 0..2000 {
+            d.read(0.001).unwrap();
+        }
+        let s = d.read(0.001).unwrap();
+        assert!((s.position[1] - 0.61).abs() < 5e-4, "{:?}", s.position);
+    }
+
+    #[test]
+    fn scripts_parse_and_interpolate() {
+        let mut s = Script::parse("# t x y z buttons\n0 0 0.6 0 0\n1 0.1 0.6 0 1\n").unwrap();
+        let (p, b) = s.target(0.5);
+        assert!((p[0] - 0.05).abs() < 1e-6 && b == 0);
+        assert_eq!(s.target(2.0), ([0.1, 0.6, 0.0], 1));
+        assert!(Script::parse("0 0 0 0").is_err());
+        assert!(Script::parse("1 0 0 0 0\n0 0 0 0 0").unwrap_err().contains("backwards"));
+        assert!(Script::parse("0 nan 0 0 0").is_err());
+    }
+}
