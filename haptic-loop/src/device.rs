@@ -76,6 +76,14 @@ pub struct SimDevice<T: TargetSource> {
     v: [f32; 3],
     force: [f32; 3],
     buttons: u32,
+    /// The UI's pointer, when it drives the pen (overrides the source).
+    pointer: Option<([f32; 3], u32)>,
+}
+
+impl<T: TargetSource> crate::looper::PointerTarget for SimDevice<T> {
+    fn set_pointer(&mut self, target: [f32; 3], buttons: u32) {
+        self.pointer = Some((target, buttons));
+    }
 }
 
 impl<T: TargetSource> SimDevice<T> {
@@ -94,6 +102,7 @@ impl<T: TargetSource> SimDevice<T> {
             v: [0.0; 3],
             force: [0.0; 3],
             buttons,
+            pointer: None,
         }
     }
 }
@@ -104,9 +113,16 @@ impl<T: TargetSource> HapticDevice for SimDevice<T> {
     }
 
     fn read(&mut self, dt: f32) -> Result<DeviceState, DeviceError> {
-        let dt = if dt.is_finite() { dt.clamp(0.0, 0.005) } else { 0.0 };
+        let dt = if dt.is_finite() {
+            dt.clamp(0.0, 0.005)
+        } else {
+            0.0
+        };
         self.t += dt as f64;
-        let (target, buttons) = self.source.target(self.t);
+        let (target, buttons) = match self.pointer {
+            Some(p) => p,
+            None => self.source.target(self.t),
+        };
         let target = self.workspace.clamp(target);
         self.buttons = buttons & (BUTTON_1 | BUTTON_2);
         // Semi-implicit Euler: hand spring-damper plus the rendered force.
@@ -164,7 +180,10 @@ impl Script {
             }
             let f: Vec<&str> = line.split_whitespace().collect();
             if f.len() != 5 {
-                return Err(format!("line {}: expected 't x y z buttons', got '{line}'", n + 1));
+                return Err(format!(
+                    "line {}: expected 't x y z buttons', got '{line}'",
+                    n + 1
+                ));
             }
             let num = |s: &str| -> Result<f64, String> {
                 s.parse::<f64>()
@@ -236,7 +255,11 @@ mod tests {
         assert!((p[0] - 0.05).abs() < 1e-6 && b == 0);
         assert_eq!(s.target(2.0), ([0.1, 0.6, 0.0], 1));
         assert!(Script::parse("0 0 0 0").is_err());
-        assert!(Script::parse("1 0 0 0 0\n0 0 0 0 0").unwrap_err().contains("backwards"));
+        assert!(
+            Script::parse("1 0 0 0 0\n0 0 0 0 0")
+                .unwrap_err()
+                .contains("backwards")
+        );
         assert!(Script::parse("0 nan 0 0 0").is_err());
     }
 }

@@ -3,5 +3,7 @@
 //! force safety ([`safety`]), and never waits on another process.
 
 pub mod device;
+pub mod looper;
 pub mod proxy;
+pub mod rt;
 pub mod safety;

@@ -106,9 +106,18 @@ mod tests {
             vertex_velocity: [0.1, 0.0, 0.0],
             ..Default::default()
         };
-        let f = proxy_force(&ProxyParams::default(), &m, 0.01, [0.0, 0.99, 0.0], [0.1, 0.0, 0.0]);
+        let f = proxy_force(
+            &ProxyParams::default(),
+            &m,
+            0.01,
+            [0.0, 0.99, 0.0],
+            [0.1, 0.0, 0.0],
+        );
         // 1 cm below the vertex: 2 N up; the vertex moved 1 mm in x meanwhile: 0.2 N in x.
-        assert!((f[1] - 2.0).abs() < 1e-4 && (f[0] - 0.2).abs() < 1e-4, "{f:?}");
+        assert!(
+            (f[1] - 2.0).abs() < 1e-4 && (f[0] - 0.2).abs() < 1e-4,
+            "{f:?}"
+        );
         // Extrapolation is bounded: a stale model does not fling the pen.
         let f = proxy_force(&ProxyParams::default(), &m, 10.0, [0.0, 1.0, 0.0], [0.0; 3]);
         // Target 0.1 m/s x 50 ms = 5 mm ahead: 1 N, plus coupling 0.4 N s/m x 0.1 m/s.
@@ -124,7 +133,10 @@ mod tests {
         m.planes[0] = [0.0, 1.0, 0.0, 0.5]; // floor at y = 0.5
         m.planes[1] = [1.0, 0.0, 0.0, 0.0]; // wall at x = 0
         let p = ProxyParams::default();
-        assert_eq!(proxy_force(&p, &m, 0.0, [0.1, 0.6, 0.0], [0.0; 3]), [0.0; 3]);
+        assert_eq!(
+            proxy_force(&p, &m, 0.0, [0.1, 0.6, 0.0], [0.0; 3]),
+            [0.0; 3]
+        );
         let f = proxy_force(&p, &m, 0.0, [0.1, 0.49, 0.0], [0.0; 3]);
         assert!((f[1] - 3.0).abs() < 1e-3 && f[0] == 0.0, "{f:?}");
         // In the corner, both push.

@@ -70,7 +70,11 @@ impl ForceSafety {
     /// output must go to zero (stale model, device error).
     pub fn filter(&mut self, f: [f32; 3], dt: f32, hold: Hold) -> [f32; 3] {
         let l = &self.limits;
-        let dt = if dt.is_finite() { dt.clamp(0.0, 0.1) } else { 0.0 };
+        let dt = if dt.is_finite() {
+            dt.clamp(0.0, 0.1)
+        } else {
+            0.0
+        };
         if hold == Hold::None {
             self.gain = (self.gain + dt / l.ramp_up_s.max(1e-6)).min(1.0);
         } else {

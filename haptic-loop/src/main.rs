@@ -1,0 +1,155 @@
+//! `haptic-loop`: the 1 kHz haptic process.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::Parser;
+use haptic_loop::device::{Script, SimDevice, Still, TargetSource, Workspace};
+use haptic_loop::looper::{self, LoopConfig, Ports};
+use haptic_loop::rt;
+use shared::domain::Domain;
+use shared::services;
+
+#[derive(Parser)]
+#[command(
+    name = "haptic-loop",
+    version,
+    about = "Saiho haptic loop: owns the device, renders force at 1 kHz from the local model cloth-sim sends"
+)]
+struct Args {
+    /// Device: sim (a simulated pen), openhaptics (a Phantom/Touch through libHD.so) or
+    /// replay:FILE (a recorded device log).
+    #[arg(long, default_value = "sim")]
+    device: String,
+    /// Domain (iceoryx2 prefix) to run in; default $SAIHO_DOMAIN, else "default".
+    #[arg(long)]
+    domain: Option<String>,
+    /// sim device: timed hand targets, lines `t x y z buttons` (s, m, bit mask).
+    #[arg(long)]
+    script: Option<PathBuf>,
+    /// Stop after this many seconds (default: run until SIGINT/SIGTERM).
+    #[arg(long)]
+    seconds: Option<f64>,
+    /// Ask for SCHED_FIFO at this priority, lock memory, and pin to --cpu (falls back
+    /// with one message when not permitted).
+    #[arg(long)]
+    rt_priority: Option<i32>,
+    /// CPU to pin the loop to (with --rt-priority).
+    #[arg(long)]
+    cpu: Option<usize>,
+    /// Busy-wait before each deadline, µs.
+    #[arg(long, default_value_t = 80)]
+    spin_us: u64,
+}
+
+enum Target {
+    Still(Still),
+    Script(Script),
+}
+
+impl TargetSource for Target {
+    fn target(&mut self, t: f64) -> ([f32; 3], u32) {
+        match self {
+            Target::Still(s) => s.target(t),
+            Target::Script(s) => s.target(t),
+        }
+    }
+}
+
+fn log(msg: &str) {
+    eprintln!("haptic-loop: {msg}");
+}
+
+fn run(a: Args) -> Result<(), String> {
+    let domain = Domain::from_arg_or_env(a.domain.as_deref()).map_err(|e| e.to_string())?;
+    let source = match (&a.device[..], &a.script) {
+        ("sim", None) => Target::Still(Still(Workspace::default().centre, 0)),
+        ("sim", Some(p)) => {
+            let text = std::fs::read_to_string(p)
+                .map_err(|e| format!("cannot read script {}: {e}", p.display()))?;
+            Target::Script(Script::parse(&text).map_err(|e| format!("{}: {e}", p.display()))?)
+        }
+        ("openhaptics", _) => {
+            return Err(
+                "the openhaptics backend is not built yet (issue 4 in progress); use --device sim"
+                    .into(),
+            );
+        }
+        (d, _) if d.starts_with("replay:") => {
+            return Err("device log replay is not built yet (issue 4 in progress)".into());
+        }
+        (d, _) => {
+            return Err(format!(
+                "unknown device '{d}' (expected sim, openhaptics or replay:FILE)"
+            ));
+        }
+    };
+    let stop = rt::termination_flag();
+    let node = services::node(&domain, "haptic-loop").map_err(|e| e.to_string())?;
+    let err = |e: services::ServiceError| e.to_string();
+    let pe = |e: &dyn std::fmt::Debug| format!("{e:?}");
+    let ports = Ports {
+        device: services::device(&node)
+            .map_err(err)?
+            .publisher_builder()
+            .create()
+            .map_err(|e| pe(&e))?,
+        applied: services::applied_force(&node)
+            .map_err(err)?
+            .publisher_builder()
+            .create()
+            .map_err(|e| pe(&e))?,
+        telemetry: services::haptic_telemetry(&node)
+            .map_err(err)?
+            .publisher_builder()
+            .create()
+            .map_err(|e| pe(&e))?,
+        model: services::local_model(&node)
+            .map_err(err)?
+            .subscriber_builder()
+            .create()
+            .map_err(|e| pe(&e))?,
+        pointer: services::pointer(&node)
+            .map_err(err)?
+            .subscriber_builder()
+            .create()
+            .map_err(|e| pe(&e))?,
+    };
+    if let Some(p) = a.rt_priority {
+        log(&rt::realtime(p, a.cpu).summary());
+    }
+    let cfg = LoopConfig {
+        spin_ns: a.spin_us * 1000,
+        max_ticks: a.seconds.map(|s| (s.max(0.0) * 1000.0) as u64),
+        ..LoopConfig::default()
+    };
+    let mut dev = SimDevice::new(source, Workspace::default());
+    log(&format!(
+        "device {}, domain '{}', 1 kHz",
+        "sim",
+        domain.name()
+    ));
+    let stats = looper::run(&mut dev, &ports, &cfg, stop, log);
+    let t = &stats.telemetry;
+    log(&format!(
+        "stopped after {} ticks: missed {}, period p50 {} us p99.9 {} us max {} us, compute p99 {} us, {} messages rejected",
+        t.ticks,
+        t.missed,
+        t.period.quantile_ns(0.5) / 1000,
+        t.period.quantile_ns(0.999) / 1000,
+        t.period.max_ns / 1000,
+        t.compute.quantile_ns(0.99) / 1000,
+        stats.rejected
+    ));
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    match run(Args::parse()) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("haptic-loop: error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

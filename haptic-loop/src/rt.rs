@@ -1,0 +1,121 @@
+//! Real-time plumbing: absolute-deadline sleeps on CLOCK_MONOTONIC, optional SCHED_FIFO,
+//! memory locking and CPU pinning, and a SIGINT/SIGTERM flag. The only `unsafe` in the
+//! crate is here, for the two syscalls rustix does not wrap (sigaction, sched_setscheduler).
+
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use rustix::time::{ClockId, Timespec};
+
+/// CLOCK_MONOTONIC now, ns.
+#[inline]
+pub fn now_ns() -> u64 {
+    shared::monotonic_ns()
+}
+
+/// Sleeps until `deadline_ns` (CLOCK_MONOTONIC, TIMER_ABSTIME) minus `spin_ns`, then spins
+/// to the deadline: the kernel's wake-up jitter lands in the spin, not in the tick.
+#[inline]
+pub fn wait_until(deadline_ns: u64, spin_ns: u64) {
+    let sleep_to = deadline_ns.saturating_sub(spin_ns);
+    if now_ns() < sleep_to {
+        let ts = Timespec {
+            tv_sec: (sleep_to / 1_000_000_000) as i64,
+            tv_nsec: (sleep_to % 1_000_000_000) as i64,
+        };
+        // EINTR (a signal) just ends the sleep early; the spin finishes the wait.
+        let _ = rustix::thread::clock_nanosleep_absolute(ClockId::Monotonic, &ts);
+    }
+    while now_ns() < deadline_ns {
+        std::hint::spin_loop();
+    }
+}
+
+static TERMINATE: AtomicBool = AtomicBool::new(false);
+
+extern "C" fn on_signal(_: libc::c_int) {
+    // Async-signal-safe: a single atomic store.
+    TERMINATE.store(true, Ordering::SeqCst);
+}
+
+/// Installs SIGINT and SIGTERM handlers that only set a flag; returns the flag.
+#[allow(unsafe_code)]
+pub fn termination_flag() -> &'static AtomicBool {
+    for sig in [libc::SIGINT, libc::SIGTERM] {
+        // SAFETY: a zeroed sigaction is a valid initial value; the handler is an
+        // `extern "C" fn(c_int)` that only stores to an atomic (async-signal-safe), and
+        // the pointers passed live for the duration of the call.
+        unsafe {
+            let mut act: libc::sigaction = std::mem::zeroed();
+            act.sa_sigaction = on_signal as extern "C" fn(libc::c_int) as usize;
+            libc::sigemptyset(&mut act.sa_mask);
+            act.sa_flags = 0;
+            libc::sigaction(sig, &act, std::ptr::null_mut());
+        }
+    }
+    &TERMINATE
+}
+
+/// What the real-time setup achieved (each part falls back on its own).
+#[derive(Debug, Clone)]
+pub struct RtStatus {
+    pub fifo: Result<i32, String>,
+    pub locked: Result<(), String>,
+    pub pinned: Result<usize, String>,
+}
+
+impl RtStatus {
+    /// One line for the log: what is on, and why what is off is off.
+    pub fn summary(&self) -> String {
+        let part = |name: &str, r: Result<String, &String>| match r {
+            Ok(s) => format!("{name} {s}"),
+            Err(e) => format!("{name} off ({e})"),
+        };
+        [
+            part(
+                "SCHED_FIFO",
+                self.fifo.as_ref().map(|p| format!("priority {p}")),
+            ),
+            part("mlockall", self.locked.as_ref().map(|_| "on".to_string())),
+            part("CPU pin", self.pinned.as_ref().map(|c| format!("cpu {c}"))),
+        ]
+        .join(", ")
+    }
+}
+
+/// Asks for SCHED_FIFO at `priority`, locks memory, and pins to `cpu`; each part that is
+/// not permitted is reported, not fatal.
+#[allow(unsafe_code)]
+pub fn realtime(priority: i32, cpu: Option<usize>) -> RtStatus {
+    let param = libc::sched_param {
+        sched_priority: priority,
+    };
+    // SAFETY: `param` is a valid sched_param that outlives the call; pid 0 is this thread.
+    let rc = unsafe { libc::sched_setscheduler(0, libc::SCHED_FIFO, &param) };
+    let fifo = if rc == 0 {
+        Ok(priority)
+    } else {
+        Err(format!(
+            "{} (needs CAP_SYS_NICE or an rtprio limit)",
+            std::io::Error::last_os_error()
+        ))
+    };
+    let locked = rustix::mm::mlockall(
+        rustix::mm::MlockAllFlags::CURRENT | rustix::mm::MlockAllFlags::FUTURE,
+    )
+    .map_err(|e| format!("{e} (needs CAP_IPC_LOCK or a memlock limit)"));
+    let pinned = match cpu {
+        None => Err("not asked".into()),
+        Some(c) => {
+            let mut set = rustix::thread::CpuSet::new();
+            set.set(c);
+            rustix::thread::sched_setaffinity(None, &set)
+                .map(|_| c)
+                .map_err(|e| e.to_string())
+        }
+    };
+    RtStatus {
+        fifo,
+        locked,
+        pinned,
+    }
+}

@@ -1,0 +1,148 @@
+//! The real loop over real iceoryx2 services in an isolated domain, with the simulated pen:
+//! a pinch model makes it render the spring force (sign and magnitude); when the model
+//! stops coming the force reaches zero within 10 ms of going stale while ticks continue;
+//! malformed models are rejected with a reason.
+
+#![allow(clippy::unwrap_used)]
+
+use std::sync::atomic::AtomicBool;
+use std::time::Duration;
+
+use haptic_loop::device::{SimDevice, Still, Workspace};
+use haptic_loop::looper::{self, LoopConfig, Ports};
+use shared::domain::Domain;
+use shared::haptic_to_sim::AppliedForce;
+use shared::services;
+use shared::sim_to_haptic::LocalModel;
+use shared::{Header, monotonic_ns};
+
+fn start_loop(d: Domain, ticks: u64) -> std::thread::JoinHandle<looper::LoopStats> {
+    std::thread::spawn(move || {
+        let node = services::node(&d, "haptic").unwrap();
+        let ports = Ports {
+            device: services::device(&node)
+                .unwrap()
+                .publisher_builder()
+                .create()
+                .unwrap(),
+            applied: services::applied_force(&node)
+                .unwrap()
+                .publisher_builder()
+                .create()
+                .unwrap(),
+            telemetry: services::haptic_telemetry(&node)
+                .unwrap()
+                .publisher_builder()
+                .create()
+                .unwrap(),
+            model: services::local_model(&node)
+                .unwrap()
+                .subscriber_builder()
+                .create()
+                .unwrap(),
+            pointer: services::pointer(&node)
+                .unwrap()
+                .subscriber_builder()
+                .create()
+                .unwrap(),
+        };
+        let cfg = LoopConfig {
+            max_ticks: Some(ticks),
+            ..LoopConfig::default()
+        };
+        let mut dev = SimDevice::new(Still([0.0, 0.6, 0.0], 0), Workspace::default());
+        let stop = AtomicBool::new(false);
+        looper::run(&mut dev, &ports, &cfg, &stop, |_| {})
+    })
+}
+
+#[test]
+fn pinch_force_then_stale_model_ramps_to_zero_and_ticks_go_on() {
+    let d = Domain::new(&format!("hl{}", std::process::id())).unwrap();
+    let handle = start_loop(d.clone(), 1500);
+    let node = services::node(&d, "fake-sim").unwrap();
+    let model_pub = services::local_model(&node)
+        .unwrap()
+        .publisher_builder()
+        .create()
+        .unwrap();
+    let applied = services::applied_force(&node)
+        .unwrap()
+        .subscriber_builder()
+        .create()
+        .unwrap();
+    // The pinched vertex 1 cm above the pen, stiffness 100 N/m: 1 N up once ramped.
+    let mut seq = 0;
+    let mut samples = Vec::new();
+    let t0 = monotonic_ns();
+    while monotonic_ns() - t0 < 700_000_000 {
+        model_pub
+            .send_copy(LocalModel {
+                header: Header::next(&mut seq),
+                frame: seq,
+                pinching: 1,
+                stiffness: 100.0,
+                vertex_position: [0.0, 0.61, 0.0],
+                ..Default::default()
+            })
+            .unwrap();
+        std::thread::sleep(Duration::from_millis(5));
+        while let Some(s) = applied.receive().unwrap() {
+            samples.push(*s);
+        }
+    }
+    let last_sent = monotonic_ns();
+    // A malformed model (NaN) is rejected, not used.
+    let mut bad = LocalModel {
+        header: Header::next(&mut seq),
+        pinching: 1,
+        stiffness: 100.0,
+        ..Default::default()
+    };
+    bad.vertex_position[0] = f32::NAN;
+    model_pub.send_copy(bad).unwrap();
+    // Then silence: cloth-sim "dies".
+    while monotonic_ns() - last_sent < 300_000_000 {
+        std::thread::sleep(Duration::from_millis(2));
+        while let Some(s) = applied.receive().unwrap() {
+            samples.push(*s);
+        }
+    }
+    let stats = handle.join().unwrap();
+    // While pinching: the force points up (toward the vertex), about 1 N less the pen's
+    // own give (the hand holds it with 150 N/m, so it rises a little toward the vertex).
+    let pinching: Vec<&AppliedForce> = samples
+        .iter()
+        .filter(|s| s.header.sent_ns > t0 + 300_000_000 && s.header.sent_ns < last_sent)
+        .collect();
+    assert!(!pinching.is_empty());
+    for s in &pinching {
+        assert!(s.force[1] > 0.3 && s.force[1] < 1.05, "{:?}", s.force);
+        assert!(s.force[0].abs() < 1e-3 && s.force[2].abs() < 1e-3);
+    }
+    // Stale after 20 ms, zero within 10 ms more (one tick of slack for the period).
+    let zero_by = last_sent + 20_000_000 + 10_000_000 + 1_500_000;
+    let after: Vec<&AppliedForce> = samples
+        .iter()
+        .filter(|s| s.header.sent_ns > zero_by)
+        .collect();
+    assert!(
+        after.len() > 100,
+        "the loop kept ticking: {} samples",
+        after.len()
+    );
+    assert!(
+        after.iter().all(|s| s.force == [0.0; 3]),
+        "force not zero after staleness"
+    );
+    assert_eq!(stats.telemetry.ticks, 1500);
+    assert!(stats.rejected >= 1);
+    assert!(
+        stats
+            .last_reject
+            .as_deref()
+            .unwrap()
+            .contains("vertex position")
+    );
+    d.remove_leftovers();
+}
