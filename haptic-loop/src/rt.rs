@@ -1,8 +1,6 @@
 //! Real-time plumbing: absolute-deadline sleeps on CLOCK_MONOTONIC, optional SCHED_FIFO,
 //! memory locking and CPU pinning, and a SIGINT/SIGTERM flag. The only `unsafe` in the
-//! crate is here, for the two syscalls rustix does not wrap (sigaction, sched_setscheduler).
-
-use std::sync::atomic::{AtomicBool, Ordering};
+//! crate is here, for the syscall rustix does not wrap (sched_setscheduler).
 
 use rustix::time::{ClockId, Timespec};
 
@@ -30,30 +28,8 @@ pub fn wait_until(deadline_ns: u64, spin_ns: u64) {
     }
 }
 
-static TERMINATE: AtomicBool = AtomicBool::new(false);
-
-extern "C" fn on_signal(_: libc::c_int) {
-    // Async-signal-safe: a single atomic store.
-    TERMINATE.store(true, Ordering::SeqCst);
-}
-
-/// Installs SIGINT and SIGTERM handlers that only set a flag; returns the flag.
-#[allow(unsafe_code)]
-pub fn termination_flag() -> &'static AtomicBool {
-    for sig in [libc::SIGINT, libc::SIGTERM] {
-        // SAFETY: a zeroed sigaction is a valid initial value; the handler is an
-        // `extern "C" fn(c_int)` that only stores to an atomic (async-signal-safe), and
-        // the pointers passed live for the duration of the call.
-        unsafe {
-            let mut act: libc::sigaction = std::mem::zeroed();
-            act.sa_sigaction = on_signal as extern "C" fn(libc::c_int) as usize;
-            libc::sigemptyset(&mut act.sa_mask);
-            act.sa_flags = 0;
-            libc::sigaction(sig, &act, std::ptr::null_mut());
-        }
-    }
-    &TERMINATE
-}
+/// The SIGINT/SIGTERM flag (see [`shared::signals`]).
+pub use shared::signals::termination_flag;
 
 /// What the real-time setup achieved (each part falls back on its own).
 #[derive(Debug, Clone)]

@@ -14,6 +14,7 @@
 pub mod domain;
 pub mod haptic_to_sim;
 pub mod services;
+pub mod signals;
 pub mod sim_to_haptic;
 pub mod telemetry;
 pub mod ui_to_haptic;

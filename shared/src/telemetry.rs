@@ -4,10 +4,10 @@ use iceoryx2::prelude::ZeroCopySend;
 
 use crate::{Checked, Header};
 
-/// Buckets of a [`Histogram`]: 1 µs wide up to 1 ms, then 100 µs wide up to 10 ms; the
-/// last bucket counts everything above.
-pub const FINE_BUCKETS: usize = 1000;
-pub const COARSE_BUCKETS: usize = 91;
+/// Buckets of a [`Histogram`]: 1 µs wide up to 2 ms (so a 1 ms period is resolved to the
+/// microsecond), then 100 µs wide up to 12 ms; the last bucket counts everything above.
+pub const FINE_BUCKETS: usize = 2000;
+pub const COARSE_BUCKETS: usize = 101;
 pub const BUCKETS: usize = FINE_BUCKETS + COARSE_BUCKETS;
 
 /// A fixed-size histogram of durations (no allocation, so the haptic tick can record).
@@ -35,7 +35,7 @@ impl Histogram {
         if us < FINE_BUCKETS as u64 {
             us as usize
         } else {
-            (FINE_BUCKETS + ((us - 1000) / 100) as usize).min(BUCKETS - 1)
+            (FINE_BUCKETS + ((us - FINE_BUCKETS as u64) / 100) as usize).min(BUCKETS - 1)
         }
     }
 
@@ -44,7 +44,7 @@ impl Histogram {
         if b < FINE_BUCKETS {
             b as u64 * 1000
         } else {
-            1_000_000 + (b - FINE_BUCKETS) as u64 * 100_000
+            FINE_BUCKETS as u64 * 1000 + (b - FINE_BUCKETS) as u64 * 100_000
         }
     }
 
@@ -128,5 +128,8 @@ mod tests {
         assert!((500_000..=502_000).contains(&p50), "{p50}");
         assert_eq!(h.quantile_ns(1.0), 5_000_000);
         assert_eq!(Histogram::bucket_of(20_000_000), BUCKETS - 1);
+        assert_eq!(Histogram::bucket_of(1_000_700), 1000);
+        assert_eq!(Histogram::bucket_of(2_150_000), FINE_BUCKETS + 1);
+        assert_eq!(Histogram::bucket_floor_ns(FINE_BUCKETS + 1), 2_100_000);
     }
 }

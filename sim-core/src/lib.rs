@@ -10,3 +10,4 @@ pub mod error;
 pub mod mesh;
 pub mod obb;
 pub mod scenario;
+pub mod service;

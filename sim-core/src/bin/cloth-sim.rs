@@ -26,6 +26,9 @@ enum Command {
     /// Run a scenario headless; writes DIR/report.json, the cloth as DIR/cloth.obj + .mtl +
     /// .png and DIR/cloth.glb, DIR/body.obj and the design as DIR/design.saiho.
     Scenario(ScenarioArgs),
+    /// Run the simulation as a process: follow the pen from haptic-loop (button 1 pinches),
+    /// publish the local model it renders force from, autosave and resume the design.
+    Run(RunArgs),
     /// Find the largest cloth grid a model steps in real time (drape-cube, 60 Hz frames).
     MaxRealtimeGrid {
         /// Cloth model.
@@ -52,6 +55,43 @@ fn parse_tear_mode(s: &str) -> Result<TearMode, String> {
             "unknown tear mode '{other}' (expected delete or split)"
         )),
     }
+}
+
+#[derive(Args)]
+struct RunArgs {
+    /// Domain (iceoryx2 prefix) to run in; default $SAIHO_DOMAIN, else "default".
+    #[arg(long)]
+    domain: Option<String>,
+    /// Body: cube, sphere, mannequin or a path to an .obj.
+    #[arg(long, value_parser = parse_body, default_value = "cube")]
+    body: BodyKind,
+    /// Cells per side of the square cloth.
+    #[arg(long, default_value_t = 64)]
+    grid: usize,
+    /// Cloth model (operations need xpbd).
+    #[arg(long, value_parser = parse_model, default_value = "xpbd")]
+    model: ModelKind,
+    /// Substeps per frame (default: the model's).
+    #[arg(long)]
+    substeps: Option<usize>,
+    /// Frames per second.
+    #[arg(long, default_value_t = 60.0)]
+    rate: f64,
+    /// The design's autosave (resumed at start when valid). Default:
+    /// $TMPDIR/saiho/DOMAIN.autosave.saiho.
+    #[arg(long)]
+    autosave: Option<PathBuf>,
+    /// Start a new design even if an autosave exists.
+    #[arg(long)]
+    fresh: bool,
+    /// Stop after this many seconds (default: until SIGINT/SIGTERM).
+    #[arg(long)]
+    seconds: Option<f64>,
+    /// Threads for the XPBD passes (1 or 2).
+    #[arg(long, default_value_t = 1)]
+    threads: usize,
+    #[command(flatten)]
+    material: MaterialArgs,
 }
 
 #[derive(Args)]
@@ -169,6 +209,7 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Scenario(a) => scenario(a),
+        Command::Run(a) => run_service(a),
         Command::MaxRealtimeGrid {
             model,
             frames,
@@ -183,6 +224,48 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
+    use sim_core::service;
+    let domain = shared::domain::Domain::from_arg_or_env(a.domain.as_deref())?;
+    let mut cfg = service::ServiceConfig::new(domain);
+    if let Some(p) = a.autosave {
+        cfg.autosave = p;
+    }
+    cfg.rate_hz = a.rate;
+    cfg.seconds = a.seconds;
+    let stop = shared::signals::termination_flag();
+    let mut log = |m: &str| eprintln!("cloth-sim: {m}");
+    if a.fresh {
+        let _ = std::fs::remove_file(&cfg.autosave);
+    }
+    let mut scene = ScenarioConfig::new(ScenarioName::DrapeCube);
+    scene.body = a.body;
+    scene.grid = a.grid;
+    scene.model = a.model;
+    scene.substeps = a.substeps;
+    scene.material = a.material.material();
+    scene.threads = a.threads.clamp(1, 2);
+    let (sim, resumed) = service::resume_or(
+        &cfg,
+        || sim_core::scenario::build_simulation(&scene).map_err(|e| e.to_string()),
+        &mut log,
+    )?;
+    log(&format!(
+        "{} vertices, domain '{}', {} Hz, autosave {}{}",
+        sim.cloth.len(),
+        cfg.domain.name(),
+        cfg.rate_hz,
+        cfg.autosave.display(),
+        if resumed { " (resumed)" } else { "" }
+    ));
+    let stats = service::run(sim, &cfg, stop, &mut log)?;
+    log(&format!(
+        "stopped after {} frames: {} device samples ({} rejected), {} pinches, {} autosaves",
+        stats.frames, stats.samples, stats.rejected, stats.pinches, stats.autosaves
+    ));
+    Ok(())
 }
 
 fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>> {

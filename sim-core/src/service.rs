@@ -1,0 +1,226 @@
+//! `cloth-sim run`: the simulation as a process. It steps the cloth at a fixed frame rate,
+//! follows the pen (device samples from haptic-loop): button 1 pinches the cloth under the
+//! tip and drags it; it publishes the local model the haptic loop renders force from (the
+//! pinched vertex, or the cloth and body planes near the tip), keeps going whoever comes
+//! and goes, and autosaves the design so a restarted cloth-sim resumes where it was.
+
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use glam::Vec3;
+use shared::domain::Domain;
+use shared::haptic_to_sim::{BUTTON_1, DeviceSample};
+use shared::sim_to_haptic::{LocalModel, MAX_PLANES};
+use shared::{Checked, Header, services};
+
+use crate::cloth::Simulation;
+
+#[derive(Clone, Debug)]
+pub struct ServiceConfig {
+    pub domain: Domain,
+    /// Frames per second.
+    pub rate_hz: f64,
+    /// Where the design is autosaved, and resumed from at start.
+    pub autosave: PathBuf,
+    pub autosave_every_s: f64,
+    /// Stop after this many seconds (None: until SIGINT/SIGTERM).
+    pub seconds: Option<f64>,
+    /// Pinch: grab radius (m) and spring stiffness (N/m).
+    pub pinch_radius: f32,
+    pub pinch_stiffness: f32,
+}
+
+impl ServiceConfig {
+    pub fn new(domain: Domain) -> Self {
+        let autosave = std::env::temp_dir()
+            .join("saiho")
+            .join(format!("{}.autosave.saiho", domain.name()));
+        Self {
+            domain,
+            rate_hz: 60.0,
+            autosave,
+            autosave_every_s: 2.0,
+            seconds: None,
+            pinch_radius: 0.05,
+            pinch_stiffness: 100.0,
+        }
+    }
+}
+
+#[derive(Debug, Default, Clone)]
+pub struct ServiceStats {
+    pub frames: u64,
+    pub samples: u64,
+    pub rejected: u64,
+    pub pinches: u64,
+    pub autosaves: u64,
+    pub resumed: bool,
+}
+
+fn v3(a: [f32; 3]) -> Vec3 {
+    Vec3::from_array(a)
+}
+
+/// The local model for a pen at `tip`.
+fn local_model(sim: &Simulation, tip: Vec3, seq: &mut u64, stiffness: f32) -> LocalModel {
+    let mut m = LocalModel {
+        header: Header::next(seq),
+        frame: sim.frame,
+        stiffness,
+        ..Default::default()
+    };
+    if let Some(p) = sim.pinch() {
+        let i = p.vertex as usize;
+        m.pinching = 1;
+        m.vertex_position = sim.cloth.x[i].to_array();
+        m.vertex_velocity = sim.cloth.v[i].to_array();
+        return m;
+    }
+    let mut planes = Vec::with_capacity(MAX_PLANES);
+    if let Some(body) = &sim.body
+        && let Some(c) = body.contact(tip, 0.05, u32::MAX)
+    {
+        planes.push([c.normal.x, c.normal.y, c.normal.z, c.normal.dot(c.point)]);
+    }
+    // The cloth near the tip: a plane through the nearest vertex, facing the tip.
+    if let Some(v) = sim.nearest_vertex(tip, 0.03) {
+        let x = sim.cloth.x[v as usize];
+        let mut n = sim.vertex_normal(v);
+        if n.dot(tip - x) < 0.0 {
+            n = -n;
+        }
+        if n != Vec3::ZERO {
+            planes.push([n.x, n.y, n.z, n.dot(x)]);
+        }
+    }
+    if let Some(f) = sim.env.floor {
+        planes.push([0.0, 1.0, 0.0, f]);
+    }
+    m.plane_count = planes.len().min(MAX_PLANES) as u32;
+    for (k, p) in planes.into_iter().take(MAX_PLANES).enumerate() {
+        m.planes[k] = p;
+    }
+    m
+}
+
+/// Resumes from the autosave if there is a valid one, else builds the scene with `fresh`.
+pub fn resume_or(
+    cfg: &ServiceConfig,
+    fresh: impl FnOnce() -> Result<Simulation, String>,
+    log: &mut dyn FnMut(&str),
+) -> Result<(Simulation, bool), String> {
+    if cfg.autosave.is_file() {
+        match Simulation::load_design_file(&cfg.autosave) {
+            Ok(s) => {
+                log(&format!(
+                    "resumed the design from {}",
+                    cfg.autosave.display()
+                ));
+                return Ok((s, true));
+            }
+            Err(e) => log(&format!(
+                "autosave {} not used: {e}; starting a new design",
+                cfg.autosave.display()
+            )),
+        }
+    }
+    Ok((fresh()?, false))
+}
+
+/// Runs the service until `stop` or `cfg.seconds`.
+pub fn run(
+    mut sim: Simulation,
+    cfg: &ServiceConfig,
+    stop: &AtomicBool,
+    log: &mut dyn FnMut(&str),
+) -> Result<ServiceStats, String> {
+    let mut stats = ServiceStats::default();
+    let node = services::node(&cfg.domain, "cloth-sim").map_err(|e| e.to_string())?;
+    let pe = |e: &dyn std::fmt::Debug| format!("{e:?}");
+    let device = services::device(&node)
+        .map_err(|e| e.to_string())?
+        .subscriber_builder()
+        .create()
+        .map_err(|e| pe(&e))?;
+    let model_pub = services::local_model(&node)
+        .map_err(|e| e.to_string())?
+        .publisher_builder()
+        .create()
+        .map_err(|e| pe(&e))?;
+    if let Some(dir) = cfg.autosave.parent() {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    }
+    let period = Duration::from_secs_f64(1.0 / cfg.rate_hz.clamp(1.0, 1000.0));
+    let started = Instant::now();
+    let mut next = started + period;
+    let mut last_save = Instant::now();
+    let mut seq = 0u64;
+    let mut pen: Option<DeviceSample> = None;
+    let mut last_reject: Option<String> = None;
+    while !stop.load(Ordering::Relaxed)
+        && cfg
+            .seconds
+            .is_none_or(|s| started.elapsed().as_secs_f64() < s)
+    {
+        while let Ok(Some(s)) = device.receive() {
+            match s.check() {
+                Ok(()) => {
+                    pen = Some(*s);
+                    stats.samples += 1;
+                }
+                Err(e) => {
+                    stats.rejected += 1;
+                    let e = e.to_string();
+                    if last_reject.as_ref() != Some(&e) {
+                        log(&format!("rejected a device sample: {e}"));
+                        last_reject = Some(e);
+                    }
+                }
+            }
+        }
+        if let Some(p) = pen {
+            let tip = v3(p.position);
+            let down = p.buttons & BUTTON_1 != 0;
+            match (down, sim.pinch().is_some()) {
+                (true, false) => {
+                    if sim
+                        .pinch_begin(tip, cfg.pinch_radius, 0.0, cfg.pinch_stiffness)
+                        .is_ok()
+                    {
+                        stats.pinches += 1;
+                    }
+                }
+                (true, true) => sim.pinch_move(tip),
+                (false, true) => sim.pinch_end(),
+                (false, false) => {}
+            }
+        }
+        if let Err(e) = sim.step() {
+            return Err(format!("the simulation failed: {e}"));
+        }
+        stats.frames += 1;
+        let tip = pen.map_or(Vec3::splat(f32::INFINITY), |p| v3(p.position));
+        let _ = model_pub.send_copy(local_model(&sim, tip, &mut seq, cfg.pinch_stiffness));
+        if last_save.elapsed().as_secs_f64() >= cfg.autosave_every_s {
+            match sim.save_design_file(&cfg.autosave) {
+                Ok(()) => stats.autosaves += 1,
+                Err(e) => log(&format!("autosave failed: {e}")),
+            }
+            last_save = Instant::now();
+        }
+        let now = Instant::now();
+        if next > now {
+            std::thread::sleep(next - now);
+            next += period;
+        } else {
+            next = now + period;
+        }
+    }
+    if let Err(e) = sim.save_design_file(&cfg.autosave) {
+        log(&format!("final autosave failed: {e}"));
+    } else {
+        stats.autosaves += 1;
+    }
+    Ok(stats)
+}

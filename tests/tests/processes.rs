@@ -1,0 +1,212 @@
+//! The real processes in an isolated domain with the simulated pen: a scripted pinch
+//! reaches cloth-sim and the haptic loop renders the spring force toward the pinched
+//! vertex; kill -9 of cloth-sim takes the force to zero within 10 ms of the model going
+//! stale while the loop keeps ticking; a restarted cloth-sim resumes from its autosave.
+
+#![allow(clippy::unwrap_used)]
+
+use std::path::PathBuf;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+use shared::Checked;
+use shared::domain::Domain;
+use shared::haptic_to_sim::{AppliedForce, DeviceSample};
+use shared::services;
+use shared::sim_to_haptic::LocalModel;
+
+/// The workspace's binaries, brought up to date first (a no-op under `cargo test
+/// --workspace`, which has just built them; needed when this test runs alone).
+fn bin(name: &str) -> PathBuf {
+    static BUILT: std::sync::Once = std::sync::Once::new();
+    BUILT.call_once(|| {
+        let status = Command::new(env!("CARGO"))
+            .args(["build", "--bins", "-p", "sim-core", "-p", "haptic-loop"])
+            .status()
+            .unwrap();
+        assert!(status.success(), "building the binaries failed");
+    });
+    let dir = std::env::current_exe()
+        .unwrap()
+        .parent()
+        .unwrap()
+        .parent()
+        .unwrap()
+        .to_path_buf();
+    let path = dir.join(name);
+    assert!(path.is_file(), "{} missing", path.display());
+    path
+}
+
+struct Proc(Child);
+
+impl Drop for Proc {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn cloth_sim(domain: &str, autosave: &std::path::Path, fresh: bool) -> Proc {
+    let mut c = Command::new(bin("cloth-sim"));
+    c.args([
+        "run",
+        "--domain",
+        domain,
+        "--grid",
+        "16",
+        "--seconds",
+        "60",
+        "--autosave",
+    ])
+    .arg(autosave)
+    .stdout(Stdio::null())
+    .stderr(Stdio::piped());
+    if fresh {
+        c.arg("--fresh");
+    }
+    Proc(c.spawn().unwrap())
+}
+
+#[derive(Default)]
+struct Observer {
+    forces: Vec<AppliedForce>,
+    pinch: Vec<(AppliedForce, LocalModel, DeviceSample)>,
+    model: Option<LocalModel>,
+    pen: Option<DeviceSample>,
+    last_model_ns: u64,
+}
+
+#[test]
+fn pinch_force_kill_and_resume() {
+    let d = Domain::new(&format!("e2e{}", std::process::id())).unwrap();
+    let tmp = std::env::temp_dir().join(format!("saiho-e2e-{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).unwrap();
+    let autosave = tmp.join("design.saiho");
+    let script = tmp.join("lift.script");
+    // Rest 1.5 s over the cube, touch the cloth, press, lift 12 cm, hold.
+    std::fs::write(
+        &script,
+        "0 0 0.60 0 0\n1.5 0 0.60 0 0\n2.5 0 0.41 0 0\n2.7 0 0.41 0 1\n4.0 0 0.53 0 1\n60 0 0.53 0 1\n",
+    )
+    .unwrap();
+    let node = services::node(&d, "observer").unwrap();
+    let forces = services::applied_force(&node)
+        .unwrap()
+        .subscriber_builder()
+        .create()
+        .unwrap();
+    let models = services::local_model(&node)
+        .unwrap()
+        .subscriber_builder()
+        .create()
+        .unwrap();
+    let samples = services::device(&node)
+        .unwrap()
+        .subscriber_builder()
+        .create()
+        .unwrap();
+
+    let mut sim = cloth_sim(d.name(), &autosave, true);
+    let _haptic = Proc(
+        Command::new(bin("haptic-loop"))
+            .args(["--domain", d.name(), "--seconds", "60", "--script"])
+            .arg(&script)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap(),
+    );
+    let t0 = Instant::now();
+    let mut o = Observer::default();
+    let collect = |o: &mut Observer, until: Duration| {
+        while t0.elapsed() < until {
+            while let Some(m) = models.receive().unwrap() {
+                m.check().unwrap();
+                o.last_model_ns = m.header.sent_ns;
+                o.model = Some(*m);
+            }
+            while let Some(s) = samples.receive().unwrap() {
+                o.pen = Some(*s);
+            }
+            while let Some(f) = forces.receive().unwrap() {
+                o.forces.push(*f);
+                if let (Some(m), Some(p)) = (o.model.as_ref(), o.pen.as_ref())
+                    && m.pinching == 1
+                {
+                    o.pinch.push((*f, *m, *p));
+                }
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+    };
+    collect(&mut o, Duration::from_secs(6));
+    // The pinch reached cloth-sim (it reports pinching) and the loop renders a spring
+    // that pulls the lifted pen back toward the cloth: force along (vertex - pen).
+    assert!(o.pinch.len() > 500, "{} pinched ticks", o.pinch.len());
+    let late: Vec<_> = o.pinch.iter().rev().take(300).collect();
+    for (f, m, p) in &late {
+        let d: Vec<f32> = (0..3)
+            .map(|i| m.vertex_position[i] - p.position[i])
+            .collect();
+        let along = f.force[0] * d[0] + f.force[1] * d[1] + f.force[2] * d[2];
+        let mag = (f.force.iter().map(|c| c * c).sum::<f32>()).sqrt();
+        assert!(
+            along > 0.0 && mag > 0.05 && mag <= 3.3 + 1e-4,
+            "{:?} {:?}",
+            f.force,
+            d
+        );
+    }
+    // kill -9 cloth-sim: the model goes stale; the force is zero 20 ms + 10 ms later.
+    let frame_before = o.model.unwrap().frame;
+    sim.0.kill().unwrap();
+    sim.0.wait().unwrap();
+    let from = o.forces.len();
+    collect(&mut o, t0.elapsed() + Duration::from_millis(600));
+    let after = &o.forces[from..];
+    let last_model_ns = o.last_model_ns;
+    let zero_after = last_model_ns + 31_500_000;
+    let late: Vec<&AppliedForce> = after
+        .iter()
+        .filter(|f| f.header.sent_ns > zero_after)
+        .collect();
+    assert!(
+        late.len() > 300,
+        "the loop kept ticking: {} samples",
+        late.len()
+    );
+    assert!(late.iter().all(|f| f.force == [0.0; 3]));
+    let ticks: Vec<u64> = late.iter().map(|f| f.tick).collect();
+    assert!(ticks.windows(2).all(|w| w[1] > w[0]));
+    // Restart: it resumes from the autosave (the frame counter goes on from it).
+    let mut sim2 = cloth_sim(d.name(), &autosave, false);
+    let deadline = Instant::now() + Duration::from_secs(20);
+    let mut resumed_frame = None;
+    while Instant::now() < deadline && resumed_frame.is_none() {
+        while let Some(m) = models.receive().unwrap() {
+            if m.header.sent_ns > last_model_ns {
+                resumed_frame = Some(m.frame);
+            }
+        }
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let resumed_frame = resumed_frame.expect("the restarted cloth-sim publishes");
+    assert!(
+        resumed_frame > 60 && resumed_frame + 200 > frame_before,
+        "resumed at frame {resumed_frame}, was at {frame_before} (autosave every 2 s)"
+    );
+    let mut err = String::new();
+    sim2.0.kill().unwrap();
+    use std::io::Read;
+    sim2.0
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    assert!(err.contains("resumed"), "{err}");
+    drop(node);
+    d.remove_leftovers();
+    let _ = std::fs::remove_dir_all(&tmp);
+}
