@@ -4,6 +4,7 @@
 
 pub mod device;
 pub mod looper;
+pub mod openhaptics;
 pub mod proxy;
 pub mod rt;
 pub mod safety;

@@ -6,6 +6,7 @@ use std::process::ExitCode;
 use clap::Parser;
 use haptic_loop::device::{Script, SimDevice, Still, TargetSource, Workspace};
 use haptic_loop::looper::{self, LoopConfig, Ports};
+use haptic_loop::openhaptics::OpenHaptics;
 use haptic_loop::rt;
 use shared::domain::Domain;
 use shared::services;
@@ -40,6 +41,9 @@ struct Args {
     /// Busy-wait before each deadline, µs.
     #[arg(long, default_value_t = 80)]
     spin_us: u64,
+    /// openhaptics: the HDAPI library to load.
+    #[arg(long, default_value = "libHD.so")]
+    hd_lib: String,
 }
 
 enum Target {
@@ -62,19 +66,20 @@ fn log(msg: &str) {
 
 fn run(a: Args) -> Result<(), String> {
     let domain = Domain::from_arg_or_env(a.domain.as_deref()).map_err(|e| e.to_string())?;
-    let source = match (&a.device[..], &a.script) {
-        ("sim", None) => Target::Still(Still(Workspace::default().centre, 0)),
+    enum Dev {
+        Sim(Target),
+        OpenHaptics,
+    }
+    let dev = match (&a.device[..], &a.script) {
+        ("sim", None) => Dev::Sim(Target::Still(Still(Workspace::default().centre, 0))),
         ("sim", Some(p)) => {
             let text = std::fs::read_to_string(p)
                 .map_err(|e| format!("cannot read script {}: {e}", p.display()))?;
-            Target::Script(Script::parse(&text).map_err(|e| format!("{}: {e}", p.display()))?)
+            Dev::Sim(Target::Script(
+                Script::parse(&text).map_err(|e| format!("{}: {e}", p.display()))?,
+            ))
         }
-        ("openhaptics", _) => {
-            return Err(
-                "the openhaptics backend is not built yet (issue 4 in progress); use --device sim"
-                    .into(),
-            );
-        }
+        ("openhaptics", _) => Dev::OpenHaptics,
         (d, _) if d.starts_with("replay:") => {
             return Err("device log replay is not built yet (issue 4 in progress)".into());
         }
@@ -123,13 +128,28 @@ fn run(a: Args) -> Result<(), String> {
         max_ticks: a.seconds.map(|s| (s.max(0.0) * 1000.0) as u64),
         ..LoopConfig::default()
     };
-    let mut dev = SimDevice::new(source, Workspace::default());
-    log(&format!(
-        "device {}, domain '{}', 1 kHz",
-        "sim",
-        domain.name()
-    ));
-    let stats = looper::run(&mut dev, &ports, &cfg, stop, log);
+    let stats = match dev {
+        Dev::Sim(source) => {
+            let mut d = SimDevice::new(source, Workspace::default());
+            log(&format!("device sim, domain '{}', 1 kHz", domain.name()));
+            looper::run(&mut d, &ports, &cfg, stop, log)
+        }
+        Dev::OpenHaptics => {
+            let (mut d, notice) =
+                OpenHaptics::open(&a.hd_lib, Workspace::default()).map_err(|e| e.to_string())?;
+            if let Some(n) = notice {
+                log(&n);
+            }
+            log(&format!(
+                "device openhaptics ({}), domain '{}', 1 kHz",
+                a.hd_lib,
+                domain.name()
+            ));
+            let s = looper::run(&mut d, &ports, &cfg, stop, log);
+            log(&format!("{} servo frames", d.frames()));
+            s
+        }
+    };
     let t = &stats.telemetry;
     log(&format!(
         "stopped after {} ticks: missed {}, period p50 {} us p99.9 {} us max {} us, compute p99 {} us, {} messages rejected",

@@ -144,5 +144,4 @@ fn pinch_force_then_stale_model_ramps_to_zero_and_ticks_go_on() {
             .unwrap()
             .contains("vertex position")
     );
-    d.remove_leftovers();
 }

@@ -72,8 +72,10 @@ impl Domain {
 }
 
 impl Domain {
-    /// Deletes what iceoryx2 left in /dev/shm and the root directory for this domain. Only
-    /// for when no process of the domain runs (tests, after a clean shutdown of all).
+    /// Deletes what iceoryx2 left in /dev/shm for this domain (its `*_global_mgmt`
+    /// segment). Only for when no process of the domain runs (tests, after a clean
+    /// shutdown of all). The small root directory under the temp directory stays: iceoryx2
+    /// may still touch it until the process exits.
     pub fn remove_leftovers(&self) {
         let prefix = format!("saiho_{}_", self.name);
         if let Ok(dir) = std::fs::read_dir("/dev/shm") {

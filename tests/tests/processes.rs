@@ -206,7 +206,5 @@ fn pinch_force_kill_and_resume() {
         .read_to_string(&mut err)
         .unwrap();
     assert!(err.contains("resumed"), "{err}");
-    drop(node);
-    d.remove_leftovers();
     let _ = std::fs::remove_dir_all(&tmp);
 }

@@ -1,0 +1,197 @@
+//! The OpenHaptics backend against a stand-in libHD that this test compiles (C, with the
+//! system's C compiler): a whole session in process (init, calibration check, force
+//! output, servo frames with positions served and forces commanded, clean teardown), and
+//! through the binary a device error that turns forces off with a log line.
+
+#![allow(clippy::unwrap_used)]
+
+use std::path::PathBuf;
+use std::process::Command;
+use std::sync::atomic::AtomicBool;
+
+use haptic_loop::device::{HapticDevice, Workspace};
+use haptic_loop::looper::{self, LoopConfig, Ports};
+use haptic_loop::openhaptics::OpenHaptics;
+use shared::domain::Domain;
+use shared::services;
+
+/// Compiles the stand-in into a fresh directory; returns the .so path.
+fn standin(tag: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("saiho-hd-{}-{tag}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let so = dir.join("libHD.so");
+    let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/standin/libhd.c");
+    let cc = std::env::var("CC").unwrap_or_else(|_| "cc".into());
+    let out = Command::new(&cc)
+        .args(["-shared", "-fPIC", "-O2", "-o"])
+        .arg(&so)
+        .arg(&src)
+        .args(["-lm", "-lpthread", "-ldl"])
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run the C compiler '{cc}': {e}"));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    so
+}
+
+#[test]
+fn a_whole_session_drives_the_standin() {
+    let so = standin("session");
+    let log = so.with_file_name("calls.log");
+    let d = Domain::new(&format!("hd{}", std::process::id())).unwrap();
+    let node = services::node(&d, "haptic").unwrap();
+    let ports = Ports {
+        device: services::device(&node)
+            .unwrap()
+            .publisher_builder()
+            .create()
+            .unwrap(),
+        applied: services::applied_force(&node)
+            .unwrap()
+            .publisher_builder()
+            .create()
+            .unwrap(),
+        telemetry: services::haptic_telemetry(&node)
+            .unwrap()
+            .publisher_builder()
+            .create()
+            .unwrap(),
+        model: services::local_model(&node)
+            .unwrap()
+            .subscriber_builder()
+            .create()
+            .unwrap(),
+        pointer: services::pointer(&node)
+            .unwrap()
+            .subscriber_builder()
+            .create()
+            .unwrap(),
+    };
+    let samples = services::device(&node)
+        .unwrap()
+        .subscriber_builder()
+        .create()
+        .unwrap();
+    let ws = Workspace::default();
+    {
+        let (mut dev, notice) = OpenHaptics::open(so.to_str().unwrap(), ws).unwrap();
+        assert!(notice.is_none(), "{notice:?}");
+        let cfg = LoopConfig {
+            max_ticks: Some(800),
+            ..LoopConfig::default()
+        };
+        let stats = looper::run(&mut dev, &ports, &cfg, &AtomicBool::new(false), |_| {});
+        assert_eq!(stats.device_errors, 0);
+        assert!(dev.frames() > 500, "{} servo frames", dev.frames());
+        // The positions served (a 20 mm circle, mm) arrive mapped into the scene.
+        let s = dev.read(0.001).unwrap();
+        let r = ((s.position[0] - ws.centre[0]).powi(2) + (s.position[1] - ws.centre[1]).powi(2))
+            .sqrt();
+        assert!((r - ws.scale * 0.020).abs() < 1e-3, "radius {r}");
+        assert_eq!(s.buttons & 1, 1, "button 1 is down from frame 300");
+    }
+    let mut last = None;
+    while let Some(x) = samples.receive().unwrap() {
+        last = Some(*x);
+    }
+    assert!(last.unwrap().device_ok == 1);
+    let calls = std::fs::read_to_string(&log).unwrap();
+    let order = [
+        "hdInitDevice default",
+        "hdCheckCalibration",
+        "hdEnable 0x4000",
+        "hdScheduleAsynchronous 65535",
+        "hdStartScheduler",
+        "hdStopScheduler",
+        "hdUnschedule 7",
+        "hdDisableDevice",
+    ];
+    let mut at = 0;
+    for step in order {
+        let k = calls[at..]
+            .find(step)
+            .unwrap_or_else(|| panic!("{step} missing or out of order:\n{calls}"));
+        at += k + step.len();
+    }
+    let summary = calls.lines().last().unwrap();
+    let field = |name: &str| -> f64 {
+        let mut it = summary.split_whitespace();
+        while let Some(w) = it.next() {
+            if w == name {
+                return it.next().unwrap().parse().unwrap();
+            }
+        }
+        panic!("{name} not in {summary}");
+    };
+    assert!(
+        field("frames") > 500.0 && field("forces") == field("frames"),
+        "{summary}"
+    );
+    assert_eq!(field("bad_forces"), 0.0);
+    assert_eq!(field("frame_errors"), 0.0, "every get/set inside a frame");
+    assert!(field("max_force") <= 3.3);
+    let _ = std::fs::remove_dir_all(so.parent().unwrap());
+}
+
+#[test]
+fn a_device_error_turns_forces_off_with_a_log_line() {
+    let so = standin("error");
+    let d = format!("hde{}", std::process::id());
+    let out = Command::new(env!("CARGO_BIN_EXE_haptic-loop"))
+        .args([
+            "--device",
+            "openhaptics",
+            "--domain",
+            &d,
+            "--seconds",
+            "1",
+            "--hd-lib",
+        ])
+        .arg(&so)
+        .env("SAIHO_STANDIN_ERROR_AT", "200")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("device error, forces off: device error 0x0300"),
+        "{err}"
+    );
+    // A calibration that needs an update is updated, and said.
+    let out = Command::new(env!("CARGO_BIN_EXE_haptic-loop"))
+        .args([
+            "--device",
+            "openhaptics",
+            "--domain",
+            &d,
+            "--seconds",
+            "0.2",
+            "--hd-lib",
+        ])
+        .arg(&so)
+        .env("SAIHO_STANDIN_CALIBRATION", "0x5001")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("calibration was out of date"), "{err}");
+    // A missing library is a clear error, not a crash.
+    let out = Command::new(env!("CARGO_BIN_EXE_haptic-loop"))
+        .args([
+            "--device",
+            "openhaptics",
+            "--domain",
+            &d,
+            "--seconds",
+            "0.1",
+            "--hd-lib",
+            "/nonexistent/libHD.so",
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("cannot load /nonexistent/libHD.so"));
+    let _ = std::fs::remove_dir_all(so.parent().unwrap());
+}
