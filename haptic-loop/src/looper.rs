@@ -34,7 +34,7 @@ impl Default for LoopConfig {
     fn default() -> Self {
         Self {
             period_ns: 1_000_000,
-            spin_ns: 80_000,
+            spin_ns: 250_000,
             max_ticks: None,
             limits: SafetyLimits::default(),
             proxy: ProxyParams::default(),

@@ -55,6 +55,8 @@ pub struct ServiceStats {
     pub rejected: u64,
     pub pinches: u64,
     pub autosaves: u64,
+    /// Longest time an autosave held up a frame, ms.
+    pub autosave_ms_max: f64,
     pub resumed: bool,
 }
 
@@ -155,6 +157,22 @@ pub fn run(
     let started = Instant::now();
     let mut next = started + period;
     let mut last_save = Instant::now();
+    // The autosave's file write runs on its own thread: the frame only serialises.
+    let (save_tx, save_rx) = std::sync::mpsc::sync_channel::<Vec<u8>>(1);
+    let save_path = cfg.autosave.clone();
+    let writer = std::thread::spawn(move || -> Vec<String> {
+        let mut errors = Vec::new();
+        for bytes in save_rx {
+            let tmp = save_path.with_extension("saiho.tmp");
+            if let Err(e) =
+                std::fs::write(&tmp, &bytes).and_then(|_| std::fs::rename(&tmp, &save_path))
+            {
+                errors.push(format!("autosave to {} failed: {e}", save_path.display()));
+            }
+        }
+        errors
+    });
+    let mut save_ms: Vec<f64> = Vec::new();
     let mut seq = 0u64;
     let mut pen: Option<DeviceSample> = None;
     let mut last_reject: Option<String> = None;
@@ -203,10 +221,17 @@ pub fn run(
         let tip = pen.map_or(Vec3::splat(f32::INFINITY), |p| v3(p.position));
         let _ = model_pub.send_copy(local_model(&sim, tip, &mut seq, cfg.pinch_stiffness));
         if last_save.elapsed().as_secs_f64() >= cfg.autosave_every_s {
-            match sim.save_design_file(&cfg.autosave) {
-                Ok(()) => stats.autosaves += 1,
+            let t = Instant::now();
+            match sim.refresh_png_cache().and_then(|_| sim.save_design()) {
+                // A full channel means the writer is still busy: skip this one.
+                Ok(bytes) => {
+                    if save_tx.try_send(bytes).is_ok() {
+                        stats.autosaves += 1;
+                    }
+                }
                 Err(e) => log(&format!("autosave failed: {e}")),
             }
+            save_ms.push(t.elapsed().as_secs_f64() * 1e3);
             last_save = Instant::now();
         }
         let now = Instant::now();
@@ -217,10 +242,21 @@ pub fn run(
             next = now + period;
         }
     }
-    if let Err(e) = sim.save_design_file(&cfg.autosave) {
+    drop(save_tx);
+    for e in writer.join().unwrap_or_default() {
+        log(&e);
+    }
+    if let Err(e) = sim
+        .refresh_png_cache()
+        .and_then(|_| sim.save_design_file(&cfg.autosave))
+    {
         log(&format!("final autosave failed: {e}"));
     } else {
         stats.autosaves += 1;
+    }
+    if !save_ms.is_empty() {
+        save_ms.sort_by(f64::total_cmp);
+        stats.autosave_ms_max = save_ms[save_ms.len() - 1];
     }
     Ok(stats)
 }

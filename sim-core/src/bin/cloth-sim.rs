@@ -262,8 +262,13 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
     ));
     let stats = service::run(sim, &cfg, stop, &mut log)?;
     log(&format!(
-        "stopped after {} frames: {} device samples ({} rejected), {} pinches, {} autosaves",
-        stats.frames, stats.samples, stats.rejected, stats.pinches, stats.autosaves
+        "stopped after {} frames: {} device samples ({} rejected), {} pinches, {} autosaves (longest hold-up {:.1} ms)",
+        stats.frames,
+        stats.samples,
+        stats.rejected,
+        stats.pinches,
+        stats.autosaves,
+        stats.autosave_ms_max
     ));
     Ok(())
 }

@@ -87,6 +87,8 @@ pub struct Simulation {
     pub tear: crate::edit::TearSettings,
     /// Seams being stitched (welded pairs stay, as `a == b`).
     pub seams: Vec<crate::edit::Seam>,
+    /// The texture as PNG for design files, with the texture version it encodes.
+    pub(crate) png_cache: Option<(u64, Vec<u8>)>,
     pub(crate) contacts: ContactCache,
     pub(crate) solver: Solver,
 }
@@ -182,6 +184,7 @@ impl Simulation {
             history: crate::edit::History::default(),
             tear: crate::edit::TearSettings::default(),
             seams: Vec::new(),
+            png_cache: None,
             contacts,
             solver,
         })

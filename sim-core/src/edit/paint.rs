@@ -14,6 +14,8 @@ pub struct Texture {
     pub height: usize,
     pub rgba: Vec<u8>,
     dirty: Vec<bool>,
+    /// Bumped by every change made through [`Texture::apply`].
+    pub version: u64,
 }
 
 /// A rectangle of texels before and after a brush stroke (so it can be undone).
@@ -49,6 +51,7 @@ impl Texture {
             height,
             rgba: fill.repeat(width * height),
             dirty: vec![true; width.div_ceil(TILE) * height.div_ceil(TILE)],
+            version: 0,
         }
     }
 
@@ -97,6 +100,7 @@ impl Texture {
 
     /// Writes a patch's `new` texels (its `old` ones when `undo`).
     pub fn apply(&mut self, p: &PaintPatch, undo: bool) {
+        self.version += 1;
         let src = if undo { &p.old } else { &p.new };
         for row in 0..p.h {
             let y = p.y0 + row;
