@@ -10,10 +10,12 @@ pub struct DeviceState {
     pub buttons: u32,
 }
 
-#[derive(Debug, thiserror::Error, PartialEq)]
+#[derive(Clone, Debug, thiserror::Error, PartialEq)]
 pub enum DeviceError {
+    /// (A static description: this error can happen at every tick, which must not
+    /// allocate.)
     #[error("device error {code:#06x}: {what}")]
-    Device { code: u32, what: String },
+    Device { code: u32, what: &'static str },
     #[error("cannot open the device: {0}")]
     Open(String),
 }

@@ -81,7 +81,7 @@ pub fn run<D: HapticDevice + PointerTarget>(
     let mut seq_applied = 0u64;
     let mut seq_tel = 0u64;
     let mut hold_was = Hold::Stale;
-    let mut error_logged: Option<String> = None;
+    let mut error_logged: Option<crate::device::DeviceError> = None;
     let mut reject_logged = 0u64;
     let period = cfg.period_ns;
     let mut deadline = rt::now_ns() + period;
@@ -170,16 +170,22 @@ pub fn run<D: HapticDevice + PointerTarget>(
             t.force_n = (force[0] * force[0] + force[1] * force[1] + force[2] * force[2]).sqrt();
             t.model_fresh = u32::from(hold == Hold::None);
             let _ = ports.telemetry.send_copy(**t);
+            // Compare without formatting; a log line only on a change.
             let err = match (&state, &write) {
-                (Err(e), _) | (_, Err(e)) => Some(e.to_string()),
+                (Err(e), _) | (_, Err(e)) => Some(e),
                 _ => None,
             };
-            if err != error_logged {
-                match &err {
+            let same = match (&err, &error_logged) {
+                (None, None) => true,
+                (Some(a), Some(b)) => *a == b,
+                _ => false,
+            };
+            if !same {
+                match err {
                     Some(e) => log(&format!("device error, forces off: {e}")),
                     None => log("device recovered"),
                 }
-                error_logged = err;
+                error_logged = err.cloned();
             }
             if hold != hold_was {
                 log(match hold {

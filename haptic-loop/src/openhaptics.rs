@@ -262,7 +262,7 @@ impl HapticDevice for OpenHaptics {
         if code != 0 {
             return Err(DeviceError::Device {
                 code,
-                what: "the device reported an error; forces are off".into(),
+                what: "the device reported an error; forces are off",
             });
         }
         let frames = SHARED.frames.load(Ordering::Acquire);
@@ -271,7 +271,7 @@ impl HapticDevice for OpenHaptics {
             if self.stale_reads > 20 {
                 return Err(DeviceError::Device {
                     code: 0,
-                    what: "the servo loop stopped running (no frame for 20 ms)".into(),
+                    what: "the servo loop stopped running (no frame for 20 ms)",
                 });
             }
         } else {

@@ -21,7 +21,10 @@ fn standin(tag: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     let so = dir.join("libHD.so");
     let src = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/standin/libhd.c");
-    let cc = std::env::var("CC").unwrap_or_else(|_| "cc".into());
+    let cc = std::env::var("CC").unwrap_or_else(|_| {
+        let found = |c: &str| Command::new(c).arg("--version").output().is_ok();
+        if found("cc") { "cc" } else { "gcc" }.into()
+    });
     let out = Command::new(&cc)
         .args(["-shared", "-fPIC", "-O2", "-o"])
         .arg(&so)

@@ -470,8 +470,10 @@ proptest! {
                 prop_assert!(false, "op {k} {o:?}: {e}");
             }
         }
-        // The sequence really edited: every kind of operation succeeded several times.
-        for o in [Op::Cut(0, 0.0), Op::Sew(0, 0), Op::Tear(0, 0, true), Op::Undo, Op::Redo, Op::Paint(0)] {
+        // The sequence really edited: the common operations succeeded several times.
+        // (Redo succeeds only right after an undo, a few times per 1,000 random ops, so it
+        // is not counted here; a dedicated test covers it.)
+        for o in [Op::Cut(0, 0.0), Op::Sew(0, 0), Op::Tear(0, 0, true), Op::Undo, Op::Paint(0)] {
             let count = done.get(&std::mem::discriminant(&o)).copied().unwrap_or(0);
             prop_assert!(count >= 5 || s.cloth.live.tri_count() == 0, "{o:?} succeeded {count} times: {done:?}");
         }
