@@ -72,6 +72,7 @@ pub fn run<D: HapticDevice + PointerTarget>(
     ports: &Ports,
     cfg: &LoopConfig,
     stop: &AtomicBool,
+    mut recorder: Option<&mut crate::record::Recorder>,
     mut log: impl FnMut(&str),
 ) -> LoopStats {
     let mut stats = LoopStats::default();
@@ -84,7 +85,8 @@ pub fn run<D: HapticDevice + PointerTarget>(
     let mut error_logged: Option<crate::device::DeviceError> = None;
     let mut reject_logged = 0u64;
     let period = cfg.period_ns;
-    let mut deadline = rt::now_ns() + period;
+    let t0 = rt::now_ns();
+    let mut deadline = t0 + period;
     let mut prev_start = deadline;
     let mut force = [0.0f32; 3];
     let mut tick = 0u64;
@@ -122,6 +124,12 @@ pub fn run<D: HapticDevice + PointerTarget>(
             }
         }
         let state = dev.read(dt);
+        if let (Some(r), Ok(s)) = (recorder.as_deref_mut(), &state) {
+            r.push(crate::record::Record {
+                t: (start - t0) as f64 * 1e-9,
+                state: *s,
+            });
+        }
         let (hold, pen) = match &state {
             Ok(s) => {
                 let age_s = model

@@ -42,6 +42,10 @@ struct Args {
     /// VM 250 keeps the period error's p99.9 under 100 µs).
     #[arg(long, default_value_t = 250)]
     spin_us: u64,
+    /// Record every tick's pen state to this device log (replay it with
+    /// --device replay:FILE).
+    #[arg(long)]
+    record: Option<PathBuf>,
     /// openhaptics: the HDAPI library to load.
     #[arg(long, default_value = "libHD.so")]
     hd_lib: String,
@@ -70,6 +74,7 @@ fn run(a: Args) -> Result<(), String> {
     enum Dev {
         Sim(Target),
         OpenHaptics,
+        Replay(haptic_loop::record::Replay),
     }
     let dev = match (&a.device[..], &a.script) {
         ("sim", None) => Dev::Sim(Target::Still(Still(Workspace::default().centre, 0))),
@@ -81,9 +86,9 @@ fn run(a: Args) -> Result<(), String> {
             ))
         }
         ("openhaptics", _) => Dev::OpenHaptics,
-        (d, _) if d.starts_with("replay:") => {
-            return Err("device log replay is not built yet (issue 4 in progress)".into());
-        }
+        (d, _) if d.starts_with("replay:") => Dev::Replay(haptic_loop::record::Replay::open(
+            std::path::Path::new(&d["replay:".len()..]),
+        )?),
         (d, _) => {
             return Err(format!(
                 "unknown device '{d}' (expected sim, openhaptics or replay:FILE)"
@@ -129,11 +134,23 @@ fn run(a: Args) -> Result<(), String> {
         max_ticks: a.seconds.map(|s| (s.max(0.0) * 1000.0) as u64),
         ..LoopConfig::default()
     };
+    let mut recorder = match &a.record {
+        Some(p) => Some(haptic_loop::record::Recorder::create(p)?),
+        None => None,
+    };
     let stats = match dev {
         Dev::Sim(source) => {
             let mut d = SimDevice::new(source, Workspace::default());
             log(&format!("device sim, domain '{}', 1 kHz", domain.name()));
-            looper::run(&mut d, &ports, &cfg, stop, log)
+            looper::run(&mut d, &ports, &cfg, stop, recorder.as_mut(), log)
+        }
+        Dev::Replay(mut d) => {
+            log(&format!(
+                "device replay ({:.1} s of log), domain '{}', 1 kHz",
+                d.duration(),
+                domain.name()
+            ));
+            looper::run(&mut d, &ports, &cfg, stop, recorder.as_mut(), log)
         }
         Dev::OpenHaptics => {
             let (mut d, notice) =
@@ -146,11 +163,16 @@ fn run(a: Args) -> Result<(), String> {
                 a.hd_lib,
                 domain.name()
             ));
-            let s = looper::run(&mut d, &ports, &cfg, stop, log);
+            let s = looper::run(&mut d, &ports, &cfg, stop, recorder.as_mut(), log);
             log(&format!("{} servo frames", d.frames()));
             s
         }
     };
+    if let Some(r) = recorder {
+        let dropped = r.dropped;
+        let n = r.finish()?;
+        log(&format!("device log: {n} ticks written, {dropped} dropped"));
+    }
     let t = &stats.telemetry;
     log(&format!(
         "stopped after {} ticks: missed {}, lateness p50 {} us p99 {} us p99.9 {} us max {} us, period p50 {} us p99.9 {} us max {} us, compute p99 {} us, {} messages rejected",

@@ -86,7 +86,14 @@ fn a_whole_session_drives_the_standin() {
             max_ticks: Some(800),
             ..LoopConfig::default()
         };
-        let stats = looper::run(&mut dev, &ports, &cfg, &AtomicBool::new(false), |_| {});
+        let stats = looper::run(
+            &mut dev,
+            &ports,
+            &cfg,
+            &AtomicBool::new(false),
+            None,
+            |_| {},
+        );
         assert_eq!(stats.device_errors, 0);
         assert!(dev.frames() > 500, "{} servo frames", dev.frames());
         // The positions served (a 20 mm circle, mm) arrive mapped into the scene.
