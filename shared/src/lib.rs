@@ -16,6 +16,7 @@ pub mod haptic_to_sim;
 pub mod services;
 pub mod signals;
 pub mod sim_to_haptic;
+pub mod sim_to_ui;
 pub mod telemetry;
 pub mod ui_to_haptic;
 

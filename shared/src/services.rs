@@ -8,6 +8,8 @@
 //! | `saiho/local-model` | [`LocalModel`] | sim -> haptic | 1 (latest) | 1, overwrite |
 //! | `saiho/pointer` | [`PointerInput`] | ui -> haptic | 1 (latest) | 1, overwrite |
 //! | `saiho/telemetry/haptic` | [`LoopTelemetry`] | haptic -> ui, tools | 1 | 2, overwrite |
+//! | `saiho/cloth-frame` | `[f32]` + [`ClothFrameHeader`] | sim -> ui | 1 (latest) | 1, overwrite |
+//! | `saiho/cloth-mesh` | `[MeshCorner]` + [`MeshHeader`] | sim -> ui | 1 (latest) | 1, overwrite |
 //!
 //! History 1 gives a process that starts late the current value at once.
 
@@ -18,6 +20,7 @@ use iceoryx2::service::port_factory::publish_subscribe::PortFactory;
 
 use crate::haptic_to_sim::{AppliedForce, DeviceSample};
 use crate::sim_to_haptic::LocalModel;
+use crate::sim_to_ui::{ClothFrameHeader, MeshCorner, MeshHeader};
 use crate::telemetry::LoopTelemetry;
 use crate::ui_to_haptic::PointerInput;
 
@@ -26,6 +29,8 @@ pub const APPLIED_FORCE: &str = "saiho/applied-force";
 pub const LOCAL_MODEL: &str = "saiho/local-model";
 pub const POINTER: &str = "saiho/pointer";
 pub const HAPTIC_TELEMETRY: &str = "saiho/telemetry/haptic";
+pub const CLOTH_FRAME: &str = "saiho/cloth-frame";
+pub const CLOTH_MESH: &str = "saiho/cloth-mesh";
 
 #[derive(Debug, thiserror::Error)]
 pub enum ServiceError {
@@ -41,7 +46,10 @@ pub enum ServiceError {
 }
 
 pub type Factory<T> = PortFactory<ipc::Service, T, ()>;
+pub type SliceFactory<T, H> = PortFactory<ipc::Service, [T], H>;
 pub type Pub<T> = Publisher<ipc::Service, T, ()>;
+pub type SlicePub<T, H> = Publisher<ipc::Service, [T], H>;
+pub type SliceSub<T, H> = Subscriber<ipc::Service, [T], H>;
 pub type Sub<T> = Subscriber<ipc::Service, T, ()>;
 
 fn open<T: core::fmt::Debug + ZeroCopySend + 'static>(
@@ -91,6 +99,53 @@ pub fn pointer(node: &Node<ipc::Service>) -> Result<Factory<PointerInput>, Servi
 
 pub fn haptic_telemetry(node: &Node<ipc::Service>) -> Result<Factory<LoopTelemetry>, ServiceError> {
     open(node, HAPTIC_TELEMETRY, 1, 2)
+}
+
+fn open_slice<T, H>(
+    node: &Node<ipc::Service>,
+    service: &'static str,
+) -> Result<SliceFactory<T, H>, ServiceError>
+where
+    T: core::fmt::Debug + ZeroCopySend + 'static,
+    H: core::fmt::Debug + ZeroCopySend + 'static,
+{
+    let name: ServiceName = service.try_into().map_err(|e| ServiceError::Open {
+        service,
+        detail: format!("{e:?}"),
+    })?;
+    node.service_builder(&name)
+        .publish_subscribe::<[T]>()
+        .user_header::<H>()
+        .history_size(1)
+        .subscriber_max_buffer_size(1)
+        .subscriber_max_borrowed_samples(2)
+        .max_publishers(2)
+        .max_subscribers(8)
+        .enable_safe_overflow(true)
+        .open_or_create()
+        .map_err(|e| {
+            let detail = format!("{e:?}");
+            if detail.contains("IncompatibleTypes") {
+                ServiceError::Mismatch { service }
+            } else {
+                ServiceError::Open { service, detail }
+            }
+        })
+}
+
+/// Cloth positions and normals, every frame (publishers: `initial_max_slice_len` of
+/// `6 * vertices` with a power-of-two allocation strategy, so cuts can grow it).
+pub fn cloth_frame(
+    node: &Node<ipc::Service>,
+) -> Result<SliceFactory<f32, ClothFrameHeader>, ServiceError> {
+    open_slice(node, CLOTH_FRAME)
+}
+
+/// The cloth's triangles with per-corner UVs, when the topology changes.
+pub fn cloth_mesh(
+    node: &Node<ipc::Service>,
+) -> Result<SliceFactory<MeshCorner, MeshHeader>, ServiceError> {
+    open_slice(node, CLOTH_MESH)
 }
 
 /// A node in `domain`, with iceoryx2's own signal handlers off (each process handles

@@ -114,3 +114,43 @@ fn a_service_with_a_different_message_type_is_a_clear_mismatch() {
     }
     d.remove_leftovers();
 }
+
+#[test]
+fn cloth_frames_and_meshes_are_checked() {
+    use shared::sim_to_ui::{ClothFrameHeader, MeshCorner, MeshHeader, check_frame, check_mesh};
+    let mut seq = 0;
+    let h = ClothFrameHeader {
+        header: Header::next(&mut seq),
+        vertices: 2,
+        ..Default::default()
+    };
+    check_frame(&h, &[0.0; 12]).unwrap();
+    assert!(
+        check_frame(&h, &[0.0; 11])
+            .unwrap_err()
+            .to_string()
+            .contains("11 floats")
+    );
+    let mut bad = [0.0f32; 12];
+    bad[5] = f32::INFINITY;
+    assert!(check_frame(&h, &bad).is_err());
+    let m = MeshHeader {
+        header: Header::next(&mut seq),
+        vertices: 3,
+        triangles: 1,
+        ..Default::default()
+    };
+    let c = |v| MeshCorner {
+        vertex: v,
+        u: 0.5,
+        v: 0.5,
+    };
+    check_mesh(&m, &[c(0), c(1), c(2)]).unwrap();
+    assert!(
+        check_mesh(&m, &[c(0), c(1), c(3)])
+            .unwrap_err()
+            .to_string()
+            .contains("vertex 3 of 3")
+    );
+    assert!(check_mesh(&m, &[c(0), c(1)]).is_err());
+}

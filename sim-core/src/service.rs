@@ -106,6 +106,75 @@ fn local_model(sim: &Simulation, tip: Vec3, seq: &mut u64, stiffness: f32) -> Lo
     m
 }
 
+/// Publishes this frame's positions and normals, and the mesh when its topology changed.
+fn publish_cloth(
+    sim: &Simulation,
+    frame_pub: &services::SlicePub<f32, shared::sim_to_ui::ClothFrameHeader>,
+    mesh_pub: &services::SlicePub<shared::sim_to_ui::MeshCorner, shared::sim_to_ui::MeshHeader>,
+    normals: &mut Vec<Vec3>,
+    seq_frame: &mut u64,
+    seq_mesh: &mut u64,
+    mesh_sent: &mut Option<u64>,
+) -> Result<(), String> {
+    use shared::sim_to_ui::{ClothFrameHeader, MeshCorner, MeshHeader};
+    let live = &sim.cloth.live;
+    let n = sim.cloth.len();
+    let topology = live.version();
+    if *mesh_sent != Some(topology) {
+        let t = live.tri_count();
+        let mut s = mesh_pub
+            .loan_slice_uninit(3 * t)
+            .map_err(|e| format!("{e:?}"))?;
+        *s.user_header_mut() = MeshHeader {
+            header: Header::next(seq_mesh),
+            topology,
+            vertices: n as u32,
+            triangles: t as u32,
+        };
+        let mut corners = live.iter().flat_map(|(_, tri)| {
+            (0..3).map(move |k| MeshCorner {
+                vertex: tri.v[k],
+                u: tri.uv[k].x,
+                v: tri.uv[k].y,
+            })
+        });
+        let s = s.write_from_fn(|_| corners.next().unwrap_or_default());
+        s.send().map_err(|e| format!("{e:?}"))?;
+        *mesh_sent = Some(topology);
+    }
+    normals.clear();
+    normals.resize(n, Vec3::ZERO);
+    for (_, t) in live.iter() {
+        let [a, b, c] = t.v.map(|i| sim.cloth.x[i as usize]);
+        let nn = (b - a).cross(c - a);
+        for &i in &t.v {
+            normals[i as usize] += nn;
+        }
+    }
+    let mut s = frame_pub
+        .loan_slice_uninit(6 * n)
+        .map_err(|e| format!("{e:?}"))?;
+    *s.user_header_mut() = ClothFrameHeader {
+        header: Header::next(seq_frame),
+        frame: sim.frame,
+        topology,
+        texture_version: sim.texture.version,
+        vertices: n as u32,
+        _reserved: 0,
+    };
+    let x = &sim.cloth.x;
+    let s = s.write_from_fn(|i| {
+        if i < 3 * n {
+            x[i / 3][i % 3]
+        } else {
+            let j = i - 3 * n;
+            normals[j / 3].normalize_or(Vec3::Y)[j % 3]
+        }
+    });
+    s.send().map_err(|e| format!("{e:?}"))?;
+    Ok(())
+}
+
 /// Resumes from the autosave if there is a valid one, else builds the scene with `fresh`.
 pub fn resume_or(
     cfg: &ServiceConfig,
@@ -150,6 +219,25 @@ pub fn run(
         .publisher_builder()
         .create()
         .map_err(|e| pe(&e))?;
+    use iceoryx2::prelude::AllocationStrategy;
+    let frame_pub = services::cloth_frame(&node)
+        .map_err(|e| e.to_string())?
+        .publisher_builder()
+        .initial_max_slice_len(6 * sim.cloth.len())
+        .allocation_strategy(AllocationStrategy::PowerOfTwo)
+        .create()
+        .map_err(|e| pe(&e))?;
+    let mesh_pub = services::cloth_mesh(&node)
+        .map_err(|e| e.to_string())?
+        .publisher_builder()
+        .initial_max_slice_len(3 * sim.cloth.live.tri_count())
+        .allocation_strategy(AllocationStrategy::PowerOfTwo)
+        .create()
+        .map_err(|e| pe(&e))?;
+    let mut seq_frame = 0u64;
+    let mut seq_mesh = 0u64;
+    let mut mesh_sent: Option<u64> = None;
+    let mut normals: Vec<Vec3> = Vec::new();
     if let Some(dir) = cfg.autosave.parent() {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     }
@@ -218,6 +306,17 @@ pub fn run(
             return Err(format!("the simulation failed: {e}"));
         }
         stats.frames += 1;
+        if let Err(e) = publish_cloth(
+            &sim,
+            &frame_pub,
+            &mesh_pub,
+            &mut normals,
+            &mut seq_frame,
+            &mut seq_mesh,
+            &mut mesh_sent,
+        ) {
+            log(&format!("publishing the cloth failed: {e}"));
+        }
         let tip = pen.map_or(Vec3::splat(f32::INFINITY), |p| v3(p.position));
         let _ = model_pub.send_copy(local_model(&sim, tip, &mut seq, cfg.pinch_stiffness));
         if last_save.elapsed().as_secs_f64() >= cfg.autosave_every_s {

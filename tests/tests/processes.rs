@@ -136,6 +136,16 @@ fn pinch_force_kill_and_resume() {
         .subscriber_builder()
         .create()
         .unwrap();
+    let frames = services::cloth_frame(&node)
+        .unwrap()
+        .subscriber_builder()
+        .create()
+        .unwrap();
+    let meshes = services::cloth_mesh(&node)
+        .unwrap()
+        .subscriber_builder()
+        .create()
+        .unwrap();
 
     let mut sim = cloth_sim(d.name(), &autosave, true);
     let _haptic = Proc(
@@ -189,6 +199,15 @@ fn pinch_force_kill_and_resume() {
         );
     }
     // kill -9 cloth-sim: the model goes stale; the force is zero 20 ms + 10 ms later.
+    // The cloth reaches a viewer: positions and normals every frame, the mesh once.
+    let f = frames.receive().unwrap().expect("a cloth frame");
+    shared::sim_to_ui::check_frame(f.user_header(), f.payload()).unwrap();
+    assert_eq!(f.user_header().vertices, 17 * 17);
+    let m = meshes.receive().unwrap().expect("the cloth mesh");
+    shared::sim_to_ui::check_mesh(m.user_header(), m.payload()).unwrap();
+    assert_eq!(m.user_header().triangles, 2 * 16 * 16);
+    assert_eq!(m.user_header().topology, f.user_header().topology);
+    drop((f, m));
     let frame_before = o.model.unwrap().frame;
     sim.0.kill().unwrap();
     sim.0.wait().unwrap();

@@ -57,6 +57,8 @@ pub struct LiveMesh {
     alive: usize,
     /// Whether any triangle was ever rewritten (cut, tear, sew) since the pattern.
     pub edited: bool,
+    /// Bumped by every change of a triangle (so viewers know when to re-read the mesh).
+    version: u64,
 }
 
 impl LiveMesh {
@@ -78,6 +80,11 @@ impl LiveMesh {
         }
         m.edited = false;
         m
+    }
+
+    /// Changes with every triangle edit.
+    pub fn version(&self) -> u64 {
+        self.version
     }
 
     /// Slots, alive or not.
@@ -277,6 +284,7 @@ impl LiveMesh {
         }
         self.tris[s] = tri;
         self.edited = true;
+        self.version += 1;
         Ok(old)
     }
 

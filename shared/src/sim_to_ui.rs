@@ -1,0 +1,96 @@
+//! cloth-sim -> cloth-ui: the cloth as zero-copy slices.
+//!
+//! - `saiho/cloth-frame`, every simulation frame: `[f32]` with the positions (3 per vertex)
+//!   then the vertex normals (3 per vertex), under a [`ClothFrameHeader`].
+//! - `saiho/cloth-mesh`, when the topology changes (cut, tear, sew): `[MeshCorner]`, three
+//!   corners per triangle, each a vertex index and its own UV (a sewn vertex can have two).
+//!
+//! Both keep the latest sample for a viewer that (re)starts.
+
+use iceoryx2::prelude::ZeroCopySend;
+
+use crate::{Header, MessageError};
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("saiho::ClothFrameHeader")]
+pub struct ClothFrameHeader {
+    pub header: Header,
+    pub frame: u64,
+    /// Which mesh (`MeshHeader::topology`) these vertices belong to.
+    pub topology: u64,
+    pub texture_version: u64,
+    pub vertices: u32,
+    pub _reserved: u32,
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("saiho::MeshHeader")]
+pub struct MeshHeader {
+    pub header: Header,
+    /// Bumped by every topology edit.
+    pub topology: u64,
+    pub vertices: u32,
+    pub triangles: u32,
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("saiho::MeshCorner")]
+pub struct MeshCorner {
+    pub vertex: u32,
+    pub u: f32,
+    pub v: f32,
+}
+
+fn malformed(what: &'static str, why: String) -> MessageError {
+    MessageError::Malformed { what, why }
+}
+
+/// Checks a received frame: header, slice length `6 * vertices`, finite values.
+pub fn check_frame(h: &ClothFrameHeader, payload: &[f32]) -> Result<(), MessageError> {
+    h.header.check()?;
+    let n = h.vertices as usize;
+    if payload.len() != 6 * n {
+        return Err(malformed(
+            "cloth frame",
+            format!(
+                "{} floats for {n} vertices (expected {})",
+                payload.len(),
+                6 * n
+            ),
+        ));
+    }
+    if let Some(i) = payload.iter().position(|v| !v.is_finite()) {
+        return Err(malformed("cloth frame", format!("value {i} is not finite")));
+    }
+    Ok(())
+}
+
+/// Checks a received mesh: header, `3 * triangles` corners, indices in range, UVs finite.
+pub fn check_mesh(h: &MeshHeader, corners: &[MeshCorner]) -> Result<(), MessageError> {
+    h.header.check()?;
+    let t = h.triangles as usize;
+    if corners.len() != 3 * t {
+        return Err(malformed(
+            "cloth mesh",
+            format!("{} corners for {t} triangles", corners.len()),
+        ));
+    }
+    for (k, c) in corners.iter().enumerate() {
+        if c.vertex >= h.vertices {
+            return Err(malformed(
+                "cloth mesh",
+                format!("corner {k} names vertex {} of {}", c.vertex, h.vertices),
+            ));
+        }
+        if !(c.u.is_finite() && c.v.is_finite()) {
+            return Err(malformed(
+                "cloth mesh",
+                format!("corner {k} has a non-finite UV"),
+            ));
+        }
+    }
+    Ok(())
+}
