@@ -19,6 +19,7 @@ pub mod sim_to_haptic;
 pub mod sim_to_ui;
 pub mod telemetry;
 pub mod ui_to_haptic;
+pub mod ui_to_sim;
 
 use iceoryx2::prelude::ZeroCopySend;
 

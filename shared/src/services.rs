@@ -11,6 +11,8 @@
 //! | `saiho/cloth-frame` | `[f32]` + [`ClothFrameHeader`] | sim -> ui | 1 (latest) | 1, overwrite |
 //! | `saiho/cloth-mesh` | `[MeshCorner]` + [`MeshHeader`] | sim -> ui | 1 (latest) | 1, overwrite |
 //!
+//! | `saiho/commands` | [`ToolCommand`] -> [`CommandReply`] | ui -> sim | request-response | |
+//!
 //! History 1 gives a process that starts late the current value at once.
 
 use iceoryx2::port::publisher::Publisher;
@@ -23,6 +25,7 @@ use crate::sim_to_haptic::LocalModel;
 use crate::sim_to_ui::{ClothFrameHeader, MeshCorner, MeshHeader};
 use crate::telemetry::LoopTelemetry;
 use crate::ui_to_haptic::PointerInput;
+use crate::ui_to_sim::{CommandReply, ToolCommand};
 
 pub const DEVICE: &str = "saiho/device";
 pub const APPLIED_FORCE: &str = "saiho/applied-force";
@@ -31,6 +34,7 @@ pub const POINTER: &str = "saiho/pointer";
 pub const HAPTIC_TELEMETRY: &str = "saiho/telemetry/haptic";
 pub const CLOTH_FRAME: &str = "saiho/cloth-frame";
 pub const CLOTH_MESH: &str = "saiho/cloth-mesh";
+pub const COMMANDS: &str = "saiho/commands";
 
 #[derive(Debug, thiserror::Error)]
 pub enum ServiceError {
@@ -146,6 +150,36 @@ pub fn cloth_mesh(
     node: &Node<ipc::Service>,
 ) -> Result<SliceFactory<MeshCorner, MeshHeader>, ServiceError> {
     open_slice(node, CLOTH_MESH)
+}
+
+pub type Commands = iceoryx2::service::port_factory::request_response::PortFactory<
+    ipc::Service,
+    ToolCommand,
+    (),
+    CommandReply,
+    (),
+>;
+
+/// Operations on the design, each with a reply.
+pub fn commands(node: &Node<ipc::Service>) -> Result<Commands, ServiceError> {
+    let service = COMMANDS;
+    let name: ServiceName = service.try_into().map_err(|e| ServiceError::Open {
+        service,
+        detail: format!("{e:?}"),
+    })?;
+    node.service_builder(&name)
+        .request_response::<ToolCommand, CommandReply>()
+        .enable_safe_overflow_for_requests(true)
+        .enable_safe_overflow_for_responses(true)
+        .open_or_create()
+        .map_err(|e| {
+            let detail = format!("{e:?}");
+            if detail.contains("IncompatibleRequestOrResponseType") {
+                ServiceError::Mismatch { service }
+            } else {
+                ServiceError::Open { service, detail }
+            }
+        })
 }
 
 /// A node in `domain`, with iceoryx2's own signal handlers off (each process handles

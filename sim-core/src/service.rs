@@ -12,6 +12,7 @@ use glam::Vec3;
 use shared::domain::Domain;
 use shared::haptic_to_sim::{BUTTON_1, DeviceSample};
 use shared::sim_to_haptic::{LocalModel, MAX_PLANES};
+use shared::ui_to_sim::{CommandReply, ToolCommand, op};
 use shared::{Checked, Header, services};
 
 use crate::cloth::Simulation;
@@ -55,6 +56,8 @@ pub struct ServiceStats {
     pub rejected: u64,
     pub pinches: u64,
     pub autosaves: u64,
+    /// Commands from the UI answered.
+    pub commands: u64,
     /// Longest time an autosave held up a frame, ms.
     pub autosave_ms_max: f64,
     pub resumed: bool,
@@ -104,6 +107,74 @@ fn local_model(sim: &Simulation, tip: Vec3, seq: &mut u64, stiffness: f32) -> Lo
         m.planes[k] = p;
     }
     m
+}
+
+/// Carries out one command from the UI; the message says what happened or why not.
+fn command(sim: &mut Simulation, c: &ToolCommand) -> Result<String, String> {
+    use crate::edit::TearMode;
+    let e = |e: crate::edit::EditError| e.to_string();
+    let mode = if c.mode == 1 {
+        TearMode::Split
+    } else {
+        TearMode::Delete
+    };
+    match c.op {
+        op::CUT_VERTEX => sim
+            .cut_vertex(c.a, v3(c.vec))
+            .map(|n| format!("cut vertex {} (new vertex {n})", c.a))
+            .map_err(e),
+        op::SEW => sim
+            .sew(c.a, c.b)
+            .map(|_| format!("sewed {} and {}", c.a, c.b))
+            .map_err(e),
+        op::TEAR => sim
+            .tear_edge(c.a, c.b, mode)
+            .map(|_| format!("tore edge ({}, {})", c.a, c.b))
+            .map_err(e),
+        op::PIN => sim
+            .set_pin(c.a, c.mode == 1)
+            .map(|_| {
+                format!(
+                    "vertex {} {}",
+                    c.a,
+                    if c.mode == 1 { "pinned" } else { "freed" }
+                )
+            })
+            .map_err(e),
+        op::PAINT => sim
+            .paint(v3(c.vec), c.value, c.rgba)
+            .map(|_| "painted".to_string())
+            .map_err(e),
+        op::UNDO => sim.undo().map(|l| format!("undid {l}")).map_err(e),
+        op::REDO => sim.redo().map(|l| format!("redid {l}")).map_err(e),
+        op::SET_TEAR => {
+            if c.mode != 0 && c.value <= 1.0 {
+                return Err(format!("tear threshold must be above 1, got {}", c.value));
+            }
+            sim.tear.enabled = c.mode != 0;
+            sim.tear.mode = if c.mode == 2 {
+                TearMode::Split
+            } else {
+                TearMode::Delete
+            };
+            if c.mode != 0 {
+                sim.tear.threshold = c.value;
+            }
+            Ok(if c.mode == 0 {
+                "tearing off".into()
+            } else {
+                format!("tearing on at {}x", c.value)
+            })
+        }
+        op::SAVE => {
+            let path = c.text().unwrap_or_default().to_string();
+            sim.refresh_png_cache()
+                .and_then(|_| sim.save_design_file(std::path::Path::new(&path)))
+                .map(|_| format!("saved {path}"))
+                .map_err(|e| e.to_string())
+        }
+        other => Err(format!("unknown operation {other}")),
+    }
 }
 
 /// Publishes this frame's positions and normals, and the mesh when its topology changed.
@@ -234,6 +305,12 @@ pub fn run(
         .allocation_strategy(AllocationStrategy::PowerOfTwo)
         .create()
         .map_err(|e| pe(&e))?;
+    let server = services::commands(&node)
+        .map_err(|e| e.to_string())?
+        .server_builder()
+        .create()
+        .map_err(|e| pe(&e))?;
+    let mut seq_reply = 0u64;
     let mut seq_frame = 0u64;
     let mut seq_mesh = 0u64;
     let mut mesh_sent: Option<u64> = None;
@@ -284,6 +361,28 @@ pub fn run(
                     }
                 }
             }
+        }
+        while let Ok(Some(req)) = server.receive() {
+            let cmd = *req.payload();
+            let (ok, msg) = match cmd.check() {
+                Err(e) => {
+                    stats.rejected += 1;
+                    (false, e.to_string())
+                }
+                Ok(()) => match command(&mut sim, &cmd) {
+                    Ok(m) => (true, m),
+                    Err(m) => (false, m),
+                },
+            };
+            stats.commands += 1;
+            let reply = CommandReply::new(
+                Header::next(&mut seq_reply),
+                cmd.header.seq,
+                ok,
+                sim.history.undo_len(),
+                &msg,
+            );
+            let _ = req.send_copy(reply);
         }
         if let Some(p) = pen {
             let tip = v3(p.position);

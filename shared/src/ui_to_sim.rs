@@ -1,0 +1,156 @@
+//! cloth-ui -> cloth-sim: operations on the design, each answered with a reply
+//! (request-response service `saiho/commands`).
+
+use iceoryx2::prelude::ZeroCopySend;
+
+use crate::{Checked, Header, finite3};
+
+/// [`ToolCommand::op`] values.
+pub mod op {
+    /// Split vertex `a` across `vec` (the cut direction).
+    pub const CUT_VERTEX: u32 = 1;
+    /// Merge border vertices `a` and `b`.
+    pub const SEW: u32 = 2;
+    /// Tear edge `(a, b)`; `mode` 0 deletes the triangles, 1 splits.
+    pub const TEAR: u32 = 3;
+    /// Pin (`mode` 1) or free (`mode` 0) vertex `a`.
+    pub const PIN: u32 = 4;
+    /// Paint `rgba` within `value` metres of the cloth point nearest to `vec`.
+    pub const PAINT: u32 = 5;
+    pub const UNDO: u32 = 6;
+    pub const REDO: u32 = 7;
+    /// Tearing on (`mode` 1 delete, 2 split) or off (0), at stretch ratio `value`.
+    pub const SET_TEAR: u32 = 8;
+    /// Save the design to the UTF-8 path in `text`.
+    pub const SAVE: u32 = 9;
+    pub const LAST: u32 = SAVE;
+}
+
+pub const TEXT_LEN: usize = 240;
+pub const MESSAGE_LEN: usize = 200;
+
+#[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("saiho::ToolCommand")]
+pub struct ToolCommand {
+    pub header: Header,
+    pub op: u32,
+    pub a: u32,
+    pub b: u32,
+    pub mode: u32,
+    pub vec: [f32; 3],
+    pub value: f32,
+    pub rgba: [u8; 4],
+    pub text_len: u32,
+    pub text: [u8; TEXT_LEN],
+}
+
+impl Default for ToolCommand {
+    fn default() -> Self {
+        Self {
+            header: Header::default(),
+            op: 0,
+            a: 0,
+            b: 0,
+            mode: 0,
+            vec: [0.0; 3],
+            value: 0.0,
+            rgba: [0; 4],
+            text_len: 0,
+            text: [0; TEXT_LEN],
+        }
+    }
+}
+
+impl ToolCommand {
+    /// The text field (a path), if valid UTF-8 within its length.
+    pub fn text(&self) -> Option<&str> {
+        let n = self.text_len as usize;
+        (n <= TEXT_LEN)
+            .then(|| std::str::from_utf8(&self.text[..n]).ok())
+            .flatten()
+    }
+
+    pub fn set_text(&mut self, s: &str) -> bool {
+        if s.len() > TEXT_LEN {
+            return false;
+        }
+        self.text[..s.len()].copy_from_slice(s.as_bytes());
+        self.text_len = s.len() as u32;
+        true
+    }
+}
+
+impl Checked for ToolCommand {
+    const WHAT: &'static str = "tool command";
+    fn header(&self) -> &Header {
+        &self.header
+    }
+    fn check_body(&self) -> Result<(), String> {
+        if self.op == 0 || self.op > op::LAST {
+            return Err(format!("unknown operation {}", self.op));
+        }
+        finite3("vector", &self.vec)?;
+        if !self.value.is_finite() {
+            return Err("value is not finite".into());
+        }
+        if self.op == op::SAVE && self.text().is_none_or(str::is_empty) {
+            return Err("save needs a UTF-8 path".into());
+        }
+        Ok(())
+    }
+}
+
+/// The answer to one command.
+#[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("saiho::CommandReply")]
+pub struct CommandReply {
+    pub header: Header,
+    /// The command's `header.seq`.
+    pub request_seq: u64,
+    /// 1 done, 0 refused (the design is unchanged; `message` says why).
+    pub ok: u32,
+    /// Operations that can be undone after this one.
+    pub undo_depth: u32,
+    pub message_len: u32,
+    pub message: [u8; MESSAGE_LEN],
+}
+
+impl CommandReply {
+    pub fn new(header: Header, request_seq: u64, ok: bool, undo_depth: usize, msg: &str) -> Self {
+        let mut message = [0u8; MESSAGE_LEN];
+        // Truncate on a character boundary.
+        let mut n = msg.len().min(MESSAGE_LEN);
+        while !msg.is_char_boundary(n) {
+            n -= 1;
+        }
+        message[..n].copy_from_slice(&msg.as_bytes()[..n]);
+        Self {
+            header,
+            request_seq,
+            ok: u32::from(ok),
+            undo_depth: undo_depth as u32,
+            message_len: n as u32,
+            message,
+        }
+    }
+
+    pub fn message(&self) -> &str {
+        let n = (self.message_len as usize).min(MESSAGE_LEN);
+        std::str::from_utf8(&self.message[..n]).unwrap_or("(reply message is not UTF-8)")
+    }
+}
+
+impl Checked for CommandReply {
+    const WHAT: &'static str = "command reply";
+    fn header(&self) -> &Header {
+        &self.header
+    }
+    fn check_body(&self) -> Result<(), String> {
+        if self.ok > 1 || self.message_len as usize > MESSAGE_LEN {
+            return Err("bad reply fields".into());
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,119 @@
+//! `cloth-sim run`'s command service, in process over real iceoryx2: operations from a
+//! client are carried out and answered; refused and malformed ones are answered with the
+//! reason and change nothing.
+
+#![allow(clippy::unwrap_used)]
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use shared::domain::Domain;
+use shared::services;
+use shared::ui_to_sim::{CommandReply, ToolCommand, op};
+use shared::{Checked, Header};
+use sim_core::scenario::{ScenarioConfig, ScenarioName, build_simulation};
+use sim_core::service::{ServiceConfig, run};
+
+static STOP: AtomicBool = AtomicBool::new(false);
+
+#[test]
+fn commands_are_carried_out_and_answered() {
+    let d = Domain::new(&format!("svc{}", std::process::id())).unwrap();
+    let mut cfg = ServiceConfig::new(d.clone());
+    cfg.autosave = std::env::temp_dir().join(format!("saiho-svc-{}.saiho", std::process::id()));
+    cfg.seconds = Some(30.0);
+    let handle = std::thread::spawn(move || {
+        let mut scene = ScenarioConfig::new(ScenarioName::DrapeCube);
+        scene.grid = 8;
+        let sim = build_simulation(&scene).unwrap();
+        run(sim, &cfg, &STOP, &mut |_| {}).unwrap()
+    });
+    let node = services::node(&d, "ui").unwrap();
+    let client = services::commands(&node)
+        .unwrap()
+        .client_builder()
+        .create()
+        .unwrap();
+    let mut seq = 0;
+    let mut ask = |mut c: ToolCommand| -> CommandReply {
+        c.header = Header::next(&mut seq);
+        let deadline = Instant::now() + Duration::from_secs(10);
+        let pending = loop {
+            // The server may not be up yet: retry until the request is delivered.
+            match client.send_copy(c) {
+                Ok(p) if p.number_of_server_connections() > 0 => break p,
+                _ if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(20)),
+                _ => panic!("no server"),
+            }
+        };
+        loop {
+            if let Some(r) = pending.receive().unwrap() {
+                r.check().unwrap();
+                assert_eq!(r.request_seq, c.header.seq);
+                return *r;
+            }
+            assert!(Instant::now() < deadline, "no reply");
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    };
+    let centre = (4 * 9 + 4) as u32;
+    let r = ask(ToolCommand {
+        op: op::CUT_VERTEX,
+        a: centre,
+        vec: [1.0, 0.0, 0.0],
+        ..Default::default()
+    });
+    assert_eq!(r.ok, 1, "{}", r.message());
+    assert!(r.message().contains("new vertex 81"), "{}", r.message());
+    assert_eq!(r.undo_depth, 1);
+    // Refused: sewing a vertex to itself. The reason comes back; nothing changes.
+    let r = ask(ToolCommand {
+        op: op::SEW,
+        a: 0,
+        b: 0,
+        ..Default::default()
+    });
+    assert_eq!(r.ok, 0);
+    assert!(r.message().contains("itself"), "{}", r.message());
+    assert_eq!(r.undo_depth, 1);
+    // Malformed: an unknown operation, a NaN vector.
+    let r = ask(ToolCommand {
+        op: 99,
+        ..Default::default()
+    });
+    assert!(
+        r.ok == 0 && r.message().contains("unknown operation 99"),
+        "{}",
+        r.message()
+    );
+    let r = ask(ToolCommand {
+        op: op::PAINT,
+        vec: [f32::NAN, 0.0, 0.0],
+        value: 0.02,
+        ..Default::default()
+    });
+    assert!(
+        r.ok == 0 && r.message().contains("not finite"),
+        "{}",
+        r.message()
+    );
+    let r = ask(ToolCommand {
+        op: op::UNDO,
+        ..Default::default()
+    });
+    assert!(r.ok == 1 && r.message() == "undid cut" && r.undo_depth == 0);
+    let path = std::env::temp_dir().join(format!("saiho-svc-save-{}.saiho", std::process::id()));
+    let mut save = ToolCommand {
+        op: op::SAVE,
+        ..Default::default()
+    };
+    assert!(save.set_text(path.to_str().unwrap()));
+    let r = ask(save);
+    assert_eq!(r.ok, 1, "{}", r.message());
+    assert!(sim_core::cloth::Simulation::load_design_file(&path).is_ok());
+    STOP.store(true, Ordering::Relaxed);
+    let stats = handle.join().unwrap();
+    assert_eq!(stats.commands, 6);
+    assert_eq!(stats.rejected, 2);
+    let _ = std::fs::remove_file(&path);
+}
