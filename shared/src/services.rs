@@ -11,6 +11,7 @@
 //! | `saiho/cloth-frame` | `[f32]` + [`ClothFrameHeader`] | sim -> ui | 1 (latest) | 1, overwrite |
 //! | `saiho/cloth-mesh` | `[MeshCorner]` + [`MeshHeader`] | sim -> ui | 1 (latest) | 1, overwrite |
 //!
+//! | `saiho/tool-state` | [`ToolState`] | sim -> ui | 1 (latest) | 1, overwrite |
 //! | `saiho/commands` | [`ToolCommand`] -> [`CommandReply`] | ui -> sim | request-response | |
 //!
 //! History 1 gives a process that starts late the current value at once.
@@ -22,7 +23,7 @@ use iceoryx2::service::port_factory::publish_subscribe::PortFactory;
 
 use crate::haptic_to_sim::{AppliedForce, DeviceSample};
 use crate::sim_to_haptic::LocalModel;
-use crate::sim_to_ui::{ClothFrameHeader, MeshCorner, MeshHeader};
+use crate::sim_to_ui::{ClothFrameHeader, MeshCorner, MeshHeader, ToolState};
 use crate::telemetry::LoopTelemetry;
 use crate::ui_to_haptic::PointerInput;
 use crate::ui_to_sim::{CommandReply, ToolCommand};
@@ -35,6 +36,7 @@ pub const HAPTIC_TELEMETRY: &str = "saiho/telemetry/haptic";
 pub const CLOTH_FRAME: &str = "saiho/cloth-frame";
 pub const CLOTH_MESH: &str = "saiho/cloth-mesh";
 pub const COMMANDS: &str = "saiho/commands";
+pub const TOOL_STATE: &str = "saiho/tool-state";
 
 #[derive(Debug, thiserror::Error)]
 pub enum ServiceError {
@@ -99,6 +101,10 @@ pub fn local_model(node: &Node<ipc::Service>) -> Result<Factory<LocalModel>, Ser
 
 pub fn pointer(node: &Node<ipc::Service>) -> Result<Factory<PointerInput>, ServiceError> {
     open(node, POINTER, 1, 1)
+}
+
+pub fn tool_state(node: &Node<ipc::Service>) -> Result<Factory<ToolState>, ServiceError> {
+    open(node, TOOL_STATE, 1, 1)
 }
 
 pub fn haptic_telemetry(node: &Node<ipc::Service>) -> Result<Factory<LoopTelemetry>, ServiceError> {

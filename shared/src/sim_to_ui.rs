@@ -94,3 +94,37 @@ pub fn check_mesh(h: &MeshHeader, corners: &[MeshCorner]) -> Result<(), MessageE
     }
     Ok(())
 }
+
+/// The tools ([`ToolState::tool`]); the pen's button 1 acts with the current one.
+pub mod tool {
+    /// Hold to grab the cloth and drag it.
+    pub const PINCH: u32 = 0;
+    /// Hold and move to cut along the path (scissors); the cut happens on release.
+    pub const CUT: u32 = 1;
+    /// Hold to grab and pull with tearing on.
+    pub const TEAR: u32 = 2;
+    /// Press on a border vertex, then on another: they are sewn.
+    pub const SEW: u32 = 3;
+    /// Hold to paint under the tip.
+    pub const PAINT: u32 = 4;
+    /// Press to pin or free the vertex under the tip.
+    pub const PIN: u32 = 5;
+    pub const LAST: u32 = PIN;
+}
+
+/// The current tool and its settings, owned by cloth-sim (so a restarted UI and the pen's
+/// buttons see the same), with the undo and redo depth.
+#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("saiho::ToolState")]
+pub struct ToolState {
+    pub header: Header,
+    pub tool: u32,
+    pub rgba: [u8; 4],
+    /// Paint brush radius, m.
+    pub brush_m: f32,
+    pub undo_depth: u32,
+    pub redo_depth: u32,
+    /// The vertex picked by the first press of a sew, or u32::MAX.
+    pub sew_first: u32,
+}

@@ -23,7 +23,9 @@ pub mod op {
     pub const SET_TEAR: u32 = 8;
     /// Save the design to the UTF-8 path in `text`.
     pub const SAVE: u32 = 9;
-    pub const LAST: u32 = SAVE;
+    /// Current tool `a` (`sim_to_ui::tool`), paint colour `rgba`, brush radius `value` m.
+    pub const SET_TOOL: u32 = 10;
+    pub const LAST: u32 = SET_TOOL;
 }
 
 pub const TEXT_LEN: usize = 240;
@@ -93,6 +95,16 @@ impl Checked for ToolCommand {
         finite3("vector", &self.vec)?;
         if !self.value.is_finite() {
             return Err("value is not finite".into());
+        }
+        if self.op == op::SET_TOOL
+            && (self.a > crate::sim_to_ui::tool::LAST || !(self.value > 0.0 && self.value < 1.0))
+        {
+            return Err(format!(
+                "tool {} with brush {} m (tools 0..={}, brush between 0 and 1 m)",
+                self.a,
+                self.value,
+                crate::sim_to_ui::tool::LAST
+            ));
         }
         if self.op == op::SAVE && self.text().is_none_or(str::is_empty) {
             return Err("save needs a UTF-8 path".into());

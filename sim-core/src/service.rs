@@ -12,6 +12,7 @@ use glam::Vec3;
 use shared::domain::Domain;
 use shared::haptic_to_sim::{BUTTON_1, DeviceSample};
 use shared::sim_to_haptic::{LocalModel, MAX_PLANES};
+use shared::sim_to_ui::{ToolState, tool};
 use shared::ui_to_sim::{CommandReply, ToolCommand, op};
 use shared::{Checked, Header, services};
 
@@ -107,6 +108,107 @@ fn local_model(sim: &Simulation, tip: Vec3, seq: &mut u64, stiffness: f32) -> Lo
         m.planes[k] = p;
     }
     m
+}
+
+/// The current tool and what a press of the pen is in the middle of.
+#[derive(Debug)]
+struct Tools {
+    tool: u32,
+    rgba: [u8; 4],
+    brush_m: f32,
+    sew_first: Option<u32>,
+    was_down: bool,
+    stroke: Vec<Vec3>,
+    tear_was: bool,
+}
+
+impl Default for Tools {
+    fn default() -> Self {
+        Self {
+            tool: tool::PINCH,
+            rgba: [200, 30, 40, 255],
+            brush_m: 0.01,
+            sew_first: None,
+            was_down: false,
+            stroke: Vec::new(),
+            tear_was: false,
+        }
+    }
+}
+
+/// What button 1 does with the current tool this frame.
+fn pen_acts(
+    sim: &mut Simulation,
+    t: &mut Tools,
+    p: &DeviceSample,
+    cfg: &ServiceConfig,
+    stats: &mut ServiceStats,
+    log: &mut dyn FnMut(&str),
+) {
+    let tip = v3(p.position);
+    let down = p.buttons & BUTTON_1 != 0;
+    let (pressed, released) = (down && !t.was_down, !down && t.was_down);
+    t.was_down = down;
+    let mut report = |r: Result<String, crate::edit::EditError>| match r {
+        Ok(m) => log(&m),
+        Err(e) => log(&format!("pen: {e}")),
+    };
+    match t.tool {
+        tool::PINCH | tool::TEAR => {
+            if pressed {
+                if t.tool == tool::TEAR {
+                    t.tear_was = sim.tear.enabled;
+                    sim.tear.enabled = true;
+                }
+                if sim
+                    .pinch_begin(tip, cfg.pinch_radius, 0.0, cfg.pinch_stiffness)
+                    .is_ok()
+                {
+                    stats.pinches += 1;
+                }
+            } else if down {
+                sim.pinch_move(tip);
+            } else if released {
+                sim.pinch_end();
+                if t.tool == tool::TEAR {
+                    sim.tear.enabled = t.tear_was;
+                }
+            }
+        }
+        tool::CUT => {
+            if down {
+                t.stroke.push(tip);
+            } else if released {
+                let stroke = std::mem::take(&mut t.stroke);
+                report(
+                    sim.cut_stroke(&stroke, 0.02)
+                        .map(|n| format!("pen: cut through {n} vertices")),
+                );
+            }
+        }
+        // Each frame's dab is undoable on its own; refusals (off the cloth) are quiet.
+        tool::PAINT if down => {
+            let _ = sim.paint(tip, t.brush_m, t.rgba);
+        }
+        tool::SEW => {
+            if pressed && let Some(v) = sim.nearest_vertex(tip, cfg.pinch_radius) {
+                match t.sew_first.take() {
+                    None => t.sew_first = Some(v),
+                    Some(a) => report(sim.sew(a, v).map(|_| format!("pen: sewed {a} and {v}"))),
+                }
+            }
+        }
+        tool::PIN => {
+            if pressed && let Some(v) = sim.nearest_vertex(tip, cfg.pinch_radius) {
+                let on = !sim.cloth.is_pinned(v as usize);
+                report(
+                    sim.set_pin(v, on)
+                        .map(|_| format!("pen: vertex {v} pinned {on}")),
+                );
+            }
+        }
+        _ => {}
+    }
 }
 
 /// Carries out one command from the UI; the message says what happened or why not.
@@ -311,6 +413,14 @@ pub fn run(
         .create()
         .map_err(|e| pe(&e))?;
     let mut seq_reply = 0u64;
+    let tool_pub = services::tool_state(&node)
+        .map_err(|e| e.to_string())?
+        .publisher_builder()
+        .create()
+        .map_err(|e| pe(&e))?;
+    let mut tools = Tools::default();
+    let mut seq_tool = 0u64;
+    let mut tool_sent: Option<ToolState> = None;
     let mut seq_frame = 0u64;
     let mut seq_mesh = 0u64;
     let mut mesh_sent: Option<u64> = None;
@@ -369,6 +479,13 @@ pub fn run(
                     stats.rejected += 1;
                     (false, e.to_string())
                 }
+                Ok(()) if cmd.op == op::SET_TOOL => {
+                    tools.tool = cmd.a;
+                    tools.rgba = cmd.rgba;
+                    tools.brush_m = cmd.value;
+                    tools.sew_first = None;
+                    (true, format!("tool {}", cmd.a))
+                }
                 Ok(()) => match command(&mut sim, &cmd) {
                     Ok(m) => (true, m),
                     Err(m) => (false, m),
@@ -385,21 +502,31 @@ pub fn run(
             let _ = req.send_copy(reply);
         }
         if let Some(p) = pen {
-            let tip = v3(p.position);
-            let down = p.buttons & BUTTON_1 != 0;
-            match (down, sim.pinch().is_some()) {
-                (true, false) => {
-                    if sim
-                        .pinch_begin(tip, cfg.pinch_radius, 0.0, cfg.pinch_stiffness)
-                        .is_ok()
-                    {
-                        stats.pinches += 1;
-                    }
-                }
-                (true, true) => sim.pinch_move(tip),
-                (false, true) => sim.pinch_end(),
-                (false, false) => {}
-            }
+            pen_acts(&mut sim, &mut tools, &p, cfg, &mut stats, log);
+        }
+        // The tool state, when it changed (a late UI gets it from the history).
+        let state = ToolState {
+            header: Header::default(),
+            tool: tools.tool,
+            rgba: tools.rgba,
+            brush_m: tools.brush_m,
+            undo_depth: sim.history.undo_len() as u32,
+            redo_depth: sim.history.redo_len() as u32,
+            sew_first: tools.sew_first.unwrap_or(u32::MAX),
+        };
+        // Late subscribers get the history (last tool state, last mesh) when a publisher
+        // updates its connections; these two only send on change, so do it every frame.
+        {
+            use iceoryx2::port::update_connections::UpdateConnections;
+            let _ = tool_pub.update_connections();
+            let _ = mesh_pub.update_connections();
+        }
+        if tool_sent != Some(state) {
+            let _ = tool_pub.send_copy(ToolState {
+                header: Header::next(&mut seq_tool),
+                ..state
+            });
+            tool_sent = Some(state);
         }
         if let Err(e) = sim.step() {
             return Err(format!("the simulation failed: {e}"));

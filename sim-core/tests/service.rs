@@ -111,9 +111,107 @@ fn commands_are_carried_out_and_answered() {
     let r = ask(save);
     assert_eq!(r.ok, 1, "{}", r.message());
     assert!(sim_core::cloth::Simulation::load_design_file(&path).is_ok());
+    // The tool lives in cloth-sim: set it, and a (late) viewer sees it.
+    let r = ask(ToolCommand {
+        op: op::SET_TOOL,
+        a: shared::sim_to_ui::tool::PAINT,
+        rgba: [1, 2, 3, 255],
+        value: 0.02,
+        ..Default::default()
+    });
+    assert_eq!(r.ok, 1, "{}", r.message());
+    let r = ask(ToolCommand {
+        op: op::SET_TOOL,
+        a: 42,
+        value: 0.02,
+        ..Default::default()
+    });
+    assert!(
+        r.ok == 0 && r.message().contains("tool 42"),
+        "{}",
+        r.message()
+    );
+    let states = services::tool_state(&node)
+        .unwrap()
+        .subscriber_builder()
+        .create()
+        .unwrap();
+    let deadline = Instant::now() + Duration::from_secs(5);
+    let state = loop {
+        if let Some(s) = states.receive().unwrap() {
+            break *s;
+        }
+        assert!(Instant::now() < deadline, "no tool state");
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    assert_eq!(
+        (state.tool, state.rgba, state.brush_m),
+        (shared::sim_to_ui::tool::PAINT, [1, 2, 3, 255], 0.02)
+    );
+    // The pen's button acts with the current tool: with PIN, a press pins the vertex
+    // under the tip (one more undoable operation).
+    let r = ask(ToolCommand {
+        op: op::SET_TOOL,
+        a: shared::sim_to_ui::tool::PIN,
+        value: 0.02,
+        ..Default::default()
+    });
+    assert_eq!(r.ok, 1);
+    let frames = services::cloth_frame(&node)
+        .unwrap()
+        .subscriber_builder()
+        .create()
+        .unwrap();
+    let pen = services::device(&node)
+        .unwrap()
+        .publisher_builder()
+        .create()
+        .unwrap();
+    let depth_before = state.undo_depth;
+    let mut pen_seq = 0;
+    let deadline = Instant::now() + Duration::from_secs(10);
+    let mut pressed = false;
+    loop {
+        assert!(Instant::now() < deadline, "the pen's press did not pin");
+        if let Some(f) = frames.receive().unwrap() {
+            // Follow vertex 0 of the (falling) cloth with the tip; press, then release.
+            let p = f.payload();
+            let sample = shared::haptic_to_sim::DeviceSample {
+                header: Header::next(&mut pen_seq),
+                position: [p[0], p[1], p[2]],
+                buttons: u32::from(!pressed),
+                device_ok: 1,
+                ..Default::default()
+            };
+            pen.send_copy(sample).unwrap();
+            pressed = true;
+        }
+        if let Some(s) = states.receive().unwrap()
+            && s.undo_depth > depth_before
+        {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    // A viewer that starts now still gets the mesh (sent once, kept as history).
+    let meshes = services::cloth_mesh(&node)
+        .unwrap()
+        .subscriber_builder()
+        .create()
+        .unwrap();
+    let deadline = Instant::now() + Duration::from_secs(5);
+    loop {
+        if let Some(m) = meshes.receive().unwrap() {
+            shared::sim_to_ui::check_mesh(m.user_header(), m.payload()).unwrap();
+            assert_eq!(m.user_header().triangles, 2 * 8 * 8);
+            break;
+        }
+        assert!(Instant::now() < deadline, "a late viewer got no mesh");
+        std::thread::sleep(Duration::from_millis(5));
+    }
     STOP.store(true, Ordering::Relaxed);
     let stats = handle.join().unwrap();
-    assert_eq!(stats.commands, 6);
-    assert_eq!(stats.rejected, 2);
+    assert_eq!(stats.commands, 9);
+    assert_eq!(stats.rejected, 3);
     let _ = std::fs::remove_file(&path);
 }
