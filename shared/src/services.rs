@@ -11,6 +11,7 @@
 //! | `saiho/cloth-frame` | `[f32]` + [`ClothFrameHeader`] | sim -> ui | 1 (latest) | 1, overwrite |
 //! | `saiho/cloth-mesh` | `[MeshCorner]` + [`MeshHeader`] | sim -> ui | 1 (latest) | 1, overwrite |
 //!
+//! | `saiho/texture` | `[u8]` + [`TextureTile`] | sim -> ui | 256 (a full texture) | 512, overwrite |
 //! | `saiho/tool-state` | [`ToolState`] | sim -> ui | 1 (latest) | 1, overwrite |
 //! | `saiho/commands` | [`ToolCommand`] -> [`CommandReply`] | ui -> sim | request-response | |
 //!
@@ -23,7 +24,7 @@ use iceoryx2::service::port_factory::publish_subscribe::PortFactory;
 
 use crate::haptic_to_sim::{AppliedForce, DeviceSample};
 use crate::sim_to_haptic::LocalModel;
-use crate::sim_to_ui::{ClothFrameHeader, MeshCorner, MeshHeader, ToolState};
+use crate::sim_to_ui::{ClothFrameHeader, MeshCorner, MeshHeader, TextureTile, ToolState};
 use crate::telemetry::LoopTelemetry;
 use crate::ui_to_haptic::PointerInput;
 use crate::ui_to_sim::{CommandReply, ToolCommand};
@@ -37,6 +38,9 @@ pub const CLOTH_FRAME: &str = "saiho/cloth-frame";
 pub const CLOTH_MESH: &str = "saiho/cloth-mesh";
 pub const COMMANDS: &str = "saiho/commands";
 pub const TOOL_STATE: &str = "saiho/tool-state";
+pub const TEXTURE: &str = "saiho/texture";
+/// History of the texture service: every tile of a 1024 x 1024 texture in 64 x 64 tiles.
+pub const TEXTURE_HISTORY: usize = 256;
 
 #[derive(Debug, thiserror::Error)]
 pub enum ServiceError {
@@ -114,6 +118,8 @@ pub fn haptic_telemetry(node: &Node<ipc::Service>) -> Result<Factory<LoopTelemet
 fn open_slice<T, H>(
     node: &Node<ipc::Service>,
     service: &'static str,
+    history: usize,
+    buffer: usize,
 ) -> Result<SliceFactory<T, H>, ServiceError>
 where
     T: core::fmt::Debug + ZeroCopySend + 'static,
@@ -126,8 +132,8 @@ where
     node.service_builder(&name)
         .publish_subscribe::<[T]>()
         .user_header::<H>()
-        .history_size(1)
-        .subscriber_max_buffer_size(1)
+        .history_size(history)
+        .subscriber_max_buffer_size(buffer)
         .subscriber_max_borrowed_samples(2)
         .max_publishers(2)
         .max_subscribers(8)
@@ -148,14 +154,14 @@ where
 pub fn cloth_frame(
     node: &Node<ipc::Service>,
 ) -> Result<SliceFactory<f32, ClothFrameHeader>, ServiceError> {
-    open_slice(node, CLOTH_FRAME)
+    open_slice(node, CLOTH_FRAME, 1, 1)
 }
 
 /// The cloth's triangles with per-corner UVs, when the topology changes.
 pub fn cloth_mesh(
     node: &Node<ipc::Service>,
 ) -> Result<SliceFactory<MeshCorner, MeshHeader>, ServiceError> {
-    open_slice(node, CLOTH_MESH)
+    open_slice(node, CLOTH_MESH, 1, 1)
 }
 
 pub type Commands = iceoryx2::service::port_factory::request_response::PortFactory<
@@ -186,6 +192,11 @@ pub fn commands(node: &Node<ipc::Service>) -> Result<Commands, ServiceError> {
                 ServiceError::Open { service, detail }
             }
         })
+}
+
+/// The texture as tiles (see [`TextureTile`]).
+pub fn texture(node: &Node<ipc::Service>) -> Result<SliceFactory<u8, TextureTile>, ServiceError> {
+    open_slice(node, TEXTURE, TEXTURE_HISTORY, 2 * TEXTURE_HISTORY)
 }
 
 /// A node in `domain`, with iceoryx2's own signal handlers off (each process handles

@@ -128,3 +128,46 @@ pub struct ToolState {
     /// The vertex picked by the first press of a sew, or u32::MAX.
     pub sew_first: u32,
 }
+
+/// One square of the cloth's texture (`saiho/texture`, `[u8]` RGBA rows under this
+/// header). Changed tiles go out at once; all tiles are also re-sent round-robin, so a
+/// viewer that starts late has the whole texture within a refresh cycle.
+#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("saiho::TextureTile")]
+pub struct TextureTile {
+    pub header: Header,
+    pub texture_version: u64,
+    /// The whole texture's size, texels.
+    pub width: u32,
+    pub height: u32,
+    /// This tile's rectangle, texels.
+    pub x0: u32,
+    pub y0: u32,
+    pub w: u32,
+    pub h: u32,
+}
+
+/// Checks a received tile: header, rectangle inside the texture, `4 * w * h` bytes.
+pub fn check_tile(t: &TextureTile, payload: &[u8]) -> Result<(), MessageError> {
+    t.header.check()?;
+    let inside = t.width > 0
+        && t.height > 0
+        && t.width <= 16384
+        && t.height <= 16384
+        && t.x0.checked_add(t.w).is_some_and(|e| e <= t.width)
+        && t.y0.checked_add(t.h).is_some_and(|e| e <= t.height);
+    if !inside {
+        return Err(malformed(
+            "texture tile",
+            format!("rectangle {t:?} is outside the texture"),
+        ));
+    }
+    if payload.len() != 4 * t.w as usize * t.h as usize {
+        return Err(malformed(
+            "texture tile",
+            format!("{} bytes for {} x {} texels", payload.len(), t.w, t.h),
+        ));
+    }
+    Ok(())
+}

@@ -279,6 +279,39 @@ fn command(sim: &mut Simulation, c: &ToolCommand) -> Result<String, String> {
     }
 }
 
+/// Publishes texture tile `(x, y)` (in tiles).
+fn publish_tile(
+    tex: &crate::edit::Texture,
+    tile_pub: &services::SlicePub<u8, shared::sim_to_ui::TextureTile>,
+    x: usize,
+    y: usize,
+    seq: &mut u64,
+) -> Result<(), String> {
+    use crate::edit::TILE;
+    let (x0, y0) = (x * TILE, y * TILE);
+    let (w, h) = (TILE.min(tex.width - x0), TILE.min(tex.height - y0));
+    let mut s = tile_pub
+        .loan_slice_uninit(4 * w * h)
+        .map_err(|e| format!("{e:?}"))?;
+    *s.user_header_mut() = shared::sim_to_ui::TextureTile {
+        header: Header::next(seq),
+        texture_version: tex.version,
+        width: tex.width as u32,
+        height: tex.height as u32,
+        x0: x0 as u32,
+        y0: y0 as u32,
+        w: w as u32,
+        h: h as u32,
+    };
+    let row = 4 * w;
+    let s = s.write_from_fn(|i| {
+        let (r, c) = (i / row, i % row);
+        tex.rgba[4 * ((y0 + r) * tex.width + x0) + c]
+    });
+    s.send().map_err(|e| format!("{e:?}"))?;
+    Ok(())
+}
+
 /// Publishes this frame's positions and normals, and the mesh when its topology changed.
 fn publish_cloth(
     sim: &Simulation,
@@ -421,6 +454,14 @@ pub fn run(
     let mut tools = Tools::default();
     let mut seq_tool = 0u64;
     let mut tool_sent: Option<ToolState> = None;
+    let tile_pub = services::texture(&node)
+        .map_err(|e| e.to_string())?
+        .publisher_builder()
+        .initial_max_slice_len(4 * crate::edit::TILE * crate::edit::TILE)
+        .create()
+        .map_err(|e| pe(&e))?;
+    let mut seq_tile = 0u64;
+    let mut tile_cursor = 0usize;
     let mut seq_frame = 0u64;
     let mut seq_mesh = 0u64;
     let mut mesh_sent: Option<u64> = None;
@@ -542,6 +583,21 @@ pub fn run(
             &mut mesh_sent,
         ) {
             log(&format!("publishing the cloth failed: {e}"));
+        }
+        // Texture: changed tiles now, and 8 more round-robin so a late viewer fills in.
+        {
+            let mut tiles = sim.texture.take_dirty();
+            let (tx, ty) = (sim.texture.tiles_x(), sim.texture.tiles_y());
+            for _ in 0..8 {
+                tiles.push((tile_cursor % tx, (tile_cursor / tx) % ty));
+                tile_cursor = (tile_cursor + 1) % (tx * ty);
+            }
+            for (x, y) in tiles {
+                if let Err(e) = publish_tile(&sim.texture, &tile_pub, x, y, &mut seq_tile) {
+                    log(&format!("publishing the texture failed: {e}"));
+                    break;
+                }
+            }
         }
         let tip = pen.map_or(Vec3::splat(f32::INFINITY), |p| v3(p.position));
         let _ = model_pub.send_copy(local_model(&sim, tip, &mut seq, cfg.pinch_stiffness));

@@ -193,6 +193,55 @@ fn commands_are_carried_out_and_answered() {
         }
         std::thread::sleep(Duration::from_millis(2));
     }
+    // Paint where vertex 0 is now; a texture viewer that starts afterwards rebuilds the
+    // whole texture, paint included, from the tiles (changed ones, then round-robin).
+    let at = loop {
+        if let Some(f) = frames.receive().unwrap() {
+            let p = f.payload();
+            break [p[0], p[1], p[2]];
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    };
+    let r = ask(ToolCommand {
+        op: op::PAINT,
+        vec: at,
+        value: 0.05,
+        rgba: [9, 200, 9, 255],
+        ..Default::default()
+    });
+    assert_eq!(r.ok, 1, "{}", r.message());
+    let tiles = services::texture(&node)
+        .unwrap()
+        .subscriber_builder()
+        .create()
+        .unwrap();
+    let mut tex = vec![0u8; 4 * 1024 * 1024];
+    let mut seen = std::collections::HashSet::new();
+    let deadline = Instant::now() + Duration::from_secs(10);
+    while seen.len() < 256 {
+        assert!(
+            Instant::now() < deadline,
+            "only {} of 256 tiles",
+            seen.len()
+        );
+        while let Some(t) = tiles.receive().unwrap() {
+            let h = t.user_header();
+            shared::sim_to_ui::check_tile(h, t.payload()).unwrap();
+            for r in 0..h.h as usize {
+                let dst = 4 * ((h.y0 as usize + r) * 1024 + h.x0 as usize);
+                let src = 4 * r * h.w as usize;
+                tex[dst..dst + 4 * h.w as usize]
+                    .copy_from_slice(&t.payload()[src..src + 4 * h.w as usize]);
+            }
+            seen.insert((h.x0, h.y0));
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    let green = tex
+        .chunks_exact(4)
+        .filter(|p| p[1] > 150 && p[0] < 100)
+        .count();
+    assert!(green > 100, "{green} painted texels arrived");
     // A viewer that starts now still gets the mesh (sent once, kept as history).
     let meshes = services::cloth_mesh(&node)
         .unwrap()
@@ -211,7 +260,7 @@ fn commands_are_carried_out_and_answered() {
     }
     STOP.store(true, Ordering::Relaxed);
     let stats = handle.join().unwrap();
-    assert_eq!(stats.commands, 9);
+    assert_eq!(stats.commands, 10);
     assert_eq!(stats.rejected, 3);
     let _ = std::fs::remove_file(&path);
 }
