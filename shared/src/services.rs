@@ -8,6 +8,7 @@
 //! | `saiho/local-model` | [`LocalModel`] | sim -> haptic | 1 (latest) | 1, overwrite |
 //! | `saiho/pointer` | [`PointerInput`] | ui -> haptic | 1 (latest) | 1, overwrite |
 //! | `saiho/telemetry/haptic` | [`LoopTelemetry`] | haptic -> ui, tools | 1 | 2, overwrite |
+//! | `saiho/telemetry/sim` | [`SimTelemetry`] | sim -> ui, tools | 1 | 2, overwrite |
 //! | `saiho/cloth-frame` | `[f32]` + [`ClothFrameHeader`] | sim -> ui | 1 (latest) | 1, overwrite |
 //! | `saiho/cloth-mesh` | `[MeshCorner]` + [`MeshHeader`] | sim -> ui | 1 (latest) | 1, overwrite |
 //!
@@ -25,7 +26,7 @@ use iceoryx2::service::port_factory::publish_subscribe::PortFactory;
 use crate::haptic_to_sim::{AppliedForce, DeviceSample};
 use crate::sim_to_haptic::LocalModel;
 use crate::sim_to_ui::{ClothFrameHeader, MeshCorner, MeshHeader, TextureTile, ToolState};
-use crate::telemetry::LoopTelemetry;
+use crate::telemetry::{LoopTelemetry, SimTelemetry};
 use crate::ui_to_haptic::PointerInput;
 use crate::ui_to_sim::{CommandReply, ToolCommand};
 
@@ -34,6 +35,7 @@ pub const APPLIED_FORCE: &str = "saiho/applied-force";
 pub const LOCAL_MODEL: &str = "saiho/local-model";
 pub const POINTER: &str = "saiho/pointer";
 pub const HAPTIC_TELEMETRY: &str = "saiho/telemetry/haptic";
+pub const SIM_TELEMETRY: &str = "saiho/telemetry/sim";
 pub const CLOTH_FRAME: &str = "saiho/cloth-frame";
 pub const CLOTH_MESH: &str = "saiho/cloth-mesh";
 pub const COMMANDS: &str = "saiho/commands";
@@ -105,6 +107,10 @@ pub fn local_model(node: &Node<ipc::Service>) -> Result<Factory<LocalModel>, Ser
 
 pub fn pointer(node: &Node<ipc::Service>) -> Result<Factory<PointerInput>, ServiceError> {
     open(node, POINTER, 1, 1)
+}
+
+pub fn sim_telemetry(node: &Node<ipc::Service>) -> Result<Factory<SimTelemetry>, ServiceError> {
+    open(node, SIM_TELEMETRY, 1, 2)
 }
 
 pub fn tool_state(node: &Node<ipc::Service>) -> Result<Factory<ToolState>, ServiceError> {

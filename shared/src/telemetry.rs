@@ -133,3 +133,35 @@ mod tests {
         assert_eq!(Histogram::bucket_floor_ns(FINE_BUCKETS + 1), 2_100_000);
     }
 }
+
+/// cloth-sim's timing, once a second: how long frames take against their period.
+#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("saiho::SimTelemetry")]
+pub struct SimTelemetry {
+    pub header: Header,
+    pub frame: u64,
+    pub vertices: u32,
+    pub triangles: u32,
+    /// Wall time of a whole frame (collision and all substeps), since start.
+    pub frame_time: Histogram,
+    /// Of which the collision broad phase.
+    pub collision_time: Histogram,
+    /// Frames per second over the last second.
+    pub rate_hz: f32,
+    /// Longest time an autosave held up a frame, ms.
+    pub autosave_ms_max: f32,
+}
+
+impl Checked for SimTelemetry {
+    const WHAT: &'static str = "sim telemetry";
+    fn header(&self) -> &Header {
+        &self.header
+    }
+    fn check_body(&self) -> Result<(), String> {
+        if !(self.rate_hz.is_finite() && self.autosave_ms_max.is_finite()) {
+            return Err("a rate or time is not finite".into());
+        }
+        Ok(())
+    }
+}

@@ -461,6 +461,14 @@ pub fn run(
         .create()
         .map_err(|e| pe(&e))?;
     let mut seq_tile = 0u64;
+    let tel_pub = services::sim_telemetry(&node)
+        .map_err(|e| e.to_string())?
+        .publisher_builder()
+        .create()
+        .map_err(|e| pe(&e))?;
+    let mut tel = Box::<shared::telemetry::SimTelemetry>::default();
+    let mut seq_tel = 0u64;
+    let mut tel_at = (Instant::now(), 0u64);
     let mut tile_cursor = 0usize;
     let mut seq_frame = 0u64;
     let mut seq_mesh = 0u64;
@@ -569,8 +577,22 @@ pub fn run(
             });
             tool_sent = Some(state);
         }
-        if let Err(e) = sim.step() {
-            return Err(format!("the simulation failed: {e}"));
+        let fs = match sim.step() {
+            Ok(fs) => fs,
+            Err(e) => return Err(format!("the simulation failed: {e}")),
+        };
+        tel.frame_time.record((fs.wall_ms * 1e6) as u64);
+        tel.collision_time.record((fs.collision_ms * 1e6) as u64);
+        if tel_at.0.elapsed().as_secs_f64() >= 1.0 {
+            let frames = sim.frame - tel_at.1;
+            tel.header = Header::next(&mut seq_tel);
+            tel.frame = sim.frame;
+            tel.vertices = sim.cloth.len() as u32;
+            tel.triangles = sim.cloth.live.tri_count() as u32;
+            tel.rate_hz = (frames as f64 / tel_at.0.elapsed().as_secs_f64()) as f32;
+            tel.autosave_ms_max = save_ms.iter().copied().fold(0.0, f64::max) as f32;
+            let _ = tel_pub.send_copy(*tel);
+            tel_at = (Instant::now(), sim.frame);
         }
         stats.frames += 1;
         if let Err(e) = publish_cloth(

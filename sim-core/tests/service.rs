@@ -258,6 +258,29 @@ fn commands_are_carried_out_and_answered() {
         assert!(Instant::now() < deadline, "a late viewer got no mesh");
         std::thread::sleep(Duration::from_millis(5));
     }
+    // Its timing, once a second.
+    let tel = services::sim_telemetry(&node)
+        .unwrap()
+        .subscriber_builder()
+        .create()
+        .unwrap();
+    let deadline = Instant::now() + Duration::from_secs(5);
+    let t = loop {
+        if let Some(t) = tel.receive().unwrap() {
+            break *t;
+        }
+        assert!(Instant::now() < deadline, "no sim telemetry");
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    t.check().unwrap();
+    // 81 vertices: the cut's extra vertex went with its undo.
+    assert!(
+        t.frame_time.total > 10 && t.rate_hz > 1.0 && t.vertices == 81,
+        "frames {} rate {} vertices {}",
+        t.frame_time.total,
+        t.rate_hz,
+        t.vertices
+    );
     STOP.store(true, Ordering::Relaxed);
     let stats = handle.join().unwrap();
     assert_eq!(stats.commands, 10);
