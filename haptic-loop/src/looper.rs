@@ -51,6 +51,44 @@ pub struct Ports {
     pub pointer: Sub<PointerInput>,
 }
 
+impl Ports {
+    /// Creates the loop's ports on `node` (on the thread that will run the loop).
+    pub fn open(
+        node: &iceoryx2::prelude::Node<iceoryx2::prelude::ipc::Service>,
+    ) -> Result<Self, String> {
+        use shared::services;
+        let svc = |e: services::ServiceError| e.to_string();
+        let port = |e: &dyn std::fmt::Debug| format!("cannot create a port: {e:?}");
+        Ok(Self {
+            device: services::device(node)
+                .map_err(svc)?
+                .publisher_builder()
+                .create()
+                .map_err(|e| port(&e))?,
+            applied: services::applied_force(node)
+                .map_err(svc)?
+                .publisher_builder()
+                .create()
+                .map_err(|e| port(&e))?,
+            telemetry: services::haptic_telemetry(node)
+                .map_err(svc)?
+                .publisher_builder()
+                .create()
+                .map_err(|e| port(&e))?,
+            model: services::local_model(node)
+                .map_err(svc)?
+                .subscriber_builder()
+                .create()
+                .map_err(|e| port(&e))?,
+            pointer: services::pointer(node)
+                .map_err(svc)?
+                .subscriber_builder()
+                .create()
+                .map_err(|e| port(&e))?,
+        })
+    }
+}
+
 /// A device that can also take the UI's pointer as its hand target (the sim pen).
 pub trait PointerTarget {
     fn set_pointer(&mut self, _target: [f32; 3], _buttons: u32) {}

@@ -97,35 +97,7 @@ fn run(a: Args) -> Result<(), String> {
     };
     let stop = rt::termination_flag();
     let node = services::node(&domain, "haptic-loop").map_err(|e| e.to_string())?;
-    let err = |e: services::ServiceError| e.to_string();
-    let pe = |e: &dyn std::fmt::Debug| format!("{e:?}");
-    let ports = Ports {
-        device: services::device(&node)
-            .map_err(err)?
-            .publisher_builder()
-            .create()
-            .map_err(|e| pe(&e))?,
-        applied: services::applied_force(&node)
-            .map_err(err)?
-            .publisher_builder()
-            .create()
-            .map_err(|e| pe(&e))?,
-        telemetry: services::haptic_telemetry(&node)
-            .map_err(err)?
-            .publisher_builder()
-            .create()
-            .map_err(|e| pe(&e))?,
-        model: services::local_model(&node)
-            .map_err(err)?
-            .subscriber_builder()
-            .create()
-            .map_err(|e| pe(&e))?,
-        pointer: services::pointer(&node)
-            .map_err(err)?
-            .subscriber_builder()
-            .create()
-            .map_err(|e| pe(&e))?,
-    };
+    let ports = Ports::open(&node)?;
     if let Some(p) = a.rt_priority {
         log(&rt::realtime(p, a.cpu).summary());
     }

@@ -19,33 +19,7 @@ use shared::{Header, monotonic_ns};
 fn start_loop(d: Domain, ticks: u64) -> std::thread::JoinHandle<looper::LoopStats> {
     std::thread::spawn(move || {
         let node = services::node(&d, "haptic").unwrap();
-        let ports = Ports {
-            device: services::device(&node)
-                .unwrap()
-                .publisher_builder()
-                .create()
-                .unwrap(),
-            applied: services::applied_force(&node)
-                .unwrap()
-                .publisher_builder()
-                .create()
-                .unwrap(),
-            telemetry: services::haptic_telemetry(&node)
-                .unwrap()
-                .publisher_builder()
-                .create()
-                .unwrap(),
-            model: services::local_model(&node)
-                .unwrap()
-                .subscriber_builder()
-                .create()
-                .unwrap(),
-            pointer: services::pointer(&node)
-                .unwrap()
-                .subscriber_builder()
-                .create()
-                .unwrap(),
-        };
+        let ports = Ports::open(&node).unwrap();
         let cfg = LoopConfig {
             max_ticks: Some(ticks),
             ..LoopConfig::default()

@@ -46,33 +46,7 @@ fn a_whole_session_drives_the_standin() {
     let log = so.with_file_name("calls.log");
     let d = Domain::new(&format!("hd{}", std::process::id())).unwrap();
     let node = services::node(&d, "haptic").unwrap();
-    let ports = Ports {
-        device: services::device(&node)
-            .unwrap()
-            .publisher_builder()
-            .create()
-            .unwrap(),
-        applied: services::applied_force(&node)
-            .unwrap()
-            .publisher_builder()
-            .create()
-            .unwrap(),
-        telemetry: services::haptic_telemetry(&node)
-            .unwrap()
-            .publisher_builder()
-            .create()
-            .unwrap(),
-        model: services::local_model(&node)
-            .unwrap()
-            .subscriber_builder()
-            .create()
-            .unwrap(),
-        pointer: services::pointer(&node)
-            .unwrap()
-            .subscriber_builder()
-            .create()
-            .unwrap(),
-    };
+    let ports = Ports::open(&node).unwrap();
     let samples = services::device(&node)
         .unwrap()
         .subscriber_builder()

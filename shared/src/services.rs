@@ -64,16 +64,31 @@ pub type SlicePub<T, H> = Publisher<ipc::Service, [T], H>;
 pub type SliceSub<T, H> = Subscriber<ipc::Service, [T], H>;
 pub type Sub<T> = Subscriber<ipc::Service, T, ()>;
 
+fn service_name(service: &'static str) -> Result<ServiceName, ServiceError> {
+    service.try_into().map_err(|e| ServiceError::Open {
+        service,
+        detail: format!("{e:?}"),
+    })
+}
+
+/// An open failure, told apart as a message-type mismatch when iceoryx2 names it
+/// `mismatch` (its error variants differ per messaging pattern).
+fn open_error(service: &'static str, e: impl core::fmt::Debug, mismatch: &str) -> ServiceError {
+    let detail = format!("{e:?}");
+    if detail.contains(mismatch) {
+        ServiceError::Mismatch { service }
+    } else {
+        ServiceError::Open { service, detail }
+    }
+}
+
 fn open<T: core::fmt::Debug + ZeroCopySend + 'static>(
     node: &Node<ipc::Service>,
     service: &'static str,
     history: usize,
     buffer: usize,
 ) -> Result<Factory<T>, ServiceError> {
-    let name: ServiceName = service.try_into().map_err(|e| ServiceError::Open {
-        service,
-        detail: format!("{e:?}"),
-    })?;
+    let name = service_name(service)?;
     node.service_builder(&name)
         .publish_subscribe::<T>()
         .history_size(history)
@@ -83,14 +98,7 @@ fn open<T: core::fmt::Debug + ZeroCopySend + 'static>(
         .max_subscribers(8)
         .enable_safe_overflow(true)
         .open_or_create()
-        .map_err(|e| {
-            let detail = format!("{e:?}");
-            if detail.contains("IncompatibleTypes") {
-                ServiceError::Mismatch { service }
-            } else {
-                ServiceError::Open { service, detail }
-            }
-        })
+        .map_err(|e| open_error(service, e, "IncompatibleTypes"))
 }
 
 pub fn device(node: &Node<ipc::Service>) -> Result<Factory<DeviceSample>, ServiceError> {
@@ -131,10 +139,7 @@ where
     T: core::fmt::Debug + ZeroCopySend + 'static,
     H: core::fmt::Debug + ZeroCopySend + 'static,
 {
-    let name: ServiceName = service.try_into().map_err(|e| ServiceError::Open {
-        service,
-        detail: format!("{e:?}"),
-    })?;
+    let name = service_name(service)?;
     node.service_builder(&name)
         .publish_subscribe::<[T]>()
         .user_header::<H>()
@@ -145,14 +150,7 @@ where
         .max_subscribers(8)
         .enable_safe_overflow(true)
         .open_or_create()
-        .map_err(|e| {
-            let detail = format!("{e:?}");
-            if detail.contains("IncompatibleTypes") {
-                ServiceError::Mismatch { service }
-            } else {
-                ServiceError::Open { service, detail }
-            }
-        })
+        .map_err(|e| open_error(service, e, "IncompatibleTypes"))
 }
 
 /// Cloth positions and normals, every frame (publishers: `initial_max_slice_len` of
@@ -181,23 +179,13 @@ pub type Commands = iceoryx2::service::port_factory::request_response::PortFacto
 /// Operations on the design, each with a reply.
 pub fn commands(node: &Node<ipc::Service>) -> Result<Commands, ServiceError> {
     let service = COMMANDS;
-    let name: ServiceName = service.try_into().map_err(|e| ServiceError::Open {
-        service,
-        detail: format!("{e:?}"),
-    })?;
+    let name = service_name(service)?;
     node.service_builder(&name)
         .request_response::<ToolCommand, CommandReply>()
         .enable_safe_overflow_for_requests(true)
         .enable_safe_overflow_for_responses(true)
         .open_or_create()
-        .map_err(|e| {
-            let detail = format!("{e:?}");
-            if detail.contains("IncompatibleRequestOrResponseType") {
-                ServiceError::Mismatch { service }
-            } else {
-                ServiceError::Open { service, detail }
-            }
-        })
+        .map_err(|e| open_error(service, e, "IncompatibleRequestOrResponseType"))
 }
 
 /// The texture as tiles (see [`TextureTile`]).
