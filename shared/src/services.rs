@@ -101,8 +101,10 @@ fn open<T: core::fmt::Debug + ZeroCopySend + 'static>(
         .map_err(|e| open_error(service, e, "IncompatibleTypes"))
 }
 
+/// Subscribers may buffer up to 32 samples: cloth-sim replays the pen's path of the last
+/// frame (about 17 samples at 60 Hz) through its substeps.
 pub fn device(node: &Node<ipc::Service>) -> Result<Factory<DeviceSample>, ServiceError> {
-    open(node, DEVICE, 1, 1)
+    open(node, DEVICE, 1, 32)
 }
 
 pub fn applied_force(node: &Node<ipc::Service>) -> Result<Factory<AppliedForce>, ServiceError> {

@@ -10,13 +10,14 @@ use std::time::{Duration, Instant};
 
 use glam::Vec3;
 use shared::domain::Domain;
-use shared::haptic_to_sim::{BUTTON_1, DeviceSample};
+use shared::haptic_to_sim::{AppliedForce, BUTTON_1, DeviceSample};
 use shared::sim_to_haptic::{LocalModel, MAX_PLANES};
 use shared::sim_to_ui::{ToolState, tool};
 use shared::ui_to_sim::{CommandReply, ToolCommand, op};
 use shared::{Checked, Header, services};
 
 use crate::cloth::Simulation;
+use crate::edit::PenInput;
 
 #[derive(Clone, Debug)]
 pub struct ServiceConfig {
@@ -31,6 +32,9 @@ pub struct ServiceConfig {
     /// Pinch: grab radius (m) and spring stiffness (N/m).
     pub pinch_radius: f32,
     pub pinch_stiffness: f32,
+    /// Limit the pinch's pull on the cloth to the force the haptic loop rendered (the
+    /// reaction), when it sends one.
+    pub couple_applied_force: bool,
 }
 
 impl ServiceConfig {
@@ -46,6 +50,7 @@ impl ServiceConfig {
             seconds: None,
             pinch_radius: 0.05,
             pinch_stiffness: 100.0,
+            couple_applied_force: true,
         }
     }
 }
@@ -59,6 +64,14 @@ pub struct ServiceStats {
     pub autosaves: u64,
     /// Commands from the UI answered.
     pub commands: u64,
+    /// Substeps that took the pen from a sample of their own (pen read per substep).
+    pub pen_substeps: u64,
+    /// Substeps whose pinch was limited by the haptic loop's applied force.
+    pub force_limited_substeps: u64,
+    /// Applied-force messages received from the haptic loop.
+    pub applied_forces: u64,
+    /// Largest pull of the pinch on the cloth in any substep, N.
+    pub pinch_force_max_n: f32,
     /// Longest time an autosave held up a frame, ms.
     pub autosave_ms_max: f64,
     pub resumed: bool,
@@ -135,6 +148,94 @@ impl Default for Tools {
         }
     }
 }
+
+/// The pen as cloth-sim sees it: the samples of the current frame interval (its path),
+/// the newest one, and the newest force the haptic loop rendered.
+#[derive(Debug, Default)]
+struct PenFeed {
+    /// Samples received since the last frame started, oldest first.
+    path: Vec<DeviceSample>,
+    latest: Option<DeviceSample>,
+    applied: Option<AppliedForce>,
+    /// The reason of the last rejected message, to log once.
+    reject: Option<String>,
+    reject_new: bool,
+}
+
+impl PenFeed {
+    fn reject(&mut self, stats: &mut ServiceStats, e: shared::MessageError) {
+        stats.rejected += 1;
+        let e = e.to_string();
+        if self.reject.as_ref() != Some(&e) {
+            self.reject = Some(e);
+            self.reject_new = true;
+        }
+    }
+
+    /// Takes whatever arrived (never blocks).
+    fn drain(
+        &mut self,
+        device: &services::Sub<DeviceSample>,
+        applied: &services::Sub<AppliedForce>,
+        stats: &mut ServiceStats,
+    ) {
+        while let Ok(Some(s)) = device.receive() {
+            match s.check() {
+                Ok(()) => {
+                    if self.path.len() == self.path.capacity() && !self.path.is_empty() {
+                        self.path.remove(0);
+                    }
+                    self.path.push(*s);
+                    self.latest = Some(*s);
+                    stats.samples += 1;
+                }
+                Err(e) => self.reject(stats, e),
+            }
+        }
+        while let Ok(Some(s)) = applied.receive() {
+            match s.check() {
+                Ok(()) => {
+                    self.applied = Some(*s);
+                    stats.applied_forces += 1;
+                }
+                Err(e) => self.reject(stats, e),
+            }
+        }
+    }
+
+    /// The pen for substep `k` of `n`: the frame's path replayed at substep rate (the last
+    /// substep takes the newest sample), and the pull limit from the applied force.
+    fn input(&self, k: usize, n: usize, cfg: &ServiceConfig) -> Option<PenInput> {
+        if self.path.is_empty() {
+            return None;
+        }
+        let i = ((k + 1) * self.path.len())
+            .div_ceil(n.max(1))
+            .clamp(1, self.path.len())
+            - 1;
+        let force_limit = match (&self.applied, cfg.couple_applied_force) {
+            (Some(a), true) => {
+                let age_s = shared::monotonic_ns().saturating_sub(a.header.sent_ns) as f64 * 1e-9;
+                // What the hand was pulled with, plus a margin against the lag between
+                // the two; nothing once the haptic loop stopped rendering.
+                Some(if age_s <= APPLIED_STALE_S {
+                    v3(a.force).length() * 1.1 + 0.05
+                } else {
+                    0.0
+                })
+            }
+            _ => None,
+        };
+        Some(PenInput {
+            target: v3(self.path[i].position),
+            force_limit,
+        })
+    }
+}
+
+/// An applied force older than this no longer limits the pinch to its size: the haptic
+/// loop is gone, so the cloth gets no pull at all.
+const APPLIED_STALE_S: f64 = 0.02;
 
 /// What button 1 does with the current tool this frame.
 fn pen_acts(
@@ -418,6 +519,12 @@ pub fn run(
     let device = services::device(&node)
         .map_err(|e| e.to_string())?
         .subscriber_builder()
+        .buffer_size(32)
+        .create()
+        .map_err(|e| pe(&e))?;
+    let applied_sub = services::applied_force(&node)
+        .map_err(|e| e.to_string())?
+        .subscriber_builder()
         .create()
         .map_err(|e| pe(&e))?;
     let model_pub = services::local_model(&node)
@@ -498,29 +605,21 @@ pub fn run(
     });
     let mut save_ms: Vec<f64> = Vec::new();
     let mut seq = 0u64;
-    let mut pen: Option<DeviceSample> = None;
-    let mut last_reject: Option<String> = None;
+    let mut feed = PenFeed {
+        path: Vec::with_capacity(64),
+        ..Default::default()
+    };
     while !stop.load(Ordering::Relaxed)
         && cfg
             .seconds
             .is_none_or(|s| started.elapsed().as_secs_f64() < s)
     {
-        while let Ok(Some(s)) = device.receive() {
-            match s.check() {
-                Ok(()) => {
-                    pen = Some(*s);
-                    stats.samples += 1;
-                }
-                Err(e) => {
-                    stats.rejected += 1;
-                    let e = e.to_string();
-                    if last_reject.as_ref() != Some(&e) {
-                        log(&format!("rejected a device sample: {e}"));
-                        last_reject = Some(e);
-                    }
-                }
-            }
+        // The path starts afresh with the newest sample of the last frame.
+        if let Some(last) = feed.path.last().copied() {
+            feed.path.clear();
+            feed.path.push(last);
         }
+        feed.drain(&device, &applied_sub, &mut stats);
         while let Ok(Some(req)) = server.receive() {
             let cmd = *req.payload();
             let (ok, msg) = match cmd.check() {
@@ -550,7 +649,7 @@ pub fn run(
             );
             let _ = req.send_copy(reply);
         }
-        if let Some(p) = pen {
+        if let Some(p) = feed.latest {
             pen_acts(&mut sim, &mut tools, &p, cfg, &mut stats, log);
         }
         // The tool state, when it changed (a late UI gets it from the history).
@@ -577,10 +676,27 @@ pub fn run(
             });
             tool_sent = Some(state);
         }
-        let fs = match sim.step() {
+        // The pen is read again before each substep: samples that arrive while the frame
+        // is computed join the path.
+        let pinching = sim.pinch().is_some();
+        let fs = match sim.step_with(&mut |k, n| {
+            if !pinching {
+                return None;
+            }
+            feed.drain(&device, &applied_sub, &mut stats);
+            let input = feed.input(k, n, cfg)?;
+            stats.pen_substeps += 1;
+            if input.force_limit.is_some() {
+                stats.force_limited_substeps += 1;
+            }
+            Some(input)
+        }) {
             Ok(fs) => fs,
             Err(e) => return Err(format!("the simulation failed: {e}")),
         };
+        for f in sim.pinch_forces() {
+            stats.pinch_force_max_n = stats.pinch_force_max_n.max(f.length());
+        }
         tel.frame_time.record((fs.wall_ms * 1e6) as u64);
         tel.collision_time.record((fs.collision_ms * 1e6) as u64);
         if tel_at.0.elapsed().as_secs_f64() >= 1.0 {
@@ -621,7 +737,16 @@ pub fn run(
                 }
             }
         }
-        let tip = pen.map_or(Vec3::splat(f32::INFINITY), |p| v3(p.position));
+        if feed.reject_new {
+            log(&format!(
+                "rejected a message from haptic-loop: {}",
+                feed.reject.as_deref().unwrap_or("?")
+            ));
+            feed.reject_new = false;
+        }
+        let tip = feed
+            .latest
+            .map_or(Vec3::splat(f32::INFINITY), |p| v3(p.position));
         let _ = model_pub.send_copy(local_model(&sim, tip, &mut seq, cfg.pinch_stiffness));
         if last_save.elapsed().as_secs_f64() >= cfg.autosave_every_s {
             let t = Instant::now();

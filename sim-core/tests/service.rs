@@ -287,3 +287,355 @@ fn commands_are_carried_out_and_answered() {
     assert_eq!(stats.rejected, 3);
     let _ = std::fs::remove_file(&path);
 }
+
+/// A client of the command service that waits for its reply.
+fn asker(
+    client: iceoryx2::port::client::Client<
+        iceoryx2::prelude::ipc::Service,
+        ToolCommand,
+        (),
+        CommandReply,
+        (),
+    >,
+) -> impl FnMut(ToolCommand) -> CommandReply {
+    let mut seq = 0;
+    move |mut c: ToolCommand| {
+        c.header = Header::next(&mut seq);
+        let deadline = Instant::now() + Duration::from_secs(10);
+        let pending = loop {
+            match client.send_copy(c) {
+                Ok(p) if p.number_of_server_connections() > 0 => break p,
+                _ if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(20)),
+                _ => panic!("no server"),
+            }
+        };
+        loop {
+            if let Some(r) = pending.receive().unwrap() {
+                r.check().unwrap();
+                return *r;
+            }
+            assert!(Instant::now() < deadline, "no reply");
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    }
+}
+
+/// The pen's button with each tool, in one running cloth-sim: paint, cut along a stroke,
+/// tear by pulling, two-press sew; the pinch follows the pen substep by substep.
+#[test]
+fn the_pens_button_acts_with_every_tool() {
+    use shared::haptic_to_sim::DeviceSample;
+    use shared::sim_to_ui::{ClothFrameHeader, tool};
+    static STOP_TOOLS: AtomicBool = AtomicBool::new(false);
+    let d = Domain::new(&format!("pen{}", std::process::id())).unwrap();
+    let mut cfg = ServiceConfig::new(d.clone());
+    cfg.autosave = std::env::temp_dir().join(format!("saiho-pen-{}.saiho", std::process::id()));
+    cfg.seconds = Some(60.0);
+    cfg.pinch_stiffness = 2000.0;
+    let handle = std::thread::spawn(move || {
+        let mut scene = ScenarioConfig::new(ScenarioName::DrapeCube);
+        scene.grid = 16;
+        let sim = build_simulation(&scene).unwrap();
+        run(sim, &cfg, &STOP_TOOLS, &mut |m| eprintln!("cloth-sim: {m}")).unwrap()
+    });
+    let node = services::node(&d, "ui").unwrap();
+    let mut ask = asker(
+        services::commands(&node)
+            .unwrap()
+            .client_builder()
+            .create()
+            .unwrap(),
+    );
+    let frames = services::cloth_frame(&node)
+        .unwrap()
+        .subscriber_builder()
+        .create()
+        .unwrap();
+    let meshes = services::cloth_mesh(&node)
+        .unwrap()
+        .subscriber_builder()
+        .create()
+        .unwrap();
+    let states = services::tool_state(&node)
+        .unwrap()
+        .subscriber_builder()
+        .create()
+        .unwrap();
+    let pen = services::device(&node)
+        .unwrap()
+        .publisher_builder()
+        .create()
+        .unwrap();
+    let mut pen_seq = 0;
+    let mut send = |p: [f32; 3], down: bool| {
+        pen.send_copy(DeviceSample {
+            header: Header::next(&mut pen_seq),
+            position: p,
+            buttons: u32::from(down),
+            device_ok: 1,
+            ..Default::default()
+        })
+        .unwrap();
+    };
+    // The next cloth frame published: its header and positions.
+    let next_frame = || -> (ClothFrameHeader, Vec<[f32; 3]>) {
+        let deadline = Instant::now() + Duration::from_secs(10);
+        while frames.receive().unwrap().is_some() {}
+        loop {
+            if let Some(f) = frames.receive().unwrap() {
+                let h = *f.user_header();
+                let x = f.payload()[..3 * h.vertices as usize]
+                    .chunks_exact(3)
+                    .map(|c| [c[0], c[1], c[2]])
+                    .collect();
+                return (h, x);
+            }
+            assert!(Instant::now() < deadline, "no cloth frame");
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    };
+    let tool_state = || {
+        let mut last = None;
+        let deadline = Instant::now() + Duration::from_secs(5);
+        while last.is_none() || Instant::now() < deadline.min(Instant::now()) {
+            while let Some(s) = states.receive().unwrap() {
+                last = Some(*s);
+            }
+            if last.is_none() {
+                assert!(Instant::now() < deadline, "no tool state");
+                std::thread::sleep(Duration::from_millis(5));
+            }
+        }
+        last.unwrap()
+    };
+    let use_tool = |ask: &mut dyn FnMut(ToolCommand) -> CommandReply, t: u32| {
+        let r = ask(ToolCommand {
+            op: op::SET_TOOL,
+            a: t,
+            rgba: [20, 40, 220, 255],
+            value: 0.03,
+            ..Default::default()
+        });
+        assert_eq!(r.ok, 1, "{}", r.message());
+    };
+    let n = 17;
+    let at = |r: usize, c: usize| r * n + c;
+    // Let the cloth land on the cube first.
+    for _ in 0..60 {
+        next_frame();
+    }
+
+    // Paint: a press on the cloth changes the texture.
+    use_tool(&mut ask, tool::PAINT);
+    let (h0, x) = next_frame();
+    send(x[at(8, 8)], true);
+    next_frame();
+    next_frame();
+    send(x[at(8, 8)], false);
+    let (h1, _) = next_frame();
+    assert!(
+        h1.texture_version > h0.texture_version,
+        "paint by pen: texture version {} -> {}",
+        h0.texture_version,
+        h1.texture_version
+    );
+
+    // Tearing at 2x rest length (set, then off until the tool turns it on).
+    for mode in [1, 0] {
+        let r = ask(ToolCommand {
+            op: op::SET_TEAR,
+            mode,
+            value: 2.0,
+            ..Default::default()
+        });
+        assert_eq!(r.ok, 1, "{}", r.message());
+    }
+    use_tool(&mut ask, tool::TEAR);
+    // The mesh as it is now.
+    let mut triangles = None;
+    while let Some(m) = meshes.receive().unwrap() {
+        triangles = Some(m.user_header().triangles);
+    }
+    let triangles = triangles.expect("the current mesh");
+    let (_, x) = next_frame();
+    let start = x[at(16, 16)];
+    let mut torn = false;
+    for k in 0..90 {
+        let t = (k as f32 / 30.0).min(1.0);
+        send(
+            [start[0] + 0.8 * t, start[1] - 0.2 * t, start[2] + 0.8 * t],
+            true,
+        );
+        next_frame();
+        while let Some(m) = meshes.receive().unwrap() {
+            torn |= m.user_header().triangles < triangles;
+        }
+        if torn {
+            break;
+        }
+    }
+    send(start, false);
+    next_frame();
+    assert!(
+        torn,
+        "tear by pen: no triangle was torn off ({triangles} before)"
+    );
+
+    // Cut: hold and draw across row 8 from column 2 to 14; the cut happens on release.
+    use_tool(&mut ask, tool::CUT);
+    let (h0, x) = next_frame();
+    for c in 2..=14 {
+        send(x[at(8, c)], true);
+        next_frame();
+    }
+    send(x[at(8, 14)], false);
+    next_frame();
+    let (h1, _) = next_frame();
+    assert!(
+        h1.vertices > h0.vertices && h1.topology != h0.topology,
+        "cut by pen: {} -> {} vertices",
+        h0.vertices,
+        h1.vertices
+    );
+
+    // Sew: press on a corner, then on the border vertex two along (a tuck).
+    use_tool(&mut ask, tool::SEW);
+    let depth = tool_state().undo_depth;
+    let (_, x) = next_frame();
+    send(x[at(0, 0)], true);
+    next_frame();
+    send(x[at(0, 0)], false);
+    next_frame();
+    let s = tool_state();
+    assert_eq!(
+        s.sew_first,
+        at(0, 0) as u32,
+        "the first press picks a vertex"
+    );
+    let (_, x) = next_frame();
+    send(x[at(0, 2)], true);
+    next_frame();
+    send(x[at(0, 2)], false);
+    next_frame();
+    let s = tool_state();
+    assert!(
+        s.sew_first == u32::MAX && s.undo_depth == depth + 1,
+        "sew by pen: first {} depth {} -> {}",
+        s.sew_first,
+        depth,
+        s.undo_depth
+    );
+
+    // Tear: grab a corner and pull it far away; edges tear (triangles are deleted).
+    STOP_TOOLS.store(true, Ordering::Relaxed);
+    let stats = handle.join().unwrap();
+    // The tear's pinch read the pen every substep, unlimited (no haptic loop).
+    assert!(stats.pen_substeps >= 5, "{} substeps", stats.pen_substeps);
+    assert_eq!(stats.force_limited_substeps, 0, "no haptic loop: no limit");
+    assert_eq!(stats.rejected, 0);
+    let _ = std::fs::remove_file(
+        std::env::temp_dir().join(format!("saiho-pen-{}.saiho", std::process::id())),
+    );
+}
+
+/// With a haptic loop rendering the pinch, the cloth is pulled with the force the hand
+/// was pulled back with (the reaction), not harder; the pen is read every substep.
+#[test]
+fn the_pinch_pulls_the_cloth_no_harder_than_the_rendered_force() {
+    use shared::haptic_to_sim::{AppliedForce, DeviceSample};
+    static STOP_PULL: AtomicBool = AtomicBool::new(false);
+    let d = Domain::new(&format!("pull{}", std::process::id())).unwrap();
+    let mut cfg = ServiceConfig::new(d.clone());
+    cfg.autosave = std::env::temp_dir().join(format!("saiho-pull-{}.saiho", std::process::id()));
+    cfg.seconds = Some(30.0);
+    let handle = std::thread::spawn(move || {
+        let mut scene = ScenarioConfig::new(ScenarioName::DrapeCube);
+        scene.grid = 8;
+        let sim = build_simulation(&scene).unwrap();
+        run(sim, &cfg, &STOP_PULL, &mut |_| {}).unwrap()
+    });
+    let node = services::node(&d, "haptic").unwrap();
+    let frames = services::cloth_frame(&node)
+        .unwrap()
+        .subscriber_builder()
+        .create()
+        .unwrap();
+    let pen = services::device(&node)
+        .unwrap()
+        .publisher_builder()
+        .create()
+        .unwrap();
+    let applied = services::applied_force(&node)
+        .unwrap()
+        .publisher_builder()
+        .create()
+        .unwrap();
+    let (mut s1, mut s2) = (0, 0);
+    let mut start = None;
+    let mut pulled = 0;
+    let deadline = Instant::now() + Duration::from_secs(20);
+    // 40 frames of the corner pulled 0.5 m up while the "hand" feels 0.2 N.
+    while pulled < 40 {
+        assert!(Instant::now() < deadline, "the service stopped answering");
+        let Some(f) = frames.receive().unwrap() else {
+            // Between frames, the haptic loop's 1 kHz stream.
+            if let Some(p) = start {
+                let p: [f32; 3] = p;
+                // The press lands where the corner is; then the pen rises.
+                let lift = if pulled == 0 { 0.0 } else { 0.5 };
+                pen.send_copy(DeviceSample {
+                    header: Header::next(&mut s1),
+                    position: [p[0], p[1] + lift, p[2]],
+                    buttons: 1,
+                    device_ok: 1,
+                    ..Default::default()
+                })
+                .unwrap();
+                applied
+                    .send_copy(AppliedForce {
+                        header: Header::next(&mut s2),
+                        force: [0.0, -0.2, 0.0],
+                        model_frame: 1,
+                        ..Default::default()
+                    })
+                    .unwrap();
+            }
+            std::thread::sleep(Duration::from_millis(1));
+            continue;
+        };
+        let p = f.payload();
+        if start.is_none() && f.user_header().frame > 30 {
+            start = Some([p[0], p[1], p[2]]);
+            pen.send_copy(DeviceSample {
+                header: Header::next(&mut s1),
+                position: [p[0], p[1], p[2]],
+                buttons: 1,
+                device_ok: 1,
+                ..Default::default()
+            })
+            .unwrap();
+        } else if start.is_some() {
+            pulled += 1;
+        }
+    }
+    STOP_PULL.store(true, Ordering::Relaxed);
+    let stats = handle.join().unwrap();
+    assert_eq!(stats.pinches, 1);
+    assert!(
+        stats.force_limited_substeps >= 5 * 30
+            && stats.pen_substeps >= stats.force_limited_substeps,
+        "limited {} of {} substeps",
+        stats.force_limited_substeps,
+        stats.pen_substeps
+    );
+    // 0.5 m at 100 N/m would be 50 N; the limit is 0.2 N x 1.1 + 0.05 N.
+    let limit = 0.2 * 1.1 + 0.05;
+    assert!(
+        stats.pinch_force_max_n > 0.5 * limit && stats.pinch_force_max_n <= limit + 1e-3,
+        "largest pull {} N",
+        stats.pinch_force_max_n
+    );
+    let _ = std::fs::remove_file(
+        std::env::temp_dir().join(format!("saiho-pull-{}.saiho", std::process::id())),
+    );
+}

@@ -84,6 +84,13 @@ struct RunArgs {
     /// Start a new design even if an autosave exists.
     #[arg(long)]
     fresh: bool,
+    /// Pinch spring stiffness, N/m (the haptic loop renders the same spring).
+    #[arg(long, default_value_t = 100.0)]
+    pinch_stiffness: f32,
+    /// Pull the cloth with the pinch spring alone, not limited to the force the haptic
+    /// loop rendered (its reaction).
+    #[arg(long)]
+    no_force_coupling: bool,
     /// Stop after this many seconds (default: until SIGINT/SIGTERM).
     #[arg(long)]
     seconds: Option<f64>,
@@ -235,6 +242,15 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
     }
     cfg.rate_hz = a.rate;
     cfg.seconds = a.seconds;
+    if !(a.pinch_stiffness.is_finite() && a.pinch_stiffness > 0.0) {
+        return Err(format!(
+            "--pinch-stiffness must be a positive number of N/m, got {}",
+            a.pinch_stiffness
+        )
+        .into());
+    }
+    cfg.pinch_stiffness = a.pinch_stiffness;
+    cfg.couple_applied_force = !a.no_force_coupling;
     let stop = shared::signals::termination_flag();
     let mut log = |m: &str| eprintln!("cloth-sim: {m}");
     if a.fresh {
@@ -262,11 +278,15 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
     ));
     let stats = service::run(sim, &cfg, stop, &mut log)?;
     log(&format!(
-        "stopped after {} frames: {} device samples ({} rejected), {} pinches, {} autosaves (longest hold-up {:.1} ms)",
+        "stopped after {} frames: {} device samples ({} rejected), {} applied forces, {} pinches ({} substeps read the pen, {} limited by the rendered force, largest pull {:.2} N), {} autosaves (longest hold-up {:.1} ms)",
         stats.frames,
         stats.samples,
         stats.rejected,
+        stats.applied_forces,
         stats.pinches,
+        stats.pen_substeps,
+        stats.force_limited_substeps,
+        stats.pinch_force_max_n,
         stats.autosaves,
         stats.autosave_ms_max
     ));

@@ -192,6 +192,16 @@ impl Simulation {
 
     /// Steps one frame. On divergence the error says so; the state is then not usable.
     pub fn step(&mut self) -> Result<FrameStats, StepError> {
+        self.step_with(&mut |_, _| None)
+    }
+
+    /// Steps one frame, asking `pen(substep, substeps)` before each substep where the
+    /// pinch's pointer is and how hard it may pull (`None`: unchanged). This is how
+    /// cloth-sim follows the pen at substep rate.
+    pub fn step_with(
+        &mut self,
+        pen: &mut dyn FnMut(usize, usize) -> Option<crate::edit::PenInput>,
+    ) -> Result<FrameStats, StepError> {
         let t0 = Instant::now();
         let mut stats = FrameStats::default();
         if let Some(body) = &self.body {
@@ -214,7 +224,13 @@ impl Simulation {
         stats.collision_ms = t0.elapsed().as_secs_f64() * 1e3;
         self.load_stitches();
         match &mut self.solver {
-            Solver::Xpbd(s) => s.step(&mut self.cloth, &self.contacts, &self.env, self.substeps),
+            Solver::Xpbd(s) => s.step(
+                &mut self.cloth,
+                &self.contacts,
+                &self.env,
+                self.substeps,
+                pen,
+            ),
             Solver::Seed(s) => s.step(&mut self.cloth, &self.contacts, &self.env, self.substeps),
             Solver::Implicit(s) => {
                 s.step(&mut self.cloth, &self.contacts, &self.env, self.substeps)?

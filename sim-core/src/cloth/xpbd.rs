@@ -243,6 +243,7 @@ impl Xpbd {
         contacts: &ContactCache,
         env: &Environment,
         substeps: usize,
+        pen: &mut dyn FnMut(usize, usize) -> Option<crate::edit::PenInput>,
     ) {
         let h = env.frame_dt / substeps as f32;
         let cp = ContactParams {
@@ -268,7 +269,17 @@ impl Xpbd {
                 f32::INFINITY
             },
         );
-        for _ in 0..substeps {
+        for k in 0..substeps {
+            if let Some(p) = &mut self.pinch
+                && let Some(input) = pen(k, substeps)
+                && input.target.is_finite()
+            {
+                p.target = input.target;
+                p.force_limit = input
+                    .force_limit
+                    .filter(|f| f.is_finite())
+                    .map(|f| f.max(0.0));
+            }
             let g = env.gravity * h;
             for i in 0..cloth.len() {
                 self.prev[i] = cloth.x[i];
@@ -289,20 +300,32 @@ impl Xpbd {
             }
             if let Some(p) = &self.pinch {
                 // Zero-length XPBD springs to the pointer: compliance 1 / stiffness each.
+                // Their corrections are found first, then applied scaled down together if
+                // their force would exceed the limit.
                 let k = p.stiffness / p.held.len().max(1) as f32;
                 let alpha = inv_h2 / k;
+                let correction = |i: usize, offset: Vec3, x: &[Vec3]| {
+                    let w = *cloth.inv_mass.get(i)?;
+                    let x = *x.get(i)?;
+                    (w > 0.0).then(|| ((p.target + offset - x) * (w / (w + alpha)), w))
+                };
                 let mut force = Vec3::ZERO;
                 for &(v, offset) in &p.held {
-                    let i = v as usize;
-                    if let (Some(&w), Some(x)) = (cloth.inv_mass.get(i), cloth.x.get_mut(i))
-                        && w > 0.0
-                    {
-                        let dx = (p.target + offset - *x) * (w / (w + alpha));
-                        *x += dx;
+                    if let Some((dx, w)) = correction(v as usize, offset, &cloth.x) {
                         force += dx * (inv_h2 / w);
                     }
                 }
-                self.pinch_forces.push(force);
+                let scale = match p.force_limit {
+                    Some(limit) if force.length() > limit => limit / force.length(),
+                    _ => 1.0,
+                };
+                // Held vertices are distinct, so each correction is the one summed above.
+                for &(v, offset) in &p.held {
+                    if let Some((dx, _)) = correction(v as usize, offset, &cloth.x) {
+                        cloth.x[v as usize] += dx * scale;
+                    }
+                }
+                self.pinch_forces.push(force * scale);
             }
             contacts.project(&mut cloth.x, &mut self.prev, &cloth.inv_mass, &cp);
             let inv_h = 1.0 / h;

@@ -19,7 +19,7 @@ mod seam;
 use glam::Vec3;
 
 pub use history::History;
-pub use ops::{Pinch, TearMode, TearSettings};
+pub use ops::{PenInput, Pinch, TearMode, TearSettings};
 pub use paint::{PaintPatch, TILE, Texture};
 pub(crate) use seam::stitch;
 pub use seam::{STITCH_FORCE, Seam};

@@ -52,6 +52,18 @@ pub struct Pinch {
     pub target: Vec3,
     /// Total stiffness of the springs, N/m.
     pub stiffness: f32,
+    /// Most force the springs together may put on the cloth in a substep, N (None: no
+    /// limit). cloth-sim sets it from the force the haptic loop rendered, so the cloth
+    /// is pulled no harder than the user's hand is pulled back.
+    pub force_limit: Option<f32>,
+}
+
+/// The pen during one substep: where the pinch's pointer end is, and the most force the
+/// pinch may exert (see [`Pinch::force_limit`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PenInput {
+    pub target: Vec3,
+    pub force_limit: Option<f32>,
 }
 
 impl Simulation {
@@ -509,6 +521,7 @@ impl Simulation {
             held,
             target: p,
             stiffness,
+            force_limit: None,
         });
         Ok(v)
     }
