@@ -116,6 +116,7 @@ pub fn run<D: HapticDevice + PointerTarget>(
     let mut stats = LoopStats::default();
     let mut safety = ForceSafety::new(cfg.limits);
     let mut model: Option<(LocalModel, u64)> = None; // (model, received at ns)
+    let mut model_new = false;
     let mut seq_sample = 0u64;
     let mut seq_applied = 0u64;
     let mut seq_tel = 0u64;
@@ -146,7 +147,10 @@ pub fn run<D: HapticDevice + PointerTarget>(
         // Newest valid model and pointer input; reject (and count) bad ones.
         while let Ok(Some(s)) = ports.model.receive() {
             match s.check() {
-                Ok(()) => model = Some((*s, start)),
+                Ok(()) => {
+                    model = Some((*s, start));
+                    model_new = true;
+                }
                 Err(e) => {
                     stats.rejected += 1;
                     if stats.last_reject.is_none() {
@@ -182,7 +186,13 @@ pub fn run<D: HapticDevice + PointerTarget>(
         };
         let wanted = match (&model, pen) {
             (Some((m, _)), Some(p)) => {
-                let age_s = start.saturating_sub(m.header.sent_ns) as f32 * 1e-9;
+                let age_ns = start.saturating_sub(m.header.sent_ns);
+                let t = &mut stats.telemetry;
+                t.model_age.record(age_ns);
+                if std::mem::take(&mut model_new) && m.pen_sent_ns > 0 {
+                    t.pen_to_model.record(start.saturating_sub(m.pen_sent_ns));
+                }
+                let age_s = age_ns as f32 * 1e-9;
                 proxy_force(&cfg.proxy, m, age_s, p.position, p.velocity)
             }
             _ => [0.0; 3],

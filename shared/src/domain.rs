@@ -50,6 +50,12 @@ impl Domain {
         }
     }
 
+    /// This domain's directory under the system temp directory (iceoryx2's root path; the
+    /// launcher's control socket lives here too).
+    pub fn root_dir(&self) -> std::path::PathBuf {
+        std::env::temp_dir().join("saiho-iceoryx2").join(&self.name)
+    }
+
     pub fn name(&self) -> &str {
         &self.name
     }
@@ -61,7 +67,7 @@ impl Domain {
         let mut cfg = Config::default();
         let prefix = format!("saiho_{}_", self.name);
         cfg.global.prefix = FileName::new(prefix.as_bytes()).map_err(|e| err(format!("{e:?}")))?;
-        let root = std::env::temp_dir().join("saiho-iceoryx2").join(&self.name);
+        let root = self.root_dir();
         std::fs::create_dir_all(&root).map_err(|e| err(e.to_string()))?;
         let mut root_s = root.display().to_string();
         root_s.push('/');

@@ -41,6 +41,8 @@ pub const CLOTH_MESH: &str = "saiho/cloth-mesh";
 pub const COMMANDS: &str = "saiho/commands";
 pub const TOOL_STATE: &str = "saiho/tool-state";
 pub const TEXTURE: &str = "saiho/texture";
+/// cloth-latency's echo of device samples, opened with the device service's QoS.
+pub const DEVICE_ECHO: &str = "saiho/latency/device-echo";
 /// History of the texture service: every tile of a 1024 x 1024 texture in 64 x 64 tiles.
 pub const TEXTURE_HISTORY: usize = 256;
 
@@ -105,6 +107,12 @@ fn open<T: core::fmt::Debug + ZeroCopySend + 'static>(
 /// frame (about 17 samples at 60 Hz) through its substeps.
 pub fn device(node: &Node<ipc::Service>) -> Result<Factory<DeviceSample>, ServiceError> {
     open(node, DEVICE, 1, 32)
+}
+
+/// The device service's twin for round trips (cloth-latency ping): same QoS, so the
+/// measured path is the one device samples take.
+pub fn device_echo(node: &Node<ipc::Service>) -> Result<Factory<DeviceSample>, ServiceError> {
+    open(node, DEVICE_ECHO, 1, 32)
 }
 
 pub fn applied_force(node: &Node<ipc::Service>) -> Result<Factory<AppliedForce>, ServiceError> {

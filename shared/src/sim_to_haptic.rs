@@ -15,6 +15,9 @@ pub struct LocalModel {
     pub header: Header,
     /// The simulation frame it describes.
     pub frame: u64,
+    /// Send time of the newest device sample cloth-sim had read when it built this model
+    /// (0: none), so the haptic loop can time the whole loop, ns.
+    pub pen_sent_ns: u64,
     /// 1 while the pen pinches a vertex.
     pub pinching: u32,
     /// Pinch spring stiffness, N/m.

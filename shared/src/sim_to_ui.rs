@@ -20,6 +20,9 @@ pub struct ClothFrameHeader {
     /// Which mesh (`MeshHeader::topology`) these vertices belong to.
     pub topology: u64,
     pub texture_version: u64,
+    /// Send time of the newest device sample that went into this frame (0: none), ns:
+    /// device motion to cloth frame is `header.sent_ns - pen_sent_ns`.
+    pub pen_sent_ns: u64,
     pub vertices: u32,
     pub _reserved: u32,
 }

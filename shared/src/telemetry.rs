@@ -93,6 +93,11 @@ pub struct LoopTelemetry {
     pub period: Histogram,
     /// Work inside a tick (device, proxy, messages).
     pub compute: Histogram,
+    /// Age of the local model when a tick used it (tick start minus its send time).
+    pub model_age: Histogram,
+    /// The whole loop, once per model at its first use: from the device sample cloth-sim
+    /// built the model from being sent, to the tick that rendered the model.
+    pub pen_to_model: Histogram,
     /// Latest rendered force magnitude, N, and whether the local model is fresh.
     pub force_n: f32,
     pub model_fresh: u32,

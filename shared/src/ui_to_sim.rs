@@ -25,7 +25,18 @@ pub mod op {
     pub const SAVE: u32 = 9;
     /// Current tool `a` (`sim_to_ui::tool`), paint colour `rgba`, brush radius `value` m.
     pub const SET_TOOL: u32 = 10;
-    pub const LAST: u32 = SET_TOOL;
+    /// Remove the triangles whose pattern (UV) centre lies in the rectangle
+    /// `uv[0..4] = (u0, v0, u1, v1)` (select on the pattern, delete).
+    pub const REMOVE_REGION: u32 = 11;
+    /// A seam between two boundary paths given on the pattern as UV segments
+    /// `uv[0..4]` (path A from its start to its end) and `uv[4..8]` (path B): the border
+    /// vertices within `value` (UV units) of each segment, past its start, in order along
+    /// it, are stitched pairwise.
+    pub const SEAM: u32 = 12;
+    /// Export the design into the directory `text`: OBJ+MTL+PNG, GLB, the design file,
+    /// the body, and `sim-report.json` (what cloth-sim measured).
+    pub const EXPORT: u32 = 13;
+    pub const LAST: u32 = EXPORT;
 }
 
 pub const TEXT_LEN: usize = 240;
@@ -43,6 +54,8 @@ pub struct ToolCommand {
     pub vec: [f32; 3],
     pub value: f32,
     pub rgba: [u8; 4],
+    /// Pattern coordinates for REMOVE_REGION and SEAM.
+    pub uv: [f32; 8],
     pub text_len: u32,
     pub text: [u8; TEXT_LEN],
 }
@@ -58,6 +71,7 @@ impl Default for ToolCommand {
             vec: [0.0; 3],
             value: 0.0,
             rgba: [0; 4],
+            uv: [0.0; 8],
             text_len: 0,
             text: [0; TEXT_LEN],
         }
@@ -106,8 +120,18 @@ impl Checked for ToolCommand {
                 crate::sim_to_ui::tool::LAST
             ));
         }
-        if self.op == op::SAVE && self.text().is_none_or(str::is_empty) {
-            return Err("save needs a UTF-8 path".into());
+        if !self.uv.iter().all(|c| c.is_finite()) {
+            return Err("pattern coordinates are not finite".into());
+        }
+        if matches!(self.op, op::SAVE | op::EXPORT) && self.text().is_none_or(str::is_empty) {
+            return Err("save and export need a UTF-8 path".into());
+        }
+        if self.op == op::SEAM && self.value.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+        {
+            return Err(format!(
+                "a seam needs a positive tolerance, got {}",
+                self.value
+            ));
         }
         Ok(())
     }

@@ -66,10 +66,14 @@ pub struct ServiceStats {
     pub commands: u64,
     /// Substeps that took the pen from a sample of their own (pen read per substep).
     pub pen_substeps: u64,
-    /// Substeps whose pinch was limited by the haptic loop's applied force.
+    /// Substeps whose pinch had the haptic loop's applied force as its limit.
+    pub coupled_substeps: u64,
+    /// Of those, substeps in which the limit bound (the cloth was pulled at it).
     pub force_limited_substeps: u64,
     /// Applied-force messages received from the haptic loop.
     pub applied_forces: u64,
+    /// Seam pairs welded.
+    pub welds: u64,
     /// Largest pull of the pinch on the cloth in any substep, N.
     pub pinch_force_max_n: f32,
     /// Longest time an autosave held up a frame, ms.
@@ -82,10 +86,17 @@ fn v3(a: [f32; 3]) -> Vec3 {
 }
 
 /// The local model for a pen at `tip`.
-fn local_model(sim: &Simulation, tip: Vec3, seq: &mut u64, stiffness: f32) -> LocalModel {
+fn local_model(
+    sim: &Simulation,
+    tip: Vec3,
+    pen_sent_ns: u64,
+    seq: &mut u64,
+    stiffness: f32,
+) -> LocalModel {
     let mut m = LocalModel {
         header: Header::next(seq),
         frame: sim.frame,
+        pen_sent_ns,
         stiffness,
         ..Default::default()
     };
@@ -348,6 +359,19 @@ fn command(sim: &mut Simulation, c: &ToolCommand) -> Result<String, String> {
             .paint(v3(c.vec), c.value, c.rgba)
             .map(|_| "painted".to_string())
             .map_err(e),
+        op::REMOVE_REGION => {
+            let u = c.uv;
+            sim.remove_region(glam::Vec2::new(u[0], u[1]), glam::Vec2::new(u[2], u[3]))
+                .map(|n| format!("removed {n} triangles"))
+                .map_err(e)
+        }
+        op::SEAM => {
+            let u = c.uv;
+            let p = |i: usize| glam::Vec2::new(u[i], u[i + 1]);
+            sim.seam_on_pattern([p(0), p(2)], [p(4), p(6)], c.value)
+                .map(|n| format!("seam of {n} stitched pairs"))
+                .map_err(e)
+        }
         op::UNDO => sim.undo().map(|l| format!("undid {l}")).map_err(e),
         op::REDO => sim.redo().map(|l| format!("redid {l}")).map_err(e),
         op::SET_TEAR => {
@@ -378,6 +402,115 @@ fn command(sim: &mut Simulation, c: &ToolCommand) -> Result<String, String> {
         }
         other => Err(format!("unknown operation {other}")),
     }
+}
+
+/// What cloth-sim reports of the design it exports (`sim-report.json`).
+#[derive(Debug, serde::Serialize)]
+struct ExportReport {
+    model: &'static str,
+    body: String,
+    vertices: usize,
+    triangles: usize,
+    frames: u64,
+    frame_dt_s: f32,
+    substeps: usize,
+    /// Wall time of a whole frame since start, ms (telemetry histogram: 1 µs buckets up to
+    /// 2 ms, 100 µs above).
+    step_ms: crate::scenario::Percentiles,
+    collision_ms: crate::scenario::Percentiles,
+    max_penetration_m: f64,
+    thickness_m: f32,
+    kinetic_energy_final_j: f64,
+    settled: bool,
+    mesh_valid: bool,
+    seams: usize,
+    seam_pairs_welded: u64,
+    /// Over the cube's side panels (see `cloth-sim scenario fit-cube`), m.
+    fit_gap_mean_m: Option<f64>,
+    fit_gap_max_m: Option<f64>,
+    undo_depth: usize,
+    exported: Vec<String>,
+}
+
+fn histogram_ms(h: &shared::telemetry::Histogram) -> crate::scenario::Percentiles {
+    crate::scenario::Percentiles {
+        p50: h.quantile_ns(0.5) as f64 * 1e-6,
+        p99: h.quantile_ns(0.99) as f64 * 1e-6,
+        max: h.max_ns as f64 * 1e-6,
+    }
+}
+
+/// Writes the design's exports and `sim-report.json` into `dir`.
+fn export(
+    sim: &mut Simulation,
+    dir: &std::path::Path,
+    tel: &shared::telemetry::SimTelemetry,
+    stats: &ServiceStats,
+) -> Result<String, String> {
+    use crate::edit::export::{export_glb, export_obj};
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    sim.refresh_png_cache().map_err(|e| e.to_string())?;
+    let mut files = export_obj(sim, dir, "cloth").map_err(|e| e.to_string())?;
+    files.push(export_glb(sim, dir, "cloth").map_err(|e| e.to_string())?);
+    let design = dir.join("design.saiho");
+    sim.save_design_file(&design).map_err(|e| e.to_string())?;
+    files.push(design);
+    let (mut max_pen, mut gap, mut body_name) = (0.0f64, None, String::from("none"));
+    if let Some(body) = &sim.body {
+        max_pen = sim
+            .cloth
+            .x
+            .iter()
+            .map(|&p| body.penetration(p) as f64)
+            .fold(0.0, f64::max);
+        if body.name == "cube" {
+            gap = Some(crate::scenario::scripts::fit_gap(sim, body));
+        }
+        body_name = body.name.clone();
+        let path = dir.join("body.obj");
+        crate::mesh::obj::write_obj(
+            &path,
+            &body.name,
+            &body.vertices,
+            None,
+            &body.triangles,
+            None,
+        )
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+        files.push(path);
+    }
+    let ke = sim.cloth.kinetic_energy();
+    let mass: f64 = sim.cloth.mass.iter().map(|&m| m as f64).sum();
+    let report = ExportReport {
+        model: sim.model.name(),
+        body: body_name,
+        vertices: sim.cloth.len(),
+        triangles: sim.cloth.live.tri_count(),
+        frames: sim.frame,
+        frame_dt_s: sim.env.frame_dt,
+        substeps: sim.substeps,
+        step_ms: histogram_ms(&tel.frame_time),
+        collision_ms: histogram_ms(&tel.collision_time),
+        max_penetration_m: max_pen,
+        thickness_m: sim.material.thickness,
+        kinetic_energy_final_j: ke,
+        settled: ke <= 0.5 * mass * 0.01f64.powi(2),
+        mesh_valid: sim.validate().is_ok(),
+        seams: sim.seams.len(),
+        seam_pairs_welded: stats.welds,
+        fit_gap_mean_m: gap.map(|g| g.0),
+        fit_gap_max_m: gap.map(|g| g.1),
+        undo_depth: sim.history.undo_len(),
+        exported: files.iter().map(|p| p.display().to_string()).collect(),
+    };
+    let path = dir.join("sim-report.json");
+    let json = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
+    std::fs::write(&path, json + "\n").map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(format!(
+        "exported {} files to {}",
+        files.len() + 1,
+        dir.display()
+    ))
 }
 
 /// Publishes texture tile `(x, y)` (in tiles).
@@ -419,6 +552,7 @@ fn publish_cloth(
     frame_pub: &services::SlicePub<f32, shared::sim_to_ui::ClothFrameHeader>,
     mesh_pub: &services::SlicePub<shared::sim_to_ui::MeshCorner, shared::sim_to_ui::MeshHeader>,
     normals: &mut Vec<Vec3>,
+    pen_sent_ns: u64,
     seq_frame: &mut u64,
     seq_mesh: &mut u64,
     mesh_sent: &mut Option<u64>,
@@ -466,6 +600,7 @@ fn publish_cloth(
         frame: sim.frame,
         topology,
         texture_version: sim.texture.version,
+        pen_sent_ns,
         vertices: n as u32,
         _reserved: 0,
     };
@@ -634,6 +769,13 @@ pub fn run(
                     tools.sew_first = None;
                     (true, format!("tool {}", cmd.a))
                 }
+                Ok(()) if cmd.op == op::EXPORT => {
+                    let dir = std::path::PathBuf::from(cmd.text().unwrap_or_default());
+                    match export(&mut sim, &dir, &tel, &stats) {
+                        Ok(m) => (true, m),
+                        Err(m) => (false, m),
+                    }
+                }
                 Ok(()) => match command(&mut sim, &cmd) {
                     Ok(m) => (true, m),
                     Err(m) => (false, m),
@@ -676,6 +818,17 @@ pub fn run(
             });
             tool_sent = Some(state);
         }
+        // The local model goes out before the frame too (the state now, with the newest
+        // tip): a 60 Hz frame that takes 8-12 ms would otherwise leave gaps near the
+        // haptic loop's 20 ms staleness limit between models.
+        let _ = model_pub.send_copy(local_model(
+            &sim,
+            feed.latest
+                .map_or(Vec3::splat(f32::INFINITY), |p| v3(p.position)),
+            feed.latest.map_or(0, |p| p.header.sent_ns),
+            &mut seq,
+            cfg.pinch_stiffness,
+        ));
         // The pen is read again before each substep: samples that arrive while the frame
         // is computed join the path.
         let pinching = sim.pinch().is_some();
@@ -687,13 +840,15 @@ pub fn run(
             let input = feed.input(k, n, cfg)?;
             stats.pen_substeps += 1;
             if input.force_limit.is_some() {
-                stats.force_limited_substeps += 1;
+                stats.coupled_substeps += 1;
             }
             Some(input)
         }) {
             Ok(fs) => fs,
             Err(e) => return Err(format!("the simulation failed: {e}")),
         };
+        stats.welds += fs.welded as u64;
+        stats.force_limited_substeps += sim.pinch_limited_substeps() as u64;
         for f in sim.pinch_forces() {
             stats.pinch_force_max_n = stats.pinch_force_max_n.max(f.length());
         }
@@ -711,11 +866,13 @@ pub fn run(
             tel_at = (Instant::now(), sim.frame);
         }
         stats.frames += 1;
+        let pen_sent_ns = feed.latest.map_or(0, |p| p.header.sent_ns);
         if let Err(e) = publish_cloth(
             &sim,
             &frame_pub,
             &mesh_pub,
             &mut normals,
+            pen_sent_ns,
             &mut seq_frame,
             &mut seq_mesh,
             &mut mesh_sent,
@@ -747,7 +904,13 @@ pub fn run(
         let tip = feed
             .latest
             .map_or(Vec3::splat(f32::INFINITY), |p| v3(p.position));
-        let _ = model_pub.send_copy(local_model(&sim, tip, &mut seq, cfg.pinch_stiffness));
+        let _ = model_pub.send_copy(local_model(
+            &sim,
+            tip,
+            pen_sent_ns,
+            &mut seq,
+            cfg.pinch_stiffness,
+        ));
         if last_save.elapsed().as_secs_f64() >= cfg.autosave_every_s {
             let t = Instant::now();
             match sim.refresh_png_cache().and_then(|_| sim.save_design()) {

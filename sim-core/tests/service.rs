@@ -531,7 +531,7 @@ fn the_pens_button_acts_with_every_tool() {
     let stats = handle.join().unwrap();
     // The tear's pinch read the pen every substep, unlimited (no haptic loop).
     assert!(stats.pen_substeps >= 5, "{} substeps", stats.pen_substeps);
-    assert_eq!(stats.force_limited_substeps, 0, "no haptic loop: no limit");
+    assert_eq!(stats.coupled_substeps, 0, "no haptic loop: no limit");
     assert_eq!(stats.rejected, 0);
     let _ = std::fs::remove_file(
         std::env::temp_dir().join(format!("saiho-pen-{}.saiho", std::process::id())),
@@ -622,9 +622,11 @@ fn the_pinch_pulls_the_cloth_no_harder_than_the_rendered_force() {
     let stats = handle.join().unwrap();
     assert_eq!(stats.pinches, 1);
     assert!(
-        stats.force_limited_substeps >= 5 * 30
-            && stats.pen_substeps >= stats.force_limited_substeps,
-        "limited {} of {} substeps",
+        stats.coupled_substeps >= 5 * 30
+            && stats.pen_substeps >= stats.coupled_substeps
+            && stats.force_limited_substeps >= 5 * 20,
+        "coupled {}, at the limit {}, of {} substeps",
+        stats.coupled_substeps,
         stats.force_limited_substeps,
         stats.pen_substeps
     );

@@ -5,8 +5,7 @@
 
 #![allow(clippy::unwrap_used)]
 
-use std::path::PathBuf;
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use shared::Checked;
@@ -14,68 +13,7 @@ use shared::domain::Domain;
 use shared::haptic_to_sim::{AppliedForce, DeviceSample};
 use shared::services;
 use shared::sim_to_haptic::LocalModel;
-
-/// Newest modification time of the files under `dir`.
-fn newest(dir: &std::path::Path) -> std::time::SystemTime {
-    let mut t = std::time::SystemTime::UNIX_EPOCH;
-    if let Ok(rd) = std::fs::read_dir(dir) {
-        for e in rd.flatten() {
-            let p = e.path();
-            let m = if p.is_dir() {
-                newest(&p)
-            } else {
-                e.metadata().and_then(|m| m.modified()).unwrap_or(t)
-            };
-            t = t.max(m);
-        }
-    }
-    t
-}
-
-/// The workspace's binaries. `cargo test --workspace` has just built them; when they are
-/// older than the sources (this test run alone after an edit), they are rebuilt first.
-fn bin(name: &str) -> PathBuf {
-    static BUILT: std::sync::Once = std::sync::Once::new();
-    let dir = std::env::current_exe()
-        .unwrap()
-        .parent()
-        .unwrap()
-        .parent()
-        .unwrap()
-        .to_path_buf();
-    BUILT.call_once(|| {
-        let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
-        let sources = ["sim-core/src", "haptic-loop/src", "shared/src"]
-            .iter()
-            .map(|d| newest(&root.join(d)))
-            .max()
-            .unwrap();
-        let fresh = ["cloth-sim", "haptic-loop"].iter().all(|b| {
-            std::fs::metadata(dir.join(b))
-                .and_then(|m| m.modified())
-                .is_ok_and(|t| t >= sources)
-        });
-        if !fresh {
-            let status = Command::new(env!("CARGO"))
-                .args(["build", "--bins", "-p", "sim-core", "-p", "haptic-loop"])
-                .status()
-                .unwrap();
-            assert!(status.success(), "building the binaries failed");
-        }
-    });
-    let path = dir.join(name);
-    assert!(path.is_file(), "{} missing", path.display());
-    path
-}
-
-struct Proc(Child);
-
-impl Drop for Proc {
-    fn drop(&mut self) {
-        let _ = self.0.kill();
-        let _ = self.0.wait();
-    }
-}
+use tests::{Proc, bin};
 
 fn cloth_sim(domain: &str, autosave: &std::path::Path, fresh: bool) -> Proc {
     let mut c = Command::new(bin("cloth-sim"));

@@ -1,1 +1,8 @@
-//! Saiho `tools`: placeholder crate, filled in by its own issue.
+//! Saiho's tools: `cloth-latency` (measurements with reports and plots) and `cloth-lab`
+//! (the launcher). The library holds what both binaries and their tests share.
+
+pub mod headless;
+pub mod lab;
+pub mod latency;
+pub mod plot;
+pub mod stats;

@@ -278,13 +278,14 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
     ));
     let stats = service::run(sim, &cfg, stop, &mut log)?;
     log(&format!(
-        "stopped after {} frames: {} device samples ({} rejected), {} applied forces, {} pinches ({} substeps read the pen, {} limited by the rendered force, largest pull {:.2} N), {} autosaves (longest hold-up {:.1} ms)",
+        "stopped after {} frames: {} device samples ({} rejected), {} applied forces, {} pinches ({} substeps read the pen, {} coupled to the rendered force, {} pulled at its limit, largest pull {:.2} N), {} autosaves (longest hold-up {:.1} ms)",
         stats.frames,
         stats.samples,
         stats.rejected,
         stats.applied_forces,
         stats.pinches,
         stats.pen_substeps,
+        stats.coupled_substeps,
         stats.force_limited_substeps,
         stats.pinch_force_max_n,
         stats.autosaves,

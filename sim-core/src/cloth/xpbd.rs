@@ -131,6 +131,8 @@ pub struct Xpbd {
     pub(crate) pinch: Option<crate::edit::Pinch>,
     /// The pinch force on the cloth in each substep of the last frame, N.
     pub(crate) pinch_forces: Vec<Vec3>,
+    /// Substeps of the last frame whose pinch was scaled down to its force limit.
+    pub(crate) pinch_limited: usize,
     /// Open seam stitches: (a, b, largest force in N).
     pub(crate) stitches: Vec<(u32, u32, f32)>,
 }
@@ -191,6 +193,7 @@ impl Xpbd {
             threads: 1,
             pinch: None,
             pinch_forces: Vec::new(),
+            pinch_limited: 0,
             stitches: Vec::new(),
         }
     }
@@ -253,6 +256,7 @@ impl Xpbd {
         };
         self.update_normals(cloth);
         self.pinch_forces.clear();
+        self.pinch_limited = 0;
         let damp = (-self.material.damping * h).exp();
         let m = self.material;
         let inv_h2 = 1.0 / (h * h);
@@ -316,7 +320,10 @@ impl Xpbd {
                     }
                 }
                 let scale = match p.force_limit {
-                    Some(limit) if force.length() > limit => limit / force.length(),
+                    Some(limit) if force.length() > limit => {
+                        self.pinch_limited += 1;
+                        limit / force.length()
+                    }
                     _ => 1.0,
                 };
                 // Held vertices are distinct, so each correction is the one summed above.

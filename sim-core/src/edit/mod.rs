@@ -14,6 +14,7 @@ pub mod export;
 mod history;
 mod ops;
 mod paint;
+mod pattern;
 mod seam;
 
 use glam::Vec3;
@@ -70,6 +71,8 @@ pub enum EditError {
     StaleSeam(u32),
     #[error("the design changed underneath this edit (triangle slot {0})")]
     Stale(u32),
+    #[error("no {what} on the pattern there")]
+    NothingOnPattern { what: &'static str },
     #[error("nothing to undo")]
     NothingToUndo,
     #[error("nothing to redo")]

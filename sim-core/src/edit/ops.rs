@@ -550,6 +550,14 @@ impl Simulation {
         }
     }
 
+    /// Substeps of the last frame in which the pinch pulled at its force limit.
+    pub fn pinch_limited_substeps(&self) -> usize {
+        match &self.solver {
+            Solver::Xpbd(s) => s.pinch_limited,
+            _ => 0,
+        }
+    }
+
     /// The force the pinch springs put on the cloth (their sum) in each substep of the
     /// last frame, N (the pen feels the opposite).
     pub fn pinch_forces(&self) -> &[Vec3] {

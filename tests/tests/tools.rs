@@ -1,0 +1,324 @@
+//! The tools against a short real run with the simulated pen: cloth-latency's three
+//! measurements write valid JSON, CSV and PNG; cloth-lab restarts one process without
+//! touching the haptic loop, whose ticks go on without a gap.
+
+#![allow(clippy::unwrap_used)]
+
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use serde_json::Value;
+use shared::Checked;
+use shared::domain::Domain;
+use shared::services;
+use tests::{Proc, bin};
+
+fn spawn(name: &str, args: &[&str]) -> Proc {
+    Proc(
+        Command::new(bin(name))
+            .args(args)
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap(),
+    )
+}
+
+/// Runs cloth-latency with `args` plus the three outputs into `dir/NAME.*`; returns the
+/// JSON after checking the CSV and the PNG.
+fn latency(dir: &Path, name: &str, args: &[&str]) -> Value {
+    let (json, csv, png) = (
+        dir.join(format!("{name}.json")),
+        dir.join(format!("{name}.csv")),
+        dir.join(format!("{name}.png")),
+    );
+    let out = Command::new(bin("cloth-latency"))
+        .args(args)
+        .arg("--json")
+        .arg(&json)
+        .arg("--csv")
+        .arg(&csv)
+        .arg("--plot")
+        .arg(&png)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "cloth-latency {name}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    // The same report on stdout.
+    let printed: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(printed, v);
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.starts_with("series,t_s,value_us\n"), "{name} csv");
+    assert!(text.lines().count() > 3, "{name} csv has no rows");
+    // A real picture: 1200 x 900, not one flat colour.
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&png).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!((info.width, info.height), (1200, 900));
+    let px = &buf[..info.buffer_size()];
+    let dark = px.chunks(3).filter(|p| p.iter().all(|&c| c < 100)).count();
+    let coloured = px
+        .chunks(3)
+        .filter(|p| p.iter().max().unwrap() - p.iter().min().unwrap() > 100)
+        .count();
+    assert!(
+        dark > 1000 && coloured > 200,
+        "{name} plot: {dark} dark, {coloured} coloured pixels"
+    );
+    v
+}
+
+fn pct(v: &Value, key: &str) -> (f64, f64, f64, f64) {
+    let p = &v[key];
+    let f = |k: &str| p[k].as_f64().unwrap_or_else(|| panic!("{key}.{k} in {v}"));
+    (f("p50"), f("p99"), f("p999"), f("max"))
+}
+
+#[test]
+fn cloth_latency_measures_a_real_run() {
+    let d = Domain::new(&format!("lat{}", std::process::id())).unwrap();
+    let tmp = std::env::temp_dir().join(format!("saiho-lat-{}", std::process::id()));
+    std::fs::create_dir_all(&tmp).unwrap();
+    let autosave = tmp.join("design.saiho");
+    let _sim = spawn(
+        "cloth-sim",
+        &[
+            "run",
+            "--domain",
+            d.name(),
+            "--grid",
+            "16",
+            "--fresh",
+            "--seconds",
+            "60",
+            "--autosave",
+            autosave.to_str().unwrap(),
+        ],
+    );
+    let _haptic = spawn("haptic-loop", &["--domain", d.name(), "--seconds", "60"]);
+
+    let l = latency(
+        &tmp,
+        "loop",
+        &["loop", "--domain", d.name(), "--seconds", "2"],
+    );
+    let ticks = l["ticks"].as_u64().unwrap();
+    assert!((1500..=2500).contains(&ticks), "{ticks} ticks in 2 s");
+    assert!(l["missed"].as_u64().is_some());
+    let (p50, p99, p999, max) = pct(&l, "period_us");
+    assert!((900.0..1100.0).contains(&p50), "period p50 {p50}");
+    assert!(p50 <= p99 && p99 <= p999 && p999 <= max);
+    let (c50, ..) = pct(&l, "compute_us");
+    assert!(c50 > 0.0 && c50 < 1000.0, "compute p50 {c50}");
+
+    let e = latency(
+        &tmp,
+        "e2e",
+        &["e2e", "--domain", d.name(), "--seconds", "2"],
+    );
+    assert!(e["frames"].as_u64().unwrap() > 30, "{e}");
+    let (m50, ..) = pct(&e, "sample_to_model_used_us");
+    // At least one tick, at most a few frames.
+    assert!(
+        (500.0..100_000.0).contains(&m50),
+        "sample -> model used p50 {m50}"
+    );
+    let (f50, ..) = pct(&e, "motion_to_frame_published_us");
+    assert!(f50 > 0.0 && f50 < 100_000.0, "motion -> frame p50 {f50}");
+
+    // ping runs its own echo process in a private domain.
+    let p = latency(&tmp, "ping", &["ping", "--seconds", "1", "--rate", "2000"]);
+    for path in ["project", "raw"] {
+        let (r50, ..) = pct(&p[path], "one_way_us");
+        assert!(r50 > 0.0 && r50 < 1000.0, "{path} one-way p50 {r50}");
+        assert!(p[path]["rtt_us"]["count"].as_u64().unwrap() > 500);
+    }
+    assert!(p["ratio_p50"].as_f64().unwrap() > 0.0);
+    let _ = std::fs::remove_dir_all(&tmp);
+}
+
+#[test]
+fn cloth_latency_says_when_nothing_runs() {
+    let out = Command::new(bin("cloth-latency"))
+        .args([
+            "loop",
+            "--domain",
+            &format!("none{}", std::process::id()),
+            "--seconds",
+            "1",
+        ])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("no haptic-loop telemetry"), "{err}");
+    let out = Command::new(bin("cloth-latency"))
+        .args(["ping", "--seconds=0"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--seconds"));
+}
+
+/// cloth-lab restarts one process on request; the haptic loop is never restarted and its
+/// ticks go on without a gap: its telemetry's sequence numbers are consecutive and each
+/// step is 100 ticks, before, across and after the restart.
+#[test]
+fn lab_restart_leaves_the_haptic_loop_ticking() {
+    let d = Domain::new(&format!("lab{}", std::process::id())).unwrap();
+    let mut lab = Proc(
+        Command::new(bin("cloth-lab"))
+            .args([
+                "--domain",
+                d.name(),
+                "--grid",
+                "8",
+                "--fresh",
+                "--seconds",
+                "60",
+            ])
+            .stdin(Stdio::null())
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            // A display or not, the lab runs the UI only when cloth-ui is built.
+            .env("DISPLAY", ":saiho-test-no-such-display")
+            .spawn()
+            .unwrap(),
+    );
+    let node = services::node(&d, "observer").unwrap();
+    let tel = services::haptic_telemetry(&node)
+        .unwrap()
+        .subscriber_builder()
+        .create()
+        .unwrap();
+    let mut seen: Vec<(u64, u64)> = Vec::new(); // (seq, ticks)
+    let collect = |until: Instant, seen: &mut Vec<(u64, u64)>| {
+        while Instant::now() < until {
+            while let Some(t) = tel.receive().unwrap() {
+                t.check().unwrap();
+                seen.push((t.header.seq, t.ticks));
+            }
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    };
+    let deadline = Instant::now() + Duration::from_secs(20);
+    while seen.len() < 5 {
+        assert!(
+            Instant::now() < deadline,
+            "no haptic telemetry through cloth-lab"
+        );
+        collect(Instant::now() + Duration::from_millis(100), &mut seen);
+    }
+    // The restart, through the running lab's control socket.
+    let ctl = |args: &[&str]| {
+        Command::new(bin("cloth-lab"))
+            .args(args)
+            .args(["--domain", d.name()])
+            .output()
+            .unwrap()
+    };
+    let out = ctl(&["restart", "sim"]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("restarted cloth-sim"));
+    let out = ctl(&["status"]);
+    let status = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        status.contains("cloth-sim: running") && status.contains("started 2x"),
+        "{status}"
+    );
+    assert!(
+        status.contains("haptic-loop: running") && status.contains("started 1x"),
+        "{status}"
+    );
+    let before = seen.len();
+    collect(Instant::now() + Duration::from_millis(1500), &mut seen);
+    assert!(
+        seen.len() >= before + 10,
+        "the haptic loop stopped publishing"
+    );
+    for w in seen.windows(2) {
+        assert_eq!(
+            w[1].0,
+            w[0].0 + 1,
+            "a telemetry message went missing: {w:?}"
+        );
+        assert_eq!(w[1].1, w[0].1 + 100, "the tick count jumped: {w:?}");
+    }
+    // A bad request is refused with the reason; stop ends the lab cleanly.
+    let out = ctl(&["restart", "everything"]);
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("unknown process"));
+    let out = ctl(&["stop"]);
+    assert!(out.status.success());
+    let until = Instant::now() + Duration::from_secs(15);
+    let status = loop {
+        if let Some(s) = lab.0.try_wait().unwrap() {
+            break s;
+        }
+        assert!(Instant::now() < until, "cloth-lab did not stop");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    assert!(status.success(), "cloth-lab exit: {status:?}");
+}
+
+/// `cloth-lab --headless`: the paper's fit-cube across the real processes, driven through
+/// the command service (select and delete the corners on the pattern, seam the flaps,
+/// export), with the report and exports written.
+#[test]
+fn lab_headless_fit_cube_drives_the_real_processes() {
+    let out_dir = std::env::temp_dir().join(format!("saiho-lab-fit-{}", std::process::id()));
+    let out = Command::new(bin("cloth-lab"))
+        .args(["--headless", "--grid", "32", "--out"])
+        .arg(&out_dir)
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    let log = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{log}");
+    for f in [
+        "cloth.obj",
+        "cloth.mtl",
+        "cloth.png",
+        "cloth.glb",
+        "design.saiho",
+        "body.obj",
+    ] {
+        assert!(out_dir.join(f).is_file(), "{f} missing; {log}");
+    }
+    let r: Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("report.json")).unwrap())
+            .unwrap();
+    assert_eq!(r["scenario"], "fit-cube");
+    assert_eq!(r["mesh_valid"], true, "{r}");
+    assert_eq!(r["stand_in"]["regions_removed"], 4);
+    assert_eq!(r["seams"], 4);
+    let pairs = r["stand_in"]["seam_pairs"].as_u64().unwrap();
+    let welded = r["seam_pairs_welded"].as_u64().unwrap();
+    assert!(
+        pairs >= 16 && welded * 10 >= pairs * 9,
+        "{welded} of {pairs} welded"
+    );
+    let th = r["thickness_m"].as_f64().unwrap();
+    assert!(r["max_penetration_m"].as_f64().unwrap() <= th, "{r}");
+    // The fitted panels hang close to the cube's faces (plain draping: about 12 mm).
+    assert!(r["fit_gap_mean_m"].as_f64().unwrap() < 0.006, "{r}");
+    assert!(r["latency"]["ticks"].as_u64().unwrap() > 3000, "{r}");
+    assert!(
+        r["latency"]["sample_to_model_used_us"]["count"]
+            .as_u64()
+            .unwrap()
+            > 100
+    );
+    assert!(r["step_ms"]["p50"].as_f64().is_some());
+    let _ = std::fs::remove_dir_all(&out_dir);
+}

@@ -1,0 +1,323 @@
+//! The headless scenarios of cloth-lab: a scripted stand-in for the designer at cloth-ui,
+//! driving the real cloth-sim through the same services the UI uses (cloth frames and
+//! mesh in, commands out).
+//!
+//! fit-cube, the paper's experiment: wait for the cloth to drape over the cube; find the
+//! cube's top face on the pattern (the vertices resting at the top); delete the four
+//! corner squares beyond it (select on the pattern, delete); seam the two flaps that meet
+//! at each vertical edge (two boundary paths drawn on the pattern); let the seams pull
+//! shut; export.
+
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use iceoryx2::prelude::*;
+use serde::Serialize;
+use shared::domain::Domain;
+use shared::sim_to_ui::{check_frame, check_mesh};
+use shared::ui_to_sim::{CommandReply, ToolCommand, op};
+use shared::{Checked, Header, services};
+
+use crate::stats::{Percentiles, new_hdr};
+
+/// Frames of draping before the operations (as `cloth-sim scenario fit-cube`).
+pub const DRAPE_FRAMES: u64 = 240;
+/// Frames after the seams are added, for them to pull shut and the cloth to settle.
+pub const SEW_FRAMES: u64 = 360;
+
+type Client = iceoryx2::port::client::Client<ipc::Service, ToolCommand, (), CommandReply, ()>;
+
+/// What the stand-in did and how the command round trips went.
+#[derive(Debug, Default, Serialize)]
+pub struct StandInReport {
+    pub drape_frames: u64,
+    /// The cube's top face on the pattern, (u0, v0, u1, v1).
+    pub top_face_uv: [f32; 4],
+    /// The cut lines on the pattern, just outside the top face.
+    pub cut_lines_uv: [f32; 4],
+    pub regions_removed: usize,
+    pub triangles_removed: usize,
+    pub seams: usize,
+    pub seam_pairs: usize,
+    /// Every command and its reply.
+    pub commands: Vec<String>,
+    /// Command -> reply round trips, µs.
+    pub command_rtt_us: Percentiles,
+    pub sim_frames_seen: u64,
+}
+
+struct Ui {
+    client: Client,
+    seq: u64,
+    rtt: hdrhistogram::Histogram<u64>,
+    log: Vec<String>,
+}
+
+impl Ui {
+    fn ask(&mut self, mut c: ToolCommand, stop: &AtomicBool) -> Result<CommandReply, String> {
+        c.header = Header::next(&mut self.seq);
+        let t0 = Instant::now();
+        let deadline = t0 + Duration::from_secs(20);
+        let pending = loop {
+            match self.client.send_copy(c) {
+                Ok(p) if p.number_of_server_connections() > 0 => break p,
+                _ if Instant::now() < deadline && !stop.load(Ordering::Relaxed) => {
+                    std::thread::sleep(Duration::from_millis(20))
+                }
+                _ => return Err("cloth-sim does not answer commands".into()),
+            }
+        };
+        loop {
+            if let Some(r) = pending.receive().map_err(|e| format!("{e:?}"))? {
+                r.check().map_err(|e| e.to_string())?;
+                let _ = self.rtt.record(t0.elapsed().as_nanos().max(1) as u64);
+                let r = *r;
+                self.log.push(format!(
+                    "op {}: {} {}",
+                    c.op,
+                    if r.ok == 1 { "done:" } else { "refused:" },
+                    r.message()
+                ));
+                return Ok(r);
+            }
+            if Instant::now() > deadline || stop.load(Ordering::Relaxed) {
+                return Err("no reply from cloth-sim within 20 s".into());
+            }
+            std::thread::sleep(Duration::from_micros(200));
+        }
+    }
+
+    fn must(&mut self, c: ToolCommand, stop: &AtomicBool) -> Result<String, String> {
+        let r = self.ask(c, stop)?;
+        if r.ok == 1 {
+            Ok(r.message().to_string())
+        } else {
+            Err(format!("cloth-sim refused op {}: {}", c.op, r.message()))
+        }
+    }
+}
+
+/// The leading number of a reply such as "removed 123 triangles".
+fn number_in(msg: &str) -> usize {
+    msg.split_whitespace()
+        .find_map(|w| w.parse().ok())
+        .unwrap_or(0)
+}
+
+/// Runs the stand-in against cloth-sim in `domain` and exports into `out`.
+pub fn fit_cube(
+    domain: &Domain,
+    out: &Path,
+    stop: &AtomicBool,
+    progress: &mut dyn FnMut(&str),
+) -> Result<StandInReport, String> {
+    let node = services::node(domain, "lab-ui-standin").map_err(|e| e.to_string())?;
+    let pe = |e: &dyn std::fmt::Debug| format!("{e:?}");
+    let frames = services::cloth_frame(&node)
+        .map_err(|e| e.to_string())?
+        .subscriber_builder()
+        .create()
+        .map_err(|e| pe(&e))?;
+    let meshes = services::cloth_mesh(&node)
+        .map_err(|e| e.to_string())?
+        .subscriber_builder()
+        .create()
+        .map_err(|e| pe(&e))?;
+    let client = services::commands(&node)
+        .map_err(|e| e.to_string())?
+        .client_builder()
+        .create()
+        .map_err(|e| pe(&e))?;
+    let mut ui = Ui {
+        client,
+        seq: 0,
+        rtt: new_hdr(),
+        log: Vec::new(),
+    };
+    let mut report = StandInReport::default();
+    // Per-vertex UV from the mesh, positions from the newest frame.
+    let mut uv: Vec<[f32; 2]> = Vec::new();
+    let mut x: Vec<[f32; 3]> = Vec::new();
+    let mut frame = 0u64;
+    let mut topology = None;
+    let mut last_note = Instant::now();
+    let poll = |uv: &mut Vec<[f32; 2]>,
+                x: &mut Vec<[f32; 3]>,
+                frame: &mut u64,
+                topology: &mut Option<u64>|
+     -> Result<(), String> {
+        while let Some(m) = meshes.receive().map_err(|e| pe(&e))? {
+            let h = m.user_header();
+            check_mesh(h, m.payload()).map_err(|e| e.to_string())?;
+            let mut u = vec![[f32::NAN; 2]; h.vertices as usize];
+            for c in m.payload() {
+                if let Some(slot) = u.get_mut(c.vertex as usize)
+                    && slot[0].is_nan()
+                {
+                    *slot = [c.u, c.v];
+                }
+            }
+            *uv = u;
+            *topology = Some(h.topology);
+        }
+        while let Some(f) = frames.receive().map_err(|e| pe(&e))? {
+            let h = f.user_header();
+            check_frame(h, f.payload()).map_err(|e| e.to_string())?;
+            let n = h.vertices as usize;
+            *x = f.payload()[..3 * n]
+                .chunks_exact(3)
+                .map(|c| [c[0], c[1], c[2]])
+                .collect();
+            *frame = h.frame;
+        }
+        Ok(())
+    };
+    let mut wait_frames = |until: u64,
+                           what: &str,
+                           uv: &mut Vec<[f32; 2]>,
+                           x: &mut Vec<[f32; 3]>,
+                           frame: &mut u64,
+                           topology: &mut Option<u64>,
+                           progress: &mut dyn FnMut(&str)|
+     -> Result<(), String> {
+        let deadline = Instant::now() + Duration::from_secs_f64(30.0 + until as f64 / 10.0);
+        while *frame < until || topology.is_none() || uv.len() != x.len() {
+            if stop.load(Ordering::Relaxed) {
+                return Err("stopped".into());
+            }
+            if Instant::now() > deadline {
+                return Err(format!(
+                    "cloth-sim stalled while {what}: frame {} of {until}",
+                    *frame
+                ));
+            }
+            poll(uv, x, frame, topology)?;
+            if last_note.elapsed() >= Duration::from_secs(2) {
+                progress(&format!("{what}: frame {}/{until}", *frame));
+                last_note = Instant::now();
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        Ok(())
+    };
+    wait_frames(
+        1,
+        "waiting for cloth-sim",
+        &mut uv,
+        &mut x,
+        &mut frame,
+        &mut topology,
+        progress,
+    )?;
+    let first = frame;
+    wait_frames(
+        first + DRAPE_FRAMES,
+        "draping",
+        &mut uv,
+        &mut x,
+        &mut frame,
+        &mut topology,
+        progress,
+    )?;
+    report.drape_frames = frame - first;
+
+    // The top face on the pattern: the vertices resting within 5 mm of the highest.
+    let ymax = x.iter().map(|p| p[1]).fold(f32::MIN, f32::max);
+    let top: Vec<usize> = (0..x.len())
+        .filter(|&i| x[i][1] > ymax - 0.005 && uv[i][0].is_finite())
+        .collect();
+    if top.len() < 4 {
+        return Err("the cloth does not rest on a flat top: is the body the cube?".into());
+    }
+    let (mut u0, mut v0, mut u1, mut v1) = (f32::MAX, f32::MAX, f32::MIN, f32::MIN);
+    for &i in &top {
+        u0 = u0.min(uv[i][0]);
+        u1 = u1.max(uv[i][0]);
+        v0 = v0.min(uv[i][1]);
+        v1 = v1.max(uv[i][1]);
+    }
+    report.top_face_uv = [u0, v0, u1, v1];
+    // The pattern's grid step: the smallest gap between distinct u values.
+    let mut us: Vec<f32> = uv.iter().map(|p| p[0]).filter(|u| u.is_finite()).collect();
+    us.sort_by(f32::total_cmp);
+    us.dedup_by(|a, b| (*a - *b).abs() < 1e-5);
+    let cell = us.windows(2).map(|w| w[1] - w[0]).fold(f32::MAX, f32::min);
+    if !(cell.is_finite() && cell > 0.0) {
+        return Err("cannot find the pattern's grid step".into());
+    }
+    let (umin, umax) = (us[0], us[us.len() - 1]);
+    // Cut one grid line outside the top face on every side.
+    let (cu0, cu1, cv0, cv1) = (u0 - cell, u1 + cell, v0 - cell, v1 + cell);
+    report.cut_lines_uv = [cu0, cv0, cu1, cv1];
+    progress(&format!(
+        "draped after {} frames; top face on the pattern u {u0:.3}..{u1:.3}, v {v0:.3}..{v1:.3}; cutting the corners",
+        report.drape_frames
+    ));
+    let far = 10.0;
+    for (su, sv) in [(1.0f32, 1.0f32), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)] {
+        let (eu, ev) = (
+            if su > 0.0 { cu1 } else { cu0 },
+            if sv > 0.0 { cv1 } else { cv0 },
+        );
+        let mut c = ToolCommand {
+            op: op::REMOVE_REGION,
+            ..Default::default()
+        };
+        c.uv[..4].copy_from_slice(&[eu, ev, eu + su * far, ev + sv * far]);
+        let m = ui.must(c, stop)?;
+        report.regions_removed += 1;
+        report.triangles_removed += number_in(&m);
+    }
+    let vs = uv.iter().map(|p| p[1]).filter(|v| v.is_finite());
+    let (vmin, vmax) = vs.fold((f32::MAX, f32::MIN), |(a, b), v| (a.min(v), b.max(v)));
+    for (su, sv) in [(1.0f32, 1.0f32), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)] {
+        let (eu, ev) = (
+            if su > 0.0 { cu1 } else { cu0 },
+            if sv > 0.0 { cv1 } else { cv0 },
+        );
+        let edge_u = if su > 0.0 { umax } else { umin };
+        let end_v = if sv > 0.0 { vmax } else { vmin };
+        let mut c = ToolCommand {
+            op: op::SEAM,
+            value: 0.25 * cell,
+            ..Default::default()
+        };
+        // Path A runs along the cut line across u, path B along the one across v, both
+        // from the corner of the top face outwards.
+        c.uv = [eu, ev, eu, end_v, eu, ev, edge_u, ev];
+        let m = ui.must(c, stop)?;
+        report.seams += 1;
+        report.seam_pairs += number_in(&m);
+    }
+    progress(&format!(
+        "{} corners cut ({} triangles), {} seams of {} stitched pairs; letting them pull shut",
+        report.regions_removed, report.triangles_removed, report.seams, report.seam_pairs
+    ));
+    let sewn_from = frame;
+    wait_frames(
+        sewn_from + SEW_FRAMES,
+        "sewing",
+        &mut uv,
+        &mut x,
+        &mut frame,
+        &mut topology,
+        progress,
+    )?;
+    let mut c = ToolCommand {
+        op: op::EXPORT,
+        ..Default::default()
+    };
+    let dir = out
+        .canonicalize()
+        .map_err(|e| format!("{}: {e}", out.display()))?;
+    if !c.set_text(&dir.display().to_string()) {
+        return Err(format!("{}: the path is too long", dir.display()));
+    }
+    let m = ui.must(c, stop)?;
+    progress(&m);
+    report.sim_frames_seen = frame - first;
+    report.command_rtt_us = Percentiles::of(&ui.rtt);
+    report.commands = ui.log;
+    Ok(report)
+}
