@@ -25,7 +25,9 @@ use iceoryx2::service::port_factory::publish_subscribe::PortFactory;
 
 use crate::haptic_to_sim::{AppliedForce, DeviceSample};
 use crate::sim_to_haptic::LocalModel;
-use crate::sim_to_ui::{ClothFrameHeader, MeshCorner, MeshHeader, TextureTile, ToolState};
+use crate::sim_to_ui::{
+    BodyMeshHeader, ClothFrameHeader, MeshCorner, MeshHeader, TextureTile, ToolState,
+};
 use crate::telemetry::{LoopTelemetry, SimTelemetry};
 use crate::ui_to_haptic::PointerInput;
 use crate::ui_to_sim::{CommandReply, ToolCommand};
@@ -41,6 +43,7 @@ pub const CLOTH_MESH: &str = "saiho/cloth-mesh";
 pub const COMMANDS: &str = "saiho/commands";
 pub const TOOL_STATE: &str = "saiho/tool-state";
 pub const TEXTURE: &str = "saiho/texture";
+pub const BODY_MESH: &str = "saiho/body-mesh";
 /// cloth-latency's echo of device samples, opened with the device service's QoS.
 pub const DEVICE_ECHO: &str = "saiho/latency/device-echo";
 /// History of the texture service: every tile of a 1024 x 1024 texture in 64 x 64 tiles.
@@ -176,6 +179,13 @@ pub fn cloth_mesh(
     node: &Node<ipc::Service>,
 ) -> Result<SliceFactory<MeshCorner, MeshHeader>, ServiceError> {
     open_slice(node, CLOTH_MESH, 1, 1)
+}
+
+/// The body's triangles, once (history 1: a late viewer gets it).
+pub fn body_mesh(
+    node: &Node<ipc::Service>,
+) -> Result<SliceFactory<f32, BodyMeshHeader>, ServiceError> {
+    open_slice(node, BODY_MESH, 1, 1)
 }
 
 pub type Commands = iceoryx2::service::port_factory::request_response::PortFactory<

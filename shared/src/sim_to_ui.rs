@@ -47,6 +47,58 @@ pub struct MeshCorner {
     pub v: f32,
 }
 
+/// The body the cloth drapes over (`saiho/body-mesh`, sent once, history 1). Its `[f32]`
+/// payload is `3 * vertices` positions, then `3 * triangles` vertex indices stored as
+/// f32 (exact below 2^24, checked).
+#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("saiho::BodyMeshHeader")]
+pub struct BodyMeshHeader {
+    pub header: Header,
+    pub vertices: u32,
+    pub triangles: u32,
+}
+
+/// A body as positions and triangles.
+pub type BodyMesh = (Vec<[f32; 3]>, Vec<[u32; 3]>);
+
+/// Checks a received body mesh and returns its positions and triangles.
+pub fn check_body(h: &BodyMeshHeader, payload: &[f32]) -> Result<BodyMesh, MessageError> {
+    h.header.check()?;
+    let (v, t) = (h.vertices as usize, h.triangles as usize);
+    if v >= 1 << 24 || payload.len() != 3 * v + 3 * t {
+        return Err(malformed(
+            "body mesh",
+            format!(
+                "{} floats for {v} vertices and {t} triangles",
+                payload.len()
+            ),
+        ));
+    }
+    let (pos, idx) = payload.split_at(3 * v);
+    if pos.iter().any(|x| !x.is_finite()) {
+        return Err(malformed("body mesh", "a position is not finite".into()));
+    }
+    let mut tris = Vec::with_capacity(t);
+    for (k, c) in idx.chunks_exact(3).enumerate() {
+        let mut tri = [0u32; 3];
+        for (j, &f) in c.iter().enumerate() {
+            if !(f >= 0.0 && f < v as f32 && f.fract() == 0.0) {
+                return Err(malformed(
+                    "body mesh",
+                    format!("triangle {k} has index {f} (of {v} vertices)"),
+                ));
+            }
+            tri[j] = f as u32;
+        }
+        tris.push(tri);
+    }
+    Ok((
+        pos.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect(),
+        tris,
+    ))
+}
+
 fn malformed(what: &'static str, why: String) -> MessageError {
     MessageError::Malformed { what, why }
 }

@@ -682,6 +682,39 @@ pub fn run(
         .allocation_strategy(AllocationStrategy::PowerOfTwo)
         .create()
         .map_err(|e| pe(&e))?;
+    // The body, once (a late viewer gets it from the history).
+    let body_pub = services::body_mesh(&node)
+        .map_err(|e| e.to_string())?
+        .publisher_builder()
+        .initial_max_slice_len(
+            sim.body
+                .as_ref()
+                .map_or(1, |b| 3 * b.vertices.len() + 3 * b.triangles.len())
+                .max(1),
+        )
+        .create()
+        .map_err(|e| pe(&e))?;
+    if let Some(b) = &sim.body {
+        let (v, t) = (b.vertices.len(), b.triangles.len());
+        let s = body_pub
+            .loan_slice_uninit(3 * v + 3 * t)
+            .map_err(|e| pe(&e))?;
+        let mut s = s;
+        *s.user_header_mut() = shared::sim_to_ui::BodyMeshHeader {
+            header: Header::next(&mut 0),
+            vertices: v as u32,
+            triangles: t as u32,
+        };
+        let s = s.write_from_fn(|i| {
+            if i < 3 * v {
+                b.vertices[i / 3][i % 3]
+            } else {
+                let j = i - 3 * v;
+                b.triangles[j / 3][j % 3] as f32
+            }
+        });
+        s.send().map_err(|e| pe(&e))?;
+    }
     let server = services::commands(&node)
         .map_err(|e| e.to_string())?
         .server_builder()
@@ -810,6 +843,7 @@ pub fn run(
             use iceoryx2::port::update_connections::UpdateConnections;
             let _ = tool_pub.update_connections();
             let _ = mesh_pub.update_connections();
+            let _ = body_pub.update_connections();
         }
         if tool_sent != Some(state) {
             let _ = tool_pub.send_copy(ToolState {

@@ -28,7 +28,13 @@ pub fn newest(dir: &std::path::Path) -> std::time::SystemTime {
 /// The workspace's binaries. `cargo test --workspace` has just built them; when they are
 /// older than the sources (this test run alone after an edit), they are rebuilt first.
 /// The binaries the system tests run.
-pub const BINS: [&str; 4] = ["cloth-sim", "haptic-loop", "cloth-latency", "cloth-lab"];
+pub const BINS: [&str; 5] = [
+    "cloth-sim",
+    "haptic-loop",
+    "cloth-latency",
+    "cloth-lab",
+    "cloth-ui",
+];
 
 pub fn bin(name: &str) -> PathBuf {
     static BUILT: std::sync::Once = std::sync::Once::new();
@@ -41,11 +47,17 @@ pub fn bin(name: &str) -> PathBuf {
         .to_path_buf();
     BUILT.call_once(|| {
         let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
-        let sources = ["sim-core/src", "haptic-loop/src", "shared/src", "tools/src"]
-            .iter()
-            .map(|d| newest(&root.join(d)))
-            .max()
-            .unwrap();
+        let sources = [
+            "sim-core/src",
+            "haptic-loop/src",
+            "shared/src",
+            "tools/src",
+            "ui/src",
+        ]
+        .iter()
+        .map(|d| newest(&root.join(d)))
+        .max()
+        .unwrap();
         let fresh = BINS.iter().all(|b| {
             std::fs::metadata(dir.join(b))
                 .and_then(|m| m.modified())
@@ -62,6 +74,8 @@ pub fn bin(name: &str) -> PathBuf {
                     "haptic-loop",
                     "-p",
                     "tools",
+                    "-p",
+                    "ui",
                 ])
                 .status()
                 .unwrap();
@@ -80,4 +94,20 @@ impl Drop for Proc {
         let _ = self.0.kill();
         let _ = self.0.wait();
     }
+}
+
+/// The command that runs a program under a fresh Xvfb display (24-bit screen), or a clear
+/// failure when Xvfb is missing (`.ci/run` installs it).
+pub fn under_xvfb(program: &std::path::Path) -> Command {
+    let found = Command::new("sh")
+        .args(["-c", "command -v xvfb-run"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    assert!(
+        found,
+        "xvfb-run is missing: install xvfb (and Mesa: libgl1-mesa-dri libegl-mesa0 libvulkan1 mesa-vulkan-drivers)"
+    );
+    let mut c = Command::new("xvfb-run");
+    c.args(["-a", "-s", "-screen 0 1280x1024x24"]).arg(program);
+    c
 }

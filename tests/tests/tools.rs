@@ -166,14 +166,15 @@ fn cloth_latency_says_when_nothing_runs() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("--seconds"));
 }
 
-/// cloth-lab restarts one process on request; the haptic loop is never restarted and its
-/// ticks go on without a gap: its telemetry's sequence numbers are consecutive and each
-/// step is 100 ticks, before, across and after the restart.
+/// cloth-lab (under Xvfb, so with cloth-ui) restarts the UI and then cloth-sim on request;
+/// the haptic loop is never restarted and its ticks go on without a gap: its telemetry's
+/// sequence numbers are consecutive and each step is 100 ticks, before, across and after
+/// the restarts.
 #[test]
 fn lab_restart_leaves_the_haptic_loop_ticking() {
     let d = Domain::new(&format!("lab{}", std::process::id())).unwrap();
     let mut lab = Proc(
-        Command::new(bin("cloth-lab"))
+        tests::under_xvfb(&bin("cloth-lab"))
             .args([
                 "--domain",
                 d.name(),
@@ -181,13 +182,11 @@ fn lab_restart_leaves_the_haptic_loop_ticking() {
                 "8",
                 "--fresh",
                 "--seconds",
-                "60",
+                "90",
             ])
             .stdin(Stdio::null())
             .stdout(Stdio::null())
             .stderr(Stdio::null())
-            // A display or not, the lab runs the UI only when cloth-ui is built.
-            .env("DISPLAY", ":saiho-test-no-such-display")
             .spawn()
             .unwrap(),
     );
@@ -207,7 +206,7 @@ fn lab_restart_leaves_the_haptic_loop_ticking() {
             std::thread::sleep(Duration::from_millis(10));
         }
     };
-    let deadline = Instant::now() + Duration::from_secs(20);
+    let deadline = Instant::now() + Duration::from_secs(30);
     while seen.len() < 5 {
         assert!(
             Instant::now() < deadline,
@@ -215,7 +214,7 @@ fn lab_restart_leaves_the_haptic_loop_ticking() {
         );
         collect(Instant::now() + Duration::from_millis(100), &mut seen);
     }
-    // The restart, through the running lab's control socket.
+    // Requests to the running lab, through its control socket.
     let ctl = |args: &[&str]| {
         Command::new(bin("cloth-lab"))
             .args(args)
@@ -223,28 +222,44 @@ fn lab_restart_leaves_the_haptic_loop_ticking() {
             .output()
             .unwrap()
     };
-    let out = ctl(&["restart", "sim"]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    assert!(String::from_utf8_lossy(&out.stdout).contains("restarted cloth-sim"));
-    let out = ctl(&["status"]);
-    let status = String::from_utf8_lossy(&out.stdout).to_string();
-    assert!(
-        status.contains("cloth-sim: running") && status.contains("started 2x"),
-        "{status}"
-    );
-    assert!(
-        status.contains("haptic-loop: running") && status.contains("started 1x"),
-        "{status}"
-    );
-    let before = seen.len();
+    let status = || String::from_utf8_lossy(&ctl(&["status"]).stdout).to_string();
+    // The UI must be up before it is swapped.
+    let until = Instant::now() + Duration::from_secs(30);
+    while !status().contains("cloth-ui: running") {
+        assert!(
+            Instant::now() < until,
+            "cloth-ui did not start: {}",
+            status()
+        );
+        collect(Instant::now() + Duration::from_millis(200), &mut seen);
+    }
     collect(Instant::now() + Duration::from_millis(1500), &mut seen);
+    for role in ["ui", "sim"] {
+        let out = ctl(&["restart", role]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(String::from_utf8_lossy(&out.stdout).contains("restarted cloth-"));
+        collect(Instant::now() + Duration::from_millis(1500), &mut seen);
+    }
+    let s = status();
+    for want in [
+        "haptic-loop: running, pid",
+        "cloth-sim: running",
+        "cloth-ui: running",
+    ] {
+        assert!(s.contains(want), "{s}");
+    }
     assert!(
-        seen.len() >= before + 10,
-        "the haptic loop stopped publishing"
+        s.contains("(started 1x)") && s.matches("(started 2x)").count() == 2,
+        "{s}"
+    );
+    assert!(
+        seen.len() >= 40,
+        "the haptic loop published {} times",
+        seen.len()
     );
     for w in seen.windows(2) {
         assert_eq!(

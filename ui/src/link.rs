@@ -1,0 +1,283 @@
+//! The UI's connection to the running system over iceoryx2: everything cloth-sim and
+//! haptic-loop publish comes in here, is checked, and lands in the `Store`; commands go
+//! out with their replies collected; the mouse goes to the simulated pen. Nothing from
+//! another process is trusted: a message that fails its checks is counted and shown, never
+//! used.
+
+use iceoryx2::pending_response::PendingResponse;
+use iceoryx2::prelude::*;
+use shared::domain::Domain;
+use shared::haptic_to_sim::DeviceSample;
+use shared::sim_to_haptic::LocalModel;
+use shared::sim_to_ui::{
+    BodyMeshHeader, ClothFrameHeader, MeshCorner, MeshHeader, TextureTile, ToolState, check_body,
+    check_frame, check_mesh, check_tile,
+};
+use shared::telemetry::{LoopTelemetry, SimTelemetry};
+use shared::ui_to_haptic::PointerInput;
+use shared::ui_to_sim::{CommandReply, ToolCommand};
+use shared::{Checked, Header, services};
+
+use crate::store::{Mesh, Store, vertex_normals};
+
+type Pending = PendingResponse<ipc::Service, ToolCommand, (), CommandReply, ()>;
+
+pub struct Link {
+    pub domain: Domain,
+    _node: Node<ipc::Service>,
+    frames: services::SliceSub<f32, ClothFrameHeader>,
+    meshes: services::SliceSub<MeshCorner, MeshHeader>,
+    tiles: services::SliceSub<u8, TextureTile>,
+    bodies: services::SliceSub<f32, BodyMeshHeader>,
+    tools: services::Sub<ToolState>,
+    pens: services::Sub<DeviceSample>,
+    models: services::Sub<LocalModel>,
+    loop_tel: services::Sub<LoopTelemetry>,
+    sim_tel: services::Sub<SimTelemetry>,
+    client: iceoryx2::port::client::Client<ipc::Service, ToolCommand, (), CommandReply, ()>,
+    pointer: services::Pub<PointerInput>,
+    pending: Vec<(ToolCommand, Pending, std::time::Instant)>,
+    seq_cmd: u64,
+    seq_ptr: u64,
+}
+
+/// A reply to a command the UI sent, or that none came.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Answer {
+    pub op: u32,
+    pub ok: bool,
+    pub message: String,
+}
+
+fn e(x: impl std::fmt::Debug) -> String {
+    format!("{x:?}")
+}
+
+impl Link {
+    /// Opens every port in `domain`; the error says which one failed and why (a protocol
+    /// mismatch says so).
+    pub fn open(domain: &Domain) -> Result<Self, String> {
+        let node = services::node(domain, "cloth-ui").map_err(|x| x.to_string())?;
+        let s = |x: services::ServiceError| x.to_string();
+        Ok(Self {
+            frames: services::cloth_frame(&node)
+                .map_err(s)?
+                .subscriber_builder()
+                .create()
+                .map_err(e)?,
+            meshes: services::cloth_mesh(&node)
+                .map_err(s)?
+                .subscriber_builder()
+                .create()
+                .map_err(e)?,
+            tiles: services::texture(&node)
+                .map_err(s)?
+                .subscriber_builder()
+                .create()
+                .map_err(e)?,
+            bodies: services::body_mesh(&node)
+                .map_err(s)?
+                .subscriber_builder()
+                .create()
+                .map_err(e)?,
+            tools: services::tool_state(&node)
+                .map_err(s)?
+                .subscriber_builder()
+                .create()
+                .map_err(e)?,
+            pens: services::device(&node)
+                .map_err(s)?
+                .subscriber_builder()
+                .create()
+                .map_err(e)?,
+            models: services::local_model(&node)
+                .map_err(s)?
+                .subscriber_builder()
+                .create()
+                .map_err(e)?,
+            loop_tel: services::haptic_telemetry(&node)
+                .map_err(s)?
+                .subscriber_builder()
+                .create()
+                .map_err(e)?,
+            sim_tel: services::sim_telemetry(&node)
+                .map_err(s)?
+                .subscriber_builder()
+                .create()
+                .map_err(e)?,
+            client: services::commands(&node)
+                .map_err(s)?
+                .client_builder()
+                .create()
+                .map_err(e)?,
+            pointer: services::pointer(&node)
+                .map_err(s)?
+                .publisher_builder()
+                .create()
+                .map_err(e)?,
+            _node: node,
+            domain: domain.clone(),
+            pending: Vec::new(),
+            seq_cmd: 0,
+            seq_ptr: 0,
+        })
+    }
+
+    /// Takes in everything that arrived; returns the replies to commands.
+    pub fn poll(&mut self, store: &mut Store) -> Vec<Answer> {
+        let now = std::time::Instant::now();
+        // The mesh before the frames, so positions meet their triangles.
+        while let Ok(Some(m)) = self.meshes.receive() {
+            let h = *m.user_header();
+            match check_mesh(&h, m.payload()) {
+                Ok(()) => {
+                    store.mesh = Some(Mesh::new(
+                        h.topology,
+                        h.vertices as usize,
+                        m.payload().to_vec(),
+                    ));
+                    store.heard.sim = Some(now);
+                }
+                Err(x) => store.record(&x),
+            }
+        }
+        let mut newest = None;
+        while let Ok(Some(f)) = self.frames.receive() {
+            let h = *f.user_header();
+            match check_frame(&h, f.payload()) {
+                Ok(()) => newest = Some((h, f.payload().to_vec())),
+                Err(x) => store.record(&x),
+            }
+        }
+        if let Some((h, p)) = newest {
+            let n = h.vertices as usize;
+            store.x = p[..3 * n]
+                .chunks_exact(3)
+                .map(|c| [c[0], c[1], c[2]])
+                .collect();
+            store.normals = p[3 * n..]
+                .chunks_exact(3)
+                .map(|c| [c[0], c[1], c[2]])
+                .collect();
+            if store.normals.len() != n {
+                store.normals = vertex_normals(store.mesh.as_ref(), &store.x);
+            }
+            store.frame = h.frame;
+            store.heard.sim = Some(now);
+        }
+        while let Ok(Some(t)) = self.tiles.receive() {
+            let h = *t.user_header();
+            match check_tile(&h, t.payload()) {
+                Ok(()) => store.texture.apply(
+                    h.width as usize,
+                    h.height as usize,
+                    [h.x0, h.y0, h.w, h.h].map(|v| v as usize),
+                    t.payload(),
+                ),
+                Err(x) => store.record(&x),
+            }
+        }
+        while let Ok(Some(b)) = self.bodies.receive() {
+            match check_body(b.user_header(), b.payload()) {
+                Ok(body) => {
+                    store.body = Some(body);
+                    store.body_version += 1;
+                }
+                Err(x) => store.record(&x),
+            }
+        }
+        while let Ok(Some(s)) = self.tools.receive() {
+            match s.header.check() {
+                Ok(()) => store.tool = Some(*s),
+                Err(x) => store.record(&x),
+            }
+        }
+        while let Ok(Some(s)) = self.pens.receive() {
+            match s.check() {
+                Ok(()) => {
+                    store.pen = Some(*s);
+                    store.heard.haptic = Some(now);
+                }
+                Err(x) => store.record(&x),
+            }
+        }
+        while let Ok(Some(s)) = self.models.receive() {
+            match s.check() {
+                Ok(()) => store.model = Some(*s),
+                Err(x) => store.record(&x),
+            }
+        }
+        let mut sample = false;
+        while let Ok(Some(s)) = self.loop_tel.receive() {
+            match s.check() {
+                Ok(()) => {
+                    store.loop_tel = Some(Box::new(*s));
+                    store.heard.haptic = Some(now);
+                    sample = true;
+                }
+                Err(x) => store.record(&x),
+            }
+        }
+        while let Ok(Some(s)) = self.sim_tel.receive() {
+            match s.check() {
+                Ok(()) => store.sim_tel = Some(Box::new(*s)),
+                Err(x) => store.record(&x),
+            }
+        }
+        if sample {
+            store.push_sample();
+        }
+        let mut answers = Vec::new();
+        self.pending.retain(|(cmd, p, sent)| match p.receive() {
+            Ok(Some(r)) => {
+                answers.push(match r.check() {
+                    Ok(()) => Answer {
+                        op: cmd.op,
+                        ok: r.ok == 1,
+                        message: r.message().to_string(),
+                    },
+                    Err(x) => Answer {
+                        op: cmd.op,
+                        ok: false,
+                        message: format!("unreadable reply: {x}"),
+                    },
+                });
+                false
+            }
+            _ if sent.elapsed().as_secs_f64() > 5.0 => {
+                answers.push(Answer {
+                    op: cmd.op,
+                    ok: false,
+                    message: "no reply from cloth-sim within 5 s".into(),
+                });
+                false
+            }
+            _ => true,
+        });
+        answers
+    }
+
+    /// Sends a command; its reply comes back from a later `poll`.
+    pub fn send(&mut self, mut c: ToolCommand) -> Result<(), String> {
+        c.header = Header::next(&mut self.seq_cmd);
+        let p = self
+            .client
+            .send_copy(c)
+            .map_err(|x| format!("sending the command failed: {x:?}"))?;
+        if p.number_of_server_connections() == 0 {
+            return Err("cloth-sim is not running: the command was not delivered".into());
+        }
+        self.pending.push((c, p, std::time::Instant::now()));
+        Ok(())
+    }
+
+    /// Moves the simulated pen's hand to `target` with `buttons`.
+    pub fn point(&mut self, target: [f32; 3], buttons: u32) {
+        let _ = self.pointer.send_copy(PointerInput {
+            header: Header::next(&mut self.seq_ptr),
+            target,
+            buttons,
+            _reserved: 0,
+        });
+    }
+}

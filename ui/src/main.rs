@@ -1,0 +1,98 @@
+//! cloth-ui: the design studio window.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Duration;
+
+use clap::Parser;
+use shared::domain::Domain;
+use ui::app::{App, Options};
+
+#[derive(Parser)]
+#[command(
+    name = "cloth-ui",
+    version,
+    about = "Saiho's design studio: the cloth in 3D, the tools, and the system's status",
+    long_about = "Saiho's design studio: the cloth in 3D, the cut/sew/paint/pinch/tear/pin tools, \
+        and the processes' status and latency. It shows the design cloth-sim holds (it can be \
+        closed and restarted at any time without losing anything) and drives the simulated pen \
+        with the mouse."
+)]
+struct Cli {
+    /// iceoryx2 domain of the running system (default: $SAIHO_DOMAIN, else "saiho").
+    #[arg(long)]
+    domain: Option<String>,
+    /// Save a screenshot of the window as PNG after --exit-after seconds, then quit.
+    #[arg(long)]
+    screenshot: Option<PathBuf>,
+    /// Quit after this many seconds.
+    #[arg(long)]
+    exit_after: Option<f64>,
+    /// Print the frame rate every second.
+    #[arg(long)]
+    log_fps: bool,
+    /// 3D view resolution relative to the window (default: 1 on a GPU, 0.5 on a
+    /// software rasteriser such as llvmpipe).
+    #[arg(long)]
+    render_scale: Option<f32>,
+    /// Present frames as soon as they are drawn (for measuring the frame rate).
+    #[arg(long)]
+    no_vsync: bool,
+    /// Window size, pixels.
+    #[arg(long, default_value_t = 1280.0)]
+    width: f32,
+    #[arg(long, default_value_t = 800.0)]
+    height: f32,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let domain = match Domain::from_arg_or_env(cli.domain.as_deref()) {
+        Ok(d) => d,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    if let Some(s) = cli.exit_after
+        && !(s.is_finite() && s >= 0.0)
+    {
+        eprintln!("error: --exit-after must be a number of seconds, got {s}");
+        return ExitCode::FAILURE;
+    }
+    if let Some(s) = cli.render_scale
+        && !(s.is_finite() && (0.1..=2.0).contains(&s))
+    {
+        eprintln!("error: --render-scale must be between 0.1 and 2, got {s}");
+        return ExitCode::FAILURE;
+    }
+    let opts = Options {
+        domain: Some(domain),
+        screenshot: cli.screenshot,
+        exit_after: cli.exit_after.map(Duration::from_secs_f64),
+        log_fps: cli.log_fps,
+        render_scale: cli.render_scale,
+    };
+    let native = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_title("Saiho")
+            .with_inner_size([cli.width, cli.height]),
+        renderer: eframe::Renderer::Wgpu,
+        ..Default::default()
+    };
+    let mut native = native;
+    if cli.no_vsync {
+        native.wgpu_options.surface.present_mode = egui_wgpu::wgpu::PresentMode::AutoNoVsync;
+    }
+    match eframe::run_native(
+        "Saiho",
+        native,
+        Box::new(move |_cc| Ok(Box::new(App::new(opts)))),
+    ) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: cloth-ui could not open its window: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

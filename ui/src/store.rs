@@ -1,0 +1,273 @@
+//! What the viewer knows of the design: the latest mesh, positions, texture, body, tool
+//! state, pen and telemetry, all as cloth-sim and haptic-loop sent them (checked before
+//! they get here). The UI only reads it; `Link` writes it.
+
+use std::collections::VecDeque;
+use std::time::Instant;
+
+use shared::haptic_to_sim::DeviceSample;
+use shared::sim_to_haptic::LocalModel;
+use shared::sim_to_ui::{MeshCorner, ToolState};
+use shared::telemetry::{LoopTelemetry, SimTelemetry};
+
+/// The cloth's triangles and what the renderer derives from them.
+#[derive(Clone, Debug, Default)]
+pub struct Mesh {
+    pub topology: u64,
+    pub vertices: usize,
+    pub corners: Vec<MeshCorner>,
+    /// Edges with one triangle: the cloth's border and its cuts.
+    pub border: Vec<[u32; 2]>,
+}
+
+impl Mesh {
+    pub fn new(topology: u64, vertices: usize, corners: Vec<MeshCorner>) -> Self {
+        let mut count: std::collections::HashMap<(u32, u32), u32> = Default::default();
+        for t in corners.chunks_exact(3) {
+            for k in 0..3 {
+                let (a, b) = (t[k].vertex, t[(k + 1) % 3].vertex);
+                *count.entry((a.min(b), a.max(b))).or_default() += 1;
+            }
+        }
+        let mut border: Vec<[u32; 2]> = count
+            .into_iter()
+            .filter(|&(_, c)| c == 1)
+            .map(|((a, b), _)| [a, b])
+            .collect();
+        border.sort_unstable();
+        Self {
+            topology,
+            vertices,
+            corners,
+            border,
+        }
+    }
+
+    pub fn triangles(&self) -> usize {
+        self.corners.len() / 3
+    }
+}
+
+/// The cloth's texture as the tiles built it, and the regions changed since the renderer
+/// last uploaded.
+#[derive(Clone, Debug)]
+pub struct Texture {
+    pub width: usize,
+    pub height: usize,
+    pub rgba: Vec<u8>,
+    pub dirty: Vec<[usize; 4]>,
+    pub tiles_seen: usize,
+}
+
+impl Default for Texture {
+    fn default() -> Self {
+        let (w, h) = (1024, 1024);
+        Self {
+            width: w,
+            height: h,
+            rgba: [235u8, 235, 230, 255].repeat(w * h),
+            dirty: vec![[0, 0, w, h]],
+            tiles_seen: 0,
+        }
+    }
+}
+
+impl Texture {
+    /// Writes a tile (already checked to lie inside a `width` x `height` texture); a new
+    /// size resets the texture.
+    pub fn apply(&mut self, width: usize, height: usize, rect: [usize; 4], rgba: &[u8]) {
+        if (width, height) != (self.width, self.height) {
+            *self = Self {
+                width,
+                height,
+                rgba: [235u8, 235, 230, 255].repeat(width * height),
+                dirty: vec![[0, 0, width, height]],
+                tiles_seen: 0,
+            };
+        }
+        let [x0, y0, w, h] = rect;
+        for r in 0..h {
+            let dst = 4 * ((y0 + r) * width + x0);
+            self.rgba[dst..dst + 4 * w].copy_from_slice(&rgba[4 * r * w..4 * (r + 1) * w]);
+        }
+        self.dirty.push(rect);
+        self.tiles_seen += 1;
+    }
+}
+
+/// One point of the status plots.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Sample {
+    pub t: f64,
+    pub haptic_period_p999_us: f64,
+    pub haptic_compute_p99_us: f64,
+    pub model_age_p99_ms: f64,
+    pub sim_frame_ms: f64,
+}
+
+/// Who was heard from, and when.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Heard {
+    pub sim: Option<Instant>,
+    pub haptic: Option<Instant>,
+}
+
+#[derive(Debug)]
+pub struct Store {
+    pub started: Instant,
+    pub mesh: Option<Mesh>,
+    pub x: Vec<[f32; 3]>,
+    pub normals: Vec<[f32; 3]>,
+    pub frame: u64,
+    pub texture: Texture,
+    pub body: Option<shared::sim_to_ui::BodyMesh>,
+    /// Bumped when the body changes (the renderer re-uploads).
+    pub body_version: u64,
+    pub tool: Option<ToolState>,
+    pub pen: Option<DeviceSample>,
+    pub model: Option<LocalModel>,
+    pub loop_tel: Option<Box<LoopTelemetry>>,
+    pub sim_tel: Option<Box<SimTelemetry>>,
+    /// The last 600 points (one per loop telemetry message, 10 Hz: a minute).
+    pub history: VecDeque<Sample>,
+    pub heard: Heard,
+    /// Messages refused because they failed their checks, and the last reason.
+    pub rejected: u64,
+    pub last_rejection: Option<String>,
+    /// The newest protocol mismatch, if any: shown as a banner.
+    pub mismatch: Option<String>,
+}
+
+impl Default for Store {
+    fn default() -> Self {
+        Self {
+            started: Instant::now(),
+            mesh: None,
+            x: Vec::new(),
+            normals: Vec::new(),
+            frame: 0,
+            texture: Texture::default(),
+            body: None,
+            body_version: 0,
+            tool: None,
+            pen: None,
+            model: None,
+            loop_tel: None,
+            sim_tel: None,
+            history: VecDeque::new(),
+            heard: Heard::default(),
+            rejected: 0,
+            last_rejection: None,
+            mismatch: None,
+        }
+    }
+}
+
+impl Store {
+    /// A flat square cloth of `n x n` cells, 1 m wide at height `y`, for tests and the
+    /// demo view when no cloth-sim is running.
+    pub fn demo_cloth(n: usize, y: f32) -> (Mesh, Vec<[f32; 3]>) {
+        let side = n + 1;
+        let mut x = Vec::with_capacity(side * side);
+        for r in 0..side {
+            for c in 0..side {
+                x.push([c as f32 / n as f32 - 0.5, y, r as f32 / n as f32 - 0.5]);
+            }
+        }
+        let uv = |i: usize| ((i % side) as f32 / n as f32, (i / side) as f32 / n as f32);
+        let mut corners = Vec::new();
+        for r in 0..n {
+            for c in 0..n {
+                let i = r * side + c;
+                for v in [i, i + side, i + 1, i + 1, i + side, i + side + 1] {
+                    let (u, w) = uv(v);
+                    corners.push(MeshCorner {
+                        vertex: v as u32,
+                        u,
+                        v: w,
+                    });
+                }
+            }
+        }
+        (Mesh::new(1, x.len(), corners), x)
+    }
+
+    /// Installs positions and recomputes normals (used by the demo and tests).
+    pub fn set_positions(&mut self, x: Vec<[f32; 3]>) {
+        self.normals = vertex_normals(self.mesh.as_ref(), &x);
+        self.x = x;
+    }
+
+    pub fn record(&mut self, e: &shared::MessageError) {
+        self.rejected += 1;
+        let s = e.to_string();
+        if matches!(e, shared::MessageError::Protocol { .. }) {
+            self.mismatch = Some(s.clone());
+        }
+        self.last_rejection = Some(s);
+    }
+
+    /// Adds a status-plot point from the newest telemetry.
+    pub fn push_sample(&mut self) {
+        let Some(l) = &self.loop_tel else { return };
+        let us = |ns: u64| ns as f64 / 1000.0;
+        let s = Sample {
+            t: self.started.elapsed().as_secs_f64(),
+            haptic_period_p999_us: us(l.period.quantile_ns(0.999)),
+            haptic_compute_p99_us: us(l.compute.quantile_ns(0.99)),
+            model_age_p99_ms: us(l.model_age.quantile_ns(0.99)) / 1000.0,
+            sim_frame_ms: self
+                .sim_tel
+                .as_ref()
+                .map_or(0.0, |s| us(s.frame_time.quantile_ns(0.5)) / 1000.0),
+        };
+        self.history.push_back(s);
+        while self.history.len() > 600 {
+            self.history.pop_front();
+        }
+    }
+}
+
+/// Area-weighted vertex normals of `mesh` at positions `x` (zero where unknown).
+pub fn vertex_normals(mesh: Option<&Mesh>, x: &[[f32; 3]]) -> Vec<[f32; 3]> {
+    use glam::Vec3;
+    let mut n = vec![Vec3::ZERO; x.len()];
+    if let Some(m) = mesh {
+        for t in m.corners.chunks_exact(3) {
+            let [a, b, c] = [t[0].vertex, t[1].vertex, t[2].vertex].map(|i| i as usize);
+            if a >= x.len() || b >= x.len() || c >= x.len() {
+                continue;
+            }
+            let (pa, pb, pc) = (Vec3::from(x[a]), Vec3::from(x[b]), Vec3::from(x[c]));
+            let f = (pb - pa).cross(pc - pa);
+            n[a] += f;
+            n[b] += f;
+            n[c] += f;
+        }
+    }
+    n.into_iter()
+        .map(|v| v.normalize_or(Vec3::Y).to_array())
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_demo_cloth_has_its_border_and_nothing_inside() {
+        let (m, x) = Store::demo_cloth(4, 0.5);
+        assert_eq!((x.len(), m.triangles()), (25, 32));
+        // 4 sides of 4 edges.
+        assert_eq!(m.border.len(), 16);
+    }
+
+    #[test]
+    fn tiles_land_where_they_say() {
+        let mut t = Texture::default();
+        t.apply(1024, 1024, [64, 128, 2, 2], &[9u8; 16]);
+        assert_eq!(&t.rgba[4 * (128 * 1024 + 64)..][..8], &[9u8; 8]);
+        assert_eq!(t.rgba[4 * (128 * 1024 + 66)], 235);
+        assert_eq!(t.dirty.last(), Some(&[64, 128, 2, 2]));
+    }
+}

@@ -1,0 +1,634 @@
+//! The 3D view, rendered with wgpu into a colour + depth texture of our own and shown as
+//! an egui image, so the same code draws in the app and in egui_kittest (whose pass has no
+//! depth attachment).
+
+use egui_wgpu::wgpu;
+use glam::Vec3;
+use wgpu::util::DeviceExt;
+
+use crate::camera::Camera;
+use crate::store::Store;
+
+const COLOUR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// One vertex of every draw: position, normal, UV, colour.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Vertex {
+    pub pos: [f32; 3],
+    pub nrm: [f32; 3],
+    pub uv: [f32; 2],
+    pub col: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
+struct Uniforms {
+    view_proj: [[f32; 4]; 4],
+    light_dir: [f32; 4],
+    eye: [f32; 4],
+}
+
+/// Extra things to draw this frame besides cloth and body.
+#[derive(Clone, Debug, Default)]
+pub struct Overlay {
+    /// The pen tip.
+    pub pen: Option<Vec3>,
+    /// The pinch spring: from the tip to the pinched vertex.
+    pub spring: Option<(Vec3, Vec3)>,
+    /// A vertex picked by the first click of a sew.
+    pub marked: Option<Vec3>,
+}
+
+/// A growable vertex buffer.
+struct Buf {
+    buf: wgpu::Buffer,
+    cap: u64,
+    len: u32,
+}
+
+impl Buf {
+    fn new(device: &wgpu::Device, label: &str) -> Self {
+        Self {
+            buf: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: 64 * 48,
+                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            cap: 64 * 48,
+            len: 0,
+        }
+    }
+
+    fn upload(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, v: &[Vertex]) {
+        let bytes: &[u8] = bytemuck::cast_slice(v);
+        if bytes.len() as u64 > self.cap {
+            self.cap = (bytes.len() as u64).next_power_of_two();
+            self.buf = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("saiho vertices"),
+                size: self.cap,
+                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+        }
+        if !bytes.is_empty() {
+            queue.write_buffer(&self.buf, 0, bytes);
+        }
+        self.len = v.len() as u32;
+    }
+}
+
+pub struct View3d {
+    textured: wgpu::RenderPipeline,
+    coloured: wgpu::RenderPipeline,
+    lines: wgpu::RenderPipeline,
+    uniforms: wgpu::Buffer,
+    bind: wgpu::BindGroup,
+    cloth_tex: wgpu::Texture,
+    cloth_tex_size: (u32, u32),
+    bind_layout: wgpu::BindGroupLayout,
+    sampler: wgpu::Sampler,
+    cloth: Buf,
+    /// The cloth's distinct (vertex, UV) pairs and the triangles over them, rebuilt when
+    /// the topology changes: a grid cloth then shades each vertex once, not six times.
+    cloth_keys: Vec<(u32, [f32; 2])>,
+    cloth_index: wgpu::Buffer,
+    cloth_index_cap: u64,
+    cloth_index_len: u32,
+    cloth_topology: Option<(u64, usize)>,
+    body: Buf,
+    body_version: u64,
+    line_buf: Buf,
+    marker: Buf,
+    scratch: Vec<Vertex>,
+    target: Option<(wgpu::Texture, wgpu::Texture, [u32; 2])>,
+    pub texture_id: Option<egui::TextureId>,
+}
+
+fn cloth_texture(device: &wgpu::Device, w: u32, h: u32) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("saiho cloth texture"),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba8UnormSrgb,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    })
+}
+
+impl View3d {
+    pub fn new(device: &wgpu::Device) -> Self {
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("saiho view3d"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("shader.wgsl").into()),
+        });
+        let bind_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("saiho view3d"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("saiho view3d"),
+            bind_group_layouts: &[Some(&bind_layout)],
+            immediate_size: 0,
+        });
+        let attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2, 3 => Float32x4];
+        let pipeline = |fs: &str, topology: wgpu::PrimitiveTopology| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(fs),
+                layout: Some(&layout),
+                vertex: wgpu::VertexState {
+                    module: &shader,
+                    entry_point: Some(if topology == wgpu::PrimitiveTopology::LineList {
+                        "vs_line"
+                    } else {
+                        "vs"
+                    }),
+                    compilation_options: Default::default(),
+                    buffers: &[Some(wgpu::VertexBufferLayout {
+                        array_stride: std::mem::size_of::<Vertex>() as u64,
+                        step_mode: wgpu::VertexStepMode::Vertex,
+                        attributes: &attrs,
+                    })],
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology,
+                    cull_mode: None,
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &shader,
+                    entry_point: Some(fs),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format: COLOUR,
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let textured = pipeline("fs_textured", wgpu::PrimitiveTopology::TriangleList);
+        let coloured = pipeline("fs_colour", wgpu::PrimitiveTopology::TriangleList);
+        let lines = pipeline("fs_flat", wgpu::PrimitiveTopology::LineList);
+        let uniforms = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("saiho uniforms"),
+            contents: bytemuck::bytes_of(&Uniforms {
+                view_proj: glam::Mat4::IDENTITY.to_cols_array_2d(),
+                light_dir: [0.3, 1.0, 0.5, 0.0],
+                eye: [0.0; 4],
+            }),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        });
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("saiho cloth"),
+            address_mode_u: wgpu::AddressMode::ClampToEdge,
+            address_mode_v: wgpu::AddressMode::ClampToEdge,
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let cloth_tex = cloth_texture(device, 1024, 1024);
+        let bind = Self::bind_group(device, &bind_layout, &uniforms, &cloth_tex, &sampler);
+        Self {
+            textured,
+            coloured,
+            lines,
+            uniforms,
+            bind,
+            cloth_tex,
+            cloth_tex_size: (1024, 1024),
+            bind_layout,
+            sampler,
+            cloth: Buf::new(device, "saiho cloth"),
+            cloth_keys: Vec::new(),
+            cloth_index: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("saiho cloth indices"),
+                size: 4096,
+                usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            cloth_index_cap: 4096,
+            cloth_index_len: 0,
+            cloth_topology: None,
+            body: Buf::new(device, "saiho body"),
+            body_version: u64::MAX,
+            line_buf: Buf::new(device, "saiho lines"),
+            marker: Buf::new(device, "saiho markers"),
+            scratch: Vec::new(),
+            target: None,
+            texture_id: None,
+        }
+    }
+
+    fn bind_group(
+        device: &wgpu::Device,
+        layout: &wgpu::BindGroupLayout,
+        uniforms: &wgpu::Buffer,
+        tex: &wgpu::Texture,
+        sampler: &wgpu::Sampler,
+    ) -> wgpu::BindGroup {
+        let view = tex.create_view(&Default::default());
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("saiho view3d"),
+            layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: uniforms.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::Sampler(sampler),
+                },
+            ],
+        })
+    }
+
+    fn upload_texture(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, store: &mut Store) {
+        let t = &mut store.texture;
+        let (w, h) = (t.width as u32, t.height as u32);
+        if (w, h) != self.cloth_tex_size {
+            self.cloth_tex = cloth_texture(device, w, h);
+            self.cloth_tex_size = (w, h);
+            self.bind = Self::bind_group(
+                device,
+                &self.bind_layout,
+                &self.uniforms,
+                &self.cloth_tex,
+                &self.sampler,
+            );
+            t.dirty = vec![[0, 0, t.width, t.height]];
+        }
+        for [x0, y0, rw, rh] in std::mem::take(&mut t.dirty) {
+            if rw == 0 || rh == 0 || x0 + rw > t.width || y0 + rh > t.height {
+                continue;
+            }
+            let mut rows = Vec::with_capacity(4 * rw * rh);
+            for r in 0..rh {
+                let s = 4 * ((y0 + r) * t.width + x0);
+                rows.extend_from_slice(&t.rgba[s..s + 4 * rw]);
+            }
+            queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &self.cloth_tex,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d {
+                        x: x0 as u32,
+                        y: y0 as u32,
+                        z: 0,
+                    },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                &rows,
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(4 * rw as u32),
+                    rows_per_image: Some(rh as u32),
+                },
+                wgpu::Extent3d {
+                    width: rw as u32,
+                    height: rh as u32,
+                    depth_or_array_layers: 1,
+                },
+            );
+        }
+    }
+
+    fn ensure_target(
+        &mut self,
+        device: &wgpu::Device,
+        renderer: &mut egui_wgpu::Renderer,
+        size: [u32; 2],
+    ) {
+        if self.target.as_ref().is_some_and(|t| t.2 == size) {
+            return;
+        }
+        let make = |format, usage| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("saiho view3d target"),
+                size: wgpu::Extent3d {
+                    width: size[0],
+                    height: size[1],
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        let colour = make(
+            COLOUR,
+            wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+        );
+        let depth = make(DEPTH, wgpu::TextureUsages::RENDER_ATTACHMENT);
+        let view = colour.create_view(&Default::default());
+        match self.texture_id {
+            Some(id) => renderer.update_egui_texture_from_wgpu_texture(
+                device,
+                &view,
+                wgpu::FilterMode::Linear,
+                id,
+            ),
+            None => {
+                self.texture_id =
+                    Some(renderer.register_native_texture(device, &view, wgpu::FilterMode::Linear))
+            }
+        }
+        self.target = Some((colour, depth, size));
+    }
+
+    /// Renders the scene at `size` pixels; the result is `self.texture_id`.
+    pub fn render(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        renderer: &mut egui_wgpu::Renderer,
+        store: &mut Store,
+        camera: &Camera,
+        overlay: &Overlay,
+        size: [u32; 2],
+    ) -> Option<egui::TextureId> {
+        let size = [size[0].clamp(16, 4096), size[1].clamp(16, 4096)];
+        self.ensure_target(device, renderer, size);
+        self.upload_texture(device, queue, store);
+        let aspect = size[0] as f32 / size[1] as f32;
+        let eye = camera.eye();
+        queue.write_buffer(
+            &self.uniforms,
+            0,
+            bytemuck::bytes_of(&Uniforms {
+                view_proj: camera.view_proj(aspect).to_cols_array_2d(),
+                light_dir: [0.35, 1.0, 0.55, 0.0],
+                eye: [eye.x, eye.y, eye.z, 1.0],
+            }),
+        );
+        // The cloth: one vertex per distinct (vertex, UV) pair (UVs are per corner, so a
+        // seam or cut gives a vertex two), indexed by its triangles.
+        let key = store.mesh.as_ref().map(|m| (m.topology, m.corners.len()));
+        if key != self.cloth_topology {
+            self.cloth_keys.clear();
+            let mut index = Vec::new();
+            if let Some(m) = &store.mesh {
+                let mut seen: std::collections::HashMap<(u32, u32, u32), u32> = Default::default();
+                for c in &m.corners {
+                    let k = (c.vertex, c.u.to_bits(), c.v.to_bits());
+                    let i = *seen.entry(k).or_insert_with(|| {
+                        self.cloth_keys.push((c.vertex, [c.u, c.v]));
+                        (self.cloth_keys.len() - 1) as u32
+                    });
+                    index.push(i);
+                }
+            }
+            let bytes: &[u8] = bytemuck::cast_slice(&index);
+            if bytes.len() as u64 > self.cloth_index_cap {
+                self.cloth_index_cap = (bytes.len() as u64).next_power_of_two();
+                self.cloth_index = device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("saiho cloth indices"),
+                    size: self.cloth_index_cap,
+                    usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                });
+            }
+            if !bytes.is_empty() {
+                queue.write_buffer(&self.cloth_index, 0, bytes);
+            }
+            self.cloth_index_len = index.len() as u32;
+            self.cloth_topology = key;
+        }
+        self.scratch.clear();
+        let (x, n) = (&store.x, &store.normals);
+        let mut complete = true;
+        for &(v, uv) in &self.cloth_keys {
+            let i = v as usize;
+            let (p, nn) = match (x.get(i), n.get(i)) {
+                (Some(p), Some(nn)) => (*p, *nn),
+                // Positions for a newer or older mesh: draw nothing rather than garbage.
+                _ => {
+                    complete = false;
+                    ([0.0; 3], [0.0, 1.0, 0.0])
+                }
+            };
+            self.scratch.push(Vertex {
+                pos: p,
+                nrm: nn,
+                uv,
+                col: [1.0; 4],
+            });
+        }
+        if !complete {
+            self.scratch.clear();
+        }
+        self.cloth.upload(device, queue, &self.scratch);
+        if self.body_version != store.body_version {
+            self.scratch.clear();
+            if let Some((v, t)) = &store.body {
+                for tri in t {
+                    let [a, b, c] = tri.map(|i| Vec3::from(v[i as usize]));
+                    let nrm = (b - a).cross(c - a).normalize_or(Vec3::Y).to_array();
+                    for p in [a, b, c] {
+                        self.scratch.push(Vertex {
+                            pos: p.to_array(),
+                            nrm,
+                            uv: [0.0; 2],
+                            col: [0.55, 0.6, 0.68, 1.0],
+                        });
+                    }
+                }
+            }
+            self.body.upload(device, queue, &self.scratch);
+            self.body_version = store.body_version;
+        }
+        // Lines: the floor grid, the cloth's border and cuts, the pinch spring, the pen.
+        self.scratch.clear();
+        let line = |s: &mut Vec<Vertex>, a: Vec3, b: Vec3, col: [f32; 4]| {
+            for p in [a, b] {
+                s.push(Vertex {
+                    pos: p.to_array(),
+                    col,
+                    ..Default::default()
+                });
+            }
+        };
+        for k in -10..=10 {
+            let f = k as f32 * 0.1;
+            let col = [0.06, 0.065, 0.075, 1.0];
+            line(
+                &mut self.scratch,
+                Vec3::new(f, 0.0, -1.0),
+                Vec3::new(f, 0.0, 1.0),
+                col,
+            );
+            line(
+                &mut self.scratch,
+                Vec3::new(-1.0, 0.0, f),
+                Vec3::new(1.0, 0.0, f),
+                col,
+            );
+        }
+        if let Some(m) = &store.mesh {
+            for &[a, b] in &m.border {
+                if let (Some(pa), Some(pb)) = (store.x.get(a as usize), store.x.get(b as usize)) {
+                    line(
+                        &mut self.scratch,
+                        Vec3::from(*pa),
+                        Vec3::from(*pb),
+                        [0.95, 0.55, 0.1, 1.0],
+                    );
+                }
+            }
+        }
+        if let Some((a, b)) = overlay.spring {
+            line(&mut self.scratch, a, b, [0.2, 0.9, 0.4, 1.0]);
+        }
+        let cross = |s: &mut Vec<Vertex>, c: Vec3, r: f32, col: [f32; 4]| {
+            for d in [Vec3::X, Vec3::Y, Vec3::Z] {
+                line(s, c - d * r, c + d * r, col);
+            }
+        };
+        if let Some(p) = overlay.pen {
+            cross(&mut self.scratch, p, 0.02, [1.0, 0.95, 0.3, 1.0]);
+        }
+        if let Some(p) = overlay.marked {
+            cross(&mut self.scratch, p, 0.015, [0.3, 0.7, 1.0, 1.0]);
+        }
+        self.line_buf.upload(device, queue, &self.scratch);
+        // The pen tip as a small lit octahedron.
+        self.scratch.clear();
+        if let Some(c) = overlay.pen {
+            let r = 0.008;
+            let d = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z];
+            for (i, j, k) in [
+                (0, 1, 2),
+                (1, 3, 2),
+                (3, 4, 2),
+                (4, 0, 2),
+                (1, 0, 5),
+                (3, 1, 5),
+                (4, 3, 5),
+                (0, 4, 5),
+            ] {
+                let n = (d[i] + d[j] + d[k]).normalize();
+                for q in [i, j, k] {
+                    self.scratch.push(Vertex {
+                        pos: (c + d[q] * r).to_array(),
+                        nrm: n.to_array(),
+                        uv: [0.0; 2],
+                        col: [1.0, 0.85, 0.2, 1.0],
+                    });
+                }
+            }
+        }
+        self.marker.upload(device, queue, &self.scratch);
+
+        let (colour, depth, _) = self.target.as_ref()?;
+        let cview = colour.create_view(&Default::default());
+        let dview = depth.create_view(&Default::default());
+        let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("saiho view3d"),
+        });
+        {
+            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("saiho view3d"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &cview,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(wgpu::Color {
+                            r: 0.13,
+                            g: 0.14,
+                            b: 0.16,
+                            a: 1.0,
+                        }),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &dview,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Discard,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_bind_group(0, &self.bind, &[]);
+            if self.cloth.len > 0 && self.cloth_index_len > 0 {
+                pass.set_pipeline(&self.textured);
+                pass.set_vertex_buffer(0, self.cloth.buf.slice(..));
+                pass.set_index_buffer(self.cloth_index.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..self.cloth_index_len, 0, 0..1);
+            }
+            for (pipe, buf) in [
+                (&self.coloured, &self.body),
+                (&self.coloured, &self.marker),
+                (&self.lines, &self.line_buf),
+            ] {
+                if buf.len > 0 {
+                    pass.set_pipeline(pipe);
+                    pass.set_vertex_buffer(0, buf.buf.slice(..));
+                    pass.draw(0..buf.len, 0..1);
+                }
+            }
+        }
+        queue.submit([enc.finish()]);
+        self.texture_id
+    }
+}

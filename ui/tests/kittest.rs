@@ -1,0 +1,181 @@
+//! The studio driven by egui_kittest, with no system behind it: each tool is chosen by its
+//! label and used on a demo cloth in the 3D view, and the commands and pen moves the UI
+//! emits are checked, with the state it shows; a snapshot of the rendered 3D view.
+
+#![allow(clippy::unwrap_used)]
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use shared::sim_to_ui::tool;
+use shared::ui_to_sim::op;
+use ui::app::{App, Emitted, Options};
+use ui::store::Store;
+
+fn harness() -> Harness<'static, App> {
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1200.0, 760.0))
+        .wgpu()
+        .build_eframe(|_cc| {
+            let mut app = App::new(Options::default());
+            let (mesh, x) = Store::demo_cloth(16, 0.4);
+            app.store.mesh = Some(mesh);
+            app.store.set_positions(x);
+            app
+        });
+    h.run_steps(3);
+    h
+}
+
+fn view_centre(h: &Harness<'_, App>) -> egui::Pos2 {
+    h.state().view_rect.unwrap().center()
+}
+
+fn click(h: &mut Harness<'_, App>, p: egui::Pos2) {
+    h.hover_at(p);
+    h.run_steps(1);
+    h.drag_at(p);
+    h.run_steps(1);
+    h.drop_at(p);
+    h.run_steps(2);
+}
+
+fn commands(h: &Harness<'_, App>) -> Vec<shared::ui_to_sim::ToolCommand> {
+    h.state()
+        .emitted
+        .iter()
+        .filter_map(|e| match e {
+            Emitted::Command(c) => Some(*c),
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn each_tool_by_its_label_emits_its_commands() {
+    let mut h = harness();
+    let centre = view_centre(&h);
+
+    // Cut: choosing it tells cloth-sim; a click on the cloth splits the vertex there.
+    h.get_by_label("Cut  (C)").click();
+    h.run_steps(2);
+    let c = *commands(&h).last().unwrap();
+    assert_eq!((c.op, c.a), (op::SET_TOOL, tool::CUT));
+    assert_eq!(h.state().tool, tool::CUT);
+    h.get_by_label("Cut tool");
+    click(&mut h, centre);
+    let c = *commands(&h).last().unwrap();
+    assert_eq!(c.op, op::CUT_VERTEX, "{c:?}");
+    let side = 17;
+    let (r, col) = (c.a as usize / side, c.a as usize % side);
+    assert!(
+        (4..=12).contains(&r) && (4..=12).contains(&col),
+        "cut vertex {}",
+        c.a
+    );
+    assert!(c.vec.iter().any(|v| *v != 0.0));
+
+    // Sew: two clicks on two vertices.
+    h.get_by_label("Sew  (S)").click();
+    h.run_steps(2);
+    click(&mut h, centre);
+    assert!(h.state().sew_first.is_some());
+    click(&mut h, centre + egui::vec2(60.0, 20.0));
+    let c = *commands(&h).last().unwrap();
+    assert_eq!(c.op, op::SEW, "{c:?}");
+    assert_ne!(c.a, c.b);
+    assert!(h.state().sew_first.is_none());
+
+    // Pin: a click pins.
+    h.get_by_label("Pin  (N)").click();
+    h.run_steps(2);
+    click(&mut h, centre);
+    let c = *commands(&h).last().unwrap();
+    assert_eq!((c.op, c.mode), (op::PIN, 1));
+
+    // Paint: the colour and brush go with the dab, at the point under the mouse.
+    h.get_by_label("Paint  (B)").click();
+    h.run_steps(2);
+    click(&mut h, centre);
+    let c = *commands(&h).last().unwrap();
+    assert_eq!(c.op, op::PAINT);
+    assert_eq!(c.rgba, [200, 30, 40, 255]);
+    assert!((c.value - 0.02).abs() < 1e-6);
+    assert!((c.vec[1] - 0.4).abs() < 1e-3, "painted at {:?}", c.vec);
+
+    // Pinch: a drag moves the simulated pen with its button held, then lets go.
+    h.get_by_label("Pinch  (P)").click();
+    h.run_steps(2);
+    let before = h.state().emitted.len();
+    h.hover_at(centre);
+    h.run_steps(1);
+    h.drag_at(centre);
+    h.run_steps(1);
+    for k in 1..=5 {
+        h.hover_at(centre + egui::vec2(0.0, -12.0 * k as f32));
+        h.run_steps(1);
+    }
+    h.drop_at(centre + egui::vec2(0.0, -60.0));
+    h.run_steps(2);
+    let pen: Vec<([f32; 3], u32)> = h.state().emitted[before..]
+        .iter()
+        .filter_map(|e| match e {
+            Emitted::Pointer(p, b) => Some((*p, *b)),
+            _ => None,
+        })
+        .collect();
+    assert!(pen.len() >= 3, "{pen:?}");
+    assert_eq!(pen[0].1, 1);
+    assert_eq!(pen.last().unwrap().1, 0);
+    assert!(
+        pen.last().unwrap().0[1] > pen[0].0[1] + 0.02,
+        "dragging up lifts: {pen:?}"
+    );
+
+    // Undo and redo by button and by keyboard.
+    h.get_by_label("Undo").click();
+    h.run_steps(2);
+    assert_eq!(commands(&h).last().unwrap().op, op::UNDO);
+    h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Y);
+    h.run_steps(2);
+    assert_eq!(commands(&h).last().unwrap().op, op::REDO);
+    // A tool by its shortcut.
+    h.key_press(egui::Key::T);
+    h.run_steps(2);
+    let c = *commands(&h).last().unwrap();
+    assert_eq!((c.op, c.a), (op::SET_TOOL, tool::TEAR));
+    // A click beside the cloth is explained, not sent.
+    h.get_by_label("Pin  (N)").click();
+    h.run_steps(2);
+    let n = commands(&h).len();
+    let rect = h.state().view_rect.unwrap();
+    click(&mut h, rect.left_top() + egui::vec2(5.0, 5.0));
+    assert_eq!(commands(&h).len(), n);
+    h.get_by_label("Pin: nothing under the mouse");
+}
+
+#[test]
+fn the_3d_view_draws_the_cloth() {
+    let mut h = harness();
+    h.run_steps(2);
+    let img = h.render().unwrap();
+    let rect = h.state().view_rect.unwrap();
+    // The demo cloth's off-white texture, lit: bright pixels in the middle of the view.
+    let (cx, cy) = (rect.center().x as u32, rect.center().y as u32);
+    let bright = (cx - 40..cx + 40)
+        .flat_map(|x| (cy - 40..cy + 40).map(move |y| (x, y)))
+        .filter(|&(x, y)| img.get_pixel(x, y).0[..3].iter().all(|&c| c > 120))
+        .count();
+    assert!(bright > 3000, "{bright} bright pixels where the cloth is");
+    // The view's corner is background.
+    let bg = img
+        .get_pixel(rect.min.x as u32 + 3, rect.min.y as u32 + 3)
+        .0;
+    assert!(bg[..3].iter().all(|&c| c < 110), "{bg:?}");
+    // The status panel shows wall-clock rates (frames per second): not part of the picture.
+    let right = egui::Rect::from_min_max(
+        egui::pos2(rect.max.x + 1.0, 0.0),
+        egui::pos2(10_000.0, 10_000.0),
+    );
+    h.mask(right);
+    h.snapshot("view3d");
+}
