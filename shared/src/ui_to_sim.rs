@@ -36,7 +36,23 @@ pub mod op {
     /// Export the design into the directory `text`: OBJ+MTL+PNG, GLB, the design file,
     /// the body, and `sim-report.json` (what cloth-sim measured).
     pub const EXPORT: u32 = 13;
-    pub const LAST: u32 = EXPORT;
+    /// Start a new design: the scene rebuilt over body `b` (see [`body`]) with grid `a`
+    /// (0 keeps the current one) and material `uv[0..6]` = (density kg/m^2, stretch N/m,
+    /// shear N/m, bending N m, friction, damping 1/s), 0 keeping the current value. The
+    /// design being replaced is saved first, next to the autosave (`*.before-reset.saiho`).
+    pub const RESET: u32 = 14;
+    /// Load the design file at the path in `text` in place of the current design (which
+    /// is saved first, as for RESET).
+    pub const LOAD: u32 = 15;
+    pub const LAST: u32 = LOAD;
+}
+
+/// [`ToolCommand::b`] of a RESET: the body.
+pub mod body {
+    pub const CUBE: u32 = 0;
+    pub const SPHERE: u32 = 1;
+    pub const MANNEQUIN: u32 = 2;
+    pub const LAST: u32 = MANNEQUIN;
 }
 
 pub const TEXT_LEN: usize = 240;
@@ -123,8 +139,24 @@ impl Checked for ToolCommand {
         if !self.uv.iter().all(|c| c.is_finite()) {
             return Err("pattern coordinates are not finite".into());
         }
-        if matches!(self.op, op::SAVE | op::EXPORT) && self.text().is_none_or(str::is_empty) {
-            return Err("save and export need a UTF-8 path".into());
+        if matches!(self.op, op::SAVE | op::EXPORT | op::LOAD)
+            && self.text().is_none_or(str::is_empty)
+        {
+            return Err("save, load and export need a UTF-8 path".into());
+        }
+        if self.op == op::RESET {
+            if self.b > body::LAST {
+                return Err(format!(
+                    "unknown body {} (0 cube, 1 sphere, 2 mannequin)",
+                    self.b
+                ));
+            }
+            if self.a != 0 && !(2..=256).contains(&self.a) {
+                return Err(format!("grid {} (2 to 256 cells a side)", self.a));
+            }
+            if self.uv.iter().any(|v| *v < 0.0) {
+                return Err("material values must not be negative".into());
+            }
         }
         if self.op == op::SEAM && self.value.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
         {

@@ -35,6 +35,8 @@ pub struct ServiceConfig {
     /// Limit the pinch's pull on the cloth to the force the haptic loop rendered (the
     /// reaction), when it sends one.
     pub couple_applied_force: bool,
+    /// The scene a RESET command rebuilds (with its body, grid and material changes).
+    pub scene: crate::scenario::ScenarioConfig,
 }
 
 impl ServiceConfig {
@@ -51,6 +53,7 @@ impl ServiceConfig {
             pinch_radius: 0.05,
             pinch_stiffness: 100.0,
             couple_applied_force: true,
+            scene: crate::scenario::ScenarioConfig::new(crate::scenario::ScenarioName::DrapeCube),
         }
     }
 }
@@ -513,6 +516,88 @@ fn export(
     ))
 }
 
+/// Publishes the body's triangles (nothing when there is no body).
+fn publish_body(
+    body_pub: &services::SlicePub<f32, shared::sim_to_ui::BodyMeshHeader>,
+    sim: &Simulation,
+) -> Result<(), String> {
+    let Some(b) = &sim.body else { return Ok(()) };
+    let (v, t) = (b.vertices.len(), b.triangles.len());
+    let mut s = body_pub
+        .loan_slice_uninit(3 * v + 3 * t)
+        .map_err(|e| format!("{e:?}"))?;
+    *s.user_header_mut() = shared::sim_to_ui::BodyMeshHeader {
+        header: Header::next(&mut 0),
+        vertices: v as u32,
+        triangles: t as u32,
+    };
+    let s = s.write_from_fn(|i| {
+        if i < 3 * v {
+            b.vertices[i / 3][i % 3]
+        } else {
+            let j = i - 3 * v;
+            b.triangles[j / 3][j % 3] as f32
+        }
+    });
+    s.send().map_err(|e| format!("{e:?}"))?;
+    Ok(())
+}
+
+/// The design that replaces the current one for a RESET or LOAD command (the current one
+/// is saved first, so a reset loses nothing).
+fn replacement(
+    sim: &mut Simulation,
+    c: &ToolCommand,
+    cfg: &ServiceConfig,
+) -> Result<(Simulation, String), String> {
+    use crate::body::BodyKind;
+    let next = if c.op == op::LOAD {
+        let path = std::path::PathBuf::from(c.text().unwrap_or_default());
+        let s = Simulation::load_design_file(&path).map_err(|e| e.to_string())?;
+        (s, format!("loaded {}", path.display()))
+    } else {
+        let mut scene = cfg.scene.clone();
+        scene.body = match c.b {
+            shared::ui_to_sim::body::SPHERE => BodyKind::Sphere,
+            shared::ui_to_sim::body::MANNEQUIN => BodyKind::Mannequin,
+            _ => BodyKind::Cube,
+        };
+        if c.a != 0 {
+            scene.grid = c.a as usize;
+        }
+        let m = &mut scene.material;
+        let set = |field: &mut f32, v: f32| {
+            if v > 0.0 {
+                *field = v;
+            }
+        };
+        set(&mut m.density, c.uv[0]);
+        set(&mut m.stretch, c.uv[1]);
+        set(&mut m.shear, c.uv[2]);
+        set(&mut m.bending, c.uv[3]);
+        set(&mut m.friction, c.uv[4]);
+        set(&mut m.damping, c.uv[5]);
+        let s = crate::scenario::build_simulation(&scene).map_err(|e| e.to_string())?;
+        let msg = format!(
+            "new design: {}x{} cloth over the {}",
+            scene.grid,
+            scene.grid,
+            scene.body.name()
+        );
+        (s, msg)
+    };
+    let backup = cfg.autosave.with_extension("before-reset.saiho");
+    sim.refresh_png_cache()
+        .and_then(|_| sim.save_design_file(&backup))
+        .map_err(|e| {
+            format!("the current design could not be saved first ({e}); nothing changed")
+        })?;
+    Ok((
+        next.0,
+        format!("{}; the previous design is in {}", next.1, backup.display()),
+    ))
+}
+
 /// Publishes texture tile `(x, y)` (in tiles).
 fn publish_tile(
     tex: &crate::edit::Texture,
@@ -682,7 +767,7 @@ pub fn run(
         .allocation_strategy(AllocationStrategy::PowerOfTwo)
         .create()
         .map_err(|e| pe(&e))?;
-    // The body, once (a late viewer gets it from the history).
+    // The body, once (a late viewer gets it from the history), and again after a reset.
     let body_pub = services::body_mesh(&node)
         .map_err(|e| e.to_string())?
         .publisher_builder()
@@ -692,29 +777,10 @@ pub fn run(
                 .map_or(1, |b| 3 * b.vertices.len() + 3 * b.triangles.len())
                 .max(1),
         )
+        .allocation_strategy(AllocationStrategy::PowerOfTwo)
         .create()
         .map_err(|e| pe(&e))?;
-    if let Some(b) = &sim.body {
-        let (v, t) = (b.vertices.len(), b.triangles.len());
-        let s = body_pub
-            .loan_slice_uninit(3 * v + 3 * t)
-            .map_err(|e| pe(&e))?;
-        let mut s = s;
-        *s.user_header_mut() = shared::sim_to_ui::BodyMeshHeader {
-            header: Header::next(&mut 0),
-            vertices: v as u32,
-            triangles: t as u32,
-        };
-        let s = s.write_from_fn(|i| {
-            if i < 3 * v {
-                b.vertices[i / 3][i % 3]
-            } else {
-                let j = i - 3 * v;
-                b.triangles[j / 3][j % 3] as f32
-            }
-        });
-        s.send().map_err(|e| pe(&e))?;
-    }
+    publish_body(&body_pub, &sim)?;
     let server = services::commands(&node)
         .map_err(|e| e.to_string())?
         .server_builder()
@@ -748,6 +814,7 @@ pub fn run(
     let mut seq_frame = 0u64;
     let mut seq_mesh = 0u64;
     let mut mesh_sent: Option<u64> = None;
+    let threads = sim.threads();
     let mut normals: Vec<Vec3> = Vec::new();
     if let Some(dir) = cfg.autosave.parent() {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
@@ -801,6 +868,22 @@ pub fn run(
                     tools.brush_m = cmd.value;
                     tools.sew_first = None;
                     (true, format!("tool {}", cmd.a))
+                }
+                Ok(()) if cmd.op == op::RESET || cmd.op == op::LOAD => {
+                    match replacement(&mut sim, &cmd, cfg) {
+                        Ok((next, m)) => {
+                            sim = next;
+                            sim.set_threads(threads);
+                            mesh_sent = None;
+                            tools.sew_first = None;
+                            if let Err(e) = publish_body(&body_pub, &sim) {
+                                log(&format!("publishing the body failed: {e}"));
+                            }
+                            log(&m);
+                            (true, m)
+                        }
+                        Err(m) => (false, m),
+                    }
                 }
                 Ok(()) if cmd.op == op::EXPORT => {
                     let dir = std::path::PathBuf::from(cmd.text().unwrap_or_default());

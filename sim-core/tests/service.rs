@@ -281,10 +281,76 @@ fn commands_are_carried_out_and_answered() {
         t.rate_hz,
         t.vertices
     );
+    // A new scene over the sphere with a 6-cell grid replaces the design (saved first)...
+    let mut reset = ToolCommand {
+        op: op::RESET,
+        a: 6,
+        b: shared::ui_to_sim::body::SPHERE,
+        ..Default::default()
+    };
+    reset.uv[0] = 0.2;
+    let r = ask(reset);
+    assert_eq!(r.ok, 1, "{}", r.message());
+    assert!(
+        r.message().contains("6x6") && r.message().contains("sphere"),
+        "{}",
+        r.message()
+    );
+    let backup = std::env::temp_dir().join(format!(
+        "saiho-svc-{}.before-reset.saiho",
+        std::process::id()
+    ));
+    assert!(
+        sim_core::cloth::Simulation::load_design_file(&backup).is_ok(),
+        "the replaced design was not saved first"
+    );
+    let _ = std::fs::remove_file(&backup);
+    let deadline = Instant::now() + Duration::from_secs(5);
+    loop {
+        if let Some(m) = meshes.receive().unwrap()
+            && m.user_header().triangles == 2 * 6 * 6
+        {
+            break;
+        }
+        assert!(Instant::now() < deadline, "no mesh of the new scene");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    // ... a bad reset or a missing file is refused, and loading the saved design brings the
+    // 8x8 cloth back.
+    let r = ask(ToolCommand {
+        op: op::RESET,
+        b: 7,
+        ..Default::default()
+    });
+    assert!(
+        r.ok == 0 && r.message().contains("unknown body 7"),
+        "{}",
+        r.message()
+    );
+    let mut load = ToolCommand {
+        op: op::LOAD,
+        ..Default::default()
+    };
+    assert!(load.set_text("/nonexistent/saiho/design.saiho"));
+    let r = ask(load);
+    assert_eq!(r.ok, 0, "{}", r.message());
+    assert!(load.set_text(path.to_str().unwrap()));
+    let r = ask(load);
+    assert_eq!(r.ok, 1, "{}", r.message());
+    let deadline = Instant::now() + Duration::from_secs(5);
+    loop {
+        if let Some(m) = meshes.receive().unwrap()
+            && m.user_header().triangles == 2 * 8 * 8
+        {
+            break;
+        }
+        assert!(Instant::now() < deadline, "no mesh of the loaded design");
+        std::thread::sleep(Duration::from_millis(5));
+    }
     STOP.store(true, Ordering::Relaxed);
     let stats = handle.join().unwrap();
-    assert_eq!(stats.commands, 10);
-    assert_eq!(stats.rejected, 3);
+    assert_eq!(stats.commands, 14);
+    assert_eq!(stats.rejected, 4);
     let _ = std::fs::remove_file(&path);
 }
 

@@ -184,7 +184,9 @@ pub fn fit_cube(
         let deadline = Instant::now() + Duration::from_secs_f64(30.0 + until as f64 / 10.0);
         while *frame < until || topology.is_none() || uv.len() != x.len() {
             if stop.load(Ordering::Relaxed) {
-                return Err("stopped".into());
+                return Err(format!(
+                    "interrupted while {what}: the scenario did not finish (no export)"
+                ));
             }
             if Instant::now() > deadline {
                 return Err(format!(

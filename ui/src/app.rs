@@ -50,7 +50,8 @@ pub const TOOLS: [(u32, &str, egui::Key, &str); 6] = [
         tool::SEW,
         "Sew",
         egui::Key::S,
-        "Click two border vertices: they are sewn together",
+        "Click two border vertices: they are sewn together. Shift-click four border vertices \
+         (start and end of one edge, then of the other) for a seam along two boundary paths",
     ),
     (
         tool::PAINT,
@@ -84,6 +85,31 @@ pub struct Options {
     pub render_scale: Option<f32>,
 }
 
+/// What a reset builds: body, grid and material (the default is cloth-sim's cotton on the
+/// cube).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneChoice {
+    pub body: u32,
+    pub grid: u32,
+    pub density: f32,
+    pub stretch: f32,
+    pub bending: f32,
+    pub friction: f32,
+}
+
+impl Default for SceneChoice {
+    fn default() -> Self {
+        Self {
+            body: shared::ui_to_sim::body::CUBE,
+            grid: 64,
+            density: 0.15,
+            stretch: 2000.0,
+            bending: 1.0e-5,
+            friction: 0.4,
+        }
+    }
+}
+
 struct Drag {
     /// Depth of the grabbed point along the view, to keep it in its view plane.
     depth: f32,
@@ -109,8 +135,14 @@ pub struct App {
     pub tear_on: bool,
     pub tear_threshold: f32,
     pub sew_first: Option<u32>,
+    /// Shift-clicks of a seam: start and end of path A, then of path B.
+    pub seam_picks: Vec<u32>,
     pub save_path: String,
     pub export_dir: String,
+    /// The next scene (a reset): body, grid and material.
+    pub scene: SceneChoice,
+    /// A reset waits for a second click within a few seconds.
+    reset_armed: Option<Instant>,
     pub status: String,
     drag: Option<Drag>,
     last_hit: Option<Hit>,
@@ -147,8 +179,11 @@ impl App {
             tear_on: false,
             tear_threshold: 1.6,
             sew_first: None,
+            seam_picks: Vec::new(),
             save_path: "design.saiho".into(),
             export_dir: "out/export".into(),
+            scene: SceneChoice::default(),
+            reset_armed: None,
             status: String::new(),
             drag: None,
             last_hit: None,
@@ -207,6 +242,7 @@ impl App {
     pub fn set_tool(&mut self, t: u32) {
         self.tool = t;
         self.sew_first = None;
+        self.seam_picks.clear();
         let [r, g, b, a] = self.colour.to_array();
         self.command(ToolCommand {
             op: op::SET_TOOL,
@@ -334,14 +370,24 @@ impl App {
             ui.text_edit_singleline(&mut self.save_path)
                 .on_hover_text("Where Save writes the design (.saiho)");
         });
-        if ui
-            .button("Save")
-            .on_hover_text("Save the design file (Ctrl+S)")
-            .clicked()
-        {
-            let p = self.save_path.clone();
-            self.path_command(op::SAVE, p);
-        }
+        ui.horizontal(|ui| {
+            if ui
+                .button("Save")
+                .on_hover_text("Save the design file (Ctrl+S)")
+                .clicked()
+            {
+                let p = self.save_path.clone();
+                self.path_command(op::SAVE, p);
+            }
+            if ui
+                .button("Load")
+                .on_hover_text("Load this design file in place of the current design (which cloth-sim saves first)")
+                .clicked()
+            {
+                let p = self.save_path.clone();
+                self.path_command(op::LOAD, p);
+            }
+        });
         ui.horizontal(|ui| {
             ui.label("Folder");
             ui.text_edit_singleline(&mut self.export_dir)
@@ -356,6 +402,8 @@ impl App {
             self.path_command(op::EXPORT, p);
         }
         ui.separator();
+        self.scene_section(ui);
+        ui.separator();
         ui.label("View");
         if ui
             .button("Reset view")
@@ -365,6 +413,76 @@ impl App {
             self.camera = Camera::default();
         }
         ui.small("Left: tool · Right drag: orbit · Shift+right or middle drag: pan · Wheel: zoom");
+    }
+
+    /// Body, grid and material of a new scene, and the reset that builds it.
+    fn scene_section(&mut self, ui: &mut egui::Ui) {
+        use shared::ui_to_sim::body;
+        ui.label("Scene");
+        let sc = &mut self.scene;
+        ui.horizontal(|ui| {
+            ui.label("Body");
+            egui::ComboBox::from_id_salt("body")
+                .selected_text(match sc.body {
+                    body::SPHERE => "sphere",
+                    body::MANNEQUIN => "mannequin",
+                    _ => "cube",
+                })
+                .show_ui(ui, |ui| {
+                    ui.selectable_value(&mut sc.body, body::CUBE, "cube");
+                    ui.selectable_value(&mut sc.body, body::SPHERE, "sphere");
+                    ui.selectable_value(&mut sc.body, body::MANNEQUIN, "mannequin");
+                })
+                .response
+                .on_hover_text("What the next scene drapes over");
+        });
+        ui.add(egui::Slider::new(&mut sc.grid, 8..=128).text("Grid"))
+            .on_hover_text("Cells per side of the next cloth ((N+1)^2 vertices)");
+        ui.add(egui::Slider::new(&mut sc.density, 0.03..=0.6).text("Density, kg/m²"))
+            .on_hover_text("Areal density; cotton shirting is about 0.15");
+        ui.add(
+            egui::Slider::new(&mut sc.stretch, 100.0..=20000.0)
+                .logarithmic(true)
+                .text("Stretch, N/m"),
+        )
+        .on_hover_text("Stretch modulus along warp and weft");
+        ui.add(
+            egui::Slider::new(&mut sc.bending, 1.0e-7..=1.0e-3)
+                .logarithmic(true)
+                .text("Bending, N m"),
+        )
+        .on_hover_text("Bending rigidity; cotton is about 1e-5");
+        ui.add(egui::Slider::new(&mut sc.friction, 0.01..=1.5).text("Friction"))
+            .on_hover_text("Coulomb friction against the body and the floor");
+        let armed = self
+            .reset_armed
+            .is_some_and(|t| t.elapsed() < Duration::from_secs(4));
+        let label = if armed {
+            "Click again to reset"
+        } else {
+            "New scene"
+        };
+        if ui
+            .button(label)
+            .on_hover_text("Start a new design with this body, grid and material; cloth-sim saves the current one first")
+            .clicked()
+        {
+            if armed {
+                self.reset_armed = None;
+                let sc = self.scene;
+                let mut c = ToolCommand {
+                    op: op::RESET,
+                    a: sc.grid,
+                    b: sc.body,
+                    ..Default::default()
+                };
+                c.uv[..5].copy_from_slice(&[sc.density, sc.stretch, 0.0, sc.bending, sc.friction]);
+                self.command(c);
+            } else {
+                self.reset_armed = Some(Instant::now());
+                self.status = "New scene: click again to replace the design (it is saved first)".into();
+            }
+        }
     }
 
     fn status_panel(&mut self, ui: &mut egui::Ui) {
@@ -581,6 +699,24 @@ impl App {
                     ..Default::default()
                 });
             }
+            tool::SEW if shift => {
+                self.seam_picks.push(h.vertex);
+                if self.seam_picks.len() < 4 {
+                    self.status = format!(
+                        "seam: {} of 4 picked (start and end of path A, then of path B)",
+                        self.seam_picks.len()
+                    );
+                    return;
+                }
+                let picks = std::mem::take(&mut self.seam_picks);
+                match self.seam_command(&picks) {
+                    Some(c) => self.command(c),
+                    None => {
+                        self.status =
+                            "seam: the picked vertices have no place on the pattern".into()
+                    }
+                }
+            }
             tool::SEW => match self.sew_first.take() {
                 None => {
                     self.sew_first = Some(h.vertex);
@@ -618,6 +754,42 @@ impl App {
                 self.status = format!("{}: drag to pull the cloth", tool_name(t));
             }
         }
+    }
+
+    /// A SEAM command along the pattern segments between picks 0-1 and 2-3.
+    fn seam_command(&self, picks: &[u32]) -> Option<ToolCommand> {
+        let m = self.store.mesh.as_ref()?;
+        let uv = |v: u32| m.corners.iter().find(|c| c.vertex == v).map(|c| [c.u, c.v]);
+        let p: Vec<[f32; 2]> = picks.iter().map(|&v| uv(v)).collect::<Option<_>>()?;
+        // A third of the pattern's smallest edge: the paths' vertices, not their neighbours.
+        let mut edge = f32::INFINITY;
+        for t in m.corners.chunks_exact(3).take(2000) {
+            for k in 0..3 {
+                let (a, b) = (t[k], t[(k + 1) % 3]);
+                let d = ((a.u - b.u).powi(2) + (a.v - b.v).powi(2)).sqrt();
+                if d > 1e-6 {
+                    edge = edge.min(d);
+                }
+            }
+        }
+        if !edge.is_finite() {
+            return None;
+        }
+        // The start of each path is just before its first vertex, so that one is included.
+        let back = |a: [f32; 2], b: [f32; 2]| {
+            let d = [b[0] - a[0], b[1] - a[1]];
+            let l = (d[0] * d[0] + d[1] * d[1]).sqrt().max(1e-6);
+            [a[0] - d[0] / l * edge * 0.5, a[1] - d[1] / l * edge * 0.5]
+        };
+        let (a0, b0) = (back(p[0], p[1]), back(p[2], p[3]));
+        Some(ToolCommand {
+            op: op::SEAM,
+            value: edge / 3.0,
+            uv: [
+                a0[0], a0[1], p[1][0], p[1][1], b0[0], b0[1], p[3][0], p[3][1],
+            ],
+            ..Default::default()
+        })
     }
 
     fn overlay(&self) -> Overlay {
@@ -840,7 +1012,9 @@ impl eframe::App for App {
         egui::Panel::left("tools")
             .resizable(false)
             .default_size(210.0)
-            .show(ui, |ui| self.tools_panel(ui));
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| self.tools_panel(ui));
+            });
         egui::Panel::right("status panel")
             .default_size(300.0)
             .show(ui, |ui| {

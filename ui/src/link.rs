@@ -136,6 +136,7 @@ impl Link {
                         h.vertices as usize,
                         m.payload().to_vec(),
                     ));
+                    store.mesh_generation += 1;
                     store.heard.sim = Some(now);
                 }
                 Err(x) => store.record(&x),

@@ -116,6 +116,9 @@ pub struct Heard {
 pub struct Store {
     pub started: Instant,
     pub mesh: Option<Mesh>,
+    /// Bumped with every mesh received (the renderer rebuilds its index on a change, even
+    /// when a loaded design happens to have the same topology number).
+    pub mesh_generation: u64,
     pub x: Vec<[f32; 3]>,
     pub normals: Vec<[f32; 3]>,
     pub frame: u64,
@@ -143,6 +146,7 @@ impl Default for Store {
         Self {
             started: Instant::now(),
             mesh: None,
+            mesh_generation: 0,
             x: Vec::new(),
             normals: Vec::new(),
             frame: 0,

@@ -97,7 +97,7 @@ pub struct View3d {
     cloth_index: wgpu::Buffer,
     cloth_index_cap: u64,
     cloth_index_len: u32,
-    cloth_topology: Option<(u64, usize)>,
+    cloth_topology: Option<(u64, u64, usize)>,
     body: Buf,
     body_version: u64,
     line_buf: Buf,
@@ -418,7 +418,10 @@ impl View3d {
         );
         // The cloth: one vertex per distinct (vertex, UV) pair (UVs are per corner, so a
         // seam or cut gives a vertex two), indexed by its triangles.
-        let key = store.mesh.as_ref().map(|m| (m.topology, m.corners.len()));
+        let key = store
+            .mesh
+            .as_ref()
+            .map(|m| (store.mesh_generation, m.topology, m.corners.len()));
         if key != self.cloth_topology {
             self.cloth_keys.clear();
             let mut index = Vec::new();

@@ -85,6 +85,42 @@ fn each_tool_by_its_label_emits_its_commands() {
     assert_ne!(c.a, c.b);
     assert!(h.state().sew_first.is_none());
 
+    // A seam: shift-click the start and end of two boundary paths (rows 0 and 16, columns
+    // 3 to 7 of the demo cloth, a hair inside it so the click lands on the cloth).
+    let rect = h.state().view_rect.unwrap();
+    let screen = |h: &Harness<'_, App>, r: usize, c: usize| {
+        let x = h.state().store.x[r * side + c];
+        let inward = if r == 0 { 0.01 } else { -0.01 };
+        let p = glam::Vec3::new(x[0], x[1], x[2] + inward);
+        let s = h
+            .state()
+            .camera
+            .to_screen(p, glam::Vec2::new(rect.width(), rect.height()))
+            .unwrap();
+        rect.min + egui::vec2(s.x, s.y)
+    };
+    h.event(egui::Event::ModifiersChanged(egui::Modifiers::SHIFT));
+    for (r, c) in [(0, 3), (0, 7), (16, 3), (16, 7)] {
+        let p = screen(&h, r, c);
+        click(&mut h, p);
+    }
+    h.event(egui::Event::ModifiersChanged(egui::Modifiers::NONE));
+    h.run_steps(1);
+    let c = *commands(&h).last().unwrap();
+    assert_eq!(c.op, op::SEAM, "{c:?}");
+    // Path A runs along v = 0 from u = 3/16 to 7/16; path B along v = 1.
+    assert!(
+        (c.uv[3] - 0.0).abs() < 1e-4 && (c.uv[7] - 1.0).abs() < 1e-4,
+        "{:?}",
+        c.uv
+    );
+    assert!(
+        (c.uv[2] - 7.0 / 16.0).abs() < 1e-4 && c.uv[0] < 3.0 / 16.0,
+        "{:?}",
+        c.uv
+    );
+    assert!(c.value > 0.0 && c.value < 1.0 / 16.0);
+
     // Pin: a click pins.
     h.get_by_label("Pin  (N)").click();
     h.run_steps(2);
@@ -143,6 +179,28 @@ fn each_tool_by_its_label_emits_its_commands() {
     h.run_steps(2);
     let c = *commands(&h).last().unwrap();
     assert_eq!((c.op, c.a), (op::SET_TOOL, tool::TEAR));
+    // Load names the file; a new scene needs a second click and carries body and grid.
+    h.get_by_label("Load").click();
+    h.run_steps(2);
+    let c = *commands(&h).last().unwrap();
+    assert_eq!(c.op, op::LOAD);
+    assert!(
+        c.text().unwrap().ends_with("design.saiho"),
+        "{:?}",
+        c.text()
+    );
+    let n = commands(&h).len();
+    h.get_by_label("New scene").click();
+    h.run_steps(2);
+    assert_eq!(commands(&h).len(), n, "one click must not reset");
+    h.get_by_label("Click again to reset").click();
+    h.run_steps(2);
+    let c = *commands(&h).last().unwrap();
+    assert_eq!(
+        (c.op, c.a, c.b),
+        (op::RESET, 64, shared::ui_to_sim::body::CUBE)
+    );
+    assert!((c.uv[0] - 0.15).abs() < 1e-6 && c.uv[1] > 0.0);
     // A click beside the cloth is explained, not sent.
     h.get_by_label("Pin  (N)").click();
     h.run_steps(2);

@@ -263,6 +263,7 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
     scene.substeps = a.substeps;
     scene.material = a.material.material();
     scene.threads = a.threads.clamp(1, 2);
+    cfg.scene = scene.clone();
     let (sim, resumed) = service::resume_or(
         &cfg,
         || sim_core::scenario::build_simulation(&scene).map_err(|e| e.to_string()),

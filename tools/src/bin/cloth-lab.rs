@@ -45,7 +45,8 @@ struct Cli {
     /// Start a new design rather than resume the autosave.
     #[arg(long)]
     fresh: bool,
-    /// Do not start cloth-ui.
+    /// Do not start cloth-ui (also: run the lab, not the headless scenario, without a
+    /// display).
     #[arg(long)]
     no_ui: bool,
     /// haptic-loop real-time priority (SCHED_FIFO) and CPU, when permitted.
@@ -276,7 +277,7 @@ fn main() -> ExitCode {
         Some(Cmd::Status { domain }) => control("status", domain.as_deref()),
         Some(Cmd::Stop { domain }) => control("stop", domain.as_deref()),
         None if cli.headless => run_headless(&cli),
-        None if !have_display() => {
+        None if !have_display() && !cli.no_ui => {
             eprintln!(
                 "cloth-lab: no display (DISPLAY and WAYLAND_DISPLAY are unset), so no window: \
                  running the headless fit-cube scenario into {} instead",
