@@ -233,9 +233,25 @@ fn lab_restart_leaves_the_haptic_loop_ticking() {
         );
         collect(Instant::now() + Duration::from_millis(200), &mut seen);
     }
+    // The status requests above paused the reading (a gap there is ours, not the loop's):
+    // the check covers what follows, across both restarts.
+    seen.clear();
     collect(Instant::now() + Duration::from_millis(1500), &mut seen);
     for role in ["ui", "sim"] {
-        let out = ctl(&["restart", role]);
+        // The request runs on its own thread while this one keeps reading the telemetry
+        // (its buffer is small: a pause here would lose messages, not the loop).
+        let lab_bin = bin("cloth-lab");
+        let name = d.name().to_string();
+        let req = std::thread::spawn(move || {
+            Command::new(lab_bin)
+                .args(["restart", role, "--domain", &name])
+                .output()
+                .unwrap()
+        });
+        while !req.is_finished() {
+            collect(Instant::now() + Duration::from_millis(20), &mut seen);
+        }
+        let out = req.join().unwrap();
         assert!(
             out.status.success(),
             "{}",
