@@ -29,33 +29,13 @@ fn commands_are_carried_out_and_answered() {
         run(sim, &cfg, &STOP, &mut |_| {}).unwrap()
     });
     let node = services::node(&d, "ui").unwrap();
-    let client = services::commands(&node)
-        .unwrap()
-        .client_builder()
-        .create()
-        .unwrap();
-    let mut seq = 0;
-    let mut ask = |mut c: ToolCommand| -> CommandReply {
-        c.header = Header::next(&mut seq);
-        let deadline = Instant::now() + Duration::from_secs(10);
-        let pending = loop {
-            // The server may not be up yet: retry until the request is delivered.
-            match client.send_copy(c) {
-                Ok(p) if p.number_of_server_connections() > 0 => break p,
-                _ if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(20)),
-                _ => panic!("no server"),
-            }
-        };
-        loop {
-            if let Some(r) = pending.receive().unwrap() {
-                r.check().unwrap();
-                assert_eq!(r.request_seq, c.header.seq);
-                return *r;
-            }
-            assert!(Instant::now() < deadline, "no reply");
-            std::thread::sleep(Duration::from_millis(2));
-        }
-    };
+    let mut ask = asker(
+        services::commands(&node)
+            .unwrap()
+            .client_builder()
+            .create()
+            .unwrap(),
+    );
     let centre = (4 * 9 + 4) as u32;
     let r = ask(ToolCommand {
         op: op::CUT_VERTEX,
@@ -354,7 +334,8 @@ fn commands_are_carried_out_and_answered() {
     let _ = std::fs::remove_file(&path);
 }
 
-/// A client of the command service that waits for its reply.
+/// A client of the command service that waits for the reply to each request (the server
+/// may not be up yet: it retries until the request is delivered).
 fn asker(
     client: iceoryx2::port::client::Client<
         iceoryx2::prelude::ipc::Service,
@@ -378,6 +359,7 @@ fn asker(
         loop {
             if let Some(r) = pending.receive().unwrap() {
                 r.check().unwrap();
+                assert_eq!(r.request_seq, c.header.seq);
                 return *r;
             }
             assert!(Instant::now() < deadline, "no reply");

@@ -26,6 +26,81 @@ pub const DRAPE_FRAMES: u64 = 240;
 /// Frames after the seams are added, for them to pull shut and the cloth to settle.
 pub const SEW_FRAMES: u64 = 360;
 
+/// What the stand-in has seen of the cloth: per-vertex UV from the mesh, positions from
+/// the newest frame.
+struct Seen {
+    frames: services::SliceSub<f32, shared::sim_to_ui::ClothFrameHeader>,
+    meshes: services::SliceSub<shared::sim_to_ui::MeshCorner, shared::sim_to_ui::MeshHeader>,
+    uv: Vec<[f32; 2]>,
+    x: Vec<[f32; 3]>,
+    frame: u64,
+    topology: Option<u64>,
+    last_note: Instant,
+}
+
+impl Seen {
+    /// Takes in what arrived; a message that fails its checks is an error.
+    fn poll(&mut self) -> Result<(), String> {
+        let pe = |e: &dyn std::fmt::Debug| format!("{e:?}");
+        while let Some(m) = self.meshes.receive().map_err(|e| pe(&e))? {
+            let h = m.user_header();
+            check_mesh(h, m.payload()).map_err(|e| e.to_string())?;
+            let mut u = vec![[f32::NAN; 2]; h.vertices as usize];
+            for c in m.payload() {
+                if let Some(slot) = u.get_mut(c.vertex as usize)
+                    && slot[0].is_nan()
+                {
+                    *slot = [c.u, c.v];
+                }
+            }
+            self.uv = u;
+            self.topology = Some(h.topology);
+        }
+        while let Some(f) = self.frames.receive().map_err(|e| pe(&e))? {
+            let h = f.user_header();
+            check_frame(h, f.payload()).map_err(|e| e.to_string())?;
+            let n = h.vertices as usize;
+            self.x = f.payload()[..3 * n]
+                .chunks_exact(3)
+                .map(|c| [c[0], c[1], c[2]])
+                .collect();
+            self.frame = h.frame;
+        }
+        Ok(())
+    }
+
+    /// Waits until cloth-sim's frame `until`, with mesh and positions that match.
+    fn wait(
+        &mut self,
+        until: u64,
+        what: &str,
+        stop: &AtomicBool,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<(), String> {
+        let deadline = Instant::now() + Duration::from_secs_f64(30.0 + until as f64 / 10.0);
+        while self.frame < until || self.topology.is_none() || self.uv.len() != self.x.len() {
+            if stop.load(Ordering::Relaxed) {
+                return Err(format!(
+                    "interrupted while {what}: the scenario did not finish (no export)"
+                ));
+            }
+            if Instant::now() > deadline {
+                return Err(format!(
+                    "cloth-sim stalled while {what}: frame {} of {until}",
+                    self.frame
+                ));
+            }
+            self.poll()?;
+            if self.last_note.elapsed() >= Duration::from_secs(2) {
+                progress(&format!("{what}: frame {}/{until}", self.frame));
+                self.last_note = Instant::now();
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        Ok(())
+    }
+}
+
 type Client = iceoryx2::port::client::Client<ipc::Service, ToolCommand, (), CommandReply, ()>;
 
 /// What the stand-in did and how the command round trips went.
@@ -136,93 +211,20 @@ pub fn fit_cube(
         log: Vec::new(),
     };
     let mut report = StandInReport::default();
-    // Per-vertex UV from the mesh, positions from the newest frame.
-    let mut uv: Vec<[f32; 2]> = Vec::new();
-    let mut x: Vec<[f32; 3]> = Vec::new();
-    let mut frame = 0u64;
-    let mut topology = None;
-    let mut last_note = Instant::now();
-    let poll = |uv: &mut Vec<[f32; 2]>,
-                x: &mut Vec<[f32; 3]>,
-                frame: &mut u64,
-                topology: &mut Option<u64>|
-     -> Result<(), String> {
-        while let Some(m) = meshes.receive().map_err(|e| pe(&e))? {
-            let h = m.user_header();
-            check_mesh(h, m.payload()).map_err(|e| e.to_string())?;
-            let mut u = vec![[f32::NAN; 2]; h.vertices as usize];
-            for c in m.payload() {
-                if let Some(slot) = u.get_mut(c.vertex as usize)
-                    && slot[0].is_nan()
-                {
-                    *slot = [c.u, c.v];
-                }
-            }
-            *uv = u;
-            *topology = Some(h.topology);
-        }
-        while let Some(f) = frames.receive().map_err(|e| pe(&e))? {
-            let h = f.user_header();
-            check_frame(h, f.payload()).map_err(|e| e.to_string())?;
-            let n = h.vertices as usize;
-            *x = f.payload()[..3 * n]
-                .chunks_exact(3)
-                .map(|c| [c[0], c[1], c[2]])
-                .collect();
-            *frame = h.frame;
-        }
-        Ok(())
+    let mut seen = Seen {
+        frames,
+        meshes,
+        uv: Vec::new(),
+        x: Vec::new(),
+        frame: 0,
+        topology: None,
+        last_note: Instant::now(),
     };
-    let mut wait_frames = |until: u64,
-                           what: &str,
-                           uv: &mut Vec<[f32; 2]>,
-                           x: &mut Vec<[f32; 3]>,
-                           frame: &mut u64,
-                           topology: &mut Option<u64>,
-                           progress: &mut dyn FnMut(&str)|
-     -> Result<(), String> {
-        let deadline = Instant::now() + Duration::from_secs_f64(30.0 + until as f64 / 10.0);
-        while *frame < until || topology.is_none() || uv.len() != x.len() {
-            if stop.load(Ordering::Relaxed) {
-                return Err(format!(
-                    "interrupted while {what}: the scenario did not finish (no export)"
-                ));
-            }
-            if Instant::now() > deadline {
-                return Err(format!(
-                    "cloth-sim stalled while {what}: frame {} of {until}",
-                    *frame
-                ));
-            }
-            poll(uv, x, frame, topology)?;
-            if last_note.elapsed() >= Duration::from_secs(2) {
-                progress(&format!("{what}: frame {}/{until}", *frame));
-                last_note = Instant::now();
-            }
-            std::thread::sleep(Duration::from_millis(5));
-        }
-        Ok(())
-    };
-    wait_frames(
-        1,
-        "waiting for cloth-sim",
-        &mut uv,
-        &mut x,
-        &mut frame,
-        &mut topology,
-        progress,
-    )?;
-    let first = frame;
-    wait_frames(
-        first + DRAPE_FRAMES,
-        "draping",
-        &mut uv,
-        &mut x,
-        &mut frame,
-        &mut topology,
-        progress,
-    )?;
-    report.drape_frames = frame - first;
+    seen.wait(1, "waiting for cloth-sim", stop, progress)?;
+    let first = seen.frame;
+    seen.wait(first + DRAPE_FRAMES, "draping", stop, progress)?;
+    report.drape_frames = seen.frame - first;
+    let (uv, x) = (&seen.uv, &seen.x);
 
     // The top face on the pattern: the vertices resting within 5 mm of the highest.
     let ymax = x.iter().map(|p| p[1]).fold(f32::MIN, f32::max);
@@ -257,11 +259,13 @@ pub fn fit_cube(
         report.drape_frames
     ));
     let far = 10.0;
-    for (su, sv) in [(1.0f32, 1.0f32), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)] {
-        let (eu, ev) = (
-            if su > 0.0 { cu1 } else { cu0 },
-            if sv > 0.0 { cv1 } else { cv0 },
-        );
+    // Each corner: its direction on the pattern and where its two cut lines cross.
+    let corners = [(1.0f32, 1.0f32), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)].map(|(su, sv)| {
+        let eu = if su > 0.0 { cu1 } else { cu0 };
+        let ev = if sv > 0.0 { cv1 } else { cv0 };
+        (su, sv, eu, ev)
+    });
+    for (su, sv, eu, ev) in corners {
         let mut c = ToolCommand {
             op: op::REMOVE_REGION,
             ..Default::default()
@@ -273,11 +277,7 @@ pub fn fit_cube(
     }
     let vs = uv.iter().map(|p| p[1]).filter(|v| v.is_finite());
     let (vmin, vmax) = vs.fold((f32::MAX, f32::MIN), |(a, b), v| (a.min(v), b.max(v)));
-    for (su, sv) in [(1.0f32, 1.0f32), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)] {
-        let (eu, ev) = (
-            if su > 0.0 { cu1 } else { cu0 },
-            if sv > 0.0 { cv1 } else { cv0 },
-        );
+    for (su, sv, eu, ev) in corners {
         let edge_u = if su > 0.0 { umax } else { umin };
         let end_v = if sv > 0.0 { vmax } else { vmin };
         let mut c = ToolCommand {
@@ -296,16 +296,8 @@ pub fn fit_cube(
         "{} corners cut ({} triangles), {} seams of {} stitched pairs; letting them pull shut",
         report.regions_removed, report.triangles_removed, report.seams, report.seam_pairs
     ));
-    let sewn_from = frame;
-    wait_frames(
-        sewn_from + SEW_FRAMES,
-        "sewing",
-        &mut uv,
-        &mut x,
-        &mut frame,
-        &mut topology,
-        progress,
-    )?;
+    let sewn_from = seen.frame;
+    seen.wait(sewn_from + SEW_FRAMES, "sewing", stop, progress)?;
     let mut c = ToolCommand {
         op: op::EXPORT,
         ..Default::default()
@@ -318,7 +310,7 @@ pub fn fit_cube(
     }
     let m = ui.must(c, stop)?;
     progress(&m);
-    report.sim_frames_seen = frame - first;
+    report.sim_frames_seen = seen.frame - first;
     report.command_rtt_us = Percentiles::of(&ui.rtt);
     report.commands = ui.log;
     Ok(report)
