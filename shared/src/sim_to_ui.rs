@@ -24,7 +24,9 @@ pub struct ClothFrameHeader {
     /// device motion to cloth frame is `header.sent_ns - pen_sent_ns`.
     pub pen_sent_ns: u64,
     pub vertices: u32,
-    pub _reserved: u32,
+    /// Open seam stitches (pairs still pulling together): after the positions and
+    /// normals, `2 * stitches` vertex indices as floats (exact below 2^24).
+    pub stitches: u32,
 }
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
@@ -107,20 +109,38 @@ fn malformed(what: &'static str, why: String) -> MessageError {
 pub fn check_frame(h: &ClothFrameHeader, payload: &[f32]) -> Result<(), MessageError> {
     h.header.check()?;
     let n = h.vertices as usize;
-    if payload.len() != 6 * n {
+    let expected = 6 * n + 2 * h.stitches as usize;
+    if payload.len() != expected {
         return Err(malformed(
             "cloth frame",
             format!(
-                "{} floats for {n} vertices (expected {})",
+                "{} floats for {n} vertices and {} stitches (expected {expected})",
                 payload.len(),
-                6 * n
+                h.stitches
             ),
         ));
     }
     if let Some(i) = payload.iter().position(|v| !v.is_finite()) {
         return Err(malformed("cloth frame", format!("value {i} is not finite")));
     }
+    if let Some(v) = payload[6 * n..]
+        .iter()
+        .find(|v| !(v.fract() == 0.0 && **v >= 0.0 && (**v as usize) < n))
+    {
+        return Err(malformed(
+            "cloth frame",
+            format!("stitch vertex {v} is not one of the {n} vertices"),
+        ));
+    }
     Ok(())
+}
+
+/// The open stitches of a checked frame's payload.
+pub fn frame_stitches(h: &ClothFrameHeader, payload: &[f32]) -> Vec<[u32; 2]> {
+    payload[6 * h.vertices as usize..]
+        .chunks_exact(2)
+        .map(|p| [p[0] as u32, p[1] as u32])
+        .collect()
 }
 
 /// Checks a received mesh: header, `3 * triangles` corners, indices in range, UVs finite.

@@ -156,6 +156,11 @@ pub struct SimTelemetry {
     pub rate_hz: f32,
     /// Longest time an autosave held up a frame, ms.
     pub autosave_ms_max: f32,
+    /// The design's substeps per frame.
+    pub substeps: u32,
+    /// Its material: density kg/m^2, stretch N/m, shear N/m, bending N m, friction,
+    /// damping 1/s (the order of a RESET's `uv`).
+    pub material: [f32; 6],
 }
 
 impl Checked for SimTelemetry {
@@ -166,6 +171,9 @@ impl Checked for SimTelemetry {
     fn check_body(&self) -> Result<(), String> {
         if !(self.rate_hz.is_finite() && self.autosave_ms_max.is_finite()) {
             return Err("a rate or time is not finite".into());
+        }
+        if !self.material.iter().all(|v| v.is_finite() && *v >= 0.0) {
+            return Err("a material value is negative or not finite".into());
         }
         Ok(())
     }

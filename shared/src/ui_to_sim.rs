@@ -38,13 +38,18 @@ pub mod op {
     pub const EXPORT: u32 = 13;
     /// Start a new design: the scene rebuilt over body `b` (see [`body`]) with grid `a`
     /// (0 keeps the current one) and material `uv[0..6]` = (density kg/m^2, stretch N/m,
-    /// shear N/m, bending N m, friction, damping 1/s), 0 keeping the current value. The
+    /// shear N/m, bending N m, friction, damping 1/s), 0 keeping the current value, and
+    /// `mode` substeps per frame (0: cloth-sim's setting). The
     /// design being replaced is saved first, next to the autosave (`*.before-reset.saiho`).
     pub const RESET: u32 = 14;
     /// Load the design file at the path in `text` in place of the current design (which
     /// is saved first, as for RESET).
     pub const LOAD: u32 = 15;
-    pub const LAST: u32 = LOAD;
+    /// Change the current design's material in place, `uv[0..6]` as for RESET (0 keeps
+    /// the current value), and its substeps per frame to `a` (0 keeps them). Positions,
+    /// edits, seams and history stay.
+    pub const SET_MATERIAL: u32 = 16;
+    pub const LAST: u32 = SET_MATERIAL;
 }
 
 /// [`ToolCommand::b`] of a RESET: the body.
@@ -144,12 +149,23 @@ impl Checked for ToolCommand {
         {
             return Err("save, load and export need a UTF-8 path".into());
         }
+        if self.op == op::SET_MATERIAL {
+            if self.a > 100 {
+                return Err(format!("substeps {} (1 to 100, 0 keeps them)", self.a));
+            }
+            if self.uv.iter().any(|v| *v < 0.0) {
+                return Err("material values must not be negative".into());
+            }
+        }
         if self.op == op::RESET {
             if self.b > body::LAST {
                 return Err(format!(
                     "unknown body {} (0 cube, 1 sphere, 2 mannequin)",
                     self.b
                 ));
+            }
+            if self.mode > 100 {
+                return Err(format!("substeps {} (1 to 100, 0 keeps them)", self.mode));
             }
             if self.a != 0 && !(2..=256).contains(&self.a) {
                 return Err(format!("grid {} (2 to 256 cells a side)", self.a));

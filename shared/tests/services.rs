@@ -134,6 +134,23 @@ fn cloth_frames_and_meshes_are_checked() {
     let mut bad = [0.0f32; 12];
     bad[5] = f32::INFINITY;
     assert!(check_frame(&h, &bad).is_err());
+    // Open stitches follow the normals, as vertex indices.
+    let hs = ClothFrameHeader { stitches: 1, ..h };
+    let mut with = [0.0f32; 14];
+    with[12..].copy_from_slice(&[1.0, 0.0]);
+    check_frame(&hs, &with).unwrap();
+    assert_eq!(shared::sim_to_ui::frame_stitches(&hs, &with), vec![[1, 0]]);
+    assert!(
+        check_frame(&hs, &[0.0; 12])
+            .unwrap_err()
+            .to_string()
+            .contains("1 stitches")
+    );
+    for v in [2.0, -1.0, 0.5] {
+        with[13] = v;
+        let e = check_frame(&hs, &with).unwrap_err().to_string();
+        assert!(e.contains("stitch vertex"), "{v}: {e}");
+    }
     let m = MeshHeader {
         header: Header::next(&mut seq),
         vertices: 3,

@@ -375,6 +375,18 @@ fn command(sim: &mut Simulation, c: &ToolCommand) -> Result<String, String> {
                 .map(|n| format!("seam of {n} stitched pairs"))
                 .map_err(e)
         }
+        op::SET_MATERIAL => {
+            let mut m = sim.material;
+            material_from(&mut m, c);
+            let substeps = (c.a != 0).then_some(c.a as usize);
+            sim.set_material(m, substeps)
+                .map_err(|e| format!("material not changed: {e}"))?;
+            Ok(format!(
+                "material: density {} kg/m², stretch {} N/m, shear {} N/m, bending {} N m, \
+                 friction {}, damping {}/s; {} substeps",
+                m.density, m.stretch, m.shear, m.bending, m.friction, m.damping, sim.substeps
+            ))
+        }
         op::UNDO => sim.undo().map(|l| format!("undid {l}")).map_err(e),
         op::REDO => sim.redo().map(|l| format!("redid {l}")).map_err(e),
         op::SET_TEAR => {
@@ -543,6 +555,22 @@ fn publish_body(
     Ok(())
 }
 
+/// The material of a RESET or SET_MATERIAL: `uv[0..6]` = density, stretch, shear,
+/// bending, friction, damping; 0 keeps the value in `m`.
+fn material_from(m: &mut crate::cloth::Material, c: &ToolCommand) {
+    let set = |field: &mut f32, v: f32| {
+        if v > 0.0 {
+            *field = v;
+        }
+    };
+    set(&mut m.density, c.uv[0]);
+    set(&mut m.stretch, c.uv[1]);
+    set(&mut m.shear, c.uv[2]);
+    set(&mut m.bending, c.uv[3]);
+    set(&mut m.friction, c.uv[4]);
+    set(&mut m.damping, c.uv[5]);
+}
+
 /// The design that replaces the current one for a RESET or LOAD command (the current one
 /// is saved first, so a reset loses nothing).
 fn replacement(
@@ -565,18 +593,10 @@ fn replacement(
         if c.a != 0 {
             scene.grid = c.a as usize;
         }
-        let m = &mut scene.material;
-        let set = |field: &mut f32, v: f32| {
-            if v > 0.0 {
-                *field = v;
-            }
-        };
-        set(&mut m.density, c.uv[0]);
-        set(&mut m.stretch, c.uv[1]);
-        set(&mut m.shear, c.uv[2]);
-        set(&mut m.bending, c.uv[3]);
-        set(&mut m.friction, c.uv[4]);
-        set(&mut m.damping, c.uv[5]);
+        material_from(&mut scene.material, c);
+        if c.mode != 0 {
+            scene.substeps = Some(c.mode as usize);
+        }
         let s = crate::scenario::build_simulation(&scene).map_err(|e| e.to_string())?;
         let msg = format!(
             "new design: {}x{} cloth over the {}",
@@ -677,8 +697,9 @@ fn publish_cloth(
             normals[i as usize] += nn;
         }
     }
+    let stitches: Vec<(u32, u32)> = sim.seams.iter().flat_map(|s| s.open_pairs()).collect();
     let mut s = frame_pub
-        .loan_slice_uninit(6 * n)
+        .loan_slice_uninit(6 * n + 2 * stitches.len())
         .map_err(|e| format!("{e:?}"))?;
     *s.user_header_mut() = ClothFrameHeader {
         header: Header::next(seq_frame),
@@ -687,15 +708,18 @@ fn publish_cloth(
         texture_version: sim.texture.version,
         pen_sent_ns,
         vertices: n as u32,
-        _reserved: 0,
+        stitches: stitches.len() as u32,
     };
     let x = &sim.cloth.x;
     let s = s.write_from_fn(|i| {
         if i < 3 * n {
             x[i / 3][i % 3]
-        } else {
+        } else if i < 6 * n {
             let j = i - 3 * n;
             normals[j / 3].normalize_or(Vec3::Y)[j % 3]
+        } else {
+            let (a, b) = stitches[(i - 6 * n) / 2];
+            (if i % 2 == 0 { a } else { b }) as f32
         }
     });
     s.send().map_err(|e| format!("{e:?}"))?;
@@ -979,6 +1003,11 @@ pub fn run(
             tel.triangles = sim.cloth.live.tri_count() as u32;
             tel.rate_hz = (frames as f64 / tel_at.0.elapsed().as_secs_f64()) as f32;
             tel.autosave_ms_max = save_ms.iter().copied().fold(0.0, f64::max) as f32;
+            tel.substeps = sim.substeps as u32;
+            let m = &sim.material;
+            tel.material = [
+                m.density, m.stretch, m.shear, m.bending, m.friction, m.damping,
+            ];
             let _ = tel_pub.send_copy(*tel);
             tel_at = (Instant::now(), sim.frame);
         }

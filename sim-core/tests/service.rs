@@ -327,10 +327,54 @@ fn commands_are_carried_out_and_answered() {
         assert!(Instant::now() < deadline, "no mesh of the loaded design");
         std::thread::sleep(Duration::from_millis(5));
     }
+    // The material and substeps change in place; the telemetry says so within its
+    // second. Bad substeps are refused.
+    let telemetry = services::sim_telemetry(&node)
+        .unwrap()
+        .subscriber_builder()
+        .create()
+        .unwrap();
+    let mut soft = ToolCommand {
+        op: op::SET_MATERIAL,
+        a: 7,
+        ..Default::default()
+    };
+    soft.uv[1] = 500.0;
+    let r = ask(soft);
+    assert!(
+        r.ok == 1 && r.message().contains("stretch 500 N/m") && r.message().contains("7 substeps"),
+        "{}",
+        r.message()
+    );
+    let deadline = Instant::now() + Duration::from_secs(5);
+    loop {
+        if let Some(t) = telemetry.receive().unwrap()
+            && t.substeps == 7
+        {
+            assert_eq!(t.material[1], 500.0);
+            assert_eq!(t.material[0], 0.15, "density kept");
+            break;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "no telemetry of the new material"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let r = ask(ToolCommand {
+        op: op::SET_MATERIAL,
+        a: 500,
+        ..Default::default()
+    });
+    assert!(
+        r.ok == 0 && r.message().contains("substeps 500"),
+        "{}",
+        r.message()
+    );
     STOP.store(true, Ordering::Relaxed);
     let stats = handle.join().unwrap();
-    assert_eq!(stats.commands, 14);
-    assert_eq!(stats.rejected, 4);
+    assert_eq!(stats.commands, 16);
+    assert_eq!(stats.rejected, 5);
     let _ = std::fs::remove_file(&path);
 }
 

@@ -97,6 +97,9 @@ pub struct Simulation {
 /// stiff cotton, within the 128 x 128 budget on one core.
 pub const XPBD_DEFAULT_SUBSTEPS: usize = 5;
 
+/// Most substeps per frame [`Simulation::set_material`] accepts.
+pub const MAX_SUBSTEPS: usize = 100;
+
 /// Side of the cloth's texture, texels.
 pub const TEXTURE_SIZE: usize = 1024;
 
@@ -265,6 +268,51 @@ impl Simulation {
             Solver::Xpbd(s) => s.sync(&self.cloth, &[], &[], &[i as u32]),
             Solver::Seed(_) => {}
         }
+    }
+
+    /// Changes the running design's material, and its substeps per frame when given, in
+    /// place: positions, velocities, pins, seams, the pinch and the history stay; masses
+    /// follow the new density and the XPBD constraints are rebuilt from the live mesh with
+    /// the new stiffness. An invalid material, a substep count outside 1..=MAX_SUBSTEPS or
+    /// a model other than XPBD is refused and nothing changes.
+    pub fn set_material(
+        &mut self,
+        material: Material,
+        substeps: Option<usize>,
+    ) -> Result<(), ConfigError> {
+        material.validate()?;
+        if let Some(n) = substeps
+            && !(1..=MAX_SUBSTEPS).contains(&n)
+        {
+            return Err(ConfigError::OutOfRange {
+                name: "substeps",
+                rule: "between 1 and 100",
+                value: n.to_string(),
+            });
+        }
+        let Solver::Xpbd(old) = &mut self.solver else {
+            return Err(ConfigError::OutOfRange {
+                name: "model",
+                rule: "xpbd to change the material in place",
+                value: self.model.name().into(),
+            });
+        };
+        if material.density != self.material.density {
+            for i in 0..self.cloth.len() {
+                self.cloth.update_mass(i, material.density);
+            }
+        }
+        let mut fresh = Xpbd::new(&self.cloth, &material);
+        fresh.prev.clone_from(&old.prev);
+        fresh.threads = old.threads;
+        fresh.pinch = old.pinch.take();
+        fresh.stitches = std::mem::take(&mut old.stitches);
+        **old = fresh;
+        self.material = material;
+        if let Some(n) = substeps {
+            self.substeps = n;
+        }
+        Ok(())
     }
 
     /// Threads for the XPBD constraint passes and the collision broad phase (1 or 2). The
