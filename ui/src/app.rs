@@ -83,18 +83,17 @@ pub struct Options {
     /// Resolution of the 3D view relative to the window's pixels (None: 1 on a GPU, 0.5
     /// on a software rasteriser such as llvmpipe).
     pub render_scale: Option<f32>,
+    /// Paint the panels' background with the window's clear colour instead of egui
+    /// fills. The look is the same and a software rasteriser saves a full shading pass
+    /// over the panels; off for test harnesses that clear to transparent.
+    pub clear_panels: bool,
 }
 
-/// What a reset builds: body, grid and material (the default is cloth-sim's cotton on the
-/// cube).
+/// What a reset builds: body and grid (the default is cloth-sim's cloth on the cube).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SceneChoice {
     pub body: u32,
     pub grid: u32,
-    pub density: f32,
-    pub stretch: f32,
-    pub bending: f32,
-    pub friction: f32,
 }
 
 impl Default for SceneChoice {
@@ -102,10 +101,25 @@ impl Default for SceneChoice {
         Self {
             body: shared::ui_to_sim::body::CUBE,
             grid: 64,
-            density: 0.15,
-            stretch: 2000.0,
-            bending: 1.0e-5,
-            friction: 0.4,
+        }
+    }
+}
+
+/// The material and solver settings shown: cloth-sim's (from its telemetry) until the
+/// user edits them; Apply sends them for the current design, New scene builds with them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MaterialChoice {
+    /// density, stretch, shear, bending, friction, damping (a RESET's `uv` order).
+    pub values: [f32; 6],
+    pub substeps: u32,
+}
+
+impl Default for MaterialChoice {
+    /// cloth-sim's defaults: cotton, 5 substeps.
+    fn default() -> Self {
+        Self {
+            values: [0.15, 2000.0, 40.0, 1.0e-5, 0.4, 0.6],
+            substeps: 5,
         }
     }
 }
@@ -141,6 +155,10 @@ pub struct App {
     pub export_dir: String,
     /// The next scene (a reset): body, grid and material.
     pub scene: SceneChoice,
+    pub material: MaterialChoice,
+    /// The material last read from cloth-sim's telemetry: a different one (a reset, a
+    /// load, another UI's change) replaces what is shown.
+    material_seen: Option<MaterialChoice>,
     /// A reset waits for a second click within a few seconds.
     reset_armed: Option<Instant>,
     pub status: String,
@@ -183,6 +201,8 @@ impl App {
             save_path: "design.saiho".into(),
             export_dir: "out/export".into(),
             scene: SceneChoice::default(),
+            material: MaterialChoice::default(),
+            material_seen: None,
             reset_armed: None,
             status: String::new(),
             drag: None,
@@ -402,6 +422,8 @@ impl App {
             self.path_command(op::EXPORT, p);
         }
         ui.separator();
+        self.material_section(ui);
+        ui.separator();
         self.scene_section(ui);
         ui.separator();
         ui.label("View");
@@ -415,7 +437,76 @@ impl App {
         ui.small("Left: tool · Right drag: orbit · Shift+right or middle drag: pan · Wheel: zoom");
     }
 
-    /// Body, grid and material of a new scene, and the reset that builds it.
+    /// The material and substeps of the current design, applied in place.
+    fn material_section(&mut self, ui: &mut egui::Ui) {
+        if let Some(t) = &self.store.sim_tel {
+            let seen = MaterialChoice {
+                values: t.material,
+                substeps: t.substeps,
+            };
+            if t.substeps > 0 && self.material_seen != Some(seen) {
+                self.material_seen = Some(seen);
+                self.material = seen;
+            }
+        }
+        ui.label("Material and solver");
+        let [density, stretch, shear, bending, friction, damping] = &mut self.material.values;
+        ui.add(egui::Slider::new(density, 0.03..=0.6).text("Density, kg/m²"))
+            .on_hover_text("Areal density; cotton shirting is about 0.15");
+        ui.add(
+            egui::Slider::new(stretch, 100.0..=20000.0)
+                .logarithmic(true)
+                .text("Stretch, N/m"),
+        )
+        .on_hover_text("Stretch modulus along warp and weft");
+        ui.add(
+            egui::Slider::new(shear, 1.0..=1000.0)
+                .logarithmic(true)
+                .text("Shear, N/m"),
+        )
+        .on_hover_text("In-plane shear modulus; lower drapes into softer folds");
+        ui.add(
+            egui::Slider::new(bending, 1.0e-7..=1.0e-3)
+                .logarithmic(true)
+                .text("Bending, N m"),
+        )
+        .on_hover_text("Bending rigidity; cotton is about 1e-5");
+        ui.add(egui::Slider::new(friction, 0.01..=1.5).text("Friction"))
+            .on_hover_text("Coulomb friction against the body and the floor");
+        ui.add(egui::Slider::new(damping, 0.0..=5.0).text("Damping, 1/s"))
+            .on_hover_text("Velocity damping; higher settles faster and moves more sluggishly");
+        ui.add(egui::Slider::new(&mut self.material.substeps, 1..=40).text("Substeps"))
+            .on_hover_text(
+                "XPBD substeps per 1/60 s frame: more is stiffer and stretches less where the \
+                 cloth hangs, and costs frame time (watch 'sim frame' in the status panel)",
+            );
+        let changed = self.material_seen.is_some_and(|m| m != self.material);
+        ui.horizontal(|ui| {
+            if ui
+                .add_enabled(changed, egui::Button::new("Apply"))
+                .on_hover_text("Change the current design's material and substeps in place (edits, seams and history stay)")
+                .clicked()
+            {
+                let mut c = ToolCommand {
+                    op: op::SET_MATERIAL,
+                    a: self.material.substeps,
+                    ..Default::default()
+                };
+                c.uv[..6].copy_from_slice(&self.material.values);
+                self.command(c);
+            }
+            if ui
+                .add_enabled(changed, egui::Button::new("Revert"))
+                .on_hover_text("Back to the design's current values")
+                .clicked()
+                && let Some(m) = self.material_seen
+            {
+                self.material = m;
+            }
+        });
+    }
+
+    /// Body and grid of a new scene (with the material above), and the reset that builds it.
     fn scene_section(&mut self, ui: &mut egui::Ui) {
         use shared::ui_to_sim::body;
         ui.label("Scene");
@@ -438,22 +529,6 @@ impl App {
         });
         ui.add(egui::Slider::new(&mut sc.grid, 8..=128).text("Grid"))
             .on_hover_text("Cells per side of the next cloth ((N+1)^2 vertices)");
-        ui.add(egui::Slider::new(&mut sc.density, 0.03..=0.6).text("Density, kg/m²"))
-            .on_hover_text("Areal density; cotton shirting is about 0.15");
-        ui.add(
-            egui::Slider::new(&mut sc.stretch, 100.0..=20000.0)
-                .logarithmic(true)
-                .text("Stretch, N/m"),
-        )
-        .on_hover_text("Stretch modulus along warp and weft");
-        ui.add(
-            egui::Slider::new(&mut sc.bending, 1.0e-7..=1.0e-3)
-                .logarithmic(true)
-                .text("Bending, N m"),
-        )
-        .on_hover_text("Bending rigidity; cotton is about 1e-5");
-        ui.add(egui::Slider::new(&mut sc.friction, 0.01..=1.5).text("Friction"))
-            .on_hover_text("Coulomb friction against the body and the floor");
         let armed = self
             .reset_armed
             .is_some_and(|t| t.elapsed() < Duration::from_secs(4));
@@ -464,19 +539,19 @@ impl App {
         };
         if ui
             .button(label)
-            .on_hover_text("Start a new design with this body, grid and material; cloth-sim saves the current one first")
+            .on_hover_text("Start a new design with this body and grid and the material above; cloth-sim saves the current one first")
             .clicked()
         {
             if armed {
                 self.reset_armed = None;
-                let sc = self.scene;
                 let mut c = ToolCommand {
                     op: op::RESET,
-                    a: sc.grid,
-                    b: sc.body,
+                    a: self.scene.grid,
+                    b: self.scene.body,
+                    mode: self.material.substeps,
                     ..Default::default()
                 };
-                c.uv[..5].copy_from_slice(&[sc.density, sc.stretch, 0.0, sc.bending, sc.friction]);
+                c.uv[..6].copy_from_slice(&self.material.values);
                 self.command(c);
             } else {
                 self.reset_armed = Some(Instant::now());
@@ -812,7 +887,8 @@ impl App {
     fn view_panel(&mut self, ui: &mut egui::Ui, frame: &eframe::Frame) {
         let size = ui.available_size();
         let overlay = self.overlay();
-        let tex = match frame.wgpu_render_state() {
+        let resp = ui.allocate_response(size, egui::Sense::click_and_drag());
+        match frame.wgpu_render_state() {
             Some(rs) => {
                 let scale = *self.render_scale.get_or_insert_with(|| {
                     self.opts.render_scale.unwrap_or(
@@ -829,29 +905,22 @@ impl App {
                     (size.y * ppp).round().max(16.0) as u32,
                 ];
                 let view = self.view.get_or_insert_with(|| View3d::new(&rs.device));
-                let mut renderer = rs.renderer.write();
                 view.render(
                     &rs.device,
                     &rs.queue,
-                    &mut renderer,
                     &mut self.store,
                     &self.camera,
                     &overlay,
                     px,
-                )
+                );
+                if let Some(cb) = view.paint_callback(&rs.device, rs.target_format, resp.rect) {
+                    ui.painter().add(cb);
+                }
             }
             None => {
                 self.view_error = Some("no wgpu renderer: the 3D view needs wgpu".into());
-                None
             }
-        };
-        let resp = match tex {
-            Some(id) => ui.add(
-                egui::Image::new(egui::load::SizedTexture::new(id, size))
-                    .sense(egui::Sense::click_and_drag()),
-            ),
-            None => ui.allocate_response(size, egui::Sense::click_and_drag()),
-        };
+        }
         let resp = resp.on_hover_text_at_pointer(match &self.last_hit {
             Some(h) => format!(
                 "{} · vertex {} at ({:.3}, {:.3}, {:.3}) m",
@@ -867,7 +936,7 @@ impl App {
         self.view_input(&resp, ui.ctx());
         // Banners over the view.
         let banner = if let Some(m) = &self.store.mismatch {
-            Some(format!("Protocol mismatch: {m}"))
+            Some(format!("Cannot read a peer's messages: {m}"))
         } else if let Some(e) = &self.link_error {
             Some(format!("Cannot connect: {e}"))
         } else if let Some(e) = &self.view_error {
@@ -980,7 +1049,11 @@ impl eframe::App for App {
         let ctx = ui.ctx().clone();
         self.poll();
         self.keyboard(&ctx);
-        egui::Panel::top("top").show(ui, |ui| {
+        let mut panel = egui::Frame::side_top_panel(ui.style());
+        if self.opts.clear_panels {
+            panel = panel.fill(egui::Color32::TRANSPARENT);
+        }
+        egui::Panel::top("top").frame(panel).show(ui, |ui| {
             ui.horizontal(|ui| {
                 ui.strong("Saiho");
                 ui.separator();
@@ -1000,7 +1073,7 @@ impl eframe::App for App {
                 }
             });
         });
-        egui::Panel::bottom("status").show(ui, |ui| {
+        egui::Panel::bottom("status").frame(panel).show(ui, |ui| {
             ui.horizontal(|ui| {
                 ui.label(if self.status.is_empty() {
                     "Ready"
@@ -1010,18 +1083,32 @@ impl eframe::App for App {
             });
         });
         egui::Panel::left("tools")
+            .frame(panel)
             .resizable(false)
             .default_size(210.0)
             .show(ui, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| self.tools_panel(ui));
             });
         egui::Panel::right("status panel")
+            .frame(panel)
             .default_size(300.0)
             .show(ui, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| self.status_panel(ui));
             });
-        egui::CentralPanel::default().show(ui, |ui| self.view_panel(ui, frame));
+        // No fill: the 3D view covers the panel, and on a software rasteriser every pixel
+        // egui shades costs (see blit.wgsl).
+        egui::CentralPanel::default()
+            .frame(egui::Frame::NONE)
+            .show(ui, |ui| self.view_panel(ui, frame));
         self.timing(&ctx);
         ctx.request_repaint();
+    }
+
+    fn clear_color(&self, visuals: &egui::Visuals) -> [f32; 4] {
+        if self.opts.clear_panels {
+            visuals.panel_fill.to_normalized_gamma_f32()
+        } else {
+            egui::Color32::from_rgb(12, 12, 12).to_normalized_gamma_f32()
+        }
     }
 }

@@ -11,7 +11,7 @@ use shared::haptic_to_sim::DeviceSample;
 use shared::sim_to_haptic::LocalModel;
 use shared::sim_to_ui::{
     BodyMeshHeader, ClothFrameHeader, MeshCorner, MeshHeader, TextureTile, ToolState, check_body,
-    check_frame, check_mesh, check_tile,
+    check_frame, check_mesh, check_tile, frame_stitches,
 };
 use shared::telemetry::{LoopTelemetry, SimTelemetry};
 use shared::ui_to_haptic::PointerInput;
@@ -163,6 +163,7 @@ impl Link {
             if store.normals.len() != n {
                 store.normals = vertex_normals(store.mesh.as_ref(), &store.x);
             }
+            store.stitches = frame_stitches(&h, &p);
             store.frame = h.frame;
             store.heard.sim = Some(now);
         }

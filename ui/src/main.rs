@@ -72,6 +72,7 @@ fn main() -> ExitCode {
         exit_after: cli.exit_after.map(Duration::from_secs_f64),
         log_fps: cli.log_fps,
         render_scale: cli.render_scale,
+        clear_panels: true,
     };
     let native = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()

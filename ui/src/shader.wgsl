@@ -43,13 +43,14 @@ fn vs(v: VIn) -> VOut {
     return transform(v);
 }
 
-// Lines sit a hair in front of the surfaces they trace (the cloth's border), so the
-// depth test does not hide them.
+// Lines that trace a surface (the cloth's border) sit a little in front of it, so the
+// depth test does not hide them: the vertex moves towards the eye by `nrm.x` metres (a
+// world distance, unlike a depth bias, so a line shows through nothing farther off).
 @vertex
 fn vs_line(v: VIn) -> VOut {
-    var o = transform(v);
-    o.clip.z = o.clip.z - 0.0008 * o.clip.w;
-    return o;
+    var w = v;
+    w.pos = v.pos + normalize(u.eye.xyz - v.pos) * v.nrm.x;
+    return transform(w);
 }
 
 fn to_srgb(c: vec3<f32>) -> vec3<f32> {

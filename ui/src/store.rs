@@ -18,28 +18,48 @@ pub struct Mesh {
     pub corners: Vec<MeshCorner>,
     /// Edges with one triangle: the cloth's border and its cuts.
     pub border: Vec<[u32; 2]>,
+    /// Edges whose two triangles map them to different places of the pattern: where
+    /// pieces were sewn (a sew or a welded seam).
+    pub sewn: Vec<[u32; 2]>,
 }
 
 impl Mesh {
     pub fn new(topology: u64, vertices: usize, corners: Vec<MeshCorner>) -> Self {
-        let mut count: std::collections::HashMap<(u32, u32), u32> = Default::default();
+        // Per edge: its triangles, and the UVs the first one gives its two ends.
+        type Uv = [u32; 2];
+        let mut edges: std::collections::HashMap<(u32, u32), (u32, Uv, Uv, bool)> =
+            Default::default();
+        let uv = |c: &MeshCorner| [c.u.to_bits(), c.v.to_bits()];
         for t in corners.chunks_exact(3) {
             for k in 0..3 {
-                let (a, b) = (t[k].vertex, t[(k + 1) % 3].vertex);
-                *count.entry((a.min(b), a.max(b))).or_default() += 1;
+                let (p, q) = (&t[k], &t[(k + 1) % 3]);
+                let (lo, hi) = if p.vertex < q.vertex { (p, q) } else { (q, p) };
+                let e = edges
+                    .entry((lo.vertex, hi.vertex))
+                    .or_insert((0, uv(lo), uv(hi), false));
+                if e.0 > 0 && (e.1 != uv(lo) || e.2 != uv(hi)) {
+                    e.3 = true;
+                }
+                e.0 += 1;
             }
         }
-        let mut border: Vec<[u32; 2]> = count
-            .into_iter()
-            .filter(|&(_, c)| c == 1)
-            .map(|((a, b), _)| [a, b])
-            .collect();
+        let mut border = Vec::new();
+        let mut sewn = Vec::new();
+        for (&(a, b), &(count, _, _, split)) in &edges {
+            if count == 1 {
+                border.push([a, b]);
+            } else if split {
+                sewn.push([a, b]);
+            }
+        }
         border.sort_unstable();
+        sewn.sort_unstable();
         Self {
             topology,
             vertices,
             corners,
             border,
+            sewn,
         }
     }
 
@@ -131,6 +151,8 @@ pub struct Store {
     pub model: Option<LocalModel>,
     pub loop_tel: Option<Box<LoopTelemetry>>,
     pub sim_tel: Option<Box<SimTelemetry>>,
+    /// Open seam stitches of the newest frame (vertex pairs still pulling together).
+    pub stitches: Vec<[u32; 2]>,
     /// The last 600 points (one per loop telemetry message, 10 Hz: a minute).
     pub history: VecDeque<Sample>,
     pub heard: Heard,
@@ -158,6 +180,7 @@ impl Default for Store {
             model: None,
             loop_tel: None,
             sim_tel: None,
+            stitches: Vec::new(),
             history: VecDeque::new(),
             heard: Heard::default(),
             rejected: 0,
@@ -264,6 +287,30 @@ mod tests {
         assert_eq!((x.len(), m.triangles()), (25, 32));
         // 4 sides of 4 edges.
         assert_eq!(m.border.len(), 16);
+        assert!(m.sewn.is_empty());
+    }
+
+    #[test]
+    fn an_edge_two_pieces_share_at_different_pattern_places_is_sewn() {
+        let c = |vertex, u: f32, v: f32| MeshCorner { vertex, u, v };
+        // Two triangles over edge (1, 2); the second maps it elsewhere on the pattern,
+        // as after sewing two pieces. Edge (2, 3) shares its UVs: not sewn.
+        let corners = vec![
+            c(0, 0.0, 0.0),
+            c(1, 0.5, 0.0),
+            c(2, 0.0, 0.5),
+            c(1, 0.9, 0.0),
+            c(3, 0.9, 0.5),
+            c(2, 0.6, 0.5),
+        ];
+        let m = Mesh::new(1, 4, corners.clone());
+        assert_eq!(m.sewn, vec![[1, 2]]);
+        assert_eq!(m.border.len(), 4);
+        // The same triangles cut from one sheet (matching UVs): nothing sewn.
+        let mut one = corners;
+        one[3] = c(1, 0.5, 0.0);
+        one[5] = c(2, 0.0, 0.5);
+        assert!(Mesh::new(1, 4, one).sewn.is_empty());
     }
 
     #[test]

@@ -1,6 +1,6 @@
-//! The 3D view, rendered with wgpu into a colour + depth texture of our own and shown as
-//! an egui image, so the same code draws in the app and in egui_kittest (whose pass has no
-//! depth attachment).
+//! The 3D view, rendered with wgpu into a colour + depth texture of our own and shown in
+//! egui's pass by a paint callback ([`View3d::paint_callback`]), so the same code draws in
+//! the app and in egui_kittest (whose pass has no depth attachment).
 
 use egui_wgpu::wgpu;
 use glam::Vec3;
@@ -11,6 +11,11 @@ use crate::store::Store;
 
 const COLOUR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// Lines over the cloth: its border and cuts, sewn edges, stitches still pulling.
+pub const BORDER_COLOUR: [f32; 4] = [0.95, 0.55, 0.1, 1.0];
+pub const SEWN_COLOUR: [f32; 4] = [0.3, 0.65, 1.0, 1.0];
+pub const STITCH_COLOUR: [f32; 4] = [0.85, 0.3, 0.95, 1.0];
 
 /// One vertex of every draw: position, normal, UV, colour.
 #[repr(C)]
@@ -104,7 +109,128 @@ pub struct View3d {
     marker: Buf,
     scratch: Vec<Vertex>,
     target: Option<(wgpu::Texture, wgpu::Texture, [u32; 2])>,
-    pub texture_id: Option<egui::TextureId>,
+    blit: Blit,
+}
+
+/// What draws the view's texture into egui's pass: the pipeline (for the pass's format)
+/// and the bind group of the current target.
+struct Blit {
+    shader: wgpu::ShaderModule,
+    layout: wgpu::BindGroupLayout,
+    sampler: wgpu::Sampler,
+    pipeline: Option<(wgpu::TextureFormat, wgpu::RenderPipeline)>,
+    group: Option<wgpu::BindGroup>,
+}
+
+impl Blit {
+    fn new(device: &wgpu::Device) -> Self {
+        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("saiho view3d blit"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("blit.wgsl").into()),
+        });
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("saiho view3d blit"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: wgpu::ShaderStages::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("saiho view3d blit"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        Self {
+            shader,
+            layout,
+            sampler,
+            pipeline: None,
+            group: None,
+        }
+    }
+
+    fn pipeline(
+        &mut self,
+        device: &wgpu::Device,
+        format: wgpu::TextureFormat,
+    ) -> wgpu::RenderPipeline {
+        if let Some((f, p)) = &self.pipeline
+            && *f == format
+        {
+            return p.clone();
+        }
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("saiho view3d blit"),
+            bind_group_layouts: &[Some(&self.layout)],
+            immediate_size: 0,
+        });
+        let p = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("saiho view3d blit"),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState {
+                module: &self.shader,
+                entry_point: Some("vs"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &self.shader,
+                entry_point: Some(if format.is_srgb() {
+                    "fs_linear"
+                } else {
+                    "fs_gamma"
+                }),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            primitive: Default::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            multiview_mask: None,
+            cache: None,
+        });
+        self.pipeline = Some((format, p.clone()));
+        p
+    }
+}
+
+/// The paint callback that shows the view (see [`View3d::paint_callback`]).
+struct ShowView {
+    pipeline: wgpu::RenderPipeline,
+    group: wgpu::BindGroup,
+}
+
+impl egui_wgpu::CallbackTrait for ShowView {
+    fn paint(
+        &self,
+        _info: egui::PaintCallbackInfo,
+        pass: &mut wgpu::RenderPass<'static>,
+        _resources: &egui_wgpu::CallbackResources,
+    ) {
+        // egui has set the viewport to the callback's rectangle and the scissor to its clip.
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.group, &[]);
+        pass.draw(0..3, 0..1);
+    }
 }
 
 fn cloth_texture(device: &wgpu::Device, w: u32, h: u32) -> wgpu::Texture {
@@ -261,7 +387,7 @@ impl View3d {
             marker: Buf::new(device, "saiho markers"),
             scratch: Vec::new(),
             target: None,
-            texture_id: None,
+            blit: Blit::new(device),
         }
     }
 
@@ -343,12 +469,7 @@ impl View3d {
         }
     }
 
-    fn ensure_target(
-        &mut self,
-        device: &wgpu::Device,
-        renderer: &mut egui_wgpu::Renderer,
-        size: [u32; 2],
-    ) {
+    fn ensure_target(&mut self, device: &wgpu::Device, size: [u32; 2]) {
         if self.target.as_ref().is_some_and(|t| t.2 == size) {
             return;
         }
@@ -376,34 +497,36 @@ impl View3d {
         );
         let depth = make(DEPTH, wgpu::TextureUsages::RENDER_ATTACHMENT);
         let view = colour.create_view(&Default::default());
-        match self.texture_id {
-            Some(id) => renderer.update_egui_texture_from_wgpu_texture(
-                device,
-                &view,
-                wgpu::FilterMode::Linear,
-                id,
-            ),
-            None => {
-                self.texture_id =
-                    Some(renderer.register_native_texture(device, &view, wgpu::FilterMode::Linear))
-            }
-        }
+        self.blit.group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("saiho view3d blit"),
+            layout: &self.blit.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(&view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::Sampler(&self.blit.sampler),
+                },
+            ],
+        }));
         self.target = Some((colour, depth, size));
     }
 
-    /// Renders the scene at `size` pixels; the result is `self.texture_id`.
+    /// Renders the scene at `size` pixels into the view's own texture; show it with
+    /// [`Self::paint_callback`].
     pub fn render(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
-        renderer: &mut egui_wgpu::Renderer,
         store: &mut Store,
         camera: &Camera,
         overlay: &Overlay,
         size: [u32; 2],
-    ) -> Option<egui::TextureId> {
+    ) {
         let size = [size[0].clamp(16, 4096), size[1].clamp(16, 4096)];
-        self.ensure_target(device, renderer, size);
+        self.ensure_target(device, size);
         self.upload_texture(device, queue, store);
         let aspect = size[0] as f32 / size[1] as f32;
         let eye = camera.eye();
@@ -497,15 +620,19 @@ impl View3d {
         }
         // Lines: the floor grid, the cloth's border and cuts, the pinch spring, the pen.
         self.scratch.clear();
-        let line = |s: &mut Vec<Vertex>, a: Vec3, b: Vec3, col: [f32; 4]| {
+        // `lift`: how far towards the eye the line is drawn (see vs_line), metres.
+        let line_lifted = |s: &mut Vec<Vertex>, a: Vec3, b: Vec3, col: [f32; 4], lift: f32| {
             for p in [a, b] {
                 s.push(Vertex {
                     pos: p.to_array(),
+                    nrm: [lift, 0.0, 0.0],
                     col,
                     ..Default::default()
                 });
             }
         };
+        let line =
+            |s: &mut Vec<Vertex>, a: Vec3, b: Vec3, col: [f32; 4]| line_lifted(s, a, b, col, 0.0);
         for k in -10..=10 {
             let f = k as f32 * 0.1;
             let col = [0.06, 0.065, 0.075, 1.0];
@@ -525,13 +652,38 @@ impl View3d {
         if let Some(m) = &store.mesh {
             for &[a, b] in &m.border {
                 if let (Some(pa), Some(pb)) = (store.x.get(a as usize), store.x.get(b as usize)) {
-                    line(
+                    line_lifted(
                         &mut self.scratch,
                         Vec3::from(*pa),
                         Vec3::from(*pb),
-                        [0.95, 0.55, 0.1, 1.0],
+                        BORDER_COLOUR,
+                        0.003,
                     );
                 }
+            }
+        }
+        if let Some(m) = &store.mesh {
+            for &[a, b] in &m.sewn {
+                if let (Some(pa), Some(pb)) = (store.x.get(a as usize), store.x.get(b as usize)) {
+                    line_lifted(
+                        &mut self.scratch,
+                        Vec3::from(*pa),
+                        Vec3::from(*pb),
+                        SEWN_COLOUR,
+                        0.003,
+                    );
+                }
+            }
+        }
+        for &[a, b] in &store.stitches {
+            if let (Some(pa), Some(pb)) = (store.x.get(a as usize), store.x.get(b as usize)) {
+                line_lifted(
+                    &mut self.scratch,
+                    Vec3::from(*pa),
+                    Vec3::from(*pb),
+                    STITCH_COLOUR,
+                    0.003,
+                );
             }
         }
         if let Some((a, b)) = overlay.spring {
@@ -577,7 +729,9 @@ impl View3d {
         }
         self.marker.upload(device, queue, &self.scratch);
 
-        let (colour, depth, _) = self.target.as_ref()?;
+        let Some((colour, depth, _)) = self.target.as_ref() else {
+            return;
+        };
         let cview = colour.create_view(&Default::default());
         let dview = depth.create_view(&Default::default());
         let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -632,6 +786,21 @@ impl View3d {
             }
         }
         queue.submit([enc.finish()]);
-        self.texture_id
+    }
+
+    /// A paint callback that draws the last rendered view over `rect` of a pass whose
+    /// colour target has `format` (None before the first render).
+    pub fn paint_callback(
+        &mut self,
+        device: &wgpu::Device,
+        format: wgpu::TextureFormat,
+        rect: egui::Rect,
+    ) -> Option<egui::PaintCallback> {
+        let group = self.blit.group.clone()?;
+        let pipeline = self.blit.pipeline(device, format);
+        Some(egui_wgpu::Callback::new_paint_callback(
+            rect,
+            ShowView { pipeline, group },
+        ))
     }
 }

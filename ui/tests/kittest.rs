@@ -39,6 +39,15 @@ fn click(h: &mut Harness<'_, App>, p: egui::Pos2) {
     h.run_steps(2);
 }
 
+/// Clicks the button `label`, scrolling the tools panel to it first.
+fn press(h: &mut Harness<'_, App>, label: &str) {
+    h.get_by_label(label).scroll_to_me();
+    // The scroll animates over a few frames.
+    h.run_steps(20);
+    h.get_by_label(label).click();
+    h.run_steps(2);
+}
+
 fn commands(h: &Harness<'_, App>) -> Vec<shared::ui_to_sim::ToolCommand> {
     h.state()
         .emitted
@@ -190,11 +199,9 @@ fn each_tool_by_its_label_emits_its_commands() {
         c.text()
     );
     let n = commands(&h).len();
-    h.get_by_label("New scene").click();
-    h.run_steps(2);
+    press(&mut h, "New scene");
     assert_eq!(commands(&h).len(), n, "one click must not reset");
-    h.get_by_label("Click again to reset").click();
-    h.run_steps(2);
+    press(&mut h, "Click again to reset");
     let c = *commands(&h).last().unwrap();
     assert_eq!(
         (c.op, c.a, c.b),
@@ -236,4 +243,112 @@ fn the_3d_view_draws_the_cloth() {
     );
     h.mask(right);
     h.snapshot("view3d");
+}
+
+/// The material panel shows cloth-sim's material and substeps (from its telemetry), and
+/// Apply sends the edited ones for the current design.
+#[test]
+fn the_material_follows_cloth_sim_and_applies_in_place() {
+    use shared::telemetry::SimTelemetry;
+    let mut h = harness();
+    // Nothing heard from cloth-sim: nothing to apply to.
+    let n = commands(&h).len();
+    press(&mut h, "Apply");
+    assert_eq!(commands(&h).len(), n);
+
+    let heard = |substeps, material| {
+        Some(Box::new(SimTelemetry {
+            substeps,
+            material,
+            ..Default::default()
+        }))
+    };
+    let m0 = [0.2, 1000.0, 40.0, 1e-5, 0.4, 0.6];
+    h.state_mut().store.sim_tel = heard(5, m0);
+    h.run_steps(2);
+    assert_eq!(h.state().material.values, m0);
+    assert_eq!(h.state().material.substeps, 5);
+
+    h.state_mut().material.substeps = 9;
+    h.state_mut().material.values[1] = 500.0;
+    h.run_steps(2);
+    press(&mut h, "Apply");
+    let c = *commands(&h).last().unwrap();
+    assert_eq!((c.op, c.a), (op::SET_MATERIAL, 9));
+    assert_eq!(&c.uv[..6], &[0.2, 500.0, 40.0, 1e-5, 0.4, 0.6]);
+
+    // A new scene carries the material and substeps too.
+    press(&mut h, "New scene");
+    press(&mut h, "Click again to reset");
+    let c = *commands(&h).last().unwrap();
+    assert_eq!((c.op, c.mode), (op::RESET, 9));
+    assert_eq!(c.uv[1], 500.0);
+
+    // cloth-sim changed (here: another design loaded): the panel follows it.
+    let m1 = [0.1, 3000.0, 20.0, 1e-4, 0.5, 1.0];
+    h.state_mut().store.sim_tel = heard(12, m1);
+    h.run_steps(2);
+    assert_eq!(h.state().material.values, m1);
+    assert_eq!(h.state().material.substeps, 12);
+}
+
+/// A peer from another build: the UI rejects its messages, says why over the view, and
+/// keeps running.
+#[test]
+fn a_peer_of_another_protocol_version_gets_a_banner() {
+    use shared::domain::Domain;
+    use shared::{Header, PROTOCOL_VERSION, services, sim_to_ui::ToolState};
+
+    let domain = Domain::new(&format!("kt-mismatch-{}", std::process::id())).unwrap();
+    let node = services::node(&domain, "test-peer").unwrap();
+    let publisher = services::tool_state(&node)
+        .unwrap()
+        .publisher_builder()
+        .create()
+        .unwrap();
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1200.0, 760.0))
+        .wgpu()
+        .build_eframe(|_cc| {
+            App::new(Options {
+                domain: Some(domain.clone()),
+                ..Options::default()
+            })
+        });
+    let mut seq = 0;
+    let mut shown = false;
+    for _ in 0..200 {
+        let mut header = Header::next(&mut seq);
+        header.protocol = PROTOCOL_VERSION + 1;
+        publisher
+            .send_copy(ToolState {
+                header,
+                tool: tool::CUT,
+                ..Default::default()
+            })
+            .unwrap();
+        h.run_steps(1);
+        if h.query_all_by_label_contains("Cannot read a peer's messages")
+            .next()
+            .is_some()
+        {
+            shown = true;
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    assert!(shown, "no mismatch banner");
+    let why = format!(
+        "the peer speaks version {}, this build speaks {PROTOCOL_VERSION}",
+        PROTOCOL_VERSION + 1
+    );
+    assert!(h.get_all_by_label_contains(&why).next().is_some());
+    // Nothing of the rejected message was taken: the tool is still the default.
+    assert_eq!(h.state().tool, tool::PINCH);
+    assert!(h.state().store.rejected > 0);
+    assert!(h.state().store.tool.is_none());
+    drop(h);
+    drop(publisher);
+    drop(node);
+    domain.remove_leftovers();
 }
