@@ -833,7 +833,7 @@ pub fn run(
         .map_err(|e| pe(&e))?;
     let mut tel = Box::<shared::telemetry::SimTelemetry>::default();
     let mut seq_tel = 0u64;
-    let mut tel_at = (Instant::now(), 0u64);
+    let mut tel_at = (Instant::now(), sim.frame);
     let mut tile_cursor = 0usize;
     let mut seq_frame = 0u64;
     let mut seq_mesh = 0u64;
@@ -898,6 +898,9 @@ pub fn run(
                         Ok((next, m)) => {
                             sim = next;
                             sim.set_threads(threads);
+                            // The new design counts its own frames (a loaded one may
+                            // be behind): the rate starts over with it.
+                            tel_at = (Instant::now(), sim.frame);
                             mesh_sent = None;
                             tools.sew_first = None;
                             if let Err(e) = publish_body(&body_pub, &sim) {
@@ -944,13 +947,15 @@ pub fn run(
             redo_depth: sim.history.redo_len() as u32,
             sew_first: tools.sew_first.unwrap_or(u32::MAX),
         };
-        // Late subscribers get the history (last tool state, last mesh) when a publisher
-        // updates its connections; these two only send on change, so do it every frame.
+        // Late subscribers get the history (last tool state, mesh, body, telemetry) when a
+        // publisher updates its connections; these send on change or once a second, so do
+        // it every frame: a restarted viewer then has everything within a frame or two.
         {
             use iceoryx2::port::update_connections::UpdateConnections;
             let _ = tool_pub.update_connections();
             let _ = mesh_pub.update_connections();
             let _ = body_pub.update_connections();
+            let _ = tel_pub.update_connections();
         }
         if tool_sent != Some(state) {
             let _ = tool_pub.send_copy(ToolState {
@@ -996,7 +1001,7 @@ pub fn run(
         tel.frame_time.record((fs.wall_ms * 1e6) as u64);
         tel.collision_time.record((fs.collision_ms * 1e6) as u64);
         if tel_at.0.elapsed().as_secs_f64() >= 1.0 {
-            let frames = sim.frame - tel_at.1;
+            let frames = sim.frame.saturating_sub(tel_at.1);
             tel.header = Header::next(&mut seq_tel);
             tel.frame = sim.frame;
             tel.vertices = sim.cloth.len() as u32;

@@ -87,8 +87,13 @@ fn cloth_ui_draws_the_cloth_under_xvfb_and_survives_a_restart() {
     );
     // A second UI, started after the first quit: the design is all there again.
     let second = tmp.join("second.png");
-    let (_, w2, h2, px2) = shot(d.name(), &second);
+    let (log2, w2, h2, px2) = shot(d.name(), &second);
     let n2 = cloth_pixels(w2, h2, &px2);
     assert!(n2 > 2000, "the restarted UI shows only {n2} cloth pixels");
+    // Mesh, positions, every texture tile, tool and material all reached it.
+    assert!(
+        log2.contains("the whole design (mesh, positions, seams, texture, tool, material) arrived"),
+        "the restarted UI did not get the whole design: {log2}"
+    );
     let _ = std::fs::remove_dir_all(&tmp);
 }

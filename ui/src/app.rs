@@ -87,6 +87,9 @@ pub struct Options {
     /// fills. The look is the same and a software rasteriser saves a full shading pass
     /// over the panels; off for test harnesses that clear to transparent.
     pub clear_panels: bool,
+    /// When the process started (for the "whole design arrived" time; default: when the
+    /// app was made).
+    pub launched: Option<Instant>,
 }
 
 /// What a reset builds: body and grid (the default is cloth-sim's cloth on the cube).
@@ -159,6 +162,8 @@ pub struct App {
     /// The material last read from cloth-sim's telemetry: a different one (a reset, a
     /// load, another UI's change) replaces what is shown.
     material_seen: Option<MaterialChoice>,
+    /// How long after start everything of the design had arrived.
+    pub design_arrived: Option<Duration>,
     /// A reset waits for a second click within a few seconds.
     reset_armed: Option<Instant>,
     pub status: String,
@@ -203,6 +208,7 @@ impl App {
             scene: SceneChoice::default(),
             material: MaterialChoice::default(),
             material_seen: None,
+            design_arrived: None,
             reset_armed: None,
             status: String::new(),
             drag: None,
@@ -597,6 +603,13 @@ impl App {
             ));
         }
         ui.label(format!("UI: {:.0} fps", self.fps));
+        if let Some(t) = self.design_arrived {
+            ui.label(format!(
+                "design received {:.0} ms after start",
+                t.as_secs_f64() * 1000.0
+            ))
+            .on_hover_text("Mesh, positions, seams, all texture tiles, tool and material");
+        }
         if self.store.rejected > 0 {
             ui.colored_label(
                 egui::Color32::from_rgb(230, 160, 40),
@@ -982,6 +995,21 @@ impl App {
                     format!("refused: {}", a.message)
                 };
             }
+        }
+        if self.design_arrived.is_none()
+            && self.store.mesh.is_some()
+            && !self.store.x.is_empty()
+            && self.store.tool.is_some()
+            && self.store.sim_tel.is_some()
+            && self.store.texture.complete()
+        {
+            let t = self.opts.launched.unwrap_or(self.started).elapsed();
+            self.design_arrived = Some(t);
+            eprintln!(
+                "cloth-ui: the whole design (mesh, positions, seams, texture, tool, material) \
+                 arrived {:.0} ms after start",
+                t.as_secs_f64() * 1000.0
+            );
         }
         if let Some(t) = &self.store.tool
             && t.sew_first != u32::MAX

@@ -46,6 +46,7 @@ struct Cli {
 }
 
 fn main() -> ExitCode {
+    let launched = std::time::Instant::now();
     let cli = Cli::parse();
     let domain = match Domain::from_arg_or_env(cli.domain.as_deref()) {
         Ok(d) => d,
@@ -73,6 +74,7 @@ fn main() -> ExitCode {
         log_fps: cli.log_fps,
         render_scale: cli.render_scale,
         clear_panels: true,
+        launched: Some(launched),
     };
     let native = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()

@@ -77,6 +77,9 @@ pub struct Texture {
     pub rgba: Vec<u8>,
     pub dirty: Vec<[usize; 4]>,
     pub tiles_seen: usize,
+    /// Tiles received at least once (by corner), and the texels they cover.
+    seen: std::collections::HashSet<(usize, usize)>,
+    covered: usize,
 }
 
 impl Default for Texture {
@@ -88,6 +91,8 @@ impl Default for Texture {
             rgba: [235u8, 235, 230, 255].repeat(w * h),
             dirty: vec![[0, 0, w, h]],
             tiles_seen: 0,
+            seen: Default::default(),
+            covered: 0,
         }
     }
 }
@@ -103,6 +108,8 @@ impl Texture {
                 rgba: [235u8, 235, 230, 255].repeat(width * height),
                 dirty: vec![[0, 0, width, height]],
                 tiles_seen: 0,
+                seen: Default::default(),
+                covered: 0,
             };
         }
         let [x0, y0, w, h] = rect;
@@ -112,6 +119,14 @@ impl Texture {
         }
         self.dirty.push(rect);
         self.tiles_seen += 1;
+        if self.seen.insert((x0, y0)) {
+            self.covered += w * h;
+        }
+    }
+
+    /// Every texel has come from cloth-sim at least once.
+    pub fn complete(&self) -> bool {
+        self.covered >= self.width * self.height
     }
 }
 
@@ -320,5 +335,12 @@ mod tests {
         assert_eq!(&t.rgba[4 * (128 * 1024 + 64)..][..8], &[9u8; 8]);
         assert_eq!(t.rgba[4 * (128 * 1024 + 66)], 235);
         assert_eq!(t.dirty.last(), Some(&[64, 128, 2, 2]));
+        assert!(!t.complete());
+        let mut small = Texture::default();
+        small.apply(4, 2, [0, 0, 2, 2], &[1u8; 16]);
+        small.apply(4, 2, [0, 0, 2, 2], &[1u8; 16]);
+        assert!(!small.complete(), "a tile sent twice covers it once");
+        small.apply(4, 2, [2, 0, 2, 2], &[1u8; 16]);
+        assert!(small.complete());
     }
 }
