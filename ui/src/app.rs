@@ -456,36 +456,58 @@ impl App {
             }
         }
         ui.label("Material and solver");
+        // A design made with values beyond a slider's range (cloth-sim's flags) keeps
+        // them until the user moves that slider.
+        let keep = egui::SliderClamping::Edits;
         let [density, stretch, shear, bending, friction, damping] = &mut self.material.values;
-        ui.add(egui::Slider::new(density, 0.03..=0.6).text("Density, kg/m²"))
-            .on_hover_text("Areal density; cotton shirting is about 0.15");
+        ui.add(
+            egui::Slider::new(density, 0.03..=0.6)
+                .clamping(keep)
+                .text("Density, kg/m²"),
+        )
+        .on_hover_text("Areal density; cotton shirting is about 0.15");
         ui.add(
             egui::Slider::new(stretch, 100.0..=20000.0)
+                .clamping(keep)
                 .logarithmic(true)
                 .text("Stretch, N/m"),
         )
         .on_hover_text("Stretch modulus along warp and weft");
         ui.add(
             egui::Slider::new(shear, 1.0..=1000.0)
+                .clamping(keep)
                 .logarithmic(true)
                 .text("Shear, N/m"),
         )
         .on_hover_text("In-plane shear modulus; lower drapes into softer folds");
         ui.add(
             egui::Slider::new(bending, 1.0e-7..=1.0e-3)
+                .clamping(keep)
                 .logarithmic(true)
                 .text("Bending, N m"),
         )
         .on_hover_text("Bending rigidity; cotton is about 1e-5");
-        ui.add(egui::Slider::new(friction, 0.01..=1.5).text("Friction"))
-            .on_hover_text("Coulomb friction against the body and the floor");
-        ui.add(egui::Slider::new(damping, 0.0..=5.0).text("Damping, 1/s"))
-            .on_hover_text("Velocity damping; higher settles faster and moves more sluggishly");
-        ui.add(egui::Slider::new(&mut self.material.substeps, 1..=40).text("Substeps"))
-            .on_hover_text(
-                "XPBD substeps per 1/60 s frame: more is stiffer and stretches less where the \
+        ui.add(
+            egui::Slider::new(friction, 0.01..=1.5)
+                .clamping(keep)
+                .text("Friction"),
+        )
+        .on_hover_text("Coulomb friction against the body and the floor");
+        ui.add(
+            egui::Slider::new(damping, 0.0..=5.0)
+                .clamping(keep)
+                .text("Damping, 1/s"),
+        )
+        .on_hover_text("Velocity damping; higher settles faster and moves more sluggishly");
+        ui.add(
+            egui::Slider::new(&mut self.material.substeps, 1..=40)
+                .clamping(keep)
+                .text("Substeps"),
+        )
+        .on_hover_text(
+            "XPBD substeps per 1/60 s frame: more is stiffer and stretches less where the \
                  cloth hangs, and costs frame time (watch 'sim frame' in the status panel)",
-            );
+        );
         let changed = self.material_seen.is_some_and(|m| m != self.material);
         ui.horizontal(|ui| {
             if ui

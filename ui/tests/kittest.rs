@@ -290,6 +290,17 @@ fn the_material_follows_cloth_sim_and_applies_in_place() {
     h.run_steps(2);
     assert_eq!(h.state().material.values, m1);
     assert_eq!(h.state().material.substeps, 12);
+
+    // Values beyond the sliders' ranges (set by cloth-sim's flags) are shown as they are,
+    // not clamped into a change nobody asked for.
+    let m2 = [1.0, 50_000.0, 20.0, 1e-4, 0.5, 1.0];
+    h.state_mut().store.sim_tel = heard(60, m2);
+    h.run_steps(2);
+    assert_eq!(h.state().material.values, m2);
+    assert_eq!(h.state().material.substeps, 60);
+    let n = commands(&h).len();
+    press(&mut h, "Apply");
+    assert_eq!(commands(&h).len(), n, "nothing changed, nothing to apply");
 }
 
 /// A peer from another build: the UI rejects its messages, says why over the view, and
