@@ -162,6 +162,9 @@ struct MaterialArgs {
     /// Shear modulus, N/m.
     #[arg(long, default_value_t = Material::default().shear, allow_negative_numbers = true)]
     shear: f32,
+    /// Shear damping time, s (the weave's internal friction in shear; 0 turns it off).
+    #[arg(long, default_value_t = Material::default().shear_damping, allow_negative_numbers = true)]
+    shear_damping: f32,
     /// Bending rigidity, N m.
     #[arg(long, default_value_t = Material::default().bending, allow_negative_numbers = true)]
     bending: f32,
@@ -191,6 +194,7 @@ impl MaterialArgs {
             density: self.density,
             stretch: self.stretch,
             shear: self.shear,
+            shear_damping: self.shear_damping,
             bending: self.bending,
             damping: self.damping,
             drag: self.drag,

@@ -78,13 +78,14 @@ impl Group {
     }
 
     /// One pass over the group's membranes then hinges. `x` and `w` are the group's range.
-    fn solve(&self, x: &mut [Vec3], w: &[f32], a_stretch: f32, a_shear: f32, a_bend: f32) {
-        let shear = a_shear.is_finite().then_some(a_shear);
+    fn solve(&self, x: &mut [Vec3], prev: &[Vec3], w: &[f32], k: &Compliance) {
+        let (a_stretch, a_shear, a_bend) = (k.stretch, k.shear, k.bend);
+        let shear = a_shear.is_finite().then_some((a_shear, k.shear_gamma));
         for (blocks, rest) in &self.membrane_batches {
             for b in blocks {
-                xpbd_simd::membranes8(b, x, a_stretch, shear);
+                xpbd_simd::membranes8(b, x, prev, a_stretch, shear);
             }
-            solve_membranes(&self.membranes[rest.clone()], x, w, a_stretch, a_shear);
+            solve_membranes(&self.membranes[rest.clone()], x, prev, w, k);
         }
         if a_bend.is_finite() {
             for (blocks, rest) in &self.bend_batches {
@@ -104,6 +105,16 @@ pub(super) enum Loc {
     None,
     Group { group: u8, item: u32 },
     Extra(u32),
+}
+
+/// One substep's XPBD compliances (already divided by h^2; per unit area for membranes,
+/// `INFINITY` for a constraint that is off) and the shear damping ratio
+/// `gamma = shear_damping / h`.
+pub(super) struct Compliance {
+    pub stretch: f32,
+    pub shear: f32,
+    pub bend: f32,
+    pub shear_gamma: f32,
 }
 
 #[derive(Clone, Debug)]
@@ -200,33 +211,27 @@ impl Xpbd {
 
     /// Solves every membrane and hinge once: the two halves (in parallel when
     /// `threads > 1`), then the boundary.
-    fn solve_constraints(
-        &self,
-        x: &mut [Vec3],
-        w: &[f32],
-        a_stretch: f32,
-        a_shear: f32,
-        a_bend: f32,
-    ) {
+    fn solve_constraints(&self, x: &mut [Vec3], prev: &[Vec3], w: &[f32], k: &Compliance) {
         let mid = self.groups[0].end;
         {
             let (xa, xb) = x.split_at_mut(mid);
+            let (pa, pb) = prev.split_at(mid);
             let (wa, wb) = w.split_at(mid);
             let [ga, gb, _] = &self.groups;
             if self.threads > 1 && !gb.membranes.is_empty() {
                 std::thread::scope(|s| {
-                    s.spawn(|| gb.solve(xb, wb, a_stretch, a_shear, a_bend));
-                    ga.solve(xa, wa, a_stretch, a_shear, a_bend);
+                    s.spawn(|| gb.solve(xb, pb, wb, k));
+                    ga.solve(xa, pa, wa, k);
                 });
             } else {
-                ga.solve(xa, wa, a_stretch, a_shear, a_bend);
-                gb.solve(xb, wb, a_stretch, a_shear, a_bend);
+                ga.solve(xa, pa, wa, k);
+                gb.solve(xb, pb, wb, k);
             }
         }
-        self.groups[2].solve(x, w, a_stretch, a_shear, a_bend);
-        solve_membranes(&self.extra_membranes, x, w, a_stretch, a_shear);
-        if a_bend.is_finite() {
-            solve_bending(&self.extra_bends, x, w, a_bend);
+        self.groups[2].solve(x, prev, w, k);
+        solve_membranes(&self.extra_membranes, x, prev, w, k);
+        if k.bend.is_finite() {
+            solve_bending(&self.extra_bends, x, w, k.bend);
         }
     }
 
@@ -260,19 +265,20 @@ impl Xpbd {
         let damp = (-self.material.damping * h).exp();
         let m = self.material;
         let inv_h2 = 1.0 / (h * h);
-        let (a_stretch, a_shear, a_bend) = (
-            inv_h2 / m.stretch,
-            if m.shear > 0.0 {
+        let compliance = Compliance {
+            stretch: inv_h2 / m.stretch,
+            shear: if m.shear > 0.0 {
                 inv_h2 / m.shear
             } else {
                 f32::INFINITY
             },
-            if m.bending > 0.0 {
+            bend: if m.bending > 0.0 {
                 inv_h2 / m.bending
             } else {
                 f32::INFINITY
             },
-        );
+            shear_gamma: m.shear_damping / h,
+        };
         for k in 0..substeps {
             if let Some(p) = &mut self.pinch
                 && let Some(input) = pen(k, substeps)
@@ -293,7 +299,7 @@ impl Xpbd {
                 }
             }
             solve_tethers(&self.tethers, &mut cloth.x);
-            self.solve_constraints(&mut cloth.x, &cloth.inv_mass, a_stretch, a_shear, a_bend);
+            self.solve_constraints(&mut cloth.x, &self.prev, &cloth.inv_mass, &compliance);
             // Tethers of one vertex to two pins conflict within a pass; three passes settle
             // them (they are cheap: two per free vertex).
             for _ in 0..3 {
@@ -367,13 +373,15 @@ impl Xpbd {
     }
 }
 
-/// One pass over every triangle: warp stretch, weft stretch, then shear.
+/// One pass over every triangle: warp stretch, weft stretch, then shear. Shear is damped
+/// (XPBD constraint damping, Macklin et al. 2016 eq. 26): its rate since the substep
+/// began, `grad C . (x - x_prev)`, is part of the correction, weighted by `k.shear_gamma`.
 fn solve_membranes(
     membranes: &[Membrane],
     x: &mut [Vec3],
+    prev: &[Vec3],
     w: &[f32],
-    a_stretch: f32,
-    a_shear: f32,
+    k: &Compliance,
 ) {
     for m in membranes {
         let [i0, i1, i2] = m.v.map(|i| i as usize);
@@ -382,7 +390,7 @@ fn solve_membranes(
             continue;
         }
         let mut p = [x[i0], x[i1], x[i2]];
-        let at_stretch = a_stretch / m.area;
+        let at_stretch = k.stretch / m.area;
         // Warp (u) then weft (v): C = |F_col| - 1, grad_a = coeff_a * F_col / |F_col|.
         for coeff in [&m.c, &m.d] {
             let f = p[0] * coeff[0] + p[1] * coeff[1] + p[2] * coeff[2];
@@ -401,19 +409,27 @@ fn solve_membranes(
                 p[a] += dir * (wv[a] * coeff[a] * dl);
             }
         }
-        if a_shear.is_finite() {
+        if k.shear.is_finite() {
             let fu = p[0] * m.c[0] + p[1] * m.c[1] + p[2] * m.c[2];
             let fv = p[0] * m.d[0] + p[1] * m.d[1] + p[2] * m.d[2];
-            let c = fu.dot(fv);
             let g = [
                 fv * m.c[0] + fu * m.d[0],
                 fv * m.c[1] + fu * m.d[1],
                 fv * m.c[2] + fu * m.d[2],
             ];
-            let denom = wv[0] * g[0].length_squared()
-                + wv[1] * g[1].length_squared()
-                + wv[2] * g[2].length_squared()
-                + a_shear / m.area;
+            // C + gamma * rate, over (1 + gamma) grad C W grad C^T + alpha.
+            let gamma = k.shear_gamma;
+            let mut c = fu.dot(fv);
+            if gamma > 0.0 {
+                let q = [prev[i0], prev[i1], prev[i2]];
+                let rate: f32 = (0..3).map(|a| g[a].dot(p[a] - q[a])).sum();
+                c += gamma * rate;
+            }
+            let denom = (1.0 + gamma)
+                * (wv[0] * g[0].length_squared()
+                    + wv[1] * g[1].length_squared()
+                    + wv[2] * g[2].length_squared())
+                + k.shear / m.area;
             if denom > 0.0 {
                 let dl = -c / denom;
                 for a in 0..3 {

@@ -150,8 +150,16 @@ fn lin3(p: &[[f32x8; 3]; 3], k: &[f32x8; 3]) -> [f32x8; 3] {
     ]
 }
 
-/// Warp stretch, weft stretch and shear of eight membranes.
-pub fn membranes8(b: &MembraneBlock, x: &mut [Vec3], a_stretch: f32, a_shear: Option<f32>) {
+/// Warp stretch, weft stretch and shear of eight membranes; `shear` is its compliance and
+/// damping ratio (see `solve_membranes`), `None` when shear is off.
+#[inline(never)]
+pub fn membranes8(
+    b: &MembraneBlock,
+    x: &mut [Vec3],
+    prev: &[Vec3],
+    a_stretch: f32,
+    shear: Option<(f32, f32)>,
+) {
     let mut p = [
         gather(x, &b.idx[0]),
         gather(x, &b.idx[1]),
@@ -178,11 +186,10 @@ pub fn membranes8(b: &MembraneBlock, x: &mut [Vec3], a_stretch: f32, a_shear: Op
             }
         }
     }
-    if let Some(a_shear) = a_shear {
+    if let Some((a_shear, gamma)) = shear {
         let (c, d) = (&b.c, &b.d);
         let fu = lin3(&p, c);
         let fv = lin3(&p, d);
-        let cs = dot(&fu, &fv);
         let g: [[f32x8; 3]; 3] = std::array::from_fn(|a| {
             [
                 fv[0] * c[a] + fu[0] * d[a],
@@ -190,9 +197,24 @@ pub fn membranes8(b: &MembraneBlock, x: &mut [Vec3], a_stretch: f32, a_shear: Op
                 fv[2] * c[a] + fu[2] * d[a],
             ]
         });
-        let denom = wv[0] * dot(&g[0], &g[0])
-            + wv[1] * dot(&g[1], &g[1])
-            + wv[2] * dot(&g[2], &g[2])
+        let mut cs = dot(&fu, &fv);
+        // The shear rate since the substep began: grad C . (x - x_prev).
+        let gamma = if gamma > 0.0 {
+            let mut rate = zero;
+            for a in 0..3 {
+                let q = gather(prev, &b.idx[a]);
+                rate += g[a][0] * (p[a][0] - q[0])
+                    + g[a][1] * (p[a][1] - q[1])
+                    + g[a][2] * (p[a][2] - q[2]);
+            }
+            let gamma = f32x8::splat(gamma);
+            cs += gamma * rate;
+            gamma
+        } else {
+            zero
+        };
+        let denom = (one + gamma)
+            * (wv[0] * dot(&g[0], &g[0]) + wv[1] * dot(&g[1], &g[1]) + wv[2] * dot(&g[2], &g[2]))
             + f32x8::splat(a_shear) / b.area;
         let ok = denom.simd_gt(zero);
         let dl = ok.select(-cs / denom.max(tiny), zero);
@@ -209,6 +231,7 @@ pub fn membranes8(b: &MembraneBlock, x: &mut [Vec3], a_stretch: f32, a_shear: Op
 }
 
 /// Isometric bending of eight hinges.
+#[inline(never)]
 pub fn bends8(b: &BendBlock, x: &mut [Vec3], a_bend: f32) {
     let mut p = [
         gather(x, &b.idx[0]),
