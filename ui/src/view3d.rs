@@ -204,6 +204,8 @@ impl Blit {
             }),
             primitive: Default::default(),
             depth_stencil: None,
+            // egui's pass is single-sampled: cloth-ui leaves eframe's multisampling off
+            // (its own view is the only 3D, and it renders into its own texture).
             multisample: Default::default(),
             multiview_mask: None,
             cache: None,
