@@ -276,12 +276,12 @@ fn paint_travels_with_a_cut() {
     assert_eq!(uv_before, uv_after, "the split triangles keep their UVs");
 }
 
-#[test]
-fn operations_need_the_xpbd_model() {
+/// A small cloth on the paper's seed model, which edits and material changes refuse.
+fn seed_cloth() -> Simulation {
     let mesh = ClothMesh::grid(0.5, 0.5, 4, 4, 1.0).unwrap();
     let m = Material::default();
     let cloth = Cloth::new(mesh, &m).unwrap();
-    let mut s = Simulation::new(
+    Simulation::new(
         cloth,
         None,
         ModelKind::Seed,
@@ -289,7 +289,12 @@ fn operations_need_the_xpbd_model() {
         Environment::default(),
         None,
     )
-    .unwrap();
+    .unwrap()
+}
+
+#[test]
+fn operations_need_the_xpbd_model() {
+    let mut s = seed_cloth();
     assert_eq!(s.cut_vertex(12, Vec3::X), Err(EditError::Model("seed")));
 }
 
@@ -636,17 +641,7 @@ fn a_bad_material_change_changes_nothing() {
     assert_eq!((s.material, s.substeps), (m, sub));
     assert_eq!(s.cloth.x, x);
 
-    let mesh = ClothMesh::grid(0.5, 0.5, 4, 4, 1.0).unwrap();
-    let cloth = Cloth::new(mesh, &m).unwrap();
-    let mut seed = Simulation::new(
-        cloth,
-        None,
-        ModelKind::Seed,
-        m,
-        Environment::default(),
-        None,
-    )
-    .unwrap();
+    let mut seed = seed_cloth();
     let e = seed.set_material(m, None).unwrap_err().to_string();
     assert!(e.contains("xpbd"), "{e}");
 }

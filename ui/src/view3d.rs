@@ -46,35 +46,44 @@ pub struct Overlay {
     pub marked: Option<Vec3>,
 }
 
-/// A growable vertex buffer.
+/// A growable GPU buffer (vertices or indices), with the count of its last upload.
 struct Buf {
     buf: wgpu::Buffer,
+    label: &'static str,
+    usage: wgpu::BufferUsages,
     cap: u64,
     len: u32,
 }
 
 impl Buf {
-    fn new(device: &wgpu::Device, label: &str) -> Self {
+    fn new(device: &wgpu::Device, label: &'static str, usage: wgpu::BufferUsages) -> Self {
+        let usage = usage | wgpu::BufferUsages::COPY_DST;
         Self {
             buf: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
-                size: 64 * 48,
-                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                size: 4096,
+                usage,
                 mapped_at_creation: false,
             }),
-            cap: 64 * 48,
+            label,
+            usage,
+            cap: 4096,
             len: 0,
         }
     }
 
-    fn upload(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, v: &[Vertex]) {
+    fn vertices(device: &wgpu::Device, label: &'static str) -> Self {
+        Self::new(device, label, wgpu::BufferUsages::VERTEX)
+    }
+
+    fn upload<T: bytemuck::Pod>(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, v: &[T]) {
         let bytes: &[u8] = bytemuck::cast_slice(v);
         if bytes.len() as u64 > self.cap {
             self.cap = (bytes.len() as u64).next_power_of_two();
             self.buf = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("saiho vertices"),
+                label: Some(self.label),
                 size: self.cap,
-                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                usage: self.usage,
                 mapped_at_creation: false,
             });
         }
@@ -99,9 +108,7 @@ pub struct View3d {
     /// The cloth's distinct (vertex, UV) pairs and the triangles over them, rebuilt when
     /// the topology changes: a grid cloth then shades each vertex once, not six times.
     cloth_keys: Vec<(u32, [f32; 2])>,
-    cloth_index: wgpu::Buffer,
-    cloth_index_cap: u64,
-    cloth_index_len: u32,
+    cloth_index: Buf,
     cloth_topology: Option<(u64, u64, usize)>,
     body: Buf,
     body_version: u64,
@@ -372,21 +379,14 @@ impl View3d {
             cloth_tex_size: (1024, 1024),
             bind_layout,
             sampler,
-            cloth: Buf::new(device, "saiho cloth"),
+            cloth: Buf::vertices(device, "saiho cloth"),
             cloth_keys: Vec::new(),
-            cloth_index: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("saiho cloth indices"),
-                size: 4096,
-                usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
-            cloth_index_cap: 4096,
-            cloth_index_len: 0,
+            cloth_index: Buf::new(device, "saiho cloth indices", wgpu::BufferUsages::INDEX),
             cloth_topology: None,
-            body: Buf::new(device, "saiho body"),
+            body: Buf::vertices(device, "saiho body"),
             body_version: u64::MAX,
-            line_buf: Buf::new(device, "saiho lines"),
-            marker: Buf::new(device, "saiho markers"),
+            line_buf: Buf::vertices(device, "saiho lines"),
+            marker: Buf::vertices(device, "saiho markers"),
             scratch: Vec::new(),
             target: None,
             blit: Blit::new(device),
@@ -561,20 +561,7 @@ impl View3d {
                     index.push(i);
                 }
             }
-            let bytes: &[u8] = bytemuck::cast_slice(&index);
-            if bytes.len() as u64 > self.cloth_index_cap {
-                self.cloth_index_cap = (bytes.len() as u64).next_power_of_two();
-                self.cloth_index = device.create_buffer(&wgpu::BufferDescriptor {
-                    label: Some("saiho cloth indices"),
-                    size: self.cloth_index_cap,
-                    usage: wgpu::BufferUsages::INDEX | wgpu::BufferUsages::COPY_DST,
-                    mapped_at_creation: false,
-                });
-            }
-            if !bytes.is_empty() {
-                queue.write_buffer(&self.cloth_index, 0, bytes);
-            }
-            self.cloth_index_len = index.len() as u32;
+            self.cloth_index.upload(device, queue, &index);
             self.cloth_topology = key;
         }
         self.scratch.clear();
@@ -651,41 +638,26 @@ impl View3d {
                 col,
             );
         }
-        if let Some(m) = &store.mesh {
-            for &[a, b] in &m.border {
+        // Edges over the cloth, lifted 3 mm so the cloth's own depth does not hide them.
+        let (border, sewn) = store
+            .mesh
+            .as_ref()
+            .map_or((&[][..], &[][..]), |m| (&m.border[..], &m.sewn[..]));
+        for (edges, colour) in [
+            (border, BORDER_COLOUR),
+            (sewn, SEWN_COLOUR),
+            (&store.stitches[..], STITCH_COLOUR),
+        ] {
+            for &[a, b] in edges {
                 if let (Some(pa), Some(pb)) = (store.x.get(a as usize), store.x.get(b as usize)) {
                     line_lifted(
                         &mut self.scratch,
                         Vec3::from(*pa),
                         Vec3::from(*pb),
-                        BORDER_COLOUR,
+                        colour,
                         0.003,
                     );
                 }
-            }
-        }
-        if let Some(m) = &store.mesh {
-            for &[a, b] in &m.sewn {
-                if let (Some(pa), Some(pb)) = (store.x.get(a as usize), store.x.get(b as usize)) {
-                    line_lifted(
-                        &mut self.scratch,
-                        Vec3::from(*pa),
-                        Vec3::from(*pb),
-                        SEWN_COLOUR,
-                        0.003,
-                    );
-                }
-            }
-        }
-        for &[a, b] in &store.stitches {
-            if let (Some(pa), Some(pb)) = (store.x.get(a as usize), store.x.get(b as usize)) {
-                line_lifted(
-                    &mut self.scratch,
-                    Vec3::from(*pa),
-                    Vec3::from(*pb),
-                    STITCH_COLOUR,
-                    0.003,
-                );
             }
         }
         if let Some((a, b)) = overlay.spring {
@@ -769,11 +741,11 @@ impl View3d {
                 multiview_mask: None,
             });
             pass.set_bind_group(0, &self.bind, &[]);
-            if self.cloth.len > 0 && self.cloth_index_len > 0 {
+            if self.cloth.len > 0 && self.cloth_index.len > 0 {
                 pass.set_pipeline(&self.textured);
                 pass.set_vertex_buffer(0, self.cloth.buf.slice(..));
-                pass.set_index_buffer(self.cloth_index.slice(..), wgpu::IndexFormat::Uint32);
-                pass.draw_indexed(0..self.cloth_index_len, 0, 0..1);
+                pass.set_index_buffer(self.cloth_index.buf.slice(..), wgpu::IndexFormat::Uint32);
+                pass.draw_indexed(0..self.cloth_index.len, 0, 0..1);
             }
             for (pipe, buf) in [
                 (&self.coloured, &self.body),
