@@ -16,11 +16,13 @@ fn frame(
     grid: usize,
     model: ModelKind,
     threads: usize,
+    stretch_limits: bool,
 ) {
     let mut cfg = ScenarioConfig::new(scenario);
     cfg.grid = grid;
     cfg.model = model;
     cfg.threads = threads;
+    cfg.material.stretch_limits = stretch_limits;
     let mut sim = build_simulation(&cfg).unwrap();
     for _ in 0..120 {
         sim.step().unwrap();
@@ -39,6 +41,17 @@ fn frames(c: &mut Criterion) {
         128,
         ModelKind::Xpbd,
         1,
+        true,
+    );
+    // What the stretch limits cost (and what a less stretched drape saves in contacts).
+    frame(
+        c,
+        "xpbd_mannequin_128_1thread_no_stretch_limits",
+        ScenarioName::DrapeMannequin,
+        128,
+        ModelKind::Xpbd,
+        1,
+        false,
     );
     frame(
         c,
@@ -47,6 +60,7 @@ fn frames(c: &mut Criterion) {
         128,
         ModelKind::Xpbd,
         2,
+        true,
     );
     frame(
         c,
@@ -55,6 +69,7 @@ fn frames(c: &mut Criterion) {
         256,
         ModelKind::Xpbd,
         1,
+        true,
     );
     frame(
         c,
@@ -63,6 +78,7 @@ fn frames(c: &mut Criterion) {
         256,
         ModelKind::Xpbd,
         2,
+        true,
     );
     frame(
         c,
@@ -71,6 +87,7 @@ fn frames(c: &mut Criterion) {
         64,
         ModelKind::Xpbd,
         1,
+        true,
     );
     frame(
         c,
@@ -79,6 +96,7 @@ fn frames(c: &mut Criterion) {
         64,
         ModelKind::Seed,
         1,
+        true,
     );
 }
 

@@ -194,9 +194,11 @@ fn xpbd_sag_does_not_depend_on_substeps() {
 fn tethers_cut_the_substep_dependence_of_corner_pinned_cloth() {
     // Pinned at two corners, Gauss-Seidel lag shows as extra sag at few substeps.
     let n = 16;
+    // Tethers alone: the stretch limits (on by default) cut the lag too.
     let spread = |tethers: bool| {
         let m = Material {
             tethers,
+            stretch_limits: false,
             ..Material::default()
         };
         let d: Vec<f32> = [5, 20]
@@ -217,13 +219,14 @@ fn tethers_cut_the_substep_dependence_of_corner_pinned_cloth() {
 #[test]
 fn xpbd_rest_shape_matches_the_implicit_equilibrium() {
     let n = 12;
-    // The constraint model alone (no tethers), soft enough that the equilibrium has
+    // The constraint model alone (no tethers, no stretch limits), soft enough that the equilibrium has
     // visible stretch to compare.
     let material = Material {
         stretch: 50.0,
         shear: 5.0,
         bending: 1e-5,
         tethers: false,
+        stretch_limits: false,
         ..Material::default()
     };
     let mut x = hanging(n, 0.5, ModelKind::Xpbd, Some(20), material);
@@ -340,9 +343,12 @@ fn no_tunnelling_at_two_metres_per_second() {
 #[test]
 fn a_fine_hanging_cloth_comes_to_rest_and_shear_damping_keeps_its_shape() {
     let n = 128;
+    // Shear damping alone: the stretch limits (on by default) also bring this cloth to
+    // rest without it (7.9e-9 J).
     let run = |shear_damping: f32| {
         let material = Material {
             shear_damping,
+            stretch_limits: false,
             ..Material::default()
         };
         let mut sim = hanging(n, 1.0, ModelKind::Xpbd, None, material);
@@ -363,4 +369,41 @@ fn a_fine_hanging_cloth_comes_to_rest_and_shear_damping_keeps_its_shape() {
         (mid - mid0).abs() < 2e-3 && (low - low0).abs() < 2e-3,
         "sag with shear damping ({mid}, {low}) m, without ({mid0}, {low0}) m"
     );
+}
+
+/// Mean over the live triangles' edges of length / rest length.
+fn mean_strain(sim: &Simulation) -> f32 {
+    let (mut sum, mut n) = (0.0f32, 0);
+    for (_, t) in sim.cloth.live.iter() {
+        for k in 0..3 {
+            let (a, b) = (t.v[k] as usize, t.v[(k + 1) % 3] as usize);
+            let rest = (t.rest[k] - t.rest[(k + 1) % 3]).length();
+            sum += (sim.cloth.x[a] - sim.cloth.x[b]).length() / rest - 1.0;
+            n += 1;
+        }
+    }
+    sum / n as f32
+}
+
+/// Cloth held up by a body (no pins, so no tethers) stretches under Gauss-Seidel lag at 5
+/// substeps; the stretch limits cut that, and the drape still comes to rest.
+#[test]
+fn stretch_limits_keep_a_cloth_draped_on_the_mannequin_near_its_rest_length() {
+    let drape = |stretch_limits: bool| {
+        let mut cfg = ScenarioConfig::new(ScenarioName::DrapeMannequin);
+        cfg.grid = 64;
+        cfg.material.stretch_limits = stretch_limits;
+        let mut sim = build_simulation(&cfg).unwrap();
+        assert_eq!(sim.substeps, 5);
+        run_until_still(&mut sim, 360);
+        sim
+    };
+    let with = drape(true);
+    let without = drape(false);
+    let (s, s0) = (mean_strain(&with), mean_strain(&without));
+    let ke = with.cloth.kinetic_energy();
+    eprintln!("mean strain {s:.4} with stretch limits, {s0:.4} without; {ke:.2e} J");
+    assert!(s < 0.6 * s0, "stretch limits: {s} vs {s0} without");
+    assert!(s < 0.05, "mean strain {s}");
+    assert!(ke < 1e-6, "kinetic energy {ke:.2e} J");
 }

@@ -186,6 +186,10 @@ struct MaterialArgs {
     /// XPBD: no long-range tethers to pinned vertices.
     #[arg(long)]
     no_tethers: bool,
+    /// XPBD: no long-range stretch limits (the coarse lattice that stops fine cloth
+    /// stretching under Gauss-Seidel lag); for comparison.
+    #[arg(long)]
+    no_stretch_limits: bool,
 }
 
 impl MaterialArgs {
@@ -202,6 +206,7 @@ impl MaterialArgs {
             thickness: self.thickness,
             seed_stiffness: self.seed_stiffness,
             tethers: !self.no_tethers,
+            stretch_limits: !self.no_stretch_limits,
         }
     }
 }

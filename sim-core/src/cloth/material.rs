@@ -45,6 +45,10 @@ impl ModelKind {
 /// without), and on the mannequin its energy falls 60x.
 pub const DEFAULT_SHEAR_DAMPING: f32 = 0.005;
 
+fn default_on() -> bool {
+    true
+}
+
 fn default_shear_damping() -> f32 {
     DEFAULT_SHEAR_DAMPING
 }
@@ -80,6 +84,11 @@ pub struct Material {
     pub seed_stiffness: f32,
     /// XPBD only: long-range tethers from free vertices to pins (see `xpbd`).
     pub tethers: bool,
+    /// XPBD only: the long-range stretch limits, a coarse lattice of links that carry a
+    /// correction across many vertices per pass (see `limits`). Design files without it
+    /// get them on.
+    #[serde(default = "default_on")]
+    pub stretch_limits: bool,
 }
 
 impl Default for Material {
@@ -97,6 +106,7 @@ impl Default for Material {
             thickness: 0.004,
             seed_stiffness: 2.0e4,
             tethers: true,
+            stretch_limits: true,
         }
     }
 }

@@ -5,6 +5,7 @@ mod coloring;
 mod constraints;
 mod contact;
 mod implicit;
+mod limits;
 mod material;
 mod seed;
 pub(crate) mod sim;

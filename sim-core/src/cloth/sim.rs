@@ -302,7 +302,8 @@ impl Simulation {
                 self.cloth.update_mass(i, material.density);
             }
         }
-        let mut fresh = Xpbd::new(&self.cloth, &material);
+        let limits = std::mem::take(&mut old.limits);
+        let mut fresh = Xpbd::with_limits(&self.cloth, &material, Some(limits));
         fresh.prev.clone_from(&old.prev);
         fresh.threads = old.threads;
         fresh.pinch = old.pinch.take();

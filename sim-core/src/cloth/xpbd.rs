@@ -12,6 +12,9 @@
 //! as the geodesic rest distance times `1 + strain`, where `strain` is what the material
 //! itself would stretch under its full weight (`density * g * extent / stretch`). Tethers
 //! never make the cloth stiffer than its material; they only stop the solver's lag.
+//! Cloth held up by a body instead of pins gets the same remedy from the stretch limits
+//! (`limits`): a coarse lattice of unilateral links solved before and after the
+//! membranes.
 
 use glam::Vec3;
 
@@ -20,6 +23,7 @@ use std::collections::HashMap;
 
 use super::constraints::{BendConstraint, Membrane, bend_of, membrane_of};
 use super::contact::{ContactCache, ContactParams};
+use super::limits::StretchLimits;
 use super::material::Material;
 use super::sim::Environment;
 use super::state::Cloth;
@@ -126,6 +130,8 @@ pub struct Xpbd {
     pub(super) material: Material,
     /// (vertex, pin, maximum length) long-range attachments.
     pub(super) tethers: Vec<(u32, u32, f32)>,
+    /// Long-range stretch limits, coarse level first (see `limits`).
+    pub(super) limits: StretchLimits,
     /// The vertex range split in two halves, solved side by side, then the constraints
     /// that straddle the split (the third, boundary group). The halves share no vertex, so
     /// the result is the same whether they run on one thread or two.
@@ -153,6 +159,16 @@ const STITCH_STIFFNESS: f32 = 100.0;
 
 impl Xpbd {
     pub fn new(cloth: &Cloth, material: &Material) -> Self {
+        Self::with_limits(cloth, material, None)
+    }
+
+    /// As `new`, keeping `limits` (rescaled to the material's strain) when given: after a
+    /// material change the lattice, its order and its path lengths stay as they were.
+    pub(crate) fn with_limits(
+        cloth: &Cloth,
+        material: &Material,
+        limits: Option<StretchLimits>,
+    ) -> Self {
         let live = &cloth.live;
         let membranes: Vec<Membrane> = live
             .iter()
@@ -196,6 +212,7 @@ impl Xpbd {
             area,
             material: *material,
             tethers: tethers(cloth, material),
+            limits: stretch_limits(cloth, material, limits),
             groups,
             membrane_loc,
             bend_loc,
@@ -299,12 +316,16 @@ impl Xpbd {
                 }
             }
             solve_tethers(&self.tethers, &mut cloth.x);
+            self.limits.solve(&mut cloth.x, &cloth.inv_mass);
             self.solve_constraints(&mut cloth.x, &self.prev, &cloth.inv_mass, &compliance);
             // Tethers of one vertex to two pins conflict within a pass; three passes settle
             // them (they are cheap: two per free vertex).
             for _ in 0..3 {
                 solve_tethers(&self.tethers, &mut cloth.x);
             }
+            // The stretch limits once more: the membranes' pass undoes part of the first
+            // (on the mannequin drape, mean strain 9.7% with one pass, 5.9% with two).
+            self.limits.solve(&mut cloth.x, &cloth.inv_mass);
             for &st in &self.stitches {
                 crate::edit::stitch(&mut cloth.x, &cloth.inv_mass, st, inv_h2, STITCH_STIFFNESS);
             }
@@ -482,6 +503,28 @@ fn batches<T, B>(
         .collect()
 }
 
+/// The long-range stretch limits for `cloth` (none when they are off), with the same
+/// slack as the tethers: what the material itself stretches under the cloth's weight.
+fn stretch_limits(
+    cloth: &Cloth,
+    material: &Material,
+    keep: Option<StretchLimits>,
+) -> StretchLimits {
+    if !material.stretch_limits {
+        return StretchLimits::default();
+    }
+    let (mn, mx) = bounds(&cloth.rest.positions);
+    let extent = (mx - mn).length();
+    let strain = material.density * 9.81 * extent / material.stretch;
+    match keep {
+        Some(mut limits) if !limits.is_empty() => {
+            limits.set_strain(strain);
+            limits
+        }
+        _ => StretchLimits::build(cloth, strain),
+    }
+}
+
 /// Unilateral tethers: pull a vertex back inside its sphere around the pin.
 fn solve_tethers(tethers: &[(u32, u32, f32)], x: &mut [Vec3]) {
     for &(i, p, max) in tethers {
@@ -506,30 +549,8 @@ pub(super) fn tethers(cloth: &Cloth, material: &Material) -> Vec<(u32, u32, f32)
         return Vec::new();
     }
     let n = cloth.len();
-    // Rest lengths from the live triangles, so cut pieces lose their tethers. The
-    // adjacency is compressed rows (one allocation, not one per vertex).
-    let mut start = vec![0u32; n + 1];
-    for (_, t) in cloth.live.iter() {
-        for &v in &t.v {
-            start[v as usize + 1] += 2;
-        }
-    }
-    for i in 0..n {
-        start[i + 1] += start[i];
-    }
-    let mut fill = start.clone();
-    let mut adj = vec![(0u32, 0.0f32); start[n] as usize];
-    for (_, t) in cloth.live.iter() {
-        for k in 0..3 {
-            let (a, b) = (t.v[k], t.v[(k + 1) % 3]);
-            let l = (t.rest[k] - t.rest[(k + 1) % 3]).length();
-            for (from, to) in [(a, b), (b, a)] {
-                adj[fill[from as usize] as usize] = (to, l);
-                fill[from as usize] += 1;
-            }
-        }
-    }
-    let adj_of = |u: u32| &adj[start[u as usize] as usize..start[u as usize + 1] as usize];
+    // Rest lengths from the live triangles, so cut pieces lose their tethers.
+    let graph = super::limits::RestGraph::of(cloth);
     let (mn, mx) = bounds(&cloth.rest.positions);
     let extent = (mx - mn).length();
     let strain = material.density * 9.81 * extent / material.stretch;
@@ -547,7 +568,7 @@ pub(super) fn tethers(cloth: &Cloth, material: &Material) -> Vec<(u32, u32, f32)
             if du > dist[u as usize] {
                 continue;
             }
-            for &(v, l) in adj_of(u) {
+            for &(v, l) in graph.neighbours(u) {
                 let nd = du + l;
                 if nd < dist[v as usize] {
                     dist[v as usize] = nd;

@@ -138,6 +138,14 @@ impl Xpbd {
         }
         if !tris.is_empty() || !verts.is_empty() {
             self.tethers = tethers(cloth, &self.material);
+            let mut touched: Vec<u32> = edges
+                .iter()
+                .flat_map(|&k| [(k >> 32) as u32, k as u32])
+                .chain(verts.iter().copied())
+                .collect();
+            touched.sort_unstable();
+            touched.dedup();
+            self.limits.update(cloth, &touched);
         }
     }
 
