@@ -326,7 +326,8 @@ fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>> {
     let r = run_scenario(&cfg, &a.out)?;
     eprintln!(
         "{}: {} model, {} vertices, {} frames x {} substeps: frame p50 {:.2} ms p99 {:.2} ms; \
-         max penetration {:.2e} m; final kinetic energy {:.2e} J; settled {}; mesh valid {}",
+         max penetration {:.2e} m; final kinetic energy {:.2e} J; settled {}; \
+         strain mean {:.1}% max {:.0}%; mesh valid {}",
         r.scenario,
         r.model,
         r.vertices,
@@ -337,6 +338,8 @@ fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>> {
         r.max_penetration_m,
         r.kinetic_energy_final_j,
         r.settled,
+        r.strain_mean * 100.0,
+        r.strain_max * 100.0,
         r.mesh_valid
     );
     eprintln!("wrote {}", a.out.join("report.json").display());

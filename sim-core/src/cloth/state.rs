@@ -127,6 +127,25 @@ impl Cloth {
         };
     }
 
+    /// Stretch of the live triangles' sides, `length / rest length - 1`: the mean and the
+    /// largest (each interior edge counts once per triangle). Zero for no triangles.
+    pub fn strain(&self) -> (f64, f64) {
+        let (mut sum, mut max, mut n) = (0.0f64, 0.0f64, 0usize);
+        for (_, t) in self.live.iter() {
+            for k in 0..3 {
+                let (a, b) = (t.v[k] as usize, t.v[(k + 1) % 3] as usize);
+                let rest = (t.rest[k] - t.rest[(k + 1) % 3]).length();
+                if rest > 0.0 {
+                    let e = ((self.x[a] - self.x[b]).length() / rest - 1.0) as f64;
+                    sum += e;
+                    max = max.max(e);
+                    n += 1;
+                }
+            }
+        }
+        (if n > 0 { sum / n as f64 } else { 0.0 }, max)
+    }
+
     /// Kinetic energy with the lumped masses, J.
     pub fn kinetic_energy(&self) -> f64 {
         self.v

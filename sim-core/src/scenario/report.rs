@@ -83,6 +83,10 @@ pub struct Report {
     pub kinetic_energy_final_j: f64,
     pub kinetic_energy_max_j: f64,
     pub mesh_valid: bool,
+    /// Stretch of the cloth's triangle sides at the end, `length / rest - 1`: the mean
+    /// and the largest. Cotton barely stretches; more is the solver's lag.
+    pub strain_mean: f64,
+    pub strain_max: f64,
     /// Drape-cube only: the largest distance from the top-face part of the cloth to the
     /// plane it should rest on (top + thickness), m.
     #[serde(skip_serializing_if = "Option::is_none")]

@@ -310,6 +310,7 @@ pub fn run_scenario(cfg: &ScenarioConfig, out: &Path) -> Result<Report, Scenario
         .map(|&p| body.penetration(p) as f64)
         .fold(0.0, f64::max);
     let mesh_valid = sim.validate().is_ok();
+    let (strain_mean, strain_max) = sim.cloth.strain();
     let ke = sim.cloth.kinetic_energy();
     let top_face_gap = (cfg.scenario == ScenarioName::DrapeCube && cfg.body == BodyKind::Cube)
         .then(|| top_face_gap(&sim, body));
@@ -368,6 +369,8 @@ pub fn run_scenario(cfg: &ScenarioConfig, out: &Path) -> Result<Report, Scenario
         kinetic_energy_final_j: ke,
         kinetic_energy_max_j: ke_max,
         mesh_valid,
+        strain_mean,
+        strain_max,
         top_face_gap_max_m: top_face_gap,
         stable_step_s: sim.stable_step,
         settled,
