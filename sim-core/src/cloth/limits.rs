@@ -21,7 +21,7 @@
 //! what it separates and a seam or an undo joins it again.
 //!
 //! Measured (README): on the mannequin drape the mean strain falls from 41% to 6% and the
-//! drape comes to rest; the frame costs about 0.8 ms more at 128 x 128.
+//! drape comes to rest; the frame costs about 0.6 ms more at 128 x 128.
 //!
 //! What they do not fix: where the cloth hangs from a body (a cube's rim, the top of the
 //! head) every link through the support is loaded by everything below it, and the
