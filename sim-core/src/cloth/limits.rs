@@ -16,7 +16,8 @@
 //! for the pin tethers). A path through rest edges is never shorter than the geodesic
 //! rest distance, so a link never holds the cloth tighter than its material would:
 //! folding, draping and compression leave it slack. Only the solver's lag is removed.
-//! XPBD solves the links before and after the membranes in every substep. An edit updates
+//! XPBD solves the links before and after the membranes in every substep, split into the
+//! same two halves and straddling part as the membranes (`parts`). An edit updates
 //! the links around what it touched (`StretchLimits::update`), so a cut or a tear frees
 //! what it separates and a seam or an undo joins it again.
 //!
@@ -62,17 +63,23 @@ pub(crate) struct StretchLimits {
     /// A link may be `1 + strain` times its rest path: the material's own stretch under
     /// the cloth's weight.
     strain: f32,
+    /// The links again, coarse level first, split like the solver's groups: both ends
+    /// below `mid`, both at or above it (indices relative to `mid`), and the rest. The
+    /// first two touch no common vertex, so they can run side by side.
+    parts: [Vec<Limit>; 3],
+    mid: u32,
 }
 
 impl StretchLimits {
-    /// The lattices of `cloth`. `strain` is the slack allowed over the rest distance.
-    pub(super) fn build(cloth: &Cloth, strain: f32) -> Self {
+    /// The lattices of `cloth`. `strain` is the slack allowed over the rest distance;
+    /// `mid` is where the solver splits the vertex range in two.
+    pub(super) fn build(cloth: &Cloth, strain: f32, mid: usize) -> Self {
         let g = RestGraph::of(cloth);
         let n = g.len();
         let h = g.mean_edge();
         let mut limits = Self {
-            levels: Vec::new(),
             strain: strain.max(0.0),
+            ..Self::default()
         };
         if n == 0 || h <= 0.0 || !h.is_finite() {
             return limits;
@@ -104,7 +111,26 @@ impl StretchLimits {
             }
             limits.levels.push(lv);
         }
+        limits.split(mid);
         limits
+    }
+
+    /// Sorts the links into `parts` around `mid`.
+    pub(super) fn split(&mut self, mid: usize) {
+        let mid = mid as u32;
+        self.mid = mid;
+        self.parts = Default::default();
+        for &(a, b, rest) in self.levels.iter().flat_map(|l| &l.links) {
+            let part = if a < mid && b < mid {
+                0
+            } else if a >= mid && b >= mid {
+                1
+            } else {
+                2
+            };
+            let off = if part == 1 { mid } else { 0 };
+            self.parts[part].push((a - off, b - off, rest));
+        }
     }
 
     /// No links at all (off, or a cloth without triangles).
@@ -133,6 +159,11 @@ impl StretchLimits {
     /// vertices through the edited mesh finds every such end. Their links are dropped and
     /// found again from the edited mesh; the nodes stay where they were.
     pub(super) fn update(&mut self, cloth: &Cloth, touched: &[u32]) {
+        self.relink(cloth, touched);
+        self.split(self.mid as usize);
+    }
+
+    fn relink(&mut self, cloth: &Cloth, touched: &[u32]) {
         if self.levels.is_empty() {
             return;
         }
@@ -182,11 +213,12 @@ impl StretchLimits {
         }
     }
 
-    /// One pass over the links, coarse level first: pulls each overlong pair back to its
-    /// limit, by inverse mass.
-    pub(super) fn solve(&self, x: &mut [Vec3], w: &[f32]) {
-        for lv in &self.levels {
-            solve(&lv.links, 1.0 + self.strain, x, w);
+    /// One pass over part `part` of the links (0: the lower half, with `x` and `w` that
+    /// half; 1: the upper half, `x` and `w` from `mid` on; 2: the rest, all of `x`),
+    /// coarse level first: pulls each overlong pair back to its limit, by inverse mass.
+    pub(super) fn solve(&self, part: usize, x: &mut [Vec3], w: &[f32]) {
+        if let Some(links) = self.parts.get(part) {
+            solve(links, 1.0 + self.strain, x, w);
         }
     }
 
@@ -385,7 +417,7 @@ mod tests {
     #[test]
     fn a_grid_gets_a_lattice_at_each_level() {
         let c = cloth(48);
-        let links: Vec<Limit> = StretchLimits::build(&c, 0.0).links().collect();
+        let links: Vec<Limit> = StretchLimits::build(&c, 0.0, c.len() / 2).links().collect();
         // 6 and 3 edges: 9^2 and 17^2 nodes, about 3 links each (fewer on the border).
         let expect = 3 * (9 * 9 + 17 * 17);
         assert!(
@@ -407,7 +439,7 @@ mod tests {
     #[test]
     fn bending_without_stretching_leaves_every_link_slack() {
         let mut c = cloth(36);
-        let links: Vec<Limit> = StretchLimits::build(&c, 0.0).links().collect();
+        let links: Vec<Limit> = StretchLimits::build(&c, 0.0, c.len() / 2).links().collect();
         // Roll the cloth onto a cylinder of radius 0.2 m: an isometry, so no path through
         // the cloth gets longer and every straight distance gets shorter or stays.
         for p in &mut c.x {
@@ -463,7 +495,7 @@ mod tests {
     fn a_cut_frees_what_it_separates_and_undo_brings_it_back() {
         let n = 24;
         let mut c = cloth(n);
-        let mut limits = StretchLimits::build(&c, 0.0);
+        let mut limits = StretchLimits::build(&c, 0.0, c.len() / 2);
         let original = sorted(&limits);
         // Cut the cloth in two along the middle column of vertices.
         let mid = (n / 2) as u32;
@@ -500,13 +532,44 @@ mod tests {
     }
 
     #[test]
+    fn the_halves_share_no_vertex_and_every_link_is_in_one_part() {
+        let c = cloth(30);
+        let mid = c.len() / 2;
+        let l = StretchLimits::build(&c, 0.0, mid);
+        let m = mid as u32;
+        assert!(l.parts[0].iter().all(|&(a, b, _)| a < m && b < m));
+        // The upper half's links are relative to `mid`.
+        assert!(
+            l.parts[1]
+                .iter()
+                .all(|&(a, b, _)| a + m < c.len() as u32 && b + m < c.len() as u32)
+        );
+        assert!(l.parts[2].iter().all(|&(a, b, _)| (a < m) != (b < m)));
+        let mut parts: Vec<(u32, u32)> = l.parts[0]
+            .iter()
+            .chain(&l.parts[2])
+            .map(|&(a, b, _)| (a.min(b), a.max(b)))
+            .chain(
+                l.parts[1]
+                    .iter()
+                    .map(|&(a, b, _)| (a.min(b) + m, a.max(b) + m)),
+            )
+            .collect();
+        parts.sort_unstable();
+        let mut all: Vec<(u32, u32)> = l.links().map(|(a, b, _)| (a.min(b), a.max(b))).collect();
+        all.sort_unstable();
+        assert!(!l.parts[1].is_empty() && !l.parts[2].is_empty());
+        assert_eq!(parts, all);
+    }
+
+    #[test]
     fn pinned_pairs_and_pinned_ends() {
         let mut c = cloth(12);
         for v in 0..c.len() {
             c.pin(v);
         }
         assert_eq!(
-            StretchLimits::build(&c, 0.0).len(),
+            StretchLimits::build(&c, 0.0, c.len() / 2).len(),
             0,
             "links between pinned vertices"
         );
