@@ -83,6 +83,14 @@ fn drape_cube_writes_report_and_meshes() {
     for key in ["p50", "p99", "max"] {
         assert!(report["step_ms"][key].as_f64().unwrap() > 0.0);
     }
+    let (strain, strain_max) = (
+        report["strain_mean"].as_f64().unwrap(),
+        report["strain_max"].as_f64().unwrap(),
+    );
+    assert!(
+        strain.abs() < 0.1 && strain_max >= strain,
+        "strain {strain}, max {strain_max}"
+    );
     assert_eq!(report["vertices"], 169);
     assert_eq!(report["frames"], 30);
     assert_eq!(report["mesh_valid"], true);

@@ -371,6 +371,29 @@ fn a_fine_hanging_cloth_comes_to_rest_and_shear_damping_keeps_its_shape() {
     );
 }
 
+#[test]
+fn strain_measures_how_much_longer_the_sides_are_than_at_rest() {
+    let mut c = Cloth::new(
+        ClothMesh::grid(1.0, 1.0, 8, 8, 0.0).unwrap(),
+        &Material::default(),
+    )
+    .unwrap();
+    assert_eq!(c.strain(), (0.0, 0.0));
+    // Uniformly 10% larger: every side is 10% longer.
+    for p in &mut c.x {
+        *p *= 1.1;
+    }
+    let (mean, max) = c.strain();
+    assert!(
+        (mean - 0.1).abs() < 1e-5 && (max - 0.1).abs() < 1e-5,
+        "{mean} {max}"
+    );
+    // One vertex pulled out: the mean barely moves, the largest does.
+    c.x[40].y += 0.5;
+    let (mean2, max2) = c.strain();
+    assert!(max2 > 2.0 && mean2 < 0.2, "{mean2} {max2}");
+}
+
 /// Mean over the live triangles' edges of length / rest length.
 fn mean_strain(sim: &Simulation) -> f32 {
     let (mut sum, mut n) = (0.0f32, 0);
