@@ -228,6 +228,13 @@ impl ContactCache {
         fixed
     }
 
+    /// How far `x` is beyond particle `i`'s contact plane of this frame and the
+    /// thickness (negative: pressed in), or `None` when it has no plane.
+    pub fn gap(&self, i: usize, x: Vec3, thickness: f32) -> Option<f32> {
+        let n = *self.normal.get(i)?;
+        (n != Vec3::ZERO).then(|| x.dot(n) - self.offset[i] - thickness)
+    }
+
     /// Drops all cached planes (e.g. after the cloth was moved by an edit).
     pub fn reset(&mut self) {
         let (n, threads) = (self.normal.len(), self.threads);
