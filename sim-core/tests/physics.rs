@@ -379,6 +379,17 @@ fn strain_measures_how_much_longer_the_sides_are_than_at_rest() {
     )
     .unwrap();
     assert_eq!(c.strain(), (0.0, 0.0));
+    // Uniformly 10% smaller: the largest is negative too.
+    let rest = c.x.clone();
+    for p in &mut c.x {
+        *p *= 0.9;
+    }
+    let (mean, max) = c.strain();
+    assert!(
+        (mean + 0.1).abs() < 1e-5 && (max + 0.1).abs() < 1e-5,
+        "{mean} {max}"
+    );
+    c.x = rest;
     // Uniformly 10% larger: every side is 10% longer.
     for p in &mut c.x {
         *p *= 1.1;

@@ -130,7 +130,7 @@ impl Cloth {
     /// Stretch of the live triangles' sides, `length / rest length - 1`: the mean and the
     /// largest (each interior edge counts once per triangle). Zero for no triangles.
     pub fn strain(&self) -> (f64, f64) {
-        let (mut sum, mut max, mut n) = (0.0f64, 0.0f64, 0usize);
+        let (mut sum, mut max, mut n) = (0.0f64, f64::NEG_INFINITY, 0usize);
         for (_, t) in self.live.iter() {
             for k in 0..3 {
                 let (a, b) = (t.v[k] as usize, t.v[(k + 1) % 3] as usize);
@@ -143,7 +143,10 @@ impl Cloth {
                 }
             }
         }
-        (if n > 0 { sum / n as f64 } else { 0.0 }, max)
+        if n == 0 {
+            return (0.0, 0.0);
+        }
+        (sum / n as f64, max)
     }
 
     /// Kinetic energy with the lumped masses, J.
