@@ -215,7 +215,7 @@ impl StretchLimits {
             .filter(|&v| (v as usize) < n)
             .collect();
         let mut near: Vec<(u32, f32)> = Vec::new();
-        search.run_from(&g, &sources, reach, |u, d| near.push((u, d)));
+        search.run_from(&g, &sources, reach, |u, d, _| near.push((u, d)));
         for lv in &mut self.levels {
             lv.node.resize(n, false);
             let r = REACH * lv.spacing;
@@ -265,7 +265,7 @@ fn pinned_pair(cloth: &Cloth, a: u32, b: u32) -> bool {
 }
 
 /// Rest edges to search along.
-trait Graph {
+pub(super) trait Graph {
     /// Calls `f(neighbour, rest length)` for the edges of `v` (an edge may come twice).
     fn for_each_neighbour(&self, v: u32, f: impl FnMut(u32, f32));
 }
@@ -345,35 +345,39 @@ impl RestGraph {
     }
 }
 
-/// Dijkstra from one source out to `radius`, reusing its buffers: `dist` must be all
-/// infinite on entry and is left so (only `touched` entries are reset).
-struct Bounded {
+/// Dijkstra out to a radius, reusing its buffers between runs (only the entries a run
+/// touched are reset). Also used for the pin tethers.
+pub(super) struct Bounded {
     dist: Vec<f32>,
+    /// The source each reached vertex is nearest to.
+    from: Vec<u32>,
     touched: Vec<u32>,
     heap: BinaryHeap<Reverse<(u32, u32)>>,
 }
 
 impl Bounded {
-    fn new(n: usize) -> Self {
+    pub(super) fn new(n: usize) -> Self {
         Self {
             dist: vec![f32::INFINITY; n],
+            from: vec![u32::MAX; n],
             touched: Vec::new(),
             heap: BinaryHeap::new(),
         }
     }
 
     /// Calls `visit(v, d)` for every vertex within `radius` of `source`, nearest first.
-    fn run(&mut self, g: &impl Graph, source: u32, radius: f32, visit: impl FnMut(u32, f32)) {
-        self.run_from(g, &[source], radius, visit);
+    fn run(&mut self, g: &impl Graph, source: u32, radius: f32, mut visit: impl FnMut(u32, f32)) {
+        self.run_from(g, &[source], radius, |v, d, _| visit(v, d));
     }
 
-    /// As `run`, with `d` the distance to the nearest of `sources`.
-    fn run_from(
+    /// Calls `visit(v, d, s)` for every vertex within `radius` of `sources`, nearest
+    /// first, with `s` the nearest source and `d` the distance to it.
+    pub(super) fn run_from(
         &mut self,
         g: &impl Graph,
         sources: &[u32],
         radius: f32,
-        mut visit: impl FnMut(u32, f32),
+        mut visit: impl FnMut(u32, f32, u32),
     ) {
         for &v in &self.touched {
             self.dist[v as usize] = f32::INFINITY;
@@ -383,6 +387,7 @@ impl Bounded {
         for &s in sources {
             if self.dist[s as usize] != 0.0 {
                 self.dist[s as usize] = 0.0;
+                self.from[s as usize] = s;
                 self.touched.push(s);
                 self.heap.push(Reverse((0, s)));
             }
@@ -392,8 +397,14 @@ impl Bounded {
             if du > self.dist[u as usize] {
                 continue;
             }
-            visit(u, du);
-            let (dist, touched, heap) = (&mut self.dist, &mut self.touched, &mut self.heap);
+            let src = self.from[u as usize];
+            visit(u, du, src);
+            let (dist, from, touched, heap) = (
+                &mut self.dist,
+                &mut self.from,
+                &mut self.touched,
+                &mut self.heap,
+            );
             g.for_each_neighbour(u, |v, l| {
                 let d = du + l;
                 if d <= radius && d < dist[v as usize] {
@@ -401,6 +412,7 @@ impl Bounded {
                         touched.push(v);
                     }
                     dist[v as usize] = d;
+                    from[v as usize] = src;
                     // Non-negative floats order like their bit patterns.
                     heap.push(Reverse((d.to_bits(), v)));
                 }

@@ -23,7 +23,7 @@ use std::collections::HashMap;
 
 use super::constraints::{BendConstraint, Membrane, bend_of, membrane_of};
 use super::contact::{ContactCache, ContactParams};
-use super::limits::StretchLimits;
+use super::limits::{Bounded, RestGraph, StretchLimits};
 use super::material::Material;
 use super::sim::Environment;
 use super::state::Cloth;
@@ -561,8 +561,6 @@ fn solve_tethers(tethers: &[(u32, u32, f32)], x: &mut [Vec3]) {
 /// distance along mesh edges (Dijkstra from each pin; with more than 8 pins, one
 /// multi-source pass and the nearest pin only).
 pub(super) fn tethers(cloth: &Cloth, material: &Material) -> Vec<(u32, u32, f32)> {
-    use std::cmp::Reverse;
-    use std::collections::BinaryHeap;
     let pins: Vec<u32> = (0..cloth.len() as u32)
         .filter(|&i| cloth.is_pinned(i as usize))
         .collect();
@@ -571,58 +569,35 @@ pub(super) fn tethers(cloth: &Cloth, material: &Material) -> Vec<(u32, u32, f32)
     }
     let n = cloth.len();
     // Rest lengths from the live triangles, so cut pieces lose their tethers.
-    let graph = super::limits::RestGraph::of(cloth);
+    let graph = RestGraph::of(cloth);
+    let mut search = Bounded::new(n);
     let (mn, mx) = bounds(&cloth.rest.positions);
     let extent = (mx - mn).length();
     let strain = material.density * 9.81 * extent / material.stretch;
-    let dijkstra = |sources: &[u32]| -> (Vec<f32>, Vec<u32>) {
-        let mut dist = vec![f32::INFINITY; n];
-        let mut from = vec![u32::MAX; n];
-        let mut heap = BinaryHeap::new();
-        for &s in sources {
-            dist[s as usize] = 0.0;
-            from[s as usize] = s;
-            heap.push(Reverse((0u32, s)));
-        }
-        while let Some(Reverse((dbits, u))) = heap.pop() {
-            let du = f32::from_bits(dbits);
-            if du > dist[u as usize] {
-                continue;
-            }
-            for &(v, l) in graph.neighbours(u) {
-                let nd = du + l;
-                if nd < dist[v as usize] {
-                    dist[v as usize] = nd;
-                    from[v as usize] = from[u as usize];
-                    // Non-negative floats order like their bit patterns.
-                    heap.push(Reverse((nd.to_bits(), v)));
-                }
-            }
-        }
-        (dist, from)
-    };
     let mut out = Vec::new();
     if pins.len() > 8 {
-        let (dist, from) = dijkstra(&pins);
-        for i in 0..n {
-            if !cloth.is_pinned(i) && dist[i].is_finite() {
-                out.push((i as u32, from[i], dist[i] * (1.0 + strain)));
+        let mut nearest = vec![(f32::INFINITY, u32::MAX); n];
+        search.run_from(&graph, &pins, f32::INFINITY, |v, d, pin| {
+            nearest[v as usize] = (d, pin);
+        });
+        for (i, &(d, pin)) in nearest.iter().enumerate() {
+            if !cloth.is_pinned(i) && d.is_finite() {
+                out.push((i as u32, pin, d * (1.0 + strain)));
             }
         }
         return out;
     }
     let mut best: Vec<[(f32, u32); 2]> = vec![[(f32::INFINITY, u32::MAX); 2]; n];
     for &p in &pins {
-        let (dist, _) = dijkstra(&[p]);
-        for i in 0..n {
-            let b = &mut best[i];
-            if dist[i] < b[0].0 {
+        search.run_from(&graph, &[p], f32::INFINITY, |v, d, _| {
+            let b = &mut best[v as usize];
+            if d < b[0].0 {
                 b[1] = b[0];
-                b[0] = (dist[i], p);
-            } else if dist[i] < b[1].0 {
-                b[1] = (dist[i], p);
+                b[0] = (d, p);
+            } else if d < b[1].0 {
+                b[1] = (d, p);
             }
-        }
+        });
     }
     for i in 0..n {
         if cloth.is_pinned(i) {

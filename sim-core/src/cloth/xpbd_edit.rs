@@ -140,7 +140,10 @@ impl Xpbd {
             self.tethers = tethers(cloth, &self.material);
             let mut touched: Vec<u32> = edges
                 .iter()
-                .flat_map(|&k| [(k >> 32) as u32, k as u32])
+                .flat_map(|&k| {
+                    let (a, b) = crate::mesh::live::edge_ends(k);
+                    [a, b]
+                })
                 .chain(verts.iter().copied())
                 .collect();
             touched.sort_unstable();

@@ -47,6 +47,11 @@ pub fn edge_key(a: u32, b: u32) -> u64 {
     ((a.min(b) as u64) << 32) | a.max(b) as u64
 }
 
+/// The two vertices of an `edge_key`, lower first.
+pub fn edge_ends(key: u64) -> (u32, u32) {
+    ((key >> 32) as u32, key as u32)
+}
+
 #[derive(Clone, Debug, Default)]
 pub struct LiveMesh {
     tris: Vec<Option<Tri>>,
@@ -178,7 +183,7 @@ impl LiveMesh {
     pub fn hinge(&self, key: u64) -> Option<([u32; 4], [Vec3; 3], [Vec3; 3])> {
         let e = self.edges.get(&key)?;
         let (t0, t1) = (self.tri(e[0])?, self.tri(e[1])?);
-        let (a, b) = ((key >> 32) as u32, key as u32);
+        let (a, b) = edge_ends(key);
         let corners = |t: &Tri| -> Option<(u32, [Vec3; 3])> {
             let (ca, cb) = (t.corner(a)?, t.corner(b)?);
             let cc = 3 - ca - cb;

@@ -45,7 +45,7 @@ impl Topology {
             while j < half.len() && half[j].0 == key {
                 j += 1;
             }
-            let (a, b) = ((key >> 32) as u32, key as u32);
+            let (a, b) = super::live::edge_ends(key);
             let count = j - i;
             if count > 2 {
                 return Err(GeometryError::NonManifoldEdge { a, b, count });
