@@ -120,35 +120,11 @@ impl ContactCache {
             reach_time,
             max_accel,
         };
-        let mid = if self.threads > 1 && n >= 4096 {
-            n / 2
-        } else {
-            n
-        };
-        let (n0, n1) = self.normal.split_at_mut(mid);
-        let (o0, o1) = self.offset.split_at_mut(mid);
-        let (h0, h1) = self.hint.split_at_mut(mid);
-        let (q0, q1) = self.query_pos.split_at_mut(mid);
-        let (c0, c1) = self.clear.split_at_mut(mid);
-        let (f0, f1) = self.on_face.split_at_mut(mid);
-        let mut first = Slots {
-            normal: n0,
-            offset: o0,
-            hint: h0,
-            query_pos: q0,
-            clear: c0,
-            on_face: f0,
-        };
-        let mut second = Slots {
-            normal: n1,
-            offset: o1,
-            hint: h1,
-            query_pos: q1,
-            clear: c1,
-            on_face: f1,
-        };
+        let mid = self.split_point(n);
+        let mut active_a = std::mem::take(&mut self.active);
         let mut active_b = std::mem::take(&mut self.spare_active);
         active_b.clear();
+        let (mut first, mut second) = self.slots(mid);
         let (qa, qb) = if mid < n {
             std::thread::scope(|s| {
                 let hb = s.spawn(|| {
@@ -168,7 +144,7 @@ impl ContactCache {
                     &v[..mid],
                     &mut first,
                     0,
-                    &mut self.active,
+                    &mut active_a,
                     &env,
                 );
                 // A panic in the worker is a bug: re-raise it here.
@@ -179,53 +155,104 @@ impl ContactCache {
             })
         } else {
             (
-                update_range(body, x, v, &mut first, 0, &mut self.active, &env),
+                update_range(body, x, v, &mut first, 0, &mut active_a, &env),
                 0,
             )
         };
         // Same order as one thread: the first half's particles, then the second's.
-        self.active.extend_from_slice(&active_b);
+        active_a.extend_from_slice(&active_b);
+        self.active = active_a;
         self.spare_active = active_b;
         self.last_queries = qa + qb;
+    }
+
+    /// Where the particle range is split between the two threads (`n`: one thread).
+    fn split_point(&self, n: usize) -> usize {
+        if self.threads > 1 && n >= 4096 {
+            n / 2
+        } else {
+            n
+        }
+    }
+
+    /// The per-particle arrays as two ranges, `..mid` and `mid..`.
+    fn slots(&mut self, mid: usize) -> (Slots<'_>, Slots<'_>) {
+        let (n0, n1) = self.normal.split_at_mut(mid);
+        let (o0, o1) = self.offset.split_at_mut(mid);
+        let (h0, h1) = self.hint.split_at_mut(mid);
+        let (q0, q1) = self.query_pos.split_at_mut(mid);
+        let (c0, c1) = self.clear.split_at_mut(mid);
+        let (f0, f1) = self.on_face.split_at_mut(mid);
+        (
+            Slots {
+                normal: n0,
+                offset: o0,
+                hint: h0,
+                query_pos: q0,
+                clear: c0,
+                on_face: f0,
+            },
+            Slots {
+                normal: n1,
+                offset: o1,
+                hint: h1,
+                query_pos: q1,
+                clear: c1,
+                on_face: f1,
+            },
+        )
     }
 
     /// The frame's safety net. A single cached plane per particle cannot stop a particle
     /// sliding into a concave corner (a neck above a shoulder) at speed. A particle that
     /// moved less than its clearance since its query cannot be inside (distance to the
-    /// surface is 1-Lipschitz); the others are checked, and any found inside is projected
-    /// out to `thickness` with its inward velocity removed. Returns how many were moved.
+    /// surface is 1-Lipschitz); the others are searched again, and any found inside is
+    /// projected out to `thickness` with its inward velocity removed. Returns how many
+    /// were moved.
+    ///
+    /// The search is the one the next frame's [`update`](Self::update) would run (same
+    /// radius, from the velocity the frame ends with), and its answer is kept: that
+    /// update then finds these particles unmoved and reuses it instead of searching
+    /// again. The arguments after `thickness` are `update`'s.
     pub fn resolve_penetrations(
         &mut self,
         body: &Body,
         x: &mut [Vec3],
         v: &mut [Vec3],
         inv_mass: &[f32],
-        thickness: f32,
+        reach_time: f32,
+        max_accel: f32,
+        p: &ContactParams,
     ) -> usize {
-        let mut fixed = 0;
-        for i in 0..x.len() {
-            if inv_mass[i] == 0.0 {
-                continue;
-            }
-            let moved = (x[i] - self.query_pos[i]).length();
-            if moved < self.clear[i] {
-                continue;
-            }
-            let hint = self.hint[i];
-            let Some(c) = body.contact(x[i], moved + thickness, hint) else {
-                continue;
-            };
-            if c.signed_distance < 0.0 {
-                x[i] = c.point + c.normal * thickness;
-                let vn = v[i].dot(c.normal);
-                if vn < 0.0 {
-                    v[i] -= c.normal * vn;
-                }
-                self.hint[i] = c.tri;
-                fixed += 1;
-            }
+        let n = x.len().min(v.len()).min(inv_mass.len());
+        self.resize(x.len());
+        let env = Reach {
+            thickness: p.thickness,
+            reach_time,
+            max_accel,
+        };
+        // Most frames nothing moved past its clearance: count first, and share the
+        // searches between the threads only when there are enough to pay for one.
+        let due = (0..n)
+            .filter(|&i| inv_mass[i] != 0.0 && (x[i] - self.query_pos[i]).length() >= self.clear[i])
+            .count();
+        if due == 0 {
+            return 0;
         }
-        fixed
+        let mid = if due >= 256 { self.split_point(n) } else { n };
+        let (mut first, mut second) = self.slots(mid);
+        let (xa, xb) = x[..n].split_at_mut(mid);
+        let (va, vb) = v[..n].split_at_mut(mid);
+        let (ma, mb) = inv_mass[..n].split_at(mid);
+        if mid < n {
+            std::thread::scope(|s| {
+                let hb = s.spawn(|| resolve_range(body, xb, vb, mb, &mut second, &env));
+                let fa = resolve_range(body, xa, va, ma, &mut first, &env);
+                fa + hb.join().unwrap_or_else(|e| std::panic::resume_unwind(e))
+            })
+        } else {
+            resolve_range(body, xa, va, ma, &mut first, &env)
+        }
     }
 
     /// How far `x` is beyond particle `i`'s contact plane of this frame and the
@@ -313,27 +340,65 @@ struct Slots<'a> {
     on_face: &'a mut [bool],
 }
 
+impl Reach {
+    /// How far the particle may get from the body's side this frame, from its speed.
+    fn of(&self, v: Vec3) -> f32 {
+        self.thickness
+            + v.length() * self.reach_time * 1.5
+            + 0.5 * self.max_accel * self.reach_time * self.reach_time
+            + 1e-3
+    }
+}
+
+/// Searched a little farther than a particle can reach, so quiet particles can be skipped
+/// next frame, m.
+const SLACK: f32 = 0.02;
+
 impl Slots<'_> {
-    fn set(
-        &mut self,
-        k: usize,
-        c: Option<&crate::body::BodyContact>,
-        reach: f32,
-        active: &mut Vec<u32>,
-        index: usize,
-    ) {
+    /// Caches particle `k`'s contact plane when `c` is within `reach`; says whether it is.
+    fn set(&mut self, k: usize, c: Option<&crate::body::BodyContact>, reach: f32) -> bool {
         match c {
             Some(c) if c.signed_distance < reach => {
                 self.normal[k] = c.normal;
                 self.offset[k] = c.normal.dot(c.point);
                 self.on_face[k] = c.on_face;
-                active.push(index as u32);
+                true
             }
             _ => {
                 self.normal[k] = Vec3::ZERO;
                 self.on_face[k] = false;
+                false
             }
         }
+    }
+
+    /// A full search for particle `k` at `x` from the tree, remembered as its query.
+    /// Returns what it found, and whether that gave the particle a plane.
+    fn query(
+        &mut self,
+        body: &Body,
+        k: usize,
+        x: Vec3,
+        reach: f32,
+    ) -> (Option<crate::body::BodyContact>, bool) {
+        let radius = reach + SLACK;
+        self.query_pos[k] = x;
+        let mut found = body.contact(x, radius, self.hint[k]);
+        // Nothing within the radius: outside and far, or deep inside (dragged in by the
+        // cloth faster than its own velocity says). Inside the body's root box, find out
+        // with an unbounded search.
+        if found.is_none() && body.tree.nodes()[0].obb.distance_squared(x) == 0.0 {
+            found = body.contact(x, f32::INFINITY, self.hint[k]);
+        }
+        match &found {
+            Some(c) => {
+                self.hint[k] = c.tri;
+                self.clear[k] = c.signed_distance.max(0.0);
+            }
+            None => self.clear[k] = radius,
+        }
+        let has = self.set(k, found.as_ref(), reach);
+        (found, has)
     }
 }
 
@@ -348,14 +413,9 @@ fn update_range(
     active: &mut Vec<u32>,
     r: &Reach,
 ) -> usize {
-    // Query a little farther than needed so quiet particles can be skipped next frame.
-    let slack = 0.02f32;
     let mut queries = 0;
     for k in 0..x.len() {
-        let reach = r.thickness
-            + v[k].length() * r.reach_time * 1.5
-            + 0.5 * r.max_accel * r.reach_time * r.reach_time
-            + 1e-3;
+        let reach = r.of(v[k]);
         let moved = (x[k] - s.query_pos[k]).length();
         if s.clear[k] - moved > reach {
             s.normal[k] = Vec3::ZERO;
@@ -364,41 +424,144 @@ fn update_range(
         // Barely moved since its last full query: its nearest triangle is (to within
         // 2 * REUSE_DISTANCE) still the one found then. A face contact keeps its plane
         // (the triangle's own); edge and corner contacts re-project onto the triangle.
-        if moved < REUSE_DISTANCE && s.on_face[k] && s.normal[k] != Vec3::ZERO {
-            if x[k].dot(s.normal[k]) - s.offset[k] < reach {
-                active.push((base + k) as u32);
-            } else {
+        let has = if moved < REUSE_DISTANCE && s.on_face[k] && s.normal[k] != Vec3::ZERO {
+            let near = x[k].dot(s.normal[k]) - s.offset[k] < reach;
+            if !near {
                 s.normal[k] = Vec3::ZERO;
                 s.on_face[k] = false;
             }
-            continue;
-        }
-        if moved < REUSE_DISTANCE
+            near
+        } else if moved < REUSE_DISTANCE
             && s.hint[k] != u32::MAX
             && s.clear[k] < reach
             && let Some(c) = body.contact_on(x[k], s.hint[k])
         {
-            s.set(k, Some(&c), reach, active, base + k);
-            continue;
+            s.set(k, Some(&c), reach)
+        } else {
+            queries += 1;
+            s.query(body, k, x[k], reach).1
+        };
+        if has {
+            active.push((base + k) as u32);
         }
-        queries += 1;
-        let radius = reach + slack;
-        s.query_pos[k] = x[k];
-        let mut found = body.contact(x[k], radius, s.hint[k]);
-        // Nothing within the radius: outside and far, or deep inside (dragged in by the
-        // cloth faster than its own velocity says). Inside the body's root box, find out
-        // with an unbounded query.
-        if found.is_none() && body.tree.nodes()[0].obb.distance_squared(x[k]) == 0.0 {
-            found = body.contact(x[k], f32::INFINITY, s.hint[k]);
-        }
-        match &found {
-            Some(c) => {
-                s.hint[k] = c.tri;
-                s.clear[k] = c.signed_distance.max(0.0);
-            }
-            None => s.clear[k] = radius,
-        }
-        s.set(k, found.as_ref(), reach, active, base + k);
     }
     queries
+}
+
+/// The frame-end check for one range of particles; returns how many it moved out.
+fn resolve_range(
+    body: &Body,
+    x: &mut [Vec3],
+    v: &mut [Vec3],
+    inv_mass: &[f32],
+    s: &mut Slots,
+    r: &Reach,
+) -> usize {
+    let mut fixed = 0;
+    for k in 0..x.len() {
+        if inv_mass[k] == 0.0 {
+            continue;
+        }
+        let moved = (x[k] - s.query_pos[k]).length();
+        if moved < s.clear[k] {
+            continue;
+        }
+        let reach = r.of(v[k]);
+        // Deep enough for the next frame's update, and at least to `moved + thickness`
+        // (what can have gone in since the last query).
+        let reach = reach.max(moved + r.thickness - SLACK);
+        let (Some(c), _) = s.query(body, k, x[k], reach) else {
+            continue;
+        };
+        if c.signed_distance < 0.0 {
+            x[k] = c.point + c.normal * r.thickness;
+            let vn = v[k].dot(c.normal);
+            if vn < 0.0 {
+                v[k] -= c.normal * vn;
+            }
+            fixed += 1;
+        }
+    }
+    fixed
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::body::sphere;
+
+    const DT: f32 = 1.0 / 60.0;
+
+    fn params() -> ContactParams {
+        ContactParams {
+            thickness: 0.004,
+            friction: 0.0,
+            floor: None,
+        }
+    }
+
+    /// Particles on a ring around a 0.2 m sphere, `height` from its surface, moving
+    /// tangentially at `speed`.
+    fn ring(n: usize, height: f32, speed: f32) -> (Vec<Vec3>, Vec<Vec3>) {
+        (0..n)
+            .map(|i| {
+                let a = i as f32 / n as f32 * std::f32::consts::TAU;
+                let dir = Vec3::new(a.cos(), 0.3, a.sin()).normalize();
+                let tangent = Vec3::Y.cross(dir).normalize();
+                (dir * (0.2 + height), tangent * speed)
+            })
+            .unzip()
+    }
+
+    #[test]
+    fn the_frame_end_search_is_kept_for_the_next_update() {
+        let body = sphere(Vec3::ZERO, 0.2, 3).unwrap();
+        let p = params();
+        let (mut x, mut v) = ring(64, 0.005, 0.5);
+        let inv_mass = vec![1.0; x.len()];
+        let mut cache = ContactCache::new(x.len());
+        cache.update(&body, &x, &v, DT, 9.81, &p);
+        assert_eq!(cache.last_queries, x.len());
+        assert_eq!(cache.active_count(), x.len());
+        // The frame moves every particle 8 mm along the surface: more than its clearance.
+        for (x, v) in x.iter_mut().zip(&v) {
+            *x = (*x + *v * DT).normalize() * 0.205;
+        }
+        let moved = cache.resolve_penetrations(&body, &mut x, &mut v, &inv_mass, DT, 9.81, &p);
+        assert_eq!(moved, 0);
+        // The next frame's update finds them where the check searched: no new search, and
+        // the same planes it would have found.
+        cache.update(&body, &x, &v, DT, 9.81, &p);
+        assert_eq!(cache.last_queries, 0);
+        assert_eq!(cache.active_count(), x.len());
+        let mut fresh = ContactCache::new(x.len());
+        fresh.update(&body, &x, &v, DT, 9.81, &p);
+        for (i, &xi) in x.iter().enumerate() {
+            let (a, b) = (cache.gap(i, xi, 0.0), fresh.gap(i, xi, 0.0));
+            let (a, b) = (a.unwrap(), b.unwrap());
+            assert!((a - b).abs() < 1e-6, "{a} {b}");
+        }
+    }
+
+    #[test]
+    fn a_particle_found_inside_at_frame_end_is_moved_out_and_searched_again_next_frame() {
+        let body = sphere(Vec3::ZERO, 0.2, 3).unwrap();
+        let p = params();
+        let (mut x, mut v) = ring(8, 0.005, 0.0);
+        let inv_mass = vec![1.0; x.len()];
+        let mut cache = ContactCache::new(x.len());
+        cache.update(&body, &x, &v, DT, 9.81, &p);
+        // Dragged 3 cm into the sphere and moving inward.
+        x[0] *= 0.835;
+        v[0] = -x[0];
+        let moved = cache.resolve_penetrations(&body, &mut x, &mut v, &inv_mass, DT, 9.81, &p);
+        assert_eq!(moved, 1);
+        let r = x[0].length();
+        assert!((r - 0.204).abs() < 2e-3, "moved out to {r}");
+        // The inward 0.17 m/s is gone (up to the facet's tilt from the radius).
+        let inward = -v[0].dot(x[0].normalize());
+        assert!(inward < 0.02, "inward velocity left: {inward}");
+        cache.update(&body, &x, &v, DT, 9.81, &p);
+        assert_eq!(cache.last_queries, 1);
+    }
 }

@@ -241,12 +241,19 @@ impl Simulation {
         }
         if let Some(body) = &self.body {
             let t1 = Instant::now();
+            let cp = ContactParams {
+                thickness: self.material.thickness,
+                friction: self.material.friction,
+                floor: self.env.floor,
+            };
             stats.rescued = self.contacts.resolve_penetrations(
                 body,
                 &mut self.cloth.x,
                 &mut self.cloth.v,
                 &self.cloth.inv_mass,
-                self.material.thickness,
+                self.env.frame_dt,
+                self.env.gravity.length(),
+                &cp,
             );
             stats.collision_ms += t1.elapsed().as_secs_f64() * 1e3;
         }
