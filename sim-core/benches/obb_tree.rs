@@ -59,7 +59,8 @@ fn parry_mesh(b: &Body) -> TriMesh {
 fn scaling(c: &mut Criterion) {
     let mut g = c.benchmark_group("scaling");
     g.sample_size(10);
-    for subdiv in [3usize, 4, 5, 6] {
+    // 1,280 to 327,680 triangles: the 1k-100k range and one step past it.
+    for subdiv in [3usize, 4, 5, 6, 7] {
         let body = sphere(subdiv);
         let n = body.triangles.len();
         g.bench_with_input(BenchmarkId::new("build/obb", n), &body, |b, body| {
