@@ -207,12 +207,12 @@ impl Simulation {
     ) -> Result<FrameStats, StepError> {
         let t0 = Instant::now();
         let mut stats = FrameStats::default();
+        let cp = ContactParams {
+            thickness: self.material.thickness,
+            friction: self.material.friction,
+            floor: self.env.floor,
+        };
         if let Some(body) = &self.body {
-            let cp = ContactParams {
-                thickness: self.material.thickness,
-                friction: self.material.friction,
-                floor: self.env.floor,
-            };
             self.contacts.update(
                 body,
                 &self.cloth.x,
@@ -241,11 +241,6 @@ impl Simulation {
         }
         if let Some(body) = &self.body {
             let t1 = Instant::now();
-            let cp = ContactParams {
-                thickness: self.material.thickness,
-                friction: self.material.friction,
-                floor: self.env.floor,
-            };
             stats.rescued = self.contacts.resolve_penetrations(
                 body,
                 &mut self.cloth.x,
