@@ -11,6 +11,10 @@
 //! A particle whose last query found nothing within `R` is skipped while it stays farther
 //! than its travel bound from the body: `R - |x - x_query| > reach` proves it (the distance
 //! to a fixed surface is 1-Lipschitz).
+//!
+//! At frame end, particles that moved past their known clearance are searched again (the
+//! safety net for concave corners), and that search is kept as their next frame's, so no
+//! particle is searched twice between two frames.
 
 use glam::Vec3;
 
@@ -213,7 +217,7 @@ impl ContactCache {
     /// The search is the one the next frame's [`update`](Self::update) would run (same
     /// radius, from the velocity the frame ends with), and its answer is kept: that
     /// update then finds these particles unmoved and reuses it instead of searching
-    /// again. The arguments after `thickness` are `update`'s.
+    /// again. The arguments after `inv_mass` are `update`'s.
     pub fn resolve_penetrations(
         &mut self,
         body: &Body,
