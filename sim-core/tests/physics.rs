@@ -216,6 +216,21 @@ fn tethers_cut_the_substep_dependence_of_corner_pinned_cloth() {
     );
 }
 
+/// How far the vertex farthest from its counterpart is, between two hanging cloths of the
+/// same grid. Wrinkles may buckle to either side of the hanging plane: compared modulo
+/// that mirror.
+fn farthest_vertex(a: &Simulation, b: &Simulation) -> f32 {
+    let dist = |mirror: f32| {
+        a.cloth
+            .x
+            .iter()
+            .zip(&b.cloth.x)
+            .map(|(p, q)| (*p - *q * Vec3::new(1.0, 1.0, mirror)).length())
+            .fold(0.0f32, f32::max)
+    };
+    dist(1.0).min(dist(-1.0))
+}
+
 #[test]
 fn xpbd_rest_shape_matches_the_implicit_equilibrium() {
     let n = 12;
@@ -234,16 +249,7 @@ fn xpbd_rest_shape_matches_the_implicit_equilibrium() {
     let mut im = hanging(n, 0.5, ModelKind::Implicit, Some(1), material);
     run_until_still(&mut im, 900);
     assert!(x.cloth.kinetic_energy() < 1e-6 && im.cloth.kinetic_energy() < 1e-6);
-    // Wrinkles may buckle to either side of the hanging plane: compare modulo that mirror.
-    let dist = |mirror: f32| {
-        x.cloth
-            .x
-            .iter()
-            .zip(&im.cloth.x)
-            .map(|(a, b)| (*a - *b * Vec3::new(1.0, 1.0, mirror)).length())
-            .fold(0.0f32, f32::max)
-    };
-    let worst = dist(1.0).min(dist(-1.0));
+    let worst = farthest_vertex(&x, &im);
     let (sx, si) = (sag(&x, n), sag(&im, n));
     eprintln!("max vertex distance XPBD vs implicit: {worst} m; sags {sx:?} vs {si:?}");
     assert!(
@@ -269,15 +275,7 @@ fn the_default_xpbd_with_tethers_and_stretch_limits_matches_the_implicit_equilib
         let mut x = hanging(n, 0.5, ModelKind::Xpbd, Some(substeps), material);
         run_until_still(&mut x, 900);
         assert!(x.cloth.kinetic_energy() < 1e-6);
-        let dist = |mirror: f32| {
-            x.cloth
-                .x
-                .iter()
-                .zip(&im.cloth.x)
-                .map(|(a, b)| (*a - *b * Vec3::new(1.0, 1.0, mirror)).length())
-                .fold(0.0f32, f32::max)
-        };
-        dist(1.0).min(dist(-1.0))
+        farthest_vertex(&x, &im)
     };
     let fine = off(Material::default(), 20);
     let default = off(Material::default(), 5);
