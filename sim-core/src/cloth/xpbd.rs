@@ -522,6 +522,14 @@ fn batches<T, B>(
         .collect()
 }
 
+/// The slack of tethers and stretch limits: the strain the material itself takes under
+/// the cloth's full weight (`density * g * extent / stretch`).
+fn own_strain(cloth: &Cloth, material: &Material) -> f32 {
+    let (mn, mx) = bounds(&cloth.rest.positions);
+    let extent = (mx - mn).length();
+    material.density * 9.81 * extent / material.stretch
+}
+
 /// The long-range stretch limits for `cloth` (none when they are off), with the same
 /// slack as the tethers: what the material itself stretches under the cloth's weight.
 fn stretch_limits(
@@ -533,9 +541,7 @@ fn stretch_limits(
     if !material.stretch_limits {
         return StretchLimits::default();
     }
-    let (mn, mx) = bounds(&cloth.rest.positions);
-    let extent = (mx - mn).length();
-    let strain = material.density * 9.81 * extent / material.stretch;
+    let strain = own_strain(cloth, material);
     match keep {
         Some(mut limits) if !limits.is_empty() => {
             limits.set_strain(strain);
@@ -571,9 +577,7 @@ pub(super) fn tethers(cloth: &Cloth, material: &Material) -> Vec<(u32, u32, f32)
     // Rest lengths from the live triangles, so cut pieces lose their tethers.
     let graph = RestGraph::of(cloth);
     let mut search = Bounded::new(n);
-    let (mn, mx) = bounds(&cloth.rest.positions);
-    let extent = (mx - mn).length();
-    let strain = material.density * 9.81 * extent / material.stretch;
+    let strain = own_strain(cloth, material);
     let mut out = Vec::new();
     if pins.len() > 8 {
         let mut nearest = vec![(f32::INFINITY, u32::MAX); n];
