@@ -4,6 +4,8 @@
 mod shapes;
 mod surface;
 
+#[cfg(test)]
+pub(crate) use shapes::icosphere;
 pub use shapes::{
     Analytic, BodyKind, MANNEQUIN_CELL, Primitive, cube, mannequin, mannequin_parts, sphere,
 };

@@ -190,7 +190,7 @@ pub fn sphere(center: Vec3, radius: f32, subdiv: usize) -> Result<Body, Geometry
     )
 }
 
-fn icosphere(subdiv: usize) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+pub(crate) fn icosphere(subdiv: usize) -> (Vec<Vec3>, Vec<[u32; 3]>) {
     let g = (1.0 + 5.0f32.sqrt()) / 2.0;
     let mut v: Vec<Vec3> = [
         (-1.0, g, 0.0),

@@ -7,14 +7,16 @@ use glam::Vec3;
 
 use super::shapes::Analytic;
 use crate::error::GeometryError;
-use crate::obb::{BuildOptions, Feature, ObbTree};
+use crate::obb::{BuildOptions, Feature, ObbTree, SurfaceWalk};
 
 #[derive(Clone, Debug)]
 pub struct Body {
     pub name: String,
     pub vertices: Vec<Vec3>,
     pub triangles: Vec<[u32; 3]>,
-    pub tree: ObbTree,
+    tree: ObbTree,
+    /// Answers most queries near last frame's triangle without the tree.
+    walk: SurfaceWalk,
     face_normals: Vec<Vec3>,
     vertex_normals: Vec<Vec3>,
     /// Per triangle, per local edge k (corner k to k+1): the sum of the two face normals.
@@ -83,12 +85,19 @@ impl Body {
             name: name.into(),
             vertices,
             triangles,
+            walk: SurfaceWalk::new(&tree),
             tree,
             face_normals,
             vertex_normals,
             edge_normals,
             analytic,
         })
+    }
+
+    /// The body's OBB tree. A body never moves or deforms: the walk's clearances are
+    /// computed once, for this tree.
+    pub fn tree(&self) -> &ObbTree {
+        &self.tree
     }
 
     pub fn face_normal(&self, tri: u32) -> Vec3 {
@@ -101,6 +110,30 @@ impl Body {
         let hint = (hint != u32::MAX).then_some(hint);
         let hit = self.tree.nearest_with_hint(p, max_dist, hint)?;
         Some(self.contact_from(p, hit.tri, hit.point, hit.feature))
+    }
+
+    /// As [`contact`](Self::contact), first trying a walk from `hint` across the
+    /// surface ([`SurfaceWalk`]), which answers most queries near last frame's triangle
+    /// without the tree. When the walk proves the nearest point it is returned even
+    /// beyond `max_dist`. Also returns a triangle near `p` to start from next time
+    /// (`u32::MAX` when none is known).
+    pub fn contact_near(&self, p: Vec3, max_dist: f32, hint: u32) -> (Option<BodyContact>, u32) {
+        if hint == u32::MAX {
+            let found = self.contact(p, max_dist, hint);
+            return (found, found.map_or(hint, |c| c.tri));
+        }
+        let start = match self.walk.nearest(&self.tree, p, hint) {
+            Ok(hit) => {
+                return (
+                    Some(self.contact_from(p, hit.tri, hit.point, hit.feature)),
+                    hit.tri,
+                );
+            }
+            Err(u32::MAX) => hint,
+            Err(seen) => seen,
+        };
+        let found = self.contact(p, max_dist, start);
+        (found, found.map_or(start, |c| c.tri))
     }
 
     /// The contact with one given triangle (its closest point and side).

@@ -1,5 +1,7 @@
-//! Cloth-body contact. Once per frame, the OBB tree finds each particle's nearest body
-//! point within the distance it can travel this frame; that contact is cached as a plane
+//! Cloth-body contact. Once per frame, each particle's nearest body point within the
+//! distance it can travel this frame is found (by a walk over the body's surface from
+//! last frame's triangle when it can prove the answer, [`crate::obb::SurfaceWalk`],
+//! otherwise by the OBB tree); that contact is cached as a plane
 //! (point + outward normal). Every substep re-projects particles onto their cached planes
 //! and applies Coulomb friction (Macklin et al. 2019 "Small Steps": broad phase once per
 //! frame, narrow phase per substep).
@@ -24,6 +26,11 @@ use crate::body::Body;
 /// it is searched again, m. The cached triangle's distance is then within twice this of
 /// the true nearest distance, well under any sensible thickness.
 pub const REUSE_DISTANCE: f32 = 0.001;
+
+/// A particle without a triangle of its own starts its search from the previous
+/// particle's, except the first of each block of this many (the thread split falls on a
+/// block boundary, so neither thread reads the other's hints).
+const NEIGHBOUR_BLOCK: usize = 64;
 
 /// Contact settings.
 #[derive(Clone, Copy, Debug)]
@@ -173,7 +180,7 @@ impl ContactCache {
     /// Where the particle range is split between the two threads (`n`: one thread).
     fn split_point(&self, n: usize) -> usize {
         if self.threads > 1 && n >= 4096 {
-            n / 2
+            n / 2 / NEIGHBOUR_BLOCK * NEIGHBOUR_BLOCK
         } else {
             n
         }
@@ -358,6 +365,10 @@ impl Reach {
 /// next frame, m.
 const SLACK: f32 = 0.02;
 
+/// The same when the walk can answer: its fallback only needs to see a little past the
+/// reach, m.
+const WALK_SLACK: f32 = 0.005;
+
 impl Slots<'_> {
     /// Caches particle `k`'s contact plane when `c` is within `reach`; says whether it is.
     fn set(&mut self, k: usize, c: Option<&crate::body::BodyContact>, reach: f32) -> bool {
@@ -376,8 +387,8 @@ impl Slots<'_> {
         }
     }
 
-    /// A full search for particle `k` at `x` from the tree, remembered as its query.
-    /// Returns what it found, and whether that gave the particle a plane.
+    /// A full search for particle `k` at `x`, remembered as its query. Returns what it
+    /// found, and whether that gave the particle a plane.
     fn query(
         &mut self,
         body: &Body,
@@ -385,22 +396,30 @@ impl Slots<'_> {
         x: Vec3,
         reach: f32,
     ) -> (Option<crate::body::BodyContact>, bool) {
-        let radius = reach + SLACK;
+        // A particle never found near the body starts from its neighbour's triangle.
+        let start = match self.hint[k] {
+            u32::MAX if !k.is_multiple_of(NEIGHBOUR_BLOCK) => self.hint[k - 1],
+            h => h,
+        };
+        // The walk from a known triangle is exact at any distance, so its fallback, the
+        // tree, searches just past the reach; without one the tree searches farther, so
+        // a far particle can be skipped for a while.
+        let radius = reach + if start == u32::MAX { SLACK } else { WALK_SLACK };
+        let (was_at, was_clear) = (self.query_pos[k], self.clear[k]);
         self.query_pos[k] = x;
-        let mut found = body.contact(x, radius, self.hint[k]);
+        let (mut found, near) = body.contact_near(x, radius, start);
         // Nothing within the radius: outside and far, or deep inside (dragged in by the
-        // cloth faster than its own velocity says). Inside the body's root box, find out
-        // with an unbounded search.
-        if found.is_none() && body.tree.nodes()[0].obb.distance_squared(x) == 0.0 {
-            found = body.contact(x, f32::INFINITY, self.hint[k]);
+        // cloth faster than its own velocity says). It was outside by `was_clear` at its
+        // last query, so to be inside deeper than the radius now it must have moved more
+        // than both: only then, and inside the body's root box, search without a bound.
+        if found.is_none()
+            && !(was_clear > 0.0 && (x - was_at).length() <= was_clear + radius)
+            && body.tree().nodes()[0].obb.distance_squared(x) == 0.0
+        {
+            found = body.contact(x, f32::INFINITY, near);
         }
-        match &found {
-            Some(c) => {
-                self.hint[k] = c.tri;
-                self.clear[k] = c.signed_distance.max(0.0);
-            }
-            None => self.clear[k] = radius,
-        }
+        self.hint[k] = found.map_or(near, |c| c.tri);
+        self.clear[k] = found.map_or(radius, |c| c.signed_distance.max(0.0));
         let has = self.set(k, found.as_ref(), reach);
         (found, has)
     }
@@ -567,5 +586,51 @@ mod tests {
         assert!(inward < 0.02, "inward velocity left: {inward}");
         cache.update(&body, &x, &v, DT, 9.81, &p);
         assert_eq!(cache.last_queries, 1);
+    }
+
+    #[test]
+    fn a_particle_teleported_deep_inside_is_still_found_inside() {
+        // Searched 5 mm outside, then (an edit, a grab) 12 cm inside a 0.2 m sphere at
+        // rest: deeper than the search radius, so the bounded search finds nothing. It
+        // moved farther than its clearance plus the radius, so the unbounded search runs
+        // and the frame-end check moves it out.
+        let body = sphere(Vec3::ZERO, 0.2, 3).unwrap();
+        let p = params();
+        let (mut x, mut v) = ring(4, 0.005, 0.0);
+        let inv_mass = vec![1.0; x.len()];
+        let mut cache = ContactCache::new(x.len());
+        cache.update(&body, &x, &v, DT, 9.81, &p);
+        x[0] = x[0].normalize() * 0.08;
+        let moved = cache.resolve_penetrations(&body, &mut x, &mut v, &inv_mass, DT, 9.81, &p);
+        assert_eq!(moved, 1);
+        assert!(
+            (x[0].length() - 0.204).abs() < 2e-3,
+            "moved out to {}",
+            x[0].length()
+        );
+    }
+
+    #[test]
+    fn sliding_particles_get_the_planes_a_fresh_tree_search_gives() {
+        // Particles sliding 8 mm a frame along a sphere, 5 mm above it: after the first
+        // frame every search starts from last frame's triangle (the walk answers them),
+        // and the planes are the ones an unhinted tree search gives.
+        let body = sphere(Vec3::ZERO, 0.2, 3).unwrap();
+        let p = params();
+        let (mut x, v) = ring(64, 0.005, 0.5);
+        let mut cache = ContactCache::new(x.len());
+        for _ in 0..5 {
+            cache.update(&body, &x, &v, DT, 9.81, &p);
+            for (i, &xi) in x.iter().enumerate() {
+                let tree = body.contact(xi, 1.0, u32::MAX).unwrap();
+                let gap = cache.gap(i, xi, 0.0).unwrap();
+                assert!((gap - tree.signed_distance).abs() < 1e-5, "{gap} {tree:?}");
+            }
+            for (x, v) in x.iter_mut().zip(&v) {
+                *x = (*x + *v * DT).normalize() * 0.205;
+            }
+        }
+        let (_, start) = body.contact_near(x[0], 0.1, cache.hint[0]);
+        assert_ne!(start, u32::MAX);
     }
 }

@@ -1,6 +1,7 @@
 //! OBB tree (Gottschalk, Lin & Manocha 1996, "OBBTree"), the paper's collision structure.
 //!
-//! Split by phase: [`tree`] (data), [`build`], [`queries`], [`refit`], [`validation`].
+//! Split by phase: [`tree`] (data), [`build`], [`queries`], [`refit`], [`validation`];
+//! [`walk`] answers nearest-point queries near a known triangle without the tree.
 
 mod build;
 pub mod geometry;
@@ -8,6 +9,7 @@ mod queries;
 mod refit;
 mod tree;
 mod validation;
+mod walk;
 
 #[cfg(test)]
 mod tests;
@@ -16,3 +18,4 @@ pub use geometry::{Feature, Obb};
 pub use queries::{NearestHit, RayHit};
 pub use tree::{BuildOptions, ObbNode, ObbTree};
 pub use validation::ValidationError;
+pub use walk::SurfaceWalk;

@@ -56,12 +56,30 @@ impl ObbTree {
         hint: Option<u32>,
         visits: &mut usize,
     ) -> Option<NearestHit> {
+        self.nearest_where(p, max_dist, hint, visits, |_| true, |_, _| true)
+    }
+
+    /// The nearest-point search over the triangles `tri_ok` keeps (given their tree slot
+    /// and corners), skipping the subtrees
+    /// whose box `node_ok` rejects (it must reject only boxes holding no kept triangle).
+    /// With both always true this is [`nearest_counted`](Self::nearest_counted).
+    pub(super) fn nearest_where(
+        &self,
+        p: Vec3,
+        max_dist: f32,
+        hint: Option<u32>,
+        visits: &mut usize,
+        node_ok: impl Fn(&Obb) -> bool,
+        tri_ok: impl Fn(usize, &[Vec3; 3]) -> bool,
+    ) -> Option<NearestHit> {
         if max_dist.is_nan() || max_dist < 0.0 || !p.is_finite() {
             return None;
         }
         let mut best_d2 = max_dist * max_dist;
         let mut best: Option<(u32, Vec3, Feature)> = None;
-        if let Some(slot) = hint.and_then(|t| self.slot_of.get(t as usize)) {
+        if let Some(slot) = hint.and_then(|t| self.slot_of.get(t as usize))
+            && tri_ok(*slot as usize, &self.tri_verts[*slot as usize])
+        {
             let [a, b, c] = self.tri_verts[*slot as usize];
             let (q, f) = closest_point_on_triangle(p, a, b, c);
             let d2 = (q - p).length_squared();
@@ -73,7 +91,7 @@ impl ObbTree {
         let mut stack = [(0u32, 0.0f32); STACK];
         let mut top = 0usize;
         let root_d2 = self.nodes[0].obb.distance_squared(p);
-        if root_d2 > best_d2 {
+        if root_d2 > best_d2 || !node_ok(&self.nodes[0].obb) {
             return finish(self, best, best_d2);
         }
         stack[0] = (0, root_d2);
@@ -89,7 +107,11 @@ impl ObbTree {
             if node.is_leaf() {
                 let s = node.tri_start as usize;
                 for slot in s..s + node.tri_count as usize {
-                    let [a, b, c] = self.tri_verts[slot];
+                    let tri = &self.tri_verts[slot];
+                    if !tri_ok(slot, tri) {
+                        continue;
+                    }
+                    let [a, b, c] = *tri;
                     let (q, f) = closest_point_on_triangle(p, a, b, c);
                     let d2 = (q - p).length_squared();
                     if d2 < best_d2 || (d2 == best_d2 && best.is_none()) {
@@ -101,8 +123,16 @@ impl ObbTree {
             }
             let l = node.child;
             let r = l + 1;
-            let dl = self.nodes[l as usize].obb.distance_squared(p);
-            let dr = self.nodes[r as usize].obb.distance_squared(p);
+            // A rejected child's bound is NaN: it compares false, so it is never pushed.
+            let bound = |b: &Obb| {
+                if node_ok(b) {
+                    b.distance_squared(p)
+                } else {
+                    f32::NAN
+                }
+            };
+            let dl = bound(&self.nodes[l as usize].obb);
+            let dr = bound(&self.nodes[r as usize].obb);
             // Push the farther child first so the nearer one is explored first.
             let (near, dn, far, df) = if dl <= dr {
                 (l, dl, r, dr)
@@ -119,6 +149,47 @@ impl ObbTree {
             }
         }
         finish(self, best, best_d2)
+    }
+
+    /// Calls `found(triangle, distance)` for every triangle `tri_ok` keeps within
+    /// `max_dist` of `p`, skipping the subtrees whose box `node_ok` rejects (as in
+    /// [`nearest_where`](Self::nearest_where)).
+    pub(super) fn for_each_within(
+        &self,
+        p: Vec3,
+        max_dist: f32,
+        node_ok: impl Fn(&Obb) -> bool,
+        tri_ok: impl Fn(&[Vec3; 3]) -> bool,
+        mut found: impl FnMut(u32, f32),
+    ) {
+        let r2 = max_dist * max_dist;
+        let mut stack = [0u32; STACK];
+        let mut top = 1usize;
+        while top > 0 {
+            top -= 1;
+            let node = &self.nodes[stack[top] as usize];
+            if !(node.obb.distance_squared(p) <= r2 && node_ok(&node.obb)) {
+                continue;
+            }
+            if node.is_leaf() {
+                let s = node.tri_start as usize;
+                for slot in s..s + node.tri_count as usize {
+                    let tri = &self.tri_verts[slot];
+                    if !tri_ok(tri) {
+                        continue;
+                    }
+                    let (q, _) = closest_point_on_triangle(p, tri[0], tri[1], tri[2]);
+                    let d2 = (q - p).length_squared();
+                    if d2 <= r2 {
+                        found(self.tri_ids[slot], d2.sqrt());
+                    }
+                }
+            } else if top + 2 <= STACK {
+                stack[top] = node.child;
+                stack[top + 1] = node.child + 1;
+                top += 2;
+            }
+        }
     }
 
     /// Nearest points for a batch of particles, each with its own maximum distance and an

@@ -5,6 +5,7 @@ use proptest::prelude::*;
 
 use super::geometry::{Obb, closest_point_on_triangle, ray_triangle};
 use super::tree::{BuildOptions, ObbTree};
+use super::walk::SurfaceWalk;
 
 fn vec3(r: f32) -> impl Strategy<Value = Vec3> {
     (-r..r, -r..r, -r..r).prop_map(|(x, y, z)| Vec3::new(x, y, z))
@@ -35,8 +36,59 @@ fn brute_nearest(v: &[Vec3], idx: &[[u32; 3]], p: Vec3) -> f32 {
         .fold(f32::INFINITY, f32::min)
 }
 
+/// A closed surface with dents and bumps: a unit icosphere (162 vertices, 320
+/// triangles) with each vertex moved in or out by up to 15%, so it has reflex edges,
+/// concave pits and creases.
+fn bumpy_sphere() -> impl Strategy<Value = (Vec<Vec3>, Vec<[u32; 3]>)> {
+    prop::collection::vec(-0.15f32..0.15, 162).prop_map(|bumps| {
+        let (v, t) = crate::body::icosphere(2);
+        let v = v.iter().zip(&bumps).map(|(p, b)| *p * (1.0 + b)).collect();
+        (v, t)
+    })
+}
+
+/// Checks every answer the walk proves against brute force; returns how many it proved.
+fn check_walk(
+    v: &[Vec3],
+    idx: &[[u32; 3]],
+    queries: &[(Vec3, u32)],
+) -> Result<usize, TestCaseError> {
+    let tree = ObbTree::build(v, idx, BuildOptions::default()).unwrap();
+    let walk = SurfaceWalk::new(&tree);
+    let mut proved = 0;
+    for &(p, start) in queries {
+        let Ok(hit) = walk.nearest(&tree, p, start % idx.len() as u32) else {
+            continue;
+        };
+        proved += 1;
+        let want = brute_nearest(v, idx, p);
+        prop_assert!(
+            (hit.distance - want).abs() <= 1e-5 * (1.0 + want),
+            "walk {} brute {} at {}",
+            hit.distance,
+            want,
+            p
+        );
+        let t = idx[hit.tri as usize];
+        let (q, _) =
+            closest_point_on_triangle(p, v[t[0] as usize], v[t[1] as usize], v[t[2] as usize]);
+        prop_assert!((q - hit.point).length() <= 1e-5);
+    }
+    Ok(proved)
+}
+
 proptest! {
     #![proptest_config(ProptestConfig::with_cases(200))]
+
+    #[test]
+    fn walk_answers_equal_brute_force_on_bumpy_spheres((v, idx) in bumpy_sphere(), queries in prop::collection::vec((vec3(1.4), 0u32..320), 1..40)) {
+        check_walk(&v, &idx, &queries)?;
+    }
+
+    #[test]
+    fn walk_answers_equal_brute_force_on_soups((v, idx) in soup(), queries in prop::collection::vec((vec3(1.5), 0u32..120), 1..20)) {
+        check_walk(&v, &idx, &queries)?;
+    }
 
     #[test]
     fn tree_is_valid((v, idx) in soup(), leaf in 1usize..6) {
@@ -146,10 +198,11 @@ fn query_work_grows_like_log_n() {
     // triangles at every size and only the depth grows.
     let mut mean_visits = Vec::new();
     for subdiv in [3usize, 4, 5, 6, 7] {
-        let body = crate::body::sphere(Vec3::ZERO, 1.0, subdiv).unwrap();
-        let tree = &body.tree;
-        let t0 = body.triangles[0];
-        let edge = (body.vertices[t0[0] as usize] - body.vertices[t0[1] as usize]).length();
+        // The unit icosphere's mesh, without a body's other precomputation.
+        let (vertices, triangles) = crate::body::icosphere(subdiv);
+        let tree = &ObbTree::build(&vertices, &triangles, BuildOptions::default()).unwrap();
+        let t0 = triangles[0];
+        let edge = (vertices[t0[0] as usize] - vertices[t0[1] as usize]).length();
         let mut visits = 0usize;
         let mut s = 11u64;
         let n = 2000;
@@ -167,7 +220,7 @@ fn query_work_grows_like_log_n() {
                     .is_some()
             );
         }
-        mean_visits.push((body.triangles.len(), visits as f64 / n as f64));
+        mean_visits.push((triangles.len(), visits as f64 / n as f64));
     }
     eprintln!("triangles, mean nodes visited per nearest query: {mean_visits:?}");
     let (n0, v0) = mean_visits[0];
@@ -201,4 +254,55 @@ fn depth_is_logarithmic_on_a_big_grid() {
     tree.validate().unwrap();
     // 20k triangles in leaves of <= 4: a balanced tree is ~13 deep.
     assert!(tree.depth() <= 20, "depth {}", tree.depth());
+}
+
+#[test]
+fn the_walk_proves_almost_every_query_near_a_convex_body() {
+    // A convex body: no face rises above another's plane, so nothing but the walk's own
+    // triangle needs testing, and only corner regions and steps run out are left to the
+    // tree.
+    let (v, idx) = crate::body::icosphere(3);
+    let v: Vec<Vec3> = v.iter().map(|p| *p * 0.2).collect();
+    let tree = ObbTree::build(&v, &idx, BuildOptions::default()).unwrap();
+    let walk = SurfaceWalk::new(&tree);
+    assert_eq!(walk.concave_count(), 0);
+    let mut s = 5u64;
+    let mut r = || {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (s >> 40) as f32 / (1u64 << 24) as f32
+    };
+    let mut queries = Vec::new();
+    for _ in 0..2000 {
+        let dir = Vec3::new(r() - 0.5, r() - 0.5, r() - 0.5).normalize_or(Vec3::Y);
+        let p = dir * (0.2 + 0.001 + 0.02 * r());
+        // Last frame's triangle: the nearest from 1 cm away.
+        let side = dir.any_orthonormal_vector() * 0.01;
+        let start = tree.nearest(p + side, 1.0).unwrap().tri;
+        queries.push((p, start));
+    }
+    let proved = check_walk(&v, &idx, &queries).unwrap();
+    assert!(proved >= 1800, "proved only {proved} of 2000");
+}
+
+#[test]
+fn the_walk_refuses_a_point_under_a_dent() {
+    // A 20 cm square of two triangles with a narrow spike rising 5 cm from behind its
+    // centre: a point above the square's middle is nearest the spike, which is far from
+    // the walk's triangle across the plane. Either the spike is listed with the square's
+    // triangles or the clearance refuses the proof; never the square's own point.
+    let v = vec![
+        Vec3::new(-0.1, 0.0, -0.1),
+        Vec3::new(0.1, 0.0, -0.1),
+        Vec3::new(0.1, 0.0, 0.1),
+        Vec3::new(-0.1, 0.0, 0.1),
+        Vec3::new(0.0, 0.05, 0.0),
+        Vec3::new(0.002, -0.01, 0.0),
+        Vec3::new(-0.002, -0.01, 0.001),
+    ];
+    let idx = vec![[0, 2, 1], [0, 3, 2], [4, 5, 6]];
+    let p = Vec3::new(0.02, 0.03, 0.01);
+    let queries: Vec<(Vec3, u32)> = (0..3).map(|t| (p, t)).collect();
+    check_walk(&v, &idx, &queries).unwrap();
 }
