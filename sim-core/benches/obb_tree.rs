@@ -20,8 +20,9 @@ fn lcg(seed: &mut u64) -> f32 {
     (*seed >> 40) as f32 / (1u64 << 24) as f32
 }
 
-/// Points within `band` of the body's surface (as cloth particles in contact are).
-fn points_near(body: &Body, n: usize, band: f32) -> Vec<Vec3> {
+/// Points within `band` of the body's surface, on either side (or only outside, as cloth
+/// particles in contact are).
+fn points_near(body: &Body, n: usize, band: f32, outside_only: bool) -> Vec<Vec3> {
     let mut s = 7u64;
     (0..n)
         .map(|_| {
@@ -34,7 +35,12 @@ fn points_near(body: &Body, n: usize, band: f32) -> Vec<Vec3> {
             }
             let p = a + (b - a) * u + (c - a) * v;
             let n = (b - a).cross(c - a).normalize();
-            p + n * ((lcg(&mut s) * 2.0 - 1.0) * band)
+            let r = lcg(&mut s);
+            p + n * if outside_only {
+                r * band
+            } else {
+                (r * 2.0 - 1.0) * band
+            }
         })
         .collect()
 }
@@ -81,9 +87,9 @@ fn scaling(c: &mut Criterion) {
         // Band and radius scale with the triangles, so the number of triangles a correct
         // answer must look at stays the same and only the tree's depth grows.
         let edge = mean_edge(&body);
-        let pts = points_near(&body, 1000, 0.25 * edge);
+        let pts = points_near(&body, 1000, 0.25 * edge, false);
         let radius = 2.0 * edge;
-        let tree = &body.tree;
+        let tree = body.tree();
         let pm = parry_mesh(&body);
         g.throughput(Throughput::Elements(pts.len() as u64));
         g.bench_with_input(BenchmarkId::new("nearest_1k/obb", n), &pts, |b, pts| {
@@ -131,8 +137,8 @@ fn scaling(c: &mut Criterion) {
 /// particles within 1 cm of a ~10k-triangle body, radius 2 cm.
 fn cloth_workload(c: &mut Criterion) {
     let body = BodyKind::Mannequin.build().unwrap();
-    let pts = points_near(&body, 16_641, 0.01);
-    let tree = &body.tree;
+    let pts = points_near(&body, 16_641, 0.01, false);
+    let tree = body.tree();
     let pm = parry_mesh(&body);
     let hints: Vec<u32> = pts
         .iter()
@@ -151,6 +157,40 @@ fn cloth_workload(c: &mut Criterion) {
             pts.iter()
                 .zip(&hints)
                 .filter_map(|(&p, &h)| tree.nearest_with_hint(p, 0.02, Some(h)))
+                .count()
+        })
+    });
+    // The simulation's search: the surface walk from the hint, the tree when it cannot
+    // prove the answer (it never proves a point inside the body: half of these).
+    g.bench_function("walk_from_hint", |b| {
+        b.iter(|| {
+            pts.iter()
+                .zip(&hints)
+                .filter_map(|(&p, &h)| body.contact_near(p, 0.02, h).0)
+                .count()
+        })
+    });
+    // Only outside, as cloth particles are: the tree and the walk on the same points.
+    let outside = points_near(&body, 16_641, 0.01, true);
+    let outside_hints: Vec<u32> = outside
+        .iter()
+        .map(|&p| tree.nearest(p, 1.0).map_or(u32::MAX, |h| h.tri))
+        .collect();
+    g.bench_function("outside_obb_hinted", |b| {
+        b.iter(|| {
+            outside
+                .iter()
+                .zip(&outside_hints)
+                .filter_map(|(&p, &h)| tree.nearest_with_hint(p, 0.02, Some(h)))
+                .count()
+        })
+    });
+    g.bench_function("outside_walk_from_hint", |b| {
+        b.iter(|| {
+            outside
+                .iter()
+                .zip(&outside_hints)
+                .filter_map(|(&p, &h)| body.contact_near(p, 0.02, h).0)
                 .count()
         })
     });
