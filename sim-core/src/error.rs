@@ -13,7 +13,9 @@ pub enum GeometryError {
     IndexOutOfRange { triangle: usize, vertices: usize },
     #[error("triangle {triangle} is degenerate (repeated vertex or zero area)")]
     Degenerate { triangle: usize },
-    #[error("edge ({a}, {b}) is shared by {count} triangles; a cloth must be manifold (at most 2)")]
+    #[error(
+        "edge ({a}, {b}) is shared by {count} triangles; the mesh must be manifold (at most 2)"
+    )]
     NonManifoldEdge { a: u32, b: u32, count: usize },
     #[error("UV {vertex} is not finite")]
     BadUv { vertex: usize },

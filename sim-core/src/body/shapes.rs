@@ -302,10 +302,12 @@ pub fn mannequin_parts() -> Vec<Primitive> {
     parts
 }
 
-/// The procedural mannequin: one closed, manifold surface of the parts' union, extracted
+/// The procedural mannequin: one closed surface of the parts' union, extracted
 /// from the union's signed distance by surface nets at `MANNEQUIN_CELL` and projected onto
 /// the exact surface. (Meshing each part and trimming buried triangles leaves gaps where
-/// parts meet, and a point in such a gap gets the wrong inside/outside sign.)
+/// parts meet, and a point in such a gap gets the wrong inside/outside sign.) Manifold
+/// but for two edges where the right arm meets the torso: surface nets let two sheets
+/// touch there, four triangles on each edge.
 pub fn mannequin() -> Result<Body, GeometryError> {
     let analytic = Analytic {
         parts: mannequin_parts(),
@@ -425,7 +427,119 @@ fn surface_nets(sdf: impl Fn(Vec3) -> f32, h: f32) -> (Vec<Vec3>, Vec<[u32; 3]>)
         let [a, b, c] = t.map(|i| verts[i as usize]);
         (b - a).cross(c - a).length_squared() > 1e-16
     });
+    split_pinches(&mut verts, &mut tris);
     (verts, tris)
+}
+
+/// Where two cells inside the shape meet only along an edge, surface nets give that edge
+/// four triangles: two sheets of the surface touch there. Pairs each sheet's two
+/// triangles (the two that bound the same wedge of solid around the edge) and gives the
+/// second sheet its own copies of the edge's vertices, at the same place, for its whole
+/// fan around each; the mesh is then manifold.
+fn split_pinches(verts: &mut Vec<Vec3>, tris: &mut [[u32; 3]]) {
+    let key = |i: u32, j: u32| (i.min(j), i.max(j));
+    let mut edges: HashMap<(u32, u32), Vec<usize>> = HashMap::new();
+    for (t, tri) in tris.iter().enumerate() {
+        for k in 0..3 {
+            edges
+                .entry(key(tri[k], tri[(k + 1) % 3]))
+                .or_default()
+                .push(t);
+        }
+    }
+    let mut pinched: Vec<((u32, u32), [usize; 4])> = edges
+        .iter()
+        .filter_map(|(&e, ts)| Some((e, <[usize; 4]>::try_from(ts.as_slice()).ok()?)))
+        .collect();
+    pinched.sort_unstable();
+    // The sheet (0 or 1) each triangle on a pinched edge belongs to, per edge.
+    let mut sheet: HashMap<((u32, u32), usize), usize> = HashMap::new();
+    for &((i, j), ts) in &pinched {
+        let (pi, axis) = (
+            verts[i as usize],
+            (verts[j as usize] - verts[i as usize]).normalize(),
+        );
+        let (u, w) = axis.any_orthonormal_pair();
+        // Each triangle as the angle of its third corner around the edge, and whether its
+        // normal faces the way that angle grows.
+        let mut around: Vec<(f32, bool, usize)> = ts
+            .iter()
+            .map(|&t| {
+                let tri = tris[t];
+                let o = tri.iter().copied().find(|&v| v != i && v != j).unwrap_or(i);
+                let d = verts[o as usize] - pi;
+                let [a, b, c] = tri.map(|v| verts[v as usize]);
+                let n = (b - a).cross(c - a);
+                (d.dot(w).atan2(d.dot(u)), n.dot(axis.cross(d)) > 0.0, t)
+            })
+            .collect();
+        around.sort_by(|x, y| x.0.total_cmp(&y.0));
+        // Solid lies between a triangle facing back and the next one facing on.
+        let mut next_sheet = 0;
+        for k in 0..4 {
+            let (a, b) = (around[k], around[(k + 1) % 4]);
+            if !a.1 && b.1 && next_sheet < 2 {
+                sheet.insert(((i, j), a.2), next_sheet);
+                sheet.insert(((i, j), b.2), next_sheet);
+                next_sheet += 1;
+            }
+        }
+    }
+    // Around each vertex of a pinched edge, triangles are one fan when they share a
+    // manifold edge at the vertex, or the same sheet of a pinched one. Every fan but the
+    // first gets its own copy of the vertex.
+    let mut ends: Vec<u32> = pinched.iter().flat_map(|&((i, j), _)| [i, j]).collect();
+    ends.sort_unstable();
+    ends.dedup();
+    for v in ends {
+        let fan: Vec<usize> = (0..tris.len()).filter(|&t| tris[t].contains(&v)).collect();
+        let mut group: Vec<usize> = (0..fan.len()).collect();
+        fn root(g: &mut [usize], mut x: usize) -> usize {
+            while g[x] != x {
+                g[x] = g[g[x]];
+                x = g[x];
+            }
+            x
+        }
+        for a in 0..fan.len() {
+            for b in a + 1..fan.len() {
+                let (ta, tb) = (tris[fan[a]], tris[fan[b]]);
+                let joined = ta.iter().any(|&w| {
+                    if w == v || !tb.contains(&w) {
+                        return false;
+                    }
+                    let e = key(v, w);
+                    match edges.get(&e).map(Vec::len) {
+                        Some(2) => true,
+                        Some(4) => {
+                            let (sa, sb) = (sheet.get(&(e, fan[a])), sheet.get(&(e, fan[b])));
+                            sa.is_some() && sa == sb
+                        }
+                        _ => false,
+                    }
+                });
+                if joined {
+                    let (ra, rb) = (root(&mut group, a), root(&mut group, b));
+                    group[ra.max(rb)] = ra.min(rb);
+                }
+            }
+        }
+        let mut copy_of_root: HashMap<usize, u32> = HashMap::new();
+        let first = root(&mut group, 0);
+        for k in 0..fan.len() {
+            let r = root(&mut group, k);
+            if r == first {
+                continue;
+            }
+            let copy = *copy_of_root.entry(r).or_insert_with(|| {
+                verts.push(verts[v as usize]);
+                verts.len() as u32 - 1
+            });
+            for c in tris[fan[k]].iter_mut().filter(|c| **c == v) {
+                *c = copy;
+            }
+        }
+    }
 }
 
 const CUBE_EDGES: [([usize; 3], [usize; 3]); 12] = [
@@ -492,18 +606,21 @@ mod tests {
         assert!((5_000..=15_000).contains(&n), "mannequin has {n} triangles");
         let (mn, mx) = m.bounds();
         assert!(mn.y >= -1e-3 && (1.7..1.85).contains(&mx.y), "{mn} {mx}");
-        // Watertight and consistently wound: every directed edge is matched by its reverse.
-        // (Where the arm meets the torso in a thin wedge two sheets may share an edge.)
-        let mut count: std::collections::HashMap<(u32, u32), i32> = Default::default();
+        // Watertight, manifold and consistently wound: every edge has two triangles, one
+        // each way (where the arm meets the torso, surface nets let two sheets touch
+        // along an edge; `split_pinches` gives them their own vertices).
+        let mut count: std::collections::HashMap<(u32, u32), (i32, i32)> = Default::default();
         for t in &m.triangles {
             for k in 0..3 {
                 let (a, b) = (t[k], t[(k + 1) % 3]);
-                *count.entry((a.min(b), a.max(b))).or_default() += if a < b { 1 } else { -1 };
+                let c = count.entry((a.min(b), a.max(b))).or_default();
+                c.0 += 1;
+                c.1 += if a < b { 1 } else { -1 };
             }
         }
         assert!(
-            count.values().all(|&c| c == 0),
-            "the mannequin surface has holes or flipped faces"
+            count.values().all(|&c| c == (2, 0)),
+            "the mannequin surface has holes, flipped faces or edges of 3+ triangles"
         );
         // The mesh's inside/outside agrees with the exact union, also where parts meet.
         let a = m.analytic.clone().unwrap();
