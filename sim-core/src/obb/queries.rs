@@ -60,9 +60,9 @@ impl ObbTree {
     }
 
     /// The nearest-point search over the triangles `tri_ok` keeps (given their tree slot
-    /// and corners), skipping the subtrees
-    /// whose box `node_ok` rejects (it must reject only boxes holding no kept triangle).
-    /// With both always true this is [`nearest_counted`](Self::nearest_counted).
+    /// and corners), skipping the subtrees whose box `node_ok` rejects (it must reject
+    /// only boxes holding no kept triangle). With both always true this is
+    /// [`nearest_counted`](Self::nearest_counted).
     pub(super) fn nearest_where(
         &self,
         p: Vec3,
