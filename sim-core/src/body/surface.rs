@@ -129,8 +129,19 @@ impl Body {
                     hit.tri,
                 );
             }
-            Err(u32::MAX) => hint,
-            Err(seen) => seen,
+            // Proved clear of the surface within `max_dist`: nothing to ask the tree.
+            Err(miss) if miss.clear > max_dist => {
+                return (
+                    None,
+                    if miss.near == u32::MAX {
+                        hint
+                    } else {
+                        miss.near
+                    },
+                );
+            }
+            Err(miss) if miss.near == u32::MAX => hint,
+            Err(miss) => miss.near,
         };
         let found = self.contact(p, max_dist, start);
         (found, found.map_or(start, |c| c.tri))

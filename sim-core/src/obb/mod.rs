@@ -18,4 +18,4 @@ pub use geometry::{Feature, Obb};
 pub use queries::{NearestHit, RayHit};
 pub use tree::{BuildOptions, ObbNode, ObbTree};
 pub use validation::ValidationError;
-pub use walk::SurfaceWalk;
+pub use walk::{Miss, SurfaceWalk};

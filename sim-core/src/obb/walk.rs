@@ -51,6 +51,21 @@ const NEAR_RADIUS: f32 = 0.03;
 /// 12 cm from the body, farther than a contact search reaches.
 const MAX_CLEARANCE: f32 = 0.25;
 
+/// A walk that could not prove its answer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Miss {
+    /// A triangle near the point, the tree's best hint (`u32::MAX` if none).
+    pub near: u32,
+    /// No surface point is nearer than this, m (0 when the walk learnt nothing).
+    pub clear: f32,
+}
+
+impl Miss {
+    fn at(near: u32) -> Self {
+        Self { near, clear: 0.0 }
+    }
+}
+
 /// Per-triangle data for the walk, indexed by the mesh's original triangle index.
 #[derive(Clone, Debug, Default)]
 pub struct SurfaceWalk {
@@ -107,15 +122,16 @@ impl SurfaceWalk {
 
     /// The nearest surface point to `p`, when a walk from triangle `start` finds it and
     /// proves it (see the module doc): at any distance, with no bound to pass. Otherwise
-    /// the tree must answer; the error is a triangle near `p` the walk tested
-    /// (`u32::MAX` if none), the tree's best hint.
-    pub fn nearest(&self, tree: &ObbTree, p: Vec3, start: u32) -> Result<NearestHit, u32> {
+    /// the [`Miss`] says which triangle near `p` the walk tested (the tree's best hint)
+    /// and how near the surface can be: when the proof fails only on the clearance, the
+    /// lesser of the tested distance and the clearance's bound.
+    pub fn nearest(&self, tree: &ObbTree, p: Vec3, start: u32) -> Result<NearestHit, Miss> {
         let (mut t, mut prev) = (start, u32::MAX);
         if !p.is_finite() {
-            return Err(t);
+            return Err(Miss::at(t));
         }
         for _ in 0..MAX_STEPS {
-            let [a, b, c] = tree.triangle(t).ok_or(prev)?;
+            let [a, b, c] = tree.triangle(t).ok_or(Miss::at(prev))?;
             let (q, feature) = closest_point_on_triangle(p, a, b, c);
             let next = match feature {
                 Feature::Face => return self.prove(tree, p, (q, feature), t, None),
@@ -146,14 +162,14 @@ impl SurfaceWalk {
                     };
                     let next = self.across[t as usize][e];
                     if next == prev {
-                        return Err(t);
+                        return Err(Miss::at(t));
                     }
                     next
                 }
             };
             (prev, t) = (t, next);
         }
-        Err(prev)
+        Err(Miss::at(prev))
     }
 
     /// `q` is the nearest point of triangle `t` to `p`: inside its face, or (with `other`)
@@ -166,12 +182,12 @@ impl SurfaceWalk {
         (q, feature): (Vec3, Feature),
         t: u32,
         other: Option<u32>,
-    ) -> Result<NearestHit, u32> {
+    ) -> Result<NearestHit, Miss> {
         let i = t as usize;
         let up = p - q;
         let a = up.dot(self.normal[i]);
         if a <= 0.0 {
-            return Err(t);
+            return Err(Miss::at(t));
         }
         // On an edge, `p - q` must lie between the two face normals: then no point below
         // both planes is nearer than `q` (it is the nearest point of that wedge). Both
@@ -181,7 +197,7 @@ impl SurfaceWalk {
             let ns = self.normal[s as usize];
             let (b, g) = (up.dot(ns), self.normal[i].dot(ns));
             if !(b > 0.0 && a - g * b >= 0.0 && b - g * a >= 0.0) {
-                return Err(t);
+                return Err(Miss::at(t));
             }
         }
         let mut best = (t, q, feature, up.length_squared());
@@ -200,12 +216,18 @@ impl SurfaceWalk {
             self.near_list(s).iter().for_each(|&s| test(s));
         }
         let distance = best.3.sqrt();
-        let clear = |t: u32| {
+        // How near an untested triangle rising above the face may be.
+        let unlisted = |t: u32| {
             let t = t as usize;
-            distance + (p - self.centroid[t]).length() <= self.clearance[t]
+            self.clearance[t] - (p - self.centroid[t]).length()
         };
-        if !(clear(t) && other.is_none_or(clear)) {
-            return Err(best.0);
+        let unlisted = other.map_or(unlisted(t), |s| unlisted(t).min(unlisted(s)));
+        if distance > unlisted {
+            // Not proved, but nothing is nearer than either bound.
+            return Err(Miss {
+                near: best.0,
+                clear: distance.min(unlisted).max(0.0),
+            });
         }
         Ok(NearestHit {
             tri: best.0,
