@@ -87,7 +87,7 @@ pub struct SurfaceWalk {
 impl SurfaceWalk {
     /// Precomputes adjacency, near lists and clearances for the tree's mesh: a range
     /// search and a filtered nearest-point search per triangle, split over two threads
-    /// (about 6 µs per triangle on this machine's cores: 70 ms for the mannequin).
+    /// (6-8 µs of CPU per triangle here: 40-70 ms for the mannequin).
     pub fn new(tree: &ObbTree) -> Self {
         let n = tree.indices.len();
         let mid = n / 2;
