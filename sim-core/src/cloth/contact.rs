@@ -536,14 +536,43 @@ mod tests {
             .unzip()
     }
 
-    #[test]
-    fn the_frame_end_search_is_kept_for_the_next_update() {
+    /// A 0.2 m sphere, a ring of particles around it (see [`ring`]) and their cache after
+    /// one broad phase.
+    struct Ring {
+        body: Body,
+        p: ContactParams,
+        x: Vec<Vec3>,
+        v: Vec<Vec3>,
+        inv_mass: Vec<f32>,
+        cache: ContactCache,
+    }
+
+    fn ring_on_sphere(n: usize, height: f32, speed: f32) -> Ring {
         let body = sphere(Vec3::ZERO, 0.2, 3).unwrap();
         let p = params();
-        let (mut x, mut v) = ring(64, 0.005, 0.5);
-        let inv_mass = vec![1.0; x.len()];
+        let (x, v) = ring(n, height, speed);
         let mut cache = ContactCache::new(x.len());
         cache.update(&body, &x, &v, DT, 9.81, &p);
+        Ring {
+            inv_mass: vec![1.0; x.len()],
+            body,
+            p,
+            x,
+            v,
+            cache,
+        }
+    }
+
+    #[test]
+    fn the_frame_end_search_is_kept_for_the_next_update() {
+        let Ring {
+            body,
+            p,
+            mut x,
+            mut v,
+            inv_mass,
+            mut cache,
+        } = ring_on_sphere(64, 0.005, 0.5);
         assert_eq!(cache.last_queries, x.len());
         assert_eq!(cache.active_count(), x.len());
         // The frame moves every particle 8 mm along the surface: more than its clearance.
@@ -568,12 +597,14 @@ mod tests {
 
     #[test]
     fn a_particle_found_inside_at_frame_end_is_moved_out_and_searched_again_next_frame() {
-        let body = sphere(Vec3::ZERO, 0.2, 3).unwrap();
-        let p = params();
-        let (mut x, mut v) = ring(8, 0.005, 0.0);
-        let inv_mass = vec![1.0; x.len()];
-        let mut cache = ContactCache::new(x.len());
-        cache.update(&body, &x, &v, DT, 9.81, &p);
+        let Ring {
+            body,
+            p,
+            mut x,
+            mut v,
+            inv_mass,
+            mut cache,
+        } = ring_on_sphere(8, 0.005, 0.0);
         // Dragged 3 cm into the sphere and moving inward.
         x[0] *= 0.835;
         v[0] = -x[0];
@@ -594,12 +625,14 @@ mod tests {
         // rest: deeper than the search radius, so the bounded search finds nothing. It
         // moved farther than its clearance plus the radius, so the unbounded search runs
         // and the frame-end check moves it out.
-        let body = sphere(Vec3::ZERO, 0.2, 3).unwrap();
-        let p = params();
-        let (mut x, mut v) = ring(4, 0.005, 0.0);
-        let inv_mass = vec![1.0; x.len()];
-        let mut cache = ContactCache::new(x.len());
-        cache.update(&body, &x, &v, DT, 9.81, &p);
+        let Ring {
+            body,
+            p,
+            mut x,
+            mut v,
+            inv_mass,
+            mut cache,
+        } = ring_on_sphere(4, 0.005, 0.0);
         x[0] = x[0].normalize() * 0.08;
         let moved = cache.resolve_penetrations(&body, &mut x, &mut v, &inv_mass, DT, 9.81, &p);
         assert_eq!(moved, 1);
@@ -615,10 +648,14 @@ mod tests {
         // Particles sliding 8 mm a frame along a sphere, 5 mm above it: after the first
         // frame every search starts from last frame's triangle (the walk answers them),
         // and the planes are the ones an unhinted tree search gives.
-        let body = sphere(Vec3::ZERO, 0.2, 3).unwrap();
-        let p = params();
-        let (mut x, v) = ring(64, 0.005, 0.5);
-        let mut cache = ContactCache::new(x.len());
+        let Ring {
+            body,
+            p,
+            mut x,
+            v,
+            mut cache,
+            ..
+        } = ring_on_sphere(64, 0.005, 0.5);
         for _ in 0..5 {
             cache.update(&body, &x, &v, DT, 9.81, &p);
             for (i, &xi) in x.iter().enumerate() {
