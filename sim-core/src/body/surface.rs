@@ -94,7 +94,7 @@ impl Body {
         })
     }
 
-    /// The body's OBB tree. A body never moves or deforms: the walk's clearances are
+    /// The body's OBB tree. A body never moves or deforms: the walk's bounds are
     /// computed once, for this tree.
     pub fn tree(&self) -> &ObbTree {
         &self.tree
