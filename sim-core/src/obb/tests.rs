@@ -135,9 +135,10 @@ proptest! {
     fn walk_answers_equal_brute_force_on_fine_bumpy_spheres(
         (v, idx) in fine_bumpy_sphere(),
         near in prop::collection::vec((0usize..1280, 0.0f32..1.0, 0.0f32..1.0, -0.01f32..0.04), 1..60),
+        corners in prop::collection::vec((0usize..1280, 0.0f32..0.04, vec3(0.004)), 0..40),
     ) {
         // Points up to 4 cm off random surface points, as cloth particles are, the walk
-        // starting from the triangle under them.
+        // starting from the triangle under them (or beside them).
         let queries: Vec<(Vec3, u32)> = near
             .iter()
             .map(|&(t, a, b, h)| {
@@ -146,6 +147,12 @@ proptest! {
                 let n = (p1 - p0).cross(p2 - p0).normalize_or_zero();
                 (p0 + (p1 - p0) * a + (p2 - p0) * b + n * h, t as u32)
             })
+            // And points off its corners, out along the corner's radius and a few mm
+            // aside: some in the corner's normal cone, some beside it.
+            .chain(corners.iter().map(|&(t, h, aside)| {
+                let corner = v[idx[t][0] as usize];
+                (corner + corner.normalize_or_zero() * h + aside, t as u32)
+            }))
             .collect();
         check_walk(&v, &idx, &queries)?;
     }
