@@ -1,6 +1,7 @@
 //! Rigid bodies the cloth collides with: the paper's cube, a sphere, a procedural
 //! mannequin, or any closed OBJ surface.
 
+mod clearance;
 mod shapes;
 mod surface;
 

@@ -5,6 +5,7 @@ use std::collections::HashMap;
 
 use glam::Vec3;
 
+use super::clearance::ClearanceGrid;
 use super::shapes::Analytic;
 use crate::error::GeometryError;
 use crate::obb::{BuildOptions, Feature, ObbTree, SurfaceWalk};
@@ -17,6 +18,8 @@ pub struct Body {
     tree: ObbTree,
     /// Answers most queries near last frame's triangle without the tree.
     walk: SurfaceWalk,
+    /// Proves most points far from the surface clear of it without a search.
+    clearance: ClearanceGrid,
     face_normals: Vec<Vec3>,
     vertex_normals: Vec<Vec3>,
     /// Per triangle, per local edge k (corner k to k+1): the sum of the two face normals.
@@ -81,7 +84,7 @@ impl Body {
                 })
             })
             .collect();
-        Ok(Self {
+        let mut body = Self {
             name: name.into(),
             vertices,
             triangles,
@@ -91,7 +94,20 @@ impl Body {
             vertex_normals,
             edge_normals,
             analytic,
-        })
+            clearance: ClearanceGrid::default(),
+        };
+        body.clearance = ClearanceGrid::new(&body.vertices, |p, max_dist| {
+            body.contact(p, max_dist, u32::MAX)
+                .map(|c| (c.signed_distance, c.tri))
+        });
+        Ok(body)
+    }
+
+    /// A lower bound on how far outside the body `p` is, from distances sampled when the
+    /// body was made (0 or less when it may be inside or on it), and a triangle near `p`
+    /// (`u32::MAX` if none is known); no search.
+    pub fn outside_by(&self, p: Vec3) -> (f32, u32) {
+        self.clearance.outside_by(p)
     }
 
     /// The body's OBB tree. A body never moves or deforms: the walk's bounds are
