@@ -389,13 +389,15 @@ impl Slots<'_> {
     }
 
     /// A full search for particle `k` at `x`, remembered as its query. Returns what it
-    /// found, and whether that gave the particle a plane.
+    /// found, and whether that gave the particle a plane. `grid_near` is the body's
+    /// clearance grid's triangle near `x` when the caller has looked it up already.
     fn query(
         &mut self,
         body: &Body,
         k: usize,
         x: Vec3,
         reach: f32,
+        grid_near: Option<u32>,
     ) -> (Option<crate::body::BodyContact>, bool) {
         // A particle never found near the body starts from its neighbour's triangle, or
         // the one the body's clearance grid knows near it.
@@ -403,7 +405,7 @@ impl Slots<'_> {
             u32::MAX if !k.is_multiple_of(NEIGHBOUR_BLOCK) && self.hint[k - 1] != u32::MAX => {
                 self.hint[k - 1]
             }
-            u32::MAX => body.outside_by(x).1,
+            u32::MAX => grid_near.unwrap_or_else(|| body.outside_by(x).1),
             h => h,
         };
         // The walk from a known triangle is exact at any distance, so its fallback, the
@@ -465,20 +467,21 @@ fn update_range(
             && let Some(c) = body.contact_on(x[k], s.hint[k])
         {
             s.set(k, Some(&c), reach)
-        } else if let (outside, near) = body.outside_by(x[k])
-            && outside > reach
-        {
-            // Proved farther than it can travel without a search: remembered as a query,
-            // with a triangle near it to start from when it comes nearer.
-            s.query_pos[k] = x[k];
-            s.clear[k] = outside;
-            if near != u32::MAX {
-                s.hint[k] = near;
-            }
-            s.set(k, None, reach)
         } else {
-            queries += 1;
-            s.query(body, k, x[k], reach).1
+            let (outside, near) = body.outside_by(x[k]);
+            if outside > reach {
+                // Proved farther than it can travel without a search: remembered as a
+                // query, with a triangle near it to start from when it comes nearer.
+                s.query_pos[k] = x[k];
+                s.clear[k] = outside;
+                if near != u32::MAX {
+                    s.hint[k] = near;
+                }
+                s.set(k, None, reach)
+            } else {
+                queries += 1;
+                s.query(body, k, x[k], reach, Some(near)).1
+            }
         };
         if has {
             active.push((base + k) as u32);
@@ -509,7 +512,7 @@ fn resolve_range(
         // Deep enough for the next frame's update, and at least to `moved + thickness`
         // (what can have gone in since the last query).
         let reach = reach.max(moved + r.thickness - SLACK);
-        let (Some(c), _) = s.query(body, k, x[k], reach) else {
+        let (Some(c), _) = s.query(body, k, x[k], reach, None) else {
             continue;
         };
         if c.signed_distance < 0.0 {
@@ -579,6 +582,23 @@ mod tests {
         }
     }
 
+    /// Every particle has a plane, at the gap a cache searching from scratch finds.
+    fn assert_planes_of_a_fresh_cache(
+        cache: &ContactCache,
+        body: &Body,
+        x: &[Vec3],
+        v: &[Vec3],
+        p: &ContactParams,
+    ) {
+        let mut fresh = ContactCache::new(x.len());
+        fresh.update(body, x, v, DT, 9.81, p);
+        for (i, &xi) in x.iter().enumerate() {
+            let (a, b) = (cache.gap(i, xi, 0.0), fresh.gap(i, xi, 0.0));
+            let (a, b) = (a.unwrap(), b.unwrap());
+            assert!((a - b).abs() < 1e-6, "{a} {b}");
+        }
+    }
+
     #[test]
     fn the_frame_end_search_is_kept_for_the_next_update() {
         let Ring {
@@ -602,13 +622,7 @@ mod tests {
         cache.update(&body, &x, &v, DT, 9.81, &p);
         assert_eq!(cache.last_queries, 0);
         assert_eq!(cache.active_count(), x.len());
-        let mut fresh = ContactCache::new(x.len());
-        fresh.update(&body, &x, &v, DT, 9.81, &p);
-        for (i, &xi) in x.iter().enumerate() {
-            let (a, b) = (cache.gap(i, xi, 0.0), fresh.gap(i, xi, 0.0));
-            let (a, b) = (a.unwrap(), b.unwrap());
-            assert!((a - b).abs() < 1e-6, "{a} {b}");
-        }
+        assert_planes_of_a_fresh_cache(&cache, &body, &x, &v, &p);
     }
 
     #[test]
@@ -711,12 +725,7 @@ mod tests {
         }
         far.update(&body, &x, &v, DT, 9.81, &p);
         assert_eq!(far.last_queries, x.len());
-        let mut fresh = ContactCache::new(x.len());
-        fresh.update(&body, &x, &v, DT, 9.81, &p);
         assert_eq!(far.active_count(), x.len());
-        for (i, &xi) in x.iter().enumerate() {
-            let (a, b) = (far.gap(i, xi, 0.0).unwrap(), fresh.gap(i, xi, 0.0).unwrap());
-            assert!((a - b).abs() < 1e-6, "{a} {b}");
-        }
+        assert_planes_of_a_fresh_cache(&far, &body, &x, &v, &p);
     }
 }
