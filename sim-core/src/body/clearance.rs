@@ -66,8 +66,8 @@ impl ClearanceGrid {
         let dims = [0, 1, 2].map(|a| span[a].ceil() as usize + 1);
         let n = dims[0] * dims[1] * dims[2];
         let at = |i: usize| {
-            let (x, rest) = (i % dims[0], i / dims[0]);
-            origin + Vec3::new(x as f32, (rest % dims[1]) as f32, (rest / dims[1]) as f32) * cell
+            let [x, y, z] = Self::coords(dims, i);
+            origin + Vec3::new(x as f32, y as f32, z as f32) * cell
         };
         // `None`: no surface within the margin; its sign comes from its neighbours below.
         let sample = |range: std::ops::Range<usize>| -> Vec<Option<(f32, u32)>> {
@@ -148,15 +148,18 @@ impl ClearanceGrid {
         (bound.max(to_box), self.nearest[i])
     }
 
+    /// Sample `i`'s grid coordinates (x fastest).
+    fn coords(dims: [usize; 3], i: usize) -> [usize; 3] {
+        [i % dims[0], i / dims[0] % dims[1], i / dims[0] / dims[1]]
+    }
+
     fn on_edge(dims: [usize; 3], i: usize) -> bool {
-        let (x, rest) = (i % dims[0], i / dims[0]);
-        let (y, z) = (rest % dims[1], rest / dims[1]);
+        let [x, y, z] = Self::coords(dims, i);
         x == 0 || y == 0 || z == 0 || x + 1 == dims[0] || y + 1 == dims[1] || z + 1 == dims[2]
     }
 
     fn neighbours(dims: [usize; 3], i: usize) -> impl Iterator<Item = usize> {
-        let (x, rest) = (i % dims[0], i / dims[0]);
-        let (y, z) = (rest % dims[1], rest / dims[1]);
+        let [x, y, z] = Self::coords(dims, i);
         let (sx, sy) = (1, dims[0]);
         let sz = dims[0] * dims[1];
         [
