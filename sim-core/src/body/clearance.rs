@@ -31,11 +31,18 @@ pub struct ClearanceGrid {
     /// Sample spacing, m.
     cell: f32,
     dims: [usize; 3],
-    /// Signed distance at each sample (x fastest), at most the margin (samples farther
-    /// outside hold the margin, a lower bound); `NEG_INFINITY` for samples deep inside.
-    signed: Vec<f32>,
-    /// The triangle nearest each sample, `u32::MAX` when none is within the margin.
-    nearest: Vec<u32>,
+    /// The samples, x fastest.
+    samples: Vec<Sample>,
+}
+
+/// One sample of the grid: what a lookup reads, together in memory.
+#[derive(Clone, Copy, Debug)]
+struct Sample {
+    /// Signed distance, at most the margin (samples farther outside hold the margin, a
+    /// lower bound); `NEG_INFINITY` for samples deep inside.
+    signed: f32,
+    /// The triangle nearest the sample, `u32::MAX` when none is within the margin.
+    nearest: u32,
 }
 
 impl ClearanceGrid {
@@ -105,16 +112,21 @@ impl ClearanceGrid {
                 }
             }
         }
-        let signed = (0..n)
+        let samples = (0..n)
             .map(|i| match found[i] {
-                Some((d, _)) => d.min(margin),
-                None if outside[i] => margin,
-                None => f32::NEG_INFINITY,
+                Some((d, t)) => Sample {
+                    signed: d.min(margin),
+                    nearest: t,
+                },
+                None => Sample {
+                    signed: if outside[i] {
+                        margin
+                    } else {
+                        f32::NEG_INFINITY
+                    },
+                    nearest: u32::MAX,
+                },
             })
-            .collect();
-        let nearest = found
-            .iter()
-            .map(|f| f.map_or(u32::MAX, |(_, t)| t))
             .collect();
         Self {
             lo,
@@ -122,15 +134,14 @@ impl ClearanceGrid {
             origin,
             cell,
             dims,
-            signed,
-            nearest,
+            samples,
         }
     }
 
     /// A lower bound on how far outside the body `p` is (0 or less: it may be inside or
     /// on it), and the triangle nearest `p`'s sample (`u32::MAX` if none is known).
     pub fn outside_by(&self, p: Vec3) -> (f32, u32) {
-        if self.signed.is_empty() {
+        if self.samples.is_empty() {
             return (0.0, u32::MAX);
         }
         let to_box = (self.lo - p).max(p - self.hi).max(Vec3::ZERO).length();
@@ -144,8 +155,9 @@ impl ClearanceGrid {
         }
         let (x, y, z) = (g.x as usize, g.y as usize, g.z as usize);
         let i = x + self.dims[0] * (y + self.dims[1] * z);
-        let bound = self.signed[i] - (p - (self.origin + g * self.cell)).length();
-        (bound.max(to_box), self.nearest[i])
+        let s = self.samples[i];
+        let bound = s.signed - (p - (self.origin + g * self.cell)).length();
+        (bound.max(to_box), s.nearest)
     }
 
     /// Sample `i`'s grid coordinates (x fastest).
