@@ -18,7 +18,7 @@ pub use constraints::{BendConstraint, Membrane, bending_energy, build_bending, b
 pub use contact::{ContactCache, ContactParams};
 pub use implicit::Implicit;
 pub use material::{Material, ModelKind};
-pub use seed::{Seed, seed_stable_step};
+pub use seed::{Seed, seed_safe_step, seed_stable_step};
 pub use sim::{Environment, FrameStats, Simulation, StepError, XPBD_DEFAULT_SUBSTEPS};
 pub use state::Cloth;
 pub use xpbd::Xpbd;

@@ -7,7 +7,7 @@ use glam::Vec3;
 use super::contact::{ContactCache, ContactParams};
 use super::implicit::{Implicit, ImplicitError};
 use super::material::{Material, ModelKind};
-use super::seed::{Seed, seed_stable_step};
+use super::seed::{Seed, seed_safe_step, seed_stable_step};
 use super::state::Cloth;
 use super::xpbd::Xpbd;
 use crate::body::Body;
@@ -144,7 +144,8 @@ impl Simulation {
                 substeps.unwrap_or(1),
             ),
             ModelKind::Seed => {
-                let bound = seed_stable_step(&cloth, material.seed_stiffness);
+                // The bound for any shape the draping cloth takes, not just flat at rest.
+                let bound = seed_safe_step(&cloth, material.seed_stiffness);
                 stable_step = Some(bound);
                 // Keep a 10% margin under the bound.
                 let needed = ((env.frame_dt as f64) / (0.9 * bound)).ceil().max(1.0) as usize;
@@ -160,8 +161,11 @@ impl Simulation {
                     Some(n) => n,
                     None => {
                         notices.push(format!(
-                            "seed model: stable step bound {:.3e} s (k = {} N/m, unit masses); using {needed} substeps per {:.4} s frame",
-                            bound, material.seed_stiffness, env.frame_dt
+                            "seed model: stable step bound {:.3e} s for any shape of the cloth ({:.3e} s flat at rest; k = {} N/m, unit masses); using {needed} substeps per {:.4} s frame",
+                            bound,
+                            seed_stable_step(&cloth, material.seed_stiffness),
+                            material.seed_stiffness,
+                            env.frame_dt
                         ));
                         needed
                     }
