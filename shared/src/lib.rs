@@ -6,13 +6,18 @@
 //!   message starts with a [`Header`]: protocol version, sequence number, and send time on
 //!   CLOCK_MONOTONIC. A receiver checks it ([`Header::check`]) and every value it uses
 //!   ([`Checked`]): nothing from another process is trusted.
+//! - [`command`]: the typed operations cloth-sim carries out ([`command::Command`]), and
+//!   their one conversion to and from the wire record.
 //! - [`services`] has one function per service, so every process opens it with the same
-//!   quality of service.
+//!   quality of service; [`ports`] builds every process's ports from them, one struct per
+//!   process.
 //! - [`domain`] turns `--domain NAME` (or `SAIHO_DOMAIN`) into an iceoryx2 configuration of
 //!   its own, so two systems, or tests running in parallel, never see each other.
 
+pub mod command;
 pub mod domain;
 pub mod haptic_to_sim;
+pub mod ports;
 pub mod services;
 pub mod signals;
 pub mod sim_to_haptic;

@@ -5,6 +5,7 @@
 
 use shared::domain::Domain;
 use shared::haptic_to_sim::DeviceSample;
+use shared::ports;
 use shared::sim_to_haptic::LocalModel;
 use shared::{Checked, Header, MessageError, PROTOCOL_VERSION, services};
 
@@ -27,22 +28,14 @@ fn device_samples_reach_a_late_subscriber_and_stay_in_their_domain() {
     let (d, other) = (domain("a"), domain("b"));
     {
         let hn = services::node(&d, "haptic").unwrap();
-        let publisher = services::device(&hn)
-            .unwrap()
-            .publisher_builder()
-            .create()
-            .unwrap();
+        let publisher = ports::publisher(&hn, services::device).unwrap();
         let mut seq = 0;
         for k in 0..5 {
             publisher.send_copy(sample(&mut seq, k as f32)).unwrap();
         }
         // A subscriber that joins now gets the latest value (history 1).
         let sn = services::node(&d, "sim").unwrap();
-        let sub = services::device(&sn)
-            .unwrap()
-            .subscriber_builder()
-            .create()
-            .unwrap();
+        let sub = ports::subscriber(&sn, services::device, None).unwrap();
         use iceoryx2::port::update_connections::UpdateConnections;
         publisher.update_connections().unwrap();
         let got = sub.receive().unwrap().unwrap();
@@ -52,11 +45,7 @@ fn device_samples_reach_a_late_subscriber_and_stay_in_their_domain() {
         assert!(got.header.sent_ns > 0 && got.header.sent_ns <= shared::monotonic_ns());
         // Another domain's subscriber sees nothing.
         let on = services::node(&other, "sim").unwrap();
-        let osub = services::device(&on)
-            .unwrap()
-            .subscriber_builder()
-            .create()
-            .unwrap();
+        let osub = ports::subscriber(&on, services::device, None).unwrap();
         publisher.send_copy(sample(&mut seq, 9.0)).unwrap();
         assert!(osub.receive().unwrap().is_none());
         let next = sub.receive().unwrap().unwrap();

@@ -1,0 +1,470 @@
+//! The typed operations cloth-ui (or any client) asks of cloth-sim, and their one
+//! conversion to and from the `#[repr(C)]` wire record [`ToolCommand`]: a sender builds a
+//! [`Command`] and calls [`Command::to_wire`]; cloth-sim calls [`Command::from_wire`],
+//! which checks the record first. Nothing else reads or writes a record's fields.
+
+use crate::ui_to_sim::{TEXT_LEN, ToolCommand, body, op};
+use crate::{Checked, Header, MessageError};
+
+/// The body of a new design.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BodyChoice {
+    Cube,
+    Sphere,
+    Mannequin,
+}
+
+/// A change of material: each value given replaces the design's, each `None` keeps it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MaterialChange {
+    /// Areal density, kg/m^2.
+    pub density: Option<f32>,
+    /// Stretch modulus, N/m.
+    pub stretch: Option<f32>,
+    /// Shear modulus, N/m.
+    pub shear: Option<f32>,
+    /// Bending rigidity, N m.
+    pub bending: Option<f32>,
+    pub friction: Option<f32>,
+    /// Velocity damping, 1/s.
+    pub damping: Option<f32>,
+}
+
+/// Automatic tearing of overstretched edges.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Tearing {
+    Off,
+    /// Edges longer than `threshold` times their rest length tear; `split` separates
+    /// the material instead of deleting the two triangles.
+    On {
+        threshold: f32,
+        split: bool,
+    },
+}
+
+/// One operation on the design (see [`op`] for what each does on cloth-sim's side).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Command {
+    /// Split `vertex` across the cut `direction`.
+    CutVertex {
+        vertex: u32,
+        direction: [f32; 3],
+    },
+    /// Merge border vertices `a` and `b`.
+    Sew {
+        a: u32,
+        b: u32,
+    },
+    /// Tear edge `(a, b)`: delete its two triangles, or with `split` separate them.
+    Tear {
+        a: u32,
+        b: u32,
+        split: bool,
+    },
+    Pin {
+        vertex: u32,
+        pinned: bool,
+    },
+    /// Paint `rgba` within `radius_m` of the cloth point nearest to `point`.
+    Paint {
+        point: [f32; 3],
+        radius_m: f32,
+        rgba: [u8; 4],
+    },
+    Undo,
+    Redo,
+    SetTearing(Tearing),
+    /// Save the design to `path`.
+    Save {
+        path: String,
+    },
+    /// The pen's tool (`sim_to_ui::tool`), paint colour and brush radius.
+    SetTool {
+        tool: u32,
+        rgba: [u8; 4],
+        brush_m: f32,
+    },
+    /// Remove the triangles whose pattern (UV) centre lies in the rectangle.
+    RemoveRegion {
+        min: [f32; 2],
+        max: [f32; 2],
+    },
+    /// A seam between the border paths along pattern segments `a` and `b` (each from
+    /// its start to its end), vertices within `tolerance` (UV units).
+    Seam {
+        a: [[f32; 2]; 2],
+        b: [[f32; 2]; 2],
+        tolerance: f32,
+    },
+    /// Export the design into the directory `dir`.
+    Export {
+        dir: String,
+    },
+    /// A new design over `body`: `grid` cells a side (`None` keeps the current), the
+    /// material changed as given, `substeps` per frame (`None`: cloth-sim's setting).
+    Reset {
+        body: BodyChoice,
+        grid: Option<u32>,
+        material: MaterialChange,
+        substeps: Option<u32>,
+    },
+    /// Load the design file at `path` in place of the current design.
+    Load {
+        path: String,
+    },
+    /// Change the current design's material in place, and its substeps when given.
+    SetMaterial {
+        material: MaterialChange,
+        substeps: Option<u32>,
+    },
+}
+
+/// Why a command cannot be put on the wire.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum CommandError {
+    #[error("the path is {len} bytes, more than the {TEXT_LEN} a command carries")]
+    PathTooLong { len: usize },
+}
+
+impl MaterialChange {
+    fn to_wire(self) -> [f32; 6] {
+        [
+            self.density,
+            self.stretch,
+            self.shear,
+            self.bending,
+            self.friction,
+            self.damping,
+        ]
+        .map(|v| v.unwrap_or(0.0))
+    }
+
+    /// From the wire: 0 keeps the value (negative values are refused by the check).
+    fn from_wire(u: &[f32; 8]) -> Self {
+        let v = |x: f32| (x > 0.0).then_some(x);
+        Self {
+            density: v(u[0]),
+            stretch: v(u[1]),
+            shear: v(u[2]),
+            bending: v(u[3]),
+            friction: v(u[4]),
+            damping: v(u[5]),
+        }
+    }
+}
+
+fn some_nonzero(x: u32) -> Option<u32> {
+    (x != 0).then_some(x)
+}
+
+fn text(c: &ToolCommand) -> String {
+    c.text().unwrap_or_default().to_string()
+}
+
+impl Command {
+    /// The wire op code of this command.
+    pub fn op(&self) -> u32 {
+        match self {
+            Self::CutVertex { .. } => op::CUT_VERTEX,
+            Self::Sew { .. } => op::SEW,
+            Self::Tear { .. } => op::TEAR,
+            Self::Pin { .. } => op::PIN,
+            Self::Paint { .. } => op::PAINT,
+            Self::Undo => op::UNDO,
+            Self::Redo => op::REDO,
+            Self::SetTearing(_) => op::SET_TEAR,
+            Self::Save { .. } => op::SAVE,
+            Self::SetTool { .. } => op::SET_TOOL,
+            Self::RemoveRegion { .. } => op::REMOVE_REGION,
+            Self::Seam { .. } => op::SEAM,
+            Self::Export { .. } => op::EXPORT,
+            Self::Reset { .. } => op::RESET,
+            Self::Load { .. } => op::LOAD,
+            Self::SetMaterial { .. } => op::SET_MATERIAL,
+        }
+    }
+
+    /// The wire record of this command under `header`.
+    pub fn to_wire(&self, header: Header) -> Result<ToolCommand, CommandError> {
+        let mut c = ToolCommand {
+            header,
+            op: self.op(),
+            ..ToolCommand::default()
+        };
+        let set_text = |c: &mut ToolCommand, s: &str| {
+            if c.set_text(s) {
+                Ok(())
+            } else {
+                Err(CommandError::PathTooLong { len: s.len() })
+            }
+        };
+        match self {
+            Self::CutVertex { vertex, direction } => (c.a, c.vec) = (*vertex, *direction),
+            Self::Sew { a, b } => (c.a, c.b) = (*a, *b),
+            Self::Tear { a, b, split } => (c.a, c.b, c.mode) = (*a, *b, u32::from(*split)),
+            Self::Pin { vertex, pinned } => (c.a, c.mode) = (*vertex, u32::from(*pinned)),
+            Self::Paint {
+                point,
+                radius_m,
+                rgba,
+            } => (c.vec, c.value, c.rgba) = (*point, *radius_m, *rgba),
+            Self::Undo | Self::Redo => {}
+            Self::SetTearing(Tearing::Off) => c.mode = 0,
+            Self::SetTearing(Tearing::On { threshold, split }) => {
+                (c.mode, c.value) = (if *split { 2 } else { 1 }, *threshold);
+            }
+            Self::Save { path } | Self::Export { dir: path } | Self::Load { path } => {
+                set_text(&mut c, path)?;
+            }
+            Self::SetTool {
+                tool,
+                rgba,
+                brush_m,
+            } => (c.a, c.rgba, c.value) = (*tool, *rgba, *brush_m),
+            Self::RemoveRegion { min, max } => {
+                c.uv[..4].copy_from_slice(&[min[0], min[1], max[0], max[1]])
+            }
+            Self::Seam { a, b, tolerance } => {
+                c.uv = [
+                    a[0][0], a[0][1], a[1][0], a[1][1], b[0][0], b[0][1], b[1][0], b[1][1],
+                ];
+                c.value = *tolerance;
+            }
+            Self::Reset {
+                body: which,
+                grid,
+                material,
+                substeps,
+            } => {
+                c.b = match which {
+                    BodyChoice::Cube => body::CUBE,
+                    BodyChoice::Sphere => body::SPHERE,
+                    BodyChoice::Mannequin => body::MANNEQUIN,
+                };
+                c.a = grid.unwrap_or(0);
+                c.mode = substeps.unwrap_or(0);
+                c.uv[..6].copy_from_slice(&material.to_wire());
+            }
+            Self::SetMaterial { material, substeps } => {
+                c.a = substeps.unwrap_or(0);
+                c.uv[..6].copy_from_slice(&material.to_wire());
+            }
+        }
+        Ok(c)
+    }
+
+    /// The command a received record carries, after checking it ([`Checked`]): nothing
+    /// from another process is used unchecked.
+    pub fn from_wire(c: &ToolCommand) -> Result<Self, MessageError> {
+        c.check()?;
+        let u = &c.uv;
+        Ok(match c.op {
+            op::CUT_VERTEX => Self::CutVertex {
+                vertex: c.a,
+                direction: c.vec,
+            },
+            op::SEW => Self::Sew { a: c.a, b: c.b },
+            op::TEAR => Self::Tear {
+                a: c.a,
+                b: c.b,
+                split: c.mode == 1,
+            },
+            op::PIN => Self::Pin {
+                vertex: c.a,
+                pinned: c.mode == 1,
+            },
+            op::PAINT => Self::Paint {
+                point: c.vec,
+                radius_m: c.value,
+                rgba: c.rgba,
+            },
+            op::UNDO => Self::Undo,
+            op::REDO => Self::Redo,
+            op::SET_TEAR => Self::SetTearing(match c.mode {
+                0 => Tearing::Off,
+                m => Tearing::On {
+                    threshold: c.value,
+                    split: m == 2,
+                },
+            }),
+            op::SAVE => Self::Save { path: text(c) },
+            op::SET_TOOL => Self::SetTool {
+                tool: c.a,
+                rgba: c.rgba,
+                brush_m: c.value,
+            },
+            op::REMOVE_REGION => Self::RemoveRegion {
+                min: [u[0], u[1]],
+                max: [u[2], u[3]],
+            },
+            op::SEAM => Self::Seam {
+                a: [[u[0], u[1]], [u[2], u[3]]],
+                b: [[u[4], u[5]], [u[6], u[7]]],
+                tolerance: c.value,
+            },
+            op::EXPORT => Self::Export { dir: text(c) },
+            op::RESET => Self::Reset {
+                body: match c.b {
+                    body::SPHERE => BodyChoice::Sphere,
+                    body::MANNEQUIN => BodyChoice::Mannequin,
+                    _ => BodyChoice::Cube,
+                },
+                grid: some_nonzero(c.a),
+                material: MaterialChange::from_wire(u),
+                substeps: some_nonzero(c.mode),
+            },
+            op::LOAD => Self::Load { path: text(c) },
+            op::SET_MATERIAL => Self::SetMaterial {
+                material: MaterialChange::from_wire(u),
+                substeps: some_nonzero(c.a),
+            },
+            other => {
+                return Err(MessageError::Malformed {
+                    what: ToolCommand::WHAT,
+                    why: format!("unknown operation {other}"),
+                });
+            }
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// One of every variant, with values that are valid on the wire.
+    fn every_variant() -> Vec<Command> {
+        let material = MaterialChange {
+            density: Some(0.2),
+            stretch: None,
+            shear: Some(30.0),
+            bending: Some(2e-5),
+            friction: None,
+            damping: Some(0.5),
+        };
+        vec![
+            Command::CutVertex {
+                vertex: 7,
+                direction: [1.0, 0.0, -0.5],
+            },
+            Command::Sew { a: 3, b: 9 },
+            Command::Tear {
+                a: 1,
+                b: 2,
+                split: false,
+            },
+            Command::Tear {
+                a: 1,
+                b: 2,
+                split: true,
+            },
+            Command::Pin {
+                vertex: 4,
+                pinned: true,
+            },
+            Command::Pin {
+                vertex: 4,
+                pinned: false,
+            },
+            Command::Paint {
+                point: [0.1, 0.45, -0.2],
+                radius_m: 0.02,
+                rgba: [200, 30, 40, 255],
+            },
+            Command::Undo,
+            Command::Redo,
+            Command::SetTearing(Tearing::Off),
+            Command::SetTearing(Tearing::On {
+                threshold: 1.6,
+                split: false,
+            }),
+            Command::SetTearing(Tearing::On {
+                threshold: 2.0,
+                split: true,
+            }),
+            Command::Save {
+                path: "/tmp/ß design.saiho".into(),
+            },
+            Command::SetTool {
+                tool: crate::sim_to_ui::tool::PAINT,
+                rgba: [1, 2, 3, 4],
+                brush_m: 0.01,
+            },
+            Command::RemoveRegion {
+                min: [0.75, 0.75],
+                max: [1.5, 1.5],
+            },
+            Command::Seam {
+                a: [[0.75, 0.75], [0.75, 1.0]],
+                b: [[0.75, 0.75], [1.0, 0.75]],
+                tolerance: 0.03,
+            },
+            Command::Export {
+                dir: "out/export".into(),
+            },
+            Command::Reset {
+                body: BodyChoice::Mannequin,
+                grid: Some(96),
+                material,
+                substeps: Some(9),
+            },
+            Command::Reset {
+                body: BodyChoice::Sphere,
+                grid: None,
+                material: MaterialChange::default(),
+                substeps: None,
+            },
+            Command::Load {
+                path: "design.saiho".into(),
+            },
+            Command::SetMaterial {
+                material,
+                substeps: None,
+            },
+            Command::SetMaterial {
+                material: MaterialChange::default(),
+                substeps: Some(20),
+            },
+        ]
+    }
+
+    #[test]
+    fn every_variant_round_trips_through_the_wire_record() {
+        let all = every_variant();
+        let mut ops: Vec<u32> = all.iter().map(Command::op).collect();
+        ops.sort_unstable();
+        ops.dedup();
+        assert_eq!(
+            ops,
+            (1..=op::LAST).collect::<Vec<_>>(),
+            "a variant is missing"
+        );
+        let mut seq = 0;
+        for c in all {
+            let wire = c.to_wire(Header::next(&mut seq)).unwrap();
+            assert_eq!(wire.op, c.op());
+            assert_eq!(Command::from_wire(&wire), Ok(c.clone()), "{wire:?}");
+        }
+    }
+
+    #[test]
+    fn a_bad_record_is_refused_and_a_long_path_is_not_sent() {
+        let mut seq = 0;
+        let mut wire = Command::Undo.to_wire(Header::next(&mut seq)).unwrap();
+        wire.op = op::LAST + 1;
+        assert!(Command::from_wire(&wire).is_err());
+        let mut wire = Command::Undo.to_wire(Header::next(&mut seq)).unwrap();
+        wire.header.protocol += 1;
+        assert!(matches!(
+            Command::from_wire(&wire),
+            Err(MessageError::Protocol { .. })
+        ));
+        let long = Command::Save {
+            path: "x".repeat(TEXT_LEN + 1),
+        };
+        assert_eq!(
+            long.to_wire(Header::default()),
+            Err(CommandError::PathTooLong { len: TEXT_LEN + 1 })
+        );
+    }
+}
