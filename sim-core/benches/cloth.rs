@@ -6,8 +6,8 @@
 #![allow(clippy::unwrap_used)] // benchmark setup: a failure should stop the run
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use sim_core::cloth::ModelKind;
-use sim_core::scenario::{ScenarioConfig, ScenarioName, build_simulation};
+use sim_core::scenario::{ScenarioConfig, ScenarioName, build_design};
+use sim_core::solver::ModelKind;
 
 fn frame(
     c: &mut Criterion,
@@ -23,7 +23,7 @@ fn frame(
     cfg.model = model;
     cfg.threads = threads;
     cfg.material.stretch_limits = stretch_limits;
-    let mut sim = build_simulation(&cfg).unwrap();
+    let mut sim = build_design(&cfg).unwrap();
     for _ in 0..120 {
         sim.step().unwrap();
     }

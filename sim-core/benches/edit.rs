@@ -9,15 +9,15 @@ use std::time::{Duration, Instant};
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::Vec3;
-use sim_core::cloth::Simulation;
-use sim_core::edit::TearMode;
-use sim_core::scenario::{ScenarioConfig, ScenarioName, build_simulation};
+use sim_core::design::Design;
+use sim_core::design::TearMode;
+use sim_core::scenario::{ScenarioConfig, ScenarioName, build_design};
 
-fn draped() -> Simulation {
+fn draped() -> Design {
     let mut cfg = ScenarioConfig::new(ScenarioName::DrapeMannequin);
     cfg.grid = 128;
     cfg.threads = 1;
-    let mut sim = build_simulation(&cfg).unwrap();
+    let mut sim = build_design(&cfg).unwrap();
     for _ in 0..120 {
         sim.step().unwrap();
     }
@@ -26,10 +26,10 @@ fn draped() -> Simulation {
 
 /// Times `op` alone; `reset` (untimed) puts the cloth back after each call.
 fn timed(
-    s: &mut Simulation,
+    s: &mut Design,
     iters: u64,
-    mut op: impl FnMut(&mut Simulation),
-    mut reset: impl FnMut(&mut Simulation),
+    mut op: impl FnMut(&mut Design),
+    mut reset: impl FnMut(&mut Design),
 ) -> Duration {
     let mut total = Duration::ZERO;
     for _ in 0..iters {
@@ -41,86 +41,67 @@ fn timed(
     total
 }
 
+/// Benchmarks `op` on `s`, undone after each run (the undo is not timed).
+fn undoable(
+    g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    s: &mut Design,
+    name: &str,
+    op: impl Fn(&mut Design),
+) {
+    g.bench_function(name, |b| {
+        b.iter_custom(|it| {
+            timed(s, it, &op, |s| {
+                s.undo().unwrap();
+            })
+        })
+    });
+}
+
 fn ops(c: &mut Criterion) {
     let mut s = draped();
     let n = 128u32;
     let centre = n / 2 * (n + 1) + n / 2;
-    let nb = s.cloth.live.neighbours(centre)[0];
-    let p = s.cloth.x[centre as usize];
+    let nb = s.sim.cloth.live.neighbours(centre)[0];
+    let p = s.sim.cloth.x[centre as usize];
+    let stroke = [
+        s.sim.cloth.x[(centre - 10) as usize],
+        s.sim.cloth.x[(centre + 10) as usize],
+    ];
     let mut g = c.benchmark_group("edit-16k");
     g.sample_size(30);
-    let undo = |s: &mut Simulation| {
-        s.undo().unwrap();
-    };
-    g.bench_function("cut_vertex", |b| {
-        b.iter_custom(|it| {
-            timed(
-                &mut s,
-                it,
-                |s| {
-                    s.cut_vertex(centre, Vec3::X).unwrap();
-                },
-                undo,
-            )
-        })
+    undoable(&mut g, &mut s, "cut_vertex", |s| {
+        s.cut_vertex(centre, Vec3::X).unwrap();
     });
-    let stroke = [
-        s.cloth.x[(centre - 10) as usize],
-        s.cloth.x[(centre + 10) as usize],
-    ];
-    g.bench_function("cut_stroke_20_vertices", |b| {
-        b.iter_custom(|it| {
-            timed(
-                &mut s,
-                it,
-                |s| {
-                    s.cut_stroke(&stroke, 0.01).unwrap();
-                },
-                undo,
-            )
-        })
+    undoable(&mut g, &mut s, "cut_stroke_20_vertices", |s| {
+        s.cut_stroke(&stroke, 0.01).unwrap();
     });
-    g.bench_function("sew", |b| {
-        b.iter_custom(|it| timed(&mut s, it, |s| s.sew(0, 2).unwrap(), undo))
+    undoable(&mut g, &mut s, "sew", |s| s.sew(0, 2).unwrap());
+    undoable(&mut g, &mut s, "tear_delete", |s| {
+        s.tear_edge(centre, nb, TearMode::Delete).unwrap()
     });
-    g.bench_function("tear_delete", |b| {
-        b.iter_custom(|it| {
-            timed(
-                &mut s,
-                it,
-                |s| s.tear_edge(centre, nb, TearMode::Delete).unwrap(),
-                undo,
-            )
-        })
+    undoable(&mut g, &mut s, "tear_split", |s| {
+        s.tear_edge(centre, nb, TearMode::Split).unwrap()
     });
-    g.bench_function("tear_split", |b| {
-        b.iter_custom(|it| {
-            timed(
-                &mut s,
-                it,
-                |s| s.tear_edge(centre, nb, TearMode::Split).unwrap(),
-                undo,
-            )
-        })
+    undoable(&mut g, &mut s, "paint_2cm", |s| {
+        s.paint(p, 0.02, [200, 20, 20, 255]).unwrap()
     });
-    g.bench_function("paint_2cm", |b| {
-        b.iter_custom(|it| {
-            timed(
-                &mut s,
-                it,
-                |s| s.paint(p, 0.02, [200, 20, 20, 255]).unwrap(),
-                undo,
-            )
-        })
-    });
-    g.bench_function("pin", |b| {
-        b.iter_custom(|it| timed(&mut s, it, |s| s.set_pin(centre, true).unwrap(), undo))
-    });
-    s.cut_stroke(&stroke, 0.01).unwrap();
+    undoable(&mut g, &mut s, "pin", |s| s.set_pin(centre, true).unwrap());
+    undo_redo(&mut g, &mut s, &stroke);
+    g.finish();
+    frame_after_edits(c, centre);
+}
+
+/// Undo and redo of a cut stroke.
+fn undo_redo(
+    g: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    s: &mut Design,
+    stroke: &[Vec3],
+) {
+    s.cut_stroke(stroke, 0.01).unwrap();
     g.bench_function("undo_cut_stroke", |b| {
         b.iter_custom(|it| {
             timed(
-                &mut s,
+                s,
                 it,
                 |s| {
                     s.undo().unwrap();
@@ -135,7 +116,7 @@ fn ops(c: &mut Criterion) {
         b.iter_custom(|it| {
             s.undo().unwrap();
             let d = timed(
-                &mut s,
+                s,
                 it,
                 |s| {
                     s.redo().unwrap();
@@ -148,8 +129,10 @@ fn ops(c: &mut Criterion) {
             d
         })
     });
-    g.finish();
-    // The frame after many edits: constraints added by edits are solved one by one.
+}
+
+/// The frame after many edits: constraints added by edits are solved one by one.
+fn frame_after_edits(c: &mut Criterion, centre: u32) {
     let mut g = c.benchmark_group("frame-after-edits");
     g.sample_size(20);
     let mut t = draped();

@@ -10,8 +10,8 @@ use criterion::{BenchmarkId, Criterion, Throughput, criterion_group, criterion_m
 use glam::Vec3;
 use parry3d::query::{PointQuery, Ray, RayCast};
 use parry3d::shape::TriMesh;
-use sim_core::body::{Body, BodyKind};
-use sim_core::obb::{BuildOptions, ObbTree};
+use sim_core::collision::body::{Body, BodyKind};
+use sim_core::collision::obb::{BuildOptions, ObbTree};
 
 fn lcg(seed: &mut u64) -> f32 {
     *seed = seed
@@ -55,7 +55,7 @@ fn mean_edge(b: &Body) -> f32 {
 }
 
 fn sphere(subdiv: usize) -> Body {
-    sim_core::body::sphere(Vec3::new(0.0, 0.3, 0.0), 0.3, subdiv).unwrap()
+    sim_core::collision::body::sphere(Vec3::new(0.0, 0.3, 0.0), 0.3, subdiv).unwrap()
 }
 
 fn parry_mesh(b: &Body) -> TriMesh {

@@ -6,16 +6,17 @@
 
 use glam::Vec3;
 use proptest::prelude::*;
-use sim_core::cloth::Simulation;
-use sim_core::edit::TearMode;
-use sim_core::edit::design::{DesignError, FORMAT};
-use sim_core::scenario::{ScenarioConfig, ScenarioName, build_simulation};
+use sim_core::design::Design;
+use sim_core::design::TearMode;
+use sim_core::design::file::{DesignError, FORMAT};
+use sim_core::scenario::{ScenarioConfig, ScenarioName, build_design};
+use sim_core::solver::Simulation;
 
 /// A small edited design on the cube: cut, torn, sewn, pinned, painted, with a seam.
-fn edited() -> Simulation {
+fn edited() -> Design {
     let mut cfg = ScenarioConfig::new(ScenarioName::DrapeCube);
     cfg.grid = 12;
-    let mut s = build_simulation(&cfg).unwrap();
+    let mut s = build_design(&cfg).unwrap();
     for _ in 0..10 {
         s.step().unwrap();
     }
@@ -25,7 +26,7 @@ fn edited() -> Simulation {
     s.sew(c, copy).unwrap();
     s.tear_edge(20, 21, TearMode::Delete).unwrap();
     s.set_pin(0, true).unwrap();
-    let p = s.cloth.x[c as usize];
+    let p = s.sim.cloth.x[c as usize];
     s.paint(p, 0.05, [10, 20, 200, 255]).unwrap();
     s.add_seam(&[1, 2, 3], &[9, 10, 11], 0.05).unwrap();
     s.tear.enabled = true;
@@ -36,32 +37,34 @@ fn edited() -> Simulation {
 fn a_design_round_trips() {
     let s = edited();
     let bytes = s.save_design().unwrap();
-    let t = Simulation::load_design(&bytes).unwrap();
-    assert_eq!(t.cloth.live.triangles(), s.cloth.live.triangles());
-    let tris = |s: &Simulation| s.cloth.live.iter().map(|(_, t)| *t).collect::<Vec<_>>();
+    let t = Design::load_design(&bytes).unwrap();
+    assert_eq!(t.sim.cloth.live.triangles(), s.sim.cloth.live.triangles());
+    let tris = |s: &Design| s.sim.cloth.live.iter().map(|(_, t)| *t).collect::<Vec<_>>();
     assert_eq!(tris(&t), tris(&s), "rest corners and UVs survive");
-    assert_eq!(t.cloth.x, s.cloth.x);
-    assert_eq!(t.cloth.v, s.cloth.v);
-    assert_eq!(t.cloth.pinned, s.cloth.pinned);
-    assert_eq!(t.cloth.mass, s.cloth.mass);
+    assert_eq!(t.sim.cloth.x, s.sim.cloth.x);
+    assert_eq!(t.sim.cloth.v, s.sim.cloth.v);
+    assert_eq!(t.sim.cloth.pinned, s.sim.cloth.pinned);
+    assert_eq!(t.sim.cloth.mass, s.sim.cloth.mass);
     assert_eq!(t.seams, s.seams);
     assert_eq!(t.texture.rgba, s.texture.rgba);
-    assert_eq!(t.material, s.material);
+    assert_eq!(t.sim.material, s.sim.material);
     assert_eq!(t.tear, s.tear);
-    assert_eq!(t.frame, s.frame);
-    assert_eq!(t.body.as_ref().unwrap().name, "cube");
+    assert_eq!(t.sim.frame, s.sim.frame);
+    assert_eq!(t.sim.body.as_ref().unwrap().name, "cube");
     // And it simulates as a solver built afresh from the saved state does. (The
     // saved simulation itself differs slightly: its edited constraints are solved after
     // the packed ones, a different Gauss-Seidel order.)
-    let mut fresh = Simulation::new(
-        s.cloth.clone(),
-        s.body.clone(),
-        s.model,
-        s.material,
-        s.env,
-        Some(s.substeps),
-    )
-    .unwrap();
+    let mut fresh = Design::new(
+        Simulation::new(
+            s.sim.cloth.clone(),
+            s.sim.body.clone(),
+            s.sim.model,
+            s.sim.material,
+            s.sim.env,
+            Some(s.sim.substeps),
+        )
+        .unwrap(),
+    );
     fresh.seams = s.seams.clone();
     fresh.tear = s.tear;
     let mut loaded = t;
@@ -70,10 +73,11 @@ fn a_design_round_trips() {
         loaded.step().unwrap();
     }
     let worst = fresh
+        .sim
         .cloth
         .x
         .iter()
-        .zip(&loaded.cloth.x)
+        .zip(&loaded.sim.cloth.x)
         .map(|(p, q)| (*p - *q).length())
         .fold(0.0f32, f32::max);
     // Rounding only (the loaded pattern mesh is rebuilt from the triangles' corners).
@@ -84,16 +88,16 @@ fn a_design_round_trips() {
 fn bad_files_fail_clearly() {
     let bytes = edited().save_design().unwrap();
     assert!(matches!(
-        Simulation::load_design(b"hello world, not a design"),
+        Design::load_design(b"hello world, not a design"),
         Err(DesignError::NotADesign)
     ));
     let mut newer = bytes.clone();
     newer[8..12].copy_from_slice(&(FORMAT + 1).to_le_bytes());
-    let e = Simulation::load_design(&newer).unwrap_err();
+    let e = Design::load_design(&newer).unwrap_err();
     assert!(matches!(e, DesignError::Newer { found } if found == FORMAT + 1));
     assert!(e.to_string().contains("newer"), "{e}");
     let truncated = &bytes[..bytes.len() / 2];
-    let e = Simulation::load_design(truncated).unwrap_err();
+    let e = Design::load_design(truncated).unwrap_err();
     assert!(
         e.to_string().contains("checksum") || e.to_string().contains("truncated"),
         "{e}"
@@ -101,7 +105,7 @@ fn bad_files_fail_clearly() {
     let mut flipped = bytes.clone();
     let k = bytes.len() - 100;
     flipped[k] ^= 0x40;
-    let e = Simulation::load_design(&flipped).unwrap_err();
+    let e = Design::load_design(&flipped).unwrap_err();
     assert!(e.to_string().contains("checksum"), "{e}");
 }
 
@@ -112,9 +116,9 @@ fn saving_to_a_file_and_back() {
     let path = dir.join("d.saiho");
     let s = edited();
     s.save_design_file(&path).unwrap();
-    let t = Simulation::load_design_file(&path).unwrap();
-    assert_eq!(t.cloth.live.tri_count(), s.cloth.live.tri_count());
-    let e = Simulation::load_design_file(&dir.join("missing.saiho")).unwrap_err();
+    let t = Design::load_design_file(&path).unwrap();
+    assert_eq!(t.sim.cloth.live.tri_count(), s.sim.cloth.live.tri_count());
+    let e = Design::load_design_file(&dir.join("missing.saiho")).unwrap_err();
     assert!(e.to_string().contains("missing.saiho"), "{e}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
@@ -144,7 +148,7 @@ proptest! {
             b[..8].copy_from_slice(b"SAIHODSN");
             b[8..12].copy_from_slice(&1u32.to_le_bytes());
         }
-        let _ = Simulation::load_design(&reseal(b));
+        let _ = Design::load_design(&reseal(b));
     }
 
     /// A valid file with bytes overwritten, cut short or lengthened, then re-sealed: the
@@ -161,7 +165,7 @@ proptest! {
         if let Some(c) = cut {
             b.truncate(c.index(b.len()).max(16));
         }
-        if let Ok(s) = Simulation::load_design(&reseal(b)) {
+        if let Ok(s) = Design::load_design(&reseal(b)) {
             prop_assert!(s.validate().is_ok());
         }
     }

@@ -4,14 +4,16 @@
 // Test helpers: a failed unwrap is a failed test, with its location.
 #![allow(clippy::unwrap_used)]
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use proptest::prelude::*;
-use sim_core::cloth::{Cloth, Environment, Material, ModelKind, Simulation};
-use sim_core::edit::{EditError, TearMode};
+use sim_core::design::Design;
+use sim_core::design::{EditError, TearMode};
 use sim_core::mesh::ClothMesh;
+use sim_core::scenario::{ScenarioConfig, ScenarioName, build_design};
+use sim_core::solver::{Cloth, Environment, Material, ModelKind, Simulation};
 
 /// An `n` x `n` cloth of 0.5 m lying flat at y = 1 in free space, no gravity unless asked.
-fn flat(n: usize, gravity: bool) -> Simulation {
+fn flat(n: usize, gravity: bool) -> Design {
     let mesh = ClothMesh::grid(0.5, 0.5, n, n, 1.0).unwrap();
     let m = Material::default();
     let cloth = Cloth::new(mesh, &m).unwrap();
@@ -24,22 +26,22 @@ fn flat(n: usize, gravity: bool) -> Simulation {
         },
         ..Environment::default()
     };
-    Simulation::new(cloth, None, ModelKind::Xpbd, m, env, None).unwrap()
+    Design::new(Simulation::new(cloth, None, ModelKind::Xpbd, m, env, None).unwrap())
 }
 
 /// Everything an edit changes, to compare designs.
-fn snapshot(s: &Simulation) -> (Vec<[u32; 3]>, usize, Vec<bool>, Vec<u8>) {
+fn snapshot(s: &Design) -> (Vec<[u32; 3]>, usize, Vec<bool>, Vec<u8>) {
     (
-        s.cloth.live.triangles(),
-        s.cloth.len(),
-        s.cloth.pinned.clone(),
+        s.sim.cloth.live.triangles(),
+        s.sim.cloth.len(),
+        s.sim.cloth.pinned.clone(),
         s.texture.rgba.clone(),
     )
 }
 
 /// Connected pieces of the live mesh (by shared vertices).
-fn pieces(s: &Simulation) -> usize {
-    let n = s.cloth.len();
+fn pieces(s: &Design) -> usize {
+    let n = s.sim.cloth.len();
     let mut parent: Vec<usize> = (0..n).collect();
     fn find(p: &mut [usize], i: usize) -> usize {
         let mut i = i;
@@ -49,7 +51,7 @@ fn pieces(s: &Simulation) -> usize {
         }
         i
     }
-    for t in s.cloth.live.triangles() {
+    for t in s.sim.cloth.live.triangles() {
         let a = find(&mut parent, t[0] as usize);
         for &v in &t[1..] {
             let b = find(&mut parent, v as usize);
@@ -57,7 +59,7 @@ fn pieces(s: &Simulation) -> usize {
         }
     }
     let mut roots: Vec<usize> = (0..n)
-        .filter(|&i| s.cloth.live.vertex_alive(i as u32))
+        .filter(|&i| s.sim.cloth.live.vertex_alive(i as u32))
         .map(|i| find(&mut parent, i))
         .collect();
     roots.sort_unstable();
@@ -76,23 +78,42 @@ fn cut_splits_a_vertex_and_undo_redo_restore() {
     let v = center_vertex(8);
     let new = s.cut_vertex(v, Vec3::X).unwrap();
     assert_eq!(new as usize, before.1, "the copy is appended");
-    assert_eq!(s.cloth.len(), before.1 + 1);
-    assert_eq!(s.cloth.live.tri_count(), before.0.len());
-    assert!(s.cloth.live.vertex_alive(v) && s.cloth.live.vertex_alive(new));
+    assert_eq!(s.sim.cloth.len(), before.1 + 1);
+    assert_eq!(s.sim.cloth.live.tri_count(), before.0.len());
+    assert!(s.sim.cloth.live.vertex_alive(v) && s.sim.cloth.live.vertex_alive(new));
     // Every triangle of the copy lies on the +Z side of the cut (plane normal X x Y = -Z
     // ... whichever side, all on one side and the original's on the other).
     let side = |t: u32| {
-        let tri = s.cloth.live.tri(t).unwrap();
-        tri.v.iter().map(|&i| s.cloth.x[i as usize].z).sum::<f32>() / 3.0 - s.cloth.x[v as usize].z
+        let tri = s.sim.cloth.live.tri(t).unwrap();
+        tri.v
+            .iter()
+            .map(|&i| s.sim.cloth.x[i as usize].z)
+            .sum::<f32>()
+            / 3.0
+            - s.sim.cloth.x[v as usize].z
     };
-    let a: Vec<f32> = s.cloth.live.tris_of(new).iter().map(|&t| side(t)).collect();
-    let b: Vec<f32> = s.cloth.live.tris_of(v).iter().map(|&t| side(t)).collect();
+    let a: Vec<f32> = s
+        .sim
+        .cloth
+        .live
+        .tris_of(new)
+        .iter()
+        .map(|&t| side(t))
+        .collect();
+    let b: Vec<f32> = s
+        .sim
+        .cloth
+        .live
+        .tris_of(v)
+        .iter()
+        .map(|&t| side(t))
+        .collect();
     assert!(a.iter().all(|z| *z * a[0] > 0.0) && b.iter().all(|z| *z * a[0] < 0.0));
     s.validate().unwrap();
     assert_eq!(s.undo().unwrap(), "cut");
     assert_eq!(snapshot(&s), before);
     assert_eq!(s.redo().unwrap(), "cut");
-    assert_eq!(s.cloth.len(), before.1 + 1);
+    assert_eq!(s.sim.cloth.len(), before.1 + 1);
     s.validate().unwrap();
     assert_eq!(s.redo(), Err(EditError::NothingToRedo));
 }
@@ -116,7 +137,7 @@ fn a_stroke_across_the_cloth_cuts_it_in_two_and_both_keep_simulating() {
     }
     s.validate().unwrap();
     // Both pieces fell freely (nothing holds them).
-    assert!(s.cloth.x.iter().all(|p| p.y < 0.99));
+    assert!(s.sim.cloth.x.iter().all(|p| p.y < 0.99));
     assert_eq!(s.undo().unwrap(), "cut stroke");
     assert_eq!(pieces(&s), 1);
 }
@@ -134,10 +155,10 @@ fn sewing_closes_a_cut_and_bad_sews_change_nothing() {
     assert_eq!(s.sew(0, 100_000), Err(EditError::NoVertex(100_000)));
     assert_eq!(snapshot(&s), before);
     // Sew two corners: the second is merged into the first, halfway between them.
-    let mid = (s.cloth.x[0] + s.cloth.x[8]) * 0.5;
+    let mid = (s.sim.cloth.x[0] + s.sim.cloth.x[8]) * 0.5;
     s.sew(c0, c1).unwrap();
-    assert!((s.cloth.x[0] - mid).length() < 1e-6);
-    assert!(!s.cloth.live.vertex_alive(c1));
+    assert!((s.sim.cloth.x[0] - mid).length() < 1e-6);
+    assert!(!s.sim.cloth.live.vertex_alive(c1));
     assert_eq!(s.sew(c1, 9), Err(EditError::RemovedVertex(c1)));
     s.validate().unwrap();
     s.undo().unwrap();
@@ -150,7 +171,9 @@ fn a_sew_that_would_make_an_edge_non_manifold_is_refused() {
     let before = snapshot(&s);
     // Some pairs of border vertices share a neighbour across an interior edge: merging
     // them would put a third triangle on that edge.
-    let border: Vec<u32> = (0..25).filter(|&v| s.cloth.live.is_boundary(v)).collect();
+    let border: Vec<u32> = (0..25)
+        .filter(|&v| s.sim.cloth.live.is_boundary(v))
+        .collect();
     let mut refused = 0;
     for &a in &border {
         for &b in &border {
@@ -172,22 +195,22 @@ fn a_sew_that_would_make_an_edge_non_manifold_is_refused() {
 #[test]
 fn tearing_by_hand_deletes_or_splits() {
     let mut s = flat(6, false);
-    let t0 = s.cloth.live.tri_count();
+    let t0 = s.sim.cloth.live.tri_count();
     let v = center_vertex(6);
-    let nb = s.cloth.live.neighbours(v)[0];
+    let nb = s.sim.cloth.live.neighbours(v)[0];
     s.tear_edge(v, nb, TearMode::Delete).unwrap();
-    assert_eq!(s.cloth.live.tri_count(), t0 - 2);
+    assert_eq!(s.sim.cloth.live.tri_count(), t0 - 2);
     s.validate().unwrap();
     assert_eq!(
         s.tear_edge(v, nb, TearMode::Delete),
         Err(EditError::NoEdge(v, nb))
     );
     s.undo().unwrap();
-    assert_eq!(s.cloth.live.tri_count(), t0);
-    let n0 = s.cloth.len();
+    assert_eq!(s.sim.cloth.live.tri_count(), t0);
+    let n0 = s.sim.cloth.len();
     s.tear_edge(v, nb, TearMode::Split).unwrap();
-    assert_eq!(s.cloth.live.tri_count(), t0);
-    assert_eq!(s.cloth.len(), n0 + 1);
+    assert_eq!(s.sim.cloth.live.tri_count(), t0);
+    assert_eq!(s.sim.cloth.len(), n0 + 1);
     s.validate().unwrap();
 }
 
@@ -201,18 +224,18 @@ fn a_pinched_cloth_pulled_hard_tears_and_reports_the_spring_force() {
     s.tear.enabled = true;
     s.tear.threshold = 1.5;
     let far = (n * (n + 1) + n / 2) as u32;
-    let start = s.cloth.x[far as usize];
+    let start = s.sim.cloth.x[far as usize];
     let v = s.pinch_begin(start, 0.01, 0.0, 200.0).unwrap();
     assert_eq!(v, far);
-    let t0 = s.cloth.live.tri_count();
+    let t0 = s.sim.cloth.live.tri_count();
     let mut torn = 0;
     let mut pulled_force = 0.0f32;
     for f in 0..240 {
         let target = start + Vec3::new(0.0, 0.0, 0.005 * f as f32);
         s.pinch_move(target);
         torn += s.step().unwrap().torn;
-        let forces = s.pinch_forces();
-        assert_eq!(forces.len(), s.substeps, "one force per substep");
+        let forces = s.sim.pinch_forces();
+        assert_eq!(forces.len(), s.sim.substeps, "one force per substep");
         assert!(forces.iter().all(|f| f.is_finite()));
         pulled_force = pulled_force.max(forces.last().unwrap().z);
         if torn > 0 {
@@ -221,12 +244,12 @@ fn a_pinched_cloth_pulled_hard_tears_and_reports_the_spring_force() {
     }
     assert!(pulled_force > 0.0, "the spring pulls the cloth toward +Z");
     assert!(torn > 0, "the cloth tore");
-    assert!(s.cloth.live.tri_count() < t0);
+    assert!(s.sim.cloth.live.tri_count() < t0);
     s.validate().unwrap();
     s.pinch_end();
-    assert!(s.pinch().is_none());
+    assert!(s.sim.pinch().is_none());
     s.step().unwrap();
-    assert!(s.pinch_forces().is_empty());
+    assert!(s.sim.pinch_forces().is_empty());
 }
 
 #[test]
@@ -254,20 +277,22 @@ fn paint_travels_with_a_cut() {
     let mut s = flat(8, false);
     let v = center_vertex(8);
     let uv_before: Vec<_> = s
+        .sim
         .cloth
         .live
         .tris_of(v)
         .iter()
-        .map(|&t| s.cloth.live.tri(t).unwrap().uv)
+        .map(|&t| s.sim.cloth.live.tri(t).unwrap().uv)
         .collect();
     let new = s.cut_vertex(v, Vec3::X).unwrap();
     let mut uv_after: Vec<_> = s
+        .sim
         .cloth
         .live
         .tris_of(v)
         .iter()
-        .chain(s.cloth.live.tris_of(new))
-        .map(|&t| s.cloth.live.tri(t).unwrap().uv)
+        .chain(s.sim.cloth.live.tris_of(new))
+        .map(|&t| s.sim.cloth.live.tri(t).unwrap().uv)
         .collect();
     let mut uv_before = uv_before;
     let key = |u: &[glam::Vec2; 3]| u.map(|p| (p.x.to_bits(), p.y.to_bits()));
@@ -277,19 +302,21 @@ fn paint_travels_with_a_cut() {
 }
 
 /// A small cloth on the paper's seed model, which edits and material changes refuse.
-fn seed_cloth() -> Simulation {
+fn seed_cloth() -> Design {
     let mesh = ClothMesh::grid(0.5, 0.5, 4, 4, 1.0).unwrap();
     let m = Material::default();
     let cloth = Cloth::new(mesh, &m).unwrap();
-    Simulation::new(
-        cloth,
-        None,
-        ModelKind::Seed,
-        m,
-        Environment::default(),
-        None,
+    Design::new(
+        Simulation::new(
+            cloth,
+            None,
+            ModelKind::Seed,
+            m,
+            Environment::default(),
+            None,
+        )
+        .unwrap(),
     )
-    .unwrap()
 }
 
 #[test]
@@ -299,8 +326,8 @@ fn operations_need_the_xpbd_model() {
 }
 
 /// The border path of `len` vertices starting at `v` along border edges (if there is one).
-fn border_path(s: &Simulation, v: u32, len: usize) -> Option<Vec<u32>> {
-    let live = &s.cloth.live;
+fn border_path(s: &Design, v: u32, len: usize) -> Option<Vec<u32>> {
+    let live = &s.sim.cloth.live;
     if !live.vertex_alive(v) || !live.is_boundary(v) {
         return None;
     }
@@ -330,15 +357,15 @@ fn a_seam_pulls_two_cut_pieces_together_and_welds_them() {
     let b: Vec<u32> = a
         .iter()
         .map(|&v| {
-            (0..s.cloth.len() as u32)
+            (0..s.sim.cloth.len() as u32)
                 .rev()
-                .find(|&u| u != v && s.cloth.x[u as usize] == s.cloth.x[v as usize])
+                .find(|&u| u != v && s.sim.cloth.x[u as usize] == s.sim.cloth.x[v as usize])
                 .unwrap()
         })
         .collect();
-    for i in 0..s.cloth.len() {
-        if s.cloth.x[i].z > 0.0 || b.contains(&(i as u32)) {
-            s.cloth.x[i].z += 0.03;
+    for i in 0..s.sim.cloth.len() {
+        if s.sim.cloth.x[i].z > 0.0 || b.contains(&(i as u32)) {
+            s.sim.cloth.x[i].z += 0.03;
         }
     }
     let before = snapshot(&s);
@@ -397,21 +424,24 @@ fn op() -> impl Strategy<Value = Op> {
 }
 
 /// Runs `op`; whether it did something.
-fn run(s: &mut Simulation, op: &Op) -> bool {
-    let n = s.cloth.len() as u32;
+fn run(s: &mut Design, op: &Op) -> bool {
+    let n = s.sim.cloth.len() as u32;
     // Errors are expected (bad picks); they must leave a valid design.
     let r = match *op {
         Op::Cut(v, a) => s
             .cut_vertex(v % n, Vec3::new(a.cos(), 0.0, a.sin()))
             .map(|_| ()),
         Op::Stroke(a, b) => {
-            let (p, q) = (s.cloth.x[(a % n) as usize], s.cloth.x[(b % n) as usize]);
+            let (p, q) = (
+                s.sim.cloth.x[(a % n) as usize],
+                s.sim.cloth.x[(b % n) as usize],
+            );
             s.cut_stroke(&[p, q], 0.03).map(|_| ())
         }
         Op::Sew(a, b) => {
             // Prefer border vertices so some sews succeed.
             let border: Vec<u32> = (0..n)
-                .filter(|&v| s.cloth.live.vertex_alive(v) && s.cloth.live.is_boundary(v))
+                .filter(|&v| s.sim.cloth.live.vertex_alive(v) && s.sim.cloth.live.is_boundary(v))
                 .collect();
             if border.is_empty() {
                 Ok(())
@@ -429,7 +459,7 @@ fn run(s: &mut Simulation, op: &Op) -> bool {
         },
         Op::Tear(v, k, delete) => {
             let v = v % n;
-            let nb = s.cloth.live.neighbours(v);
+            let nb = s.sim.cloth.live.neighbours(v);
             if nb.is_empty() {
                 Ok(())
             } else {
@@ -443,7 +473,7 @@ fn run(s: &mut Simulation, op: &Op) -> bool {
         }
         Op::Pin(v, p) => s.set_pin(v % n, p),
         Op::Paint(v) => {
-            let p = s.cloth.x[(v % n) as usize];
+            let p = s.sim.cloth.x[(v % n) as usize];
             s.paint(p, 0.01, [10, 200, 10, 255])
         }
         Op::Undo => s.undo().map(|_| ()),
@@ -461,13 +491,13 @@ proptest! {
     #[test]
     fn random_operation_sequences_keep_the_mesh_valid(ops in prop::collection::vec(op(), 1000)) {
         let mut s = flat(10, true);
-        s.env.floor = Some(0.0);
+        s.sim.env.floor = Some(0.0);
         let mut done = std::collections::HashMap::new();
         for (k, o) in ops.iter().enumerate() {
             if run(&mut s, o) {
                 *done.entry(std::mem::discriminant(o)).or_insert(0usize) += 1;
             }
-            if s.cloth.live.tri_count() == 0 {
+            if s.sim.cloth.live.tri_count() == 0 {
                 // Everything torn away: nothing left to check.
                 break;
             }
@@ -480,14 +510,14 @@ proptest! {
         // is not counted here; a dedicated test covers it.)
         for o in [Op::Cut(0, 0.0), Op::Sew(0, 0), Op::Tear(0, 0, true), Op::Undo, Op::Paint(0)] {
             let count = done.get(&std::mem::discriminant(&o)).copied().unwrap_or(0);
-            prop_assert!(count >= 5 || s.cloth.live.tri_count() == 0, "{o:?} succeeded {count} times: {done:?}");
+            prop_assert!(count >= 5 || s.sim.cloth.live.tri_count() == 0, "{o:?} succeeded {count} times: {done:?}");
         }
         for _ in 0..30 {
             prop_assert!(s.step().is_ok());
         }
-        prop_assert!(s.cloth.is_finite());
+        prop_assert!(s.sim.cloth.is_finite());
         // Stable: nothing flies off (free fall for ~0.5 s covers about 1.2 m at most).
-        prop_assert!(s.cloth.x.iter().all(|p| p.length() < 20.0));
+        prop_assert!(s.sim.cloth.x.iter().all(|p| p.length() < 20.0));
     }
 }
 
@@ -508,7 +538,7 @@ fn incremental_solver_update_matches_a_fresh_build() {
         floor: None,
         ..Environment::default()
     };
-    let mut a = Simulation::new(cloth, None, ModelKind::Xpbd, m, env, None).unwrap();
+    let mut a = Design::new(Simulation::new(cloth, None, ModelKind::Xpbd, m, env, None).unwrap());
     for i in 0..=n as u32 {
         a.set_pin(i, true).unwrap();
     }
@@ -516,27 +546,30 @@ fn incremental_solver_update_matches_a_fresh_build() {
     // A vertical slit down the middle of rows 4..10, a hole torn lower, a sew at the foot.
     // A vertical slit down rows 4..10 of the middle column, a hole torn lower down, and
     // the slit sewn shut again at its middle (the copy of a split vertex back to it).
-    let slit: Vec<Vec3> = (4..10).map(|r| a.cloth.x[row(r, 8) as usize]).collect();
-    let first_copy = a.cloth.len() as u32;
+    let slit: Vec<Vec3> = (4..10).map(|r| a.sim.cloth.x[row(r, 8) as usize]).collect();
+    let first_copy = a.sim.cloth.len() as u32;
     assert!(a.cut_stroke(&slit, 0.01).unwrap() >= 5);
     a.tear_edge(row(12, 4), row(12, 5), TearMode::Delete)
         .unwrap();
     let copy = first_copy + 2;
     let origin = (0..first_copy)
-        .find(|&v| a.cloth.x[v as usize] == a.cloth.x[copy as usize])
+        .find(|&v| a.sim.cloth.x[v as usize] == a.sim.cloth.x[copy as usize])
         .unwrap();
     a.sew(origin, copy).unwrap();
-    let mut b = Simulation::new(a.cloth.clone(), None, ModelKind::Xpbd, m, env, None).unwrap();
-    assert_eq!(a.constraint_count(), b.constraint_count());
+    let mut b = Design::new(
+        Simulation::new(a.sim.cloth.clone(), None, ModelKind::Xpbd, m, env, None).unwrap(),
+    );
+    assert_eq!(a.sim.constraint_count(), b.sim.constraint_count());
     for _ in 0..240 {
         a.step().unwrap();
         b.step().unwrap();
     }
     let worst = a
+        .sim
         .cloth
         .x
         .iter()
-        .zip(&b.cloth.x)
+        .zip(&b.sim.cloth.x)
         .map(|(p, q)| (*p - *q).length())
         .fold(0.0f32, f32::max);
     assert!(
@@ -544,11 +577,11 @@ fn incremental_solver_update_matches_a_fresh_build() {
         "incremental and fresh solvers differ by {worst} m"
     );
     // And the slit opened: the cloth is not what it was without the edits.
-    assert!(a.cloth.live.tri_count() == 2 * n * n - 2);
+    assert!(a.sim.cloth.live.tri_count() == 2 * n * n - 2);
 }
 
 /// A hanging, edited cloth: pinned along one side, with a seam pulling, and cut.
-fn hanging_edited(n: usize, cut: bool) -> Simulation {
+fn hanging_edited(n: usize, cut: bool) -> Design {
     let mut s = flat(n, true);
     for i in 0..=n {
         s.set_pin(i as u32, true).unwrap();
@@ -574,36 +607,38 @@ fn the_material_changes_in_place_keeping_the_design() {
     // and that order changes a swinging cloth by a fraction of a millimetre per frame.)
     let mut a = hanging_edited(n, false);
     let mut b = hanging_edited(n, false);
-    let x0 = a.cloth.x.clone();
-    a.set_material(a.material, None).unwrap();
-    assert_eq!(a.cloth.x, x0);
+    let x0 = a.sim.cloth.x.clone();
+    a.sim.set_material(a.sim.material, None).unwrap();
+    assert_eq!(a.sim.cloth.x, x0);
     for _ in 0..30 {
         a.step().unwrap();
         b.step().unwrap();
     }
     let drift = a
+        .sim
         .cloth
         .x
         .iter()
-        .zip(&b.cloth.x)
+        .zip(&b.sim.cloth.x)
         .map(|(p, q)| p.distance(*q))
         .fold(0.0f32, f32::max);
     assert!(drift < 1e-6, "rebuilt solver drifted {drift} m");
 
     let mut a = hanging_edited(n, true);
     let mut b = hanging_edited(n, true);
-    let (mass0, tris0) = (a.cloth.mass.clone(), a.cloth.live.triangles());
+    let (mass0, tris0) = (a.sim.cloth.mass.clone(), a.sim.cloth.live.triangles());
     // A softer, heavier cloth at more substeps: masses follow the density, the mesh,
     // pins and seam stay, and it hangs lower than the unchanged one.
-    let mut m = a.material;
+    let mut m = a.sim.material;
     m.density *= 2.0;
     m.stretch *= 0.05;
-    a.set_material(m, Some(9)).unwrap();
-    assert_eq!((a.material, a.substeps), (m, 9));
-    assert_eq!(a.cloth.live.triangles(), tris0);
+    a.sim.set_material(m, Some(9)).unwrap();
+    assert_eq!((a.sim.material, a.sim.substeps), (m, 9));
+    assert_eq!(a.sim.cloth.live.triangles(), tris0);
     assert_eq!(a.seams.len(), 1);
-    assert!(a.cloth.is_pinned(0) && a.cloth.is_pinned(n));
+    assert!(a.sim.cloth.is_pinned(0) && a.sim.cloth.is_pinned(n));
     let off = a
+        .sim
         .cloth
         .mass
         .iter()
@@ -617,7 +652,7 @@ fn the_material_changes_in_place_keeping_the_design() {
         b.step().unwrap();
     }
     // The tethers bound how far it can sag; within them, softer hangs lower (5 mm here).
-    let low = |s: &Simulation| s.cloth.x.iter().map(|p| p.y).fold(f32::MAX, f32::min);
+    let low = |s: &Design| s.sim.cloth.x.iter().map(|p| p.y).fold(f32::MAX, f32::min);
     assert!(
         low(&a) < low(&b) - 0.002,
         "softer cloth lowest at {} m, unchanged at {} m",
@@ -629,19 +664,70 @@ fn the_material_changes_in_place_keeping_the_design() {
 #[test]
 fn a_bad_material_change_changes_nothing() {
     let mut s = hanging_edited(8, true);
-    let (m, sub, x) = (s.material, s.substeps, s.cloth.x.clone());
+    let (m, sub, x) = (s.sim.material, s.sim.substeps, s.sim.cloth.x.clone());
     let mut bad = m;
     bad.density = -1.0;
-    assert!(s.set_material(bad, None).is_err());
+    assert!(s.sim.set_material(bad, None).is_err());
     bad = m;
     bad.stretch = f32::NAN;
-    assert!(s.set_material(bad, None).is_err());
-    assert!(s.set_material(m, Some(0)).is_err());
-    assert!(s.set_material(m, Some(1000)).is_err());
-    assert_eq!((s.material, s.substeps), (m, sub));
-    assert_eq!(s.cloth.x, x);
+    assert!(s.sim.set_material(bad, None).is_err());
+    assert!(s.sim.set_material(m, Some(0)).is_err());
+    assert!(s.sim.set_material(m, Some(1000)).is_err());
+    assert_eq!((s.sim.material, s.sim.substeps), (m, sub));
+    assert_eq!(s.sim.cloth.x, x);
 
     let mut seed = seed_cloth();
-    let e = seed.set_material(m, None).unwrap_err().to_string();
+    let e = seed.sim.set_material(m, None).unwrap_err().to_string();
     assert!(e.contains("xpbd"), "{e}");
+}
+
+/// Selections on the pattern: a rectangle removes the triangles whose UV centre is in it,
+/// two segments make a seam of the border vertices along them; empty ones are refused.
+#[test]
+fn pattern_selections_remove_and_seam_or_refuse() {
+    let mut cfg = ScenarioConfig::new(ScenarioName::DrapeCube);
+    cfg.grid = 8;
+    let mut sim = build_design(&cfg).unwrap();
+    let tris = sim.sim.cloth.live.tri_count();
+    // Nothing there: refused, nothing changes.
+    assert_eq!(
+        sim.remove_region(Vec2::splat(2.0), Vec2::splat(3.0)),
+        Err(EditError::NothingOnPattern { what: "triangle" })
+    );
+    assert_eq!(sim.sim.cloth.live.tri_count(), tris);
+    // The corner square beyond u, v = 0.75: 2 x 2 cells, 8 triangles.
+    assert_eq!(
+        sim.remove_region(Vec2::splat(0.75), Vec2::splat(1.5)),
+        Ok(8)
+    );
+    assert_eq!(sim.sim.cloth.live.tri_count(), tris - 8);
+    // The two flaps' edges along the cut lines, from the inner corner outwards.
+    let a = sim.pattern_path(Vec2::new(0.75, 0.75), Vec2::new(0.75, 1.0), 0.03);
+    let b = sim.pattern_path(Vec2::new(0.75, 0.75), Vec2::new(1.0, 0.75), 0.03);
+    assert_eq!((a.len(), b.len()), (2, 2), "{a:?} {b:?}");
+    let uv = |v: u32| sim.vertex_uv(v).unwrap();
+    assert!(uv(a[0]).y < uv(a[1]).y && uv(b[0]).x < uv(b[1]).x);
+    let pairs = sim
+        .seam_on_pattern(
+            [Vec2::new(0.75, 0.75), Vec2::new(0.75, 1.0)],
+            [Vec2::new(0.75, 0.75), Vec2::new(1.0, 0.75)],
+            0.03,
+        )
+        .unwrap();
+    assert_eq!(pairs, 2);
+    // Interior lines are no border: refused.
+    let depth = sim.history.undo_len();
+    assert!(
+        sim.seam_on_pattern(
+            [Vec2::new(0.25, 0.25), Vec2::new(0.25, 0.5)],
+            [Vec2::new(0.5, 0.25), Vec2::new(0.5, 0.5)],
+            0.03,
+        )
+        .is_err()
+    );
+    assert!(
+        sim.seam_on_pattern([Vec2::ZERO; 2], [Vec2::ONE; 2], -1.0)
+            .is_err()
+    );
+    assert_eq!(sim.history.undo_len(), depth);
 }

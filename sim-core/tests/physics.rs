@@ -5,13 +5,12 @@
 #![allow(clippy::unwrap_used)]
 
 use glam::Vec3;
-use sim_core::body::BodyKind;
-use sim_core::cloth::{
-    Cloth, ContactCache, ContactParams, Environment, Material, ModelKind, Seed, Simulation,
-    seed_safe_step, seed_stable_step,
-};
+use sim_core::collision::{BodyKind, ContactCache, ContactParams};
 use sim_core::mesh::ClothMesh;
-use sim_core::scenario::{ScenarioConfig, ScenarioName, build_simulation};
+use sim_core::scenario::{ScenarioConfig, ScenarioName, build_design};
+use sim_core::solver::{
+    Cloth, Environment, Material, ModelKind, Seed, Simulation, seed_safe_step, seed_stable_step,
+};
 
 /// A `size` square cloth, `n` x `n` cells, pinned at the two corners of its -Z edge, in
 /// free space (no floor, no body).
@@ -372,7 +371,7 @@ fn two_threads_give_the_same_cloth_as_one() {
         // Large enough (4,225 vertices) that the broad phase splits too.
         cfg.grid = 64;
         cfg.threads = threads;
-        let mut sim = build_simulation(&cfg).unwrap();
+        let mut sim = build_design(&cfg).unwrap().sim;
         assert_eq!(sim.set_threads(threads), threads);
         for _ in 0..60 {
             sim.step().unwrap();
@@ -422,7 +421,7 @@ fn no_tunnelling_at_two_metres_per_second() {
         cfg.grid = 24;
         cfg.body = body.clone();
         cfg.cloth_size = 0.6;
-        let mut sim = build_simulation(&cfg).unwrap();
+        let mut sim = build_design(&cfg).unwrap().sim;
         // Throw the cloth down at 2 m/s from 10 cm above the body.
         for (p, v) in sim.cloth.x.iter_mut().zip(sim.cloth.v.iter_mut()) {
             p.y += 0.05;
@@ -523,7 +522,7 @@ fn stretch_limits_keep_a_cloth_draped_on_the_mannequin_near_its_rest_length() {
         let mut cfg = ScenarioConfig::new(ScenarioName::DrapeMannequin);
         cfg.grid = 64;
         cfg.material.stretch_limits = stretch_limits;
-        let mut sim = build_simulation(&cfg).unwrap();
+        let mut sim = build_design(&cfg).unwrap().sim;
         assert_eq!(sim.substeps, 5);
         run_until_still(&mut sim, 360);
         sim

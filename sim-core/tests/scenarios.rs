@@ -3,7 +3,7 @@
 // Test helpers: a failed unwrap is a failed test, with its location.
 #![allow(clippy::unwrap_used)]
 
-use sim_core::cloth::Simulation;
+use sim_core::design::Design;
 use sim_core::scenario::{Report, ScenarioConfig, ScenarioName, run_scenario};
 
 fn run(name: ScenarioName, grid: usize, frames: u64) -> (Report, std::path::PathBuf) {
@@ -63,8 +63,8 @@ fn fit_cube_takes_the_cubes_shape() {
     let bin_len = u32_at(20 + json_len);
     assert_eq!(&glb[24 + json_len..28 + json_len], b"BIN\0");
     assert_eq!(gltf["buffers"][0]["byteLength"], bin_len);
-    let d = Simulation::load_design_file(&out.join("design.saiho")).unwrap();
-    assert_eq!(d.cloth.live.tri_count(), fit.triangles);
+    let d = Design::load_design_file(&out.join("design.saiho")).unwrap();
+    assert_eq!(d.sim.cloth.live.tri_count(), fit.triangles);
     assert_eq!(d.seams.len(), 4);
     std::fs::remove_dir_all(out).unwrap();
 }

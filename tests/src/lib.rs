@@ -49,6 +49,7 @@ pub fn bin(name: &str) -> PathBuf {
         let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
         let sources = [
             "sim-core/src",
+            "cloth-sim/src",
             "haptic-loop/src",
             "shared/src",
             "tools/src",
@@ -69,7 +70,7 @@ pub fn bin(name: &str) -> PathBuf {
                     "build",
                     "--bins",
                     "-p",
-                    "sim-core",
+                    "cloth-sim",
                     "-p",
                     "haptic-loop",
                     "-p",

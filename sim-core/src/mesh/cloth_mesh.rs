@@ -122,7 +122,7 @@ impl ClothMesh {
                 return Err(GeometryError::Degenerate { triangle: t });
             }
         }
-        Topology::build(self).map(|_| ())
+        Topology::build(&self.triangles).map(|_| ())
     }
 
     /// Lumped vertex masses: a third of each adjacent triangle's rest area times `density`.

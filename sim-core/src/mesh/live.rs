@@ -11,6 +11,7 @@ use std::collections::HashMap;
 use glam::{Vec2, Vec3};
 
 use super::cloth_mesh::ClothMesh;
+use super::edge::{edge_ends, edge_key};
 use crate::error::GeometryError;
 
 /// One live triangle: vertex indices, and per corner its rest position and UV.
@@ -41,16 +42,6 @@ impl Tri {
 
 /// No triangle on this side of an edge.
 pub const NONE: u32 = u32::MAX;
-
-/// The canonical key of the undirected edge `(a, b)`.
-pub fn edge_key(a: u32, b: u32) -> u64 {
-    ((a.min(b) as u64) << 32) | a.max(b) as u64
-}
-
-/// The two vertices of an `edge_key`, lower first.
-pub fn edge_ends(key: u64) -> (u32, u32) {
-    ((key >> 32) as u32, key as u32)
-}
 
 #[derive(Clone, Debug, Default)]
 pub struct LiveMesh {

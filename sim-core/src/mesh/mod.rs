@@ -1,20 +1,17 @@
-//! Triangle meshes: the cloth's pattern, its topology, and OBJ input/output.
+//! Triangle meshes, the bottom layer: edge keys, topology (edges and hinges), the cloth's
+//! pattern mesh, the live (edited) mesh and OBJ input/output. Imports nothing above it.
+//!
+//! Inside: `edge` <- `topology` <- `cloth_mesh` <- `live`; `obj` reads into a `ClothMesh`.
 
+mod bounds;
 mod cloth_mesh;
+mod edge;
 pub mod live;
 pub mod obj;
 mod topology;
 
+pub use bounds::bounds;
 pub use cloth_mesh::{ClothMesh, MAX_VERTICES};
-pub use live::{LiveMesh, Tri, edge_key};
+pub use edge::{edge_ends, edge_key};
+pub use live::{LiveMesh, NONE, Tri};
 pub use topology::{Edge, Hinge, Topology};
-
-use glam::Vec3;
-
-/// Axis-aligned bounds `(min, max)` of a point set (infinite and inverted when empty).
-pub fn bounds(points: &[Vec3]) -> (Vec3, Vec3) {
-    points.iter().fold(
-        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-        |(a, b), &p| (a.min(p), b.max(p)),
-    )
-}

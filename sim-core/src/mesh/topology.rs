@@ -1,6 +1,6 @@
 //! Edges and hinges (pairs of triangles sharing an edge) of a triangle mesh.
 
-use super::cloth_mesh::ClothMesh;
+use super::edge::{edge_ends, edge_key};
 use crate::error::GeometryError;
 
 /// A unique undirected edge `(a < b)` with the triangles on each side.
@@ -25,13 +25,14 @@ pub struct Topology {
 }
 
 impl Topology {
-    /// O(t log t) by sorting half-edges. Fails on an edge shared by more than two triangles.
-    pub fn build(mesh: &ClothMesh) -> Result<Self, GeometryError> {
-        let mut half: Vec<(u64, u32, u32)> = Vec::with_capacity(mesh.triangles.len() * 3);
-        for (t, tri) in mesh.triangles.iter().enumerate() {
+    /// The edges and hinges of `triangles`, O(t log t) by sorting half-edges. Fails on
+    /// an edge shared by more than two triangles.
+    pub fn build(triangles: &[[u32; 3]]) -> Result<Self, GeometryError> {
+        let mut half: Vec<(u64, u32, u32)> = Vec::with_capacity(triangles.len() * 3);
+        for (t, tri) in triangles.iter().enumerate() {
             for k in 0..3 {
                 let (a, b, opp) = (tri[k], tri[(k + 1) % 3], tri[(k + 2) % 3]);
-                let key = super::live::edge_key(a, b);
+                let key = edge_key(a, b);
                 half.push((key, t as u32, opp));
             }
         }
@@ -45,7 +46,7 @@ impl Topology {
             while j < half.len() && half[j].0 == key {
                 j += 1;
             }
-            let (a, b) = super::live::edge_ends(key);
+            let (a, b) = edge_ends(key);
             let count = j - i;
             if count > 2 {
                 return Err(GeometryError::NonManifoldEdge { a, b, count });
@@ -70,12 +71,13 @@ impl Topology {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mesh::ClothMesh;
 
     #[test]
     fn grid_topology_counts() {
         let (nx, nz) = (3usize, 2usize);
         let m = ClothMesh::grid(1.0, 1.0, nx, nz, 0.0).unwrap();
-        let t = Topology::build(&m).unwrap();
+        let t = Topology::build(&m.triangles).unwrap();
         // Horizontal + vertical + one diagonal per cell.
         assert_eq!(t.edges.len(), nx * (nz + 1) + nz * (nx + 1) + nx * nz);
         let boundary = t.edges.iter().filter(|e| e.tris[1] == u32::MAX).count();

@@ -1,11 +1,17 @@
-//! Headless scenarios: the paper's drape-over-a-cube experiment and friends, with a JSON
-//! report and OBJ exports.
+//! Headless scenarios, the top of the library: the paper's drape-over-a-cube experiment
+//! and friends, each a scripted design with a JSON report and exports.
+//!
+//! Inside: `config` (names, settings, the scene) <- `scripts` (what fit-cube, tear and
+//! paint do, through the design's public operations) <- `run` (frames, measures,
+//! exports); `report` (the JSON); `realtime` (the largest real-time grid).
 
+mod config;
+mod realtime;
 mod report;
 mod run;
 pub mod scripts;
 
-pub use report::{Percentiles, Report};
-pub use run::{
-    ScenarioConfig, ScenarioError, ScenarioName, build_simulation, max_realtime_grid, run_scenario,
-};
+pub use config::{ScenarioConfig, ScenarioError, ScenarioName, build_design};
+pub use realtime::max_realtime_grid;
+pub use report::{OpsReport, Percentiles, Report};
+pub use run::run_scenario;

@@ -5,9 +5,8 @@
 
 use glam::Vec3;
 
-use crate::body::Body;
-use crate::cloth::Simulation;
-use crate::edit::{EditError, STITCH_FORCE, TearMode};
+use crate::collision::Body;
+use crate::design::{Design, EditError, STITCH_FORCE, TearMode};
 
 /// Frames of plain draping before the operations start.
 pub const DRAPE_FRAMES: u64 = 240;
@@ -24,8 +23,8 @@ pub struct FitOps {
 }
 
 /// The pattern position of vertex `v` relative to the pattern's centre (X, Z).
-fn pattern(sim: &Simulation, v: usize, centre: Vec3) -> (f32, f32) {
-    let p = sim.cloth.rest.positions[v] - centre;
+fn pattern(design: &Design, v: usize, centre: Vec3) -> (f32, f32) {
+    let p = design.sim.cloth.rest.positions[v] - centre;
     (p.x, p.z)
 }
 
@@ -33,9 +32,9 @@ fn pattern(sim: &Simulation, v: usize, centre: Vec3) -> (f32, f32) {
 /// both side faces at each vertical edge of the cube), then sew the two flaps that meet at
 /// each vertical edge with a seam. The cut lines are the grid lines just outside the cube's
 /// side faces.
-pub fn fit_cube(sim: &mut Simulation, body: &Body, grid: usize) -> Result<FitOps, EditError> {
+pub fn fit_cube(design: &mut Design, body: &Body, grid: usize) -> Result<FitOps, EditError> {
     let (mn, mx) = body.bounds();
-    let (pmin, pmax) = crate::mesh::bounds(&sim.cloth.rest.positions);
+    let (pmin, pmax) = crate::mesh::bounds(&design.sim.cloth.rest.positions);
     let centre = (pmin + pmax) * 0.5;
     let size = pmax.x - pmin.x;
     let cell = size / grid.max(1) as f32;
@@ -46,7 +45,8 @@ pub fn fit_cube(sim: &mut Simulation, body: &Body, grid: usize) -> Result<FitOps
     let tol = 0.25 * cell;
     let mut ops = FitOps::default();
     for (sx, sz) in [(1.0f32, 1.0f32), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)] {
-        let corner: Vec<u32> = sim
+        let corner: Vec<u32> = design
+            .sim
             .cloth
             .live
             .iter()
@@ -56,12 +56,12 @@ pub fn fit_cube(sim: &mut Simulation, body: &Body, grid: usize) -> Result<FitOps
             })
             .map(|(s, _)| s)
             .collect();
-        sim.remove_triangles(&corner)?;
+        design.remove_triangles(&corner)?;
         ops.cuts += 1;
         let line = |on_x: bool| -> Vec<u32> {
-            let mut v: Vec<(f32, u32)> = (0..sim.cloth.rest.positions.len())
+            let mut v: Vec<(f32, u32)> = (0..design.sim.cloth.rest.positions.len())
                 .filter_map(|i| {
-                    let (px, pz) = pattern(sim, i, centre);
+                    let (px, pz) = pattern(design, i, centre);
                     let (across, along) = if on_x {
                         (sx * px, sz * pz)
                     } else {
@@ -74,7 +74,7 @@ pub fn fit_cube(sim: &mut Simulation, body: &Body, grid: usize) -> Result<FitOps
             v.into_iter().map(|(_, i)| i).collect()
         };
         let (a, b) = (line(true), line(false));
-        ops.pairs += sim.add_seam(&a, &b, STITCH_FORCE)?;
+        ops.pairs += design.add_seam(&a, &b, STITCH_FORCE)?;
         ops.seams += 1;
     }
     Ok(ops)
@@ -84,32 +84,36 @@ pub fn fit_cube(sim: &mut Simulation, body: &Body, grid: usize) -> Result<FitOps
 /// thickness: over the live vertices whose pattern position lies beyond exactly one side
 /// face (the panels that should hang flat against that face), at least 2 cm below the top
 /// edge, `(mean, max)` in metres.
-pub fn fit_gap(sim: &Simulation, body: &Body) -> (f64, f64) {
+pub fn fit_gap(design: &Design, body: &Body) -> (f64, f64) {
     let (mn, mx) = body.bounds();
-    let (pmin, pmax) = crate::mesh::bounds(&sim.cloth.rest.positions);
+    let (pmin, pmax) = crate::mesh::bounds(&design.sim.cloth.rest.positions);
     let centre = (pmin + pmax) * 0.5;
     let half = 0.5 * (mx.x - mn.x).max(mx.z - mn.z);
-    let th = sim.material.thickness;
-    let gaps: Vec<f64> = (0..sim.cloth.len())
-        .filter(|&i| sim.cloth.live.vertex_alive(i as u32))
+    let th = design.sim.material.thickness;
+    let gaps: Vec<f64> = (0..design.sim.cloth.len())
+        .filter(|&i| design.sim.cloth.live.vertex_alive(i as u32))
         .filter(|&i| {
-            let q = if i < sim.cloth.rest.positions.len() {
-                sim.cloth.rest.positions[i] - centre
+            let q = if i < design.sim.cloth.rest.positions.len() {
+                design.sim.cloth.rest.positions[i] - centre
             } else {
                 // A vertex made by a split: its pattern place is its triangles' corner.
-                sim.cloth
+                design
+                    .sim
+                    .cloth
                     .live
                     .tris_of(i as u32)
                     .first()
-                    .and_then(|&t| sim.cloth.live.tri(t))
+                    .and_then(|&t| design.sim.cloth.live.tri(t))
                     .and_then(|t| t.corner(i as u32).map(|k| t.rest[k]))
                     .unwrap_or(centre)
                     - centre
             };
-            (q.x.abs() > half) != (q.z.abs() > half) && sim.cloth.x[i].y < mx.y - 0.02
+            (q.x.abs() > half) != (q.z.abs() > half) && design.sim.cloth.x[i].y < mx.y - 0.02
         })
         .map(|i| {
-            let d = body.signed_distance(sim.cloth.x[i], 1.0).unwrap_or(1.0);
+            let d = body
+                .signed_distance(design.sim.cloth.x[i], 1.0)
+                .unwrap_or(1.0);
             (d - th).max(0.0) as f64
         })
         .collect();
@@ -122,11 +126,11 @@ pub fn fit_gap(sim: &Simulation, body: &Body) -> (f64, f64) {
 
 /// The tear scenario's setup after draping: hold the cloth on the cube's top face (pin
 /// what lies on it), switch tearing on, and grip the cloth's first corner.
-pub fn tear_setup(sim: &mut Simulation, body: &Body) -> Result<u32, EditError> {
+pub fn tear_setup(design: &mut Design, body: &Body) -> Result<u32, EditError> {
     let (mn, mx) = body.bounds();
-    let on_top: Vec<u32> = (0..sim.cloth.len() as u32)
+    let on_top: Vec<u32> = (0..design.sim.cloth.len() as u32)
         .filter(|&i| {
-            let p = sim.cloth.x[i as usize];
+            let p = design.sim.cloth.x[i as usize];
             p.y > mx.y - 0.005
                 && p.x > mn.x + 0.05
                 && p.x < mx.x - 0.05
@@ -135,13 +139,13 @@ pub fn tear_setup(sim: &mut Simulation, body: &Body) -> Result<u32, EditError> {
         })
         .collect();
     for v in on_top {
-        sim.set_pin(v, true)?;
+        design.set_pin(v, true)?;
     }
-    sim.tear.enabled = true;
-    sim.tear.mode = TearMode::Delete;
-    let corner = sim.cloth.x[0];
+    design.tear.enabled = true;
+    design.tear.mode = TearMode::Delete;
+    let corner = design.sim.cloth.x[0];
     // A hand's grip: the corner and the cloth within 4 cm of it.
-    sim.pinch_begin(corner, 0.02, 0.04, 200.0)
+    design.pinch_begin(corner, 0.02, 0.04, 200.0)
 }
 
 /// Where the tear scenario's pointer is `t` seconds into the pull: away from the cube,
@@ -153,11 +157,11 @@ pub fn tear_target(start: Vec3, centre: Vec3, t: f32) -> Vec3 {
 
 /// Paints the paint scenario's pattern on the cube's top face: a ring of 24 dots and a
 /// centre spot. Returns the strokes that landed.
-pub fn paint_pattern(sim: &mut Simulation, body: &Body) -> usize {
+pub fn paint_pattern(design: &mut Design, body: &Body) -> usize {
     let (mn, mx) = body.bounds();
     let c = Vec3::new(
         0.5 * (mn.x + mx.x),
-        mx.y + sim.material.thickness,
+        mx.y + design.sim.material.thickness,
         0.5 * (mn.z + mx.z),
     );
     let mut strokes = 0;
@@ -165,11 +169,11 @@ pub fn paint_pattern(sim: &mut Simulation, body: &Body) -> usize {
     for k in 0..24 {
         let a = k as f32 / 24.0 * std::f32::consts::TAU;
         let p = c + Vec3::new(0.12 * a.cos(), 0.0, 0.12 * a.sin());
-        if sim.paint(p, 0.015, colors[k % 3]).is_ok() {
+        if design.paint(p, 0.015, colors[k % 3]).is_ok() {
             strokes += 1;
         }
     }
-    if sim.paint(c, 0.05, [20, 20, 20, 255]).is_ok() {
+    if design.paint(c, 0.05, [20, 20, 20, 255]).is_ok() {
         strokes += 1;
     }
     strokes

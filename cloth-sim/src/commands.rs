@@ -1,0 +1,194 @@
+//! Carrying out the UI's commands on the design. Each answer says what happened, or why
+//! nothing did (a refused command changes nothing).
+
+use glam::{Vec2, Vec3};
+use shared::command::{BodyChoice, Command, MaterialChange, Tearing};
+use sim_core::collision::BodyKind;
+use sim_core::design::{Design, EditError, TearMode};
+use sim_core::scenario::build_design;
+use sim_core::solver::Material;
+
+use crate::config::ServiceConfig;
+
+/// Carries out a command on the design itself (not SET_TOOL, RESET, LOAD or EXPORT, which
+/// the service handles); the message says what happened or why not.
+pub(crate) fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
+    let e = |e: EditError| e.to_string();
+    match c {
+        Command::CutVertex { vertex, direction } => design
+            .cut_vertex(*vertex, Vec3::from_array(*direction))
+            .map(|n| format!("cut vertex {vertex} (new vertex {n})"))
+            .map_err(e),
+        Command::Sew { a, b } => design
+            .sew(*a, *b)
+            .map(|_| format!("sewed {a} and {b}"))
+            .map_err(e),
+        Command::Tear { a, b, split } => {
+            let mode = if *split {
+                TearMode::Split
+            } else {
+                TearMode::Delete
+            };
+            design
+                .tear_edge(*a, *b, mode)
+                .map(|_| format!("tore edge ({a}, {b})"))
+                .map_err(e)
+        }
+        Command::Pin { vertex, pinned } => design
+            .set_pin(*vertex, *pinned)
+            .map(|_| {
+                let what = if *pinned { "pinned" } else { "freed" };
+                format!("vertex {vertex} {what}")
+            })
+            .map_err(e),
+        Command::Paint {
+            point,
+            radius_m,
+            rgba,
+        } => design
+            .paint(Vec3::from_array(*point), *radius_m, *rgba)
+            .map(|_| "painted".to_string())
+            .map_err(e),
+        Command::RemoveRegion { min, max } => design
+            .remove_region(Vec2::from_array(*min), Vec2::from_array(*max))
+            .map(|n| format!("removed {n} triangles"))
+            .map_err(e),
+        Command::Seam { a, b, tolerance } => {
+            let seg = |s: &[[f32; 2]; 2]| s.map(Vec2::from_array);
+            design
+                .seam_on_pattern(seg(a), seg(b), *tolerance)
+                .map(|n| format!("seam of {n} stitched pairs"))
+                .map_err(e)
+        }
+        Command::SetMaterial { material, substeps } => set_material(design, material, *substeps),
+        Command::Undo => design.undo().map(|l| format!("undid {l}")).map_err(e),
+        Command::Redo => design.redo().map(|l| format!("redid {l}")).map_err(e),
+        Command::SetTearing(t) => set_tearing(design, *t),
+        Command::Save { path } => design
+            .refresh_png_cache()
+            .and_then(|_| design.save_design_file(std::path::Path::new(path)))
+            .map(|_| format!("saved {path}"))
+            .map_err(|e| e.to_string()),
+        Command::SetTool { .. }
+        | Command::Reset { .. }
+        | Command::Load { .. }
+        | Command::Export { .. } => Err(format!("operation {} is the service's", c.op())),
+    }
+}
+
+fn set_material(
+    design: &mut Design,
+    change: &MaterialChange,
+    substeps: Option<u32>,
+) -> Result<String, String> {
+    let mut m = design.sim.material;
+    apply_material(&mut m, change);
+    design
+        .sim
+        .set_material(m, substeps.map(|n| n as usize))
+        .map_err(|e| format!("material not changed: {e}"))?;
+    Ok(format!(
+        "material: density {} kg/m², stretch {} N/m, shear {} N/m, bending {} N m, \
+         friction {}, damping {}/s; {} substeps",
+        m.density, m.stretch, m.shear, m.bending, m.friction, m.damping, design.sim.substeps
+    ))
+}
+
+fn set_tearing(design: &mut Design, t: Tearing) -> Result<String, String> {
+    match t {
+        Tearing::Off => {
+            design.tear.enabled = false;
+            design.tear.mode = TearMode::Delete;
+            Ok("tearing off".into())
+        }
+        Tearing::On { threshold, split } => {
+            if threshold <= 1.0 {
+                return Err(format!("tear threshold must be above 1, got {threshold}"));
+            }
+            design.tear.enabled = true;
+            design.tear.mode = if split {
+                TearMode::Split
+            } else {
+                TearMode::Delete
+            };
+            design.tear.threshold = threshold;
+            Ok(format!("tearing on at {threshold}x"))
+        }
+    }
+}
+
+/// The material with a command's changes: each value given replaces the one in `m`.
+fn apply_material(m: &mut Material, c: &MaterialChange) {
+    let set = |field: &mut f32, v: Option<f32>| {
+        if let Some(v) = v {
+            *field = v;
+        }
+    };
+    set(&mut m.density, c.density);
+    set(&mut m.stretch, c.stretch);
+    set(&mut m.shear, c.shear);
+    set(&mut m.bending, c.bending);
+    set(&mut m.friction, c.friction);
+    set(&mut m.damping, c.damping);
+}
+
+/// The design that replaces the current one for a RESET or LOAD command (the current one
+/// is saved first, next to the autosave, so a reset loses nothing).
+pub(crate) fn replacement(
+    design: &mut Design,
+    c: &Command,
+    cfg: &ServiceConfig,
+) -> Result<(Design, String), String> {
+    let next = match c {
+        Command::Load { path } => {
+            let path = std::path::PathBuf::from(path);
+            let d = Design::load_design_file(&path).map_err(|e| e.to_string())?;
+            (d, format!("loaded {}", path.display()))
+        }
+        Command::Reset {
+            body,
+            grid,
+            material,
+            substeps,
+        } => {
+            let mut scene = cfg.scene.clone();
+            scene.body = match body {
+                BodyChoice::Sphere => BodyKind::Sphere,
+                BodyChoice::Mannequin => BodyKind::Mannequin,
+                BodyChoice::Cube => BodyKind::Cube,
+            };
+            if let Some(g) = grid {
+                scene.grid = *g as usize;
+            }
+            apply_material(&mut scene.material, material);
+            if let Some(n) = substeps {
+                scene.substeps = Some(*n as usize);
+            }
+            let d = build_design(&scene).map_err(|e| e.to_string())?;
+            let msg = format!(
+                "new design: {}x{} cloth over the {}",
+                scene.grid,
+                scene.grid,
+                scene.body.name()
+            );
+            (d, msg)
+        }
+        other => {
+            return Err(format!(
+                "operation {} does not replace the design",
+                other.op()
+            ));
+        }
+    };
+    let backup = cfg.autosave.with_extension("before-reset.saiho");
+    design
+        .refresh_png_cache()
+        .and_then(|_| design.save_design_file(&backup))
+        .map_err(|e| {
+            format!("the current design could not be saved first ({e}); nothing changed")
+        })?;
+    Ok((
+        next.0,
+        format!("{}; the previous design is in {}", next.1, backup.display()),
+    ))
+}

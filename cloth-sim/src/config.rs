@@ -1,0 +1,71 @@
+//! What `cloth-sim run` is told, and what it counts.
+
+use std::path::PathBuf;
+
+use shared::domain::Domain;
+use sim_core::scenario::{ScenarioConfig, ScenarioName};
+
+#[derive(Clone, Debug)]
+pub struct ServiceConfig {
+    pub domain: Domain,
+    /// Frames per second.
+    pub rate_hz: f64,
+    /// Where the design is autosaved, and resumed from at start.
+    pub autosave: PathBuf,
+    pub autosave_every_s: f64,
+    /// Stop after this many seconds (None: until SIGINT/SIGTERM).
+    pub seconds: Option<f64>,
+    /// Pinch: grab radius (m) and spring stiffness (N/m).
+    pub pinch_radius: f32,
+    pub pinch_stiffness: f32,
+    /// Limit the pinch's pull on the cloth to the force the haptic loop rendered (the
+    /// reaction), when it sends one.
+    pub couple_applied_force: bool,
+    /// The scene a RESET command rebuilds (with its body, grid and material changes).
+    pub scene: ScenarioConfig,
+}
+
+impl ServiceConfig {
+    pub fn new(domain: Domain) -> Self {
+        let autosave = std::env::temp_dir()
+            .join("saiho")
+            .join(format!("{}.autosave.saiho", domain.name()));
+        Self {
+            domain,
+            rate_hz: 60.0,
+            autosave,
+            autosave_every_s: 2.0,
+            seconds: None,
+            pinch_radius: 0.05,
+            pinch_stiffness: 100.0,
+            couple_applied_force: true,
+            scene: ScenarioConfig::new(ScenarioName::DrapeCube),
+        }
+    }
+}
+
+#[derive(Debug, Default, Clone)]
+pub struct ServiceStats {
+    pub frames: u64,
+    pub samples: u64,
+    pub rejected: u64,
+    pub pinches: u64,
+    pub autosaves: u64,
+    /// Commands from the UI answered.
+    pub commands: u64,
+    /// Substeps that took the pen from a sample of their own (pen read per substep).
+    pub pen_substeps: u64,
+    /// Substeps whose pinch had the haptic loop's applied force as its limit.
+    pub coupled_substeps: u64,
+    /// Of those, substeps in which the limit bound (the cloth was pulled at it).
+    pub force_limited_substeps: u64,
+    /// Applied-force messages received from the haptic loop.
+    pub applied_forces: u64,
+    /// Seam pairs welded.
+    pub welds: u64,
+    /// Largest pull of the pinch on the cloth in any substep, N.
+    pub pinch_force_max_n: f32,
+    /// Longest time an autosave held up a frame, ms.
+    pub autosave_ms_max: f64,
+    pub resumed: bool,
+}

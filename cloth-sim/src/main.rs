@@ -1,0 +1,391 @@
+//! `cloth-sim`: the cloth simulation process (`run`), the headless scenarios
+//! (`scenario`) and the real-time grid search (`max-realtime-grid`).
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Args, Parser, Subcommand};
+use cloth_sim::{ServiceConfig, resume_or};
+use sim_core::collision::BodyKind;
+use sim_core::design::TearMode;
+use sim_core::scenario::{
+    ScenarioConfig, ScenarioName, build_design, max_realtime_grid, run_scenario,
+};
+use sim_core::solver::{Material, ModelKind};
+
+#[derive(Parser)]
+#[command(
+    name = "cloth-sim",
+    version,
+    about = "Saiho cloth simulation: headless scenarios and measurements"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scenario headless; writes DIR/report.json, the cloth as DIR/cloth.obj + .mtl +
+    /// .png and DIR/cloth.glb, DIR/body.obj and the design as DIR/design.saiho.
+    Scenario(ScenarioArgs),
+    /// Run the simulation as a process: follow the pen from haptic-loop (button 1 pinches),
+    /// publish the local model it renders force from, autosave and resume the design.
+    Run(RunArgs),
+    /// Find the largest cloth grid a model steps in real time (drape-cube, 60 Hz frames).
+    MaxRealtimeGrid {
+        /// Cloth model.
+        #[arg(long, value_parser = parse_model, default_value = "xpbd")]
+        model: ModelKind,
+        /// Frames measured per grid size.
+        #[arg(long, default_value_t = 60)]
+        frames: u64,
+        /// Also write the results as JSON here.
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Seed model: give each unit-mass spring the default cotton's stiffness-to-mass
+        /// ratio at every grid size (the same material), instead of the fixed default k.
+        #[arg(long)]
+        matched: bool,
+    },
+}
+
+fn parse_tear_mode(s: &str) -> Result<TearMode, String> {
+    match s {
+        "delete" => Ok(TearMode::Delete),
+        "split" => Ok(TearMode::Split),
+        other => Err(format!(
+            "unknown tear mode '{other}' (expected delete or split)"
+        )),
+    }
+}
+
+#[derive(Args)]
+struct RunArgs {
+    /// Domain (iceoryx2 prefix) to run in; default $SAIHO_DOMAIN, else "default".
+    #[arg(long)]
+    domain: Option<String>,
+    /// Body: cube, sphere, mannequin or a path to an .obj.
+    #[arg(long, value_parser = parse_body, default_value = "cube")]
+    body: BodyKind,
+    /// Cells per side of the square cloth.
+    #[arg(long, default_value_t = 64)]
+    grid: usize,
+    /// Cloth model (operations need xpbd).
+    #[arg(long, value_parser = parse_model, default_value = "xpbd")]
+    model: ModelKind,
+    /// Substeps per frame (default: the model's).
+    #[arg(long)]
+    substeps: Option<usize>,
+    /// Frames per second.
+    #[arg(long, default_value_t = 60.0)]
+    rate: f64,
+    /// The design's autosave (resumed at start when valid). Default:
+    /// $TMPDIR/saiho/DOMAIN.autosave.saiho.
+    #[arg(long)]
+    autosave: Option<PathBuf>,
+    /// Start a new design even if an autosave exists.
+    #[arg(long)]
+    fresh: bool,
+    /// Pinch spring stiffness, N/m (the haptic loop renders the same spring).
+    #[arg(long, default_value_t = 100.0)]
+    pinch_stiffness: f32,
+    /// Pull the cloth with the pinch spring alone, not limited to the force the haptic
+    /// loop rendered (its reaction).
+    #[arg(long)]
+    no_force_coupling: bool,
+    /// Stop after this many seconds (default: until SIGINT/SIGTERM).
+    #[arg(long)]
+    seconds: Option<f64>,
+    /// Threads for the XPBD passes (1 or 2).
+    #[arg(long, default_value_t = 1)]
+    threads: usize,
+    #[command(flatten)]
+    material: MaterialArgs,
+}
+
+#[derive(Args)]
+struct ScenarioArgs {
+    /// Scenario: drape-cube (the paper's drape), drape-mannequin, fit-cube (the paper's
+    /// experiment end to end: drape, cut the corners away, sew the flaps), tear (pull a
+    /// gripped corner until the cloth tears) or paint (paint a pattern, export the texture).
+    #[arg(value_parser = parse_scenario)]
+    name: ScenarioName,
+    /// Output directory (created if missing).
+    #[arg(long)]
+    out: PathBuf,
+    /// tear: an edge tears when stretched past this ratio of its rest length.
+    #[arg(long, default_value_t = 1.6)]
+    tear_threshold: f32,
+    /// tear: delete (the paper's: the two triangles go) or split (the material separates,
+    /// the triangles stay).
+    #[arg(long, value_parser = parse_tear_mode, default_value = "delete")]
+    tear_mode: TearMode,
+    /// Cells per side of the square cloth: N x N cells, (N+1)^2 vertices.
+    #[arg(long, default_value_t = 64)]
+    grid: usize,
+    /// Cloth model: xpbd (default), seed (the paper's mass-spring) or implicit (reference).
+    #[arg(long, value_parser = parse_model, default_value = "xpbd")]
+    model: ModelKind,
+    /// Frames of 1/60 s to simulate (the operation scenarios act at frame 240).
+    #[arg(long, default_value_t = 600)]
+    frames: u64,
+    /// Body: cube, sphere, mannequin or a path to an .obj (metres, Y up, closed, outward
+    /// winding). Default: the scenario's own.
+    #[arg(long, value_parser = parse_body)]
+    body: Option<BodyKind>,
+    /// Substeps per frame (default: 5 for xpbd, 1 for implicit, the stable count for seed).
+    #[arg(long)]
+    substeps: Option<usize>,
+    /// Use this OBJ (metres, Y up, with UVs for the warp/weft directions) as the cloth
+    /// instead of the square grid; it is centred 5 cm above the body.
+    #[arg(long)]
+    cloth: Option<PathBuf>,
+    /// Side of the square cloth, m.
+    #[arg(long, default_value_t = 1.0)]
+    cloth_size: f32,
+    #[command(flatten)]
+    material: MaterialArgs,
+    /// Threads for the XPBD constraint passes (1 or 2; the result does not depend on it).
+    #[arg(long, default_value_t = 2)]
+    threads: usize,
+    /// No progress lines on stderr.
+    #[arg(long)]
+    quiet: bool,
+}
+
+#[derive(Args)]
+struct MaterialArgs {
+    /// Areal density, kg/m^2.
+    #[arg(long, default_value_t = Material::default().density, allow_negative_numbers = true)]
+    density: f32,
+    /// Stretch modulus (warp and weft), N/m.
+    #[arg(long, default_value_t = Material::default().stretch, allow_negative_numbers = true)]
+    stretch: f32,
+    /// Shear modulus, N/m.
+    #[arg(long, default_value_t = Material::default().shear, allow_negative_numbers = true)]
+    shear: f32,
+    /// Shear damping time, s (the weave's internal friction in shear; 0 turns it off).
+    #[arg(long, default_value_t = Material::default().shear_damping, allow_negative_numbers = true)]
+    shear_damping: f32,
+    /// Bending rigidity, N m.
+    #[arg(long, default_value_t = Material::default().bending, allow_negative_numbers = true)]
+    bending: f32,
+    /// Velocity damping, 1/s.
+    #[arg(long, default_value_t = Material::default().damping, allow_negative_numbers = true)]
+    damping: f32,
+    /// Air drag on normal velocity, kg/(m^2 s).
+    #[arg(long, default_value_t = Material::default().drag, allow_negative_numbers = true)]
+    drag: f32,
+    /// Friction coefficient against bodies and the floor.
+    #[arg(long, default_value_t = Material::default().friction, allow_negative_numbers = true)]
+    friction: f32,
+    /// Contact thickness, m.
+    #[arg(long, default_value_t = Material::default().thickness, allow_negative_numbers = true)]
+    thickness: f32,
+    /// Seed model spring constant k, N/m (unit masses).
+    #[arg(long, default_value_t = Material::default().seed_stiffness, allow_negative_numbers = true)]
+    seed_stiffness: f32,
+    /// XPBD: no long-range tethers to pinned vertices.
+    #[arg(long)]
+    no_tethers: bool,
+    /// XPBD: no long-range stretch limits (the coarse lattice that stops fine cloth
+    /// stretching under Gauss-Seidel lag); for comparison.
+    #[arg(long)]
+    no_stretch_limits: bool,
+}
+
+impl MaterialArgs {
+    fn material(&self) -> Material {
+        Material {
+            density: self.density,
+            stretch: self.stretch,
+            shear: self.shear,
+            shear_damping: self.shear_damping,
+            bending: self.bending,
+            damping: self.damping,
+            drag: self.drag,
+            friction: self.friction,
+            thickness: self.thickness,
+            seed_stiffness: self.seed_stiffness,
+            tethers: !self.no_tethers,
+            stretch_limits: !self.no_stretch_limits,
+        }
+    }
+}
+
+fn parse_model(s: &str) -> Result<ModelKind, String> {
+    ModelKind::parse(s).map_err(|e| e.to_string())
+}
+fn parse_body(s: &str) -> Result<BodyKind, String> {
+    BodyKind::parse(s).map_err(|e| e.to_string())
+}
+fn parse_scenario(s: &str) -> Result<ScenarioName, String> {
+    ScenarioName::parse(s).map_err(|e| e.to_string())
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Scenario(a) => scenario(a),
+        Command::Run(a) => run_service(a),
+        Command::MaxRealtimeGrid {
+            model,
+            frames,
+            json,
+            matched,
+        } => realtime(model, frames, json, matched),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
+    let domain = shared::domain::Domain::from_arg_or_env(a.domain.as_deref())?;
+    let mut cfg = ServiceConfig::new(domain);
+    if let Some(p) = a.autosave {
+        cfg.autosave = p;
+    }
+    cfg.rate_hz = a.rate;
+    cfg.seconds = a.seconds;
+    if !(a.pinch_stiffness.is_finite() && a.pinch_stiffness > 0.0) {
+        return Err(format!(
+            "--pinch-stiffness must be a positive number of N/m, got {}",
+            a.pinch_stiffness
+        )
+        .into());
+    }
+    cfg.pinch_stiffness = a.pinch_stiffness;
+    cfg.couple_applied_force = !a.no_force_coupling;
+    let stop = shared::signals::termination_flag();
+    let mut log = |m: &str| eprintln!("cloth-sim: {m}");
+    if a.fresh {
+        let _ = std::fs::remove_file(&cfg.autosave);
+    }
+    let mut scene = ScenarioConfig::new(ScenarioName::DrapeCube);
+    scene.body = a.body;
+    scene.grid = a.grid;
+    scene.model = a.model;
+    scene.substeps = a.substeps;
+    scene.material = a.material.material();
+    scene.threads = a.threads.clamp(1, 2);
+    cfg.scene = scene.clone();
+    let (design, resumed) = resume_or(
+        &cfg,
+        || build_design(&scene).map_err(|e| e.to_string()),
+        &mut log,
+    )?;
+    log(&format!(
+        "{} vertices, domain '{}', {} Hz, autosave {}{}",
+        design.sim.cloth.len(),
+        cfg.domain.name(),
+        cfg.rate_hz,
+        cfg.autosave.display(),
+        if resumed { " (resumed)" } else { "" }
+    ));
+    let stats = cloth_sim::run(design, &cfg, stop, &mut log)?;
+    log(&format!(
+        "stopped after {} frames: {} device samples ({} rejected), {} applied forces, {} pinches ({} substeps read the pen, {} coupled to the rendered force, {} pulled at its limit, largest pull {:.2} N), {} autosaves (longest hold-up {:.1} ms)",
+        stats.frames,
+        stats.samples,
+        stats.rejected,
+        stats.applied_forces,
+        stats.pinches,
+        stats.pen_substeps,
+        stats.coupled_substeps,
+        stats.force_limited_substeps,
+        stats.pinch_force_max_n,
+        stats.autosaves,
+        stats.autosave_ms_max
+    ));
+    Ok(())
+}
+
+fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>> {
+    let mut cfg = ScenarioConfig::new(a.name);
+    cfg.grid = a.grid;
+    cfg.model = a.model;
+    cfg.frames = a.frames;
+    if let Some(b) = a.body {
+        cfg.body = b;
+    }
+    cfg.substeps = a.substeps;
+    cfg.cloth_size = a.cloth_size;
+    cfg.cloth = a.cloth;
+    cfg.material = a.material.material();
+    cfg.progress = !a.quiet;
+    if a.threads == 0 {
+        return Err("--threads must be at least 1".into());
+    }
+    cfg.threads = a.threads;
+    cfg.tear_threshold = a.tear_threshold;
+    cfg.tear_mode = a.tear_mode;
+    let r = run_scenario(&cfg, &a.out)?;
+    eprintln!(
+        "{}: {} model, {} vertices, {} frames x {} substeps: frame p50 {:.2} ms p99 {:.2} ms; \
+         max penetration {:.2e} m; final kinetic energy {:.2e} J; settled {}; \
+         strain mean {:.1}% max {:.0}%; mesh valid {}",
+        r.scenario,
+        r.model,
+        r.vertices,
+        r.frames,
+        r.substeps,
+        r.step_ms.p50,
+        r.step_ms.p99,
+        r.max_penetration_m,
+        r.kinetic_energy_final_j,
+        r.settled,
+        r.strain_mean * 100.0,
+        r.strain_max * 100.0,
+        r.mesh_valid
+    );
+    eprintln!("wrote {}", a.out.join("report.json").display());
+    Ok(())
+}
+
+fn realtime(
+    model: ModelKind,
+    frames: u64,
+    json: Option<PathBuf>,
+    matched: bool,
+) -> Result<(), Box<dyn std::error::Error>> {
+    if frames < 4 {
+        return Err("--frames must be at least 4".into());
+    }
+    let tried = max_realtime_grid(model, frames, matched, |grid, p50, sub| {
+        eprintln!(
+            "{}: grid {grid} ({} vertices), {sub} substeps: frame p50 {p50:.2} ms",
+            model.name(),
+            (grid + 1) * (grid + 1)
+        );
+    })?;
+    let best = tried
+        .iter()
+        .filter(|(_, ms)| *ms <= 1e3 / 60.0)
+        .map(|(g, _)| *g)
+        .max();
+    match best {
+        Some(g) => println!(
+            "{}: largest real-time grid {g} x {g} ({} vertices)",
+            model.name(),
+            (g + 1) * (g + 1)
+        ),
+        None => println!("{}: no grid size keeps real time", model.name()),
+    }
+    if let Some(path) = json {
+        let v = serde_json::json!({
+            "model": model.name(),
+            "matched_seed": matched,
+            "frame_dt_s": 1.0 / 60.0,
+            "largest_realtime_grid": best,
+            "tried": tried.iter().map(|(g, ms)| serde_json::json!({"grid": g, "vertices": (g + 1) * (g + 1), "frame_p50_ms": ms})).collect::<Vec<_>>(),
+        });
+        std::fs::write(&path, serde_json::to_string_pretty(&v)? + "\n")?;
+    }
+    Ok(())
+}

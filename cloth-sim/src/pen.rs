@@ -1,0 +1,237 @@
+//! The pen as cloth-sim sees it: the device samples of each frame interval (its path,
+//! replayed through the substeps), the force the haptic loop rendered, and what button 1
+//! does with the current tool.
+
+use glam::Vec3;
+use shared::haptic_to_sim::{AppliedForce, BUTTON_1, DeviceSample};
+use shared::services;
+use shared::sim_to_ui::tool;
+use shared::{Checked, MessageError};
+use sim_core::design::{Design, EditError};
+use sim_core::solver::PenInput;
+
+use crate::config::{ServiceConfig, ServiceStats};
+
+/// An applied force older than this no longer limits the pinch to its size: the haptic
+/// loop is gone, so the cloth gets no pull at all.
+const APPLIED_STALE_S: f64 = 0.02;
+
+pub(crate) fn v3(a: [f32; 3]) -> Vec3 {
+    Vec3::from_array(a)
+}
+
+/// The current tool and what a press of the pen is in the middle of.
+#[derive(Debug)]
+pub(crate) struct Tools {
+    pub(crate) tool: u32,
+    pub(crate) rgba: [u8; 4],
+    pub(crate) brush_m: f32,
+    pub(crate) sew_first: Option<u32>,
+    was_down: bool,
+    stroke: Vec<Vec3>,
+    tear_was: bool,
+}
+
+impl Default for Tools {
+    fn default() -> Self {
+        Self {
+            tool: tool::PINCH,
+            rgba: [200, 30, 40, 255],
+            brush_m: 0.01,
+            sew_first: None,
+            was_down: false,
+            stroke: Vec::new(),
+            tear_was: false,
+        }
+    }
+}
+
+/// The samples of the current frame interval (the pen's path), the newest one, and the
+/// newest force the haptic loop rendered.
+#[derive(Debug, Default)]
+pub(crate) struct PenFeed {
+    /// Samples received since the last frame started, oldest first.
+    pub(crate) path: Vec<DeviceSample>,
+    pub(crate) latest: Option<DeviceSample>,
+    applied: Option<AppliedForce>,
+    /// The reason of the last rejected message, to log once.
+    reject: Option<String>,
+    reject_new: bool,
+}
+
+impl PenFeed {
+    pub(crate) fn new() -> Self {
+        Self {
+            path: Vec::with_capacity(64),
+            ..Self::default()
+        }
+    }
+
+    /// The path starts afresh with the newest sample of the last frame.
+    pub(crate) fn next_frame(&mut self) {
+        if let Some(last) = self.path.last().copied() {
+            self.path.clear();
+            self.path.push(last);
+        }
+    }
+
+    fn reject(&mut self, stats: &mut ServiceStats, e: MessageError) {
+        stats.rejected += 1;
+        let e = e.to_string();
+        if self.reject.as_ref() != Some(&e) {
+            self.reject = Some(e);
+            self.reject_new = true;
+        }
+    }
+
+    /// A rejected message not yet logged, once.
+    pub(crate) fn take_new_reject(&mut self) -> Option<String> {
+        std::mem::take(&mut self.reject_new)
+            .then(|| self.reject.clone().unwrap_or_else(|| "?".into()))
+    }
+
+    /// Takes whatever arrived (never blocks).
+    pub(crate) fn drain(
+        &mut self,
+        device: &services::Sub<DeviceSample>,
+        applied: &services::Sub<AppliedForce>,
+        stats: &mut ServiceStats,
+    ) {
+        while let Ok(Some(s)) = device.receive() {
+            match s.check() {
+                Ok(()) => {
+                    if self.path.len() == self.path.capacity() && !self.path.is_empty() {
+                        self.path.remove(0);
+                    }
+                    self.path.push(*s);
+                    self.latest = Some(*s);
+                    stats.samples += 1;
+                }
+                Err(e) => self.reject(stats, e),
+            }
+        }
+        while let Ok(Some(s)) = applied.receive() {
+            match s.check() {
+                Ok(()) => {
+                    self.applied = Some(*s);
+                    stats.applied_forces += 1;
+                }
+                Err(e) => self.reject(stats, e),
+            }
+        }
+    }
+
+    /// The pen for substep `k` of `n`: the frame's path replayed at substep rate (the last
+    /// substep takes the newest sample), and the pull limit from the applied force.
+    pub(crate) fn input(&self, k: usize, n: usize, cfg: &ServiceConfig) -> Option<PenInput> {
+        if self.path.is_empty() {
+            return None;
+        }
+        let i = ((k + 1) * self.path.len())
+            .div_ceil(n.max(1))
+            .clamp(1, self.path.len())
+            - 1;
+        let force_limit = match (&self.applied, cfg.couple_applied_force) {
+            (Some(a), true) => {
+                let age_s = shared::monotonic_ns().saturating_sub(a.header.sent_ns) as f64 * 1e-9;
+                // What the hand was pulled with, plus a margin against the lag between
+                // the two; nothing once the haptic loop stopped rendering.
+                Some(if age_s <= APPLIED_STALE_S {
+                    v3(a.force).length() * 1.1 + 0.05
+                } else {
+                    0.0
+                })
+            }
+            _ => None,
+        };
+        Some(PenInput {
+            target: v3(self.path[i].position),
+            force_limit,
+        })
+    }
+
+    /// Where the tip is now (infinitely far without a sample), and when that sample was
+    /// sent (0: none).
+    pub(crate) fn tip(&self) -> (Vec3, u64) {
+        self.latest.map_or((Vec3::splat(f32::INFINITY), 0), |p| {
+            (v3(p.position), p.header.sent_ns)
+        })
+    }
+}
+
+/// What button 1 does with the current tool this frame.
+pub(crate) fn pen_acts(
+    design: &mut Design,
+    t: &mut Tools,
+    p: &DeviceSample,
+    cfg: &ServiceConfig,
+    stats: &mut ServiceStats,
+    log: &mut dyn FnMut(&str),
+) {
+    let tip = v3(p.position);
+    let down = p.buttons & BUTTON_1 != 0;
+    let (pressed, released) = (down && !t.was_down, !down && t.was_down);
+    t.was_down = down;
+    let mut report = |r: Result<String, EditError>| match r {
+        Ok(m) => log(&m),
+        Err(e) => log(&format!("pen: {e}")),
+    };
+    match t.tool {
+        tool::PINCH | tool::TEAR => {
+            if pressed {
+                if t.tool == tool::TEAR {
+                    t.tear_was = design.tear.enabled;
+                    design.tear.enabled = true;
+                }
+                if design
+                    .pinch_begin(tip, cfg.pinch_radius, 0.0, cfg.pinch_stiffness)
+                    .is_ok()
+                {
+                    stats.pinches += 1;
+                }
+            } else if down {
+                design.pinch_move(tip);
+            } else if released {
+                design.pinch_end();
+                if t.tool == tool::TEAR {
+                    design.tear.enabled = t.tear_was;
+                }
+            }
+        }
+        tool::CUT => {
+            if down {
+                t.stroke.push(tip);
+            } else if released {
+                let stroke = std::mem::take(&mut t.stroke);
+                report(
+                    design
+                        .cut_stroke(&stroke, 0.02)
+                        .map(|n| format!("pen: cut through {n} vertices")),
+                );
+            }
+        }
+        // Each frame's dab is undoable on its own; refusals (off the cloth) are quiet.
+        tool::PAINT if down => {
+            let _ = design.paint(tip, t.brush_m, t.rgba);
+        }
+        tool::SEW => {
+            if pressed && let Some(v) = design.sim.cloth.nearest_vertex(tip, cfg.pinch_radius) {
+                match t.sew_first.take() {
+                    None => t.sew_first = Some(v),
+                    Some(a) => report(design.sew(a, v).map(|_| format!("pen: sewed {a} and {v}"))),
+                }
+            }
+        }
+        tool::PIN => {
+            if pressed && let Some(v) = design.sim.cloth.nearest_vertex(tip, cfg.pinch_radius) {
+                let on = !design.sim.cloth.is_pinned(v as usize);
+                report(
+                    design
+                        .set_pin(v, on)
+                        .map(|_| format!("pen: vertex {v} pinned {on}")),
+                );
+            }
+        }
+        _ => {}
+    }
+}

@@ -1,0 +1,208 @@
+//! What cloth-sim publishes: the local model the haptic loop renders force from, the
+//! cloth (positions and normals every frame, the mesh when its topology changes), the
+//! body, and the texture as tiles.
+
+use glam::Vec3;
+use shared::Header;
+use shared::services::SlicePub;
+use shared::sim_to_haptic::{LocalModel, MAX_PLANES};
+use shared::sim_to_ui::{BodyMeshHeader, ClothFrameHeader, MeshCorner, MeshHeader, TextureTile};
+use sim_core::design::{Design, TILE, Texture};
+
+fn port_error(e: impl std::fmt::Debug) -> String {
+    format!("{e:?}")
+}
+
+/// The local model for a pen at `tip`: the pinched vertex while pinching, otherwise the
+/// body, cloth and floor planes near the tip.
+pub(crate) fn local_model(
+    design: &Design,
+    tip: Vec3,
+    pen_sent_ns: u64,
+    seq: &mut u64,
+    stiffness: f32,
+) -> LocalModel {
+    let sim = &design.sim;
+    let mut m = LocalModel {
+        header: Header::next(seq),
+        frame: sim.frame,
+        pen_sent_ns,
+        stiffness,
+        ..Default::default()
+    };
+    if let Some(p) = sim.pinch() {
+        let i = p.vertex as usize;
+        m.pinching = 1;
+        m.vertex_position = sim.cloth.x[i].to_array();
+        m.vertex_velocity = sim.cloth.v[i].to_array();
+        return m;
+    }
+    let mut planes = Vec::with_capacity(MAX_PLANES);
+    if let Some(body) = &sim.body
+        && let Some(c) = body.contact(tip, 0.05, u32::MAX)
+    {
+        planes.push([c.normal.x, c.normal.y, c.normal.z, c.normal.dot(c.point)]);
+    }
+    // The cloth near the tip: a plane through the nearest vertex, facing the tip.
+    if let Some(v) = sim.cloth.nearest_vertex(tip, 0.03) {
+        let x = sim.cloth.x[v as usize];
+        let mut n = sim.cloth.vertex_normal(v);
+        if n.dot(tip - x) < 0.0 {
+            n = -n;
+        }
+        if n != Vec3::ZERO {
+            planes.push([n.x, n.y, n.z, n.dot(x)]);
+        }
+    }
+    if let Some(f) = sim.env.floor {
+        planes.push([0.0, 1.0, 0.0, f]);
+    }
+    m.plane_count = planes.len().min(MAX_PLANES) as u32;
+    for (k, p) in planes.into_iter().take(MAX_PLANES).enumerate() {
+        m.planes[k] = p;
+    }
+    m
+}
+
+/// Publishes the body's triangles (nothing when there is no body).
+pub(crate) fn publish_body(
+    body_pub: &SlicePub<f32, BodyMeshHeader>,
+    design: &Design,
+) -> Result<(), String> {
+    let Some(b) = &design.sim.body else {
+        return Ok(());
+    };
+    let (v, t) = (b.vertices.len(), b.triangles.len());
+    let mut s = body_pub
+        .loan_slice_uninit(3 * v + 3 * t)
+        .map_err(port_error)?;
+    *s.user_header_mut() = BodyMeshHeader {
+        header: Header::next(&mut 0),
+        vertices: v as u32,
+        triangles: t as u32,
+    };
+    let s = s.write_from_fn(|i| {
+        if i < 3 * v {
+            b.vertices[i / 3][i % 3]
+        } else {
+            let j = i - 3 * v;
+            b.triangles[j / 3][j % 3] as f32
+        }
+    });
+    s.send().map_err(port_error)?;
+    Ok(())
+}
+
+/// Publishes texture tile `(x, y)` (in tiles).
+pub(crate) fn publish_tile(
+    tex: &Texture,
+    tile_pub: &SlicePub<u8, TextureTile>,
+    x: usize,
+    y: usize,
+    seq: &mut u64,
+) -> Result<(), String> {
+    let (x0, y0) = (x * TILE, y * TILE);
+    let (w, h) = (TILE.min(tex.width - x0), TILE.min(tex.height - y0));
+    let mut s = tile_pub.loan_slice_uninit(4 * w * h).map_err(port_error)?;
+    *s.user_header_mut() = TextureTile {
+        header: Header::next(seq),
+        texture_version: tex.version,
+        width: tex.width as u32,
+        height: tex.height as u32,
+        x0: x0 as u32,
+        y0: y0 as u32,
+        w: w as u32,
+        h: h as u32,
+    };
+    let row = 4 * w;
+    let s = s.write_from_fn(|i| {
+        let (r, c) = (i / row, i % row);
+        tex.rgba[4 * ((y0 + r) * tex.width + x0) + c]
+    });
+    s.send().map_err(port_error)?;
+    Ok(())
+}
+
+/// The cloth publishers, their sequence numbers, and what they last sent.
+#[derive(Default)]
+pub(crate) struct ClothOut {
+    seq_frame: u64,
+    seq_mesh: u64,
+    /// The topology version last sent as a mesh.
+    pub(crate) mesh_sent: Option<u64>,
+    normals: Vec<Vec3>,
+}
+
+impl ClothOut {
+    /// Publishes this frame's positions and normals, and the mesh when its topology
+    /// changed.
+    pub(crate) fn publish(
+        &mut self,
+        design: &Design,
+        frame_pub: &SlicePub<f32, ClothFrameHeader>,
+        mesh_pub: &SlicePub<MeshCorner, MeshHeader>,
+        pen_sent_ns: u64,
+    ) -> Result<(), String> {
+        let sim = &design.sim;
+        let live = &sim.cloth.live;
+        let n = sim.cloth.len();
+        let topology = live.version();
+        if self.mesh_sent != Some(topology) {
+            let t = live.tri_count();
+            let mut s = mesh_pub.loan_slice_uninit(3 * t).map_err(port_error)?;
+            *s.user_header_mut() = MeshHeader {
+                header: Header::next(&mut self.seq_mesh),
+                topology,
+                vertices: n as u32,
+                triangles: t as u32,
+            };
+            let mut corners = live.iter().flat_map(|(_, tri)| {
+                (0..3).map(move |k| MeshCorner {
+                    vertex: tri.v[k],
+                    u: tri.uv[k].x,
+                    v: tri.uv[k].y,
+                })
+            });
+            let s = s.write_from_fn(|_| corners.next().unwrap_or_default());
+            s.send().map_err(port_error)?;
+            self.mesh_sent = Some(topology);
+        }
+        let normals = &mut self.normals;
+        normals.clear();
+        normals.resize(n, Vec3::ZERO);
+        for (_, t) in live.iter() {
+            let [a, b, c] = t.v.map(|i| sim.cloth.x[i as usize]);
+            let nn = (b - a).cross(c - a);
+            for &i in &t.v {
+                normals[i as usize] += nn;
+            }
+        }
+        let stitches: Vec<(u32, u32)> = design.seams.iter().flat_map(|s| s.open_pairs()).collect();
+        let mut s = frame_pub
+            .loan_slice_uninit(6 * n + 2 * stitches.len())
+            .map_err(port_error)?;
+        *s.user_header_mut() = ClothFrameHeader {
+            header: Header::next(&mut self.seq_frame),
+            frame: sim.frame,
+            topology,
+            texture_version: design.texture.version,
+            pen_sent_ns,
+            vertices: n as u32,
+            stitches: stitches.len() as u32,
+        };
+        let x = &sim.cloth.x;
+        let s = s.write_from_fn(|i| {
+            if i < 3 * n {
+                x[i / 3][i % 3]
+            } else if i < 6 * n {
+                let j = i - 3 * n;
+                normals[j / 3].normalize_or(Vec3::Y)[j % 3]
+            } else {
+                let (a, b) = stitches[(i - 6 * n) / 2];
+                (if i % 2 == 0 { a } else { b }) as f32
+            }
+        });
+        s.send().map_err(port_error)?;
+        Ok(())
+    }
+}

@@ -1,0 +1,333 @@
+//! `cloth-sim run`: the simulation as a process. It steps the design at a fixed frame
+//! rate, follows the pen (device samples from haptic-loop: button 1 acts with the current
+//! tool), answers the UI's commands, publishes the local model the haptic loop renders
+//! force from and the cloth the UI draws, keeps going whoever comes and goes, and
+//! autosaves the design so a restarted cloth-sim resumes where it was.
+//!
+//! One frame: take in the pen and the commands; let the pen act; publish the tool state
+//! and a local model; step (the pen read again before every substep); publish the cloth,
+//! the texture tiles, telemetry and the local model again; autosave; sleep to the next
+//! frame.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use iceoryx2::port::update_connections::UpdateConnections;
+use shared::command::Command;
+use shared::ports::{SimPorts, SimSizes};
+use shared::sim_to_ui::ToolState;
+use shared::telemetry::SimTelemetry;
+use shared::ui_to_sim::CommandReply;
+use shared::{Header, services};
+use sim_core::design::{Design, TILE};
+use sim_core::solver::FrameStats;
+
+use crate::autosave::Autosave;
+use crate::commands::{carry_out, replacement};
+use crate::config::{ServiceConfig, ServiceStats};
+use crate::export::export;
+use crate::pen::{PenFeed, Tools, pen_acts};
+use crate::publish::{ClothOut, local_model, publish_body, publish_tile};
+
+/// The running service: its design, ports and everything it keeps between frames.
+struct Service<'a> {
+    cfg: &'a ServiceConfig,
+    design: Design,
+    ports: SimPorts,
+    stats: ServiceStats,
+    tools: Tools,
+    feed: PenFeed,
+    cloth_out: ClothOut,
+    tel: Box<SimTelemetry>,
+    /// When the telemetry was last sent, and the frame then.
+    tel_at: (Instant, u64),
+    tool_sent: Option<ToolState>,
+    tile_cursor: usize,
+    threads: usize,
+    seq_model: u64,
+    seq_reply: u64,
+    seq_tool: u64,
+    seq_tile: u64,
+    seq_tel: u64,
+}
+
+/// Runs the service until `stop` or `cfg.seconds`.
+pub fn run(
+    design: Design,
+    cfg: &ServiceConfig,
+    stop: &AtomicBool,
+    log: &mut dyn FnMut(&str),
+) -> Result<ServiceStats, String> {
+    let node = services::node(&cfg.domain, "cloth-sim").map_err(|e| e.to_string())?;
+    let body_floats = design
+        .sim
+        .body
+        .as_ref()
+        .map_or(1, |b| 3 * b.vertices.len() + 3 * b.triangles.len());
+    let sizes = SimSizes {
+        frame_floats: 6 * design.sim.cloth.len(),
+        mesh_corners: 3 * design.sim.cloth.live.tri_count(),
+        body_floats,
+        tile_bytes: 4 * TILE * TILE,
+    };
+    let ports = SimPorts::open(&node, sizes).map_err(|e| e.to_string())?;
+    // The body, once (a late viewer gets it from the history), and again after a reset.
+    publish_body(&ports.body, &design)?;
+    let mut s = Service {
+        cfg,
+        threads: design.sim.threads(),
+        tel_at: (Instant::now(), design.sim.frame),
+        design,
+        ports,
+        stats: ServiceStats::default(),
+        tools: Tools::default(),
+        feed: PenFeed::new(),
+        cloth_out: ClothOut::default(),
+        tel: Box::default(),
+        tool_sent: None,
+        tile_cursor: 0,
+        seq_model: 0,
+        seq_reply: 0,
+        seq_tool: 0,
+        seq_tile: 0,
+        seq_tel: 0,
+    };
+    let mut autosave = Autosave::start(&cfg.autosave, cfg.autosave_every_s)?;
+    let period = Duration::from_secs_f64(1.0 / cfg.rate_hz.clamp(1.0, 1000.0));
+    let started = Instant::now();
+    let mut next = started + period;
+    while !stop.load(Ordering::Relaxed)
+        && cfg
+            .seconds
+            .is_none_or(|secs| started.elapsed().as_secs_f64() < secs)
+    {
+        s.frame(&autosave, log)?;
+        autosave.tick(&mut s.design, &mut s.stats, log);
+        let now = Instant::now();
+        if next > now {
+            std::thread::sleep(next - now);
+            next += period;
+        } else {
+            next = now + period;
+        }
+    }
+    autosave.finish(&mut s.design, &mut s.stats, log);
+    Ok(s.stats)
+}
+
+impl Service<'_> {
+    /// One frame, up to the autosave.
+    fn frame(&mut self, autosave: &Autosave, log: &mut dyn FnMut(&str)) -> Result<(), String> {
+        self.feed.next_frame();
+        self.feed
+            .drain(&self.ports.device, &self.ports.applied, &mut self.stats);
+        self.serve_commands(log);
+        if let Some(p) = self.feed.latest {
+            pen_acts(
+                &mut self.design,
+                &mut self.tools,
+                &p,
+                self.cfg,
+                &mut self.stats,
+                log,
+            );
+        }
+        self.publish_tool_state();
+        // The local model goes out before the frame too (the state now, with the newest
+        // tip): a 60 Hz frame that takes 8-12 ms would otherwise leave gaps near the
+        // haptic loop's 20 ms staleness limit between models.
+        self.send_local_model();
+        let fs = self.step()?;
+        self.record(&fs, autosave);
+        self.stats.frames += 1;
+        let (_, pen_sent_ns) = self.feed.tip();
+        if let Err(e) = self.cloth_out.publish(
+            &self.design,
+            &self.ports.frame,
+            &self.ports.mesh,
+            pen_sent_ns,
+        ) {
+            log(&format!("publishing the cloth failed: {e}"));
+        }
+        self.publish_texture(log);
+        if let Some(why) = self.feed.take_new_reject() {
+            log(&format!("rejected a message from haptic-loop: {why}"));
+        }
+        self.send_local_model();
+        Ok(())
+    }
+
+    /// Answers every command that arrived.
+    fn serve_commands(&mut self, log: &mut dyn FnMut(&str)) {
+        while let Ok(Some(req)) = self.ports.commands.receive() {
+            let wire = *req.payload();
+            let (ok, msg) = match Command::from_wire(&wire) {
+                Err(e) => {
+                    self.stats.rejected += 1;
+                    (false, e.to_string())
+                }
+                Ok(c) => match self.command(&c, log) {
+                    Ok(m) => (true, m),
+                    Err(m) => (false, m),
+                },
+            };
+            self.stats.commands += 1;
+            let reply = CommandReply::new(
+                Header::next(&mut self.seq_reply),
+                wire.header.seq,
+                ok,
+                self.design.history.undo_len(),
+                &msg,
+            );
+            let _ = req.send_copy(reply);
+        }
+    }
+
+    /// Carries out one checked command.
+    fn command(&mut self, c: &Command, log: &mut dyn FnMut(&str)) -> Result<String, String> {
+        match c {
+            Command::SetTool {
+                tool,
+                rgba,
+                brush_m,
+            } => {
+                self.tools.tool = *tool;
+                self.tools.rgba = *rgba;
+                self.tools.brush_m = *brush_m;
+                self.tools.sew_first = None;
+                Ok(format!("tool {tool}"))
+            }
+            Command::Reset { .. } | Command::Load { .. } => {
+                let (next, m) = replacement(&mut self.design, c, self.cfg)?;
+                self.design = next;
+                self.design.sim.set_threads(self.threads);
+                // The new design counts its own frames (a loaded one may be behind): the
+                // rate starts over with it.
+                self.tel_at = (Instant::now(), self.design.sim.frame);
+                self.cloth_out.mesh_sent = None;
+                self.tools.sew_first = None;
+                if let Err(e) = publish_body(&self.ports.body, &self.design) {
+                    log(&format!("publishing the body failed: {e}"));
+                }
+                log(&m);
+                Ok(m)
+            }
+            Command::Export { dir } => export(
+                &mut self.design,
+                std::path::Path::new(dir),
+                &self.tel,
+                &self.stats,
+            ),
+            other => carry_out(&mut self.design, other),
+        }
+    }
+
+    /// The tool state, when it changed (a late UI gets it from the history).
+    fn publish_tool_state(&mut self) {
+        let state = ToolState {
+            header: Header::default(),
+            tool: self.tools.tool,
+            rgba: self.tools.rgba,
+            brush_m: self.tools.brush_m,
+            undo_depth: self.design.history.undo_len() as u32,
+            redo_depth: self.design.history.redo_len() as u32,
+            sew_first: self.tools.sew_first.unwrap_or(u32::MAX),
+        };
+        // Late subscribers get the history (last tool state, mesh, body, telemetry) when a
+        // publisher updates its connections; these send on change or once a second, so do
+        // it every frame: a restarted viewer then has everything within a frame or two.
+        let p = &self.ports;
+        let _ = p.tool.update_connections();
+        let _ = p.mesh.update_connections();
+        let _ = p.body.update_connections();
+        let _ = p.telemetry.update_connections();
+        if self.tool_sent != Some(state) {
+            let _ = p.tool.send_copy(ToolState {
+                header: Header::next(&mut self.seq_tool),
+                ..state
+            });
+            self.tool_sent = Some(state);
+        }
+    }
+
+    fn send_local_model(&mut self) {
+        let (tip, sent_ns) = self.feed.tip();
+        let m = local_model(
+            &self.design,
+            tip,
+            sent_ns,
+            &mut self.seq_model,
+            self.cfg.pinch_stiffness,
+        );
+        let _ = self.ports.model.send_copy(m);
+    }
+
+    /// Steps one frame; while pinching, the pen is read again before each substep, so
+    /// samples that arrive while the frame is computed join the path.
+    fn step(&mut self) -> Result<FrameStats, String> {
+        let pinching = self.design.sim.pinch().is_some();
+        let (feed, ports, stats, cfg) = (&mut self.feed, &self.ports, &mut self.stats, self.cfg);
+        let fs = self
+            .design
+            .step_with(&mut |k, n| {
+                if !pinching {
+                    return None;
+                }
+                feed.drain(&ports.device, &ports.applied, stats);
+                let input = feed.input(k, n, cfg)?;
+                stats.pen_substeps += 1;
+                if input.force_limit.is_some() {
+                    stats.coupled_substeps += 1;
+                }
+                Some(input)
+            })
+            .map_err(|e| format!("the simulation failed: {e}"))?;
+        Ok(fs)
+    }
+
+    /// Counts the frame, and sends the telemetry once a second.
+    fn record(&mut self, fs: &FrameStats, autosave: &Autosave) {
+        let sim = &self.design.sim;
+        self.stats.welds += fs.welded as u64;
+        self.stats.force_limited_substeps += sim.pinch_limited_substeps() as u64;
+        for f in sim.pinch_forces() {
+            self.stats.pinch_force_max_n = self.stats.pinch_force_max_n.max(f.length());
+        }
+        let tel = &mut self.tel;
+        tel.frame_time.record((fs.wall_ms * 1e6) as u64);
+        tel.collision_time.record((fs.collision_ms * 1e6) as u64);
+        if self.tel_at.0.elapsed().as_secs_f64() >= 1.0 {
+            let frames = sim.frame.saturating_sub(self.tel_at.1);
+            tel.header = Header::next(&mut self.seq_tel);
+            tel.frame = sim.frame;
+            tel.vertices = sim.cloth.len() as u32;
+            tel.triangles = sim.cloth.live.tri_count() as u32;
+            tel.rate_hz = (frames as f64 / self.tel_at.0.elapsed().as_secs_f64()) as f32;
+            tel.autosave_ms_max = autosave.hold_max_ms() as f32;
+            tel.substeps = sim.substeps as u32;
+            let m = &sim.material;
+            tel.material = [
+                m.density, m.stretch, m.shear, m.bending, m.friction, m.damping,
+            ];
+            let _ = self.ports.telemetry.send_copy(**tel);
+            self.tel_at = (Instant::now(), sim.frame);
+        }
+    }
+
+    /// Texture: changed tiles now, and 8 more round-robin so a late viewer fills in.
+    fn publish_texture(&mut self, log: &mut dyn FnMut(&str)) {
+        let tex = &mut self.design.texture;
+        let mut tiles = tex.take_dirty();
+        let (tx, ty) = (tex.tiles_x(), tex.tiles_y());
+        for _ in 0..8 {
+            tiles.push((self.tile_cursor % tx, (self.tile_cursor / tx) % ty));
+            self.tile_cursor = (self.tile_cursor + 1) % (tx * ty);
+        }
+        for (x, y) in tiles {
+            if let Err(e) = publish_tile(tex, &self.ports.texture, x, y, &mut self.seq_tile) {
+                log(&format!("publishing the texture failed: {e}"));
+                break;
+            }
+        }
+    }
+}

@@ -1,0 +1,280 @@
+//! The `cloth-sim` binary: scenarios produce their files; bad input gives a clear error
+//! and a non-zero exit, never a panic.
+
+// Test helpers: a failed unwrap is a failed test, with its location.
+#![allow(clippy::unwrap_used)]
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn cloth_sim(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cloth-sim"))
+        .args(args)
+        .output()
+        .expect("run cloth-sim")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("saiho-cli-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn fails_cleanly(args: &[&str], expect: &str) {
+    let out = cloth_sim(args);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{args:?} succeeded");
+    assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+    assert!(
+        err.to_lowercase().contains(&expect.to_lowercase()),
+        "{args:?}: expected '{expect}' in: {err}"
+    );
+}
+
+#[test]
+fn help_is_available_everywhere() {
+    for args in [
+        &["--help"][..],
+        &["scenario", "--help"],
+        &["max-realtime-grid", "--help"],
+    ] {
+        let out = cloth_sim(args);
+        assert!(out.status.success());
+        assert!(String::from_utf8_lossy(&out.stdout).contains("Usage"));
+    }
+}
+
+#[test]
+fn drape_cube_writes_report_and_meshes() {
+    let dir = tmp("drape");
+    let out = cloth_sim(&[
+        "scenario",
+        "drape-cube",
+        "--out",
+        dir.to_str().unwrap(),
+        "--grid",
+        "12",
+        "--frames",
+        "30",
+        "--quiet",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    for key in [
+        "scenario",
+        "model",
+        "vertices",
+        "triangles",
+        "frames",
+        "frame_dt_s",
+        "substeps",
+        "step_ms",
+        "max_penetration_m",
+        "kinetic_energy_final_j",
+        "mesh_valid",
+    ] {
+        assert!(report.get(key).is_some(), "report lacks {key}");
+    }
+    for key in ["p50", "p99", "max"] {
+        assert!(report["step_ms"][key].as_f64().unwrap() > 0.0);
+    }
+    let (strain, strain_max) = (
+        report["strain_mean"].as_f64().unwrap(),
+        report["strain_max"].as_f64().unwrap(),
+    );
+    assert!(
+        strain.abs() < 0.1 && strain_max >= strain,
+        "strain {strain}, max {strain_max}"
+    );
+    assert_eq!(report["vertices"], 169);
+    assert_eq!(report["frames"], 30);
+    assert_eq!(report["mesh_valid"], true);
+    let cloth = std::fs::read_to_string(dir.join("cloth.obj")).unwrap();
+    assert_eq!(cloth.lines().filter(|l| l.starts_with("v ")).count(), 169);
+    // UVs per triangle corner (a sewn vertex can have two), so three per face.
+    assert_eq!(
+        cloth.lines().filter(|l| l.starts_with("vt ")).count(),
+        3 * 288
+    );
+    assert_eq!(cloth.lines().filter(|l| l.starts_with("f ")).count(), 288);
+    assert!(cloth.contains("mtllib cloth.mtl"));
+    for f in ["cloth.mtl", "cloth.png", "design.saiho"] {
+        assert!(dir.join(f).is_file(), "{f} missing");
+    }
+    assert!(
+        std::fs::read_to_string(dir.join("body.obj"))
+            .unwrap()
+            .lines()
+            .any(|l| l.starts_with("f "))
+    );
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn a_cloth_can_come_from_an_obj_file() {
+    let dir = tmp("objcloth");
+    // A 0.6 m square, 6 x 6 cells, with UVs.
+    let mut s = String::new();
+    for j in 0..=6 {
+        for i in 0..=6 {
+            s += &format!(
+                "v {} 0 {}\nvt {} {}\n",
+                i as f32 * 0.1,
+                j as f32 * 0.1,
+                i as f32 / 6.0,
+                j as f32 / 6.0
+            );
+        }
+    }
+    for j in 0..6 {
+        for i in 0..6 {
+            let a = j * 7 + i + 1;
+            s += &format!(
+                "f {a}/{a} {}/{} {}/{}\nf {}/{} {}/{} {}/{}\n",
+                a + 7,
+                a + 7,
+                a + 1,
+                a + 1,
+                a + 1,
+                a + 1,
+                a + 7,
+                a + 7,
+                a + 8,
+                a + 8
+            );
+        }
+    }
+    let path = dir.join("square.obj");
+    std::fs::write(&path, s).unwrap();
+    let out = cloth_sim(&[
+        "scenario",
+        "drape-cube",
+        "--out",
+        dir.to_str().unwrap(),
+        "--cloth",
+        path.to_str().unwrap(),
+        "--frames",
+        "20",
+        "--quiet",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    assert_eq!(r["vertices"], 49);
+    assert_eq!(r["triangles"], 72);
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn every_model_and_body_runs() {
+    let obj = tmp("body").join("tetra.obj");
+    // A closed, outward-wound tetrahedron, 0.5 m.
+    std::fs::write(
+        &obj,
+        "v 0 0 0\nv 0.5 0 0\nv 0 0 0.5\nv 0 0.5 0\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n",
+    )
+    .unwrap();
+    for (model, body) in [
+        ("seed", "cube"),
+        ("implicit", "sphere"),
+        ("xpbd", "mannequin"),
+        ("xpbd", obj.to_str().unwrap()),
+    ] {
+        let dir = tmp(&format!("m-{model}"));
+        let out = cloth_sim(&[
+            "scenario",
+            "drape-cube",
+            "--out",
+            dir.to_str().unwrap(),
+            "--grid",
+            "8",
+            "--frames",
+            "5",
+            "--model",
+            model,
+            "--body",
+            body,
+            "--quiet",
+        ]);
+        assert!(
+            out.status.success(),
+            "{model}/{body}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let r: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap())
+                .unwrap();
+        assert_eq!(r["model"], model);
+        std::fs::remove_dir_all(dir).ok();
+    }
+}
+
+/// `cloth-sim scenario drape-cube --out DIR` and `extra`.
+fn drape_args<'a>(out: &'a str, extra: &[&'a str]) -> Vec<&'a str> {
+    let mut v = vec!["scenario", "drape-cube", "--out", out];
+    v.extend_from_slice(extra);
+    v
+}
+
+#[test]
+fn bad_input_is_a_clear_error() {
+    let dir = tmp("bad");
+    let o = dir.to_str().unwrap();
+    fails_cleanly(&drape_args(o, &["--grid", "0"]), "grid");
+    fails_cleanly(&drape_args(o, &["--density", "-0.1"]), "density");
+    fails_cleanly(&drape_args(o, &["--density", "NaN"]), "density");
+    fails_cleanly(&drape_args(o, &["--body", "teapot"]), "unknown body");
+    fails_cleanly(&drape_args(o, &["--model", "magic"]), "unknown model");
+    fails_cleanly(
+        &["scenario", "fold-laundry", "--out", o],
+        "unknown scenario",
+    );
+    fails_cleanly(&drape_args(o, &["--frames", "0"]), "frames");
+    fails_cleanly(
+        &drape_args(o, &["--model", "seed", "--substeps", "1"]),
+        "unstable",
+    );
+    fails_cleanly(
+        &drape_args(o, &["--body", "/no/such/file.obj"]),
+        "cannot read",
+    );
+    let nan = dir.join("nan.obj");
+    std::fs::write(&nan, "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n").unwrap();
+    fails_cleanly(
+        &drape_args(o, &["--body", nan.to_str().unwrap()]),
+        "non-finite",
+    );
+    let degenerate = dir.join("flat.obj");
+    std::fs::write(&degenerate, "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n").unwrap();
+    fails_cleanly(
+        &drape_args(o, &["--body", degenerate.to_str().unwrap()]),
+        "degenerate",
+    );
+    let nonmanifold = dir.join("fin.obj");
+    std::fs::write(
+        &nonmanifold,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n",
+    )
+    .unwrap();
+    fails_cleanly(
+        &drape_args(o, &["--body", nonmanifold.to_str().unwrap()]),
+        "shared by 3",
+    );
+    fails_cleanly(&drape_args(o, &["--cloth", nan.to_str().unwrap()]), "cloth");
+    let garbage = dir.join("garbage.obj");
+    std::fs::write(&garbage, "f 1 2 3\nv x y z\n").unwrap();
+    fails_cleanly(
+        &drape_args(o, &["--body", garbage.to_str().unwrap()]),
+        "error",
+    );
+    std::fs::remove_dir_all(dir).ok();
+}

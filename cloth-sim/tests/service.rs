@@ -1,0 +1,756 @@
+//! `cloth-sim run`'s command service, in process over real iceoryx2: operations from a
+//! client are carried out and answered; refused and malformed ones are answered with the
+//! reason and change nothing.
+
+#![allow(clippy::unwrap_used)]
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::{Duration, Instant};
+
+use cloth_sim::{ServiceConfig, run};
+use shared::domain::Domain;
+use shared::ports;
+use shared::services;
+use shared::ui_to_sim::{CommandReply, ToolCommand, op};
+use shared::{Checked, Header};
+use sim_core::scenario::{ScenarioConfig, ScenarioName, build_design};
+
+static STOP: AtomicBool = AtomicBool::new(false);
+
+type Ask<'a> = &'a mut dyn FnMut(ToolCommand) -> CommandReply;
+type Node = iceoryx2::prelude::Node<iceoryx2::prelude::ipc::Service>;
+
+#[test]
+fn commands_are_carried_out_and_answered() {
+    let d = Domain::new(&format!("svc{}", std::process::id())).unwrap();
+    let mut cfg = ServiceConfig::new(d.clone());
+    cfg.autosave = std::env::temp_dir().join(format!("saiho-svc-{}.saiho", std::process::id()));
+    cfg.seconds = Some(30.0);
+    let handle = std::thread::spawn(move || {
+        let mut scene = ScenarioConfig::new(ScenarioName::DrapeCube);
+        scene.grid = 8;
+        let sim = build_design(&scene).unwrap();
+        run(sim, &cfg, &STOP, &mut |_| {}).unwrap()
+    });
+    let node = services::node(&d, "ui").unwrap();
+    let mut ask = asker(ports::command_client(&node).unwrap());
+    let path = std::env::temp_dir().join(format!("saiho-svc-save-{}.saiho", std::process::id()));
+    edits_refusals_and_save(&mut ask, &path);
+    let (states, frames, _pen) = tool_state_and_the_pens_pin(&node, &mut ask);
+    let meshes = paint_reaches_a_late_viewer(&node, &mut ask, &frames);
+    reset_and_load(&mut ask, &meshes, &path);
+    material_in_place(&node, &mut ask);
+    drop(states);
+    STOP.store(true, Ordering::Relaxed);
+    let stats = handle.join().unwrap();
+    assert_eq!(stats.commands, 16);
+    assert_eq!(stats.rejected, 5);
+    let _ = std::fs::remove_file(&path);
+}
+
+/// A cut, refusals (sewing a vertex to itself, malformed requests), undo, and a save.
+fn edits_refusals_and_save(ask: Ask<'_>, path: &std::path::Path) {
+    let centre = (4 * 9 + 4) as u32;
+    let r = ask(ToolCommand {
+        op: op::CUT_VERTEX,
+        a: centre,
+        vec: [1.0, 0.0, 0.0],
+        ..Default::default()
+    });
+    assert_eq!(r.ok, 1, "{}", r.message());
+    assert!(r.message().contains("new vertex 81"), "{}", r.message());
+    assert_eq!(r.undo_depth, 1);
+    // Refused: sewing a vertex to itself. The reason comes back; nothing changes.
+    let r = ask(ToolCommand {
+        op: op::SEW,
+        a: 0,
+        b: 0,
+        ..Default::default()
+    });
+    assert_eq!(r.ok, 0);
+    assert!(r.message().contains("itself"), "{}", r.message());
+    assert_eq!(r.undo_depth, 1);
+    // Malformed: an unknown operation, a NaN vector.
+    let r = ask(ToolCommand {
+        op: 99,
+        ..Default::default()
+    });
+    assert!(
+        r.ok == 0 && r.message().contains("unknown operation 99"),
+        "{}",
+        r.message()
+    );
+    let r = ask(ToolCommand {
+        op: op::PAINT,
+        vec: [f32::NAN, 0.0, 0.0],
+        value: 0.02,
+        ..Default::default()
+    });
+    assert!(
+        r.ok == 0 && r.message().contains("not finite"),
+        "{}",
+        r.message()
+    );
+    let r = ask(ToolCommand {
+        op: op::UNDO,
+        ..Default::default()
+    });
+    assert!(r.ok == 1 && r.message() == "undid cut" && r.undo_depth == 0);
+    let mut save = ToolCommand {
+        op: op::SAVE,
+        ..Default::default()
+    };
+    assert!(save.set_text(path.to_str().unwrap()));
+    let r = ask(save);
+    assert_eq!(r.ok, 1, "{}", r.message());
+    assert!(sim_core::design::Design::load_design_file(path).is_ok());
+}
+
+/// The tool lives in cloth-sim: set it, and a (late) viewer sees it; with PIN, the pen's
+/// press pins the vertex under the tip. Returns the tool-state and frame subscribers and
+/// the pen, for what follows.
+fn tool_state_and_the_pens_pin(
+    node: &Node,
+    ask: Ask<'_>,
+) -> (
+    services::Sub<shared::sim_to_ui::ToolState>,
+    services::SliceSub<f32, shared::sim_to_ui::ClothFrameHeader>,
+    services::Pub<shared::haptic_to_sim::DeviceSample>,
+) {
+    let r = ask(ToolCommand {
+        op: op::SET_TOOL,
+        a: shared::sim_to_ui::tool::PAINT,
+        rgba: [1, 2, 3, 255],
+        value: 0.02,
+        ..Default::default()
+    });
+    assert_eq!(r.ok, 1, "{}", r.message());
+    let r = ask(ToolCommand {
+        op: op::SET_TOOL,
+        a: 42,
+        value: 0.02,
+        ..Default::default()
+    });
+    assert!(
+        r.ok == 0 && r.message().contains("tool 42"),
+        "{}",
+        r.message()
+    );
+    let states = ports::subscriber(node, services::tool_state, None).unwrap();
+    let deadline = Instant::now() + Duration::from_secs(5);
+    let state = loop {
+        if let Some(s) = states.receive().unwrap() {
+            break *s;
+        }
+        assert!(Instant::now() < deadline, "no tool state");
+        std::thread::sleep(Duration::from_millis(5));
+    };
+    assert_eq!(
+        (state.tool, state.rgba, state.brush_m),
+        (shared::sim_to_ui::tool::PAINT, [1, 2, 3, 255], 0.02)
+    );
+    // The pen's button acts with the current tool: with PIN, a press pins the vertex
+    // under the tip (one more undoable operation).
+    let r = ask(ToolCommand {
+        op: op::SET_TOOL,
+        a: shared::sim_to_ui::tool::PIN,
+        value: 0.02,
+        ..Default::default()
+    });
+    assert_eq!(r.ok, 1);
+    let frames = ports::subscriber(node, services::cloth_frame, None).unwrap();
+    let pen = ports::publisher(node, services::device).unwrap();
+    let depth_before = state.undo_depth;
+    let mut pen_seq = 0;
+    let deadline = Instant::now() + Duration::from_secs(10);
+    let mut pressed = false;
+    loop {
+        assert!(Instant::now() < deadline, "the pen's press did not pin");
+        if let Some(f) = frames.receive().unwrap() {
+            // Follow vertex 0 of the (falling) cloth with the tip; press, then release.
+            let p = f.payload();
+            let sample = shared::haptic_to_sim::DeviceSample {
+                header: Header::next(&mut pen_seq),
+                position: [p[0], p[1], p[2]],
+                buttons: u32::from(!pressed),
+                device_ok: 1,
+                ..Default::default()
+            };
+            pen.send_copy(sample).unwrap();
+            pressed = true;
+        }
+        if let Some(s) = states.receive().unwrap()
+            && s.undo_depth > depth_before
+        {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    (states, frames, pen)
+}
+
+/// Paint where vertex 0 is now; a texture viewer that starts afterwards rebuilds the whole
+/// texture, paint included, from the tiles; a late viewer gets the mesh and the timing.
+/// Returns the mesh subscriber.
+fn paint_reaches_a_late_viewer(
+    node: &Node,
+    ask: Ask<'_>,
+    frames: &services::SliceSub<f32, shared::sim_to_ui::ClothFrameHeader>,
+) -> services::SliceSub<shared::sim_to_ui::MeshCorner, shared::sim_to_ui::MeshHeader> {
+    // Paint where vertex 0 is now; a texture viewer that starts afterwards rebuilds the
+    // whole texture, paint included, from the tiles (changed ones, then round-robin).
+    let at = loop {
+        if let Some(f) = frames.receive().unwrap() {
+            let p = f.payload();
+            break [p[0], p[1], p[2]];
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    };
+    let r = ask(ToolCommand {
+        op: op::PAINT,
+        vec: at,
+        value: 0.05,
+        rgba: [9, 200, 9, 255],
+        ..Default::default()
+    });
+    assert_eq!(r.ok, 1, "{}", r.message());
+    let tiles = ports::subscriber(node, services::texture, None).unwrap();
+    let mut tex = vec![0u8; 4 * 1024 * 1024];
+    let mut seen = std::collections::HashSet::new();
+    let deadline = Instant::now() + Duration::from_secs(10);
+    while seen.len() < 256 {
+        assert!(
+            Instant::now() < deadline,
+            "only {} of 256 tiles",
+            seen.len()
+        );
+        while let Some(t) = tiles.receive().unwrap() {
+            let h = t.user_header();
+            shared::sim_to_ui::check_tile(h, t.payload()).unwrap();
+            for r in 0..h.h as usize {
+                let dst = 4 * ((h.y0 as usize + r) * 1024 + h.x0 as usize);
+                let src = 4 * r * h.w as usize;
+                tex[dst..dst + 4 * h.w as usize]
+                    .copy_from_slice(&t.payload()[src..src + 4 * h.w as usize]);
+            }
+            seen.insert((h.x0, h.y0));
+        }
+        std::thread::sleep(Duration::from_millis(2));
+    }
+    let green = tex
+        .chunks_exact(4)
+        .filter(|p| p[1] > 150 && p[0] < 100)
+        .count();
+    assert!(green > 100, "{green} painted texels arrived");
+    // A viewer that starts now still gets the mesh (sent once, kept as history).
+    let meshes = ports::subscriber(node, services::cloth_mesh, None).unwrap();
+    let deadline = Instant::now() + Duration::from_secs(5);
+    loop {
+        if let Some(m) = meshes.receive().unwrap() {
+            shared::sim_to_ui::check_mesh(m.user_header(), m.payload()).unwrap();
+            assert_eq!(m.user_header().triangles, 2 * 8 * 8);
+            break;
+        }
+        assert!(Instant::now() < deadline, "a late viewer got no mesh");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    // Its timing, once a second.
+    let tel = ports::subscriber(node, services::sim_telemetry, None).unwrap();
+    let deadline = Instant::now() + Duration::from_secs(5);
+    let t = loop {
+        if let Some(t) = tel.receive().unwrap() {
+            break *t;
+        }
+        assert!(Instant::now() < deadline, "no sim telemetry");
+        std::thread::sleep(Duration::from_millis(10));
+    };
+    t.check().unwrap();
+    // 81 vertices: the cut's extra vertex went with its undo.
+    assert!(
+        t.frame_time.total > 10 && t.rate_hz > 1.0 && t.vertices == 81,
+        "frames {} rate {} vertices {}",
+        t.frame_time.total,
+        t.rate_hz,
+        t.vertices
+    );
+    meshes
+}
+
+/// A new scene replaces the design (saved first); a bad reset or a missing file is
+/// refused; loading the saved design brings the 8x8 cloth back.
+fn reset_and_load(
+    ask: Ask<'_>,
+    meshes: &services::SliceSub<shared::sim_to_ui::MeshCorner, shared::sim_to_ui::MeshHeader>,
+    path: &std::path::Path,
+) {
+    // A new scene over the sphere with a 6-cell grid replaces the design (saved first)...
+    let mut reset = ToolCommand {
+        op: op::RESET,
+        a: 6,
+        b: shared::ui_to_sim::body::SPHERE,
+        ..Default::default()
+    };
+    reset.uv[0] = 0.2;
+    let r = ask(reset);
+    assert_eq!(r.ok, 1, "{}", r.message());
+    assert!(
+        r.message().contains("6x6") && r.message().contains("sphere"),
+        "{}",
+        r.message()
+    );
+    let backup = std::env::temp_dir().join(format!(
+        "saiho-svc-{}.before-reset.saiho",
+        std::process::id()
+    ));
+    assert!(
+        sim_core::design::Design::load_design_file(&backup).is_ok(),
+        "the replaced design was not saved first"
+    );
+    let _ = std::fs::remove_file(&backup);
+    let deadline = Instant::now() + Duration::from_secs(5);
+    loop {
+        if let Some(m) = meshes.receive().unwrap()
+            && m.user_header().triangles == 2 * 6 * 6
+        {
+            break;
+        }
+        assert!(Instant::now() < deadline, "no mesh of the new scene");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    // ... a bad reset or a missing file is refused, and loading the saved design brings the
+    // 8x8 cloth back.
+    let r = ask(ToolCommand {
+        op: op::RESET,
+        b: 7,
+        ..Default::default()
+    });
+    assert!(
+        r.ok == 0 && r.message().contains("unknown body 7"),
+        "{}",
+        r.message()
+    );
+    let mut load = ToolCommand {
+        op: op::LOAD,
+        ..Default::default()
+    };
+    assert!(load.set_text("/nonexistent/saiho/design.saiho"));
+    let r = ask(load);
+    assert_eq!(r.ok, 0, "{}", r.message());
+    assert!(load.set_text(path.to_str().unwrap()));
+    let r = ask(load);
+    assert_eq!(r.ok, 1, "{}", r.message());
+    let deadline = Instant::now() + Duration::from_secs(5);
+    loop {
+        if let Some(m) = meshes.receive().unwrap()
+            && m.user_header().triangles == 2 * 8 * 8
+        {
+            break;
+        }
+        assert!(Instant::now() < deadline, "no mesh of the loaded design");
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}
+
+/// The material and substeps change in place; the telemetry says so within its second.
+/// Bad substeps are refused.
+fn material_in_place(node: &Node, ask: Ask<'_>) {
+    // The material and substeps change in place; the telemetry says so within its
+    // second. Bad substeps are refused.
+    let telemetry = ports::subscriber(node, services::sim_telemetry, None).unwrap();
+    let mut soft = ToolCommand {
+        op: op::SET_MATERIAL,
+        a: 7,
+        ..Default::default()
+    };
+    soft.uv[1] = 500.0;
+    let r = ask(soft);
+    assert!(
+        r.ok == 1 && r.message().contains("stretch 500 N/m") && r.message().contains("7 substeps"),
+        "{}",
+        r.message()
+    );
+    let deadline = Instant::now() + Duration::from_secs(5);
+    loop {
+        if let Some(t) = telemetry.receive().unwrap()
+            && t.substeps == 7
+        {
+            assert_eq!(t.material[1], 500.0);
+            assert_eq!(t.material[0], 0.15, "density kept");
+            break;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "no telemetry of the new material"
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    let r = ask(ToolCommand {
+        op: op::SET_MATERIAL,
+        a: 500,
+        ..Default::default()
+    });
+    assert!(
+        r.ok == 0 && r.message().contains("substeps 500"),
+        "{}",
+        r.message()
+    );
+}
+
+/// A client of the command service that waits for the reply to each request (the server
+/// may not be up yet: it retries until the request is delivered).
+fn asker(
+    client: iceoryx2::port::client::Client<
+        iceoryx2::prelude::ipc::Service,
+        ToolCommand,
+        (),
+        CommandReply,
+        (),
+    >,
+) -> impl FnMut(ToolCommand) -> CommandReply {
+    let mut seq = 0;
+    move |mut c: ToolCommand| {
+        c.header = Header::next(&mut seq);
+        let deadline = Instant::now() + Duration::from_secs(10);
+        let pending = loop {
+            match client.send_copy(c) {
+                Ok(p) if p.number_of_server_connections() > 0 => break p,
+                _ if Instant::now() < deadline => std::thread::sleep(Duration::from_millis(20)),
+                _ => panic!("no server"),
+            }
+        };
+        loop {
+            if let Some(r) = pending.receive().unwrap() {
+                r.check().unwrap();
+                assert_eq!(r.request_seq, c.header.seq);
+                return *r;
+            }
+            assert!(Instant::now() < deadline, "no reply");
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    }
+}
+
+/// cloth-sim's outputs and the pen, for the pen test.
+struct PenRig {
+    frames: services::SliceSub<f32, shared::sim_to_ui::ClothFrameHeader>,
+    meshes: services::SliceSub<shared::sim_to_ui::MeshCorner, shared::sim_to_ui::MeshHeader>,
+    states: services::Sub<shared::sim_to_ui::ToolState>,
+    pen: services::Pub<shared::haptic_to_sim::DeviceSample>,
+    pen_seq: u64,
+}
+
+/// The pen test's cloth: 17 x 17 vertices; vertex (row, column).
+const PEN_N: usize = 17;
+
+fn at(r: usize, c: usize) -> usize {
+    r * PEN_N + c
+}
+
+impl PenRig {
+    fn open(node: &Node) -> Self {
+        Self {
+            frames: ports::subscriber(node, services::cloth_frame, None).unwrap(),
+            meshes: ports::subscriber(node, services::cloth_mesh, None).unwrap(),
+            states: ports::subscriber(node, services::tool_state, None).unwrap(),
+            pen: ports::publisher(node, services::device).unwrap(),
+            pen_seq: 0,
+        }
+    }
+
+    fn send(&mut self, p: [f32; 3], down: bool) {
+        self.pen
+            .send_copy(shared::haptic_to_sim::DeviceSample {
+                header: Header::next(&mut self.pen_seq),
+                position: p,
+                buttons: u32::from(down),
+                device_ok: 1,
+                ..Default::default()
+            })
+            .unwrap();
+    }
+
+    /// The next cloth frame published: its header and positions.
+    fn next_frame(&self) -> (shared::sim_to_ui::ClothFrameHeader, Vec<[f32; 3]>) {
+        let deadline = Instant::now() + Duration::from_secs(10);
+        while self.frames.receive().unwrap().is_some() {}
+        loop {
+            if let Some(f) = self.frames.receive().unwrap() {
+                let h = *f.user_header();
+                let x = f.payload()[..3 * h.vertices as usize]
+                    .chunks_exact(3)
+                    .map(|c| [c[0], c[1], c[2]])
+                    .collect();
+                return (h, x);
+            }
+            assert!(Instant::now() < deadline, "no cloth frame");
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    }
+
+    fn tool_state(&self) -> shared::sim_to_ui::ToolState {
+        let mut last = None;
+        let deadline = Instant::now() + Duration::from_secs(5);
+        while last.is_none() || Instant::now() < deadline.min(Instant::now()) {
+            while let Some(s) = self.states.receive().unwrap() {
+                last = Some(*s);
+            }
+            if last.is_none() {
+                assert!(Instant::now() < deadline, "no tool state");
+                std::thread::sleep(Duration::from_millis(5));
+            }
+        }
+        last.unwrap()
+    }
+}
+
+fn use_tool(ask: Ask<'_>, t: u32) {
+    let r = ask(ToolCommand {
+        op: op::SET_TOOL,
+        a: t,
+        rgba: [20, 40, 220, 255],
+        value: 0.03,
+        ..Default::default()
+    });
+    assert_eq!(r.ok, 1, "{}", r.message());
+}
+
+/// The pen's button with each tool, in one running cloth-sim: paint, cut along a stroke,
+/// tear by pulling, two-press sew; the pinch follows the pen substep by substep.
+#[test]
+fn the_pens_button_acts_with_every_tool() {
+    static STOP_TOOLS: AtomicBool = AtomicBool::new(false);
+    let d = Domain::new(&format!("pen{}", std::process::id())).unwrap();
+    let mut cfg = ServiceConfig::new(d.clone());
+    cfg.autosave = std::env::temp_dir().join(format!("saiho-pen-{}.saiho", std::process::id()));
+    cfg.seconds = Some(60.0);
+    cfg.pinch_stiffness = 2000.0;
+    let handle = std::thread::spawn(move || {
+        let mut scene = ScenarioConfig::new(ScenarioName::DrapeCube);
+        scene.grid = 16;
+        let sim = build_design(&scene).unwrap();
+        run(sim, &cfg, &STOP_TOOLS, &mut |m| eprintln!("cloth-sim: {m}")).unwrap()
+    });
+    let node = services::node(&d, "ui").unwrap();
+    let mut ask = asker(ports::command_client(&node).unwrap());
+    let mut rig = PenRig::open(&node);
+    // Let the cloth land on the cube first.
+    for _ in 0..60 {
+        rig.next_frame();
+    }
+    paint_by_pen(&mut rig, &mut ask);
+    tear_by_pen(&mut rig, &mut ask);
+    cut_by_pen(&mut rig, &mut ask);
+    sew_by_pen(&mut rig, &mut ask);
+    STOP_TOOLS.store(true, Ordering::Relaxed);
+    let stats = handle.join().unwrap();
+    // The tear's pinch read the pen every substep, unlimited (no haptic loop).
+    assert!(stats.pen_substeps >= 5, "{} substeps", stats.pen_substeps);
+    assert_eq!(stats.coupled_substeps, 0, "no haptic loop: no limit");
+    assert_eq!(stats.rejected, 0);
+    let _ = std::fs::remove_file(
+        std::env::temp_dir().join(format!("saiho-pen-{}.saiho", std::process::id())),
+    );
+}
+
+fn paint_by_pen(rig: &mut PenRig, ask: Ask<'_>) {
+    // Paint: a press on the cloth changes the texture.
+    use_tool(ask, shared::sim_to_ui::tool::PAINT);
+    let (h0, x) = rig.next_frame();
+    rig.send(x[at(8, 8)], true);
+    rig.next_frame();
+    rig.next_frame();
+    rig.send(x[at(8, 8)], false);
+    let (h1, _) = rig.next_frame();
+    assert!(
+        h1.texture_version > h0.texture_version,
+        "paint by pen: texture version {} -> {}",
+        h0.texture_version,
+        h1.texture_version
+    );
+}
+
+/// Tearing at 2x rest length (set, then off until the tool turns it on): grab a corner
+/// and pull it far away; edges tear (triangles are deleted).
+fn tear_by_pen(rig: &mut PenRig, ask: Ask<'_>) {
+    // Tearing at 2x rest length (set, then off until the tool turns it on).
+    for mode in [1, 0] {
+        let r = ask(ToolCommand {
+            op: op::SET_TEAR,
+            mode,
+            value: 2.0,
+            ..Default::default()
+        });
+        assert_eq!(r.ok, 1, "{}", r.message());
+    }
+    use_tool(ask, shared::sim_to_ui::tool::TEAR);
+    // The mesh as it is now.
+    let mut triangles = None;
+    while let Some(m) = rig.meshes.receive().unwrap() {
+        triangles = Some(m.user_header().triangles);
+    }
+    let triangles = triangles.expect("the current mesh");
+    let (_, x) = rig.next_frame();
+    let start = x[at(16, 16)];
+    let mut torn = false;
+    for k in 0..90 {
+        let t = (k as f32 / 30.0).min(1.0);
+        rig.send(
+            [start[0] + 0.8 * t, start[1] - 0.2 * t, start[2] + 0.8 * t],
+            true,
+        );
+        rig.next_frame();
+        while let Some(m) = rig.meshes.receive().unwrap() {
+            torn |= m.user_header().triangles < triangles;
+        }
+        if torn {
+            break;
+        }
+    }
+    rig.send(start, false);
+    rig.next_frame();
+    assert!(
+        torn,
+        "tear by pen: no triangle was torn off ({triangles} before)"
+    );
+}
+
+fn cut_by_pen(rig: &mut PenRig, ask: Ask<'_>) {
+    // Cut: hold and draw across row 8 from column 2 to 14; the cut happens on release.
+    use_tool(ask, shared::sim_to_ui::tool::CUT);
+    let (h0, x) = rig.next_frame();
+    for c in 2..=14 {
+        rig.send(x[at(8, c)], true);
+        rig.next_frame();
+    }
+    rig.send(x[at(8, 14)], false);
+    rig.next_frame();
+    let (h1, _) = rig.next_frame();
+    assert!(
+        h1.vertices > h0.vertices && h1.topology != h0.topology,
+        "cut by pen: {} -> {} vertices",
+        h0.vertices,
+        h1.vertices
+    );
+}
+
+fn sew_by_pen(rig: &mut PenRig, ask: Ask<'_>) {
+    // Sew: press on a corner, then on the border vertex two along (a tuck).
+    use_tool(ask, shared::sim_to_ui::tool::SEW);
+    let depth = rig.tool_state().undo_depth;
+    let (_, x) = rig.next_frame();
+    rig.send(x[at(0, 0)], true);
+    rig.next_frame();
+    rig.send(x[at(0, 0)], false);
+    rig.next_frame();
+    let s = rig.tool_state();
+    assert_eq!(
+        s.sew_first,
+        at(0, 0) as u32,
+        "the first press picks a vertex"
+    );
+    let (_, x) = rig.next_frame();
+    rig.send(x[at(0, 2)], true);
+    rig.next_frame();
+    rig.send(x[at(0, 2)], false);
+    rig.next_frame();
+    let s = rig.tool_state();
+    assert!(
+        s.sew_first == u32::MAX && s.undo_depth == depth + 1,
+        "sew by pen: first {} depth {} -> {}",
+        s.sew_first,
+        depth,
+        s.undo_depth
+    );
+}
+
+/// With a haptic loop rendering the pinch, the cloth is pulled with the force the hand
+/// was pulled back with (the reaction), not harder; the pen is read every substep.
+#[test]
+fn the_pinch_pulls_the_cloth_no_harder_than_the_rendered_force() {
+    use shared::haptic_to_sim::{AppliedForce, DeviceSample};
+    static STOP_PULL: AtomicBool = AtomicBool::new(false);
+    let d = Domain::new(&format!("pull{}", std::process::id())).unwrap();
+    let mut cfg = ServiceConfig::new(d.clone());
+    cfg.autosave = std::env::temp_dir().join(format!("saiho-pull-{}.saiho", std::process::id()));
+    cfg.seconds = Some(30.0);
+    let handle = std::thread::spawn(move || {
+        let mut scene = ScenarioConfig::new(ScenarioName::DrapeCube);
+        scene.grid = 8;
+        let sim = build_design(&scene).unwrap();
+        run(sim, &cfg, &STOP_PULL, &mut |_| {}).unwrap()
+    });
+    let node = services::node(&d, "haptic").unwrap();
+    let frames = ports::subscriber(&node, services::cloth_frame, None).unwrap();
+    let pen = ports::publisher(&node, services::device).unwrap();
+    let applied = ports::publisher(&node, services::applied_force).unwrap();
+    let (mut s1, mut s2) = (0, 0);
+    let mut start = None;
+    let mut pulled = 0;
+    let deadline = Instant::now() + Duration::from_secs(20);
+    // 40 frames of the corner pulled 0.5 m up while the "hand" feels 0.2 N.
+    while pulled < 40 {
+        assert!(Instant::now() < deadline, "the service stopped answering");
+        let Some(f) = frames.receive().unwrap() else {
+            // Between frames, the haptic loop's 1 kHz stream.
+            if let Some(p) = start {
+                let p: [f32; 3] = p;
+                // The press lands where the corner is; then the pen rises.
+                let lift = if pulled == 0 { 0.0 } else { 0.5 };
+                pen.send_copy(DeviceSample {
+                    header: Header::next(&mut s1),
+                    position: [p[0], p[1] + lift, p[2]],
+                    buttons: 1,
+                    device_ok: 1,
+                    ..Default::default()
+                })
+                .unwrap();
+                applied
+                    .send_copy(AppliedForce {
+                        header: Header::next(&mut s2),
+                        force: [0.0, -0.2, 0.0],
+                        model_frame: 1,
+                        ..Default::default()
+                    })
+                    .unwrap();
+            }
+            std::thread::sleep(Duration::from_millis(1));
+            continue;
+        };
+        let p = f.payload();
+        if start.is_none() && f.user_header().frame > 30 {
+            start = Some([p[0], p[1], p[2]]);
+            pen.send_copy(DeviceSample {
+                header: Header::next(&mut s1),
+                position: [p[0], p[1], p[2]],
+                buttons: 1,
+                device_ok: 1,
+                ..Default::default()
+            })
+            .unwrap();
+        } else if start.is_some() {
+            pulled += 1;
+        }
+    }
+    STOP_PULL.store(true, Ordering::Relaxed);
+    let stats = handle.join().unwrap();
+    assert_eq!(stats.pinches, 1);
+    assert!(
+        stats.coupled_substeps >= 5 * 30
+            && stats.pen_substeps >= stats.coupled_substeps
+            && stats.force_limited_substeps >= 5 * 20,
+        "coupled {}, at the limit {}, of {} substeps",
+        stats.coupled_substeps,
+        stats.force_limited_substeps,
+        stats.pen_substeps
+    );
+    // 0.5 m at 100 N/m would be 50 N; the limit is 0.2 N x 1.1 + 0.05 N.
+    let limit = 0.2 * 1.1 + 0.05;
+    assert!(
+        stats.pinch_force_max_n > 0.5 * limit && stats.pinch_force_max_n <= limit + 1e-3,
+        "largest pull {} N",
+        stats.pinch_force_max_n
+    );
+    let _ = std::fs::remove_file(
+        std::env::temp_dir().join(format!("saiho-pull-{}.saiho", std::process::id())),
+    );
+}

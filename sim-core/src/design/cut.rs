@@ -1,0 +1,212 @@
+//! Cutting: the paper's cut (a vertex split across the cut direction), scissors along a
+//! stroke, and cutting pieces away (triangles removed).
+
+use glam::Vec3;
+
+use super::document::Design;
+use super::error::EditError;
+use super::prim::{Edit, Prim};
+use crate::mesh::Tri;
+
+impl Design {
+    fn centroid(&self, t: &Tri) -> Vec3 {
+        t.v.iter()
+            .map(|&i| self.sim.cloth.x[i as usize])
+            .sum::<Vec3>()
+            / 3.0
+    }
+
+    /// Primitives that split `v` in two: the triangles whose centre lies on the positive
+    /// side of the plane through `v` with normal `plane` move to a new vertex.
+    pub(super) fn split_prims(&self, v: u32, plane: Vec3) -> Result<Vec<Prim>, EditError> {
+        if !plane.is_finite() || plane.length_squared() < 1e-20 {
+            return Err(EditError::BadDirection);
+        }
+        let xv = self.sim.cloth.x[v as usize];
+        let tris: Vec<(u32, Tri)> = self
+            .sim
+            .cloth
+            .live
+            .tris_of(v)
+            .iter()
+            .filter_map(|&t| self.sim.cloth.live.tri(t).map(|tri| (t, *tri)))
+            .collect();
+        let moving: Vec<&(u32, Tri)> = tris
+            .iter()
+            .filter(|(_, t)| (self.centroid(t) - xv).dot(plane) > 0.0)
+            .collect();
+        if moving.is_empty() || moving.len() == tris.len() {
+            return Err(EditError::NothingToCut(v));
+        }
+        let new = self.sim.cloth.len() as u32;
+        let mut prims = vec![Prim::AddVertex {
+            index: new,
+            x: xv,
+            v: self.sim.cloth.v[v as usize],
+        }];
+        for (slot, t) in moving {
+            let mut n = *t;
+            n.v = n.v.map(|i| if i == v { new } else { i });
+            prims.push(Prim::Tri {
+                slot: *slot,
+                old: Some(*t),
+                new: Some(n),
+            });
+        }
+        if self.sim.cloth.is_pinned(v as usize) {
+            prims.push(Prim::Pin {
+                vertex: new,
+                old: false,
+                new: true,
+            });
+        }
+        Ok(prims)
+    }
+
+    /// The paper's cut: splits vertex `v` in two, its triangles divided by the plane that
+    /// contains the cut direction `dir` and the surface normal. Returns the new vertex.
+    pub fn cut_vertex(&mut self, v: u32, dir: Vec3) -> Result<u32, EditError> {
+        self.check_vertex(v)?;
+        let plane = dir.cross(self.sim.cloth.vertex_normal(v));
+        let new = self.sim.cloth.len() as u32;
+        let prims = self.split_prims(v, plane)?;
+        self.commit("cut", prims)?;
+        Ok(new)
+    }
+
+    /// Scissors: splits the vertices along the polyline `points` (the pointer's path),
+    /// each across the local stroke direction, as one undoable operation. Returns how
+    /// many vertices were split.
+    pub fn cut_stroke(&mut self, points: &[Vec3], radius: f32) -> Result<usize, EditError> {
+        if points.iter().any(|p| !p.is_finite()) {
+            return Err(EditError::BadDirection);
+        }
+        let chain = self.stroke_chain(points, radius);
+        if chain.len() < 2 {
+            return Err(EditError::EmptyStroke);
+        }
+        let mut all = Vec::new();
+        let mut splits = 0;
+        for k in 0..chain.len() {
+            let (a, b) = (
+                chain[k.saturating_sub(1)],
+                chain[(k + 1).min(chain.len() - 1)],
+            );
+            let dir = self.sim.cloth.x[b as usize] - self.sim.cloth.x[a as usize];
+            let v = chain[k];
+            let plane = dir.cross(self.sim.cloth.vertex_normal(v));
+            let Ok(prims) = self.split_prims(v, plane) else {
+                continue;
+            };
+            if let Err(e) = self.apply_prims(&prims) {
+                self.rollback(&all);
+                return Err(e);
+            }
+            splits += 1;
+            all.extend(prims);
+        }
+        if splits == 0 {
+            return Err(EditError::EmptyStroke);
+        }
+        self.history.push(Edit {
+            label: "cut stroke",
+            prims: all,
+        });
+        Ok(splits)
+    }
+
+    fn rollback(&mut self, applied: &[Prim]) {
+        let inverse: Vec<Prim> = applied.iter().rev().map(Prim::inverse).collect();
+        // Inverses of applied primitives always apply.
+        let _ = self.apply_prims(&inverse);
+    }
+
+    /// The chain of vertices a stroke passes: the nearest vertex to points sampled along
+    /// it, consecutive ones joined through the mesh when they are not neighbours.
+    fn stroke_chain(&self, points: &[Vec3], radius: f32) -> Vec<u32> {
+        let mut picks: Vec<u32> = Vec::new();
+        let segments: Vec<(Vec3, Vec3)> = if points.len() == 1 {
+            vec![(points[0], points[0])]
+        } else {
+            points.windows(2).map(|w| (w[0], w[1])).collect()
+        };
+        for (p, q) in segments {
+            let steps = ((q - p).length() / (radius * 0.5).max(1e-4))
+                .ceil()
+                .clamp(1.0, 4096.0) as usize;
+            for s in 0..=steps {
+                let at = p.lerp(q, s as f32 / steps as f32);
+                if let Some(v) = self.sim.cloth.nearest_vertex(at, radius)
+                    && picks.last() != Some(&v)
+                {
+                    picks.push(v);
+                }
+            }
+        }
+        let mut chain: Vec<u32> = Vec::new();
+        for v in picks {
+            match chain.last() {
+                Some(&u) if !self.sim.cloth.live.neighbours(u).contains(&v) => {
+                    chain.extend(self.mesh_path(u, v, 8).into_iter().skip(1));
+                }
+                _ => chain.push(v),
+            }
+        }
+        chain.dedup();
+        chain
+    }
+
+    /// Shortest edge path from `a` to `b` of at most `limit` edges (just `[a, b]` if none).
+    fn mesh_path(&self, a: u32, b: u32, limit: usize) -> Vec<u32> {
+        let mut prev: std::collections::HashMap<u32, u32> = std::collections::HashMap::new();
+        let mut frontier = vec![a];
+        prev.insert(a, a);
+        for _ in 0..limit {
+            let mut next = Vec::new();
+            for &u in &frontier {
+                for w in self.sim.cloth.live.neighbours(u) {
+                    if let std::collections::hash_map::Entry::Vacant(e) = prev.entry(w) {
+                        e.insert(u);
+                        next.push(w);
+                    }
+                }
+            }
+            if prev.contains_key(&b) {
+                let mut path = vec![b];
+                let mut c = b;
+                while c != a {
+                    c = prev[&c];
+                    path.push(c);
+                }
+                path.reverse();
+                return path;
+            }
+            frontier = next;
+        }
+        vec![a, b]
+    }
+
+    /// Cuts a piece away: removes the triangles in `slots` (alive ones; at least one) as
+    /// one undoable operation. Returns how many went.
+    pub fn remove_triangles(&mut self, slots: &[u32]) -> Result<usize, EditError> {
+        self.check_editable()?;
+        let mut seen = std::collections::HashSet::new();
+        let prims: Vec<Prim> = slots
+            .iter()
+            .filter(|s| seen.insert(**s))
+            .filter_map(|&s| {
+                self.sim.cloth.live.tri(s).map(|t| Prim::Tri {
+                    slot: s,
+                    old: Some(*t),
+                    new: None,
+                })
+            })
+            .collect();
+        if prims.is_empty() {
+            return Err(EditError::NothingNear { radius: 0.0 });
+        }
+        let n = prims.len();
+        self.commit("cut away", prims)?;
+        Ok(n)
+    }
+}

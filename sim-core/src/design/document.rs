@@ -1,0 +1,50 @@
+//! [`Design`]: what a designer owns — the simulated cloth with its edits, the seams, the
+//! painted texture, tearing settings and the history.
+
+use super::history::History;
+use super::parts::{Seam, TearSettings};
+use super::texture::Texture;
+use crate::error::GeometryError;
+use crate::solver::Simulation;
+
+/// Side of the cloth's texture, texels.
+pub const TEXTURE_SIZE: usize = 1024;
+
+/// The colour of unpainted cloth.
+pub const CLOTH_COLOUR: [u8; 4] = [235, 235, 230, 255];
+
+#[derive(Debug)]
+pub struct Design {
+    /// The simulated scene: cloth, body, model. The design edits its cloth only through
+    /// primitive edits (`Prim`).
+    pub sim: Simulation,
+    /// The cloth's painted texture.
+    pub texture: Texture,
+    /// Undo and redo of operations.
+    pub history: History,
+    /// Tearing of overstretched edges.
+    pub tear: TearSettings,
+    /// Seams being stitched (welded pairs stay, as `a == b`).
+    pub seams: Vec<Seam>,
+    /// The texture as PNG for design files, with the texture version it encodes.
+    pub(super) png_cache: Option<(u64, Vec<u8>)>,
+}
+
+impl Design {
+    /// A new design around `sim`: unpainted, no seams, nothing to undo, tearing off.
+    pub fn new(sim: Simulation) -> Self {
+        Self {
+            sim,
+            texture: Texture::new(TEXTURE_SIZE, TEXTURE_SIZE, CLOTH_COLOUR),
+            history: History::default(),
+            tear: TearSettings::default(),
+            seams: Vec::new(),
+            png_cache: None,
+        }
+    }
+
+    /// Checks the live mesh and state (see [`Simulation::validate`]).
+    pub fn validate(&self) -> Result<(), GeometryError> {
+        self.sim.validate()
+    }
+}

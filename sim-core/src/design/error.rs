@@ -1,0 +1,52 @@
+//! Why an edit of the design was refused.
+
+use crate::error::GeometryError;
+
+/// Why an operation was refused. The design is unchanged when one is returned.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum EditError {
+    #[error("operations need the xpbd model (this simulation runs {0})")]
+    Model(&'static str),
+    #[error("vertex {0} does not exist")]
+    NoVertex(u32),
+    #[error("vertex {0} was removed (no triangle uses it any more)")]
+    RemovedVertex(u32),
+    #[error("cannot sew vertex {0} to itself")]
+    SewSelf(u32),
+    #[error("vertex {0} is inside the cloth; only vertices on its border can be sewn")]
+    SewInterior(u32),
+    #[error("vertices {0} and {1} already share a triangle")]
+    SewNeighbours(u32, u32),
+    #[error("nothing to cut at vertex {0}: all its triangles lie on one side of the cut")]
+    NothingToCut(u32),
+    #[error("the cut direction is zero or not finite")]
+    BadDirection,
+    #[error("the stroke crosses no vertex of the cloth")]
+    EmptyStroke,
+    #[error("no cloth within {radius} m of the pointer")]
+    NothingNear { radius: f32 },
+    #[error("edge ({0}, {1}) does not exist")]
+    NoEdge(u32, u32),
+    #[error("{name} must be {rule}, got {value}")]
+    BadValue {
+        name: &'static str,
+        rule: &'static str,
+        value: String,
+    },
+    #[error("the edit would break the mesh: {0}")]
+    Geometry(#[from] GeometryError),
+    #[error("({0}, {1}) is not an edge on the cloth's border")]
+    NotBorderEdge(u32, u32),
+    #[error("the two seam paths share vertex {0}")]
+    SeamOverlap(u32),
+    #[error("the design changed underneath this edit (seam {0})")]
+    StaleSeam(u32),
+    #[error("the design changed underneath this edit (triangle slot {0})")]
+    Stale(u32),
+    #[error("no {what} on the pattern there")]
+    NothingOnPattern { what: &'static str },
+    #[error("nothing to undo")]
+    NothingToUndo,
+    #[error("nothing to redo")]
+    NothingToRedo,
+}

@@ -1,0 +1,244 @@
+//! Export of the live design for ordinary tools: OBJ (positions, per-corner UVs, vertex
+//! normals) with an MTL whose diffuse map is the painted texture as PNG, and binary glTF
+//! 2.0 (`.glb`, the texture embedded).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+
+use super::document::Design;
+use super::texture::Texture;
+
+#[derive(Debug, thiserror::Error)]
+pub enum ExportError {
+    #[error("cannot write {path}: {source}")]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("cannot encode {path} as PNG: {reason}")]
+    Png { path: PathBuf, reason: String },
+    #[error("export name '{0}' must be a plain file name (letters, digits, '-', '_', '.')")]
+    BadName(String),
+    #[error("the cloth has no triangles left to export")]
+    Empty,
+}
+
+fn check_name(name: &str) -> Result<(), ExportError> {
+    if name.is_empty()
+        || !name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_.".contains(c))
+    {
+        return Err(ExportError::BadName(name.into()));
+    }
+    Ok(())
+}
+
+/// Encodes an RGBA8 texture as PNG bytes.
+pub fn png_bytes(t: &Texture) -> Result<Vec<u8>, String> {
+    let mut out = Vec::new();
+    {
+        let mut enc = png::Encoder::new(&mut out, t.width as u32, t.height as u32);
+        enc.set_color(png::ColorType::Rgba);
+        enc.set_depth(png::BitDepth::Eight);
+        enc.set_compression(png::Compression::Fast);
+        let mut w = enc.write_header().map_err(|e| e.to_string())?;
+        w.write_image_data(&t.rgba).map_err(|e| e.to_string())?;
+        w.finish().map_err(|e| e.to_string())?;
+    }
+    Ok(out)
+}
+
+/// Writes `dir/name.obj`, `dir/name.mtl` and `dir/name.png`; returns the three paths.
+/// Only vertices some triangle uses are written (renumbered in order).
+pub fn export_obj(design: &Design, dir: &Path, name: &str) -> Result<Vec<PathBuf>, ExportError> {
+    check_name(name)?;
+    let live = &design.sim.cloth.live;
+    if live.tri_count() == 0 {
+        return Err(ExportError::Empty);
+    }
+    let io = |path: &Path| {
+        let path = path.to_owned();
+        move |source| ExportError::Io { path, source }
+    };
+    std::fs::create_dir_all(dir).map_err(io(dir))?;
+    let (obj, mtl, png) = (
+        dir.join(format!("{name}.obj")),
+        dir.join(format!("{name}.mtl")),
+        dir.join(format!("{name}.png")),
+    );
+    let x = &design.sim.cloth.x;
+    let mut index = vec![0u32; x.len()];
+    let normals = vertex_normals(design);
+    let mut s = String::with_capacity(64 * (x.len() + 3 * live.tri_count()));
+    let _ = writeln!(s, "# Saiho cloth export\nmtllib {name}.mtl\no {name}");
+    let mut next = 1u32;
+    for (i, p) in x.iter().enumerate() {
+        if live.vertex_alive(i as u32) {
+            index[i] = next;
+            next += 1;
+            let _ = writeln!(s, "v {} {} {}", p.x, p.y, p.z);
+        }
+    }
+    for (i, n) in normals.iter().enumerate() {
+        if live.vertex_alive(i as u32) {
+            let _ = writeln!(s, "vn {} {} {}", n.x, n.y, n.z);
+        }
+    }
+    for (_, t) in live.iter() {
+        for uv in &t.uv {
+            let _ = writeln!(s, "vt {} {}", uv.x, uv.y);
+        }
+    }
+    let _ = writeln!(s, "usemtl cloth\ns off");
+    for (k, (_, t)) in live.iter().enumerate() {
+        let vt = 3 * k as u32 + 1;
+        let [a, b, c] = t.v.map(|i| index[i as usize]);
+        let _ = writeln!(s, "f {a}/{vt}/{a} {b}/{}/{b} {c}/{}/{c}", vt + 1, vt + 2);
+    }
+    std::fs::write(&obj, s).map_err(io(&obj))?;
+    let m = format!(
+        "# Saiho cloth material\nnewmtl cloth\nKa 0 0 0\nKd 1 1 1\nKs 0 0 0\nd 1\nillum 1\nmap_Kd {name}.png\n"
+    );
+    std::fs::write(&mtl, m).map_err(io(&mtl))?;
+    let bytes = png_bytes(&design.texture).map_err(|reason| ExportError::Png {
+        path: png.clone(),
+        reason,
+    })?;
+    std::fs::write(&png, bytes).map_err(io(&png))?;
+    Ok(vec![obj, mtl, png])
+}
+
+/// Vertex normals of the live mesh (area-weighted), by vertex index.
+fn vertex_normals(design: &Design) -> Vec<Vec3> {
+    let x = &design.sim.cloth.x;
+    let mut normals = vec![Vec3::ZERO; x.len()];
+    for (_, t) in design.sim.cloth.live.iter() {
+        let [a, b, c] = t.v.map(|i| x[i as usize]);
+        let n = (b - a).cross(c - a);
+        for &i in &t.v {
+            normals[i as usize] += n;
+        }
+    }
+    normals.iter().map(|n| n.normalize_or(Vec3::Y)).collect()
+}
+
+fn pad4(v: &mut Vec<u8>, byte: u8) {
+    while !v.len().is_multiple_of(4) {
+        v.push(byte);
+    }
+}
+
+/// Writes `dir/name.glb`: one mesh (a vertex per distinct position + UV pair, so seams in
+/// the texture stay sharp), one double-sided material whose base colour is the texture.
+pub fn export_glb(design: &Design, dir: &Path, name: &str) -> Result<PathBuf, ExportError> {
+    check_name(name)?;
+    let live = &design.sim.cloth.live;
+    if live.tri_count() == 0 {
+        return Err(ExportError::Empty);
+    }
+    let path = dir.join(format!("{name}.glb"));
+    let io = |source| ExportError::Io {
+        path: path.clone(),
+        source,
+    };
+    std::fs::create_dir_all(dir).map_err(|source| ExportError::Io {
+        path: dir.to_owned(),
+        source,
+    })?;
+    let normals = vertex_normals(design);
+    let mut index_of: std::collections::HashMap<(u32, u32, u32), u32> =
+        std::collections::HashMap::new();
+    let (mut pos, mut nrm, mut uv, mut idx) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    for (_, t) in live.iter() {
+        for k in 0..3 {
+            let v = t.v[k];
+            let key = (v, t.uv[k].x.to_bits(), t.uv[k].y.to_bits());
+            let next = index_of.len() as u32;
+            let i = *index_of.entry(key).or_insert_with(|| {
+                let p = design.sim.cloth.x[v as usize];
+                lo = lo.min(p);
+                hi = hi.max(p);
+                pos.push(p);
+                nrm.push(normals[v as usize]);
+                // glTF's UV origin is the top-left corner.
+                uv.push([t.uv[k].x, 1.0 - t.uv[k].y]);
+                next
+            });
+            idx.push(i);
+        }
+    }
+    let mut bin: Vec<u8> = Vec::new();
+    let mut views = Vec::new();
+    let mut view = |bin: &mut Vec<u8>, bytes: &[u8], target: Option<u32>| -> usize {
+        let offset = bin.len();
+        bin.extend_from_slice(bytes);
+        pad4(bin, 0);
+        let mut v =
+            serde_json::json!({"buffer": 0, "byteOffset": offset, "byteLength": bytes.len()});
+        if let Some(t) = target {
+            v["target"] = t.into();
+        }
+        views.push(v);
+        views.len() - 1
+    };
+    let f32s = |v: &[f32]| v.iter().flat_map(|f| f.to_le_bytes()).collect::<Vec<u8>>();
+    let flat3: Vec<f32> = pos.iter().flat_map(|p| p.to_array()).collect();
+    let flatn: Vec<f32> = nrm.iter().flat_map(|p| p.to_array()).collect();
+    let flatuv: Vec<f32> = uv.iter().flatten().copied().collect();
+    let vp = view(&mut bin, &f32s(&flat3), Some(34962));
+    let vn = view(&mut bin, &f32s(&flatn), Some(34962));
+    let vt = view(&mut bin, &f32s(&flatuv), Some(34962));
+    let ix: Vec<u8> = idx.iter().flat_map(|i| i.to_le_bytes()).collect();
+    let vi = view(&mut bin, &ix, Some(34963));
+    let png = png_bytes(&design.texture).map_err(|reason| ExportError::Png {
+        path: path.clone(),
+        reason,
+    })?;
+    let vimg = view(&mut bin, &png, None);
+    let n = pos.len();
+    let json = serde_json::json!({
+        "asset": {"version": "2.0", "generator": "Saiho sim-core"},
+        "scene": 0,
+        "scenes": [{"nodes": [0]}],
+        "nodes": [{"mesh": 0, "name": name}],
+        "meshes": [{"name": name, "primitives": [{
+            "attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2},
+            "indices": 3, "material": 0, "mode": 4}]}],
+        "materials": [{"name": "cloth", "doubleSided": true, "pbrMetallicRoughness": {
+            "baseColorTexture": {"index": 0}, "metallicFactor": 0.0, "roughnessFactor": 1.0}}],
+        "textures": [{"source": 0, "sampler": 0}],
+        "samplers": [{"magFilter": 9729, "minFilter": 9729, "wrapS": 33071, "wrapT": 33071}],
+        "images": [{"bufferView": vimg, "mimeType": "image/png"}],
+        "accessors": [
+            {"bufferView": vp, "componentType": 5126, "count": n, "type": "VEC3",
+             "min": lo.to_array(), "max": hi.to_array()},
+            {"bufferView": vn, "componentType": 5126, "count": n, "type": "VEC3"},
+            {"bufferView": vt, "componentType": 5126, "count": n, "type": "VEC2"},
+            {"bufferView": vi, "componentType": 5125, "count": idx.len(), "type": "SCALAR"},
+        ],
+        "bufferViews": views,
+        "buffers": [{"byteLength": bin.len()}],
+    });
+    let mut js = serde_json::to_vec(&json).map_err(|e| ExportError::Png {
+        path: path.clone(),
+        reason: e.to_string(),
+    })?;
+    pad4(&mut js, b' ');
+    let total = 12 + 8 + js.len() + 8 + bin.len();
+    let mut out = Vec::with_capacity(total);
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&(total as u32).to_le_bytes());
+    out.extend_from_slice(&(js.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&js);
+    out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"BIN\0");
+    out.extend_from_slice(&bin);
+    std::fs::write(&path, out).map_err(io)?;
+    Ok(path)
+}

@@ -1,0 +1,312 @@
+//! Reading a design: every count, index and value checked before anything is built.
+
+use glam::{Vec2, Vec3};
+
+use super::format::{Cursor, DesignError, FORMAT, Header, MAGIC, MAX_TEXTURE, corrupt, fnv1a};
+use crate::collision::{Body, BodyKind};
+use crate::design::{Design, Seam, TearMode, TearSettings, Texture};
+use crate::error::GeometryError;
+use crate::mesh::{ClothMesh, LiveMesh, MAX_VERTICES, Tri};
+use crate::solver::{Cloth, Environment, ModelKind, Simulation};
+
+impl Design {
+    pub fn load_design_file(path: &std::path::Path) -> Result<Self, DesignError> {
+        let bytes = std::fs::read(path).map_err(|source| DesignError::Io {
+            path: path.to_owned(),
+            source,
+        })?;
+        Self::load_design(&bytes)
+    }
+
+    /// Rebuilds a design from `.saiho` bytes, checking everything.
+    pub fn load_design(bytes: &[u8]) -> Result<Self, DesignError> {
+        let (header, data) = open(bytes)?;
+        let h = &header;
+        let sections = Sections { header: h, data };
+        let model = ModelKind::parse(&h.model).map_err(|e| corrupt(e.to_string()))?;
+        h.material.validate().map_err(|e| corrupt(e.to_string()))?;
+        let cloth = read_cloth(h, &sections)?;
+        let body = match &h.body {
+            None => None,
+            Some(name) => Some(load_body(name, h, &sections)?),
+        };
+        let env = read_environment(h)?;
+        if h.substeps == 0 || h.substeps > 10_000 {
+            return Err(corrupt(format!("{} substeps", h.substeps)));
+        }
+        let mut sim = Simulation::new(cloth, body, model, h.material, env, Some(h.substeps))
+            .map_err(|e| corrupt(e.to_string()))?;
+        sim.frame = h.frame;
+        let mut design = Design::new(sim);
+        design.seams = read_seams(h)?;
+        design.tear = read_tear(h)?;
+        design.texture =
+            decode_texture(sections.get("texture")?, h.texture_width, h.texture_height)?;
+        Ok(design)
+    }
+}
+
+/// Checks the container (magic, version, checksum) and parses the header; returns it and
+/// the bytes its section offsets are relative to.
+fn open(bytes: &[u8]) -> Result<(Header, &[u8]), DesignError> {
+    if bytes.len() < 8 || &bytes[..8] != MAGIC {
+        return Err(DesignError::NotADesign);
+    }
+    if bytes.len() < 24 {
+        return Err(DesignError::Truncated("header"));
+    }
+    let version = u32::from_le_bytes([bytes[8], bytes[9], bytes[10], bytes[11]]);
+    if version > FORMAT {
+        return Err(DesignError::Newer { found: version });
+    }
+    if version == 0 {
+        return Err(corrupt("format version 0"));
+    }
+    let (body_bytes, sum) = bytes.split_at(bytes.len() - 8);
+    let stored = u64::from_le_bytes([
+        sum[0], sum[1], sum[2], sum[3], sum[4], sum[5], sum[6], sum[7],
+    ]);
+    if fnv1a(body_bytes) != stored {
+        return Err(corrupt(
+            "checksum mismatch (the file was damaged or truncated)",
+        ));
+    }
+    let hlen = u32::from_le_bytes([bytes[12], bytes[13], bytes[14], bytes[15]]) as usize;
+    let data_start = 16usize
+        .checked_add(hlen)
+        .filter(|&e| e <= body_bytes.len())
+        .ok_or(DesignError::Truncated("header"))?;
+    let header: Header = serde_json::from_slice(&body_bytes[16..data_start])
+        .map_err(|e| corrupt(format!("header: {e}")))?;
+    Ok((header, &body_bytes[data_start..]))
+}
+
+/// The sections of one file, by name.
+struct Sections<'a> {
+    header: &'a Header,
+    data: &'a [u8],
+}
+
+impl<'a> Sections<'a> {
+    fn get(&self, name: &str) -> Result<&'a [u8], DesignError> {
+        let s = self
+            .header
+            .sections
+            .iter()
+            .find(|s| s.name == name)
+            .ok_or_else(|| corrupt(format!("section '{name}' is missing")))?;
+        let start = usize::try_from(s.offset).map_err(|_| corrupt("section offset"))?;
+        let len = usize::try_from(s.len).map_err(|_| corrupt("section length"))?;
+        start
+            .checked_add(len)
+            .filter(|&e| e <= self.data.len())
+            .map(|e| &self.data[start..e])
+            .ok_or(DesignError::Truncated("section"))
+    }
+
+    /// Section `name`, which must be `want` bytes long.
+    fn exact(&self, name: &'static str, want: usize) -> Result<&'a [u8], DesignError> {
+        let s = self.get(name)?;
+        if s.len() == want {
+            Ok(s)
+        } else {
+            Err(corrupt(format!(
+                "section '{name}' has {} bytes, expected {want}",
+                s.len()
+            )))
+        }
+    }
+}
+
+/// The cloth: positions, velocities, the live triangles with their rest corners and UVs,
+/// the pattern mesh the non-editing models use, and the pins.
+fn read_cloth(h: &Header, sections: &Sections) -> Result<Cloth, DesignError> {
+    let n = h.vertices;
+    if n == 0 || n > MAX_VERTICES || h.triangles == 0 || h.triangles > 4 * MAX_VERTICES {
+        return Err(corrupt(format!(
+            "{} vertices and {} triangles",
+            h.vertices, h.triangles
+        )));
+    }
+    let read3 = |b: &[u8], count: usize| -> Result<Vec<Vec3>, DesignError> {
+        let mut c = Cursor { b, at: 0 };
+        (0..count).map(|_| c.vec3()).collect()
+    };
+    let x = read3(sections.exact("x", 12 * n)?, n)?;
+    let v = read3(sections.exact("v", 12 * n)?, n)?;
+    let mut c = Cursor {
+        b: sections.exact("tris", 72 * h.triangles)?,
+        at: 0,
+    };
+    let mut live = LiveMesh::default();
+    for _ in 0..n {
+        live.push_vertex();
+    }
+    for k in 0..h.triangles {
+        let idx = [c.u32()?, c.u32()?, c.u32()?];
+        let rest = [c.vec3()?, c.vec3()?, c.vec3()?];
+        let uv = [c.vec2()?, c.vec2()?, c.vec2()?];
+        let t = Tri { v: idx, rest, uv };
+        if t.rest_area() <= 0.0 {
+            return Err(GeometryError::Degenerate { triangle: k }.into());
+        }
+        live.set(k as u32, Some(t))?;
+    }
+    live.validate(&x)?;
+    let pattern = pattern_of(&live, &x);
+    let mut cloth = Cloth::from_parts(pattern, live, x, v, &h.material)?;
+    cloth.live.edited = true;
+    for &p in &h.pins {
+        if p as usize >= n {
+            return Err(corrupt(format!("pin {p} past the {n} vertices")));
+        }
+        cloth.set_pinned(p as usize, true);
+    }
+    Ok(cloth)
+}
+
+/// The pattern mesh the non-editing models use: each vertex's rest position and UV from
+/// the first triangle that uses it.
+fn pattern_of(live: &LiveMesh, x: &[Vec3]) -> ClothMesh {
+    let n = x.len();
+    let mut rest_pos = x.to_vec();
+    let mut rest_uv = vec![Vec2::ZERO; n];
+    let mut seen = vec![false; n];
+    for (_, t) in live.iter() {
+        for k in 0..3 {
+            let i = t.v[k] as usize;
+            if !seen[i] {
+                seen[i] = true;
+                rest_pos[i] = t.rest[k];
+                rest_uv[i] = t.uv[k];
+            }
+        }
+    }
+    ClothMesh {
+        positions: rest_pos,
+        uvs: rest_uv,
+        triangles: live.triangles(),
+    }
+}
+
+fn read_environment(h: &Header) -> Result<Environment, DesignError> {
+    let gravity = Vec3::from_array(h.gravity);
+    if !(gravity.is_finite() && h.frame_dt.is_finite() && h.frame_dt > 0.0) {
+        return Err(corrupt("gravity or frame duration"));
+    }
+    if h.floor.is_some_and(|f| !f.is_finite()) {
+        return Err(corrupt("floor height"));
+    }
+    Ok(Environment {
+        gravity,
+        frame_dt: h.frame_dt,
+        floor: h.floor,
+    })
+}
+
+fn read_seams(h: &Header) -> Result<Vec<Seam>, DesignError> {
+    let n = h.vertices;
+    h.seams
+        .iter()
+        .map(|s| {
+            if s.pairs
+                .iter()
+                .any(|&(a, b)| a as usize >= n || b as usize >= n)
+                || !(s.max_force.is_finite() && s.max_force > 0.0)
+            {
+                return Err(corrupt(
+                    "a seam refers to a missing vertex or has a bad force",
+                ));
+            }
+            Ok(Seam {
+                pairs: s.pairs.clone(),
+                max_force: s.max_force,
+            })
+        })
+        .collect()
+}
+
+fn read_tear(h: &Header) -> Result<TearSettings, DesignError> {
+    if !(h.tear_threshold.is_finite() && h.tear_threshold > 1.0) {
+        return Err(corrupt("tear threshold"));
+    }
+    Ok(TearSettings {
+        enabled: h.tear_enabled,
+        threshold: h.tear_threshold,
+        mode: if h.tear_split {
+            TearMode::Split
+        } else {
+            TearMode::Delete
+        },
+        ..TearSettings::default()
+    })
+}
+
+fn load_body(name: &str, h: &Header, sections: &Sections) -> Result<Body, DesignError> {
+    let (nv, nt) = (h.body_vertices, h.body_triangles);
+    if nv == 0 || nt == 0 || nv > MAX_VERTICES || nt > 4 * MAX_VERTICES {
+        return Err(corrupt("body size"));
+    }
+    let bv = sections.get("body_vertices")?;
+    let bt = sections.get("body_triangles")?;
+    if bv.len() != 12 * nv || bt.len() != 12 * nt {
+        return Err(corrupt("body sections do not match their counts"));
+    }
+    let mut c = Cursor { b: bv, at: 0 };
+    let vertices: Vec<Vec3> = (0..nv).map(|_| c.vec3()).collect::<Result<_, _>>()?;
+    let mut c = Cursor { b: bt, at: 0 };
+    let mut triangles = Vec::with_capacity(nt);
+    for _ in 0..nt {
+        let t = [c.u32()?, c.u32()?, c.u32()?];
+        if t.iter().any(|&i| i as usize >= nv) {
+            return Err(corrupt("a body triangle refers to a missing vertex"));
+        }
+        triangles.push(t);
+    }
+    // Built-in bodies come back with their exact signed distance when the mesh matches.
+    if let Ok(kind) = BodyKind::parse(name)
+        && !matches!(kind, BodyKind::Obj(_))
+        && let Ok(b) = kind.build()
+        && b.vertices == vertices
+        && b.triangles == triangles
+    {
+        return Ok(b);
+    }
+    Ok(Body::new(name, vertices, triangles, None)?)
+}
+
+fn decode_texture(bytes: &[u8], w: usize, h: usize) -> Result<Texture, DesignError> {
+    if w == 0 || h == 0 || w > MAX_TEXTURE || h > MAX_TEXTURE {
+        return Err(corrupt(format!("texture size {w} x {h}")));
+    }
+    let bad = |e: png::DecodingError| corrupt(format!("texture: {e}"));
+    let mut dec = png::Decoder::new_with_limits(
+        std::io::Cursor::new(bytes),
+        png::Limits {
+            bytes: 4 * w * h + (1 << 20),
+        },
+    );
+    dec.set_transformations(png::Transformations::EXPAND);
+    let mut reader = dec.read_info().map_err(bad)?;
+    let (iw, ih) = (reader.info().width as usize, reader.info().height as usize);
+    if (iw, ih) != (w, h) {
+        return Err(corrupt(format!(
+            "texture is {iw} x {ih}, the header says {w} x {h}"
+        )));
+    }
+    let size = reader
+        .output_buffer_size()
+        .ok_or_else(|| corrupt("texture size"))?;
+    let mut buf = vec![0u8; size];
+    let info = reader.next_frame(&mut buf).map_err(bad)?;
+    if info.color_type != png::ColorType::Rgba || info.bit_depth != png::BitDepth::Eight {
+        return Err(corrupt("texture is not 8-bit RGBA"));
+    }
+    buf.truncate(4 * w * h);
+    if buf.len() != 4 * w * h {
+        return Err(corrupt("texture data is short"));
+    }
+    let mut t = Texture::new(w, h, [0; 4]);
+    t.rgba = buf;
+    Ok(t)
+}

@@ -1,0 +1,131 @@
+//! Undo and redo stacks with a memory bound: the oldest operations are forgotten first.
+
+use std::collections::VecDeque;
+
+use super::prim::Edit;
+
+#[derive(Debug)]
+pub struct History {
+    undo: VecDeque<Edit>,
+    redo: Vec<Edit>,
+    bytes: usize,
+    /// Most bytes the two stacks may hold together.
+    pub max_bytes: usize,
+    /// Most operations kept for undo.
+    pub max_edits: usize,
+}
+
+impl Default for History {
+    fn default() -> Self {
+        Self {
+            undo: VecDeque::new(),
+            redo: Vec::new(),
+            bytes: 0,
+            max_bytes: 256 << 20,
+            max_edits: 10_000,
+        }
+    }
+}
+
+impl History {
+    /// A new operation: it can be undone, and what was undone can no longer be redone.
+    pub fn push(&mut self, e: Edit) {
+        for r in self.redo.drain(..) {
+            self.bytes -= r.bytes();
+        }
+        self.push_after_redo(e);
+    }
+
+    /// Back on the undo stack after a redo (the rest of the redo stack stays).
+    pub fn push_after_redo(&mut self, e: Edit) {
+        self.bytes += e.bytes();
+        self.undo.push_back(e);
+        while (self.bytes > self.max_bytes || self.undo.len() > self.max_edits)
+            && let Some(old) = self.undo.pop_front()
+        {
+            self.bytes -= old.bytes();
+        }
+    }
+
+    pub fn pop_undo(&mut self) -> Option<Edit> {
+        let e = self.undo.pop_back()?;
+        self.bytes -= e.bytes();
+        Some(e)
+    }
+
+    pub fn push_redo(&mut self, e: Edit) {
+        self.bytes += e.bytes();
+        self.redo.push(e);
+    }
+
+    pub fn pop_redo(&mut self) -> Option<Edit> {
+        let e = self.redo.pop()?;
+        self.bytes -= e.bytes();
+        Some(e)
+    }
+
+    pub fn clear(&mut self) {
+        self.undo.clear();
+        self.redo.clear();
+        self.bytes = 0;
+    }
+
+    pub fn undo_len(&self) -> usize {
+        self.undo.len()
+    }
+
+    pub fn redo_len(&self) -> usize {
+        self.redo.len()
+    }
+
+    /// Labels of the operations that can be undone, oldest first.
+    pub fn labels(&self) -> impl Iterator<Item = &'static str> + '_ {
+        self.undo.iter().map(|e| e.label)
+    }
+
+    pub fn bytes(&self) -> usize {
+        self.bytes
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::design::Prim;
+    use glam::Vec3;
+
+    fn edit(n: usize) -> Edit {
+        Edit {
+            label: "move",
+            prims: vec![
+                Prim::Move {
+                    vertex: 0,
+                    old: (Vec3::ZERO, Vec3::ZERO),
+                    new: (Vec3::ONE, Vec3::ZERO),
+                };
+                n
+            ],
+        }
+    }
+
+    #[test]
+    fn memory_bound_forgets_the_oldest() {
+        let mut h = History {
+            max_bytes: edit(10).bytes() * 3,
+            ..History::default()
+        };
+        for _ in 0..5 {
+            h.push(edit(10));
+        }
+        assert_eq!(h.undo_len(), 3);
+        assert!(h.bytes() <= h.max_bytes);
+        let e = h.pop_undo().unwrap();
+        h.push_redo(e);
+        assert_eq!(h.redo_len(), 1);
+        // A new edit drops the redo stack.
+        h.push(edit(1));
+        assert_eq!(h.redo_len(), 0);
+        assert_eq!(h.undo_len(), 3);
+        assert_eq!(h.bytes(), 2 * edit(10).bytes() + edit(1).bytes());
+    }
+}

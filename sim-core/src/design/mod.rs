@@ -1,0 +1,40 @@
+//! The design, above the solver: what a designer owns ([`Design`]: the simulated cloth
+//! with its edits, seams, paint, tearing settings and history), the paper's operations as
+//! one file each (cut, tear, sew, seam, paint, pin, pinch, and selections on the pattern),
+//! undo and redo, the design file and the exports.
+//!
+//! Every change to the design is a list of primitive edits ([`Prim`], `prim`), each of
+//! which knows its inverse; an operation applies its list as one transaction
+//! (`transaction`) and pushes it on the history. Imports `solver`, `collision`, `mesh` and
+//! `error`; nothing imports it but the scenarios and the processes.
+//!
+//! Inside, bottom up: `error`, `texture`, `parts` (seams, tearing settings) <- `prim`
+//! <- `history` <- `document` (the `Design`) <- `transaction` <- the operations (`cut`,
+//! `tear`, `sew`, `seam`, `paint`, `pin`, `pinch`, `pattern`) <- `frame`; `export` and
+//! `file` read a design.
+
+mod cut;
+mod document;
+mod error;
+pub mod export;
+pub mod file;
+mod frame;
+mod history;
+mod paint;
+mod parts;
+mod pattern;
+mod pin;
+mod pinch;
+mod prim;
+mod seam;
+mod sew;
+mod tear;
+mod texture;
+mod transaction;
+
+pub use document::{CLOTH_COLOUR, Design, TEXTURE_SIZE};
+pub use error::EditError;
+pub use history::History;
+pub use parts::{STITCH_FORCE, Seam, TearMode, TearSettings, open_stitches};
+pub use prim::{Edit, Prim};
+pub use texture::{PaintPatch, TILE, Texture};

@@ -1,0 +1,66 @@
+//! What a design holds besides its cloth and its paint: seams (the stitched pairs and
+//! how hard they pull) and the tearing settings. Plain data; the operations on them are
+//! in `seam` and `tear`.
+
+use crate::solver::Stitch;
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Seam {
+    /// Stitched vertex pairs (`a == b` once welded).
+    pub pairs: Vec<(u32, u32)>,
+    /// Largest force one stitch pulls with, N.
+    pub max_force: f32,
+}
+
+/// The seams' open stitches, as the solver pulls them.
+pub fn open_stitches(seams: &[Seam]) -> impl Iterator<Item = Stitch> + '_ {
+    seams.iter().flat_map(|seam| {
+        seam.open_pairs().map(|(a, b)| Stitch {
+            a,
+            b,
+            max_force: seam.max_force,
+        })
+    })
+}
+
+impl Seam {
+    pub fn open_pairs(&self) -> impl Iterator<Item = (u32, u32)> + '_ {
+        self.pairs.iter().copied().filter(|(a, b)| a != b)
+    }
+}
+
+/// Default stitch force, N: enough to pull cotton flaps together against gravity and
+/// friction, small next to what tears it.
+pub const STITCH_FORCE: f32 = 0.05;
+
+/// What an overstretched edge does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TearMode {
+    /// The paper's: the two triangles beside the edge are removed.
+    Delete,
+    /// The material separates at the edge: one end is split in two across the edge, the
+    /// triangles stay (as NVIDIA Flex tears).
+    Split,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TearSettings {
+    /// Tearing happens at all.
+    pub enabled: bool,
+    /// An edge tears when longer than this times its rest length.
+    pub threshold: f32,
+    pub mode: TearMode,
+    /// Most tears per frame (the most stretched first).
+    pub max_per_frame: usize,
+}
+
+impl Default for TearSettings {
+    fn default() -> Self {
+        Self {
+            enabled: false,
+            threshold: 1.6,
+            mode: TearMode::Delete,
+            max_per_frame: 16,
+        }
+    }
+}

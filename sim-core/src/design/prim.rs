@@ -1,0 +1,106 @@
+//! Every change to the design is a list of primitive edits ([`Prim`]), each of which
+//! knows its inverse; an operation's list is one [`Edit`] in the history. Applying them is
+//! `transaction`'s.
+
+use glam::Vec3;
+
+use super::parts::Seam;
+use super::texture::PaintPatch;
+use crate::mesh::Tri;
+
+/// One reversible change.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Prim {
+    /// Triangle slot `slot` goes from `old` to `new` (`None`: no triangle).
+    Tri {
+        slot: u32,
+        old: Option<Tri>,
+        new: Option<Tri>,
+    },
+    /// A vertex appended at `index` (always the end) with this position and velocity.
+    AddVertex {
+        index: u32,
+        x: Vec3,
+        v: Vec3,
+    },
+    /// The last vertex removed (it must be unused): the inverse of `AddVertex`.
+    RemoveVertex {
+        index: u32,
+        x: Vec3,
+        v: Vec3,
+    },
+    /// A vertex moved (its velocity too).
+    Move {
+        vertex: u32,
+        old: (Vec3, Vec3),
+        new: (Vec3, Vec3),
+    },
+    Pin {
+        vertex: u32,
+        old: bool,
+        new: bool,
+    },
+    Paint(PaintPatch),
+    /// Seam `index` goes from `old` to `new` (`index == len` with `old == None` appends).
+    Seam {
+        index: u32,
+        old: Option<Seam>,
+        new: Option<Seam>,
+    },
+}
+
+impl Prim {
+    pub fn inverse(&self) -> Prim {
+        match self.clone() {
+            Prim::Tri { slot, old, new } => Prim::Tri {
+                slot,
+                old: new,
+                new: old,
+            },
+            Prim::AddVertex { index, x, v } => Prim::RemoveVertex { index, x, v },
+            Prim::RemoveVertex { index, x, v } => Prim::AddVertex { index, x, v },
+            Prim::Move { vertex, old, new } => Prim::Move {
+                vertex,
+                old: new,
+                new: old,
+            },
+            Prim::Pin { vertex, old, new } => Prim::Pin {
+                vertex,
+                old: new,
+                new: old,
+            },
+            Prim::Paint(p) => Prim::Paint(p.inverse()),
+            Prim::Seam { index, old, new } => Prim::Seam {
+                index,
+                old: new,
+                new: old,
+            },
+        }
+    }
+
+    /// Rough heap size, for the history's memory bound.
+    pub fn bytes(&self) -> usize {
+        std::mem::size_of::<Prim>()
+            + match self {
+                Prim::Paint(p) => p.bytes(),
+                Prim::Seam { old, new, .. } => {
+                    8 * (old.as_ref().map_or(0, |s| s.pairs.len())
+                        + new.as_ref().map_or(0, |s| s.pairs.len()))
+                }
+                _ => 0,
+            }
+    }
+}
+
+/// One operation as the history keeps it.
+#[derive(Clone, Debug)]
+pub struct Edit {
+    pub label: &'static str,
+    pub prims: Vec<Prim>,
+}
+
+impl Edit {
+    pub fn bytes(&self) -> usize {
+        self.prims.iter().map(Prim::bytes).sum::<usize>() + std::mem::size_of::<Edit>()
+    }
+}

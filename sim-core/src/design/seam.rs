@@ -1,0 +1,136 @@
+//! Seams: two border paths paired vertex to vertex and pulled together by stitches of
+//! bounded force, each pair welded (sewn) once closer than the cloth's thickness.
+
+use super::document::Design;
+use super::error::EditError;
+use super::parts::Seam;
+use super::prim::Prim;
+
+impl Design {
+    /// Checks that `path` is a chain of border vertices joined by border edges.
+    fn check_border_path(&self, path: &[u32]) -> Result<(), EditError> {
+        if path.len() < 2 {
+            return Err(EditError::BadValue {
+                name: "seam path",
+                rule: "at least 2 vertices",
+                value: path.len().to_string(),
+            });
+        }
+        for &v in path {
+            self.check_vertex(v)?;
+            if !self.sim.cloth.live.is_boundary(v) {
+                return Err(EditError::SewInterior(v));
+            }
+        }
+        for w in path.windows(2) {
+            let sides = self.sim.cloth.live.edge(w[0], w[1]);
+            if sides[0] == crate::mesh::NONE || sides[1] != crate::mesh::NONE {
+                return Err(EditError::NotBorderEdge(w[0], w[1]));
+            }
+        }
+        Ok(())
+    }
+
+    /// Adds a seam between border paths `a` and `b` (vertex chains along the border, in
+    /// matching directions). The longer path sets the pair count; the other is resampled
+    /// by arc length. Undoable.
+    pub fn add_seam(&mut self, a: &[u32], b: &[u32], max_force: f32) -> Result<usize, EditError> {
+        self.check_editable()?;
+        self.check_border_path(a)?;
+        self.check_border_path(b)?;
+        if let Some(v) = a.iter().find(|v| b.contains(v)) {
+            return Err(EditError::SeamOverlap(*v));
+        }
+        if !(max_force.is_finite() && max_force > 0.0) {
+            return Err(EditError::BadValue {
+                name: "stitch force",
+                rule: "a positive number of newtons",
+                value: max_force.to_string(),
+            });
+        }
+        let params = |p: &[u32]| -> Vec<f32> {
+            let mut s = vec![0.0f32];
+            for w in p.windows(2) {
+                let d =
+                    (self.sim.cloth.x[w[1] as usize] - self.sim.cloth.x[w[0] as usize]).length();
+                s.push(s.last().copied().unwrap_or(0.0) + d);
+            }
+            let total = s.last().copied().unwrap_or(0.0).max(1e-12);
+            s.iter().map(|t| t / total).collect()
+        };
+        let (ta, tb) = (params(a), params(b));
+        let nearest = |ts: &[f32], t: f32| -> usize {
+            ts.iter()
+                .enumerate()
+                .min_by(|x, y| (x.1 - t).abs().total_cmp(&(y.1 - t).abs()))
+                .map_or(0, |(i, _)| i)
+        };
+        let pairs: Vec<(u32, u32)> = if a.len() >= b.len() {
+            ta.iter()
+                .enumerate()
+                .map(|(i, &t)| (a[i], b[nearest(&tb, t)]))
+                .collect()
+        } else {
+            tb.iter()
+                .enumerate()
+                .map(|(j, &t)| (a[nearest(&ta, t)], b[j]))
+                .collect()
+        };
+        let seam = Seam { pairs, max_force };
+        let count = seam.pairs.len();
+        let index = self.seams.len() as u32;
+        self.commit(
+            "seam",
+            vec![Prim::Seam {
+                index,
+                old: None,
+                new: Some(seam),
+            }],
+        )?;
+        Ok(count)
+    }
+
+    /// Welds stitched pairs that came within the cloth's thickness (after a frame); each
+    /// weld is an undoable sew. Returns how many welded.
+    pub(super) fn weld_close_stitches(&mut self) -> usize {
+        let reach = self.sim.material.thickness;
+        let mut welded = 0;
+        for si in 0..self.seams.len() {
+            let mut k = 0;
+            while k < self.seams[si].pairs.len() {
+                let (a, b) = self.seams[si].pairs[k];
+                k += 1;
+                if a == b
+                    || (self.sim.cloth.x[a as usize] - self.sim.cloth.x[b as usize]).length()
+                        > reach
+                {
+                    continue;
+                }
+                let Ok(mut prims) = self.sew_prims(a, b) else {
+                    continue;
+                };
+                // Every seam now refers to `a` where it referred to `b`.
+                for (sj, seam) in self.seams.iter().enumerate() {
+                    if seam.pairs.iter().any(|&(p, q)| p == b || q == b) {
+                        let mut new = seam.clone();
+                        for pq in &mut new.pairs {
+                            *pq = (
+                                if pq.0 == b { a } else { pq.0 },
+                                if pq.1 == b { a } else { pq.1 },
+                            );
+                        }
+                        prims.push(Prim::Seam {
+                            index: sj as u32,
+                            old: Some(seam.clone()),
+                            new: Some(new),
+                        });
+                    }
+                }
+                if self.commit("weld", prims).is_ok() {
+                    welded += 1;
+                }
+            }
+        }
+        welded
+    }
+}

@@ -1,0 +1,209 @@
+//! Applying primitive edits as transactions: an operation's list applies whole or not at
+//! all (if any primitive fails, those already applied are rolled back and the error is
+//! returned with the design unchanged), then goes on the history; undo applies the
+//! inverses in reverse order. After applying, only what the primitives touched is brought
+//! up to date: the touched vertices' masses, the solver's constraints for the touched
+//! triangles and edges ([`Solver::sync`](crate::solver::Solver::sync)), and the contact
+//! cache's size.
+
+use super::document::Design;
+use super::error::EditError;
+use super::parts::Seam;
+use super::prim::{Edit, Prim};
+use crate::mesh::{Tri, edge_key};
+
+/// What a batch of primitives touched, for the incremental update.
+#[derive(Default)]
+struct Touched {
+    tris: Vec<u32>,
+    edges: Vec<u64>,
+    verts: Vec<u32>,
+}
+
+impl Touched {
+    fn tri(&mut self, slot: u32, t: Option<&Tri>) {
+        self.tris.push(slot);
+        if let Some(t) = t {
+            for (a, b, _) in t.edges() {
+                self.edges.push(edge_key(a, b));
+            }
+            self.verts.extend_from_slice(&t.v);
+        }
+    }
+}
+
+impl Design {
+    pub(super) fn check_editable(&self) -> Result<(), EditError> {
+        if self.sim.editable() {
+            Ok(())
+        } else {
+            Err(EditError::Model(self.sim.model.name()))
+        }
+    }
+
+    /// A vertex that exists and is still part of the cloth.
+    pub fn check_vertex(&self, v: u32) -> Result<(), EditError> {
+        if v as usize >= self.sim.cloth.len() {
+            Err(EditError::NoVertex(v))
+        } else if !self.sim.cloth.live.vertex_alive(v) {
+            Err(EditError::RemovedVertex(v))
+        } else {
+            Ok(())
+        }
+    }
+
+    /// Applies one primitive to the cloth, recording what it touched.
+    fn apply_prim(&mut self, p: &Prim, touched: &mut Touched) -> Result<(), EditError> {
+        let cloth = &mut self.sim.cloth;
+        match p {
+            Prim::Tri { slot, old, new } => {
+                if cloth.live.tri(*slot) != old.as_ref() {
+                    return Err(EditError::Stale(*slot));
+                }
+                cloth.live.set(*slot, *new)?;
+                touched.tri(*slot, old.as_ref());
+                touched.tri(*slot, new.as_ref());
+            }
+            Prim::AddVertex { index, x, v } => {
+                if *index as usize != cloth.len() || !x.is_finite() || !v.is_finite() {
+                    return Err(EditError::NoVertex(*index));
+                }
+                cloth.live.push_vertex();
+                cloth.x.push(*x);
+                cloth.v.push(*v);
+                cloth.mass.push(0.0);
+                cloth.inv_mass.push(0.0);
+                cloth.pinned.push(false);
+            }
+            Prim::RemoveVertex { index, .. } => {
+                if *index as usize + 1 != cloth.len() || !cloth.live.pop_vertex() {
+                    return Err(EditError::NoVertex(*index));
+                }
+                cloth.x.pop();
+                cloth.v.pop();
+                cloth.mass.pop();
+                cloth.inv_mass.pop();
+                cloth.pinned.pop();
+                touched.verts.retain(|&i| i != *index);
+            }
+            Prim::Move { vertex, new, .. } => {
+                let i = *vertex as usize;
+                if i >= cloth.len() || !new.0.is_finite() || !new.1.is_finite() {
+                    return Err(EditError::NoVertex(*vertex));
+                }
+                cloth.x[i] = new.0;
+                cloth.v[i] = new.1;
+            }
+            Prim::Pin { vertex, new, .. } => {
+                let i = *vertex as usize;
+                if i >= cloth.len() {
+                    return Err(EditError::NoVertex(*vertex));
+                }
+                cloth.set_pinned(i, *new);
+                touched.verts.push(*vertex);
+            }
+            Prim::Paint(patch) => self.texture.apply(patch, false),
+            Prim::Seam { index, old, new } => self.set_seam(*index, old, new)?,
+        }
+        Ok(())
+    }
+
+    /// Applies `prims` as one transaction and brings masses, solver and contacts up to
+    /// date. On failure, rolls back and returns the error: nothing changed.
+    pub(super) fn apply_prims(&mut self, prims: &[Prim]) -> Result<(), EditError> {
+        self.check_editable()?;
+        let mut touched = Touched::default();
+        for (k, p) in prims.iter().enumerate() {
+            if let Err(e) = self.apply_prim(p, &mut touched) {
+                let mut ignore = Touched::default();
+                for q in prims[..k].iter().rev() {
+                    // The inverse of an applied primitive always applies.
+                    let _ = self.apply_prim(&q.inverse(), &mut ignore);
+                }
+                self.sync(&mut ignore);
+                return Err(e);
+            }
+        }
+        self.sync(&mut touched);
+        Ok(())
+    }
+
+    fn sync(&mut self, touched: &mut Touched) {
+        touched.verts.sort_unstable();
+        touched.verts.dedup();
+        touched
+            .verts
+            .retain(|&v| (v as usize) < self.sim.cloth.len());
+        touched.edges.sort_unstable();
+        touched.edges.dedup();
+        touched.tris.sort_unstable();
+        touched.tris.dedup();
+        self.sim
+            .cloth_edited(&touched.tris, &touched.edges, &touched.verts);
+    }
+
+    /// Applies an operation's primitives and records it for undo.
+    pub(super) fn commit(
+        &mut self,
+        label: &'static str,
+        prims: Vec<Prim>,
+    ) -> Result<(), EditError> {
+        self.apply_prims(&prims)?;
+        self.history.push(Edit { label, prims });
+        Ok(())
+    }
+
+    /// Undoes the last operation; returns its label.
+    pub fn undo(&mut self) -> Result<&'static str, EditError> {
+        let edit = self.history.pop_undo().ok_or(EditError::NothingToUndo)?;
+        let inverse: Vec<Prim> = edit.prims.iter().rev().map(Prim::inverse).collect();
+        if let Err(e) = self.apply_prims(&inverse) {
+            self.history.clear();
+            return Err(e);
+        }
+        let label = edit.label;
+        self.history.push_redo(edit);
+        Ok(label)
+    }
+
+    /// Redoes the last undone operation; returns its label.
+    pub fn redo(&mut self) -> Result<&'static str, EditError> {
+        let edit = self.history.pop_redo().ok_or(EditError::NothingToRedo)?;
+        if let Err(e) = self.apply_prims(&edit.prims) {
+            self.history.clear();
+            return Err(e);
+        }
+        let label = edit.label;
+        self.history.push_after_redo(edit);
+        Ok(label)
+    }
+
+    /// Applies a seam primitive (`index == len` appends, `new == None` at the end pops).
+    pub(super) fn set_seam(
+        &mut self,
+        index: u32,
+        old: &Option<Seam>,
+        new: &Option<Seam>,
+    ) -> Result<(), EditError> {
+        let i = index as usize;
+        if self.seams.get(i) != old.as_ref() {
+            return Err(EditError::StaleSeam(index));
+        }
+        if let Some(s) = new
+            && s.pairs.iter().any(|&(a, b)| {
+                a as usize >= self.sim.cloth.len() || b as usize >= self.sim.cloth.len()
+            })
+        {
+            return Err(EditError::StaleSeam(index));
+        }
+        match (old, new) {
+            (None, Some(s)) if i == self.seams.len() => self.seams.push(s.clone()),
+            (Some(_), None) if i + 1 == self.seams.len() => {
+                self.seams.pop();
+            }
+            (Some(_), Some(s)) => self.seams[i] = s.clone(),
+            _ => return Err(EditError::StaleSeam(index)),
+        }
+        Ok(())
+    }
+}

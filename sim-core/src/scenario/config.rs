@@ -1,0 +1,207 @@
+//! What a scenario is: its name, its settings, its errors, and the scene it builds.
+
+use std::path::PathBuf;
+
+use glam::Vec3;
+
+use crate::collision::BodyKind;
+use crate::design::export::ExportError;
+use crate::design::file::DesignError;
+use crate::design::{Design, EditError, TearMode, TearSettings};
+use crate::error::{ConfigError, GeometryError, LoadError};
+use crate::mesh::{ClothMesh, obj};
+use crate::solver::{Cloth, Environment, Material, ModelKind, Simulation, StepError};
+
+/// The scenarios `cloth-sim scenario` knows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ScenarioName {
+    /// The paper's experiment: a square cloth dropped on the cube until it settles.
+    DrapeCube,
+    /// The same cloth dropped over the mannequin's head and shoulders.
+    DrapeMannequin,
+    /// The paper's experiment end to end: drape on the cube, cut the four hanging corners
+    /// away, sew the flaps along the cube's vertical edges.
+    FitCube,
+    /// Drape on the cube, hold the top, pinch a corner and pull until the cloth tears.
+    Tear,
+    /// Drape on the cube and paint a pattern on its top; exports the texture.
+    Paint,
+}
+
+impl ScenarioName {
+    pub const ALL: &'static str = "drape-cube, drape-mannequin, fit-cube, tear, paint";
+
+    pub fn parse(s: &str) -> Result<Self, ConfigError> {
+        match s {
+            "drape-cube" => Ok(Self::DrapeCube),
+            "drape-mannequin" => Ok(Self::DrapeMannequin),
+            "fit-cube" => Ok(Self::FitCube),
+            "tear" => Ok(Self::Tear),
+            "paint" => Ok(Self::Paint),
+            other => Err(ConfigError::Unknown {
+                what: "scenario",
+                name: other.into(),
+                expected: Self::ALL,
+            }),
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::DrapeCube => "drape-cube",
+            Self::DrapeMannequin => "drape-mannequin",
+            Self::FitCube => "fit-cube",
+            Self::Tear => "tear",
+            Self::Paint => "paint",
+        }
+    }
+
+    /// Substeps when none are asked for: the tear scenario runs XPBD at 20, so the stretch
+    /// it measures is the pull's and not Gauss-Seidel lag in the hanging cloth (at the
+    /// default 5 the edges over the cube's rim stretch up to ~2.4x; see README).
+    pub fn default_substeps(self, model: ModelKind) -> Option<usize> {
+        (self == Self::Tear && model == ModelKind::Xpbd).then_some(20)
+    }
+
+    pub fn default_body(self) -> BodyKind {
+        match self {
+            Self::DrapeMannequin => BodyKind::Mannequin,
+            Self::DrapeCube | Self::FitCube | Self::Tear | Self::Paint => BodyKind::Cube,
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+pub struct ScenarioConfig {
+    pub scenario: ScenarioName,
+    /// Cells per side of the square cloth (N x N cells, (N+1)^2 vertices).
+    pub grid: usize,
+    pub model: ModelKind,
+    pub frames: u64,
+    pub body: BodyKind,
+    pub substeps: Option<usize>,
+    pub material: Material,
+    /// Side of the square cloth, m.
+    pub cloth_size: f32,
+    /// A cloth pattern from an OBJ file instead of the square grid.
+    pub cloth: Option<PathBuf>,
+    pub frame_dt: f32,
+    /// Print progress to stderr (once a second) while running.
+    pub progress: bool,
+    /// Threads for the XPBD constraint passes (1 or 2).
+    pub threads: usize,
+    /// The tear scenario's tearing: stretch ratio and mode.
+    pub tear_threshold: f32,
+    pub tear_mode: TearMode,
+}
+
+impl ScenarioConfig {
+    pub fn new(scenario: ScenarioName) -> Self {
+        Self {
+            scenario,
+            grid: 64,
+            model: ModelKind::Xpbd,
+            frames: 600,
+            body: scenario.default_body(),
+            substeps: None,
+            material: Material::default(),
+            cloth_size: 1.0,
+            cloth: None,
+            frame_dt: 1.0 / 60.0,
+            progress: false,
+            threads: 1,
+            tear_threshold: TearSettings::default().threshold,
+            tear_mode: TearMode::Delete,
+        }
+    }
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum ScenarioError {
+    #[error(transparent)]
+    Config(#[from] ConfigError),
+    #[error("body: {0}")]
+    Body(#[from] LoadError),
+    #[error("cloth: {0}")]
+    Cloth(#[from] GeometryError),
+    #[error("cloth: {0}")]
+    ClothFile(LoadError),
+    #[error(transparent)]
+    Step(#[from] StepError),
+    #[error("{0}")]
+    Edit(#[from] EditError),
+    #[error(transparent)]
+    Export(#[from] ExportError),
+    #[error(transparent)]
+    Design(#[from] DesignError),
+    #[error("cannot write {path}: {source}")]
+    Write {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+}
+
+/// Builds the scene of a scenario as a new design: the body, and the cloth centred 5 cm
+/// above it.
+pub fn build_design(cfg: &ScenarioConfig) -> Result<Design, ScenarioError> {
+    if cfg.grid == 0 || cfg.grid > 2000 {
+        return Err(ConfigError::OutOfRange {
+            name: "grid",
+            rule: "between 1 and 2000 cells",
+            value: cfg.grid.to_string(),
+        }
+        .into());
+    }
+    if cfg.frames == 0 {
+        return Err(ConfigError::OutOfRange {
+            name: "frames",
+            rule: ">= 1",
+            value: "0".into(),
+        }
+        .into());
+    }
+    crate::error::check_positive("cloth size", cfg.cloth_size)?;
+    if !(cfg.tear_threshold.is_finite() && cfg.tear_threshold > 1.0) {
+        return Err(ConfigError::OutOfRange {
+            name: "tear threshold",
+            rule: "a stretch ratio above 1",
+            value: cfg.tear_threshold.to_string(),
+        }
+        .into());
+    }
+    cfg.material.validate()?;
+    let body = cfg.body.build()?;
+    let (_, top) = body.bounds();
+    let (mn, mx) = body.bounds();
+    let cx = (mn.x + mx.x) * 0.5;
+    let cz = (mn.z + mx.z) * 0.5;
+    let mut mesh = match &cfg.cloth {
+        None => ClothMesh::grid(cfg.cloth_size, cfg.cloth_size, cfg.grid, cfg.grid, 0.0)?,
+        Some(path) => obj::load_obj(path).map_err(ScenarioError::ClothFile)?,
+    };
+    // Centre the cloth over the body, its lowest point 5 cm above the body's top.
+    let (cmin, cmax) = crate::mesh::bounds(&mesh.positions);
+    let shift = Vec3::new(
+        cx - (cmin.x + cmax.x) * 0.5,
+        top.y + 0.05 - cmin.y,
+        cz - (cmin.z + cmax.z) * 0.5,
+    );
+    for p in &mut mesh.positions {
+        *p += shift;
+    }
+    let cloth = Cloth::new(mesh, &cfg.material)?;
+    let env = Environment {
+        frame_dt: cfg.frame_dt,
+        ..Environment::default()
+    };
+    let mut sim = Simulation::new(
+        cloth,
+        Some(body),
+        cfg.model,
+        cfg.material,
+        env,
+        cfg.substeps.or(cfg.scenario.default_substeps(cfg.model)),
+    )?;
+    sim.set_threads(cfg.threads);
+    Ok(Design::new(sim))
+}

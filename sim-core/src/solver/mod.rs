@@ -1,0 +1,29 @@
+//! The cloth models, above collision and below the design: the cloth's state and material,
+//! the [`Solver`] trait with its three models (`xpbd`, the default; `seed`, the 2005
+//! paper's mass-spring; `implicit`, backward Euler as the reference), the pen's pinch
+//! spring and the seams' stitches as the solvers see them, and [`Simulation`]: one scene
+//! and its frame loop.
+//!
+//! Imports `collision`, `mesh` and `error`; never the design or the scenarios.
+
+mod constraints;
+mod implicit;
+mod material;
+mod model;
+mod pinch;
+mod seed;
+mod sim;
+mod state;
+mod stitch;
+mod xpbd;
+
+pub use constraints::{BendConstraint, Membrane, bending_energy, build_bending, build_membranes};
+pub use implicit::{Implicit, ImplicitError};
+pub use material::{DEFAULT_SHEAR_DAMPING, Material, ModelKind};
+pub use model::{Drive, Environment, FrameInput, Solver, StepError};
+pub use pinch::{Grip, PenInput, PenPath, Pinch};
+pub use seed::{Seed, seed_safe_step, seed_stable_step};
+pub use sim::{FrameStats, MAX_SUBSTEPS, Simulation, XPBD_DEFAULT_SUBSTEPS};
+pub use state::Cloth;
+pub use stitch::{STITCH_STIFFNESS, Stitch};
+pub use xpbd::Xpbd;

@@ -1,0 +1,107 @@
+//! What every cloth model offers the simulation: the [`Solver`] trait, the world around
+//! the cloth ([`Environment`]) and what drives it besides gravity and contact ([`Drive`]).
+
+use glam::Vec3;
+
+use super::material::{Material, ModelKind};
+use super::pinch::{Grip, PenPath};
+use super::state::Cloth;
+use super::stitch::Stitch;
+use crate::collision::ContactCache;
+use crate::error::ConfigError;
+
+/// The world around the cloth.
+#[derive(Clone, Copy, Debug)]
+pub struct Environment {
+    pub gravity: Vec3,
+    /// Duration of one frame, s (substeps are inside it).
+    pub frame_dt: f32,
+    /// Floor height, if there is a floor.
+    pub floor: Option<f32>,
+}
+
+impl Default for Environment {
+    fn default() -> Self {
+        Self {
+            gravity: Vec3::new(0.0, -9.81, 0.0),
+            frame_dt: 1.0 / 60.0,
+            floor: Some(0.0),
+        }
+    }
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum StepError {
+    #[error(
+        "the simulation diverged (NaN or infinite positions) at frame {frame}; the step is too large for this model and stiffness"
+    )]
+    Diverged { frame: u64 },
+    /// The implicit model's sparse Cholesky factorisation failed.
+    #[error("sparse factorisation failed: {0}")]
+    Factorisation(String),
+}
+
+/// What pulls on the cloth during a frame besides gravity and contact: the pen's pinch,
+/// where the pen is before each substep, and the seams' stitches. Models that do not
+/// follow edits ([`Solver::editable`] false) ignore it.
+pub struct Drive<'a, 'p> {
+    pub grip: &'a mut Grip,
+    pub stitches: &'a [Stitch],
+    pub pen: &'a mut PenPath<'p>,
+}
+
+/// One frame's work for a model: the cloth, this frame's contact planes, the world, and
+/// the substeps to advance `env.frame_dt` in.
+pub struct FrameInput<'a> {
+    pub cloth: &'a mut Cloth,
+    pub contacts: &'a ContactCache,
+    pub env: &'a Environment,
+    pub substeps: usize,
+}
+
+/// A cloth model. [`Simulation`](super::Simulation) holds one and calls it once a frame,
+/// after the contact broad phase and before the frame-end penetration check.
+pub trait Solver: std::fmt::Debug + Send {
+    fn kind(&self) -> ModelKind;
+
+    /// Advances one frame, pulled by `drive`.
+    fn step(&mut self, frame: FrameInput<'_>, drive: &mut Drive<'_, '_>) -> Result<(), StepError>;
+
+    /// Constraints (or springs) the model solves.
+    fn constraint_count(&self, cloth: &Cloth) -> usize;
+
+    /// Whether the model follows edits of the live mesh (cut, sew, tear, pins as edits)
+    /// and the pen's pinch and stitches. Only then may the design edit the cloth.
+    fn editable(&self) -> bool {
+        false
+    }
+
+    /// Brings the model in line with `cloth` after an edit touched these triangle slots,
+    /// edge keys and vertices (masses or pins). Only called when [`editable`](Self::editable).
+    fn sync(&mut self, _cloth: &Cloth, _tris: &[u32], _edges: &[u64], _verts: &[u32]) {}
+
+    /// Vertex `vertex` was pinned outside an edit (a scene's setup).
+    fn pinned(&mut self, _cloth: &Cloth, _vertex: u32) {}
+
+    /// Changes the material in place: masses follow its density, positions and
+    /// everything else stay. Models that cannot refuse, and nothing changes.
+    fn set_material(
+        &mut self,
+        _cloth: &mut Cloth,
+        _material: &Material,
+    ) -> Result<(), ConfigError> {
+        Err(ConfigError::OutOfRange {
+            name: "model",
+            rule: "xpbd to change the material in place",
+            value: self.kind().name().into(),
+        })
+    }
+
+    /// Threads for the model's passes (1 or 2); results do not depend on it.
+    fn set_threads(&mut self, _threads: usize) {}
+
+    /// Total energy, for models that define one for tests (the seed model).
+    fn energy(&self, _cloth: &Cloth, _gravity: Vec3) -> Option<f64> {
+        None
+    }
+}

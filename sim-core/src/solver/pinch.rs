@@ -1,0 +1,104 @@
+//! The pen's hold on the cloth: the pinch, zero-length XPBD springs from the held vertices
+//! to the pointer, pulling no harder than a force limit (the force the haptic loop
+//! rendered, so the cloth is pulled no harder than the user's hand is pulled back).
+//!
+//! Which vertices to hold is the design's choice (`design::pinch`); this is the spring.
+
+use glam::Vec3;
+
+/// The pinch: the pointer holds the vertex nearest to it (the paper's pinch) and, with a
+/// grip radius, the vertices around it too, each by a spring to the pointer plus its
+/// offset at the moment of grabbing. The springs share the stiffness.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pinch {
+    /// The vertex nearest to the pointer when grabbed.
+    pub vertex: u32,
+    /// Held vertices and their offsets from the pointer.
+    pub held: Vec<(u32, Vec3)>,
+    pub target: Vec3,
+    /// Total stiffness of the springs, N/m.
+    pub stiffness: f32,
+    /// Most force the springs together may put on the cloth in a substep, N (None: no
+    /// limit). cloth-sim sets it from the force the haptic loop rendered, so the cloth
+    /// is pulled no harder than the user's hand is pulled back.
+    pub force_limit: Option<f32>,
+}
+
+/// The pen during one substep: where the pinch's pointer end is, and the most force the
+/// pinch may exert (see [`Pinch::force_limit`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PenInput {
+    pub target: Vec3,
+    pub force_limit: Option<f32>,
+}
+
+/// Where the pen is before each substep: `pen(substep, substeps)`, `None` for unchanged.
+pub type PenPath<'a> = dyn FnMut(usize, usize) -> Option<PenInput> + 'a;
+
+/// The pinch while it lasts, and what it pulled with in the last frame.
+#[derive(Clone, Debug, Default)]
+pub struct Grip {
+    pub pinch: Option<Pinch>,
+    /// The pinch force on the cloth in each substep of the last frame, N.
+    pub forces: Vec<Vec3>,
+    /// Substeps of the last frame whose pinch was scaled down to its force limit.
+    pub limited: usize,
+}
+
+impl Grip {
+    /// Forgets the last frame's forces.
+    pub fn begin_frame(&mut self) {
+        self.forces.clear();
+        self.limited = 0;
+    }
+
+    /// Before substep `k` of `n`: while pinching, moves the pointer end to where the pen
+    /// is (`pen` is asked only then).
+    pub fn follow(&mut self, k: usize, n: usize, pen: &mut PenPath<'_>) {
+        if let Some(p) = &mut self.pinch
+            && let Some(input) = pen(k, n)
+            && input.target.is_finite()
+        {
+            p.target = input.target;
+            p.force_limit = input
+                .force_limit
+                .filter(|f| f.is_finite())
+                .map(|f| f.max(0.0));
+        }
+    }
+
+    /// The springs' pass of one substep (`inv_h2` = 1 / h^2), recording their force.
+    pub fn pull(&mut self, x: &mut [Vec3], inv_mass: &[f32], inv_h2: f32) {
+        let Some(p) = &self.pinch else { return };
+        // Zero-length XPBD springs to the pointer: compliance 1 / stiffness each.
+        // Their corrections are found first, then applied scaled down together if
+        // their force would exceed the limit.
+        let k = p.stiffness / p.held.len().max(1) as f32;
+        let alpha = inv_h2 / k;
+        let correction = |i: usize, offset: Vec3, x: &[Vec3]| {
+            let w = *inv_mass.get(i)?;
+            let x = *x.get(i)?;
+            (w > 0.0).then(|| ((p.target + offset - x) * (w / (w + alpha)), w))
+        };
+        let mut force = Vec3::ZERO;
+        for &(v, offset) in &p.held {
+            if let Some((dx, w)) = correction(v as usize, offset, x) {
+                force += dx * (inv_h2 / w);
+            }
+        }
+        let scale = match p.force_limit {
+            Some(limit) if force.length() > limit => {
+                self.limited += 1;
+                limit / force.length()
+            }
+            _ => 1.0,
+        };
+        // Held vertices are distinct, so each correction is the one summed above.
+        for &(v, offset) in &p.held {
+            if let Some((dx, _)) = correction(v as usize, offset, x) {
+                x[v as usize] += dx * scale;
+            }
+        }
+        self.forces.push(force * scale);
+    }
+}

@@ -1,0 +1,323 @@
+//! One simulated scene: a cloth, an optional body, a model, and the frame loop (contact
+//! broad phase, the model's substeps, the frame-end penetration check). It knows nothing
+//! of designs: the design layer above hands it stitches and edits its cloth.
+
+use std::time::Instant;
+
+use glam::Vec3;
+
+use super::implicit::Implicit;
+use super::material::{Material, ModelKind};
+use super::model::{Drive, Environment, FrameInput, Solver, StepError};
+use super::pinch::{Grip, PenPath, Pinch};
+use super::seed::{Seed, seed_safe_step, seed_stable_step};
+use super::state::Cloth;
+use super::stitch::Stitch;
+use super::xpbd::Xpbd;
+use crate::collision::{Body, ContactCache};
+use crate::error::{ConfigError, GeometryError};
+
+/// What one frame cost.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FrameStats {
+    /// Wall time of the whole frame (collision broad phase + all substeps), ms.
+    pub wall_ms: f64,
+    pub collision_ms: f64,
+    pub contacts: usize,
+    pub queries: usize,
+    /// Particles the end-of-frame check found inside the body and pushed out.
+    pub rescued: usize,
+    /// Edges torn this frame.
+    pub torn: usize,
+    /// Seam stitches welded this frame.
+    pub welded: usize,
+}
+
+#[derive(Debug)]
+pub struct Simulation {
+    pub cloth: Cloth,
+    pub body: Option<Body>,
+    pub env: Environment,
+    pub material: Material,
+    pub model: ModelKind,
+    pub substeps: usize,
+    /// For the seed model, its stable step bound, s.
+    pub stable_step: Option<f64>,
+    /// Things the user should be told (e.g. substeps raised to stay stable).
+    pub notices: Vec<String>,
+    pub frame: u64,
+    /// The pen's pinch, and what it pulled with in the last frame.
+    pub(crate) grip: Grip,
+    /// Open seam stitches, handed in by the design before each frame.
+    pub stitches: Vec<Stitch>,
+    pub(crate) contacts: ContactCache,
+    pub(crate) solver: Box<dyn Solver>,
+}
+
+/// Default substeps per 1/60 s frame for XPBD (3.3 ms steps): stable and tethered for a
+/// stiff cotton, within the 128 x 128 budget on one core.
+pub const XPBD_DEFAULT_SUBSTEPS: usize = 5;
+
+/// Most substeps per frame [`Simulation::set_material`] accepts.
+pub const MAX_SUBSTEPS: usize = 100;
+
+impl Simulation {
+    pub fn new(
+        cloth: Cloth,
+        body: Option<Body>,
+        model: ModelKind,
+        material: Material,
+        env: Environment,
+        substeps: Option<usize>,
+    ) -> Result<Self, ConfigError> {
+        material.validate()?;
+        if !(env.frame_dt.is_finite() && env.frame_dt > 0.0) {
+            return Err(ConfigError::OutOfRange {
+                name: "frame dt",
+                rule: "a positive number of seconds",
+                value: env.frame_dt.to_string(),
+            });
+        }
+        if substeps == Some(0) {
+            return Err(ConfigError::OutOfRange {
+                name: "substeps",
+                rule: ">= 1",
+                value: "0".into(),
+            });
+        }
+        let mut notices = Vec::new();
+        let mut stable_step = None;
+        let contact = material.contact_params(env.floor);
+        let (solver, substeps): (Box<dyn Solver>, usize) = match model {
+            ModelKind::Xpbd => (
+                Box::new(Xpbd::new(&cloth, &material)),
+                substeps.unwrap_or(XPBD_DEFAULT_SUBSTEPS),
+            ),
+            ModelKind::Implicit => (
+                Box::new(Implicit::new(&cloth, &material)),
+                substeps.unwrap_or(1),
+            ),
+            ModelKind::Seed => {
+                // The bound for any shape the draping cloth takes, not just flat at rest.
+                let bound = seed_safe_step(&cloth, material.seed_stiffness);
+                stable_step = Some(bound);
+                // Keep a 10% margin under the bound.
+                let needed = ((env.frame_dt as f64) / (0.9 * bound)).ceil().max(1.0) as usize;
+                let n = match substeps {
+                    Some(n) if (env.frame_dt as f64 / n as f64) > bound => {
+                        return Err(ConfigError::UnstableStep {
+                            step_s: env.frame_dt as f64 / n as f64,
+                            bound_s: bound,
+                            stiffness: material.seed_stiffness,
+                            needed,
+                        });
+                    }
+                    Some(n) => n,
+                    None => {
+                        notices.push(format!(
+                            "seed model: stable step bound {:.3e} s for any shape of the cloth ({:.3e} s flat at rest; k = {} N/m, unit masses); using {needed} substeps per {:.4} s frame",
+                            bound,
+                            seed_stable_step(&cloth, material.seed_stiffness),
+                            material.seed_stiffness,
+                            env.frame_dt
+                        ));
+                        needed
+                    }
+                };
+                (
+                    Box::new(Seed::new(&cloth, material.seed_stiffness, contact)),
+                    n,
+                )
+            }
+        };
+        let contacts = ContactCache::new(cloth.len());
+        Ok(Self {
+            cloth,
+            body,
+            env,
+            material,
+            model,
+            substeps,
+            stable_step,
+            notices,
+            frame: 0,
+            grip: Grip::default(),
+            stitches: Vec::new(),
+            contacts,
+            solver,
+        })
+    }
+
+    /// Steps one frame. On divergence the error says so; the state is then not usable.
+    pub fn step(&mut self) -> Result<FrameStats, StepError> {
+        self.step_with(&mut |_, _| None)
+    }
+
+    /// Whether the model follows edits and the pen (see [`Solver::editable`]).
+    pub fn editable(&self) -> bool {
+        self.solver.editable()
+    }
+
+    /// Steps one frame, asking `pen(substep, substeps)` before each substep where the
+    /// pinch's pointer is and how hard it may pull (`None`: unchanged). This is how
+    /// cloth-sim follows the pen at substep rate.
+    pub fn step_with(&mut self, pen: &mut PenPath<'_>) -> Result<FrameStats, StepError> {
+        let t0 = Instant::now();
+        let mut stats = FrameStats::default();
+        let cp = self.material.contact_params(self.env.floor);
+        if let Some(body) = &self.body {
+            self.contacts.update(
+                body,
+                &self.cloth.x,
+                &self.cloth.v,
+                self.env.frame_dt,
+                self.env.gravity.length(),
+                &cp,
+            );
+            stats.contacts = self.contacts.active_count();
+            stats.queries = self.contacts.last_queries;
+        }
+        stats.collision_ms = t0.elapsed().as_secs_f64() * 1e3;
+        let mut drive = Drive {
+            grip: &mut self.grip,
+            stitches: &self.stitches,
+            pen,
+        };
+        let frame = FrameInput {
+            cloth: &mut self.cloth,
+            contacts: &self.contacts,
+            env: &self.env,
+            substeps: self.substeps,
+        };
+        self.solver.step(frame, &mut drive)?;
+        if let Some(body) = &self.body {
+            let t1 = Instant::now();
+            stats.rescued = self.contacts.resolve_penetrations(
+                body,
+                &mut self.cloth.x,
+                &mut self.cloth.v,
+                &self.cloth.inv_mass,
+                self.env.frame_dt,
+                self.env.gravity.length(),
+                &cp,
+            );
+            stats.collision_ms += t1.elapsed().as_secs_f64() * 1e3;
+        }
+        self.frame += 1;
+        stats.wall_ms = t0.elapsed().as_secs_f64() * 1e3;
+        if !self.cloth.is_finite() {
+            return Err(StepError::Diverged { frame: self.frame });
+        }
+        Ok(stats)
+    }
+
+    /// After the design edited the cloth (triangle slots, edge keys, and vertices whose
+    /// mass or pin changed, each sorted and without repeats): brings masses, the contact
+    /// cache and the model up to date with the live mesh.
+    pub fn cloth_edited(&mut self, tris: &[u32], edges: &[u64], verts: &[u32]) {
+        for &v in verts {
+            self.cloth.update_mass(v as usize, self.material.density);
+        }
+        self.contacts.resize(self.cloth.len());
+        if self.solver.editable() {
+            self.solver.sync(&self.cloth, tris, edges, verts);
+        }
+    }
+
+    /// Pins vertex `i` where it is (rebuilds what depends on the free set).
+    pub fn pin(&mut self, i: usize) {
+        self.cloth.pin(i);
+        self.solver.pinned(&self.cloth, i as u32);
+    }
+
+    /// Changes the running design's material, and its substeps per frame when given, in
+    /// place: positions, velocities, pins, seams, the pinch and the history stay; masses
+    /// follow the new density and the XPBD constraints are rebuilt from the live mesh with
+    /// the new stiffness. An invalid material, a substep count outside 1..=MAX_SUBSTEPS or
+    /// a model other than XPBD is refused and nothing changes.
+    pub fn set_material(
+        &mut self,
+        material: Material,
+        substeps: Option<usize>,
+    ) -> Result<(), ConfigError> {
+        material.validate()?;
+        if let Some(n) = substeps
+            && !(1..=MAX_SUBSTEPS).contains(&n)
+        {
+            return Err(ConfigError::OutOfRange {
+                name: "substeps",
+                rule: "between 1 and 100",
+                value: n.to_string(),
+            });
+        }
+        self.solver.set_material(&mut self.cloth, &material)?;
+        self.material = material;
+        if let Some(n) = substeps {
+            self.substeps = n;
+        }
+        Ok(())
+    }
+
+    /// Threads for the XPBD constraint passes and the collision broad phase (1 or 2). The
+    /// result does not depend on it. Returns the count in use.
+    pub fn set_threads(&mut self, threads: usize) -> usize {
+        let threads = threads.clamp(1, 2);
+        self.contacts.threads = threads;
+        self.solver.set_threads(threads);
+        threads
+    }
+
+    /// Threads in use (see [`set_threads`](Self::set_threads)).
+    pub fn threads(&self) -> usize {
+        self.contacts.threads
+    }
+
+    /// Total energy for the seed model (kinetic + spring + gravity with unit masses).
+    pub fn seed_energy(&self) -> Option<f64> {
+        self.solver.energy(&self.cloth, self.env.gravity)
+    }
+
+    pub fn constraint_count(&self) -> usize {
+        self.solver.constraint_count(&self.cloth)
+    }
+
+    /// Checks the live mesh and state: indices, manifold edges, no degenerate triangle,
+    /// UVs in range, nothing NaN.
+    pub fn validate(&self) -> Result<(), GeometryError> {
+        self.cloth.live.validate(&self.cloth.x)?;
+        if let Some(i) = self.cloth.v.iter().position(|v| !v.is_finite()) {
+            return Err(GeometryError::NonFinite { vertex: i });
+        }
+        Ok(())
+    }
+
+    /// The pen's pinch, while it lasts.
+    pub fn pinch(&self) -> Option<&Pinch> {
+        self.grip.pinch.as_ref()
+    }
+
+    /// Holds the cloth with `pinch` (the design chose the vertices), replacing any pinch.
+    pub fn set_pinch(&mut self, pinch: Option<Pinch>) {
+        self.grip.pinch = pinch;
+    }
+
+    /// Moves the pinch's pointer end.
+    pub fn pinch_move(&mut self, target: Vec3) {
+        if let Some(p) = &mut self.grip.pinch
+            && target.is_finite()
+        {
+            p.target = target;
+        }
+    }
+
+    /// Substeps of the last frame in which the pinch pulled at its force limit.
+    pub fn pinch_limited_substeps(&self) -> usize {
+        self.grip.limited
+    }
+
+    /// The force the pinch springs put on the cloth (their sum) in each substep of the
+    /// last frame, N (the pen feels the opposite).
+    pub fn pinch_forces(&self) -> &[Vec3] {
+        &self.grip.forces
+    }
+}

@@ -1,0 +1,203 @@
+//! The cloth's dynamic state.
+
+use glam::Vec3;
+
+use super::material::Material;
+use crate::error::GeometryError;
+use crate::mesh::{ClothMesh, LiveMesh, Topology};
+
+#[derive(Clone, Debug)]
+pub struct Cloth {
+    /// The rest pattern as loaded (positions define rest lengths and angles; UVs the
+    /// warp/weft axes). Edits do not change it; see `live`.
+    pub rest: ClothMesh,
+    /// The pattern's topology (used by models that do not support edits).
+    pub topology: Topology,
+    /// The triangles as they are now, after cuts, tears and sews.
+    pub live: LiveMesh,
+    /// Vertices held in place by the user (inverse mass 0).
+    pub pinned: Vec<bool>,
+    pub x: Vec<Vec3>,
+    pub v: Vec<Vec3>,
+    /// Lumped masses from triangle areas and the density.
+    pub mass: Vec<f32>,
+    /// Inverse masses, 0 for pinned vertices.
+    pub inv_mass: Vec<f32>,
+}
+
+impl Cloth {
+    pub fn new(rest: ClothMesh, material: &Material) -> Result<Self, GeometryError> {
+        rest.validate()?;
+        let topology = Topology::build(&rest.triangles)?;
+        let mass = rest.lumped_masses(material.density);
+        let inv_mass = mass
+            .iter()
+            .map(|&m| if m > 0.0 { 1.0 / m } else { 0.0 })
+            .collect();
+        Ok(Self {
+            live: LiveMesh::from_mesh(&rest),
+            pinned: vec![false; rest.positions.len()],
+            x: rest.positions.clone(),
+            v: vec![Vec3::ZERO; rest.positions.len()],
+            topology,
+            mass,
+            inv_mass,
+            rest,
+        })
+    }
+
+    /// A cloth from an edited design: the live triangles, positions and velocities, and a
+    /// pattern mesh for the models that do not edit (same vertices, live triangles).
+    /// `live` must already be validated against `x`.
+    pub fn from_parts(
+        rest: ClothMesh,
+        live: LiveMesh,
+        x: Vec<Vec3>,
+        v: Vec<Vec3>,
+        material: &Material,
+    ) -> Result<Self, GeometryError> {
+        let n = x.len();
+        if rest.positions.len() != n || v.len() != n || live.vertex_count() != n {
+            return Err(GeometryError::IndexOutOfRange {
+                triangle: 0,
+                vertices: n,
+            });
+        }
+        let topology = Topology::build(&rest.triangles)?;
+        let mut c = Self {
+            rest,
+            topology,
+            live,
+            pinned: vec![false; n],
+            x,
+            v,
+            mass: vec![0.0; n],
+            inv_mass: vec![0.0; n],
+        };
+        for i in 0..n {
+            c.update_mass(i, material.density);
+        }
+        Ok(c)
+    }
+
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
+
+    pub fn pin(&mut self, i: usize) {
+        self.set_pinned(i, true);
+    }
+
+    /// Pins or frees vertex `i` (out of range: nothing).
+    pub fn set_pinned(&mut self, i: usize, pinned: bool) {
+        if let Some(p) = self.pinned.get_mut(i) {
+            *p = pinned;
+            self.v[i] = Vec3::ZERO;
+            self.update_inv_mass(i);
+        }
+    }
+
+    pub fn is_pinned(&self, i: usize) -> bool {
+        self.pinned.get(i).copied().unwrap_or(false)
+    }
+
+    /// Recomputes every lumped mass for a new areal density.
+    pub fn set_density(&mut self, density: f32) {
+        for i in 0..self.len() {
+            self.update_mass(i, density);
+        }
+    }
+
+    /// The live vertex nearest to `p` within `radius`.
+    pub fn nearest_vertex(&self, p: Vec3, radius: f32) -> Option<u32> {
+        let r2 = radius * radius;
+        let mut best = None;
+        let mut best_d = f32::INFINITY;
+        for (i, x) in self.x.iter().enumerate() {
+            let d = (*x - p).length_squared();
+            if d <= r2 && d < best_d && self.live.vertex_alive(i as u32) {
+                best_d = d;
+                best = Some(i as u32);
+            }
+        }
+        best
+    }
+
+    /// Area-weighted normal of the triangles around `v` in the current shape.
+    pub fn vertex_normal(&self, v: u32) -> Vec3 {
+        let x = &self.x;
+        self.live
+            .tris_of(v)
+            .iter()
+            .filter_map(|&t| self.live.tri(t))
+            .map(|t| {
+                let [a, b, c] = t.v.map(|i| x[i as usize]);
+                (b - a).cross(c - a)
+            })
+            .sum::<Vec3>()
+            .normalize_or_zero()
+    }
+
+    /// Recomputes vertex `i`'s lumped mass from its live triangles.
+    pub fn update_mass(&mut self, i: usize, density: f32) {
+        let m: f32 = self
+            .live
+            .tris_of(i as u32)
+            .iter()
+            .filter_map(|&t| self.live.tri(t))
+            .map(|t| density * t.rest_area() / 3.0)
+            .sum();
+        self.mass[i] = m;
+        self.update_inv_mass(i);
+    }
+
+    fn update_inv_mass(&mut self, i: usize) {
+        let m = self.mass[i];
+        self.inv_mass[i] = if self.pinned[i] || m <= 0.0 {
+            0.0
+        } else {
+            1.0 / m
+        };
+    }
+
+    /// Stretch of the live triangles' sides, `length / rest length - 1`: the mean and the
+    /// largest (each interior edge counts once per triangle). Zero for no triangles.
+    pub fn strain(&self) -> (f64, f64) {
+        let (mut sum, mut max, mut n) = (0.0f64, f64::NEG_INFINITY, 0usize);
+        for (_, t) in self.live.iter() {
+            for k in 0..3 {
+                let (a, b) = (t.v[k] as usize, t.v[(k + 1) % 3] as usize);
+                let rest = (t.rest[k] - t.rest[(k + 1) % 3]).length();
+                if rest > 0.0 {
+                    let e = ((self.x[a] - self.x[b]).length() / rest - 1.0) as f64;
+                    sum += e;
+                    max = max.max(e);
+                    n += 1;
+                }
+            }
+        }
+        if n == 0 {
+            return (0.0, 0.0);
+        }
+        (sum / n as f64, max)
+    }
+
+    /// Kinetic energy with the lumped masses, J.
+    pub fn kinetic_energy(&self) -> f64 {
+        self.v
+            .iter()
+            .zip(&self.mass)
+            .zip(&self.inv_mass)
+            .filter(|(_, w)| **w > 0.0)
+            .map(|((v, m), _)| 0.5 * *m as f64 * v.length_squared() as f64)
+            .sum()
+    }
+
+    pub fn is_finite(&self) -> bool {
+        self.x.iter().all(|p| p.is_finite()) && self.v.iter().all(|p| p.is_finite())
+    }
+}

@@ -1,0 +1,245 @@
+//! The XPBD constraints packed for solving: three groups (the two halves of the vertex
+//! range and the constraints straddling them), each greedily coloured and packed into
+//! SIMD blocks of eight, and the scalar passes over membranes and hinges.
+
+use glam::Vec3;
+
+use super::coloring::color_order;
+use super::simd::{self, BendBlock, LANES, MembraneBlock};
+use crate::solver::constraints::{BendConstraint, Membrane};
+
+/// Constraints whose vertices all lie in one contiguous vertex range, with indices
+/// relative to the range's start, coloured and packed into SIMD blocks.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Group {
+    /// Start and end of the group's vertex range; constraints hold indices relative to
+    /// `off`.
+    pub(super) off: u32,
+    pub(super) end: usize,
+    pub(super) membranes: Vec<Membrane>,
+    pub(super) bends: Vec<BendConstraint>,
+    /// Start of each colour in `membranes` / `bends`, then the end.
+    pub(super) membrane_colors: Vec<usize>,
+    pub(super) bend_colors: Vec<usize>,
+    /// Per colour: full SIMD blocks, then the colour's remainder (solved scalar).
+    pub(super) membrane_batches: Vec<(Vec<MembraneBlock>, std::ops::Range<usize>)>,
+    pub(super) bend_batches: Vec<(Vec<BendBlock>, std::ops::Range<usize>)>,
+}
+
+impl Group {
+    pub(super) fn new(
+        range: std::ops::Range<usize>,
+        mut membranes: Vec<Membrane>,
+        mut bends: Vec<BendConstraint>,
+        w: &[f32],
+    ) -> Self {
+        let off = range.start as u32;
+        for m in &mut membranes {
+            m.v = m.v.map(|i| i - off);
+        }
+        for b in &mut bends {
+            b.v = b.v.map(|i| i - off);
+        }
+        // Spatial order first (locality), then colour (independence within a colour).
+        membranes.sort_by_key(|m| m.v.iter().copied().min().unwrap_or(0));
+        bends.sort_by_key(|b| b.v.iter().copied().min().unwrap_or(0));
+        let len = range.end - range.start;
+        let membrane_colors = color_order(&mut membranes, len, |m| &m.v[..]);
+        let bend_colors = color_order(&mut bends, len, |b| &b.v[..]);
+        let w = &w[range.clone()];
+        Self {
+            off,
+            end: range.end,
+            membrane_batches: batches(&membranes, &membrane_colors, |c| MembraneBlock::pack(c, w)),
+            bend_batches: batches(&bends, &bend_colors, |c| BendBlock::pack(c, w)),
+            membranes,
+            bends,
+            membrane_colors,
+            bend_colors,
+        }
+    }
+
+    /// One pass over the group's membranes then hinges. `x` and `w` are the group's range.
+    pub(super) fn solve(&self, x: &mut [Vec3], prev: &[Vec3], w: &[f32], k: &Compliance) {
+        let (a_stretch, a_shear, a_bend) = (k.stretch, k.shear, k.bend);
+        let shear = a_shear.is_finite().then_some((a_shear, k.shear_gamma));
+        for (blocks, rest) in &self.membrane_batches {
+            for b in blocks {
+                simd::membranes8(b, x, prev, a_stretch, shear);
+            }
+            solve_membranes(&self.membranes[rest.clone()], x, prev, w, k);
+        }
+        if a_bend.is_finite() {
+            for (blocks, rest) in &self.bend_batches {
+                for b in blocks {
+                    simd::bends8(b, x, a_bend);
+                }
+                solve_bending(&self.bends[rest.clone()], x, w, a_bend);
+            }
+        }
+    }
+}
+
+/// Where a constraint lives: an item of one of the three groups (packed or in a colour's
+/// scalar remainder), or the list of constraints added by edits.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Loc {
+    None,
+    Group { group: u8, item: u32 },
+    Extra(u32),
+}
+
+/// One substep's XPBD compliances (already divided by h^2; per unit area for membranes,
+/// `INFINITY` for a constraint that is off) and the shear damping ratio
+/// `gamma = shear_damping / h`.
+pub(super) struct Compliance {
+    pub stretch: f32,
+    pub shear: f32,
+    pub bend: f32,
+    pub shear_gamma: f32,
+}
+
+/// One pass over every triangle: warp stretch, weft stretch, then shear. Shear is damped
+/// (XPBD constraint damping, Macklin et al. 2016 eq. 26): its rate since the substep
+/// began, `grad C . (x - x_prev)`, is part of the correction, weighted by `k.shear_gamma`.
+pub(super) fn solve_membranes(
+    membranes: &[Membrane],
+    x: &mut [Vec3],
+    prev: &[Vec3],
+    w: &[f32],
+    k: &Compliance,
+) {
+    for m in membranes {
+        let [i0, i1, i2] = m.v.map(|i| i as usize);
+        let wv = [w[i0], w[i1], w[i2]];
+        if wv[0] + wv[1] + wv[2] == 0.0 {
+            continue;
+        }
+        let mut p = [x[i0], x[i1], x[i2]];
+        let at_stretch = k.stretch / m.area;
+        // Warp (u) then weft (v): C = |F_col| - 1, grad_a = coeff_a * F_col / |F_col|.
+        for coeff in [&m.c, &m.d] {
+            let f = p[0] * coeff[0] + p[1] * coeff[1] + p[2] * coeff[2];
+            let len = f.length();
+            if len < 1e-9 {
+                continue;
+            }
+            let dir = f / len;
+            let c = len - 1.0;
+            let denom = wv[0] * coeff[0] * coeff[0]
+                + wv[1] * coeff[1] * coeff[1]
+                + wv[2] * coeff[2] * coeff[2]
+                + at_stretch;
+            let dl = -c / denom;
+            for a in 0..3 {
+                p[a] += dir * (wv[a] * coeff[a] * dl);
+            }
+        }
+        if k.shear.is_finite() {
+            let fu = p[0] * m.c[0] + p[1] * m.c[1] + p[2] * m.c[2];
+            let fv = p[0] * m.d[0] + p[1] * m.d[1] + p[2] * m.d[2];
+            let g = [
+                fv * m.c[0] + fu * m.d[0],
+                fv * m.c[1] + fu * m.d[1],
+                fv * m.c[2] + fu * m.d[2],
+            ];
+            // C + gamma * rate, over (1 + gamma) grad C W grad C^T + alpha.
+            let gamma = k.shear_gamma;
+            let mut c = fu.dot(fv);
+            if gamma > 0.0 {
+                let q = [prev[i0], prev[i1], prev[i2]];
+                let rate: f32 = (0..3).map(|a| g[a].dot(p[a] - q[a])).sum();
+                c += gamma * rate;
+            }
+            let denom = (1.0 + gamma)
+                * (wv[0] * g[0].length_squared()
+                    + wv[1] * g[1].length_squared()
+                    + wv[2] * g[2].length_squared())
+                + k.shear / m.area;
+            if denom > 0.0 {
+                let dl = -c / denom;
+                for a in 0..3 {
+                    p[a] += g[a] * (wv[a] * dl);
+                }
+            }
+        }
+        x[i0] = p[0];
+        x[i1] = p[1];
+        x[i2] = p[2];
+    }
+}
+
+/// One pass over every hinge. The constraint is linear, so its gradient is `K_a I`.
+pub(super) fn solve_bending(bends: &[BendConstraint], x: &mut [Vec3], w: &[f32], a_bend: f32) {
+    for b in bends {
+        let idx = b.v.map(|i| i as usize);
+        let c = x[idx[0]] * b.k[0] + x[idx[1]] * b.k[1] + x[idx[2]] * b.k[2] + x[idx[3]] * b.k[3]
+            - b.rest;
+        let mut denom = a_bend / b.weight;
+        for a in 0..4 {
+            denom += w[idx[a]] * b.k[a] * b.k[a];
+        }
+        if denom <= 0.0 {
+            continue;
+        }
+        let dl = -c / denom;
+        for a in 0..4 {
+            x[idx[a]] += dl * (w[idx[a]] * b.k[a]);
+        }
+    }
+}
+
+/// Per colour (`colors` as `color_order` returns them): the colour's full SIMD blocks of
+/// `LANES`, then the range of its remainder, solved scalar.
+pub(super) fn batches<T, B>(
+    items: &[T],
+    colors: &[usize],
+    pack: impl Fn(&[T]) -> B,
+) -> Vec<(Vec<B>, std::ops::Range<usize>)> {
+    colors
+        .windows(2)
+        .map(|r| {
+            let full = r[0] + (r[1] - r[0]) / LANES * LANES;
+            (
+                items[r[0]..full].chunks_exact(LANES).map(&pack).collect(),
+                full..r[1],
+            )
+        })
+        .collect()
+}
+
+/// Splits the vertex range at its middle: constraints entirely below go to the first
+/// half, entirely above to the second, the rest to the boundary group.
+pub(super) fn split_groups(
+    n: usize,
+    membranes: &[Membrane],
+    bends: &[BendConstraint],
+    w: &[f32],
+) -> [Group; 3] {
+    let mid = (n / 2) as u32;
+    let side = |v: &[u32]| {
+        if v.iter().all(|&i| i < mid) {
+            0
+        } else if v.iter().all(|&i| i >= mid) {
+            1
+        } else {
+            2
+        }
+    };
+    let mut ms: [Vec<Membrane>; 3] = Default::default();
+    let mut bs: [Vec<BendConstraint>; 3] = Default::default();
+    for m in membranes {
+        ms[side(&m.v)].push(*m);
+    }
+    for b in bends {
+        bs[side(&b.v)].push(*b);
+    }
+    let [m0, m1, m2] = ms;
+    let [b0, b1, b2] = bs;
+    let mid = mid as usize;
+    [
+        Group::new(0..mid, m0, b0, w),
+        Group::new(mid..n, m1, b1, w),
+        Group::new(0..n, m2, b2, w),
+    ]
+}

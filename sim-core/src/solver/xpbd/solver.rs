@@ -1,0 +1,59 @@
+//! The XPBD model behind the `Solver` trait: its frame (`step`), following edits (`edit`),
+//! a material change in place.
+
+use super::groups::Loc;
+use super::step::Xpbd;
+use crate::error::ConfigError;
+use crate::solver::material::{Material, ModelKind};
+use crate::solver::model::{Drive, FrameInput, Solver, StepError};
+use crate::solver::state::Cloth;
+
+impl Solver for Xpbd {
+    fn kind(&self) -> ModelKind {
+        ModelKind::Xpbd
+    }
+
+    fn step(&mut self, frame: FrameInput<'_>, drive: &mut Drive<'_, '_>) -> Result<(), StepError> {
+        self.frame(frame, drive);
+        Ok(())
+    }
+
+    fn constraint_count(&self, _cloth: &Cloth) -> usize {
+        let membranes = self
+            .membrane_loc
+            .iter()
+            .filter(|l| **l != Loc::None)
+            .count();
+        3 * membranes + self.bend_loc.len()
+    }
+
+    fn editable(&self) -> bool {
+        true
+    }
+
+    fn sync(&mut self, cloth: &Cloth, tris: &[u32], edges: &[u64], verts: &[u32]) {
+        self.follow_edit(cloth, tris, edges, verts);
+    }
+
+    fn pinned(&mut self, cloth: &Cloth, vertex: u32) {
+        self.follow_edit(cloth, &[], &[], &[vertex]);
+    }
+
+    /// Rebuilds the constraints from the live mesh with the new stiffness, keeping the
+    /// stretch limits' lattice (rescaled), the substep-start positions and the threads.
+    fn set_material(&mut self, cloth: &mut Cloth, material: &Material) -> Result<(), ConfigError> {
+        if material.density != self.material.density {
+            cloth.set_density(material.density);
+        }
+        let limits = std::mem::take(&mut self.limits);
+        let mut fresh = Xpbd::with_limits(cloth, material, Some(limits));
+        fresh.prev.clone_from(&self.prev);
+        fresh.threads = self.threads;
+        *self = fresh;
+        Ok(())
+    }
+
+    fn set_threads(&mut self, threads: usize) {
+        self.threads = threads;
+    }
+}
