@@ -4,7 +4,6 @@
 
 pub mod device;
 pub mod looper;
-pub mod openhaptics;
 pub mod proxy;
 pub mod record;
 pub mod rt;

@@ -8,13 +8,12 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 
 use shared::haptic_to_sim::{AppliedForce, DeviceSample};
-use shared::services::{Pub, Sub};
+use shared::ports::HapticPorts;
 use shared::sim_to_haptic::LocalModel;
 use shared::telemetry::LoopTelemetry;
-use shared::ui_to_haptic::PointerInput;
 use shared::{Checked, Header};
 
-use crate::device::HapticDevice;
+use crate::device::{DeviceError, DeviceState, HapticDevice, PointerTarget};
 use crate::proxy::{ProxyParams, proxy_force};
 use crate::rt;
 use crate::safety::{ForceSafety, Hold, SafetyLimits};
@@ -42,58 +41,6 @@ impl Default for LoopConfig {
     }
 }
 
-/// The loop's ports (created on the loop's thread: iceoryx2 ports are !Send).
-pub struct Ports {
-    pub device: Pub<DeviceSample>,
-    pub applied: Pub<AppliedForce>,
-    pub telemetry: Pub<LoopTelemetry>,
-    pub model: Sub<LocalModel>,
-    pub pointer: Sub<PointerInput>,
-}
-
-impl Ports {
-    /// Creates the loop's ports on `node` (on the thread that will run the loop).
-    pub fn open(
-        node: &iceoryx2::prelude::Node<iceoryx2::prelude::ipc::Service>,
-    ) -> Result<Self, String> {
-        use shared::services;
-        let svc = |e: services::ServiceError| e.to_string();
-        let port = |e: &dyn std::fmt::Debug| format!("cannot create a port: {e:?}");
-        Ok(Self {
-            device: services::device(node)
-                .map_err(svc)?
-                .publisher_builder()
-                .create()
-                .map_err(|e| port(&e))?,
-            applied: services::applied_force(node)
-                .map_err(svc)?
-                .publisher_builder()
-                .create()
-                .map_err(|e| port(&e))?,
-            telemetry: services::haptic_telemetry(node)
-                .map_err(svc)?
-                .publisher_builder()
-                .create()
-                .map_err(|e| port(&e))?,
-            model: services::local_model(node)
-                .map_err(svc)?
-                .subscriber_builder()
-                .create()
-                .map_err(|e| port(&e))?,
-            pointer: services::pointer(node)
-                .map_err(svc)?
-                .subscriber_builder()
-                .create()
-                .map_err(|e| port(&e))?,
-        })
-    }
-}
-
-/// A device that can also take the UI's pointer as its hand target (the sim pen).
-pub trait PointerTarget {
-    fn set_pointer(&mut self, _target: [f32; 3], _buttons: u32) {}
-}
-
 /// What the loop saw, for its final log line and for tests.
 #[derive(Clone, Debug, Default)]
 pub struct LoopStats {
@@ -104,25 +51,42 @@ pub struct LoopStats {
     pub device_errors: u64,
 }
 
+/// What the loop keeps from tick to tick besides timing.
+struct Tick {
+    stats: LoopStats,
+    safety: ForceSafety,
+    /// The newest valid local model and when it arrived, ns.
+    model: Option<(LocalModel, u64)>,
+    model_new: bool,
+    seq_sample: u64,
+    seq_applied: u64,
+    seq_tel: u64,
+    hold_was: Hold,
+    error_logged: Option<DeviceError>,
+    reject_logged: u64,
+}
+
 /// Runs until `stop` is set or `max_ticks`; returns what it measured.
 pub fn run<D: HapticDevice + PointerTarget>(
     dev: &mut D,
-    ports: &Ports,
+    ports: &HapticPorts,
     cfg: &LoopConfig,
     stop: &AtomicBool,
     mut recorder: Option<&mut crate::record::Recorder>,
     mut log: impl FnMut(&str),
 ) -> LoopStats {
-    let mut stats = LoopStats::default();
-    let mut safety = ForceSafety::new(cfg.limits);
-    let mut model: Option<(LocalModel, u64)> = None; // (model, received at ns)
-    let mut model_new = false;
-    let mut seq_sample = 0u64;
-    let mut seq_applied = 0u64;
-    let mut seq_tel = 0u64;
-    let mut hold_was = Hold::Stale;
-    let mut error_logged: Option<crate::device::DeviceError> = None;
-    let mut reject_logged = 0u64;
+    let mut k = Tick {
+        stats: LoopStats::default(),
+        safety: ForceSafety::new(cfg.limits),
+        model: None,
+        model_new: false,
+        seq_sample: 0,
+        seq_applied: 0,
+        seq_tel: 0,
+        hold_was: Hold::Stale,
+        error_logged: None,
+        reject_logged: 0,
+    };
     let period = cfg.period_ns;
     let t0 = rt::now_ns();
     let mut deadline = t0 + period;
@@ -135,7 +99,7 @@ pub fn run<D: HapticDevice + PointerTarget>(
         }
         rt::wait_until(deadline, cfg.spin_ns);
         let start = rt::now_ns();
-        let t = &mut stats.telemetry;
+        let t = &mut k.stats.telemetry;
         t.lateness.record(start.saturating_sub(deadline));
         if tick > 0 {
             t.period.record(start - prev_start);
@@ -144,17 +108,56 @@ pub fn run<D: HapticDevice + PointerTarget>(
         prev_start = start;
         tick += 1;
 
-        // Newest valid model and pointer input; reject (and count) bad ones.
+        k.receive(ports, dev, start);
+        let state = dev.read(dt);
+        if let (Some(r), Ok(s)) = (recorder.as_deref_mut(), &state) {
+            r.push(crate::device::Record {
+                t: (start - t0) as f64 * 1e-9,
+                state: *s,
+            });
+        }
+        let (hold, wanted) = k.wanted(cfg, &state, start);
+        force = k.safety.filter(wanted, dt, hold);
+        let write = dev.write_force(force);
+        k.publish(ports, tick, &state, &write, force);
+        let end = rt::now_ns();
+        let t = &mut k.stats.telemetry;
+        t.compute.record(end - start);
+        t.ticks = tick;
+
+        // Housekeeping, every 100 ticks, after the tick's work.
+        if tick.is_multiple_of(100) {
+            k.housekeeping(ports, force, hold, &state, &write, &mut log);
+        }
+        if state.is_err() || write.is_err() {
+            k.stats.device_errors += 1;
+        }
+        deadline += period;
+        let now = rt::now_ns();
+        if now > deadline + period {
+            // More than a whole period late: count the ticks skipped, don't burst.
+            let behind = (now - deadline) / period;
+            k.stats.telemetry.missed += behind;
+            deadline += behind * period;
+        }
+    }
+    k.stats.last_force = force;
+    k.stats
+}
+
+impl Tick {
+    /// Takes the newest valid model and pointer input; rejects (and counts) bad ones.
+    fn receive<D: PointerTarget>(&mut self, ports: &HapticPorts, dev: &mut D, start: u64) {
         while let Ok(Some(s)) = ports.model.receive() {
             match s.check() {
                 Ok(()) => {
-                    model = Some((*s, start));
-                    model_new = true;
+                    self.model = Some((*s, start));
+                    self.model_new = true;
                 }
                 Err(e) => {
-                    stats.rejected += 1;
-                    if stats.last_reject.is_none() {
-                        stats.last_reject = Some(e.to_string());
+                    self.stats.rejected += 1;
+                    if self.stats.last_reject.is_none() {
+                        self.stats.last_reject = Some(e.to_string());
                     }
                 }
             }
@@ -162,19 +165,22 @@ pub fn run<D: HapticDevice + PointerTarget>(
         while let Ok(Some(s)) = ports.pointer.receive() {
             match s.check() {
                 Ok(()) => dev.set_pointer(s.target, s.buttons),
-                Err(_) => stats.rejected += 1,
+                Err(_) => self.stats.rejected += 1,
             }
         }
-        let state = dev.read(dt);
-        if let (Some(r), Ok(s)) = (recorder.as_deref_mut(), &state) {
-            r.push(crate::record::Record {
-                t: (start - t0) as f64 * 1e-9,
-                state: *s,
-            });
-        }
-        let (hold, pen) = match &state {
+    }
+
+    /// Why force is held back (if it is), and the proxy's force before the safety.
+    fn wanted(
+        &mut self,
+        cfg: &LoopConfig,
+        state: &Result<DeviceState, DeviceError>,
+        start: u64,
+    ) -> (Hold, [f32; 3]) {
+        let (hold, pen) = match state {
             Ok(s) => {
-                let age_s = model
+                let age_s = self
+                    .model
                     .as_ref()
                     .map(|(m, _)| start.saturating_sub(m.header.sent_ns) as f32 * 1e-9);
                 match age_s {
@@ -184,12 +190,12 @@ pub fn run<D: HapticDevice + PointerTarget>(
             }
             Err(_) => (Hold::DeviceError, None),
         };
-        let wanted = match (&model, pen) {
+        let wanted = match (&self.model, pen) {
             (Some((m, _)), Some(p)) => {
                 let age_ns = start.saturating_sub(m.header.sent_ns);
-                let t = &mut stats.telemetry;
+                let t = &mut self.stats.telemetry;
                 t.model_age.record(age_ns);
-                if std::mem::take(&mut model_new) && m.pen_sent_ns > 0 {
+                if std::mem::take(&mut self.model_new) && m.pen_sent_ns > 0 {
                     t.pen_to_model.record(start.saturating_sub(m.pen_sent_ns));
                 }
                 let age_s = age_ns as f32 * 1e-9;
@@ -197,11 +203,21 @@ pub fn run<D: HapticDevice + PointerTarget>(
             }
             _ => [0.0; 3],
         };
-        force = safety.filter(wanted, dt, hold);
-        let write = dev.write_force(force);
-        if let Some(p) = pen {
+        (hold, wanted)
+    }
+
+    /// Sends the device sample (when the pen was read) and the applied force.
+    fn publish(
+        &mut self,
+        ports: &HapticPorts,
+        tick: u64,
+        state: &Result<DeviceState, DeviceError>,
+        write: &Result<(), DeviceError>,
+        force: [f32; 3],
+    ) {
+        if let Ok(p) = state {
             let _ = ports.device.send_copy(DeviceSample {
-                header: Header::next(&mut seq_sample),
+                header: Header::next(&mut self.seq_sample),
                 tick,
                 position: p.position,
                 velocity: p.velocity,
@@ -210,70 +226,60 @@ pub fn run<D: HapticDevice + PointerTarget>(
             });
         }
         let _ = ports.applied.send_copy(AppliedForce {
-            header: Header::next(&mut seq_applied),
+            header: Header::next(&mut self.seq_applied),
             tick,
             force,
-            model_frame: model.as_ref().map_or(0, |(m, _)| m.frame as u32),
+            model_frame: self.model.as_ref().map_or(0, |(m, _)| m.frame as u32),
         });
-        let end = rt::now_ns();
-        let t = &mut stats.telemetry;
-        t.compute.record(end - start);
-        t.ticks = tick;
+    }
 
-        // Housekeeping, every 100 ticks, after the tick's work.
-        if tick.is_multiple_of(100) {
-            t.header = Header::next(&mut seq_tel);
-            t.force_n = (force[0] * force[0] + force[1] * force[1] + force[2] * force[2]).sqrt();
-            t.model_fresh = u32::from(hold == Hold::None);
-            let _ = ports.telemetry.send_copy(**t);
-            // Compare without formatting; a log line only on a change.
-            let err = match (&state, &write) {
-                (Err(e), _) | (_, Err(e)) => Some(e),
-                _ => None,
-            };
-            let same = match (&err, &error_logged) {
-                (None, None) => true,
-                (Some(a), Some(b)) => *a == b,
-                _ => false,
-            };
-            if !same {
-                match err {
-                    Some(e) => log(&format!("device error, forces off: {e}")),
-                    None => log("device recovered"),
-                }
-                error_logged = err.cloned();
+    /// Telemetry, and a log line when the device, the model's freshness or the count of
+    /// rejected messages changed (compared without formatting).
+    fn housekeeping(
+        &mut self,
+        ports: &HapticPorts,
+        force: [f32; 3],
+        hold: Hold,
+        state: &Result<DeviceState, DeviceError>,
+        write: &Result<(), DeviceError>,
+        log: &mut impl FnMut(&str),
+    ) {
+        let t = &mut self.stats.telemetry;
+        t.header = Header::next(&mut self.seq_tel);
+        t.force_n = (force[0] * force[0] + force[1] * force[1] + force[2] * force[2]).sqrt();
+        t.model_fresh = u32::from(hold == Hold::None);
+        let _ = ports.telemetry.send_copy(**t);
+        let err = match (state, write) {
+            (Err(e), _) | (_, Err(e)) => Some(e),
+            _ => None,
+        };
+        let same = match (&err, &self.error_logged) {
+            (None, None) => true,
+            (Some(a), Some(b)) => *a == b,
+            _ => false,
+        };
+        if !same {
+            match err {
+                Some(e) => log(&format!("device error, forces off: {e}")),
+                None => log("device recovered"),
             }
-            if hold != hold_was {
-                log(match hold {
-                    Hold::None => "local model fresh: rendering force",
-                    Hold::Stale => {
-                        "local model stale (cloth-sim not sending): force ramped to zero"
-                    }
-                    Hold::DeviceError => "device error: force ramped to zero",
-                });
-                hold_was = hold;
-            }
-            if stats.rejected > reject_logged {
-                log(&format!(
-                    "rejected {} malformed messages (first: {})",
-                    stats.rejected - reject_logged,
-                    stats.last_reject.as_deref().unwrap_or("?")
-                ));
-                reject_logged = stats.rejected;
-            }
+            self.error_logged = err.cloned();
         }
-        if state.is_err() || write.is_err() {
-            stats.device_errors += 1;
+        if hold != self.hold_was {
+            log(match hold {
+                Hold::None => "local model fresh: rendering force",
+                Hold::Stale => "local model stale (cloth-sim not sending): force ramped to zero",
+                Hold::DeviceError => "device error: force ramped to zero",
+            });
+            self.hold_was = hold;
         }
-        deadline += period;
-        let now = rt::now_ns();
-        if now > deadline + period {
-            // More than a whole period late: count the ticks skipped, don't burst.
-            let behind = (now - deadline) / period;
-            stats.telemetry.missed += behind;
-            deadline += behind * period;
+        if self.stats.rejected > self.reject_logged {
+            log(&format!(
+                "rejected {} malformed messages (first: {})",
+                self.stats.rejected - self.reject_logged,
+                self.stats.last_reject.as_deref().unwrap_or("?")
+            ));
+            self.reject_logged = self.stats.rejected;
         }
     }
-    stats.last_force = force;
-    stats
 }

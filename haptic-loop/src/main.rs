@@ -4,11 +4,11 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::Parser;
-use haptic_loop::device::{Script, SimDevice, Still, TargetSource, Workspace};
-use haptic_loop::looper::{self, LoopConfig, Ports};
-use haptic_loop::openhaptics::OpenHaptics;
+use haptic_loop::device::{OpenHaptics, Replay, Script, SimDevice, Still, TargetSource, Workspace};
+use haptic_loop::looper::{self, LoopConfig};
 use haptic_loop::rt;
 use shared::domain::Domain;
+use shared::ports::HapticPorts;
 use shared::services;
 
 #[derive(Parser)]
@@ -74,7 +74,7 @@ fn run(a: Args) -> Result<(), String> {
     enum Dev {
         Sim(Target),
         OpenHaptics,
-        Replay(haptic_loop::record::Replay),
+        Replay(Replay),
     }
     let dev = match (&a.device[..], &a.script) {
         ("sim", None) => Dev::Sim(Target::Still(Still(Workspace::default().centre, 0))),
@@ -86,9 +86,9 @@ fn run(a: Args) -> Result<(), String> {
             ))
         }
         ("openhaptics", _) => Dev::OpenHaptics,
-        (d, _) if d.starts_with("replay:") => Dev::Replay(haptic_loop::record::Replay::open(
-            std::path::Path::new(&d["replay:".len()..]),
-        )?),
+        (d, _) if d.starts_with("replay:") => {
+            Dev::Replay(Replay::open(std::path::Path::new(&d["replay:".len()..]))?)
+        }
         (d, _) => {
             return Err(format!(
                 "unknown device '{d}' (expected sim, openhaptics or replay:FILE)"
@@ -97,7 +97,7 @@ fn run(a: Args) -> Result<(), String> {
     };
     let stop = rt::termination_flag();
     let node = services::node(&domain, "haptic-loop").map_err(|e| e.to_string())?;
-    let ports = Ports::open(&node)?;
+    let ports = HapticPorts::open(&node).map_err(|e| e.to_string())?;
     if let Some(p) = a.rt_priority {
         log(&rt::realtime(p, a.cpu).summary());
     }

@@ -9,9 +9,10 @@ use std::sync::atomic::AtomicBool;
 use std::time::Duration;
 
 use haptic_loop::device::{SimDevice, Still, Workspace};
-use haptic_loop::looper::{self, LoopConfig, Ports};
+use haptic_loop::looper::{self, LoopConfig};
 use shared::domain::Domain;
 use shared::haptic_to_sim::AppliedForce;
+use shared::ports::{self, HapticPorts};
 use shared::services;
 use shared::sim_to_haptic::LocalModel;
 use shared::{Header, monotonic_ns};
@@ -19,7 +20,7 @@ use shared::{Header, monotonic_ns};
 fn start_loop(d: Domain, ticks: u64) -> std::thread::JoinHandle<looper::LoopStats> {
     std::thread::spawn(move || {
         let node = services::node(&d, "haptic").unwrap();
-        let ports = Ports::open(&node).unwrap();
+        let ports = HapticPorts::open(&node).unwrap();
         let cfg = LoopConfig {
             max_ticks: Some(ticks),
             ..LoopConfig::default()
@@ -35,16 +36,8 @@ fn pinch_force_then_stale_model_ramps_to_zero_and_ticks_go_on() {
     let d = Domain::new(&format!("hl{}", std::process::id())).unwrap();
     let handle = start_loop(d.clone(), 1500);
     let node = services::node(&d, "fake-sim").unwrap();
-    let model_pub = services::local_model(&node)
-        .unwrap()
-        .publisher_builder()
-        .create()
-        .unwrap();
-    let applied = services::applied_force(&node)
-        .unwrap()
-        .subscriber_builder()
-        .create()
-        .unwrap();
+    let model_pub = ports::publisher(&node, services::local_model).unwrap();
+    let applied = ports::subscriber(&node, services::applied_force, None).unwrap();
     // The pinched vertex 1 cm above the pen, stiffness 100 N/m: 1 N up once ramped.
     let mut seq = 0;
     let mut samples = Vec::new();

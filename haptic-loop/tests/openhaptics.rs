@@ -9,9 +9,10 @@ use std::path::PathBuf;
 use std::process::Command;
 use std::sync::atomic::AtomicBool;
 
-use haptic_loop::device::{HapticDevice, Workspace};
-use haptic_loop::looper::{self, LoopConfig, Ports};
-use haptic_loop::openhaptics::OpenHaptics;
+use haptic_loop::device::{HapticDevice, OpenHaptics, Workspace};
+use haptic_loop::looper::{self, LoopConfig};
+use shared::ports::{self, HapticPorts};
+
 use shared::domain::Domain;
 use shared::services;
 
@@ -46,12 +47,8 @@ fn a_whole_session_drives_the_standin() {
     let log = so.with_file_name("calls.log");
     let d = Domain::new(&format!("hd{}", std::process::id())).unwrap();
     let node = services::node(&d, "haptic").unwrap();
-    let ports = Ports::open(&node).unwrap();
-    let samples = services::device(&node)
-        .unwrap()
-        .subscriber_builder()
-        .create()
-        .unwrap();
+    let ports = HapticPorts::open(&node).unwrap();
+    let samples = ports::subscriber(&node, services::device, None).unwrap();
     let ws = Workspace::default();
     {
         let (mut dev, notice) = OpenHaptics::open(so.to_str().unwrap(), ws).unwrap();

@@ -16,7 +16,7 @@ use std::ffi::{c_char, c_double, c_int, c_uint, c_ulong, c_ushort, c_void};
 use std::sync::OnceLock;
 use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
 
-use crate::device::{DeviceError, DeviceState, HapticDevice, Workspace};
+use super::{DeviceError, DeviceState, HapticDevice, PointerTarget, Workspace};
 
 pub type Hhd = c_uint;
 pub const HD_INVALID_HANDLE: Hhd = c_uint::MAX;
@@ -300,7 +300,7 @@ impl HapticDevice for OpenHaptics {
     }
 }
 
-impl crate::looper::PointerTarget for OpenHaptics {}
+impl PointerTarget for OpenHaptics {}
 
 impl Drop for OpenHaptics {
     #[allow(unsafe_code)]

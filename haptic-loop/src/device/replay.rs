@@ -1,0 +1,106 @@
+//! `--device replay:FILE`: a device log (see `record`) played back by time: positions,
+//! velocities and buttons; the recorded hand does not react to the rendered force.
+//!
+//! Format: text, one tick per line, `t x y z vx vy vz buttons` (seconds since the start,
+//! scene metres, m/s, bit mask), after a first line [`LOG_HEADER`].
+
+use std::path::Path;
+
+use super::{DeviceError, DeviceState, HapticDevice, PointerTarget};
+
+pub const LOG_HEADER: &str = "# saiho device log v1";
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Record {
+    pub t: f64,
+    pub state: DeviceState,
+}
+
+/// Plays a device log back.
+#[derive(Debug)]
+pub struct Replay {
+    records: Vec<Record>,
+    t: f64,
+    at: usize,
+}
+
+impl Replay {
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let mut lines = text.lines();
+        if lines.next().map(str::trim) != Some(LOG_HEADER) {
+            return Err(format!(
+                "not a device log (the first line must be '{LOG_HEADER}')"
+            ));
+        }
+        let mut records = Vec::new();
+        for (k, line) in lines.enumerate() {
+            let n = k + 2;
+            let f: Vec<&str> = line.split_whitespace().collect();
+            if f.is_empty() {
+                continue;
+            }
+            if f.len() != 8 {
+                return Err(format!("line {n}: expected 8 fields, got {}", f.len()));
+            }
+            let num = |s: &str| -> Result<f64, String> {
+                s.parse::<f64>()
+                    .ok()
+                    .filter(|v| v.is_finite())
+                    .ok_or_else(|| format!("line {n}: '{s}' is not a finite number"))
+            };
+            let t = num(f[0])?;
+            if records.last().is_some_and(|r: &Record| t < r.t) {
+                return Err(format!("line {n}: time goes backwards"));
+            }
+            let buttons: u32 = f[7]
+                .parse()
+                .map_err(|_| format!("line {n}: buttons '{}' is not a bit mask", f[7]))?;
+            records.push(Record {
+                t,
+                state: DeviceState {
+                    position: [num(f[1])? as f32, num(f[2])? as f32, num(f[3])? as f32],
+                    velocity: [num(f[4])? as f32, num(f[5])? as f32, num(f[6])? as f32],
+                    buttons: buttons & 0b11,
+                },
+            });
+        }
+        if records.is_empty() {
+            return Err("the device log has no records".into());
+        }
+        Ok(Self {
+            records,
+            t: 0.0,
+            at: 0,
+        })
+    }
+
+    pub fn open(path: &Path) -> Result<Self, String> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("cannot read device log {}: {e}", path.display()))?;
+        Self::parse(&text).map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    pub fn duration(&self) -> f64 {
+        self.records.last().map_or(0.0, |r| r.t)
+    }
+}
+
+impl HapticDevice for Replay {
+    fn name(&self) -> &str {
+        "replay"
+    }
+
+    fn read(&mut self, dt: f32) -> Result<DeviceState, DeviceError> {
+        self.t += dt.clamp(0.0, 0.005) as f64;
+        while self.at + 1 < self.records.len() && self.records[self.at + 1].t <= self.t {
+            self.at += 1;
+        }
+        Ok(self.records[self.at].state)
+    }
+
+    fn write_force(&mut self, _force: [f32; 3]) -> Result<(), DeviceError> {
+        Ok(())
+    }
+}
+
+impl PointerTarget for Replay {}
