@@ -6,14 +6,10 @@
 
 use iceoryx2::pending_response::PendingResponse;
 use iceoryx2::prelude::*;
+use shared::command::Command;
 use shared::domain::Domain;
-use shared::haptic_to_sim::DeviceSample;
-use shared::sim_to_haptic::LocalModel;
-use shared::sim_to_ui::{
-    BodyMeshHeader, ClothFrameHeader, MeshCorner, MeshHeader, TextureTile, ToolState, check_body,
-    check_frame, check_mesh, check_tile, frame_stitches,
-};
-use shared::telemetry::{LoopTelemetry, SimTelemetry};
+use shared::ports::UiPorts;
+use shared::sim_to_ui::{check_body, check_frame, check_mesh, check_tile, frame_stitches};
 use shared::ui_to_haptic::PointerInput;
 use shared::ui_to_sim::{CommandReply, ToolCommand};
 use shared::{Checked, Header, services};
@@ -25,18 +21,8 @@ type Pending = PendingResponse<ipc::Service, ToolCommand, (), CommandReply, ()>;
 pub struct Link {
     pub domain: Domain,
     _node: Node<ipc::Service>,
-    frames: services::SliceSub<f32, ClothFrameHeader>,
-    meshes: services::SliceSub<MeshCorner, MeshHeader>,
-    tiles: services::SliceSub<u8, TextureTile>,
-    bodies: services::SliceSub<f32, BodyMeshHeader>,
-    tools: services::Sub<ToolState>,
-    pens: services::Sub<DeviceSample>,
-    models: services::Sub<LocalModel>,
-    loop_tel: services::Sub<LoopTelemetry>,
-    sim_tel: services::Sub<SimTelemetry>,
-    client: iceoryx2::port::client::Client<ipc::Service, ToolCommand, (), CommandReply, ()>,
-    pointer: services::Pub<PointerInput>,
-    pending: Vec<(ToolCommand, Pending, std::time::Instant)>,
+    ports: UiPorts,
+    pending: Vec<(u32, Pending, std::time::Instant)>,
     seq_cmd: u64,
     seq_ptr: u64,
 }
@@ -49,72 +35,14 @@ pub struct Answer {
     pub message: String,
 }
 
-fn e(x: impl std::fmt::Debug) -> String {
-    format!("{x:?}")
-}
-
 impl Link {
     /// Opens every port in `domain`; the error says which one failed and why (a protocol
     /// mismatch says so).
     pub fn open(domain: &Domain) -> Result<Self, String> {
         let node = services::node(domain, "cloth-ui").map_err(|x| x.to_string())?;
-        let s = |x: services::ServiceError| x.to_string();
+        let ports = UiPorts::open(&node).map_err(|x| x.to_string())?;
         Ok(Self {
-            frames: services::cloth_frame(&node)
-                .map_err(s)?
-                .subscriber_builder()
-                .create()
-                .map_err(e)?,
-            meshes: services::cloth_mesh(&node)
-                .map_err(s)?
-                .subscriber_builder()
-                .create()
-                .map_err(e)?,
-            tiles: services::texture(&node)
-                .map_err(s)?
-                .subscriber_builder()
-                .create()
-                .map_err(e)?,
-            bodies: services::body_mesh(&node)
-                .map_err(s)?
-                .subscriber_builder()
-                .create()
-                .map_err(e)?,
-            tools: services::tool_state(&node)
-                .map_err(s)?
-                .subscriber_builder()
-                .create()
-                .map_err(e)?,
-            pens: services::device(&node)
-                .map_err(s)?
-                .subscriber_builder()
-                .create()
-                .map_err(e)?,
-            models: services::local_model(&node)
-                .map_err(s)?
-                .subscriber_builder()
-                .create()
-                .map_err(e)?,
-            loop_tel: services::haptic_telemetry(&node)
-                .map_err(s)?
-                .subscriber_builder()
-                .create()
-                .map_err(e)?,
-            sim_tel: services::sim_telemetry(&node)
-                .map_err(s)?
-                .subscriber_builder()
-                .create()
-                .map_err(e)?,
-            client: services::commands(&node)
-                .map_err(s)?
-                .client_builder()
-                .create()
-                .map_err(e)?,
-            pointer: services::pointer(&node)
-                .map_err(s)?
-                .publisher_builder()
-                .create()
-                .map_err(e)?,
+            ports,
             _node: node,
             domain: domain.clone(),
             pending: Vec::new(),
@@ -126,8 +54,16 @@ impl Link {
     /// Takes in everything that arrived; returns the replies to commands.
     pub fn poll(&mut self, store: &mut Store) -> Vec<Answer> {
         let now = std::time::Instant::now();
+        self.poll_cloth(store, now);
+        self.poll_state(store, now);
+        self.answers()
+    }
+
+    /// The cloth (mesh, positions, texture) and the body.
+    fn poll_cloth(&mut self, store: &mut Store, now: std::time::Instant) {
+        let p = &self.ports;
         // The mesh before the frames, so positions meet their triangles.
-        while let Ok(Some(m)) = self.meshes.receive() {
+        while let Ok(Some(m)) = p.meshes.receive() {
             let h = *m.user_header();
             match check_mesh(&h, m.payload()) {
                 Ok(()) => {
@@ -143,7 +79,7 @@ impl Link {
             }
         }
         let mut newest = None;
-        while let Ok(Some(f)) = self.frames.receive() {
+        while let Ok(Some(f)) = p.frames.receive() {
             let h = *f.user_header();
             match check_frame(&h, f.payload()) {
                 Ok(()) => newest = Some((h, f.payload().to_vec())),
@@ -167,7 +103,7 @@ impl Link {
             store.frame = h.frame;
             store.heard.sim = Some(now);
         }
-        while let Ok(Some(t)) = self.tiles.receive() {
+        while let Ok(Some(t)) = p.tiles.receive() {
             let h = *t.user_header();
             match check_tile(&h, t.payload()) {
                 Ok(()) => store.texture.apply(
@@ -179,7 +115,7 @@ impl Link {
                 Err(x) => store.record(&x),
             }
         }
-        while let Ok(Some(b)) = self.bodies.receive() {
+        while let Ok(Some(b)) = p.bodies.receive() {
             match check_body(b.user_header(), b.payload()) {
                 Ok(body) => {
                     store.body = Some(body);
@@ -188,13 +124,18 @@ impl Link {
                 Err(x) => store.record(&x),
             }
         }
-        while let Ok(Some(s)) = self.tools.receive() {
+    }
+
+    /// The tool state, the pen, the local model and both telemetries.
+    fn poll_state(&mut self, store: &mut Store, now: std::time::Instant) {
+        let p = &self.ports;
+        while let Ok(Some(s)) = p.tools.receive() {
             match s.header.check() {
                 Ok(()) => store.tool = Some(*s),
                 Err(x) => store.record(&x),
             }
         }
-        while let Ok(Some(s)) = self.pens.receive() {
+        while let Ok(Some(s)) = p.pens.receive() {
             match s.check() {
                 Ok(()) => {
                     store.pen = Some(*s);
@@ -203,14 +144,14 @@ impl Link {
                 Err(x) => store.record(&x),
             }
         }
-        while let Ok(Some(s)) = self.models.receive() {
+        while let Ok(Some(s)) = p.models.receive() {
             match s.check() {
                 Ok(()) => store.model = Some(*s),
                 Err(x) => store.record(&x),
             }
         }
         let mut sample = false;
-        while let Ok(Some(s)) = self.loop_tel.receive() {
+        while let Ok(Some(s)) = p.loop_telemetry.receive() {
             match s.check() {
                 Ok(()) => {
                     store.loop_tel = Some(Box::new(*s));
@@ -220,7 +161,7 @@ impl Link {
                 Err(x) => store.record(&x),
             }
         }
-        while let Ok(Some(s)) = self.sim_tel.receive() {
+        while let Ok(Some(s)) = p.sim_telemetry.receive() {
             match s.check() {
                 Ok(()) => store.sim_tel = Some(Box::new(*s)),
                 Err(x) => store.record(&x),
@@ -229,17 +170,21 @@ impl Link {
         if sample {
             store.push_sample();
         }
+    }
+
+    /// The replies that came in, and the commands that waited too long for one.
+    fn answers(&mut self) -> Vec<Answer> {
         let mut answers = Vec::new();
-        self.pending.retain(|(cmd, p, sent)| match p.receive() {
+        self.pending.retain(|(op, p, sent)| match p.receive() {
             Ok(Some(r)) => {
                 answers.push(match r.check() {
                     Ok(()) => Answer {
-                        op: cmd.op,
+                        op: *op,
                         ok: r.ok == 1,
                         message: r.message().to_string(),
                     },
                     Err(x) => Answer {
-                        op: cmd.op,
+                        op: *op,
                         ok: false,
                         message: format!("unreadable reply: {x}"),
                     },
@@ -248,7 +193,7 @@ impl Link {
             }
             _ if sent.elapsed().as_secs_f64() > 5.0 => {
                 answers.push(Answer {
-                    op: cmd.op,
+                    op: *op,
                     ok: false,
                     message: "no reply from cloth-sim within 5 s".into(),
                 });
@@ -260,22 +205,25 @@ impl Link {
     }
 
     /// Sends a command; its reply comes back from a later `poll`.
-    pub fn send(&mut self, mut c: ToolCommand) -> Result<(), String> {
-        c.header = Header::next(&mut self.seq_cmd);
+    pub fn send(&mut self, command: &Command) -> Result<(), String> {
+        let c = command
+            .to_wire(Header::next(&mut self.seq_cmd))
+            .map_err(|x| x.to_string())?;
         let p = self
-            .client
+            .ports
+            .commands
             .send_copy(c)
             .map_err(|x| format!("sending the command failed: {x:?}"))?;
         if p.number_of_server_connections() == 0 {
             return Err("cloth-sim is not running: the command was not delivered".into());
         }
-        self.pending.push((c, p, std::time::Instant::now()));
+        self.pending.push((c.op, p, std::time::Instant::now()));
         Ok(())
     }
 
     /// Moves the simulated pen's hand to `target` with `buttons`.
     pub fn point(&mut self, target: [f32; 3], buttons: u32) {
-        let _ = self.pointer.send_copy(PointerInput {
+        let _ = self.ports.pointer.send_copy(PointerInput {
             header: Header::next(&mut self.seq_ptr),
             target,
             buttons,

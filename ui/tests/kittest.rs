@@ -6,9 +6,11 @@
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
+use shared::ports;
 use shared::sim_to_ui::tool;
 use shared::ui_to_sim::op;
-use ui::app::{App, Emitted, Options};
+use ui::action::Emitted;
+use ui::app::{App, Options};
 use ui::store::Store;
 
 fn harness() -> Harness<'static, App> {
@@ -27,7 +29,7 @@ fn harness() -> Harness<'static, App> {
 }
 
 fn view_centre(h: &Harness<'_, App>) -> egui::Pos2 {
-    h.state().view_rect.unwrap().center()
+    h.state().view.rect.unwrap().center()
 }
 
 fn click(h: &mut Harness<'_, App>, p: egui::Pos2) {
@@ -53,7 +55,7 @@ fn commands(h: &Harness<'_, App>) -> Vec<shared::ui_to_sim::ToolCommand> {
         .emitted
         .iter()
         .filter_map(|e| match e {
-            Emitted::Command(c) => Some(*c),
+            Emitted::Command(c) => Some(c.to_wire(shared::Header::default()).unwrap()),
             _ => None,
         })
         .collect()
@@ -63,19 +65,27 @@ fn commands(h: &Harness<'_, App>) -> Vec<shared::ui_to_sim::ToolCommand> {
 fn each_tool_by_its_label_emits_its_commands() {
     let mut h = harness();
     let centre = view_centre(&h);
+    cut_and_sew(&mut h, centre);
+    seam_by_shift_clicks(&mut h);
+    pin_paint_and_pinch(&mut h, centre);
+    keys_load_and_reset(&mut h);
+}
 
+/// The demo cloth's vertices a side.
+const SIDE: usize = 17;
+
+fn cut_and_sew(h: &mut Harness<'static, App>, centre: egui::Pos2) {
     // Cut: choosing it tells cloth-sim; a click on the cloth splits the vertex there.
     h.get_by_label("Cut  (C)").click();
     h.run_steps(2);
-    let c = *commands(&h).last().unwrap();
+    let c = *commands(h).last().unwrap();
     assert_eq!((c.op, c.a), (op::SET_TOOL, tool::CUT));
     assert_eq!(h.state().tool, tool::CUT);
     h.get_by_label("Cut tool");
-    click(&mut h, centre);
-    let c = *commands(&h).last().unwrap();
+    click(h, centre);
+    let c = *commands(h).last().unwrap();
     assert_eq!(c.op, op::CUT_VERTEX, "{c:?}");
-    let side = 17;
-    let (r, col) = (c.a as usize / side, c.a as usize % side);
+    let (r, col) = (c.a as usize / SIDE, c.a as usize % SIDE);
     assert!(
         (4..=12).contains(&r) && (4..=12).contains(&col),
         "cut vertex {}",
@@ -86,19 +96,21 @@ fn each_tool_by_its_label_emits_its_commands() {
     // Sew: two clicks on two vertices.
     h.get_by_label("Sew  (S)").click();
     h.run_steps(2);
-    click(&mut h, centre);
+    click(h, centre);
     assert!(h.state().sew_first.is_some());
-    click(&mut h, centre + egui::vec2(60.0, 20.0));
-    let c = *commands(&h).last().unwrap();
+    click(h, centre + egui::vec2(60.0, 20.0));
+    let c = *commands(h).last().unwrap();
     assert_eq!(c.op, op::SEW, "{c:?}");
     assert_ne!(c.a, c.b);
     assert!(h.state().sew_first.is_none());
+}
 
-    // A seam: shift-click the start and end of two boundary paths (rows 0 and 16, columns
-    // 3 to 7 of the demo cloth, a hair inside it so the click lands on the cloth).
-    let rect = h.state().view_rect.unwrap();
+/// A seam: shift-click the start and end of two boundary paths (rows 0 and 16, columns
+/// 3 to 7 of the demo cloth, a hair inside it so the click lands on the cloth).
+fn seam_by_shift_clicks(h: &mut Harness<'static, App>) {
+    let rect = h.state().view.rect.unwrap();
     let screen = |h: &Harness<'_, App>, r: usize, c: usize| {
-        let x = h.state().store.x[r * side + c];
+        let x = h.state().store.x[r * SIDE + c];
         let inward = if r == 0 { 0.01 } else { -0.01 };
         let p = glam::Vec3::new(x[0], x[1], x[2] + inward);
         let s = h
@@ -110,12 +122,12 @@ fn each_tool_by_its_label_emits_its_commands() {
     };
     h.event(egui::Event::ModifiersChanged(egui::Modifiers::SHIFT));
     for (r, c) in [(0, 3), (0, 7), (16, 3), (16, 7)] {
-        let p = screen(&h, r, c);
-        click(&mut h, p);
+        let p = screen(h, r, c);
+        click(h, p);
     }
     h.event(egui::Event::ModifiersChanged(egui::Modifiers::NONE));
     h.run_steps(1);
-    let c = *commands(&h).last().unwrap();
+    let c = *commands(h).last().unwrap();
     assert_eq!(c.op, op::SEAM, "{c:?}");
     // Path A runs along v = 0 from u = 3/16 to 7/16; path B along v = 1.
     assert!(
@@ -129,19 +141,21 @@ fn each_tool_by_its_label_emits_its_commands() {
         c.uv
     );
     assert!(c.value > 0.0 && c.value < 1.0 / 16.0);
+}
 
+fn pin_paint_and_pinch(h: &mut Harness<'static, App>, centre: egui::Pos2) {
     // Pin: a click pins.
     h.get_by_label("Pin  (N)").click();
     h.run_steps(2);
-    click(&mut h, centre);
-    let c = *commands(&h).last().unwrap();
+    click(h, centre);
+    let c = *commands(h).last().unwrap();
     assert_eq!((c.op, c.mode), (op::PIN, 1));
 
     // Paint: the colour and brush go with the dab, at the point under the mouse.
     h.get_by_label("Paint  (B)").click();
     h.run_steps(2);
-    click(&mut h, centre);
-    let c = *commands(&h).last().unwrap();
+    click(h, centre);
+    let c = *commands(h).last().unwrap();
     assert_eq!(c.op, op::PAINT);
     assert_eq!(c.rgba, [200, 30, 40, 255]);
     assert!((c.value - 0.02).abs() < 1e-6);
@@ -175,34 +189,38 @@ fn each_tool_by_its_label_emits_its_commands() {
         pen.last().unwrap().0[1] > pen[0].0[1] + 0.02,
         "dragging up lifts: {pen:?}"
     );
+}
 
+/// Undo and redo by button and by keyboard, a tool by its shortcut, load, a new scene,
+/// and a click beside the cloth.
+fn keys_load_and_reset(h: &mut Harness<'static, App>) {
     // Undo and redo by button and by keyboard.
     h.get_by_label("Undo").click();
     h.run_steps(2);
-    assert_eq!(commands(&h).last().unwrap().op, op::UNDO);
+    assert_eq!(commands(h).last().unwrap().op, op::UNDO);
     h.key_press_modifiers(egui::Modifiers::COMMAND, egui::Key::Y);
     h.run_steps(2);
-    assert_eq!(commands(&h).last().unwrap().op, op::REDO);
+    assert_eq!(commands(h).last().unwrap().op, op::REDO);
     // A tool by its shortcut.
     h.key_press(egui::Key::T);
     h.run_steps(2);
-    let c = *commands(&h).last().unwrap();
+    let c = *commands(h).last().unwrap();
     assert_eq!((c.op, c.a), (op::SET_TOOL, tool::TEAR));
     // Load names the file; a new scene needs a second click and carries body and grid.
     h.get_by_label("Load").click();
     h.run_steps(2);
-    let c = *commands(&h).last().unwrap();
+    let c = *commands(h).last().unwrap();
     assert_eq!(c.op, op::LOAD);
     assert!(
         c.text().unwrap().ends_with("design.saiho"),
         "{:?}",
         c.text()
     );
-    let n = commands(&h).len();
-    press(&mut h, "New scene");
-    assert_eq!(commands(&h).len(), n, "one click must not reset");
-    press(&mut h, "Click again to reset");
-    let c = *commands(&h).last().unwrap();
+    let n = commands(h).len();
+    press(h, "New scene");
+    assert_eq!(commands(h).len(), n, "one click must not reset");
+    press(h, "Click again to reset");
+    let c = *commands(h).last().unwrap();
     assert_eq!(
         (c.op, c.a, c.b),
         (op::RESET, 64, shared::ui_to_sim::body::CUBE)
@@ -211,10 +229,10 @@ fn each_tool_by_its_label_emits_its_commands() {
     // A click beside the cloth is explained, not sent.
     h.get_by_label("Pin  (N)").click();
     h.run_steps(2);
-    let n = commands(&h).len();
-    let rect = h.state().view_rect.unwrap();
-    click(&mut h, rect.left_top() + egui::vec2(5.0, 5.0));
-    assert_eq!(commands(&h).len(), n);
+    let n = commands(h).len();
+    let rect = h.state().view.rect.unwrap();
+    click(h, rect.left_top() + egui::vec2(5.0, 5.0));
+    assert_eq!(commands(h).len(), n);
     h.get_by_label("Pin: nothing under the mouse");
 }
 
@@ -223,7 +241,7 @@ fn the_3d_view_draws_the_cloth() {
     let mut h = harness();
     h.run_steps(2);
     let img = h.render().unwrap();
-    let rect = h.state().view_rect.unwrap();
+    let rect = h.state().view.rect.unwrap();
     // The demo cloth's off-white texture, lit: bright pixels in the middle of the view.
     let (cx, cy) = (rect.center().x as u32, rect.center().y as u32);
     let bright = (cx - 40..cx + 40)
@@ -312,11 +330,7 @@ fn a_peer_of_another_protocol_version_gets_a_banner() {
 
     let domain = Domain::new(&format!("kt-mismatch-{}", std::process::id())).unwrap();
     let node = services::node(&domain, "test-peer").unwrap();
-    let publisher = services::tool_state(&node)
-        .unwrap()
-        .publisher_builder()
-        .create()
-        .unwrap();
+    let publisher = ports::publisher(&node, services::tool_state).unwrap();
     let mut h = Harness::builder()
         .with_size(egui::vec2(1200.0, 760.0))
         .wgpu()

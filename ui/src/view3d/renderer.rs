@@ -1,98 +1,16 @@
-//! The 3D view, rendered with wgpu into a colour + depth texture of our own and shown in
-//! egui's pass by a paint callback ([`View3d::paint_callback`]), so the same code draws in
-//! the app and in egui_kittest (whose pass has no depth attachment).
+//! The renderer: pipelines, the cloth's texture, the target, and one frame's draw.
 
 use egui_wgpu::wgpu;
-use glam::Vec3;
 use wgpu::util::DeviceExt;
 
+use super::blit::{Blit, ShowView, sampler_entry, texture_entry};
+use super::gpu::{Buf, Uniforms, Vertex};
+use super::scene::{self, Overlay};
 use crate::camera::Camera;
 use crate::store::Store;
 
 const COLOUR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-
-/// Lines over the cloth: its border and cuts, sewn edges, stitches still pulling.
-pub const BORDER_COLOUR: [f32; 4] = [0.95, 0.55, 0.1, 1.0];
-pub const SEWN_COLOUR: [f32; 4] = [0.3, 0.65, 1.0, 1.0];
-pub const STITCH_COLOUR: [f32; 4] = [0.85, 0.3, 0.95, 1.0];
-
-/// One vertex of every draw: position, normal, UV, colour.
-#[repr(C)]
-#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct Vertex {
-    pub pos: [f32; 3],
-    pub nrm: [f32; 3],
-    pub uv: [f32; 2],
-    pub col: [f32; 4],
-}
-
-#[repr(C)]
-#[derive(Clone, Copy, Debug, bytemuck::Pod, bytemuck::Zeroable)]
-struct Uniforms {
-    view_proj: [[f32; 4]; 4],
-    light_dir: [f32; 4],
-    eye: [f32; 4],
-}
-
-/// Extra things to draw this frame besides cloth and body.
-#[derive(Clone, Debug, Default)]
-pub struct Overlay {
-    /// The pen tip.
-    pub pen: Option<Vec3>,
-    /// The pinch spring: from the tip to the pinched vertex.
-    pub spring: Option<(Vec3, Vec3)>,
-    /// A vertex picked by the first click of a sew.
-    pub marked: Option<Vec3>,
-}
-
-/// A growable GPU buffer (vertices or indices), with the count of its last upload.
-struct Buf {
-    buf: wgpu::Buffer,
-    label: &'static str,
-    usage: wgpu::BufferUsages,
-    cap: u64,
-    len: u32,
-}
-
-impl Buf {
-    fn new(device: &wgpu::Device, label: &'static str, usage: wgpu::BufferUsages) -> Self {
-        let usage = usage | wgpu::BufferUsages::COPY_DST;
-        Self {
-            buf: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: 4096,
-                usage,
-                mapped_at_creation: false,
-            }),
-            label,
-            usage,
-            cap: 4096,
-            len: 0,
-        }
-    }
-
-    fn vertices(device: &wgpu::Device, label: &'static str) -> Self {
-        Self::new(device, label, wgpu::BufferUsages::VERTEX)
-    }
-
-    fn upload<T: bytemuck::Pod>(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, v: &[T]) {
-        let bytes: &[u8] = bytemuck::cast_slice(v);
-        if bytes.len() as u64 > self.cap {
-            self.cap = (bytes.len() as u64).next_power_of_two();
-            self.buf = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(self.label),
-                size: self.cap,
-                usage: self.usage,
-                mapped_at_creation: false,
-            });
-        }
-        if !bytes.is_empty() {
-            queue.write_buffer(&self.buf, 0, bytes);
-        }
-        self.len = v.len() as u32;
-    }
-}
 
 pub struct View3d {
     textured: wgpu::RenderPipeline,
@@ -117,136 +35,6 @@ pub struct View3d {
     scratch: Vec<Vertex>,
     target: Option<(wgpu::Texture, wgpu::Texture, [u32; 2])>,
     blit: Blit,
-}
-
-/// What draws the view's texture into egui's pass: the pipeline (for the pass's format)
-/// and the bind group of the current target.
-struct Blit {
-    shader: wgpu::ShaderModule,
-    layout: wgpu::BindGroupLayout,
-    sampler: wgpu::Sampler,
-    pipeline: Option<(wgpu::TextureFormat, wgpu::RenderPipeline)>,
-    group: Option<wgpu::BindGroup>,
-}
-
-/// A filterable 2D colour texture read by the fragment shader, at `binding`.
-fn texture_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Texture {
-            sample_type: wgpu::TextureSampleType::Float { filterable: true },
-            view_dimension: wgpu::TextureViewDimension::D2,
-            multisampled: false,
-        },
-        count: None,
-    }
-}
-
-/// A filtering sampler for the fragment shader, at `binding`.
-fn sampler_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-        count: None,
-    }
-}
-
-impl Blit {
-    fn new(device: &wgpu::Device) -> Self {
-        let shader = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("saiho view3d blit"),
-            source: wgpu::ShaderSource::Wgsl(include_str!("blit.wgsl").into()),
-        });
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("saiho view3d blit"),
-            entries: &[texture_entry(0), sampler_entry(1)],
-        });
-        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-            label: Some("saiho view3d blit"),
-            mag_filter: wgpu::FilterMode::Linear,
-            min_filter: wgpu::FilterMode::Linear,
-            ..Default::default()
-        });
-        Self {
-            shader,
-            layout,
-            sampler,
-            pipeline: None,
-            group: None,
-        }
-    }
-
-    fn pipeline(
-        &mut self,
-        device: &wgpu::Device,
-        format: wgpu::TextureFormat,
-    ) -> wgpu::RenderPipeline {
-        if let Some((f, p)) = &self.pipeline
-            && *f == format
-        {
-            return p.clone();
-        }
-        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("saiho view3d blit"),
-            bind_group_layouts: &[Some(&self.layout)],
-            immediate_size: 0,
-        });
-        let p = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("saiho view3d blit"),
-            layout: Some(&layout),
-            vertex: wgpu::VertexState {
-                module: &self.shader,
-                entry_point: Some("vs"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            fragment: Some(wgpu::FragmentState {
-                module: &self.shader,
-                entry_point: Some(if format.is_srgb() {
-                    "fs_linear"
-                } else {
-                    "fs_gamma"
-                }),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            primitive: Default::default(),
-            depth_stencil: None,
-            // egui's pass is single-sampled: cloth-ui leaves eframe's multisampling off
-            // (its own view is the only 3D, and it renders into its own texture).
-            multisample: Default::default(),
-            multiview_mask: None,
-            cache: None,
-        });
-        self.pipeline = Some((format, p.clone()));
-        p
-    }
-}
-
-/// The paint callback that shows the view (see [`View3d::paint_callback`]).
-struct ShowView {
-    pipeline: wgpu::RenderPipeline,
-    group: wgpu::BindGroup,
-}
-
-impl egui_wgpu::CallbackTrait for ShowView {
-    fn paint(
-        &self,
-        _info: egui::PaintCallbackInfo,
-        pass: &mut wgpu::RenderPass<'static>,
-        _resources: &egui_wgpu::CallbackResources,
-    ) {
-        // egui has set the viewport to the callback's rectangle and the scissor to its clip.
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &self.group, &[]);
-        pass.draw(0..3, 0..1);
-    }
 }
 
 fn cloth_texture(device: &wgpu::Device, w: u32, h: u32) -> wgpu::Texture {
@@ -534,168 +322,31 @@ impl View3d {
                 eye: [eye.x, eye.y, eye.z, 1.0],
             }),
         );
-        // The cloth: one vertex per distinct (vertex, UV) pair (UVs are per corner, so a
-        // seam or cut gives a vertex two), indexed by its triangles.
         let key = store
             .mesh
             .as_ref()
             .map(|m| (store.mesh_generation, m.topology, m.corners.len()));
         if key != self.cloth_topology {
-            self.cloth_keys.clear();
-            let mut index = Vec::new();
-            if let Some(m) = &store.mesh {
-                let mut seen: std::collections::HashMap<(u32, u32, u32), u32> = Default::default();
-                for c in &m.corners {
-                    let k = (c.vertex, c.u.to_bits(), c.v.to_bits());
-                    let i = *seen.entry(k).or_insert_with(|| {
-                        self.cloth_keys.push((c.vertex, [c.u, c.v]));
-                        (self.cloth_keys.len() - 1) as u32
-                    });
-                    index.push(i);
-                }
-            }
+            let index = scene::cloth_keys(store.mesh.as_ref(), &mut self.cloth_keys);
             self.cloth_index.upload(device, queue, &index);
             self.cloth_topology = key;
         }
-        self.scratch.clear();
-        let (x, n) = (&store.x, &store.normals);
-        let mut complete = true;
-        for &(v, uv) in &self.cloth_keys {
-            let i = v as usize;
-            let (p, nn) = match (x.get(i), n.get(i)) {
-                (Some(p), Some(nn)) => (*p, *nn),
-                // Positions for a newer or older mesh: draw nothing rather than garbage.
-                _ => {
-                    complete = false;
-                    ([0.0; 3], [0.0, 1.0, 0.0])
-                }
-            };
-            self.scratch.push(Vertex {
-                pos: p,
-                nrm: nn,
-                uv,
-                col: [1.0; 4],
-            });
-        }
-        if !complete {
-            self.scratch.clear();
-        }
+        scene::cloth_vertices(&self.cloth_keys, store, &mut self.scratch);
         self.cloth.upload(device, queue, &self.scratch);
         if self.body_version != store.body_version {
-            self.scratch.clear();
-            if let Some((v, t)) = &store.body {
-                for tri in t {
-                    let [a, b, c] = tri.map(|i| Vec3::from(v[i as usize]));
-                    let nrm = (b - a).cross(c - a).normalize_or(Vec3::Y).to_array();
-                    for p in [a, b, c] {
-                        self.scratch.push(Vertex {
-                            pos: p.to_array(),
-                            nrm,
-                            uv: [0.0; 2],
-                            col: [0.55, 0.6, 0.68, 1.0],
-                        });
-                    }
-                }
-            }
+            scene::body_vertices(store, &mut self.scratch);
             self.body.upload(device, queue, &self.scratch);
             self.body_version = store.body_version;
         }
-        // Lines: the floor grid, the cloth's border and cuts, the pinch spring, the pen.
-        self.scratch.clear();
-        // `lift`: how far towards the eye the line is drawn (see vs_line), metres.
-        let line_lifted = |s: &mut Vec<Vertex>, a: Vec3, b: Vec3, col: [f32; 4], lift: f32| {
-            for p in [a, b] {
-                s.push(Vertex {
-                    pos: p.to_array(),
-                    nrm: [lift, 0.0, 0.0],
-                    col,
-                    ..Default::default()
-                });
-            }
-        };
-        let line =
-            |s: &mut Vec<Vertex>, a: Vec3, b: Vec3, col: [f32; 4]| line_lifted(s, a, b, col, 0.0);
-        for k in -10..=10 {
-            let f = k as f32 * 0.1;
-            let col = [0.06, 0.065, 0.075, 1.0];
-            line(
-                &mut self.scratch,
-                Vec3::new(f, 0.0, -1.0),
-                Vec3::new(f, 0.0, 1.0),
-                col,
-            );
-            line(
-                &mut self.scratch,
-                Vec3::new(-1.0, 0.0, f),
-                Vec3::new(1.0, 0.0, f),
-                col,
-            );
-        }
-        // Edges over the cloth, lifted 3 mm so the cloth's own depth does not hide them.
-        let (border, sewn) = store
-            .mesh
-            .as_ref()
-            .map_or((&[][..], &[][..]), |m| (&m.border[..], &m.sewn[..]));
-        for (edges, colour) in [
-            (border, BORDER_COLOUR),
-            (sewn, SEWN_COLOUR),
-            (&store.stitches[..], STITCH_COLOUR),
-        ] {
-            for &[a, b] in edges {
-                if let (Some(pa), Some(pb)) = (store.x.get(a as usize), store.x.get(b as usize)) {
-                    line_lifted(
-                        &mut self.scratch,
-                        Vec3::from(*pa),
-                        Vec3::from(*pb),
-                        colour,
-                        0.003,
-                    );
-                }
-            }
-        }
-        if let Some((a, b)) = overlay.spring {
-            line(&mut self.scratch, a, b, [0.2, 0.9, 0.4, 1.0]);
-        }
-        let cross = |s: &mut Vec<Vertex>, c: Vec3, r: f32, col: [f32; 4]| {
-            for d in [Vec3::X, Vec3::Y, Vec3::Z] {
-                line(s, c - d * r, c + d * r, col);
-            }
-        };
-        if let Some(p) = overlay.pen {
-            cross(&mut self.scratch, p, 0.02, [1.0, 0.95, 0.3, 1.0]);
-        }
-        if let Some(p) = overlay.marked {
-            cross(&mut self.scratch, p, 0.015, [0.3, 0.7, 1.0, 1.0]);
-        }
+        scene::lines(store, overlay, &mut self.scratch);
         self.line_buf.upload(device, queue, &self.scratch);
-        // The pen tip as a small lit octahedron.
-        self.scratch.clear();
-        if let Some(c) = overlay.pen {
-            let r = 0.008;
-            let d = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z];
-            for (i, j, k) in [
-                (0, 1, 2),
-                (1, 3, 2),
-                (3, 4, 2),
-                (4, 0, 2),
-                (1, 0, 5),
-                (3, 1, 5),
-                (4, 3, 5),
-                (0, 4, 5),
-            ] {
-                let n = (d[i] + d[j] + d[k]).normalize();
-                for q in [i, j, k] {
-                    self.scratch.push(Vertex {
-                        pos: (c + d[q] * r).to_array(),
-                        nrm: n.to_array(),
-                        uv: [0.0; 2],
-                        col: [1.0, 0.85, 0.2, 1.0],
-                    });
-                }
-            }
-        }
+        scene::pen_marker(overlay, &mut self.scratch);
         self.marker.upload(device, queue, &self.scratch);
+        self.draw(device, queue);
+    }
 
+    /// Draws the uploaded scene into the view's target.
+    fn draw(&self, device: &wgpu::Device, queue: &wgpu::Queue) {
         let Some((colour, depth, _)) = self.target.as_ref() else {
             return;
         };

@@ -1,0 +1,116 @@
+//! Input apart from drawing: the keyboard's shortcuts and the mouse in the 3D view
+//! (camera on the right and middle buttons, the tool on the left) become `Action`s; only
+//! the camera and the drag in progress change here.
+
+use glam::Vec2;
+use shared::sim_to_ui::tool;
+
+use crate::action::{Action, PathOp};
+use crate::camera::{Camera, pick};
+use crate::panels::{Drag, ViewPanel};
+use crate::store::Store;
+use crate::tools::TOOLS;
+
+/// The keyboard's shortcuts: a tool's key, undo, redo, save, home.
+pub fn keyboard(ctx: &egui::Context, save_path: &str, actions: &mut Vec<Action>) {
+    if ctx.egui_wants_keyboard_input() {
+        return;
+    }
+    let (mut tool_key, mut undo, mut redo, mut save, mut home) = (None, false, false, false, false);
+    ctx.input(|i| {
+        for (t, _, key, _) in TOOLS {
+            if i.key_pressed(key) && !i.modifiers.command {
+                tool_key = Some(t);
+            }
+        }
+        undo = i.modifiers.command && i.key_pressed(egui::Key::Z) && !i.modifiers.shift;
+        redo = i.modifiers.command
+            && (i.key_pressed(egui::Key::Y) || (i.modifiers.shift && i.key_pressed(egui::Key::Z)));
+        save = i.modifiers.command && i.key_pressed(egui::Key::S);
+        home = i.key_pressed(egui::Key::Home);
+    });
+    if save {
+        actions.push(Action::Path(PathOp::Save, save_path.to_string()));
+    } else if let Some(t) = tool_key {
+        actions.push(Action::SetTool(t));
+    }
+    if undo {
+        actions.push(Action::Command(shared::command::Command::Undo));
+    }
+    if redo {
+        actions.push(Action::Command(shared::command::Command::Redo));
+    }
+    if home {
+        actions.push(Action::ResetCamera);
+    }
+}
+
+/// The mouse in the 3D view with tool `t`.
+pub fn view_mouse(
+    view: &mut ViewPanel,
+    camera: &mut Camera,
+    store: &Store,
+    t: u32,
+    resp: &egui::Response,
+    ctx: &egui::Context,
+    actions: &mut Vec<Action>,
+) {
+    let rect = resp.rect;
+    let size = Vec2::new(rect.width(), rect.height());
+    let (shift, wheel) = ctx.input(|i| (i.modifiers.shift, i.smooth_scroll_delta.y));
+    if resp.hovered() && wheel != 0.0 {
+        camera.zoom(wheel / 50.0);
+    }
+    let d = resp.drag_delta();
+    let dv = Vec2::new(d.x, d.y);
+    if resp.dragged_by(egui::PointerButton::Middle)
+        || (resp.dragged_by(egui::PointerButton::Secondary) && shift)
+    {
+        camera.pan(dv, size.y);
+    } else if resp.dragged_by(egui::PointerButton::Secondary) {
+        camera.orbit(dv);
+    }
+    let Some(pos) = resp.interact_pointer_pos().or(resp.hover_pos()) else {
+        return;
+    };
+    let local = Vec2::new(pos.x - rect.min.x, pos.y - rect.min.y);
+    let (o, dir) = camera.ray(local, size);
+    let hit = store
+        .mesh
+        .as_ref()
+        .and_then(|m| pick(o, dir, &m.corners, &store.x));
+    if resp.hovered() {
+        view.last_hit = hit;
+    }
+    let primary_pressed = resp.drag_started_by(egui::PointerButton::Primary)
+        || resp.clicked_by(egui::PointerButton::Primary);
+    // A drag with pinch, tear or a cut stroke moves the simulated pen, button held.
+    let pen_tool = matches!(t, tool::PINCH | tool::TEAR | tool::CUT | tool::PAINT);
+    if resp.drag_started_by(egui::PointerButton::Primary) && pen_tool {
+        if let Some(h) = hit {
+            let depth = (h.point - o).dot(dir);
+            view.drag = Some(Drag { depth, pen: true });
+            actions.push(Action::Pointer(h.point.to_array(), 1));
+        } else {
+            actions.push(Action::Status("nothing under the mouse to grab".into()));
+        }
+    } else if let Some(dr) = &view.drag {
+        let target = o + dir * dr.depth;
+        if resp.dragged_by(egui::PointerButton::Primary) {
+            if dr.pen {
+                actions.push(Action::Pointer(target.to_array(), 1));
+            }
+        } else if resp.drag_stopped() || !ctx.input(|i| i.pointer.primary_down()) {
+            actions.push(Action::Pointer(target.to_array(), 0));
+            view.drag = None;
+        }
+    }
+    if resp.clicked_by(egui::PointerButton::Primary) && primary_pressed {
+        actions.push(Action::Click {
+            tool: t,
+            hit,
+            shift,
+            view_dir: dir,
+        });
+    }
+}

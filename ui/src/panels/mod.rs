@@ -1,0 +1,16 @@
+//! The studio's panels, each its own struct: `tools` (left, top), `material` and `scene`
+//! (left, below), `status` (right), `view` (the 3D view in the middle). A panel draws
+//! itself from the store and returns what the user asked for as `Action`s; the app
+//! applies them after the frame is laid out.
+
+mod material;
+mod scene;
+mod status;
+mod tools;
+mod view;
+
+pub use material::{MaterialChoice, MaterialPanel};
+pub use scene::ScenePanel;
+pub use status::StatusPanel;
+pub use tools::ToolsPanel;
+pub use view::{Drag, ViewPanel};

@@ -1,0 +1,170 @@
+//! What the view shows besides the cloth's own triangles, as vertex lists: the cloth's
+//! vertices (one per distinct vertex and UV), the body, the lines (floor grid, the
+//! cloth's border and seams, the pinch spring, the pen) and the pen tip's marker.
+
+use glam::Vec3;
+
+use super::gpu::Vertex;
+use crate::store::{Mesh, Store};
+
+/// Lines over the cloth: its border and cuts, sewn edges, stitches still pulling.
+pub const BORDER_COLOUR: [f32; 4] = [0.95, 0.55, 0.1, 1.0];
+pub const SEWN_COLOUR: [f32; 4] = [0.3, 0.65, 1.0, 1.0];
+pub const STITCH_COLOUR: [f32; 4] = [0.85, 0.3, 0.95, 1.0];
+
+/// Extra things to draw this frame besides cloth and body.
+#[derive(Clone, Debug, Default)]
+pub struct Overlay {
+    /// The pen tip.
+    pub pen: Option<Vec3>,
+    /// The pinch spring: from the tip to the pinched vertex.
+    pub spring: Option<(Vec3, Vec3)>,
+    /// A vertex picked by the first click of a sew.
+    pub marked: Option<Vec3>,
+}
+
+/// The cloth's distinct (vertex, UV) pairs and the triangles over them (UVs are per
+/// corner, so a seam or cut gives a vertex two): a grid cloth then shades each vertex
+/// once, not six times.
+pub(super) fn cloth_keys(mesh: Option<&Mesh>, keys: &mut Vec<(u32, [f32; 2])>) -> Vec<u32> {
+    keys.clear();
+    let mut index = Vec::new();
+    if let Some(m) = mesh {
+        let mut seen: std::collections::HashMap<(u32, u32, u32), u32> = Default::default();
+        for c in &m.corners {
+            let k = (c.vertex, c.u.to_bits(), c.v.to_bits());
+            let i = *seen.entry(k).or_insert_with(|| {
+                keys.push((c.vertex, [c.u, c.v]));
+                (keys.len() - 1) as u32
+            });
+            index.push(i);
+        }
+    }
+    index
+}
+
+/// The cloth's vertices for `keys` at the store's positions; nothing when the positions
+/// belong to another mesh (drawing nothing beats drawing garbage).
+pub(super) fn cloth_vertices(keys: &[(u32, [f32; 2])], store: &Store, out: &mut Vec<Vertex>) {
+    out.clear();
+    let (x, n) = (&store.x, &store.normals);
+    for &(v, uv) in keys {
+        let i = v as usize;
+        let (Some(p), Some(nn)) = (x.get(i), n.get(i)) else {
+            out.clear();
+            return;
+        };
+        out.push(Vertex {
+            pos: *p,
+            nrm: *nn,
+            uv,
+            col: [1.0; 4],
+        });
+    }
+}
+
+/// The body's triangles, flat-shaded.
+pub(super) fn body_vertices(store: &Store, out: &mut Vec<Vertex>) {
+    out.clear();
+    if let Some((v, t)) = &store.body {
+        for tri in t {
+            let [a, b, c] = tri.map(|i| Vec3::from(v[i as usize]));
+            let nrm = (b - a).cross(c - a).normalize_or(Vec3::Y).to_array();
+            for p in [a, b, c] {
+                out.push(Vertex {
+                    pos: p.to_array(),
+                    nrm,
+                    uv: [0.0; 2],
+                    col: [0.55, 0.6, 0.68, 1.0],
+                });
+            }
+        }
+    }
+}
+
+/// A line from `a` to `b`; `lift`: how far towards the eye it is drawn (see vs_line), m.
+fn line_lifted(s: &mut Vec<Vertex>, a: Vec3, b: Vec3, col: [f32; 4], lift: f32) {
+    for p in [a, b] {
+        s.push(Vertex {
+            pos: p.to_array(),
+            nrm: [lift, 0.0, 0.0],
+            col,
+            ..Default::default()
+        });
+    }
+}
+
+fn line(s: &mut Vec<Vertex>, a: Vec3, b: Vec3, col: [f32; 4]) {
+    line_lifted(s, a, b, col, 0.0);
+}
+
+fn cross(s: &mut Vec<Vertex>, c: Vec3, r: f32, col: [f32; 4]) {
+    for d in [Vec3::X, Vec3::Y, Vec3::Z] {
+        line(s, c - d * r, c + d * r, col);
+    }
+}
+
+/// The lines: the floor grid, the cloth's border and cuts, sewn edges and open
+/// stitches, the pinch spring, the pen and the first vertex of a sew.
+pub(super) fn lines(store: &Store, overlay: &Overlay, out: &mut Vec<Vertex>) {
+    out.clear();
+    for k in -10..=10 {
+        let f = k as f32 * 0.1;
+        let col = [0.06, 0.065, 0.075, 1.0];
+        line(out, Vec3::new(f, 0.0, -1.0), Vec3::new(f, 0.0, 1.0), col);
+        line(out, Vec3::new(-1.0, 0.0, f), Vec3::new(1.0, 0.0, f), col);
+    }
+    // Edges over the cloth, lifted 3 mm so the cloth's own depth does not hide them.
+    let (border, sewn) = store
+        .mesh
+        .as_ref()
+        .map_or((&[][..], &[][..]), |m| (&m.border[..], &m.sewn[..]));
+    for (edges, colour) in [
+        (border, BORDER_COLOUR),
+        (sewn, SEWN_COLOUR),
+        (&store.stitches[..], STITCH_COLOUR),
+    ] {
+        for &[a, b] in edges {
+            if let (Some(pa), Some(pb)) = (store.x.get(a as usize), store.x.get(b as usize)) {
+                line_lifted(out, Vec3::from(*pa), Vec3::from(*pb), colour, 0.003);
+            }
+        }
+    }
+    if let Some((a, b)) = overlay.spring {
+        line(out, a, b, [0.2, 0.9, 0.4, 1.0]);
+    }
+    if let Some(p) = overlay.pen {
+        cross(out, p, 0.02, [1.0, 0.95, 0.3, 1.0]);
+    }
+    if let Some(p) = overlay.marked {
+        cross(out, p, 0.015, [0.3, 0.7, 1.0, 1.0]);
+    }
+}
+
+/// The pen tip as a small lit octahedron.
+pub(super) fn pen_marker(overlay: &Overlay, out: &mut Vec<Vertex>) {
+    out.clear();
+    let Some(c) = overlay.pen else { return };
+    let r = 0.008;
+    let d = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z];
+    for (i, j, k) in [
+        (0, 1, 2),
+        (1, 3, 2),
+        (3, 4, 2),
+        (4, 0, 2),
+        (1, 0, 5),
+        (3, 1, 5),
+        (4, 3, 5),
+        (0, 4, 5),
+    ] {
+        let n = (d[i] + d[j] + d[k]).normalize();
+        for q in [i, j, k] {
+            out.push(Vertex {
+                pos: (c + d[q] * r).to_array(),
+                nrm: n.to_array(),
+                uv: [0.0; 2],
+                col: [1.0, 0.85, 0.2, 1.0],
+            });
+        }
+    }
+}
