@@ -12,11 +12,12 @@ use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-use iceoryx2::prelude::*;
 use serde::Serialize;
+use shared::command::Command;
 use shared::domain::Domain;
+use shared::ports::{CommandClient, DesignerPorts};
 use shared::sim_to_ui::{check_frame, check_mesh};
-use shared::ui_to_sim::{CommandReply, ToolCommand, op};
+use shared::ui_to_sim::CommandReply;
 use shared::{Checked, Header, services};
 
 use crate::stats::{Percentiles, new_hdr};
@@ -101,8 +102,6 @@ impl Seen {
     }
 }
 
-type Client = iceoryx2::port::client::Client<ipc::Service, ToolCommand, (), CommandReply, ()>;
-
 /// What the stand-in did and how the command round trips went.
 #[derive(Debug, Default, Serialize)]
 pub struct StandInReport {
@@ -123,15 +122,17 @@ pub struct StandInReport {
 }
 
 struct Ui {
-    client: Client,
+    client: CommandClient,
     seq: u64,
     rtt: hdrhistogram::Histogram<u64>,
     log: Vec<String>,
 }
 
 impl Ui {
-    fn ask(&mut self, mut c: ToolCommand, stop: &AtomicBool) -> Result<CommandReply, String> {
-        c.header = Header::next(&mut self.seq);
+    fn ask(&mut self, command: &Command, stop: &AtomicBool) -> Result<CommandReply, String> {
+        let c = command
+            .to_wire(Header::next(&mut self.seq))
+            .map_err(|e| e.to_string())?;
         let t0 = Instant::now();
         let deadline = t0 + Duration::from_secs(20);
         let pending = loop {
@@ -163,12 +164,12 @@ impl Ui {
         }
     }
 
-    fn must(&mut self, c: ToolCommand, stop: &AtomicBool) -> Result<String, String> {
-        let r = self.ask(c, stop)?;
+    fn must(&mut self, c: Command, stop: &AtomicBool) -> Result<String, String> {
+        let r = self.ask(&c, stop)?;
         if r.ok == 1 {
             Ok(r.message().to_string())
         } else {
-            Err(format!("cloth-sim refused op {}: {}", c.op, r.message()))
+            Err(format!("cloth-sim refused op {}: {}", c.op(), r.message()))
         }
     }
 }
@@ -180,6 +181,119 @@ fn number_in(msg: &str) -> usize {
         .unwrap_or(0)
 }
 
+/// The draped cloth as seen on the pattern: the cube's top face, the cut lines one grid
+/// step outside it, and the pattern's extent.
+struct Layout {
+    top_face: [f32; 4],
+    cut_lines: [f32; 4],
+    cell: f32,
+    u_range: (f32, f32),
+    v_range: (f32, f32),
+}
+
+impl Layout {
+    /// Finds the top face on the pattern: the vertices resting within 5 mm of the highest.
+    fn of(uv: &[[f32; 2]], x: &[[f32; 3]]) -> Result<Self, String> {
+        let ymax = x.iter().map(|p| p[1]).fold(f32::MIN, f32::max);
+        let top: Vec<usize> = (0..x.len())
+            .filter(|&i| x[i][1] > ymax - 0.005 && uv[i][0].is_finite())
+            .collect();
+        if top.len() < 4 {
+            return Err("the cloth does not rest on a flat top: is the body the cube?".into());
+        }
+        let (mut u0, mut v0, mut u1, mut v1) = (f32::MAX, f32::MAX, f32::MIN, f32::MIN);
+        for &i in &top {
+            u0 = u0.min(uv[i][0]);
+            u1 = u1.max(uv[i][0]);
+            v0 = v0.min(uv[i][1]);
+            v1 = v1.max(uv[i][1]);
+        }
+        // The pattern's grid step: the smallest gap between distinct u values.
+        let mut us: Vec<f32> = uv.iter().map(|p| p[0]).filter(|u| u.is_finite()).collect();
+        us.sort_by(f32::total_cmp);
+        us.dedup_by(|a, b| (*a - *b).abs() < 1e-5);
+        let cell = us.windows(2).map(|w| w[1] - w[0]).fold(f32::MAX, f32::min);
+        if !(cell.is_finite() && cell > 0.0) {
+            return Err("cannot find the pattern's grid step".into());
+        }
+        let vs = uv.iter().map(|p| p[1]).filter(|v| v.is_finite());
+        let v_range = vs.fold((f32::MAX, f32::MIN), |(a, b), v| (a.min(v), b.max(v)));
+        // Cut one grid line outside the top face on every side.
+        Ok(Self {
+            top_face: [u0, v0, u1, v1],
+            cut_lines: [u0 - cell, v0 - cell, u1 + cell, v1 + cell],
+            cell,
+            u_range: (us[0], us[us.len() - 1]),
+            v_range,
+        })
+    }
+
+    /// Each corner: its direction on the pattern and where its two cut lines cross.
+    fn corners(&self) -> [(f32, f32, f32, f32); 4] {
+        let [cu0, cv0, cu1, cv1] = self.cut_lines;
+        [(1.0f32, 1.0f32), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)].map(|(su, sv)| {
+            let eu = if su > 0.0 { cu1 } else { cu0 };
+            let ev = if sv > 0.0 { cv1 } else { cv0 };
+            (su, sv, eu, ev)
+        })
+    }
+}
+
+/// Deletes the four corner squares beyond the cut lines (select on the pattern, delete).
+fn cut_corners(
+    ui: &mut Ui,
+    layout: &Layout,
+    report: &mut StandInReport,
+    stop: &AtomicBool,
+) -> Result<(), String> {
+    let far = 10.0;
+    for (su, sv, eu, ev) in layout.corners() {
+        let m = ui.must(
+            Command::RemoveRegion {
+                min: [eu, ev],
+                max: [eu + su * far, ev + sv * far],
+            },
+            stop,
+        )?;
+        report.regions_removed += 1;
+        report.triangles_removed += number_in(&m);
+    }
+    Ok(())
+}
+
+/// Seams the two flaps that meet at each vertical edge: path A along the cut line across
+/// u, path B along the one across v, both from the corner of the top face outwards.
+fn seam_flaps(
+    ui: &mut Ui,
+    layout: &Layout,
+    report: &mut StandInReport,
+    stop: &AtomicBool,
+) -> Result<(), String> {
+    for (su, sv, eu, ev) in layout.corners() {
+        let edge_u = if su > 0.0 {
+            layout.u_range.1
+        } else {
+            layout.u_range.0
+        };
+        let end_v = if sv > 0.0 {
+            layout.v_range.1
+        } else {
+            layout.v_range.0
+        };
+        let m = ui.must(
+            Command::Seam {
+                a: [[eu, ev], [eu, end_v]],
+                b: [[eu, ev], [edge_u, ev]],
+                tolerance: 0.25 * layout.cell,
+            },
+            stop,
+        )?;
+        report.seams += 1;
+        report.seam_pairs += number_in(&m);
+    }
+    Ok(())
+}
+
 /// Runs the stand-in against cloth-sim in `domain` and exports into `out`.
 pub fn fit_cube(
     domain: &Domain,
@@ -188,32 +302,17 @@ pub fn fit_cube(
     progress: &mut dyn FnMut(&str),
 ) -> Result<StandInReport, String> {
     let node = services::node(domain, "lab-ui-standin").map_err(|e| e.to_string())?;
-    let pe = |e: &dyn std::fmt::Debug| format!("{e:?}");
-    let frames = services::cloth_frame(&node)
-        .map_err(|e| e.to_string())?
-        .subscriber_builder()
-        .create()
-        .map_err(|e| pe(&e))?;
-    let meshes = services::cloth_mesh(&node)
-        .map_err(|e| e.to_string())?
-        .subscriber_builder()
-        .create()
-        .map_err(|e| pe(&e))?;
-    let client = services::commands(&node)
-        .map_err(|e| e.to_string())?
-        .client_builder()
-        .create()
-        .map_err(|e| pe(&e))?;
+    let ports = DesignerPorts::open(&node).map_err(|e| e.to_string())?;
     let mut ui = Ui {
-        client,
+        client: ports.commands,
         seq: 0,
         rtt: new_hdr(),
         log: Vec::new(),
     };
     let mut report = StandInReport::default();
     let mut seen = Seen {
-        frames,
-        meshes,
+        frames: ports.frames,
+        meshes: ports.meshes,
         uv: Vec::new(),
         x: Vec::new(),
         frame: 0,
@@ -224,91 +323,31 @@ pub fn fit_cube(
     let first = seen.frame;
     seen.wait(first + DRAPE_FRAMES, "draping", stop, progress)?;
     report.drape_frames = seen.frame - first;
-    let (uv, x) = (&seen.uv, &seen.x);
-
-    // The top face on the pattern: the vertices resting within 5 mm of the highest.
-    let ymax = x.iter().map(|p| p[1]).fold(f32::MIN, f32::max);
-    let top: Vec<usize> = (0..x.len())
-        .filter(|&i| x[i][1] > ymax - 0.005 && uv[i][0].is_finite())
-        .collect();
-    if top.len() < 4 {
-        return Err("the cloth does not rest on a flat top: is the body the cube?".into());
-    }
-    let (mut u0, mut v0, mut u1, mut v1) = (f32::MAX, f32::MAX, f32::MIN, f32::MIN);
-    for &i in &top {
-        u0 = u0.min(uv[i][0]);
-        u1 = u1.max(uv[i][0]);
-        v0 = v0.min(uv[i][1]);
-        v1 = v1.max(uv[i][1]);
-    }
-    report.top_face_uv = [u0, v0, u1, v1];
-    // The pattern's grid step: the smallest gap between distinct u values.
-    let mut us: Vec<f32> = uv.iter().map(|p| p[0]).filter(|u| u.is_finite()).collect();
-    us.sort_by(f32::total_cmp);
-    us.dedup_by(|a, b| (*a - *b).abs() < 1e-5);
-    let cell = us.windows(2).map(|w| w[1] - w[0]).fold(f32::MAX, f32::min);
-    if !(cell.is_finite() && cell > 0.0) {
-        return Err("cannot find the pattern's grid step".into());
-    }
-    let (umin, umax) = (us[0], us[us.len() - 1]);
-    // Cut one grid line outside the top face on every side.
-    let (cu0, cu1, cv0, cv1) = (u0 - cell, u1 + cell, v0 - cell, v1 + cell);
-    report.cut_lines_uv = [cu0, cv0, cu1, cv1];
+    let layout = Layout::of(&seen.uv, &seen.x)?;
+    report.top_face_uv = layout.top_face;
+    report.cut_lines_uv = layout.cut_lines;
+    let [u0, v0, u1, v1] = layout.top_face;
     progress(&format!(
         "draped after {} frames; top face on the pattern u {u0:.3}..{u1:.3}, v {v0:.3}..{v1:.3}; cutting the corners",
         report.drape_frames
     ));
-    let far = 10.0;
-    // Each corner: its direction on the pattern and where its two cut lines cross.
-    let corners = [(1.0f32, 1.0f32), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)].map(|(su, sv)| {
-        let eu = if su > 0.0 { cu1 } else { cu0 };
-        let ev = if sv > 0.0 { cv1 } else { cv0 };
-        (su, sv, eu, ev)
-    });
-    for (su, sv, eu, ev) in corners {
-        let mut c = ToolCommand {
-            op: op::REMOVE_REGION,
-            ..Default::default()
-        };
-        c.uv[..4].copy_from_slice(&[eu, ev, eu + su * far, ev + sv * far]);
-        let m = ui.must(c, stop)?;
-        report.regions_removed += 1;
-        report.triangles_removed += number_in(&m);
-    }
-    let vs = uv.iter().map(|p| p[1]).filter(|v| v.is_finite());
-    let (vmin, vmax) = vs.fold((f32::MAX, f32::MIN), |(a, b), v| (a.min(v), b.max(v)));
-    for (su, sv, eu, ev) in corners {
-        let edge_u = if su > 0.0 { umax } else { umin };
-        let end_v = if sv > 0.0 { vmax } else { vmin };
-        let mut c = ToolCommand {
-            op: op::SEAM,
-            value: 0.25 * cell,
-            ..Default::default()
-        };
-        // Path A runs along the cut line across u, path B along the one across v, both
-        // from the corner of the top face outwards.
-        c.uv = [eu, ev, eu, end_v, eu, ev, edge_u, ev];
-        let m = ui.must(c, stop)?;
-        report.seams += 1;
-        report.seam_pairs += number_in(&m);
-    }
+    cut_corners(&mut ui, &layout, &mut report, stop)?;
+    seam_flaps(&mut ui, &layout, &mut report, stop)?;
     progress(&format!(
         "{} corners cut ({} triangles), {} seams of {} stitched pairs; letting them pull shut",
         report.regions_removed, report.triangles_removed, report.seams, report.seam_pairs
     ));
     let sewn_from = seen.frame;
     seen.wait(sewn_from + SEW_FRAMES, "sewing", stop, progress)?;
-    let mut c = ToolCommand {
-        op: op::EXPORT,
-        ..Default::default()
-    };
     let dir = out
         .canonicalize()
         .map_err(|e| format!("{}: {e}", out.display()))?;
-    if !c.set_text(&dir.display().to_string()) {
-        return Err(format!("{}: the path is too long", dir.display()));
-    }
-    let m = ui.must(c, stop)?;
+    let m = ui.must(
+        Command::Export {
+            dir: dir.display().to_string(),
+        },
+        stop,
+    )?;
     progress(&m);
     report.sim_frames_seen = seen.frame - first;
     report.command_rtt_us = Percentiles::of(&ui.rtt);

@@ -17,7 +17,7 @@ use serde::Serialize;
 use shared::domain::Domain;
 use shared::haptic_to_sim::DeviceSample;
 use shared::telemetry::LoopTelemetry;
-use shared::{Checked, Header, monotonic_ns, services};
+use shared::{Checked, Header, monotonic_ns, ports, services};
 
 use crate::plot::{HistogramPlot, buckets_of};
 use crate::stats::{Percentiles, Series, new_hdr, window};
@@ -34,42 +34,14 @@ pub struct Measured<R> {
     pub hists: Vec<HistogramPlot>,
 }
 
-fn err(e: impl std::fmt::Debug) -> String {
-    format!("{e:?}")
-}
-
-type RawPub = iceoryx2::port::publisher::Publisher<ipc::Service, DeviceSample, ()>;
-type RawSub = iceoryx2::port::subscriber::Subscriber<ipc::Service, DeviceSample, ()>;
-
-/// A raw iceoryx2 publish-subscribe pair on `name`, iceoryx2's defaults.
-fn raw_ports(node: &Node<ipc::Service>, tx: &str, rx: &str) -> Result<(RawPub, RawSub), String> {
-    let open = |n: &str| -> Result<_, String> {
-        let name: ServiceName = n.try_into().map_err(err)?;
-        node.service_builder(&name)
-            .publish_subscribe::<DeviceSample>()
-            .open_or_create()
-            .map_err(err)
-    };
-    let p = open(tx)?.publisher_builder().create().map_err(err)?;
-    let s = open(rx)?.subscriber_builder().create().map_err(err)?;
-    Ok((p, s))
-}
-
 /// The echo: returns every ping on both paths until `stop` or `seconds`. The project path
 /// checks each sample as a real subscriber must.
 pub fn pong(domain: &Domain, seconds: f64, stop: &AtomicBool) -> Result<u64, String> {
     let node = services::node(domain, "latency-pong").map_err(|e| e.to_string())?;
-    let dev_sub = services::device(&node)
-        .map_err(|e| e.to_string())?
-        .subscriber_builder()
-        .create()
-        .map_err(err)?;
-    let echo_pub = services::device_echo(&node)
-        .map_err(|e| e.to_string())?
-        .publisher_builder()
-        .create()
-        .map_err(err)?;
-    let (raw_pub, raw_sub) = raw_ports(&node, RAW_PONG, RAW_PING)?;
+    let dev_sub = ports::subscriber(&node, services::device, None).map_err(|e| e.to_string())?;
+    let echo_pub = ports::publisher(&node, services::device_echo).map_err(|e| e.to_string())?;
+    let (raw_pub, raw_sub) =
+        ports::raw_device_pair(&node, RAW_PONG, RAW_PING).map_err(|e| e.to_string())?;
     let end = Instant::now() + Duration::from_secs_f64(seconds);
     let mut echoed = 0u64;
     let mut idle = 0u32;
@@ -143,34 +115,57 @@ fn await_echo(
     }
 }
 
-/// Pings for `seconds` at `rate_hz`, alternating the two paths, against an echo that
-/// `spawn_pong` starts in another process (it must run [`pong`] in `domain`).
-pub fn ping(
-    domain: &Domain,
-    seconds: f64,
-    rate_hz: f64,
-    stop: &AtomicBool,
-    progress: &mut dyn FnMut(&str),
-) -> Result<Measured<PingReport>, String> {
-    let node = services::node(domain, "latency-ping").map_err(|e| e.to_string())?;
-    let dev_pub = services::device(&node)
-        .map_err(|e| e.to_string())?
-        .publisher_builder()
-        .create()
-        .map_err(err)?;
-    let echo_sub = services::device_echo(&node)
-        .map_err(|e| e.to_string())?
-        .subscriber_builder()
-        .create()
-        .map_err(err)?;
-    let (raw_pub, raw_sub) = raw_ports(&node, RAW_PING, RAW_PONG)?;
-    // Wait until the echo is connected on both paths.
+/// One path's round trips as they are measured.
+struct PathStats {
+    rtt: Hdr<u64>,
+    lost: u64,
+    series: Series,
+}
+
+impl PathStats {
+    fn new(name: &str) -> Self {
+        Self {
+            rtt: new_hdr(),
+            lost: 0,
+            series: Series::new(name),
+        }
+    }
+
+    /// A round trip at `t` s (`None`: lost); not counted while warming up.
+    fn record(&mut self, rtt: Option<u64>, warm: bool, t: f64) {
+        match rtt {
+            Some(_) if !warm => {}
+            Some(rtt) => {
+                let _ = self.rtt.record(rtt.max(1));
+                self.series.points.push((t, rtt as f64 / 2000.0));
+            }
+            None => self.lost += 1,
+        }
+    }
+
+    /// Half of every round trip.
+    fn one_way(&self) -> Hdr<u64> {
+        let mut o = new_hdr();
+        for v in self.rtt.iter_recorded() {
+            let _ = o.record_n((v.value_iterated_to() / 2).max(1), v.count_at_value());
+        }
+        o
+    }
+}
+
+/// Sends probes (sequence 0, never a measured ping) on both paths until the echo
+/// answers on both, for up to 10 s.
+fn await_connected(
+    dev_pub: &services::Pub<DeviceSample>,
+    raw_pub: &services::Pub<DeviceSample>,
+    echo_sub: &services::Sub<DeviceSample>,
+    raw_sub: &services::Sub<DeviceSample>,
+) -> Result<(), String> {
+    use iceoryx2::port::update_connections::UpdateConnections;
     let ready_by = Instant::now() + Duration::from_secs(10);
     loop {
-        use iceoryx2::port::update_connections::UpdateConnections;
         let _ = dev_pub.update_connections();
         let _ = raw_pub.update_connections();
-        // Sequence 0: never one of the measured pings.
         let probe = DeviceSample {
             header: Header {
                 seq: 0,
@@ -184,18 +179,34 @@ pub fn ping(
         while echo_sub.receive().ok().flatten().is_some() {}
         while raw_sub.receive().ok().flatten().is_some() {}
         if a > 0 && b > 0 {
-            break;
+            return Ok(());
         }
         if Instant::now() > ready_by {
             return Err("the echo process did not connect within 10 s".into());
         }
     }
+}
+
+/// Pings for `seconds` at `rate_hz`, alternating the two paths, against an echo that
+/// `spawn_pong` starts in another process (it must run [`pong`] in `domain`).
+pub fn ping(
+    domain: &Domain,
+    seconds: f64,
+    rate_hz: f64,
+    stop: &AtomicBool,
+    progress: &mut dyn FnMut(&str),
+) -> Result<Measured<PingReport>, String> {
+    let node = services::node(domain, "latency-ping").map_err(|e| e.to_string())?;
+    let dev_pub = ports::publisher(&node, services::device).map_err(|e| e.to_string())?;
+    let echo_sub =
+        ports::subscriber(&node, services::device_echo, None).map_err(|e| e.to_string())?;
+    let (raw_pub, raw_sub) =
+        ports::raw_device_pair(&node, RAW_PING, RAW_PONG).map_err(|e| e.to_string())?;
+    await_connected(&dev_pub, &raw_pub, &echo_sub, &raw_sub)?;
     let project_rx = || echo_sub.receive().ok().flatten().map(|s| *s);
     let raw_rx = || raw_sub.receive().ok().flatten().map(|s| *s);
-    let (mut h_proj, mut h_raw) = (new_hdr(), new_hdr());
-    let (mut lost_proj, mut lost_raw) = (0u64, 0u64);
-    let mut s_proj = Series::new("project one-way");
-    let mut s_raw = Series::new("raw one-way");
+    let mut proj = PathStats::new("project one-way");
+    let mut raw = PathStats::new("raw one-way");
     let period = Duration::from_secs_f64(1.0 / rate_hz.clamp(1.0, 20_000.0));
     let started = Instant::now();
     let mut next = started;
@@ -220,14 +231,8 @@ pub fn ping(
                 };
                 let t0 = s.header.sent_ns;
                 let _ = dev_pub.send_copy(s);
-                match await_echo(&project_rx, s.header.seq, t0, Duration::from_millis(100)) {
-                    Some(_) if !warm => {}
-                    Some(rtt) => {
-                        let _ = h_proj.record(rtt.max(1));
-                        s_proj.points.push((t, rtt as f64 / 2000.0));
-                    }
-                    None => lost_proj += 1,
-                }
+                let rtt = await_echo(&project_rx, s.header.seq, t0, Duration::from_millis(100));
+                proj.record(rtt, warm, t);
             } else {
                 // The raw path: the same payload, a plain counter.
                 raw_seq += 1;
@@ -242,21 +247,15 @@ pub fn ping(
                 };
                 let t0 = monotonic_ns();
                 let _ = raw_pub.send_copy(r);
-                match await_echo(&raw_rx, raw_seq, t0, Duration::from_millis(100)) {
-                    Some(_) if !warm => {}
-                    Some(rtt) => {
-                        let _ = h_raw.record(rtt.max(1));
-                        s_raw.points.push((t, rtt as f64 / 2000.0));
-                    }
-                    None => lost_raw += 1,
-                }
+                let rtt = await_echo(&raw_rx, raw_seq, t0, Duration::from_millis(100));
+                raw.record(rtt, warm, t);
             }
         }
         if last_progress.elapsed() >= Duration::from_secs(5) {
             progress(&format!(
                 "{:.0} s: {} round trips",
                 started.elapsed().as_secs_f64(),
-                h_proj.len() + h_raw.len()
+                proj.rtt.len() + raw.rtt.len()
             ));
             last_progress = Instant::now();
         }
@@ -268,34 +267,42 @@ pub fn ping(
             next = now;
         }
     }
-    let half = |h: &Hdr<u64>| {
-        let mut o = new_hdr();
-        for v in h.iter_recorded() {
-            let _ = o.record_n((v.value_iterated_to() / 2).max(1), v.count_at_value());
-        }
-        o
-    };
-    let (ow_proj, ow_raw) = (half(&h_proj), half(&h_raw));
+    Ok(ping_report(
+        proj,
+        raw,
+        started.elapsed().as_secs_f64(),
+        rate_hz,
+    ))
+}
+
+/// The report, histograms and series of a finished ping.
+fn ping_report(
+    proj: PathStats,
+    raw: PathStats,
+    seconds: f64,
+    rate_hz: f64,
+) -> Measured<PingReport> {
+    let (ow_proj, ow_raw) = (proj.one_way(), raw.one_way());
     let (pp, pr) = (Percentiles::of(&ow_proj), Percentiles::of(&ow_raw));
     let ratio = |a: f64, b: f64| if b > 0.0 { a / b } else { f64::NAN };
     let report = PingReport {
-        seconds: started.elapsed().as_secs_f64(),
+        seconds,
         rate_hz,
         payload_bytes: std::mem::size_of::<DeviceSample>(),
         project: PathReport {
-            rtt_us: Percentiles::of(&h_proj),
+            rtt_us: Percentiles::of(&proj.rtt),
             one_way_us: pp,
-            lost: lost_proj,
+            lost: proj.lost,
         },
         raw: PathReport {
-            rtt_us: Percentiles::of(&h_raw),
+            rtt_us: Percentiles::of(&raw.rtt),
             one_way_us: pr,
-            lost: lost_raw,
+            lost: raw.lost,
         },
         ratio_p50: ratio(pp.p50, pr.p50),
         ratio_p99: ratio(pp.p99, pr.p99),
     };
-    Ok(Measured {
+    Measured {
         report,
         hists: vec![
             HistogramPlot {
@@ -307,8 +314,8 @@ pub fn ping(
                 buckets: buckets_of(&ow_raw),
             },
         ],
-        series: vec![s_proj, s_raw],
-    })
+        series: vec![proj.series, raw.series],
+    }
 }
 
 /// Waits up to `timeout` for the first message from `recv`.
@@ -352,11 +359,7 @@ pub struct LoopReport {
 fn loop_sub(
     node: &Node<ipc::Service>,
 ) -> Result<iceoryx2::port::subscriber::Subscriber<ipc::Service, LoopTelemetry, ()>, String> {
-    services::haptic_telemetry(node)
-        .map_err(|e| e.to_string())?
-        .subscriber_builder()
-        .create()
-        .map_err(err)
+    ports::subscriber(node, services::haptic_telemetry, None).map_err(|e| e.to_string())
 }
 
 /// Receives the newest valid loop telemetry, if any arrived.
@@ -468,16 +471,10 @@ pub fn e2e(
 ) -> Result<Measured<E2eReport>, String> {
     let node = services::node(domain, "latency-e2e").map_err(|e| e.to_string())?;
     let sub = loop_sub(&node)?;
-    let frames = services::cloth_frame(&node)
-        .map_err(|e| e.to_string())?
-        .subscriber_builder()
-        .create()
-        .map_err(err)?;
-    let sim_tel = services::sim_telemetry(&node)
-        .map_err(|e| e.to_string())?
-        .subscriber_builder()
-        .create()
-        .map_err(err)?;
+    let frames =
+        ports::subscriber(&node, services::cloth_frame, None).map_err(|e| e.to_string())?;
+    let sim_tel =
+        ports::subscriber(&node, services::sim_telemetry, None).map_err(|e| e.to_string())?;
     let mut sim_first: Option<Box<shared::telemetry::SimTelemetry>> = None;
     let mut sim_last: Option<Box<shared::telemetry::SimTelemetry>> = None;
     let mut rejected = 0;
