@@ -11,6 +11,7 @@ use std::time::{Duration, Instant};
 use shared::Checked;
 use shared::domain::Domain;
 use shared::haptic_to_sim::{AppliedForce, DeviceSample};
+use shared::ports;
 use shared::services;
 use shared::sim_to_haptic::LocalModel;
 use tests::{Proc, bin};
@@ -45,6 +46,51 @@ struct Observer {
     last_model_ns: u64,
 }
 
+/// What the test watches: the applied forces, local models and device samples (for the
+/// pinch), and the cloth a viewer gets.
+struct Watch {
+    forces: services::Sub<AppliedForce>,
+    models: services::Sub<LocalModel>,
+    samples: services::Sub<DeviceSample>,
+    frames: services::SliceSub<f32, shared::sim_to_ui::ClothFrameHeader>,
+    meshes: services::SliceSub<shared::sim_to_ui::MeshCorner, shared::sim_to_ui::MeshHeader>,
+}
+
+impl Watch {
+    fn open(node: &iceoryx2::prelude::Node<iceoryx2::prelude::ipc::Service>) -> Self {
+        Self {
+            forces: ports::subscriber(node, services::applied_force, None).unwrap(),
+            models: ports::subscriber(node, services::local_model, None).unwrap(),
+            samples: ports::subscriber(node, services::device, None).unwrap(),
+            frames: ports::subscriber(node, services::cloth_frame, None).unwrap(),
+            meshes: ports::subscriber(node, services::cloth_mesh, None).unwrap(),
+        }
+    }
+
+    /// Takes in models, samples and forces until `until` after `t0`.
+    fn collect(&self, o: &mut Observer, t0: Instant, until: Duration) {
+        while t0.elapsed() < until {
+            while let Some(m) = self.models.receive().unwrap() {
+                m.check().unwrap();
+                o.last_model_ns = m.header.sent_ns;
+                o.model = Some(*m);
+            }
+            while let Some(s) = self.samples.receive().unwrap() {
+                o.pen = Some(*s);
+            }
+            while let Some(f) = self.forces.receive().unwrap() {
+                o.forces.push(*f);
+                if let (Some(m), Some(p)) = (o.model.as_ref(), o.pen.as_ref())
+                    && m.pinching == 1
+                {
+                    o.pinch.push((*f, *m, *p));
+                }
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+    }
+}
+
 #[test]
 fn pinch_force_kill_and_resume() {
     let d = Domain::new(&format!("e2e{}", std::process::id())).unwrap();
@@ -59,32 +105,7 @@ fn pinch_force_kill_and_resume() {
     )
     .unwrap();
     let node = services::node(&d, "observer").unwrap();
-    let forces = services::applied_force(&node)
-        .unwrap()
-        .subscriber_builder()
-        .create()
-        .unwrap();
-    let models = services::local_model(&node)
-        .unwrap()
-        .subscriber_builder()
-        .create()
-        .unwrap();
-    let samples = services::device(&node)
-        .unwrap()
-        .subscriber_builder()
-        .create()
-        .unwrap();
-    let frames = services::cloth_frame(&node)
-        .unwrap()
-        .subscriber_builder()
-        .create()
-        .unwrap();
-    let meshes = services::cloth_mesh(&node)
-        .unwrap()
-        .subscriber_builder()
-        .create()
-        .unwrap();
-
+    let watch = Watch::open(&node);
     let mut sim = cloth_sim(d.name(), &autosave, true);
     let _haptic = Proc(
         Command::new(bin("haptic-loop"))
@@ -97,30 +118,26 @@ fn pinch_force_kill_and_resume() {
     );
     let t0 = Instant::now();
     let mut o = Observer::default();
-    let collect = |o: &mut Observer, until: Duration| {
-        while t0.elapsed() < until {
-            while let Some(m) = models.receive().unwrap() {
-                m.check().unwrap();
-                o.last_model_ns = m.header.sent_ns;
-                o.model = Some(*m);
-            }
-            while let Some(s) = samples.receive().unwrap() {
-                o.pen = Some(*s);
-            }
-            while let Some(f) = forces.receive().unwrap() {
-                o.forces.push(*f);
-                if let (Some(m), Some(p)) = (o.model.as_ref(), o.pen.as_ref())
-                    && m.pinching == 1
-                {
-                    o.pinch.push((*f, *m, *p));
-                }
-            }
-            std::thread::sleep(Duration::from_millis(1));
-        }
-    };
-    collect(&mut o, Duration::from_secs(6));
-    // The pinch reached cloth-sim (it reports pinching) and the loop renders a spring
-    // that pulls the lifted pen back toward the cloth: force along (vertex - pen).
+    watch.collect(&mut o, t0, Duration::from_secs(6));
+    the_spring_pulls_the_pen_back(&o);
+    // kill -9 cloth-sim: the model goes stale; the force is zero 20 ms + 10 ms later.
+    // The cloth reaches a viewer: positions and normals every frame, the mesh once.
+    the_cloth_reached_a_viewer(&watch);
+    let frame_before = o.model.unwrap().frame;
+    sim.0.kill().unwrap();
+    sim.0.wait().unwrap();
+    let from = o.forces.len();
+    watch.collect(&mut o, t0, t0.elapsed() + Duration::from_millis(600));
+    the_force_is_zero_once_stale(&o, from);
+    // Restart: it resumes from the autosave (the frame counter goes on from it).
+    let sim2 = cloth_sim(d.name(), &autosave, false);
+    it_resumes(&watch, sim2, o.last_model_ns, frame_before);
+    let _ = std::fs::remove_dir_all(&tmp);
+}
+
+/// The pinch reached cloth-sim (it reports pinching) and the loop renders a spring that
+/// pulls the lifted pen back toward the cloth: force along (vertex - pen).
+fn the_spring_pulls_the_pen_back(o: &Observer) {
     assert!(o.pinch.len() > 500, "{} pinched ticks", o.pinch.len());
     let late: Vec<_> = o.pinch.iter().rev().take(300).collect();
     for (f, m, p) in &late {
@@ -136,24 +153,22 @@ fn pinch_force_kill_and_resume() {
             d
         );
     }
-    // kill -9 cloth-sim: the model goes stale; the force is zero 20 ms + 10 ms later.
-    // The cloth reaches a viewer: positions and normals every frame, the mesh once.
-    let f = frames.receive().unwrap().expect("a cloth frame");
+}
+
+fn the_cloth_reached_a_viewer(watch: &Watch) {
+    let f = watch.frames.receive().unwrap().expect("a cloth frame");
     shared::sim_to_ui::check_frame(f.user_header(), f.payload()).unwrap();
     assert_eq!(f.user_header().vertices, 17 * 17);
-    let m = meshes.receive().unwrap().expect("the cloth mesh");
+    let m = watch.meshes.receive().unwrap().expect("the cloth mesh");
     shared::sim_to_ui::check_mesh(m.user_header(), m.payload()).unwrap();
     assert_eq!(m.user_header().triangles, 2 * 16 * 16);
     assert_eq!(m.user_header().topology, f.user_header().topology);
-    drop((f, m));
-    let frame_before = o.model.unwrap().frame;
-    sim.0.kill().unwrap();
-    sim.0.wait().unwrap();
-    let from = o.forces.len();
-    collect(&mut o, t0.elapsed() + Duration::from_millis(600));
+}
+
+/// After the last model, the loop kept ticking with zero force (forces from `from` on).
+fn the_force_is_zero_once_stale(o: &Observer, from: usize) {
     let after = &o.forces[from..];
-    let last_model_ns = o.last_model_ns;
-    let zero_after = last_model_ns + 31_500_000;
+    let zero_after = o.last_model_ns + 31_500_000;
     let late: Vec<&AppliedForce> = after
         .iter()
         .filter(|f| f.header.sent_ns > zero_after)
@@ -166,12 +181,14 @@ fn pinch_force_kill_and_resume() {
     assert!(late.iter().all(|f| f.force == [0.0; 3]));
     let ticks: Vec<u64> = late.iter().map(|f| f.tick).collect();
     assert!(ticks.windows(2).all(|w| w[1] > w[0]));
-    // Restart: it resumes from the autosave (the frame counter goes on from it).
-    let mut sim2 = cloth_sim(d.name(), &autosave, false);
+}
+
+/// The restarted cloth-sim publishes models again, from a frame near where it was.
+fn it_resumes(watch: &Watch, mut sim2: Proc, last_model_ns: u64, frame_before: u64) {
     let deadline = Instant::now() + Duration::from_secs(20);
     let mut resumed_frame = None;
     while Instant::now() < deadline && resumed_frame.is_none() {
-        while let Some(m) = models.receive().unwrap() {
+        while let Some(m) = watch.models.receive().unwrap() {
             if m.header.sent_ns > last_model_ns {
                 resumed_frame = Some(m.frame);
             }
@@ -193,5 +210,4 @@ fn pinch_force_kill_and_resume() {
         .read_to_string(&mut err)
         .unwrap();
     assert!(err.contains("resumed"), "{err}");
-    let _ = std::fs::remove_dir_all(&tmp);
 }

@@ -11,6 +11,7 @@ use std::time::{Duration, Instant};
 use serde_json::Value;
 use shared::Checked;
 use shared::domain::Domain;
+use shared::ports;
 use shared::services;
 use tests::{Proc, bin};
 
@@ -191,11 +192,7 @@ fn lab_restart_leaves_the_haptic_loop_ticking() {
             .unwrap(),
     );
     let node = services::node(&d, "observer").unwrap();
-    let tel = services::haptic_telemetry(&node)
-        .unwrap()
-        .subscriber_builder()
-        .create()
-        .unwrap();
+    let tel = ports::subscriber(&node, services::haptic_telemetry, None).unwrap();
     let mut seen: Vec<(u64, u64)> = Vec::new(); // (seq, ticks)
     let collect = |until: Instant, seen: &mut Vec<(u64, u64)>| {
         while Instant::now() < until {
@@ -214,22 +211,13 @@ fn lab_restart_leaves_the_haptic_loop_ticking() {
         );
         collect(Instant::now() + Duration::from_millis(100), &mut seen);
     }
-    // Requests to the running lab, through its control socket.
-    let ctl = |args: &[&str]| {
-        Command::new(bin("cloth-lab"))
-            .args(args)
-            .args(["--domain", d.name()])
-            .output()
-            .unwrap()
-    };
-    let status = || String::from_utf8_lossy(&ctl(&["status"]).stdout).to_string();
     // The UI must be up before it is swapped.
     let until = Instant::now() + Duration::from_secs(30);
-    while !status().contains("cloth-ui: running") {
+    while !lab_status(&d).contains("cloth-ui: running") {
         assert!(
             Instant::now() < until,
             "cloth-ui did not start: {}",
-            status()
+            lab_status(&d)
         );
         collect(Instant::now() + Duration::from_millis(200), &mut seen);
     }
@@ -238,29 +226,55 @@ fn lab_restart_leaves_the_haptic_loop_ticking() {
     seen.clear();
     collect(Instant::now() + Duration::from_millis(1500), &mut seen);
     for role in ["ui", "sim"] {
-        // The request runs on its own thread while this one keeps reading the telemetry
-        // (its buffer is small: a pause here would lose messages, not the loop).
-        let lab_bin = bin("cloth-lab");
-        let name = d.name().to_string();
-        let req = std::thread::spawn(move || {
-            Command::new(lab_bin)
-                .args(["restart", role, "--domain", &name])
-                .output()
-                .unwrap()
+        restart(&d, role, &mut || {
+            collect(Instant::now() + Duration::from_millis(20), &mut seen)
         });
-        while !req.is_finished() {
-            collect(Instant::now() + Duration::from_millis(20), &mut seen);
-        }
-        let out = req.join().unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        assert!(String::from_utf8_lossy(&out.stdout).contains("restarted cloth-"));
         collect(Instant::now() + Duration::from_millis(1500), &mut seen);
     }
-    let s = status();
+    restarted_once_each_and_no_tick_lost(&lab_status(&d), &seen);
+    bad_request_then_stop(&d, &mut lab);
+}
+
+/// A request to the running lab through its control socket.
+fn lab_ctl(d: &Domain, args: &[&str]) -> std::process::Output {
+    Command::new(bin("cloth-lab"))
+        .args(args)
+        .args(["--domain", d.name()])
+        .output()
+        .unwrap()
+}
+
+fn lab_status(d: &Domain) -> String {
+    String::from_utf8_lossy(&lab_ctl(d, &["status"]).stdout).to_string()
+}
+
+/// Restarts `role` through the lab. The request runs on its own thread while this one
+/// keeps reading the telemetry (`read`; its buffer is small: a pause here would lose
+/// messages, not the loop).
+fn restart(d: &Domain, role: &'static str, read: &mut dyn FnMut()) {
+    let lab_bin = bin("cloth-lab");
+    let name = d.name().to_string();
+    let req = std::thread::spawn(move || {
+        Command::new(lab_bin)
+            .args(["restart", role, "--domain", &name])
+            .output()
+            .unwrap()
+    });
+    while !req.is_finished() {
+        read();
+    }
+    let out = req.join().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("restarted cloth-"));
+}
+
+/// The lab's status after the two restarts, and the loop's telemetry across them:
+/// consecutive sequence numbers, 100 ticks a step.
+fn restarted_once_each_and_no_tick_lost(s: &str, seen: &[(u64, u64)]) {
     for want in [
         "haptic-loop: running, pid",
         "cloth-sim: running",
@@ -285,11 +299,14 @@ fn lab_restart_leaves_the_haptic_loop_ticking() {
         );
         assert_eq!(w[1].1, w[0].1 + 100, "the tick count jumped: {w:?}");
     }
-    // A bad request is refused with the reason; stop ends the lab cleanly.
-    let out = ctl(&["restart", "everything"]);
+}
+
+/// A bad request is refused with the reason; stop ends the lab cleanly.
+fn bad_request_then_stop(d: &Domain, lab: &mut Proc) {
+    let out = lab_ctl(d, &["restart", "everything"]);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("unknown process"));
-    let out = ctl(&["stop"]);
+    let out = lab_ctl(d, &["stop"]);
     assert!(out.status.success());
     let until = Instant::now() + Duration::from_secs(15);
     let status = loop {
