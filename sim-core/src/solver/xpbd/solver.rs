@@ -14,7 +14,13 @@ impl Solver for Xpbd {
     }
 
     fn step(&mut self, frame: FrameInput<'_>, drive: &mut Drive<'_, '_>) -> Result<(), StepError> {
-        self.frame(frame, drive);
+        let FrameInput {
+            cloth,
+            contacts,
+            env,
+            substeps,
+        } = frame;
+        self.frame(cloth, contacts, env, substeps, drive);
         Ok(())
     }
 

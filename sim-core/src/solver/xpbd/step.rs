@@ -7,9 +7,10 @@ use glam::Vec3;
 use super::groups::{Compliance, Group, Loc, solve_bending, solve_membranes, split_groups};
 use super::limits::StretchLimits;
 use super::tethers::{solve_tethers, stretch_limits, tethers};
+use crate::collision::ContactCache;
 use crate::solver::constraints::{BendConstraint, Membrane, bend_of, membrane_of};
 use crate::solver::material::Material;
-use crate::solver::model::{Drive, FrameInput};
+use crate::solver::model::{Drive, Environment};
 use crate::solver::state::Cloth;
 use crate::solver::stitch::stitch;
 
@@ -146,13 +147,21 @@ impl Xpbd {
     }
 
     /// Advances one frame of `env.frame_dt` in `substeps` substeps.
-    pub(super) fn frame(&mut self, frame: FrameInput<'_>, drive: &mut Drive<'_, '_>) {
-        let FrameInput {
-            cloth,
-            contacts,
-            env,
-            substeps,
-        } = frame;
+    ///
+    /// Out of line, with the cloth as its own argument: a `&mut` parameter tells LLVM
+    /// nothing else points into the cloth. Inlined into the trait method (which gets the
+    /// cloth inside a `FrameInput`), that guarantee was lost and the per-vertex loops
+    /// reloaded the cloth's arrays after every store: 2.2% more instructions per frame on
+    /// the 64 x 64 drape (callgrind), 0.07% out of line.
+    #[inline(never)]
+    pub(super) fn frame(
+        &mut self,
+        cloth: &mut Cloth,
+        contacts: &ContactCache,
+        env: &Environment,
+        substeps: usize,
+        drive: &mut Drive<'_, '_>,
+    ) {
         let h = env.frame_dt / substeps as f32;
         let cp = self.material.contact_params(env.floor);
         self.update_normals(cloth);
