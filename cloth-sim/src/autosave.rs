@@ -1,6 +1,13 @@
-//! Autosave and resume: the design is serialised on the frame's thread every few seconds
-//! and written by a writer thread (through a temporary file and a rename); at start, a
-//! valid autosave is resumed.
+//! Autosave and resume, without ever losing a design.
+//!
+//! - Every few seconds the design is serialised on the frame's thread and written by a
+//!   writer thread through a synced temporary file renamed into place; the autosave it
+//!   replaces becomes the backup (`NAME.previous.saiho`).
+//! - A write that fails leaves no temporary file, is logged, and is counted as a failure,
+//!   not as an autosave.
+//! - At start the autosave is resumed; if it cannot be read it is moved aside under a name
+//!   that says why (`NAME.damaged.saiho`, `NAME.newer-format.saiho`, ...), never
+//!   overwritten, and the backup is tried next.
 
 use std::path::{Path, PathBuf};
 use std::sync::mpsc::{Receiver, SyncSender, sync_channel};
@@ -8,28 +15,60 @@ use std::thread::JoinHandle;
 use std::time::Instant;
 
 use sim_core::design::Design;
+use sim_core::design::file::{set_aside, write_atomically};
 
 use crate::config::{ServiceConfig, ServiceStats};
 
-/// Resumes from the autosave if there is a valid one, else builds the scene with `fresh`.
+/// Where the previous good autosave is kept: `NAME.previous.saiho` beside `NAME.saiho`.
+pub fn backup_of(autosave: &Path) -> PathBuf {
+    let stem = autosave.file_stem().unwrap_or_default().to_string_lossy();
+    autosave.with_file_name(format!("{stem}.previous.saiho"))
+}
+
+/// Resumes the newest design that reads: the autosave, else its backup. A file that
+/// cannot be read is moved aside (and the log says where); if it cannot be moved, start
+/// is refused rather than overwrite it. With neither, builds the scene with `fresh`.
+/// Returns the design and whether it was resumed.
 pub fn resume_or(
     cfg: &ServiceConfig,
     fresh: impl FnOnce() -> Result<Design, String>,
     log: &mut dyn FnMut(&str),
 ) -> Result<(Design, bool), String> {
-    if cfg.autosave.is_file() {
-        match Design::load_design_file(&cfg.autosave) {
+    if cfg.autosave.is_dir() {
+        return Err(format!(
+            "the autosave path {} is a directory; give a file path (--autosave FILE.saiho)",
+            cfg.autosave.display()
+        ));
+    }
+    for (path, what) in [
+        (cfg.autosave.clone(), "autosave"),
+        (backup_of(&cfg.autosave), "backup of the autosave"),
+    ] {
+        if !path.exists() {
+            continue;
+        }
+        match Design::load_design_file(&path) {
             Ok(d) => {
                 log(&format!(
-                    "resumed the design from {}",
-                    cfg.autosave.display()
+                    "resumed the design from the {what} {}",
+                    path.display()
                 ));
                 return Ok((d, true));
             }
-            Err(e) => log(&format!(
-                "autosave {} not used: {e}; starting a new design",
-                cfg.autosave.display()
-            )),
+            Err(e) => {
+                let kept = set_aside(&path, &e).map_err(|m| {
+                    format!(
+                        "the {what} {} cannot be read ({e}) and cannot be moved aside ({m}); \
+                         not starting, so that it is not overwritten",
+                        path.display()
+                    )
+                })?;
+                log(&format!(
+                    "the {what} {} cannot be read ({e}); it is kept as {}",
+                    path.display(),
+                    kept.display()
+                ));
+            }
         }
     }
     Ok((fresh()?, false))
@@ -41,9 +80,12 @@ pub(crate) struct Autosave {
     every_s: f64,
     last: Instant,
     tx: Option<SyncSender<Vec<u8>>>,
-    writer: Option<JoinHandle<Vec<String>>>,
+    results: Receiver<Result<(), String>>,
+    writer: Option<JoinHandle<()>>,
     /// How long each save held up its frame, ms.
     hold_ms: Vec<f64>,
+    /// The last failure logged (the same one again is only counted).
+    last_error: Option<String>,
 }
 
 impl Autosave {
@@ -52,22 +94,66 @@ impl Autosave {
         if let Some(dir) = path.parent() {
             std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         }
+        if path.is_dir() {
+            return Err(format!(
+                "the autosave path {} is a directory; give a file path",
+                path.display()
+            ));
+        }
         let (tx, rx) = sync_channel::<Vec<u8>>(1);
+        let (done_tx, results) = std::sync::mpsc::channel();
         let save_path = path.to_owned();
-        let writer = std::thread::spawn(move || write_all(rx, &save_path));
+        let writer = std::thread::spawn(move || {
+            let backup = backup_of(&save_path);
+            for bytes in rx {
+                let r = write_atomically(&save_path, &bytes, Some(&backup))
+                    .map_err(|e| format!("autosave failed: {e}"));
+                if done_tx.send(r).is_err() {
+                    break;
+                }
+            }
+        });
         Ok(Self {
             path: path.to_owned(),
             every_s,
             last: Instant::now(),
             tx: Some(tx),
+            results,
             writer: Some(writer),
             hold_ms: Vec::new(),
+            last_error: None,
         })
     }
 
     /// The longest hold-up of a frame so far, ms.
     pub(crate) fn hold_max_ms(&self) -> f64 {
         self.hold_ms.iter().copied().fold(0.0, f64::max)
+    }
+
+    /// Counts what the writer finished: successes as autosaves, failures as failures
+    /// (each new reason logged once).
+    fn collect(&mut self, stats: &mut ServiceStats, log: &mut dyn FnMut(&str)) {
+        while let Ok(r) = self.results.try_recv() {
+            self.count(r, stats, log);
+        }
+    }
+
+    fn count(
+        &mut self,
+        r: Result<(), String>,
+        stats: &mut ServiceStats,
+        log: &mut dyn FnMut(&str),
+    ) {
+        match r {
+            Ok(()) => stats.autosaves += 1,
+            Err(e) => {
+                stats.autosave_failures += 1;
+                if self.last_error.as_ref() != Some(&e) {
+                    log(&e);
+                    self.last_error = Some(e);
+                }
+            }
+        }
     }
 
     /// Saves when the interval has passed: serialises now, writes on the writer thread
@@ -78,6 +164,7 @@ impl Autosave {
         stats: &mut ServiceStats,
         log: &mut dyn FnMut(&str),
     ) {
+        self.collect(stats, log);
         if self.last.elapsed().as_secs_f64() < self.every_s {
             return;
         }
@@ -88,15 +175,11 @@ impl Autosave {
         {
             // A full channel means the writer is still busy: skip this one.
             Ok(bytes) => {
-                if self
-                    .tx
-                    .as_ref()
-                    .is_some_and(|tx| tx.try_send(bytes).is_ok())
-                {
-                    stats.autosaves += 1;
+                if let Some(tx) = &self.tx {
+                    let _ = tx.try_send(bytes);
                 }
             }
-            Err(e) => log(&format!("autosave failed: {e}")),
+            Err(e) => self.count(Err(format!("autosave failed: {e}")), stats, log),
         }
         self.hold_ms.push(t.elapsed().as_secs_f64() * 1e3);
         self.last = Instant::now();
@@ -111,30 +194,15 @@ impl Autosave {
     ) {
         drop(self.tx.take());
         if let Some(w) = self.writer.take() {
-            for e in w.join().unwrap_or_default() {
-                log(&e);
-            }
+            let _ = w.join();
         }
-        if let Err(e) = design
+        self.collect(stats, log);
+        let r = design
             .refresh_png_cache()
-            .and_then(|_| design.save_design_file(&self.path))
-        {
-            log(&format!("final autosave failed: {e}"));
-        } else {
-            stats.autosaves += 1;
-        }
+            .and_then(|_| design.save_design())
+            .and_then(|bytes| write_atomically(&self.path, &bytes, Some(&backup_of(&self.path))))
+            .map_err(|e| format!("final autosave failed: {e}"));
+        self.count(r, stats, log);
         stats.autosave_ms_max = self.hold_max_ms();
     }
-}
-
-/// The writer thread: each design it receives goes to a temporary file, then in place.
-fn write_all(rx: Receiver<Vec<u8>>, path: &Path) -> Vec<String> {
-    let mut errors = Vec::new();
-    for bytes in rx {
-        let tmp = path.with_extension("saiho.tmp");
-        if let Err(e) = std::fs::write(&tmp, &bytes).and_then(|_| std::fs::rename(&tmp, path)) {
-            errors.push(format!("autosave to {} failed: {e}", path.display()));
-        }
-    }
-    errors
 }

@@ -50,7 +50,10 @@ pub struct ServiceStats {
     pub samples: u64,
     pub rejected: u64,
     pub pinches: u64,
+    /// Autosaves written.
     pub autosaves: u64,
+    /// Autosaves that could not be written (the design file on disk was left as it was).
+    pub autosave_failures: u64,
     /// Commands from the UI answered.
     pub commands: u64,
     /// Substeps that took the pen from a sample of their own (pen read per substep).

@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
-use cloth_sim::{ServiceConfig, resume_or};
+use cloth_sim::{ServiceConfig, backup_of, resume_or};
 use sim_core::collision::BodyKind;
 use sim_core::design::TearMode;
 use sim_core::scenario::{
@@ -264,8 +264,20 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
     cfg.couple_applied_force = !a.no_force_coupling;
     let stop = shared::signals::termination_flag();
     let mut log = |m: &str| eprintln!("cloth-sim: {m}");
-    if a.fresh {
-        let _ = std::fs::remove_file(&cfg.autosave);
+    if a.fresh && cfg.autosave.is_file() {
+        // A new design, but the last one is not thrown away: it becomes the backup.
+        let kept = backup_of(&cfg.autosave);
+        std::fs::rename(&cfg.autosave, &kept).map_err(|e| {
+            format!(
+                "--fresh: cannot move the autosave {} aside to {}: {e}",
+                cfg.autosave.display(),
+                kept.display()
+            )
+        })?;
+        log(&format!(
+            "--fresh: the previous autosave is kept as {}",
+            kept.display()
+        ));
     }
     let mut scene = ScenarioConfig::new(ScenarioName::DrapeCube);
     scene.body = a.body;
@@ -290,7 +302,7 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
     ));
     let stats = cloth_sim::run(design, &cfg, stop, &mut log)?;
     log(&format!(
-        "stopped after {} frames: {} device samples ({} rejected), {} applied forces, {} pinches ({} substeps read the pen, {} coupled to the rendered force, {} pulled at its limit, largest pull {:.2} N), {} autosaves (longest hold-up {:.1} ms)",
+        "stopped after {} frames: {} device samples ({} rejected), {} applied forces, {} pinches ({} substeps read the pen, {} coupled to the rendered force, {} pulled at its limit, largest pull {:.2} N), {} autosaves, {} failed (longest hold-up {:.1} ms)",
         stats.frames,
         stats.samples,
         stats.rejected,
@@ -301,6 +313,7 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
         stats.force_limited_substeps,
         stats.pinch_force_max_n,
         stats.autosaves,
+        stats.autosave_failures,
         stats.autosave_ms_max
     ));
     Ok(())

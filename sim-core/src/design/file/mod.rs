@@ -22,6 +22,8 @@
 
 mod format;
 mod read;
+mod store;
 mod write;
 
 pub use format::{DesignError, FORMAT, Header, MAGIC, SeamRecord, Section};
+pub use store::{set_aside, temporary_of, unreadable_reason, write_atomically};

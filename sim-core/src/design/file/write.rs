@@ -3,6 +3,7 @@
 use super::format::{
     DesignError, FORMAT, Header, MAGIC, SeamRecord, Section, corrupt, fnv1a, put_vec3s,
 };
+use super::store::write_atomically;
 use crate::design::Design;
 use crate::design::TearMode;
 use crate::design::export::png_bytes;
@@ -127,12 +128,6 @@ impl Design {
     /// leaves a half-written design in its place).
     pub fn save_design_file(&self, path: &std::path::Path) -> Result<(), DesignError> {
         let bytes = self.save_design()?;
-        let io = |source| DesignError::Io {
-            path: path.to_owned(),
-            source,
-        };
-        let tmp = path.with_extension("saiho.tmp");
-        std::fs::write(&tmp, bytes).map_err(io)?;
-        std::fs::rename(&tmp, path).map_err(io)
+        write_atomically(path, &bytes, None)
     }
 }
