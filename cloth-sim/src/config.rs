@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use shared::domain::Domain;
+use sim_core::error::{ConfigError, check_range};
 use sim_core::scenario::{ScenarioConfig, ScenarioName};
 
 #[derive(Clone, Debug)]
@@ -41,6 +42,34 @@ impl ServiceConfig {
             couple_applied_force: true,
             scene: ScenarioConfig::new(ScenarioName::DrapeCube),
         }
+    }
+}
+
+impl ServiceConfig {
+    /// Checks every setting before any work (the scene's too): ranges, no NaN, an
+    /// autosave path that is not a directory.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        check_range("rate", self.rate_hz, 1.0, 1000.0, " frames per second")?;
+        if let Some(s) = self.seconds {
+            check_range("seconds", s, 0.001, 1.0e7, " s")?;
+        }
+        check_range(
+            "autosave interval",
+            self.autosave_every_s,
+            0.05,
+            3600.0,
+            " s",
+        )?;
+        check_range("pinch radius", self.pinch_radius, 0.001, 1.0, " m")?;
+        check_range("pinch stiffness", self.pinch_stiffness, 1.0, 1.0e6, " N/m")?;
+        if self.autosave.is_dir() {
+            return Err(ConfigError::OutOfRange {
+                name: "the autosave path",
+                rule: "a file, not a directory",
+                value: self.autosave.display().to_string(),
+            });
+        }
+        self.scene.validate()
     }
 }
 

@@ -77,8 +77,8 @@ struct RunArgs {
     /// Substeps per frame (default: the model's).
     #[arg(long)]
     substeps: Option<usize>,
-    /// Frames per second.
-    #[arg(long, default_value_t = 60.0)]
+    /// Frames per second (1-1000).
+    #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
     rate: f64,
     /// The design's autosave (resumed at start when valid). Default:
     /// $TMPDIR/saiho/DOMAIN.autosave.saiho.
@@ -88,18 +88,22 @@ struct RunArgs {
     #[arg(long)]
     fresh: bool,
     /// Pinch spring stiffness, N/m (the haptic loop renders the same spring).
-    #[arg(long, default_value_t = 100.0)]
+    #[arg(long, default_value_t = 100.0, allow_negative_numbers = true)]
     pinch_stiffness: f32,
     /// Pull the cloth with the pinch spring alone, not limited to the force the haptic
     /// loop rendered (its reaction).
     #[arg(long)]
     no_force_coupling: bool,
     /// Stop after this many seconds (default: until SIGINT/SIGTERM).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     seconds: Option<f64>,
     /// Threads for the XPBD passes (1 or 2).
     #[arg(long, default_value_t = 1)]
     threads: usize,
+    /// Run only on these CPUs (such as 0 or 0-2); cloth-lab keeps cloth-sim off the
+    /// haptic loop's CPU this way.
+    #[arg(long)]
+    cpus: Option<String>,
     #[command(flatten)]
     material: MaterialArgs,
 }
@@ -253,15 +257,20 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
     }
     cfg.rate_hz = a.rate;
     cfg.seconds = a.seconds;
-    if !(a.pinch_stiffness.is_finite() && a.pinch_stiffness > 0.0) {
-        return Err(format!(
-            "--pinch-stiffness must be a positive number of N/m, got {}",
-            a.pinch_stiffness
-        )
-        .into());
-    }
     cfg.pinch_stiffness = a.pinch_stiffness;
     cfg.couple_applied_force = !a.no_force_coupling;
+    let mut scene = ScenarioConfig::new(ScenarioName::DrapeCube);
+    scene.body = a.body;
+    scene.grid = a.grid;
+    scene.model = a.model;
+    scene.substeps = a.substeps;
+    scene.material = a.material.material();
+    scene.threads = a.threads;
+    cfg.scene = scene.clone();
+    cfg.validate()?;
+    if let Some(cpus) = &a.cpus {
+        shared::cpus::keep_on(&shared::cpus::parse_list(cpus)?)?;
+    }
     let stop = shared::signals::termination_flag();
     let mut log = |m: &str| eprintln!("cloth-sim: {m}");
     if a.fresh && cfg.autosave.is_file() {
@@ -279,14 +288,6 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
             kept.display()
         ));
     }
-    let mut scene = ScenarioConfig::new(ScenarioName::DrapeCube);
-    scene.body = a.body;
-    scene.grid = a.grid;
-    scene.model = a.model;
-    scene.substeps = a.substeps;
-    scene.material = a.material.material();
-    scene.threads = a.threads.clamp(1, 2);
-    cfg.scene = scene.clone();
     let (design, resumed) = resume_or(
         &cfg,
         || build_design(&scene).map_err(|e| e.to_string()),
@@ -332,9 +333,6 @@ fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>> {
     cfg.cloth = a.cloth;
     cfg.material = a.material.material();
     cfg.progress = !a.quiet;
-    if a.threads == 0 {
-        return Err("--threads must be at least 1".into());
-    }
     cfg.threads = a.threads;
     cfg.tear_threshold = a.tear_threshold;
     cfg.tear_mode = a.tear_mode;

@@ -270,11 +270,70 @@ fn bad_input_is_a_clear_error() {
         "shared by 3",
     );
     fails_cleanly(&drape_args(o, &["--cloth", nan.to_str().unwrap()]), "cloth");
+    // Absurd values get one line with the accepted range, before any work: no abort on
+    // a huge allocation, no hang, no output directory left behind.
+    let never = dir.join("never");
+    let n = never.to_str().unwrap();
+    for (args, expect) in [
+        (
+            &["--frames", "1000000000000"][..],
+            "frames must be between 1 and 1000000",
+        ),
+        (
+            &["--substeps", "1000000000"],
+            "substeps must be between 1 and 10000",
+        ),
+        (&["--density", "1e9"], "density must be between"),
+        (&["--threads", "7"], "threads must be between 1 and 2"),
+        (&["--grid", "2000"], "grid must be between 1 and 1999"),
+        (&["--cloth-size", "NaN"], "cloth size"),
+    ] {
+        fails_cleanly(&drape_args(n, args), expect);
+        assert!(!never.exists(), "{args:?} left an output directory");
+    }
     let garbage = dir.join("garbage.obj");
     std::fs::write(&garbage, "f 1 2 3\nv x y z\n").unwrap();
     fails_cleanly(
         &drape_args(o, &["--body", garbage.to_str().unwrap()]),
         "error",
+    );
+    std::fs::remove_dir_all(dir).ok();
+}
+
+#[test]
+fn bad_run_flags_are_a_clear_error_before_any_work() {
+    let dir = tmp("run-bad");
+    let autosave = dir.join("a.saiho");
+    let a = autosave.to_str().unwrap();
+    for (args, expect) in [
+        (&["--rate", "nan"][..], "rate must be between 1 and 1000"),
+        (&["--rate", "0"], "rate must be between 1 and 1000"),
+        (&["--seconds", "nan"], "seconds must be between"),
+        (&["--threads", "7"], "threads must be between 1 and 2"),
+        (&["--grid", "100000"], "grid must be between 1 and 1999"),
+        (&["--pinch-stiffness", "-3"], "pinch stiffness"),
+        (&["--cpus", "0-"], "not a CPU list"),
+    ] {
+        let mut all = vec!["run", "--domain", "clibad", "--autosave", a];
+        all.extend_from_slice(args);
+        if !args.contains(&"--seconds") {
+            all.extend(["--seconds", "5"]);
+        }
+        fails_cleanly(&all, expect);
+        assert!(!autosave.exists(), "{args:?} wrote an autosave");
+    }
+    // An autosave path that is a directory.
+    fails_cleanly(
+        &[
+            "run",
+            "--domain",
+            "clibad",
+            "--autosave",
+            dir.to_str().unwrap(),
+            "--seconds",
+            "1",
+        ],
+        "a file, not a directory",
     );
     std::fs::remove_dir_all(dir).ok();
 }

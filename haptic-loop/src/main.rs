@@ -31,13 +31,17 @@ struct Args {
     /// Stop after this many seconds (default: run until SIGINT/SIGTERM).
     #[arg(long)]
     seconds: Option<f64>,
-    /// Ask for SCHED_FIFO at this priority, lock memory, and pin to --cpu (falls back
-    /// with one message when not permitted).
-    #[arg(long)]
-    rt_priority: Option<i32>,
-    /// CPU to pin the loop to (with --rt-priority).
+    /// SCHED_FIFO priority of the loop (1-99). Real time is on by default: SCHED_FIFO,
+    /// locked memory and a CPU of its own, each where permitted; one line says what it got.
+    #[arg(long, default_value_t = 80)]
+    rt_priority: i32,
+    /// CPU to pin the loop to (default: the highest this process may use, when there are
+    /// two or more).
     #[arg(long)]
     cpu: Option<usize>,
+    /// No real-time scheduling, memory locking or pinning (ticks may be late under load).
+    #[arg(long)]
+    no_rt: bool,
     /// Busy-wait before each deadline, µs (absorbs the kernel's wake-up jitter; on this
     /// VM 250 keeps the period error's p99.9 under 100 µs).
     #[arg(long, default_value_t = 250)]
@@ -69,7 +73,48 @@ fn log(msg: &str) {
     eprintln!("haptic-loop: {msg}");
 }
 
+/// Every flag checked before any work: one line with the accepted range.
+fn validate(a: &Args) -> Result<(), String> {
+    if !(1..=99).contains(&a.rt_priority) {
+        return Err(format!(
+            "--rt-priority must be between 1 and 99 (SCHED_FIFO), got {}",
+            a.rt_priority
+        ));
+    }
+    if let Some(c) = a.cpu
+        && !shared::cpus::allowed().contains(&c)
+    {
+        return Err(format!(
+            "--cpu {c} is not a CPU this process may use ({})",
+            shared::cpus::format_list(&shared::cpus::allowed())
+        ));
+    }
+    if let Some(s) = a.seconds
+        && !(s > 0.0 && s <= 1.0e7)
+    {
+        return Err(format!("--seconds must be between 0 and 10000000, got {s}"));
+    }
+    if a.spin_us > 1000 {
+        return Err(format!(
+            "--spin-us must be between 0 and 1000 (the period is 1000 µs), got {}",
+            a.spin_us
+        ));
+    }
+    Ok(())
+}
+
+/// Real time for the loop's thread unless `--no-rt`; one line says what it got.
+fn real_time(a: &Args) {
+    if a.no_rt {
+        log("real-time off (--no-rt): ticks may be late under load");
+        return;
+    }
+    let cpu = a.cpu.or(shared::cpus::plan().map(|(h, _)| h));
+    log(&rt::realtime(a.rt_priority, cpu).line());
+}
+
 fn run(a: Args) -> Result<(), String> {
+    validate(&a)?;
     let domain = Domain::from_arg_or_env(a.domain.as_deref()).map_err(|e| e.to_string())?;
     enum Dev {
         Sim(Target),
@@ -98,17 +143,16 @@ fn run(a: Args) -> Result<(), String> {
     let stop = rt::termination_flag();
     let node = services::node(&domain, "haptic-loop").map_err(|e| e.to_string())?;
     let ports = HapticPorts::open(&node).map_err(|e| e.to_string())?;
-    if let Some(p) = a.rt_priority {
-        log(&rt::realtime(p, a.cpu).summary());
-    }
-    let cfg = LoopConfig {
-        spin_ns: a.spin_us * 1000,
-        max_ticks: a.seconds.map(|s| (s.max(0.0) * 1000.0) as u64),
-        ..LoopConfig::default()
-    };
+    // The recorder's writer thread first, so it does not inherit the loop's priority and CPU.
     let mut recorder = match &a.record {
         Some(p) => Some(haptic_loop::record::Recorder::create(p)?),
         None => None,
+    };
+    real_time(&a);
+    let cfg = LoopConfig {
+        spin_ns: a.spin_us * 1000,
+        max_ticks: a.seconds.map(|s| (s * 1000.0) as u64),
+        ..LoopConfig::default()
     };
     let stats = match dev {
         Dev::Sim(source) => {
@@ -117,6 +161,12 @@ fn run(a: Args) -> Result<(), String> {
             looper::run(&mut d, &ports, &cfg, stop, recorder.as_mut(), log)
         }
         Dev::Replay(mut d) => {
+            if let Some(n) = d.cut_at_line {
+                log(&format!(
+                    "the device log was cut short at line {n} (its writer was stopped mid-record); replaying the {} whole records before it",
+                    d.len()
+                ));
+            }
             log(&format!(
                 "device replay ({:.1} s of log), domain '{}', 1 kHz",
                 d.duration(),

@@ -102,5 +102,13 @@ mod tests {
         );
         assert!(Replay::parse(&format!("{LOG_HEADER}\n0 1 2 3 4 5 6")).is_err());
         assert!(Replay::parse(&format!("{LOG_HEADER}\n0 nan 0 0 0 0 0 0")).is_err());
+        // A log cut inside its last record (the writer killed) replays what came before,
+        // and says where it was cut; a bad line anywhere else is still an error.
+        let whole = format!("{LOG_HEADER}\n0 0 0.6 0 0 0 0 0\n0.001 0 0.6 0 0 0 0 1\n");
+        let cut = Replay::parse(&format!("{whole}0.002 0 0.6")).unwrap();
+        assert_eq!((cut.len(), cut.cut_at_line), (2, Some(4)));
+        assert_eq!(Replay::parse(&whole).unwrap().cut_at_line, None);
+        assert!(Replay::parse(&format!("{whole}0.002 0 0.6\n")).is_err());
+        assert!(Replay::parse(&format!("{LOG_HEADER}\n0 0 0.6\n0.001 0 0.6 0 0 0 0 1")).is_err());
     }
 }

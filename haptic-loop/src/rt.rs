@@ -40,6 +40,43 @@ pub struct RtStatus {
 }
 
 impl RtStatus {
+    /// The one line the processes print: "real-time: SCHED_FIFO 80 on CPU 1, memory
+    /// locked", or what was not permitted and that ticks may be late.
+    pub fn line(&self) -> String {
+        let mut got = Vec::new();
+        let mut missing = Vec::new();
+        match &self.fifo {
+            Ok(p) => got.push(format!("SCHED_FIFO {p}")),
+            Err(e) => missing.push(format!("SCHED_FIFO ({e})")),
+        }
+        match &self.pinned {
+            Ok(c) => got.push(format!("on CPU {c}")),
+            Err(e) if e != "not asked" => missing.push(format!("a CPU of its own ({e})")),
+            Err(_) => {}
+        }
+        match &self.locked {
+            Ok(()) => got.push("memory locked".into()),
+            Err(e) => missing.push(format!("memory locking ({e})")),
+        }
+        if missing.is_empty() {
+            format!(
+                "real-time: {}",
+                got.join(", ").replacen(", on CPU", " on CPU", 1)
+            )
+        } else if got.is_empty() {
+            format!(
+                "real-time not permitted: {}; ticks may be late",
+                missing.join(", ")
+            )
+        } else {
+            format!(
+                "real-time: {}; not permitted: {}; ticks may be late",
+                got.join(", ").replacen(", on CPU", " on CPU", 1),
+                missing.join(", ")
+            )
+        }
+    }
+
     /// One line for the log: what is on, and why what is off is off.
     pub fn summary(&self) -> String {
         let part = |name: &str, r: Result<String, &String>| match r {

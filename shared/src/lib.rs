@@ -15,6 +15,7 @@
 //!   its own, so two systems, or tests running in parallel, never see each other.
 
 pub mod command;
+pub mod cpus;
 pub mod domain;
 pub mod haptic_to_sim;
 pub mod ports;

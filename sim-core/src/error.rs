@@ -49,6 +49,15 @@ pub enum ConfigError {
         rule: &'static str,
         value: String,
     },
+    #[error("{name} must be between {min} and {max}{unit}, got {value}")]
+    Range {
+        name: &'static str,
+        min: String,
+        max: String,
+        /// The unit, with its leading space (" m", " kg/m²"), or "".
+        unit: &'static str,
+        value: String,
+    },
     #[error(
         "the seed model is unstable at a step of {step_s:.3e} s: its stable bound is {bound_s:.3e} s \
          (stiffness {stiffness} N/m, unit masses); use at least {needed} substeps per frame or omit --substeps"
@@ -67,25 +76,22 @@ pub enum ConfigError {
     },
 }
 
-pub(crate) fn check_positive(name: &'static str, value: f32) -> Result<(), ConfigError> {
-    if value.is_finite() && value > 0.0 {
+/// `value` within `[min, max]` (NaN never is), or a `Range` error that gives the range.
+pub fn check_range<T: PartialOrd + std::fmt::Display>(
+    name: &'static str,
+    value: T,
+    min: T,
+    max: T,
+    unit: &'static str,
+) -> Result<(), ConfigError> {
+    if value >= min && value <= max {
         Ok(())
     } else {
-        Err(ConfigError::OutOfRange {
+        Err(ConfigError::Range {
             name,
-            rule: "a positive finite number",
-            value: value.to_string(),
-        })
-    }
-}
-
-pub(crate) fn check_non_negative(name: &'static str, value: f32) -> Result<(), ConfigError> {
-    if value.is_finite() && value >= 0.0 {
-        Ok(())
-    } else {
-        Err(ConfigError::OutOfRange {
-            name,
-            rule: "a finite number >= 0",
+            min: min.to_string(),
+            max: max.to_string(),
+            unit,
             value: value.to_string(),
         })
     }

@@ -368,5 +368,67 @@ fn lab_headless_fit_cube_drives_the_real_processes() {
             > 100
     );
     assert!(r["step_ms"]["p50"].as_f64().is_some());
+    // Real time by default: the lab asked for it, and the loop said what it got (SCHED_FIFO
+    // where permitted, otherwise why not).
+    assert!(log.contains("asking real-time for haptic-loop"), "{log}");
+    assert!(
+        log.contains("haptic-loop: real-time: SCHED_FIFO")
+            || log.contains("haptic-loop: real-time not permitted"),
+        "{log}"
+    );
     let _ = std::fs::remove_dir_all(&out_dir);
+}
+
+/// A process that fails at start stops the lab at once, and the lab says why; bad flags
+/// are refused before anything starts.
+#[test]
+fn the_lab_stops_at_once_when_a_process_fails_at_start() {
+    let domain = format!("labfail{}", std::process::id());
+    let mut child = Command::new(bin("cloth-lab"))
+        .args([
+            "--no-ui",
+            "--body",
+            "teapot",
+            "--seconds",
+            "60",
+            "--domain",
+            &domain,
+        ])
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Far less than the 60 s it was asked to run, and than the 30 s a headless lab used
+    // to wait for a cloth-sim that had already exited.
+    let until = Instant::now() + Duration::from_secs(20);
+    let status = loop {
+        if let Some(s) = child.try_wait().unwrap() {
+            break s;
+        }
+        assert!(Instant::now() < until, "the lab kept running");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let mut log = String::new();
+    use std::io::Read;
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut log)
+        .unwrap();
+    assert!(!status.success());
+    assert!(
+        log.contains("cloth-sim failed") && log.contains("unknown body 'teapot'"),
+        "{log}"
+    );
+    let out = Command::new(bin("cloth-lab"))
+        .args(["--headless", "--grid", "100000"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("between 1 and 1999"),
+        "{err}"
+    );
 }

@@ -101,6 +101,8 @@ struct Slot {
     /// Set while the lab itself stops or restarts it: its exit is expected.
     stopping: bool,
     failed: Option<String>,
+    /// The last error line the process printed (its reason, when it fails).
+    last_error: std::sync::Arc<std::sync::Mutex<Option<String>>>,
 }
 
 pub struct Supervisor {
@@ -112,11 +114,23 @@ pub struct Supervisor {
     pub grace: Duration,
 }
 
-fn forward(role: Role, pipe: impl std::io::Read + Send + 'static) {
+/// Prints a child's output with its role as prefix; remembers its last error line.
+fn forward(
+    role: Role,
+    pipe: impl std::io::Read + Send + 'static,
+    last_error: std::sync::Arc<std::sync::Mutex<Option<String>>>,
+) {
     std::thread::spawn(move || {
         for line in BufReader::new(pipe).lines() {
             match line {
-                Ok(l) => eprintln!("[{:<6}] {l}", role.name()),
+                Ok(l) => {
+                    if l.contains("error:")
+                        && let Ok(mut e) = last_error.lock()
+                    {
+                        *e = Some(l.clone());
+                    }
+                    eprintln!("[{:<6}] {l}", role.name());
+                }
                 Err(_) => break,
             }
         }
@@ -195,6 +209,7 @@ impl Supervisor {
             starts: 0,
             stopping: false,
             failed: None,
+            last_error: Default::default(),
         });
     }
 
@@ -223,11 +238,14 @@ impl Supervisor {
         let mut child = c
             .spawn()
             .map_err(|e| format!("starting {}: {e}", bin.display()))?;
+        if let Ok(mut e) = slot.last_error.lock() {
+            *e = None;
+        }
         if let Some(o) = child.stdout.take() {
-            forward(slot.role, o);
+            forward(slot.role, o, slot.last_error.clone());
         }
         if let Some(e) = child.stderr.take() {
-            forward(slot.role, e);
+            forward(slot.role, e, slot.last_error.clone());
         }
         eprintln!(
             "cloth-lab: started {} (pid {})",
@@ -409,7 +427,14 @@ impl Supervisor {
                 }
                 let ok = st.success();
                 if !ok {
-                    s.failed = Some(describe(st));
+                    // Its pipes close as it exits: give the forwarders a moment to read the
+                    // last line, its reason.
+                    std::thread::sleep(Duration::from_millis(50));
+                    let why = s.last_error.lock().ok().and_then(|e| e.clone());
+                    s.failed = Some(match why {
+                        Some(w) => format!("{}: {w}", describe(st)),
+                        None => describe(st),
+                    });
                 }
                 match s.role {
                     Role::Ui => eprintln!(

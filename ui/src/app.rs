@@ -34,6 +34,9 @@ pub struct Options {
     /// Resolution of the 3D view relative to the window's pixels (None: 1 on a GPU, 0.5
     /// on a software rasteriser such as llvmpipe).
     pub render_scale: Option<f32>,
+    /// Most frames per second (None: 30 on a software renderer, the display's rate on a
+    /// GPU).
+    pub max_fps: Option<f32>,
     /// Paint the panels' background with the window's clear colour instead of egui
     /// fills. The look is the same and a software rasteriser saves a full shading pass
     /// over the panels; off for test harnesses that clear to transparent.
@@ -42,6 +45,9 @@ pub struct Options {
     /// app was made).
     pub launched: Option<Instant>,
 }
+
+/// The frame rate the UI keeps to on a software renderer.
+pub const SOFTWARE_FPS: f32 = 30.0;
 
 pub struct App {
     /// What the system sent (the UI holds no design state of its own).
@@ -435,6 +441,17 @@ impl App {
         }
     }
 
+    /// The most frames per second the UI draws, and why: `--max-fps`, or 30 on a software
+    /// renderer (llvmpipe draws on the CPUs the simulation needs). None: as fast as the
+    /// display allows.
+    pub fn frame_cap(&self) -> Option<(f32, &'static str)> {
+        match (self.opts.max_fps, self.view.software) {
+            (Some(f), _) => Some((f, "--max-fps")),
+            (None, Some(true)) => Some((SOFTWARE_FPS, "software renderer")),
+            _ => None,
+        }
+    }
+
     /// The bar above the view: the tool, the cloth's size and frame, undo and redo.
     fn top_bar(&self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
@@ -525,9 +542,15 @@ impl eframe::App for App {
             .frame(panel)
             .default_size(300.0)
             .show(ui, |ui| {
+                let cap = self.frame_cap();
                 egui::ScrollArea::vertical().show(ui, |ui| {
-                    self.status_panel
-                        .ui(ui, &self.store, self.link.is_some(), self.design_arrived)
+                    self.status_panel.ui(
+                        ui,
+                        &self.store,
+                        self.link.is_some(),
+                        self.design_arrived,
+                        cap,
+                    )
                 });
             });
         // No fill: the 3D view covers the panel, and on a software rasteriser every pixel
@@ -537,7 +560,10 @@ impl eframe::App for App {
             .show(ui, |ui| self.view_panel(ui, frame, &mut actions));
         self.apply(actions);
         self.timing(&ctx);
-        ctx.request_repaint();
+        match self.frame_cap() {
+            Some((fps, _)) => ctx.request_repaint_after(Duration::from_secs_f32(1.0 / fps)),
+            None => ctx.request_repaint(),
+        }
     }
 
     fn clear_color(&self, visuals: &egui::Visuals) -> [f32; 4] {

@@ -43,6 +43,14 @@ struct Cli {
     width: f32,
     #[arg(long, default_value_t = 800.0)]
     height: f32,
+    /// Run only on these CPUs (such as 0 or 0-2); cloth-lab keeps cloth-ui off the haptic
+    /// loop's CPU this way.
+    #[arg(long)]
+    cpus: Option<String>,
+    /// Most frames per second (default: 30 on a software renderer such as llvmpipe, so it
+    /// leaves the CPUs to the simulation; the display's rate on a GPU).
+    #[arg(long)]
+    max_fps: Option<f32>,
 }
 
 fn main() -> ExitCode {
@@ -56,9 +64,9 @@ fn main() -> ExitCode {
         }
     };
     if let Some(s) = cli.exit_after
-        && !(s.is_finite() && s >= 0.0)
+        && !(s.is_finite() && (0.0..=1.0e7).contains(&s))
     {
-        eprintln!("error: --exit-after must be a number of seconds, got {s}");
+        eprintln!("error: --exit-after must be between 0 and 10000000 seconds, got {s}");
         return ExitCode::FAILURE;
     }
     if let Some(s) = cli.render_scale
@@ -67,12 +75,33 @@ fn main() -> ExitCode {
         eprintln!("error: --render-scale must be between 0.1 and 2, got {s}");
         return ExitCode::FAILURE;
     }
+    if let Some(f) = cli.max_fps
+        && !(f.is_finite() && (1.0..=1000.0).contains(&f))
+    {
+        eprintln!("error: --max-fps must be between 1 and 1000, got {f}");
+        return ExitCode::FAILURE;
+    }
+    let size = 200.0..=10_000.0;
+    if !(size.contains(&cli.width) && size.contains(&cli.height)) {
+        eprintln!(
+            "error: --width and --height must be between 200 and 10000 pixels, got {} x {}",
+            cli.width, cli.height
+        );
+        return ExitCode::FAILURE;
+    }
+    if let Some(c) = &cli.cpus
+        && let Err(e) = shared::cpus::parse_list(c).and_then(|l| shared::cpus::keep_on(&l))
+    {
+        eprintln!("error: --cpus: {e}");
+        return ExitCode::FAILURE;
+    }
     let opts = Options {
         domain: Some(domain),
         screenshot: cli.screenshot,
         exit_after: cli.exit_after.map(Duration::from_secs_f64),
         log_fps: cli.log_fps,
         render_scale: cli.render_scale,
+        max_fps: cli.max_fps,
         clear_panels: true,
         launched: Some(launched),
     };

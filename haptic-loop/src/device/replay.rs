@@ -22,6 +22,8 @@ pub struct Replay {
     records: Vec<Record>,
     t: f64,
     at: usize,
+    /// The log ended inside a record (a writer killed mid-line): the line it was cut at.
+    pub cut_at_line: Option<usize>,
 }
 
 impl Replay {
@@ -32,46 +34,41 @@ impl Replay {
                 "not a device log (the first line must be '{LOG_HEADER}')"
             ));
         }
-        let mut records = Vec::new();
-        for (k, line) in lines.enumerate() {
+        let lines: Vec<&str> = lines.collect();
+        // A last line without its newline was cut off by a killed writer: if it does not
+        // read, the records before it are kept.
+        let unfinished = !text.ends_with('\n');
+        let mut records: Vec<Record> = Vec::new();
+        let mut cut_at_line = None;
+        for (k, line) in lines.iter().enumerate() {
             let n = k + 2;
-            let f: Vec<&str> = line.split_whitespace().collect();
-            if f.is_empty() {
+            if line.split_whitespace().next().is_none() {
                 continue;
             }
-            if f.len() != 8 {
-                return Err(format!("line {n}: expected 8 fields, got {}", f.len()));
+            match record(line, n, records.last()) {
+                Ok(r) => records.push(r),
+                Err(_) if unfinished && k + 1 == lines.len() => cut_at_line = Some(n),
+                Err(e) => return Err(e),
             }
-            let num = |s: &str| -> Result<f64, String> {
-                s.parse::<f64>()
-                    .ok()
-                    .filter(|v| v.is_finite())
-                    .ok_or_else(|| format!("line {n}: '{s}' is not a finite number"))
-            };
-            let t = num(f[0])?;
-            if records.last().is_some_and(|r: &Record| t < r.t) {
-                return Err(format!("line {n}: time goes backwards"));
-            }
-            let buttons: u32 = f[7]
-                .parse()
-                .map_err(|_| format!("line {n}: buttons '{}' is not a bit mask", f[7]))?;
-            records.push(Record {
-                t,
-                state: DeviceState {
-                    position: [num(f[1])? as f32, num(f[2])? as f32, num(f[3])? as f32],
-                    velocity: [num(f[4])? as f32, num(f[5])? as f32, num(f[6])? as f32],
-                    buttons: buttons & 0b11,
-                },
-            });
         }
         if records.is_empty() {
-            return Err("the device log has no records".into());
+            return Err("the device log has no whole record".into());
         }
         Ok(Self {
             records,
             t: 0.0,
             at: 0,
+            cut_at_line,
         })
+    }
+
+    /// The whole records replayed.
+    pub fn len(&self) -> usize {
+        self.records.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.records.is_empty()
     }
 
     pub fn open(path: &Path) -> Result<Self, String> {
@@ -83,6 +80,35 @@ impl Replay {
     pub fn duration(&self) -> f64 {
         self.records.last().map_or(0.0, |r| r.t)
     }
+}
+
+/// One line of a device log (line number `n`; `last`: the record before it).
+fn record(line: &str, n: usize, last: Option<&Record>) -> Result<Record, String> {
+    let f: Vec<&str> = line.split_whitespace().collect();
+    if f.len() != 8 {
+        return Err(format!("line {n}: expected 8 fields, got {}", f.len()));
+    }
+    let num = |s: &str| -> Result<f64, String> {
+        s.parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| format!("line {n}: '{s}' is not a finite number"))
+    };
+    let t = num(f[0])?;
+    if last.is_some_and(|r| t < r.t) {
+        return Err(format!("line {n}: time goes backwards"));
+    }
+    let buttons: u32 = f[7]
+        .parse()
+        .map_err(|_| format!("line {n}: buttons '{}' is not a bit mask", f[7]))?;
+    Ok(Record {
+        t,
+        state: DeviceState {
+            position: [num(f[1])? as f32, num(f[2])? as f32, num(f[3])? as f32],
+            velocity: [num(f[4])? as f32, num(f[5])? as f32, num(f[6])? as f32],
+            buttons: buttons & 0b11,
+        },
+    })
 }
 
 impl HapticDevice for Replay {

@@ -8,9 +8,11 @@ use crate::collision::BodyKind;
 use crate::design::export::ExportError;
 use crate::design::file::DesignError;
 use crate::design::{Design, EditError, TearMode, TearSettings};
-use crate::error::{ConfigError, GeometryError, LoadError};
+use crate::error::{ConfigError, GeometryError, LoadError, check_range};
 use crate::mesh::{ClothMesh, obj};
-use crate::solver::{Cloth, Environment, Material, ModelKind, Simulation, StepError};
+use crate::solver::{
+    Cloth, Environment, MAX_FRAME_SUBSTEPS, Material, ModelKind, Simulation, StepError,
+};
 
 /// The scenarios `cloth-sim scenario` knows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -95,7 +97,33 @@ pub struct ScenarioConfig {
     pub tear_mode: TearMode,
 }
 
+/// Largest grid: (1999 + 1)^2 vertices is `MAX_VERTICES`.
+pub const MAX_GRID: usize = 1999;
+/// Most frames a scenario runs (4.6 hours of 1/60 s frames).
+pub const MAX_FRAMES: u64 = 1_000_000;
+
 impl ScenarioConfig {
+    /// Checks every setting before any work: ranges that agree with each other (the grid
+    /// with the vertex limit, the substeps with the simulation's), no NaN.
+    pub fn validate(&self) -> Result<(), ConfigError> {
+        check_range("grid", self.grid, 1, MAX_GRID, " cells a side")?;
+        check_range("frames", self.frames, 1, MAX_FRAMES, "")?;
+        check_range("cloth size", self.cloth_size, 0.01, 10.0, " m")?;
+        check_range("frame duration", self.frame_dt, 1.0e-4, 1.0, " s")?;
+        check_range("threads", self.threads, 1, 2, "")?;
+        if let Some(n) = self.substeps {
+            check_range("substeps", n, 1, MAX_FRAME_SUBSTEPS, " per frame")?;
+        }
+        check_range(
+            "tear threshold",
+            self.tear_threshold,
+            1.0001,
+            100.0,
+            " x rest length",
+        )?;
+        self.material.validate()
+    }
+
     pub fn new(scenario: ScenarioName) -> Self {
         Self {
             scenario,
@@ -144,32 +172,7 @@ pub enum ScenarioError {
 /// Builds the scene of a scenario as a new design: the body, and the cloth centred 5 cm
 /// above it.
 pub fn build_design(cfg: &ScenarioConfig) -> Result<Design, ScenarioError> {
-    if cfg.grid == 0 || cfg.grid > 2000 {
-        return Err(ConfigError::OutOfRange {
-            name: "grid",
-            rule: "between 1 and 2000 cells",
-            value: cfg.grid.to_string(),
-        }
-        .into());
-    }
-    if cfg.frames == 0 {
-        return Err(ConfigError::OutOfRange {
-            name: "frames",
-            rule: ">= 1",
-            value: "0".into(),
-        }
-        .into());
-    }
-    crate::error::check_positive("cloth size", cfg.cloth_size)?;
-    if !(cfg.tear_threshold.is_finite() && cfg.tear_threshold > 1.0) {
-        return Err(ConfigError::OutOfRange {
-            name: "tear threshold",
-            rule: "a stretch ratio above 1",
-            value: cfg.tear_threshold.to_string(),
-        }
-        .into());
-    }
-    cfg.material.validate()?;
+    cfg.validate()?;
     let body = cfg.body.build()?;
     let (_, top) = body.bounds();
     let (mn, mx) = body.bounds();

@@ -11,7 +11,7 @@ mod report;
 mod run;
 pub mod scripts;
 
-pub use config::{ScenarioConfig, ScenarioError, ScenarioName, build_design};
+pub use config::{MAX_FRAMES, MAX_GRID, ScenarioConfig, ScenarioError, ScenarioName, build_design};
 pub use realtime::max_realtime_grid;
 pub use report::{OpsReport, Percentiles, Report};
 pub use run::run_scenario;

@@ -51,9 +51,11 @@ fn write_err(path: &Path) -> impl FnOnce(std::io::Error) -> ScenarioError + use<
 
 /// Steps every frame of the scenario, running its script once the cloth has draped.
 fn run_frames(cfg: &ScenarioConfig, design: &mut Design) -> Result<Frames, ScenarioError> {
+    // Room for the frames up front, but never more than a long run's worth at once.
+    let room = cfg.frames.min(100_000) as usize;
     let mut frames = Frames {
-        step_ms: Vec::with_capacity(cfg.frames as usize),
-        collision_ms: Vec::with_capacity(cfg.frames as usize),
+        step_ms: Vec::with_capacity(room),
+        collision_ms: Vec::with_capacity(room),
         ..Frames::default()
     };
     let mut last_print = Instant::now();

@@ -1,7 +1,7 @@
 //! Material parameters in SI units, and the model choice.
 
 use crate::collision::ContactParams;
-use crate::error::{ConfigError, check_non_negative, check_positive};
+use crate::error::{ConfigError, check_range};
 
 /// Which cloth model steps the cloth.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize)]
@@ -122,16 +122,24 @@ impl Material {
         }
     }
 
+    /// Checks every value against the range the models are built for (wide around real
+    /// fabrics: chiffon to canvas, and beyond for experiments).
     pub fn validate(&self) -> Result<(), ConfigError> {
-        check_positive("density", self.density)?;
-        check_positive("stretch", self.stretch)?;
-        check_non_negative("shear", self.shear)?;
-        check_non_negative("shear damping", self.shear_damping)?;
-        check_non_negative("bending", self.bending)?;
-        check_non_negative("damping", self.damping)?;
-        check_non_negative("drag", self.drag)?;
-        check_non_negative("friction", self.friction)?;
-        check_positive("thickness", self.thickness)?;
-        check_positive("seed stiffness", self.seed_stiffness)
+        check_range("density", self.density, 0.001, 10.0, " kg/m²")?;
+        check_range("stretch", self.stretch, 1.0, 1.0e7, " N/m")?;
+        check_range("shear", self.shear, 0.0, 1.0e7, " N/m")?;
+        check_range("shear damping", self.shear_damping, 0.0, 1.0, " s")?;
+        check_range("bending", self.bending, 0.0, 1.0, " N m")?;
+        check_range("damping", self.damping, 0.0, 1000.0, " /s")?;
+        check_range("drag", self.drag, 0.0, 1000.0, " kg/(m² s)")?;
+        check_range("friction", self.friction, 0.0, 10.0, "")?;
+        check_range("thickness", self.thickness, 1.0e-4, 0.05, " m")?;
+        check_range(
+            "seed stiffness",
+            self.seed_stiffness,
+            1.0e-3,
+            1.0e12,
+            " N/m",
+        )
     }
 }

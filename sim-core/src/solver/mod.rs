@@ -23,7 +23,7 @@ pub use material::{DEFAULT_SHEAR_DAMPING, Material, ModelKind};
 pub use model::{Drive, Environment, FrameInput, Solver, StepError};
 pub use pinch::{Grip, PenInput, PenPath, Pinch};
 pub use seed::{Seed, seed_safe_step, seed_stable_step};
-pub use sim::{FrameStats, MAX_SUBSTEPS, Simulation, XPBD_DEFAULT_SUBSTEPS};
+pub use sim::{FrameStats, MAX_FRAME_SUBSTEPS, MAX_SUBSTEPS, Simulation, XPBD_DEFAULT_SUBSTEPS};
 pub use state::Cloth;
 pub use stitch::{STITCH_STIFFNESS, Stitch};
 pub use xpbd::Xpbd;

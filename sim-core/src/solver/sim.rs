@@ -15,7 +15,7 @@ use super::state::Cloth;
 use super::stitch::Stitch;
 use super::xpbd::Xpbd;
 use crate::collision::{Body, ContactCache};
-use crate::error::{ConfigError, GeometryError};
+use crate::error::{ConfigError, GeometryError, check_range};
 
 /// What one frame cost.
 #[derive(Clone, Copy, Debug, Default)]
@@ -58,8 +58,13 @@ pub struct Simulation {
 /// stiff cotton, within the 128 x 128 budget on one core.
 pub const XPBD_DEFAULT_SUBSTEPS: usize = 5;
 
-/// Most substeps per frame [`Simulation::set_material`] accepts.
+/// Most substeps per frame [`Simulation::set_material`] accepts (the XPBD model's
+/// interactive range).
 pub const MAX_SUBSTEPS: usize = 100;
+
+/// Most substeps per frame any model runs (the seed model's stable count for a fine cloth
+/// can pass a thousand; beyond this a frame takes seconds).
+pub const MAX_FRAME_SUBSTEPS: usize = 10_000;
 
 impl Simulation {
     pub fn new(
@@ -78,12 +83,8 @@ impl Simulation {
                 value: env.frame_dt.to_string(),
             });
         }
-        if substeps == Some(0) {
-            return Err(ConfigError::OutOfRange {
-                name: "substeps",
-                rule: ">= 1",
-                value: "0".into(),
-            });
+        if let Some(n) = substeps {
+            check_range("substeps", n, 1, MAX_FRAME_SUBSTEPS, " per frame")?;
         }
         let mut notices = Vec::new();
         let mut stable_step = None;
@@ -113,6 +114,15 @@ impl Simulation {
                         });
                     }
                     Some(n) => n,
+                    None if needed > MAX_FRAME_SUBSTEPS => {
+                        return Err(ConfigError::Range {
+                            name: "the seed model's stable substep count",
+                            min: "1".into(),
+                            max: MAX_FRAME_SUBSTEPS.to_string(),
+                            unit: " per frame (lower --seed-stiffness or the grid)",
+                            value: needed.to_string(),
+                        });
+                    }
                     None => {
                         notices.push(format!(
                             "seed model: stable step bound {:.3e} s for any shape of the cloth ({:.3e} s flat at rest; k = {} N/m, unit masses); using {needed} substeps per {:.4} s frame",

@@ -49,11 +49,17 @@ struct Cli {
     /// display).
     #[arg(long)]
     no_ui: bool,
-    /// haptic-loop real-time priority (SCHED_FIFO) and CPU, when permitted.
-    #[arg(long)]
-    rt_priority: Option<u32>,
+    /// haptic-loop's SCHED_FIFO priority (1-99). Real time is on by default: haptic-loop
+    /// gets SCHED_FIFO, locked memory and a CPU of its own where permitted, and cloth-sim
+    /// and cloth-ui keep off that CPU.
+    #[arg(long, default_value_t = 80)]
+    rt_priority: u32,
+    /// haptic-loop's CPU (default: the highest this process may use, with two or more).
     #[arg(long)]
     cpu: Option<usize>,
+    /// No real-time scheduling or CPU of its own for haptic-loop.
+    #[arg(long)]
+    no_rt: bool,
     /// Stop after this many seconds.
     #[arg(long)]
     seconds: Option<f64>,
@@ -103,6 +109,53 @@ fn control(line: &str, domain: Option<&str>) -> Result<(), String> {
     }
 }
 
+/// The CPUs for the haptic loop and for the rest, unless real time is off or there is
+/// only one CPU.
+fn cpu_plan(cli: &Cli) -> Option<(usize, Vec<usize>)> {
+    if cli.no_rt {
+        return None;
+    }
+    let allowed = shared::cpus::allowed();
+    match cli.cpu {
+        Some(c) => {
+            let rest: Vec<usize> = allowed.into_iter().filter(|&x| x != c).collect();
+            (!rest.is_empty()).then_some((c, rest))
+        }
+        None => shared::cpus::plan(),
+    }
+}
+
+/// Every flag checked before anything starts: one line with the accepted range.
+fn validate(cli: &Cli) -> Result<(), String> {
+    // The same limit as cloth-sim's --grid ((1999 + 1)^2 vertices).
+    if !(1..=1999).contains(&cli.grid) {
+        return Err(format!(
+            "--grid must be between 1 and 1999 cells a side, got {}",
+            cli.grid
+        ));
+    }
+    if !(1..=99).contains(&cli.rt_priority) {
+        return Err(format!(
+            "--rt-priority must be between 1 and 99 (SCHED_FIFO), got {}",
+            cli.rt_priority
+        ));
+    }
+    if let Some(c) = cli.cpu
+        && !shared::cpus::allowed().contains(&c)
+    {
+        return Err(format!(
+            "--cpu {c} is not a CPU this process may use ({})",
+            shared::cpus::format_list(&shared::cpus::allowed())
+        ));
+    }
+    if let Some(s) = cli.seconds
+        && !(s > 0.0 && s <= 1.0e7)
+    {
+        return Err(format!("--seconds must be between 0 and 10000000, got {s}"));
+    }
+    Ok(())
+}
+
 fn haptic_args(cli: &Cli, domain: &Domain, script: Option<&PathBuf>) -> Vec<String> {
     let mut a = vec![
         "--domain".to_string(),
@@ -113,13 +166,24 @@ fn haptic_args(cli: &Cli, domain: &Domain, script: Option<&PathBuf>) -> Vec<Stri
     if let Some(s) = script {
         a.extend(["--script".into(), s.display().to_string()]);
     }
-    if let Some(p) = cli.rt_priority {
-        a.extend(["--rt-priority".into(), p.to_string()]);
-    }
-    if let Some(c) = cli.cpu {
-        a.extend(["--cpu".into(), c.to_string()]);
+    match cpu_plan(cli) {
+        _ if cli.no_rt => a.push("--no-rt".into()),
+        Some((cpu, _)) => a.extend([
+            "--rt-priority".into(),
+            cli.rt_priority.to_string(),
+            "--cpu".into(),
+            cpu.to_string(),
+        ]),
+        None => a.extend(["--rt-priority".into(), cli.rt_priority.to_string()]),
     }
     a
+}
+
+/// `--cpus LIST` for cloth-sim and cloth-ui: off the haptic loop's CPU.
+fn other_cpus(cli: &Cli) -> Vec<String> {
+    cpu_plan(cli).map_or_else(Vec::new, |(_, rest)| {
+        vec!["--cpus".into(), shared::cpus::format_list(&rest)]
+    })
 }
 
 fn sim_args(cli: &Cli, domain: &Domain, fresh: bool, autosave: Option<&PathBuf>) -> Vec<String> {
@@ -138,17 +202,38 @@ fn sim_args(cli: &Cli, domain: &Domain, fresh: bool, autosave: Option<&PathBuf>)
     if let Some(p) = autosave {
         a.extend(["--autosave".into(), p.display().to_string()]);
     }
+    a.extend(other_cpus(cli));
     a
 }
 
+/// What the lab tells the user about real time, in one line.
+fn real_time_line(cli: &Cli) -> String {
+    match cpu_plan(cli) {
+        _ if cli.no_rt => "real-time off (--no-rt): haptic ticks may be late under load".into(),
+        Some((h, rest)) => format!(
+            "asking real-time for haptic-loop (SCHED_FIFO {} on CPU {h}); cloth-sim and cloth-ui on CPU {}",
+            cli.rt_priority,
+            shared::cpus::format_list(&rest)
+        ),
+        None => format!(
+            "asking real-time for haptic-loop (SCHED_FIFO {}); one CPU, shared by all",
+            cli.rt_priority
+        ),
+    }
+}
+
 fn run_lab(cli: &Cli) -> Result<(), String> {
+    validate(cli)?;
     let domain = domain_of(cli.domain.as_deref())?;
+    eprintln!("cloth-lab: {}", real_time_line(cli));
     let mut sup = Supervisor::new(domain.clone())?;
     sup.add(Role::Haptic, haptic_args(cli, &domain, cli.script.as_ref()));
     sup.add(Role::Sim, sim_args(cli, &domain, cli.fresh, None));
     if !cli.no_ui {
         if sibling("cloth-ui")?.is_file() {
-            sup.add(Role::Ui, vec!["--domain".into(), domain.name().into()]);
+            let mut ui = vec!["--domain".into(), domain.name().into()];
+            ui.extend(other_cpus(cli));
+            sup.add(Role::Ui, ui);
         } else {
             eprintln!(
                 "cloth-lab: cloth-ui is not built next to cloth-lab; running haptic-loop and cloth-sim only"
@@ -179,6 +264,7 @@ fn run_lab(cli: &Cli) -> Result<(), String> {
 }
 
 fn run_headless(cli: &Cli) -> Result<(), String> {
+    validate(cli)?;
     if cli.scenario != "fit-cube" {
         return Err(format!(
             "unknown headless scenario '{}' (fit-cube)",
@@ -195,6 +281,7 @@ fn run_headless(cli: &Cli) -> Result<(), String> {
         None => domain_of(Some(&format!("lab{}", std::process::id())))?,
     };
     let started = Instant::now();
+    eprintln!("cloth-lab: {}", real_time_line(cli));
     let autosave = cli.out.join("autosave.saiho");
     let mut sup = Supervisor::new(domain.clone())?;
     sup.add(Role::Haptic, haptic_args(cli, &domain, cli.script.as_ref()));
@@ -208,11 +295,14 @@ fn run_headless(cli: &Cli) -> Result<(), String> {
         cli.grid
     );
     let done = Arc::new(AtomicBool::new(false));
+    // Set when the lab stops (Ctrl-C, or a process failed): the designer gives up at once.
+    let abort = Arc::new(AtomicBool::new(false));
     let stop = shared::signals::termination_flag();
     let worker = {
         let (domain, out, done) = (domain.clone(), cli.out.clone(), done.clone());
+        let abort = abort.clone();
         std::thread::spawn(move || {
-            let r = tools::headless::fit_cube(&domain, &out, stop, &mut |m| {
+            let r = tools::headless::fit_cube(&domain, &out, &abort, &mut |m| {
                 eprintln!("cloth-lab: {m}")
             })
             .and_then(|standin| {
@@ -227,6 +317,7 @@ fn run_headless(cli: &Cli) -> Result<(), String> {
         &|| stop.load(Ordering::Relaxed) || done.load(Ordering::Relaxed),
         None,
     );
+    abort.store(true, Ordering::Relaxed);
     done.store(true, Ordering::Relaxed);
     let result = worker
         .join()

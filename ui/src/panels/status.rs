@@ -44,9 +44,10 @@ impl StatusPanel {
         store: &Store,
         linked: bool,
         design_arrived: Option<Duration>,
+        cap: Option<(f32, &str)>,
     ) {
         ui.heading("Processes");
-        self.processes(ui, store, linked, design_arrived);
+        self.processes(ui, store, linked, design_arrived, cap);
         ui.separator();
         ui.heading("Latency");
         plots(ui, store);
@@ -58,6 +59,7 @@ impl StatusPanel {
         store: &Store,
         linked: bool,
         design_arrived: Option<Duration>,
+        cap: Option<(f32, &str)>,
     ) {
         let fresh = |t: Option<Instant>| t.is_some_and(|t| t.elapsed() < Duration::from_secs(2));
         let dot = |ui: &mut egui::Ui, ok: bool, what: &str| {
@@ -93,7 +95,11 @@ impl StatusPanel {
                 s.frame_time.quantile_ns(0.99) as f64 * 1e-6
             ));
         }
-        ui.label(format!("UI: {:.0} fps", self.fps));
+        match cap {
+            Some((max, why)) => ui.label(format!("UI: {:.0} fps (at most {max:.0}: {why})", self.fps))
+                .on_hover_text("The studio draws no faster, so it leaves the CPUs to the simulation and the haptic loop"),
+            None => ui.label(format!("UI: {:.0} fps", self.fps)),
+        };
         if let Some(t) = design_arrived {
             ui.label(format!(
                 "design received {:.0} ms after start",

@@ -23,6 +23,8 @@ pub struct ViewPanel {
     pub rect: Option<egui::Rect>,
     /// The view's resolution factor in use.
     pub render_scale: Option<f32>,
+    /// The renderer draws on the CPU (llvmpipe, lavapipe): known after the first frame.
+    pub software: Option<bool>,
     /// The cloth under the mouse.
     pub last_hit: Option<Hit>,
     /// A drag in progress.
@@ -45,15 +47,12 @@ impl ViewPanel {
         let resp = ui.allocate_response(size, egui::Sense::click_and_drag());
         match frame.wgpu_render_state() {
             Some(rs) => {
-                let scale = *self.render_scale.get_or_insert_with(|| {
-                    scale.unwrap_or(
-                        if rs.adapter.get_info().device_type == egui_wgpu::wgpu::DeviceType::Cpu {
-                            0.5
-                        } else {
-                            1.0
-                        },
-                    )
+                let software = *self.software.get_or_insert_with(|| {
+                    rs.adapter.get_info().device_type == egui_wgpu::wgpu::DeviceType::Cpu
                 });
+                let scale = *self
+                    .render_scale
+                    .get_or_insert_with(|| scale.unwrap_or(if software { 0.5 } else { 1.0 }));
                 let ppp = ui.ctx().pixels_per_point() * scale.clamp(0.1, 2.0);
                 let px = [
                     (size.x * ppp).round().max(16.0) as u32,

@@ -7,7 +7,7 @@ use crate::collision::{Body, BodyKind};
 use crate::design::{Design, Seam, TearMode, TearSettings, Texture};
 use crate::error::GeometryError;
 use crate::mesh::{ClothMesh, LiveMesh, MAX_VERTICES, Tri};
-use crate::solver::{Cloth, Environment, ModelKind, Simulation};
+use crate::solver::{Cloth, Environment, MAX_FRAME_SUBSTEPS, ModelKind, Simulation};
 
 impl Design {
     pub fn load_design_file(path: &std::path::Path) -> Result<Self, DesignError> {
@@ -31,7 +31,7 @@ impl Design {
             Some(name) => Some(load_body(name, h, &sections)?),
         };
         let env = read_environment(h)?;
-        if h.substeps == 0 || h.substeps > 10_000 {
+        if h.substeps == 0 || h.substeps > MAX_FRAME_SUBSTEPS {
             return Err(corrupt(format!("{} substeps", h.substeps)));
         }
         let mut sim = Simulation::new(cloth, body, model, h.material, env, Some(h.substeps))
