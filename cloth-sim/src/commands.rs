@@ -17,11 +17,11 @@ pub(crate) fn carry_out(design: &mut Design, c: &Command) -> Result<String, Stri
     match c {
         Command::CutVertex { vertex, direction } => design
             .cut_vertex(*vertex, Vec3::from_array(*direction))
-            .map(|n| format!("cut vertex {vertex} (new vertex {n})"))
+            .map(|n| format!("Cut: vertex {vertex} split in two, making new vertex {n}"))
             .map_err(e),
         Command::Sew { a, b } => design
             .sew(*a, *b)
-            .map(|_| format!("sewed {a} and {b}"))
+            .map(|_| format!("Sew: vertices {a} and {b} joined into one"))
             .map_err(e),
         Command::Tear { a, b, split } => {
             let mode = if *split {
@@ -31,14 +31,18 @@ pub(crate) fn carry_out(design: &mut Design, c: &Command) -> Result<String, Stri
             };
             design
                 .tear_edge(*a, *b, mode)
-                .map(|_| format!("tore edge ({a}, {b})"))
+                .map(|_| format!("Tear: the edge between vertices {a} and {b} is torn"))
                 .map_err(e)
         }
         Command::Pin { vertex, pinned } => design
             .set_pin(*vertex, *pinned)
             .map(|_| {
-                let what = if *pinned { "pinned" } else { "freed" };
-                format!("vertex {vertex} {what}")
+                let what = if *pinned {
+                    "is pinned in place"
+                } else {
+                    "is free again"
+                };
+                format!("Pin: vertex {vertex} {what}")
             })
             .map_err(e),
         Command::Paint {
@@ -47,27 +51,32 @@ pub(crate) fn carry_out(design: &mut Design, c: &Command) -> Result<String, Stri
             rgba,
         } => design
             .paint(Vec3::from_array(*point), *radius_m, *rgba)
-            .map(|_| "painted".to_string())
+            .map(|_| "Paint: a dab of colour on the cloth".to_string())
             .map_err(e),
         Command::RemoveRegion { min, max } => design
             .remove_region(Vec2::from_array(*min), Vec2::from_array(*max))
-            .map(|n| format!("removed {n} triangles"))
+            .map(|n| format!("Cut away: {n} triangles removed from the pattern"))
             .map_err(e),
         Command::Seam { a, b, tolerance } => {
             let seg = |s: &[[f32; 2]; 2]| s.map(Vec2::from_array);
             design
                 .seam_on_pattern(seg(a), seg(b), *tolerance)
-                .map(|n| format!("seam of {n} stitched pairs"))
+                .map(|n| {
+                    format!(
+                        "Seam: {n} pairs of border vertices stitched; they pull together and \
+                         are sewn as they meet"
+                    )
+                })
                 .map_err(e)
         }
         Command::SetMaterial { material, substeps } => set_material(design, material, *substeps),
-        Command::Undo => design.undo().map(|l| format!("undid {l}")).map_err(e),
-        Command::Redo => design.redo().map(|l| format!("redid {l}")).map_err(e),
+        Command::Undo => design.undo().map(|l| format!("Undone: {l}")).map_err(e),
+        Command::Redo => design.redo().map(|l| format!("Redone: {l}")).map_err(e),
         Command::SetTearing(t) => set_tearing(design, *t),
         Command::Save { path } => design
             .refresh_png_cache()
             .and_then(|_| design.save_design_file(std::path::Path::new(path)))
-            .map(|_| format!("saved {path}"))
+            .map(|_| format!("Saved the design to {path}"))
             .map_err(|e| e.to_string()),
         Command::SetTool { .. }
         | Command::Reset { .. }
@@ -86,9 +95,9 @@ fn set_material(
     design
         .sim
         .set_material(m, substeps.map(|n| n as usize))
-        .map_err(|e| format!("material not changed: {e}"))?;
+        .map_err(|e| format!("Material not changed: {e}"))?;
     Ok(format!(
-        "material: density {} kg/m², stretch {} N/m, shear {} N/m, bending {} N m, \
+        "Material: density {} kg/m², stretch {} N/m, shear {} N/m, bending {} N m, \
          friction {}, damping {}/s; {} substeps",
         m.density, m.stretch, m.shear, m.bending, m.friction, m.damping, design.sim.substeps
     ))
@@ -99,11 +108,13 @@ fn set_tearing(design: &mut Design, t: Tearing) -> Result<String, String> {
         Tearing::Off => {
             design.tear.enabled = false;
             design.tear.mode = TearMode::Delete;
-            Ok("tearing off".into())
+            Ok("Tearing off".into())
         }
         Tearing::On { threshold, split } => {
             if threshold <= 1.0 {
-                return Err(format!("tear threshold must be above 1, got {threshold}"));
+                return Err(format!(
+                    "The tear threshold must be above 1, got {threshold}"
+                ));
             }
             design.tear.enabled = true;
             design.tear.mode = if split {
@@ -112,7 +123,9 @@ fn set_tearing(design: &mut Design, t: Tearing) -> Result<String, String> {
                 TearMode::Delete
             };
             design.tear.threshold = threshold;
-            Ok(format!("tearing on at {threshold}x"))
+            Ok(format!(
+                "Tearing on: edges tear past {threshold} times their rest length"
+            ))
         }
     }
 }
@@ -143,7 +156,7 @@ pub(crate) fn replacement(
         Command::Load { path } => {
             let path = std::path::PathBuf::from(path);
             let d = Design::load_design_file(&path).map_err(|e| e.to_string())?;
-            (d, format!("loaded {}", path.display()))
+            (d, format!("Loaded the design {}", path.display()))
         }
         Command::Reset {
             body,
@@ -166,7 +179,7 @@ pub(crate) fn replacement(
             }
             let d = build_design(&scene).map_err(|e| e.to_string())?;
             let msg = format!(
-                "new design: {}x{} cloth over the {}",
+                "New design: a {}x{} cloth over the {}",
                 scene.grid,
                 scene.grid,
                 scene.body.name()
@@ -185,10 +198,14 @@ pub(crate) fn replacement(
         .refresh_png_cache()
         .and_then(|_| design.save_design_file(&backup))
         .map_err(|e| {
-            format!("the current design could not be saved first ({e}); nothing changed")
+            format!("The current design could not be saved first ({e}); nothing changed")
         })?;
     Ok((
         next.0,
-        format!("{}; the previous design is in {}", next.1, backup.display()),
+        format!(
+            "{}; the previous design is saved in {}",
+            next.1,
+            backup.display()
+        ),
     ))
 }

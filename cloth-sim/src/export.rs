@@ -116,7 +116,7 @@ pub(crate) fn export(
     let json = serde_json::to_string_pretty(&report).map_err(|e| e.to_string())?;
     std::fs::write(&path, json + "\n").map_err(|e| format!("{}: {e}", path.display()))?;
     Ok(format!(
-        "exported {} files to {}",
+        "Exported {} files to {}",
         files.len() + 1,
         dir.display()
     ))

@@ -174,7 +174,7 @@ pub(crate) fn pen_acts(
     t.was_down = down;
     let mut report = |r: Result<String, EditError>| match r {
         Ok(m) => log(&m),
-        Err(e) => log(&format!("pen: {e}")),
+        Err(e) => log(&format!("The pen's operation was refused: {e}")),
     };
     match t.tool {
         tool::PINCH | tool::TEAR => {
@@ -206,7 +206,7 @@ pub(crate) fn pen_acts(
                 report(
                     design
                         .cut_stroke(&stroke, 0.02)
-                        .map(|n| format!("pen: cut through {n} vertices")),
+                        .map(|n| format!("Cut: {n} vertices split along the pen's stroke")),
                 );
             }
         }
@@ -218,18 +218,21 @@ pub(crate) fn pen_acts(
             if pressed && let Some(v) = design.sim.cloth.nearest_vertex(tip, cfg.pinch_radius) {
                 match t.sew_first.take() {
                     None => t.sew_first = Some(v),
-                    Some(a) => report(design.sew(a, v).map(|_| format!("pen: sewed {a} and {v}"))),
+                    Some(a) => report(
+                        design
+                            .sew(a, v)
+                            .map(|_| format!("Sew: vertices {a} and {v} joined by the pen")),
+                    ),
                 }
             }
         }
         tool::PIN => {
             if pressed && let Some(v) = design.sim.cloth.nearest_vertex(tip, cfg.pinch_radius) {
                 let on = !design.sim.cloth.is_pinned(v as usize);
-                report(
-                    design
-                        .set_pin(v, on)
-                        .map(|_| format!("pen: vertex {v} pinned {on}")),
-                );
+                report(design.set_pin(v, on).map(|_| {
+                    let what = if on { "pinned" } else { "freed" };
+                    format!("Pin: vertex {v} {what} by the pen")
+                }));
             }
         }
         _ => {}

@@ -195,7 +195,7 @@ impl Service<'_> {
                 self.tools.rgba = *rgba;
                 self.tools.brush_m = *brush_m;
                 self.tools.sew_first = None;
-                Ok(format!("tool {tool}"))
+                Ok(shared::sim_to_ui::tool::sentence(*tool).to_string())
             }
             Command::Reset { .. } | Command::Load { .. } => {
                 let (next, m) = replacement(&mut self.design, c, self.cfg)?;
@@ -309,6 +309,7 @@ impl Service<'_> {
             tel.material = [
                 m.density, m.stretch, m.shear, m.bending, m.friction, m.damping,
             ];
+            (tel.body, tel.grid) = scene_of(&self.design);
             let _ = self.ports.telemetry.send_copy(**tel);
             self.tel_at = (Instant::now(), sim.frame);
         }
@@ -330,4 +331,30 @@ impl Service<'_> {
             }
         }
     }
+}
+
+/// The running design's body (`shared::telemetry::scene_body`) and, when its pattern is
+/// a square grid, that grid's cells a side (0 otherwise): what the UI's Scene panel shows.
+fn scene_of(design: &Design) -> (u32, u32) {
+    use shared::telemetry::scene_body;
+    let body = match design.sim.body.as_ref().map(|b| b.name.as_str()) {
+        None => scene_body::NONE,
+        Some("cube") => scene_body::CUBE,
+        Some("sphere") => scene_body::SPHERE,
+        Some("mannequin") => scene_body::MANNEQUIN,
+        Some(_) => scene_body::FILE,
+    };
+    let rest = &design.sim.cloth.rest;
+    let side = (rest.positions.len() as f64).sqrt().round() as usize;
+    let grid = match side.checked_sub(1) {
+        Some(g)
+            if g >= 1
+                && side * side == rest.positions.len()
+                && rest.triangles.len() == 2 * g * g =>
+        {
+            g as u32
+        }
+        _ => 0,
+    };
+    (body, grid)
 }

@@ -95,7 +95,7 @@ fn edits_refusals_and_save(ask: Ask<'_>, path: &std::path::Path) {
         op: op::UNDO,
         ..Default::default()
     });
-    assert!(r.ok == 1 && r.message() == "undid cut" && r.undo_depth == 0);
+    assert!(r.ok == 1 && r.message() == "Undone: cut" && r.undo_depth == 0);
     let mut save = ToolCommand {
         op: op::SAVE,
         ..Default::default()
@@ -125,6 +125,12 @@ fn tool_state_and_the_pens_pin(
         ..Default::default()
     });
     assert_eq!(r.ok, 1, "{}", r.message());
+    // Said in words, not as a tool number.
+    assert!(
+        r.message().starts_with("Paint tool: ") && !r.message().contains("tool 4"),
+        "{}",
+        r.message()
+    );
     let r = ask(ToolCommand {
         op: op::SET_TOOL,
         a: 42,

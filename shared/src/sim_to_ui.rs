@@ -185,6 +185,22 @@ pub mod tool {
     /// Press to pin or free the vertex under the tip.
     pub const PIN: u32 = 5;
     pub const LAST: u32 = PIN;
+
+    /// The tool's name and what the pen's button does with it, for a status line.
+    pub fn sentence(t: u32) -> &'static str {
+        match t {
+            PINCH => "Pinch tool: hold the pen's button to grab the cloth and pull it",
+            CUT => {
+                "Cut tool: hold the pen's button and draw across the cloth; it is cut along \
+                 the stroke when you let go"
+            }
+            TEAR => "Tear tool: grab the cloth and pull; edges stretched too far come apart",
+            SEW => "Sew tool: press on a border vertex, then on another, to sew them together",
+            PAINT => "Paint tool: hold the pen's button to paint under its tip",
+            PIN => "Pin tool: press on a vertex to pin it in place, or to free it",
+            _ => "An unknown tool",
+        }
+    }
 }
 
 /// The current tool and its settings, owned by cloth-sim (so a restarted UI and the pen's

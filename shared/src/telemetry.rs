@@ -161,6 +161,21 @@ pub struct SimTelemetry {
     /// Its material: density kg/m^2, stretch N/m, shear N/m, bending N m, friction,
     /// damping 1/s (the order of a RESET's `uv`).
     pub material: [f32; 6],
+    /// The body it drapes over ([`scene_body`]).
+    pub body: u32,
+    /// Cells a side of the cloth it was made from (0: not a square grid, or not known).
+    pub grid: u32,
+}
+
+/// [`SimTelemetry::body`] values.
+pub mod scene_body {
+    pub const CUBE: u32 = 0;
+    pub const SPHERE: u32 = 1;
+    pub const MANNEQUIN: u32 = 2;
+    /// A body from an OBJ file.
+    pub const FILE: u32 = 3;
+    pub const NONE: u32 = 4;
+    pub const LAST: u32 = NONE;
 }
 
 impl Checked for SimTelemetry {
@@ -174,6 +189,9 @@ impl Checked for SimTelemetry {
         }
         if !self.material.iter().all(|v| v.is_finite() && *v >= 0.0) {
             return Err("a material value is negative or not finite".into());
+        }
+        if self.body > scene_body::LAST {
+            return Err(format!("unknown body {}", self.body));
         }
         Ok(())
     }

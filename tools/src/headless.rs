@@ -174,7 +174,7 @@ impl Ui {
     }
 }
 
-/// The leading number of a reply such as "removed 123 triangles".
+/// The first number in a reply such as "Cut away: 123 triangles removed from the pattern".
 fn number_in(msg: &str) -> usize {
     msg.split_whitespace()
         .find_map(|w| w.parse().ok())

@@ -36,6 +36,8 @@ pub enum Action {
     },
     /// Back to the default camera.
     ResetCamera,
+    /// The camera fits the body and the cloth.
+    FrameScene,
     /// A line for the status bar.
     Status(String),
 }

@@ -19,7 +19,7 @@ use crate::input;
 use crate::link::Link;
 use crate::panels::{MaterialPanel, ScenePanel, StatusPanel, ToolsPanel, ViewPanel};
 use crate::store::Store;
-use crate::tools::tool_name;
+use crate::tools::{tool_name, tool_sentence};
 use crate::view3d::Overlay;
 
 /// Options from the command line.
@@ -72,6 +72,8 @@ pub struct App {
     /// How long after start everything of the design had arrived.
     pub design_arrived: Option<Duration>,
     pub status: String,
+    /// The body version and whether a cloth was there when the camera last framed them.
+    framed: (u64, bool),
     opts: Options,
     started: Instant,
     screenshot_asked: bool,
@@ -100,6 +102,7 @@ impl App {
             view: ViewPanel::default(),
             design_arrived: None,
             status: String::new(),
+            framed: (0, false),
             opts,
             started: Instant::now(),
             screenshot_asked: false,
@@ -162,6 +165,7 @@ impl App {
                     view_dir,
                 } => self.click(tool, hit, shift, view_dir),
                 Action::ResetCamera => self.camera = Camera::default(),
+                Action::FrameScene => self.frame_scene(),
                 Action::Status(s) => self.status = s,
             }
         }
@@ -180,7 +184,7 @@ impl App {
         if let Some(s) = &mut self.store.tool {
             s.tool = t;
         }
-        self.status = format!("{} tool", tool_name(t));
+        self.status = tool_sentence(t);
     }
 
     fn path_command(&mut self, op: PathOp, path: String) {
@@ -188,7 +192,8 @@ impl App {
         let abs = std::path::absolute(&path).unwrap_or_else(|_| PathBuf::from(&path));
         let abs = abs.display().to_string();
         if abs.len() > TEXT_LEN {
-            self.status = format!("the path {path} is too long");
+            self.status =
+                format!("The path {path} is too long for a command (at most {TEXT_LEN} bytes)");
             return;
         }
         self.command(match op {
@@ -217,10 +222,11 @@ impl App {
             tool::SEW => match self.sew_first.take() {
                 None => {
                     self.sew_first = Some(h.vertex);
-                    self.status = format!("sew: vertex {} picked, click the other", h.vertex);
+                    self.status =
+                        format!("Sew: vertex {} picked; click the second vertex", h.vertex);
                 }
                 Some(a) if a == h.vertex => {
-                    self.status = "sew: that is the same vertex; pick another".into();
+                    self.status = "Sew: that is the same vertex; pick another".into();
                     self.sew_first = Some(a);
                 }
                 Some(a) => self.command(Command::Sew { a, b: h.vertex }),
@@ -246,7 +252,7 @@ impl App {
         self.seam_picks.push(vertex);
         if self.seam_picks.len() < 4 {
             self.status = format!(
-                "seam: {} of 4 picked (start and end of path A, then of path B)",
+                "Seam: {} of 4 vertices picked (the start and end of one border path, then of the other)",
                 self.seam_picks.len()
             );
             return;
@@ -254,7 +260,7 @@ impl App {
         let picks = std::mem::take(&mut self.seam_picks);
         match self.seam_command(&picks) {
             Some(c) => self.command(c),
-            None => self.status = "seam: the picked vertices have no place on the pattern".into(),
+            None => self.status = "Seam: the picked vertices have no place on the pattern".into(),
         }
     }
 
@@ -380,7 +386,7 @@ impl App {
                 self.status = if a.ok {
                     a.message
                 } else {
-                    format!("refused: {}", a.message)
+                    format!("Refused: {}", a.message)
                 };
             }
         }
@@ -452,6 +458,37 @@ impl App {
         }
     }
 
+    /// Fits the camera to the body and the cloth (whichever the UI has).
+    pub fn frame_scene(&mut self) {
+        let body = self.store.body.as_ref().map(|(v, _)| &v[..]).unwrap_or(&[]);
+        let points = body
+            .iter()
+            .chain(self.store.x.iter())
+            .map(|p| Vec3::from(*p));
+        let (mn, mx) = points.fold(
+            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+            |(a, b), p| (a.min(p), b.max(p)),
+        );
+        let aspect = self
+            .view
+            .rect
+            .map_or(1.5, |r| r.width() / r.height().max(1.0));
+        self.camera.fit(mn, mx, aspect);
+    }
+
+    /// Frames the scene when a body (a new scene's, or the first one heard) or the first
+    /// cloth arrives; the user's camera is left alone otherwise.
+    fn frame_new_scene(&mut self) {
+        let version = self.store.body_version;
+        let has_cloth = self.store.mesh.is_some() && !self.store.x.is_empty();
+        let new_body = version > 0 && version != self.framed.0;
+        let first_cloth = has_cloth && !self.framed.1;
+        if new_body || first_cloth {
+            self.frame_scene();
+        }
+        self.framed = (version, self.framed.1 || has_cloth);
+    }
+
     /// The bar above the view: the tool, the cloth's size and frame, undo and redo.
     fn top_bar(&self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
@@ -486,7 +523,12 @@ impl App {
         ui.separator();
         self.material.ui(ui, self.store.sim_tel.as_deref(), actions);
         ui.separator();
-        self.scene.ui(ui, self.material.choice(), actions);
+        self.scene.ui(
+            ui,
+            self.store.sim_tel.as_deref(),
+            self.material.choice(),
+            actions,
+        );
         ui.separator();
         ToolsPanel::view_section(ui, actions);
     }
@@ -511,6 +553,7 @@ impl eframe::App for App {
     fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
         let ctx = ui.ctx().clone();
         self.poll();
+        self.frame_new_scene();
         let mut actions = Vec::new();
         input::keyboard(&ctx, &self.tools.save_path, &mut actions);
         // Keys act before the panels are laid out, as a click on a panel would next frame.

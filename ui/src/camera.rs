@@ -61,6 +61,20 @@ impl Camera {
         self.target += (-d.x * right + d.y * up) * scale;
     }
 
+    /// Looks at the box `[min, max]` from the current direction, near enough that it
+    /// fills most of a view of `aspect` (width / height) and all of it stays inside.
+    pub fn fit(&mut self, min: Vec3, max: Vec3, aspect: f32) {
+        if !(min.is_finite() && max.is_finite()) || min.cmpgt(max).any() {
+            return;
+        }
+        let radius = ((max - min).length() * 0.5).max(0.05);
+        let half_v = 0.5 * self.fov_y;
+        let half_h = (half_v.tan() * aspect.clamp(0.2, 5.0)).atan();
+        // The bounding sphere inside the narrower of the two angles, with a margin.
+        self.distance = (1.1 * radius / half_v.min(half_h).sin()).clamp(0.1, 20.0);
+        self.target = (min + max) * 0.5;
+    }
+
     pub fn zoom(&mut self, steps: f32) {
         self.distance = (self.distance * (-steps * 0.1).exp()).clamp(0.1, 20.0);
     }

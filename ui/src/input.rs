@@ -11,12 +11,13 @@ use crate::panels::{Drag, ViewPanel};
 use crate::store::Store;
 use crate::tools::TOOLS;
 
-/// The keyboard's shortcuts: a tool's key, undo, redo, save, home.
+/// The keyboard's shortcuts: a tool's key, undo, redo, save, home, F (frame the scene).
 pub fn keyboard(ctx: &egui::Context, save_path: &str, actions: &mut Vec<Action>) {
     if ctx.egui_wants_keyboard_input() {
         return;
     }
-    let (mut tool_key, mut undo, mut redo, mut save, mut home) = (None, false, false, false, false);
+    let (mut tool_key, mut undo, mut redo, mut save, mut home, mut frame) =
+        (None, false, false, false, false, false);
     ctx.input(|i| {
         for (t, _, key, _) in TOOLS {
             if i.key_pressed(key) && !i.modifiers.command {
@@ -28,6 +29,7 @@ pub fn keyboard(ctx: &egui::Context, save_path: &str, actions: &mut Vec<Action>)
             && (i.key_pressed(egui::Key::Y) || (i.modifiers.shift && i.key_pressed(egui::Key::Z)));
         save = i.modifiers.command && i.key_pressed(egui::Key::S);
         home = i.key_pressed(egui::Key::Home);
+        frame = i.key_pressed(egui::Key::F) && !i.modifiers.command;
     });
     if save {
         actions.push(Action::Path(PathOp::Save, save_path.to_string()));
@@ -42,6 +44,9 @@ pub fn keyboard(ctx: &egui::Context, save_path: &str, actions: &mut Vec<Action>)
     }
     if home {
         actions.push(Action::ResetCamera);
+    }
+    if frame {
+        actions.push(Action::FrameScene);
     }
 }
 
@@ -92,7 +97,10 @@ pub fn view_mouse(
             view.drag = Some(Drag { depth, pen: true });
             actions.push(Action::Pointer(h.point.to_array(), 1));
         } else {
-            actions.push(Action::Status("nothing under the mouse to grab".into()));
+            actions.push(Action::Status(format!(
+                "{}: nothing under the mouse to grab; point at the cloth",
+                crate::tools::tool_name(t)
+            )));
         }
     } else if let Some(dr) = &view.drag {
         let target = o + dir * dr.depth;

@@ -213,9 +213,12 @@ impl Link {
             .ports
             .commands
             .send_copy(c)
-            .map_err(|x| format!("sending the command failed: {x:?}"))?;
+            .map_err(|x| format!("Sending the command failed: {x:?}"))?;
         if p.number_of_server_connections() == 0 {
-            return Err("cloth-sim is not running: the command was not delivered".into());
+            return Err(
+                "cloth-sim is not running: the command was not delivered (start it, or cloth-lab)"
+                    .into(),
+            );
         }
         self.pending.push((c.op, p, std::time::Instant::now()));
         Ok(())

@@ -46,3 +46,17 @@ pub const TOOLS: [(u32, &str, egui::Key, &str); 6] = [
 pub fn tool_name(t: u32) -> &'static str {
     TOOLS.iter().find(|x| x.0 == t).map_or("unknown", |x| x.1)
 }
+
+/// The status line for a tool just chosen: its name and what the mouse does with it.
+pub fn tool_sentence(t: u32) -> String {
+    match TOOLS.iter().find(|x| x.0 == t) {
+        Some((_, name, _, help)) => {
+            let mut h = help.chars();
+            let first = h
+                .next()
+                .map_or(String::new(), |c| c.to_lowercase().collect());
+            format!("{name} tool: {first}{}", h.as_str())
+        }
+        None => "An unknown tool".into(),
+    }
+}

@@ -81,7 +81,7 @@ fn cut_and_sew(h: &mut Harness<'static, App>, centre: egui::Pos2) {
     let c = *commands(h).last().unwrap();
     assert_eq!((c.op, c.a), (op::SET_TOOL, tool::CUT));
     assert_eq!(h.state().tool, tool::CUT);
-    h.get_by_label("Cut tool");
+    h.get_by_label_contains("Cut tool: ");
     click(h, centre);
     let c = *commands(h).last().unwrap();
     assert_eq!(c.op, op::CUT_VERTEX, "{c:?}");
@@ -376,4 +376,79 @@ fn a_peer_of_another_protocol_version_gets_a_banner() {
     drop(publisher);
     drop(node);
     domain.remove_leftovers();
+}
+
+/// Every tool, chosen by its label, says in words what it does (never "tool 1").
+#[test]
+fn status_texts_are_sentences() {
+    let mut h = harness();
+    for (t, name, _, _) in ui::tools::TOOLS {
+        h.get_by_label(&format!(
+            "{name}  ({:?})",
+            ui::tools::TOOLS.iter().find(|x| x.0 == t).unwrap().2
+        ))
+        .click();
+        h.run_steps(2);
+        let status = h.state().status.clone();
+        let words: Vec<&str> = status.split_whitespace().collect();
+        assert!(
+            status.starts_with(&format!("{name} tool: ")) && words.len() >= 6,
+            "{status}"
+        );
+        assert!(
+            !(words.len() == 2 && words[1].parse::<u32>().is_ok()),
+            "a bare code: {status}"
+        );
+    }
+    // The hints of a seam being picked and of a click beside the cloth read as sentences.
+    h.get_by_label("Pin  (N)").click();
+    h.run_steps(2);
+    let rect = h.state().view.rect.unwrap();
+    click(&mut h, rect.left_top() + egui::vec2(5.0, 5.0));
+    assert_eq!(h.state().status, "Pin: nothing under the mouse");
+}
+
+/// The camera frames a tall body: a mannequin-sized body that arrives is wholly inside
+/// the view, with the cloth.
+#[test]
+fn the_view_frames_a_tall_body() {
+    let mut h = harness();
+    // A standing figure's box, 1.75 m tall, feet on the floor.
+    let (lo, hi) = ([-0.25f32, 0.0, -0.15], [0.25f32, 1.75, 0.15]);
+    let v: Vec<[f32; 3]> = (0..8)
+        .map(|k| {
+            [
+                if k & 1 == 0 { lo[0] } else { hi[0] },
+                if k & 2 == 0 { lo[1] } else { hi[1] },
+                if k & 4 == 0 { lo[2] } else { hi[2] },
+            ]
+        })
+        .collect();
+    let t = vec![[0, 1, 2], [1, 3, 2], [4, 6, 5], [5, 6, 7]];
+    {
+        let app = h.state_mut();
+        app.store.body = Some((v.clone(), t));
+        app.store.body_version += 1;
+    }
+    h.run_steps(3);
+    let rect = h.state().view.rect.unwrap();
+    let size = glam::Vec2::new(rect.width(), rect.height());
+    let inside = |p: [f32; 3]| {
+        h.state()
+            .camera
+            .to_screen(glam::Vec3::from(p), size)
+            .is_some_and(|s| s.x >= 0.0 && s.y >= 0.0 && s.x <= size.x && s.y <= size.y)
+    };
+    assert!(v.iter().all(|&p| inside(p)), "the body leaves the view");
+    assert!(
+        h.state().store.x.iter().all(|&p| inside(p)),
+        "the cloth leaves the view"
+    );
+    // And the head is not a dot: the body fills a good part of the view's height.
+    let cam = h.state().camera;
+    let top = cam
+        .to_screen(glam::Vec3::new(0.0, 1.75, 0.0), size)
+        .unwrap();
+    let foot = cam.to_screen(glam::Vec3::ZERO, size).unwrap();
+    assert!((foot.y - top.y) > 0.5 * size.y, "{top} {foot} in {size}");
 }

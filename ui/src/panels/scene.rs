@@ -4,6 +4,7 @@
 use std::time::{Duration, Instant};
 
 use shared::command::{BodyChoice, Command};
+use shared::telemetry::{SimTelemetry, scene_body};
 
 use super::material::MaterialChoice;
 use crate::action::Action;
@@ -14,6 +15,8 @@ pub struct ScenePanel {
     pub grid: u32,
     /// A reset waits for a second click within a few seconds.
     reset_armed: Option<Instant>,
+    /// The running design's body and grid, as cloth-sim last reported them.
+    running: Option<(u32, u32)>,
 }
 
 impl Default for ScenePanel {
@@ -22,13 +25,68 @@ impl Default for ScenePanel {
             body: BodyChoice::Cube,
             grid: 64,
             reset_armed: None,
+            running: None,
         }
     }
 }
 
+/// A body's name as the Scene panel shows it.
+fn body_name(code: u32) -> &'static str {
+    match code {
+        scene_body::CUBE => "cube",
+        scene_body::SPHERE => "sphere",
+        scene_body::MANNEQUIN => "mannequin",
+        scene_body::FILE => "a body from a file",
+        _ => "no body",
+    }
+}
+
 impl ScenePanel {
-    pub fn ui(&mut self, ui: &mut egui::Ui, material: MaterialChoice, actions: &mut Vec<Action>) {
+    /// Follows the running design: when cloth-sim reports another body or grid (a reset,
+    /// a load, a restart), the next scene starts from it.
+    fn follow(&mut self, tel: Option<&SimTelemetry>) {
+        let Some(t) = tel else { return };
+        if self.running == Some((t.body, t.grid)) {
+            return;
+        }
+        self.running = Some((t.body, t.grid));
+        match t.body {
+            scene_body::CUBE => self.body = BodyChoice::Cube,
+            scene_body::SPHERE => self.body = BodyChoice::Sphere,
+            scene_body::MANNEQUIN => self.body = BodyChoice::Mannequin,
+            _ => {}
+        }
+        if t.grid > 0 {
+            self.grid = t.grid;
+        }
+    }
+
+    pub fn ui(
+        &mut self,
+        ui: &mut egui::Ui,
+        tel: Option<&SimTelemetry>,
+        material: MaterialChoice,
+        actions: &mut Vec<Action>,
+    ) {
+        self.follow(tel);
         ui.label("Scene");
+        if let Some((body, grid)) = self.running {
+            let cloth = if grid > 0 {
+                format!("a {grid} x {grid} cloth")
+            } else {
+                "an edited cloth".to_string()
+            };
+            ui.label(format!(
+                "Now: {cloth} over {}",
+                match body {
+                    scene_body::CUBE | scene_body::SPHERE | scene_body::MANNEQUIN => {
+                        format!("the {}", body_name(body))
+                    }
+                    other => body_name(other).to_string(),
+                }
+            ))
+            .on_hover_text("The running design, as cloth-sim reports it");
+        }
         ui.horizontal(|ui| {
             ui.label("Body");
             egui::ComboBox::from_id_salt("body")

@@ -170,13 +170,22 @@ impl ToolsPanel {
     /// The camera reset and the mouse's help.
     pub fn view_section(ui: &mut egui::Ui, actions: &mut Vec<Action>) {
         ui.label("View");
-        if ui
-            .button("Reset view")
-            .on_hover_text("Back to the default camera (Home)")
-            .clicked()
-        {
-            actions.push(Action::ResetCamera);
-        }
+        ui.horizontal(|ui| {
+            if ui
+                .button("Frame")
+                .on_hover_text("Fit the body and the cloth in the view (F)")
+                .clicked()
+            {
+                actions.push(Action::FrameScene);
+            }
+            if ui
+                .button("Reset view")
+                .on_hover_text("Back to the default camera (Home)")
+                .clicked()
+            {
+                actions.push(Action::ResetCamera);
+            }
+        });
         ui.small("Left: tool · Right drag: orbit · Shift+right or middle drag: pan · Wheel: zoom");
     }
 }
