@@ -6,12 +6,14 @@ use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
 use cloth_sim::{ServiceConfig, backup_of, resume_or};
+use shared::cli::whole_in;
 use sim_core::collision::BodyKind;
 use sim_core::design::TearMode;
 use sim_core::scenario::{
-    ScenarioConfig, ScenarioName, build_design, max_realtime_grid, run_scenario,
+    MAX_FRAMES, MAX_GRID, MAX_THREADS, ScenarioConfig, ScenarioName, build_design,
+    max_realtime_grid, run_scenario,
 };
-use sim_core::solver::{Material, ModelKind};
+use sim_core::solver::{MAX_FRAME_SUBSTEPS, Material, ModelKind};
 
 #[derive(Parser)]
 #[command(
@@ -38,7 +40,7 @@ enum Command {
         #[arg(long, value_parser = parse_model, default_value = "xpbd")]
         model: ModelKind,
         /// Frames measured per grid size.
-        #[arg(long, default_value_t = 60)]
+        #[arg(long, default_value_t = 60, allow_negative_numbers = true, value_parser = whole_in::<u64>(4, MAX_FRAMES as i64, ""))]
         frames: u64,
         /// Also write the results as JSON here.
         #[arg(long)]
@@ -69,13 +71,13 @@ struct RunArgs {
     #[arg(long, value_parser = parse_body, default_value = "cube")]
     body: BodyKind,
     /// Cells per side of the square cloth.
-    #[arg(long, default_value_t = 64)]
+    #[arg(long, default_value_t = 64, allow_negative_numbers = true, value_parser = whole_in::<usize>(1, MAX_GRID as i64, " cells a side"))]
     grid: usize,
     /// Cloth model (operations need xpbd).
     #[arg(long, value_parser = parse_model, default_value = "xpbd")]
     model: ModelKind,
     /// Substeps per frame (default: the model's).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_parser = whole_in::<usize>(1, MAX_FRAME_SUBSTEPS as i64, " per frame"))]
     substeps: Option<usize>,
     /// Frames per second (1-1000).
     #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
@@ -98,7 +100,7 @@ struct RunArgs {
     #[arg(long, allow_negative_numbers = true)]
     seconds: Option<f64>,
     /// Threads for the XPBD passes (1 or 2).
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = whole_in::<usize>(1, MAX_THREADS as i64, ""))]
     threads: usize,
     /// Run only on these CPUs (such as 0 or 0-2); cloth-lab keeps cloth-sim off the
     /// haptic loop's CPU this way.
@@ -126,20 +128,20 @@ struct ScenarioArgs {
     #[arg(long, value_parser = parse_tear_mode, default_value = "delete")]
     tear_mode: TearMode,
     /// Cells per side of the square cloth: N x N cells, (N+1)^2 vertices.
-    #[arg(long, default_value_t = 64)]
+    #[arg(long, default_value_t = 64, allow_negative_numbers = true, value_parser = whole_in::<usize>(1, MAX_GRID as i64, " cells a side"))]
     grid: usize,
     /// Cloth model: xpbd (default), seed (the paper's mass-spring) or implicit (reference).
     #[arg(long, value_parser = parse_model, default_value = "xpbd")]
     model: ModelKind,
     /// Frames of 1/60 s to simulate (the operation scenarios act at frame 240).
-    #[arg(long, default_value_t = 600)]
+    #[arg(long, default_value_t = 600, allow_negative_numbers = true, value_parser = whole_in::<u64>(1, MAX_FRAMES as i64, ""))]
     frames: u64,
     /// Body: cube, sphere, mannequin or a path to an .obj (metres, Y up, closed, outward
     /// winding). Default: the scenario's own.
     #[arg(long, value_parser = parse_body)]
     body: Option<BodyKind>,
     /// Substeps per frame (default: 5 for xpbd, 1 for implicit, the stable count for seed).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_parser = whole_in::<usize>(1, MAX_FRAME_SUBSTEPS as i64, " per frame"))]
     substeps: Option<usize>,
     /// Use this OBJ (metres, Y up, with UVs for the warp/weft directions) as the cloth
     /// instead of the square grid; it is centred 5 cm above the body.
@@ -151,7 +153,7 @@ struct ScenarioArgs {
     #[command(flatten)]
     material: MaterialArgs,
     /// Threads for the XPBD constraint passes (1 or 2; the result does not depend on it).
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, default_value_t = 2, allow_negative_numbers = true, value_parser = whole_in::<usize>(1, MAX_THREADS as i64, ""))]
     threads: usize,
     /// No progress lines on stderr.
     #[arg(long)]
@@ -229,7 +231,7 @@ fn parse_scenario(s: &str) -> Result<ScenarioName, String> {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli: Cli = shared::cli::parse();
     let result = match cli.command {
         Command::Scenario(a) => scenario(a),
         Command::Run(a) => run_service(a),

@@ -23,7 +23,7 @@ fn tmp(name: &str) -> PathBuf {
 fn fails_cleanly(args: &[&str], expect: &str) {
     let out = cloth_sim(args);
     let err = String::from_utf8_lossy(&out.stderr);
-    assert!(!out.status.success(), "{args:?} succeeded");
+    assert_eq!(out.status.code(), Some(1), "{args:?}: {err}");
     assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
     assert!(
         err.to_lowercase().contains(&expect.to_lowercase()),
@@ -277,15 +277,31 @@ fn bad_input_is_a_clear_error() {
     for (args, expect) in [
         (
             &["--frames", "1000000000000"][..],
-            "frames must be between 1 and 1000000",
+            "--frames <FRAMES>': must be a whole number between 1 and 1000000",
         ),
         (
             &["--substeps", "1000000000"],
-            "substeps must be between 1 and 10000",
+            "--substeps <SUBSTEPS>': must be a whole number between 1 and 10000 per frame",
         ),
+        (
+            &["--substeps", "1e9"],
+            "must be a whole number between 1 and 10000 per frame",
+        ),
+        (&["--frames", "1.5"], "must be a whole number between 1 and"),
         (&["--density", "1e9"], "density must be between"),
-        (&["--threads", "7"], "threads must be between 1 and 2"),
-        (&["--grid", "2000"], "grid must be between 1 and 1999"),
+        (&["--threads", "7"], "whole number between 1 and 2"),
+        (
+            &["--grid", "2000"],
+            "whole number between 1 and 1999 cells a side",
+        ),
+        (
+            &["--grid", "-3"],
+            "whole number between 1 and 1999 cells a side",
+        ),
+        (
+            &["--grid", "nan"],
+            "whole number between 1 and 1999 cells a side",
+        ),
         (&["--cloth-size", "NaN"], "cloth size"),
     ] {
         fails_cleanly(&drape_args(n, args), expect);
@@ -309,8 +325,9 @@ fn bad_run_flags_are_a_clear_error_before_any_work() {
         (&["--rate", "nan"][..], "rate must be between 1 and 1000"),
         (&["--rate", "0"], "rate must be between 1 and 1000"),
         (&["--seconds", "nan"], "seconds must be between"),
-        (&["--threads", "7"], "threads must be between 1 and 2"),
-        (&["--grid", "100000"], "grid must be between 1 and 1999"),
+        (&["--threads", "7"], "whole number between 1 and 2"),
+        (&["--grid", "100000"], "whole number between 1 and 1999"),
+        (&["--substeps", "-1"], "whole number between 1 and 10000"),
         (&["--pinch-stiffness", "-3"], "pinch stiffness"),
         (&["--cpus", "0-"], "not a CPU list"),
     ] {

@@ -7,6 +7,7 @@ use clap::Parser;
 use haptic_loop::device::{OpenHaptics, Replay, Script, SimDevice, Still, TargetSource, Workspace};
 use haptic_loop::looper::{self, LoopConfig};
 use haptic_loop::rt;
+use shared::cli::whole_in;
 use shared::domain::Domain;
 use shared::ports::HapticPorts;
 use shared::services;
@@ -33,18 +34,20 @@ struct Args {
     seconds: Option<f64>,
     /// SCHED_FIFO priority of the loop (1-99). Real time is on by default: SCHED_FIFO,
     /// locked memory and a CPU of its own, each where permitted; one line says what it got.
-    #[arg(long, default_value_t = 80)]
+    #[arg(long, default_value_t = 80, allow_negative_numbers = true,
+          value_parser = whole_in::<i32>(1, 99, " (SCHED_FIFO)"))]
     rt_priority: i32,
     /// CPU to pin the loop to (default: the highest this process may use, when there are
     /// two or more).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_parser = whole_in::<usize>(0, 1023, ""))]
     cpu: Option<usize>,
     /// No real-time scheduling, memory locking or pinning (ticks may be late under load).
     #[arg(long)]
     no_rt: bool,
     /// Busy-wait before each deadline, µs (absorbs the kernel's wake-up jitter; on this
     /// VM 250 keeps the period error's p99.9 under 100 µs).
-    #[arg(long, default_value_t = 250)]
+    #[arg(long, default_value_t = 250, allow_negative_numbers = true,
+          value_parser = whole_in::<u64>(0, 1000, " µs (the period is 1000 µs)"))]
     spin_us: u64,
     /// Record every tick's pen state to this device log (replay it with
     /// --device replay:FILE).
@@ -75,12 +78,7 @@ fn log(msg: &str) {
 
 /// Every flag checked before any work: one line with the accepted range.
 fn validate(a: &Args) -> Result<(), String> {
-    if !(1..=99).contains(&a.rt_priority) {
-        return Err(format!(
-            "--rt-priority must be between 1 and 99 (SCHED_FIFO), got {}",
-            a.rt_priority
-        ));
-    }
+    // --rt-priority, --cpu's range and --spin-us are checked as they are parsed.
     if let Some(c) = a.cpu
         && !shared::cpus::allowed().contains(&c)
     {
@@ -93,12 +91,6 @@ fn validate(a: &Args) -> Result<(), String> {
         && !(s > 0.0 && s <= 1.0e7)
     {
         return Err(format!("--seconds must be between 0 and 10000000, got {s}"));
-    }
-    if a.spin_us > 1000 {
-        return Err(format!(
-            "--spin-us must be between 0 and 1000 (the period is 1000 µs), got {}",
-            a.spin_us
-        ));
     }
     Ok(())
 }
@@ -214,7 +206,7 @@ fn run(a: Args) -> Result<(), String> {
 }
 
 fn main() -> ExitCode {
-    match run(Args::parse()) {
+    match run(shared::cli::parse::<Args>()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("haptic-loop: error: {e}");

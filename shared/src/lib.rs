@@ -14,6 +14,7 @@
 //! - [`domain`] turns `--domain NAME` (or `SAIHO_DOMAIN`) into an iceoryx2 configuration of
 //!   its own, so two systems, or tests running in parallel, never see each other.
 
+pub mod cli;
 pub mod command;
 pub mod cpus;
 pub mod domain;

@@ -19,7 +19,7 @@ use ui::app::{App, Options};
         with the mouse."
 )]
 struct Cli {
-    /// iceoryx2 domain of the running system (default: $SAIHO_DOMAIN, else "saiho").
+    /// iceoryx2 domain of the running system (default: $SAIHO_DOMAIN, else "default").
     #[arg(long)]
     domain: Option<String>,
     /// Save a screenshot of the window as PNG after --exit-after seconds, then quit.
@@ -55,7 +55,7 @@ struct Cli {
 
 fn main() -> ExitCode {
     let launched = std::time::Instant::now();
-    let cli = Cli::parse();
+    let cli: Cli = shared::cli::parse();
     let domain = match Domain::from_arg_or_env(cli.domain.as_deref()) {
         Ok(d) => d,
         Err(e) => {

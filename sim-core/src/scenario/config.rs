@@ -60,7 +60,7 @@ impl ScenarioName {
 
     /// Substeps when none are asked for: the tear scenario runs XPBD at 20, so the stretch
     /// it measures is the pull's and not Gauss-Seidel lag in the hanging cloth (at the
-    /// default 5 the edges over the cube's rim stretch up to ~2.4x; see README).
+    /// default 5 the edges over the cube's rim stretch up to ~2.4x; see docs/models.md).
     pub fn default_substeps(self, model: ModelKind) -> Option<usize> {
         (self == Self::Tear && model == ModelKind::Xpbd).then_some(20)
     }
@@ -101,6 +101,8 @@ pub struct ScenarioConfig {
 pub const MAX_GRID: usize = 1999;
 /// Most frames a scenario runs (4.6 hours of 1/60 s frames).
 pub const MAX_FRAMES: u64 = 1_000_000;
+/// Most threads the XPBD passes split across (the solver's two halves).
+pub const MAX_THREADS: usize = 2;
 
 impl ScenarioConfig {
     /// Checks every setting before any work: ranges that agree with each other (the grid
@@ -110,7 +112,7 @@ impl ScenarioConfig {
         check_range("frames", self.frames, 1, MAX_FRAMES, "")?;
         check_range("cloth size", self.cloth_size, 0.01, 10.0, " m")?;
         check_range("frame duration", self.frame_dt, 1.0e-4, 1.0, " s")?;
-        check_range("threads", self.threads, 1, 2, "")?;
+        check_range("threads", self.threads, 1, MAX_THREADS, "")?;
         if let Some(n) = self.substeps {
             check_range("substeps", n, 1, MAX_FRAME_SUBSTEPS, " per frame")?;
         }

@@ -11,7 +11,9 @@ mod report;
 mod run;
 pub mod scripts;
 
-pub use config::{MAX_FRAMES, MAX_GRID, ScenarioConfig, ScenarioError, ScenarioName, build_design};
+pub use config::{
+    MAX_FRAMES, MAX_GRID, MAX_THREADS, ScenarioConfig, ScenarioError, ScenarioName, build_design,
+};
 pub use realtime::max_realtime_grid;
 pub use report::{OpsReport, Percentiles, Report};
 pub use run::run_scenario;

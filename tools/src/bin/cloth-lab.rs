@@ -9,6 +9,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use clap::{Parser, Subcommand};
+use shared::cli::whole_in;
 use shared::domain::Domain;
 use tools::lab::{Role, Supervisor, have_display, request, sibling};
 
@@ -30,11 +31,13 @@ struct Cli {
     /// Pen: sim (simulated), openhaptics (a Phantom/Touch through libHD), or replay:FILE.
     #[arg(long, default_value = "sim")]
     device: String,
-    /// iceoryx2 domain (default: $SAIHO_DOMAIN, else "saiho").
+    /// iceoryx2 domain (default: $SAIHO_DOMAIN, else "default").
     #[arg(long)]
     domain: Option<String>,
     /// Cloth grid (vertices per side minus one).
-    #[arg(long, default_value_t = 64)]
+    // The same limit as cloth-sim's --grid ((1999 + 1)^2 vertices).
+    #[arg(long, default_value_t = 64, allow_negative_numbers = true,
+          value_parser = whole_in::<usize>(1, 1999, " cells a side"))]
     grid: usize,
     /// Body: cube, sphere, mannequin or FILE.obj.
     #[arg(long, default_value = "cube")]
@@ -52,10 +55,11 @@ struct Cli {
     /// haptic-loop's SCHED_FIFO priority (1-99). Real time is on by default: haptic-loop
     /// gets SCHED_FIFO, locked memory and a CPU of its own where permitted, and cloth-sim
     /// and cloth-ui keep off that CPU.
-    #[arg(long, default_value_t = 80)]
+    #[arg(long, default_value_t = 80, allow_negative_numbers = true,
+          value_parser = whole_in::<u32>(1, 99, " (SCHED_FIFO)"))]
     rt_priority: u32,
     /// haptic-loop's CPU (default: the highest this process may use, with two or more).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_parser = whole_in::<usize>(0, 1023, ""))]
     cpu: Option<usize>,
     /// No real-time scheduling or CPU of its own for haptic-loop.
     #[arg(long)]
@@ -127,19 +131,7 @@ fn cpu_plan(cli: &Cli) -> Option<(usize, Vec<usize>)> {
 
 /// Every flag checked before anything starts: one line with the accepted range.
 fn validate(cli: &Cli) -> Result<(), String> {
-    // The same limit as cloth-sim's --grid ((1999 + 1)^2 vertices).
-    if !(1..=1999).contains(&cli.grid) {
-        return Err(format!(
-            "--grid must be between 1 and 1999 cells a side, got {}",
-            cli.grid
-        ));
-    }
-    if !(1..=99).contains(&cli.rt_priority) {
-        return Err(format!(
-            "--rt-priority must be between 1 and 99 (SCHED_FIFO), got {}",
-            cli.rt_priority
-        ));
-    }
+    // --grid and --rt-priority are checked as they are parsed (`whole_in`).
     if let Some(c) = cli.cpu
         && !shared::cpus::allowed().contains(&c)
     {
@@ -361,7 +353,7 @@ fn run_headless(cli: &Cli) -> Result<(), String> {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli: Cli = shared::cli::parse();
     let r = match &cli.command {
         Some(Cmd::Restart { role, domain }) => Role::parse(role)
             .and_then(|r| control(&format!("restart {}", r.name()), domain.as_deref())),

@@ -29,7 +29,7 @@ struct Common {
     /// How long to measure, s.
     #[arg(long, default_value_t = 10.0)]
     seconds: f64,
-    /// iceoryx2 domain of the running system (default: $SAIHO_DOMAIN, else "saiho").
+    /// iceoryx2 domain of the running system (default: $SAIHO_DOMAIN, else "default").
     /// `ping` uses its own private domain unless this is given.
     #[arg(long)]
     domain: Option<String>,
@@ -185,7 +185,7 @@ fn run(cli: Cli) -> Result<(), String> {
 }
 
 fn main() -> ExitCode {
-    match run(Cli::parse()) {
+    match run(shared::cli::parse::<Cli>()) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");
