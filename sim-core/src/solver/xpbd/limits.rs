@@ -21,7 +21,7 @@
 //! the links around what it touched (`StretchLimits::update`), so a cut or a tear frees
 //! what it separates and a seam or an undo joins it again.
 //!
-//! Measured (README): on the mannequin drape the mean strain falls from 41% to 5% and the
+//! Measured (docs/models.md): on the mannequin drape the mean strain falls from 41% to 5% and the
 //! drape comes to rest; the frame costs about 0.6 ms more at 128 x 128.
 //!
 //! Where the cloth hangs from a body (a cube's rim, the top of the head) every link
