@@ -30,6 +30,12 @@ struct ExportReport {
     kinetic_energy_final_j: f64,
     settled: bool,
     mesh_valid: bool,
+    /// Exact counts (`collision::crossings`): intersecting pairs of cloth triangles
+    /// (sharing no vertex); intersecting (cloth, body) triangle pairs, and the cloth
+    /// triangles among them.
+    crossings_self: usize,
+    crossings_body: usize,
+    crossings_body_triangles: usize,
     seams: usize,
     seam_pairs_welded: u64,
     /// Over the cube's side panels (see `cloth-sim scenario fit-cube`), m.
@@ -89,6 +95,7 @@ pub(crate) fn export(
         files.push(path);
     }
     let ke = sim.cloth.kinetic_energy();
+    let crossings = sim.crossings();
     let mass: f64 = sim.cloth.mass.iter().map(|&m| m as f64).sum();
     let report = ExportReport {
         model: sim.model.name(),
@@ -105,6 +112,9 @@ pub(crate) fn export(
         kinetic_energy_final_j: ke,
         settled: ke <= 0.5 * mass * 0.01f64.powi(2),
         mesh_valid: design.validate().is_ok(),
+        crossings_self: crossings.self_pairs,
+        crossings_body: crossings.body_pairs,
+        crossings_body_triangles: crossings.body_triangles,
         seams: design.seams.len(),
         seam_pairs_welded: stats.welds,
         fit_gap_mean_m: gap.map(|g| g.0),

@@ -1,7 +1,7 @@
 //! `cloth-sim`: the cloth simulation process (`run`), the headless scenarios
 //! (`scenario`) and the real-time grid search (`max-realtime-grid`).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
@@ -9,6 +9,7 @@ use cloth_sim::{ServiceConfig, backup_of, resume_or};
 use shared::cli::whole_in;
 use sim_core::collision::BodyKind;
 use sim_core::design::TearMode;
+use sim_core::mesh::obj::load_obj;
 use sim_core::scenario::{
     MAX_FRAMES, MAX_GRID, MAX_THREADS, ScenarioConfig, ScenarioName, build_design,
     max_realtime_grid, run_scenario,
@@ -34,6 +35,17 @@ enum Command {
     /// Run the simulation as a process: follow the pen from haptic-loop (button 1 pinches),
     /// publish the local model it renders force from, autosave and resume the design.
     Run(RunArgs),
+    /// Count the exact crossings of a cloth OBJ (an export of ours or anyone's): pairs of
+    /// its triangles that intersect (sharing no vertex), and with --body the triangles that
+    /// intersect the body's surface. Exact predicates: touching counts, nothing is missed.
+    Crossings {
+        /// The cloth, as an OBJ (vertices at the same position are one vertex).
+        cloth: PathBuf,
+        /// The body: cube, sphere, mannequin (ours, as the scenarios place them) or an
+        /// .obj (a scenario's body.obj).
+        #[arg(long, value_parser = parse_body)]
+        body: Option<BodyKind>,
+    },
     /// Find the largest cloth grid a model steps in real time (drape-cube, 60 Hz frames).
     MaxRealtimeGrid {
         /// Cloth model.
@@ -158,6 +170,10 @@ struct ScenarioArgs {
     /// No progress lines on stderr.
     #[arg(long)]
     quiet: bool,
+    /// Count the exact crossings every N frames too; the report keeps the most seen
+    /// (`crossings_self_max`, `crossings_body_max`). They are always counted at the end.
+    #[arg(long, allow_negative_numbers = true, value_parser = whole_in::<u64>(1, MAX_FRAMES as i64, " frames"))]
+    check_every: Option<u64>,
 }
 
 #[derive(Args)]
@@ -241,6 +257,7 @@ fn main() -> ExitCode {
             json,
             matched,
         } => realtime(model, frames, json, matched),
+        Command::Crossings { cloth, body } => crossings(&cloth, body.as_ref()),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -295,6 +312,11 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
         || build_design(&scene).map_err(|e| e.to_string()),
         &mut log,
     )?;
+    if !resumed {
+        for n in &design.sim.notices {
+            log(&format!("note: {n}"));
+        }
+    }
     log(&format!(
         "{} vertices, domain '{}', {} Hz, autosave {}{}",
         design.sim.cloth.len(),
@@ -338,11 +360,13 @@ fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>> {
     cfg.threads = a.threads;
     cfg.tear_threshold = a.tear_threshold;
     cfg.tear_mode = a.tear_mode;
+    cfg.check_every = a.check_every;
     let r = run_scenario(&cfg, &a.out)?;
     eprintln!(
         "{}: {} model, {} vertices, {} frames x {} substeps: frame p50 {:.2} ms p99 {:.2} ms; \
          max penetration {:.2e} m; final kinetic energy {:.2e} J; settled {}; \
-         strain mean {:.1}% max {:.0}%; mesh valid {}",
+         strain mean {:.1}% max {:.0}%; mesh valid {}; crossing pairs: {} cloth-cloth, {} \
+         cloth-body",
         r.scenario,
         r.model,
         r.vertices,
@@ -355,9 +379,38 @@ fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>> {
         r.settled,
         r.strain_mean * 100.0,
         r.strain_max * 100.0,
-        r.mesh_valid
+        r.mesh_valid,
+        r.crossings_self,
+        r.crossings_body
     );
     eprintln!("wrote {}", a.out.join("report.json").display());
+    Ok(())
+}
+
+/// `cloth-sim crossings`: the exact counts of an OBJ cloth, alone and against a body.
+fn crossings(cloth: &Path, body: Option<&BodyKind>) -> Result<(), Box<dyn std::error::Error>> {
+    let mesh = load_obj(cloth)?;
+    // Vertices at one position are one vertex (an OBJ repeats them where UVs differ).
+    let (x, tris) = sim_core::collision::crossings::weld(&mesh.positions, &mesh.triangles);
+    let body = body.map(BodyKind::build).transpose()?;
+    let c = sim_core::collision::crossings::count(&x, &tris, body.as_ref());
+    println!(
+        "{}: {} triangles, {} vertices; {} intersecting pairs of its triangles{}",
+        cloth.display(),
+        tris.len(),
+        x.len(),
+        c.self_pairs,
+        match &body {
+            Some(b) => format!(
+                "; {} of its triangles cross the body in {} pairs ({}, {} triangles)",
+                c.body_triangles,
+                c.body_pairs,
+                b.name,
+                b.triangles.len()
+            ),
+            None => String::new(),
+        }
+    );
     Ok(())
 }
 

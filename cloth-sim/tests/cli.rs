@@ -183,6 +183,33 @@ fn every_model_and_body_runs() {
         "v 0 0 0\nv 0.5 0 0\nv 0 0 0.5\nv 0 0.5 0\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n",
     )
     .unwrap();
+    // The same tetrahedron wound inside out: turned outward, and the user is told.
+    let inside_out = tmp("body").join("inside-out.obj");
+    std::fs::write(
+        &inside_out,
+        "v 0 0 0\nv 0.5 0 0\nv 0 0 0.5\nv 0 0.5 0\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
+    )
+    .unwrap();
+    let dir = tmp("inside-out");
+    let out = cloth_sim(&drape_args(
+        dir.to_str().unwrap(),
+        &[
+            "--grid",
+            "8",
+            "--frames",
+            "5",
+            "--body",
+            inside_out.to_str().unwrap(),
+            "--quiet",
+        ],
+    ));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains("wound inside out") && err.contains("turned it outward"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(dir).ok();
     for (model, body) in [
         ("seed", "cube"),
         ("implicit", "sphere"),
@@ -251,13 +278,13 @@ fn bad_input_is_a_clear_error() {
     std::fs::write(&nan, "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n").unwrap();
     fails_cleanly(
         &drape_args(o, &["--body", nan.to_str().unwrap()]),
-        "non-finite",
+        "line 3: vertex 3 is not finite",
     );
     let degenerate = dir.join("flat.obj");
     std::fs::write(&degenerate, "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n").unwrap();
     fails_cleanly(
         &drape_args(o, &["--body", degenerate.to_str().unwrap()]),
-        "degenerate",
+        "the face on line 4 has no area",
     );
     let nonmanifold = dir.join("fin.obj");
     std::fs::write(
@@ -270,6 +297,29 @@ fn bad_input_is_a_clear_error() {
         "shared by 3",
     );
     fails_cleanly(&drape_args(o, &["--cloth", nan.to_str().unwrap()]), "cloth");
+    // A body with a hole, named where the file has it; a sheet that encloses nothing.
+    let open = dir.join("open.obj");
+    std::fs::write(
+        &open,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n",
+    )
+    .unwrap();
+    fails_cleanly(
+        &drape_args(o, &["--body", open.to_str().unwrap()]),
+        "is not a solid body: it is not closed: the edge from vertex 2 to vertex 3 has a face on one side only (line 5)",
+    );
+    // A cloth that crosses itself: two squares, one through the other.
+    let crossed = dir.join("crossed.obj");
+    std::fs::write(
+        &crossed,
+        "v 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 0 1\nv 0.5 -0.5 0.5\nv 0.5 0.5 0.5\nv 0.5 0.5 1.5\nv 0.5 -0.5 1.5\n\
+         f 1 2 3\nf 1 3 4\nf 5 6 7\nf 5 7 8\n",
+    )
+    .unwrap();
+    fails_cleanly(
+        &drape_args(o, &["--cloth", crossed.to_str().unwrap()]),
+        "pairs of its triangles intersect",
+    );
     // Absurd values get one line with the accepted range, before any work: no abort on
     // a huge allocation, no hang, no output directory left behind.
     let never = dir.join("never");
@@ -311,7 +361,7 @@ fn bad_input_is_a_clear_error() {
     std::fs::write(&garbage, "f 1 2 3\nv x y z\n").unwrap();
     fails_cleanly(
         &drape_args(o, &["--body", garbage.to_str().unwrap()]),
-        "error",
+        "line 1: vertex 1 does not exist",
     );
     std::fs::remove_dir_all(dir).ok();
 }
@@ -352,5 +402,92 @@ fn bad_run_flags_are_a_clear_error_before_any_work() {
         ],
         "a file, not a directory",
     );
+    std::fs::remove_dir_all(dir).ok();
+}
+
+/// The numbers in `cloth-sim crossings`' line: self pairs, body triangles, body pairs.
+fn crossing_counts(args: &[&str]) -> (u64, u64, u64) {
+    let out = cloth_sim(args);
+    let text = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let before = |marker: &str| -> u64 {
+        let head = &text[..text
+            .find(marker)
+            .unwrap_or_else(|| panic!("{marker}: {text}"))];
+        head.rsplit(' ')
+            .find(|w| !w.is_empty())
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    if !text.contains("cross the body") {
+        return (before(" intersecting pairs"), 0, 0);
+    }
+    (
+        before(" intersecting pairs"),
+        before(" of its triangles cross"),
+        before(" pairs ("),
+    )
+}
+
+#[test]
+fn crossings_are_counted_exactly_in_reports_and_in_any_obj() {
+    let dir = tmp("crossings");
+    // Two triangles far from the cube, one piercing the other, and one through the
+    // cube's top face (y = 0.4).
+    let obj = dir.join("soup.obj");
+    std::fs::write(
+        &obj,
+        "v 1 0 0\nv 2 0 0\nv 1 0 1\n\
+         v 1.2 -0.5 0.2\nv 1.3 0.5 0.2\nv 1.25 0.5 0.3\n\
+         v -0.1 0.3 0\nv 0.1 0.5 0\nv 0 0.5 0.1\n\
+         f 1 2 3\nf 4 5 6\nf 7 8 9\n",
+    )
+    .unwrap();
+    let o = obj.to_str().unwrap();
+    let (selfp, body_tris, body_pairs) = crossing_counts(&["crossings", o, "--body", "cube"]);
+    assert_eq!((selfp, body_tris), (1, 1));
+    assert!(body_pairs >= 1);
+    assert_eq!(crossing_counts(&["crossings", o]).0, 1);
+
+    // A scenario's report counts what its exported OBJ shows, and the most seen.
+    let d = dir.join("drape");
+    let out = cloth_sim(&[
+        "scenario",
+        "drape-cube",
+        "--out",
+        d.to_str().unwrap(),
+        "--grid",
+        "24",
+        "--frames",
+        "150",
+        "--check-every",
+        "25",
+        "--quiet",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("report.json")).unwrap()).unwrap();
+    let n = |k: &str| r[k].as_u64().unwrap_or_else(|| panic!("{k} in {r}"));
+    let (selfp, body_tris, body_pairs) = crossing_counts(&[
+        "crossings",
+        d.join("cloth.obj").to_str().unwrap(),
+        "--body",
+        d.join("body.obj").to_str().unwrap(),
+    ]);
+    assert_eq!(selfp, n("crossings_self"));
+    assert_eq!(body_pairs, n("crossings_body"));
+    assert_eq!(body_tris, n("crossings_body_triangles"));
+    assert!(n("crossings_self_max") >= n("crossings_self"));
+    assert!(n("crossings_body_max") >= n("crossings_body"));
+    assert_eq!(n("check_every"), 25);
     std::fs::remove_dir_all(dir).ok();
 }

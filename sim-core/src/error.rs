@@ -38,6 +38,12 @@ pub enum LoadError {
         path: PathBuf,
         source: GeometryError,
     },
+    #[error("{path} is not a solid body: {problem}")]
+    NotSolid { path: PathBuf, problem: String },
+    #[error(
+        "{path}: {pairs} pairs of its triangles intersect; a cloth that starts crossed through itself stays crossed (untangle it in your modeller, or check it with `cloth-sim crossings`)"
+    )]
+    CrossesItself { path: PathBuf, pairs: usize },
 }
 
 /// A setting that is out of range.

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use glam::Vec3;
 
-use crate::collision::BodyKind;
+use crate::collision::{BodyKind, crossings};
 use crate::design::export::ExportError;
 use crate::design::file::DesignError;
 use crate::design::{Design, EditError, TearMode, TearSettings};
@@ -95,6 +95,8 @@ pub struct ScenarioConfig {
     /// The tear scenario's tearing: stretch ratio and mode.
     pub tear_threshold: f32,
     pub tear_mode: TearMode,
+    /// Count the crossings every this many frames too (the report keeps the most seen).
+    pub check_every: Option<u64>,
 }
 
 /// Largest grid: (1999 + 1)^2 vertices is `MAX_VERTICES`.
@@ -115,6 +117,9 @@ impl ScenarioConfig {
         check_range("threads", self.threads, 1, MAX_THREADS, "")?;
         if let Some(n) = self.substeps {
             check_range("substeps", n, 1, MAX_FRAME_SUBSTEPS, " per frame")?;
+        }
+        if let Some(n) = self.check_every {
+            check_range("check every", n, 1, MAX_FRAMES, " frames")?;
         }
         check_range(
             "tear threshold",
@@ -142,6 +147,7 @@ impl ScenarioConfig {
             threads: 1,
             tear_threshold: TearSettings::default().threshold,
             tear_mode: TearMode::Delete,
+            check_every: None,
         }
     }
 }
@@ -176,13 +182,25 @@ pub enum ScenarioError {
 pub fn build_design(cfg: &ScenarioConfig) -> Result<Design, ScenarioError> {
     cfg.validate()?;
     let body = cfg.body.build()?;
+    let repairs = body.repairs.clone();
     let (_, top) = body.bounds();
     let (mn, mx) = body.bounds();
     let cx = (mn.x + mx.x) * 0.5;
     let cz = (mn.z + mx.z) * 0.5;
     let mut mesh = match &cfg.cloth {
         None => ClothMesh::grid(cfg.cloth_size, cfg.cloth_size, cfg.grid, cfg.grid, 0.0)?,
-        Some(path) => obj::load_obj(path).map_err(ScenarioError::ClothFile)?,
+        Some(path) => {
+            let mesh = obj::load_obj(path).map_err(ScenarioError::ClothFile)?;
+            let (x, tris) = crossings::weld(&mesh.positions, &mesh.triangles);
+            let pairs = crossings::count_self(&x, &tris);
+            if pairs > 0 {
+                return Err(ScenarioError::ClothFile(LoadError::CrossesItself {
+                    path: path.clone(),
+                    pairs,
+                }));
+            }
+            mesh
+        }
     };
     // Centre the cloth over the body, its lowest point 5 cm above the body's top.
     let (cmin, cmax) = crate::mesh::bounds(&mesh.positions);
@@ -208,5 +226,6 @@ pub fn build_design(cfg: &ScenarioConfig) -> Result<Design, ScenarioError> {
         cfg.substeps.or(cfg.scenario.default_substeps(cfg.model)),
     )?;
     sim.set_threads(cfg.threads);
+    sim.notices.extend(repairs);
     Ok(Design::new(sim))
 }

@@ -87,6 +87,19 @@ pub struct Report {
     /// and the largest. Cotton barely stretches; more is the solver's lag.
     pub strain_mean: f64,
     pub strain_max: f64,
+    /// Exact counts at the end (`collision::crossings`): pairs of cloth triangles that
+    /// intersect (sharing no vertex); pairs of a cloth and a body triangle that
+    /// intersect, and the cloth triangles among them.
+    pub crossings_self: usize,
+    pub crossings_body: usize,
+    pub crossings_body_triangles: usize,
+    /// With `--check-every N`: the most seen at any checked frame (the end included).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub crossings_self_max: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub crossings_body_max: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub check_every: Option<u64>,
     /// Drape-cube only: the largest distance from the top-face part of the cloth to the
     /// plane it should rest on (top + thickness), m.
     #[serde(skip_serializing_if = "Option::is_none")]

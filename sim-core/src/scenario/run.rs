@@ -9,6 +9,7 @@ use glam::Vec3;
 use super::config::{ScenarioConfig, ScenarioError, ScenarioName, build_design};
 use super::report::{OpsReport, Percentiles, Report};
 use super::scripts;
+use crate::collision::crossings::Crossings;
 use crate::collision::{Body, BodyKind};
 use crate::design::Design;
 use crate::design::export::{export_glb, export_obj};
@@ -22,6 +23,8 @@ struct Frames {
     collision_ms: Vec<f64>,
     kinetic_energy_max: f64,
     ops: OpsReport,
+    /// With `check_every`: the most crossings seen at a checked frame.
+    crossings_max: Option<Crossings>,
 }
 
 /// Runs a scenario and writes `out/cloth.obj`, `out/body.obj` and `out/report.json`.
@@ -96,6 +99,14 @@ fn run_frames(cfg: &ScenarioConfig, design: &mut Design) -> Result<Frames, Scena
         {
             design.pinch_end();
             pull = None;
+        }
+        if let Some(n) = cfg.check_every
+            && (f + 1) % n == 0
+        {
+            let c = design.sim.crossings();
+            let m = frames.crossings_max.get_or_insert_with(Crossings::default);
+            m.self_pairs = m.self_pairs.max(c.self_pairs);
+            m.body_pairs = m.body_pairs.max(c.body_pairs);
         }
         frames.step_ms.push(stats.wall_ms);
         frames.collision_ms.push(stats.collision_ms);
@@ -221,6 +232,14 @@ fn report(
             .fold(0.0, f64::max)
     });
     let (strain_mean, strain_max) = sim.cloth.strain();
+    let crossings = sim.crossings();
+    let seen = cfg.check_every.map(|_| {
+        let m = frames.crossings_max.unwrap_or_default();
+        (
+            m.self_pairs.max(crossings.self_pairs),
+            m.body_pairs.max(crossings.body_pairs),
+        )
+    });
     let ke = sim.cloth.kinetic_energy();
     let top_face_gap = match &sim.body {
         Some(body) if cfg.scenario == ScenarioName::DrapeCube && cfg.body == BodyKind::Cube => {
@@ -251,6 +270,12 @@ fn report(
         mesh_valid: design.validate().is_ok(),
         strain_mean,
         strain_max,
+        crossings_self: crossings.self_pairs,
+        crossings_body: crossings.body_pairs,
+        crossings_body_triangles: crossings.body_triangles,
+        crossings_self_max: seen.map(|s| s.0),
+        crossings_body_max: seen.map(|s| s.1),
+        check_every: cfg.check_every,
         top_face_gap_max_m: top_face_gap,
         stable_step_s: sim.stable_step,
         settled: ke <= 0.5 * total_mass * 0.01f64.powi(2),

@@ -287,6 +287,16 @@ impl Simulation {
         self.solver.energy(&self.cloth, self.env.gravity)
     }
 
+    /// The cloth's exact crossings as it is now, with itself and the body
+    /// (`collision::crossings`).
+    pub fn crossings(&self) -> crate::collision::crossings::Crossings {
+        crate::collision::crossings::count(
+            &self.cloth.x,
+            &self.cloth.live.triangles(),
+            self.body.as_ref(),
+        )
+    }
+
     pub fn constraint_count(&self) -> usize {
         self.solver.constraint_count(&self.cloth)
     }

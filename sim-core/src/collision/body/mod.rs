@@ -2,9 +2,11 @@
 //! mannequin, or any closed OBJ surface.
 //!
 //! Inside: `analytic` (exact solids) and `clearance` (the distance grid) <- `surface`
-//! (`Body`) <- `shapes` and `mannequin` (the builders).
+//! (`Body`) <- `shapes` and `mannequin` (the builders); `check` reads a body OBJ and
+//! checks it is a solid, below `shapes`.
 
 mod analytic;
+mod check;
 mod clearance;
 mod mannequin;
 mod shapes;

@@ -209,18 +209,22 @@ pub(crate) fn icosphere(subdiv: usize) -> (Vec<Vec3>, Vec<[u32; 3]>) {
     (v, t)
 }
 
+/// A body from an OBJ file: checked to be a solid (closed, manifold, consistently wound,
+/// enclosing a volume), its winding turned outward if it was not (`Body::repairs` says so).
 fn obj_body(path: &Path) -> Result<Body, LoadError> {
-    let mesh = crate::mesh::obj::load_obj(path)?;
-    Body::new(
+    let checked = super::check::read_body_obj(path)?;
+    let mut body = Body::new(
         path.display().to_string(),
-        mesh.positions,
-        mesh.triangles,
+        checked.vertices,
+        checked.triangles,
         None,
     )
     .map_err(|source| LoadError::Invalid {
         path: path.to_owned(),
         source,
-    })
+    })?;
+    body.repairs = checked.repairs;
+    Ok(body)
 }
 
 #[cfg(test)]

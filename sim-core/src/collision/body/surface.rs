@@ -26,6 +26,9 @@ pub struct Body {
     edge_normals: Vec<[Vec3; 3]>,
     /// Exact shape when the body is made of primitives; used for reporting penetration.
     pub analytic: Option<Analytic>,
+    /// What was repaired when the body was read from a file (an inside-out surface
+    /// turned outward), for the user to be told.
+    pub repairs: Vec<String>,
 }
 
 /// The body surface near a point.
@@ -94,6 +97,7 @@ impl Body {
             vertex_normals,
             edge_normals,
             analytic,
+            repairs: Vec::new(),
             clearance: ClearanceGrid::default(),
         };
         body.clearance = ClearanceGrid::new(&body.vertices, |p, max_dist| {
