@@ -142,7 +142,8 @@ struct ScenarioArgs {
     /// Cells per side of the square cloth: N x N cells, (N+1)^2 vertices.
     #[arg(long, default_value_t = 64, allow_negative_numbers = true, value_parser = whole_in::<usize>(1, MAX_GRID as i64, " cells a side"))]
     grid: usize,
-    /// Cloth model: xpbd (default), seed (the paper's mass-spring) or implicit (reference).
+    /// Cloth model: xpbd (default), vbd (never crosses; slow, see docs/models.md), seed (the
+    /// paper's mass-spring) or implicit (reference).
     #[arg(long, value_parser = parse_model, default_value = "xpbd")]
     model: ModelKind,
     /// Frames of 1/60 s to simulate (the operation scenarios act at frame 240).

@@ -539,3 +539,162 @@ fn stretch_limits_keep_a_cloth_draped_on_the_mannequin_near_its_rest_length() {
     assert!(s < 0.05, "mean strain {s}");
     assert!(ke < 1e-6, "kinetic energy {ke:.2e} J");
 }
+
+/// The VBD model's hanging cloth rests where the implicit reference's does, as close
+/// as XPBD at 20 substeps gets, and the step count does not change its sag: the
+/// global step carries the weight however few steps there are.
+#[test]
+fn vbd_rest_shape_matches_the_implicit_equilibrium_at_any_step_count() {
+    let n = 12;
+    let bare = Material {
+        tethers: false,
+        stretch_limits: false,
+        ..Material::default()
+    };
+    let mut im = hanging(n, 0.5, ModelKind::Implicit, Some(1), bare);
+    run_until_still(&mut im, 900);
+    let run = |substeps: usize| {
+        let mut v = hanging(n, 0.5, ModelKind::Vbd, Some(substeps), bare);
+        run_until_still(&mut v, 900);
+        assert!(
+            v.cloth.kinetic_energy() < 1e-6,
+            "still moving at {substeps} substeps: {} J",
+            v.cloth.kinetic_energy()
+        );
+        v
+    };
+    let default = run(sim_core::solver::VBD_DEFAULT_SUBSTEPS);
+    let fine = run(4 * sim_core::solver::VBD_DEFAULT_SUBSTEPS);
+    let worst = farthest_vertex(&default, &im);
+    let (sd, sf) = (sag(&default, n), sag(&fine, n));
+    eprintln!("VBD vs implicit: {worst} m; sag {sd:?} at the default steps, {sf:?} at 4x");
+    assert!(
+        worst < TOL_IMPLICIT,
+        "VBD rest shape is {worst} m from the implicit equilibrium"
+    );
+    assert!(
+        (sd.0 - sf.0).abs() < 0.001 && (sd.1 - sf.1).abs() < 0.001,
+        "sag moves with the step count: {sd:?} vs {sf:?}"
+    );
+}
+
+/// Every frame's exact crossing count, for a cloth of `n` cells whose flat grid (in the
+/// XZ plane, centred on the origin) is placed by `place` and thrown at `velocity` onto
+/// `body`: it must stay 0 however fast the cloth comes.
+fn thrown_at(
+    body: sim_core::collision::Body,
+    place: impl Fn(Vec3) -> Vec3,
+    velocity: Vec3,
+    size: f32,
+    n: usize,
+    frames: usize,
+) -> Simulation {
+    let material = Material::default();
+    let mut mesh = ClothMesh::grid(size, size, n, n, 0.0).unwrap();
+    for p in &mut mesh.positions {
+        *p = place(*p);
+    }
+    let mut cloth = Cloth::new(mesh, &material).unwrap();
+    for v in &mut cloth.v {
+        *v = velocity;
+    }
+    let env = Environment {
+        floor: None,
+        ..Environment::default()
+    };
+    let mut sim = Simulation::new(cloth, Some(body), ModelKind::Vbd, material, env, None).unwrap();
+    assert_eq!(
+        sim.crossings().body_triangles,
+        0,
+        "the cloth starts clear of the body"
+    );
+    for frame in 0..frames {
+        sim.step().unwrap();
+        let c = sim.crossings();
+        assert_eq!(
+            (c.self_pairs, c.body_triangles),
+            (0, 0),
+            "frame {frame}: crossings (cloth-cloth, cloth-body)"
+        );
+    }
+    sim
+}
+
+#[test]
+fn vbd_cloth_thrown_onto_a_thin_plate_edge_does_not_pass_through() {
+    // A 2 mm plate, 30 cm square, its edge at x = 0 under the cloth's last fifth.
+    let unit = sim_core::collision::body::cube(Vec3::ZERO, 1.0, 1).unwrap();
+    let vertices = unit
+        .vertices
+        .iter()
+        .map(|p| Vec3::new(p.x * 0.15 - 0.15, 0.5 + p.y * 0.001, p.z * 0.15))
+        .collect();
+    let plate =
+        sim_core::collision::Body::new("plate", vertices, unit.triangles.clone(), None).unwrap();
+    let down = Vec3::new(0.0, -5.0, 0.0);
+    let sim = thrown_at(
+        plate,
+        |p| p + Vec3::new(-0.06, 0.56, 0.0),
+        down,
+        0.2,
+        16,
+        30,
+    );
+    // It met the plate and folded over its edge: most on top, the rest hanging past it.
+    let x = &sim.cloth.x;
+    let on_top = x
+        .iter()
+        .filter(|p| p.x < -0.02 && p.y > 0.5 && p.y < 0.53)
+        .count();
+    let below = x.iter().filter(|p| p.x > 0.0 && p.y < 0.49).count();
+    assert!(
+        on_top > 50 && below > 10,
+        "{on_top} vertices on the plate, {below} hanging past it"
+    );
+}
+
+#[test]
+fn vbd_cloth_thrown_onto_the_mannequins_hand_does_not_pass_through() {
+    let body = sim_core::collision::body::mannequin().unwrap();
+    // Upright beside the right hand (the forearm ends at 0.34, 0.86, 0.04), thrown
+    // sideways at it.
+    let place = |p: Vec3| Vec3::new(0.45, 0.86 + p.z, 0.04 + p.x);
+    let sim = thrown_at(body, place, Vec3::new(-5.0, 0.0, 0.0), 0.12, 12, 4);
+    // 67 ms later (33 cm of flight): stopped at the hand, its sides wrapped past it.
+    let centre = sim.cloth.x[6 * 13 + 6];
+    let reach = sim
+        .cloth
+        .x
+        .iter()
+        .map(|p| p.x)
+        .fold(f32::INFINITY, f32::min);
+    eprintln!("centre at x = {}, farthest vertex at x = {reach}", centre.x);
+    assert!(
+        centre.x > 0.37 && reach < 0.36,
+        "centre at {centre}, reach {reach}"
+    );
+}
+
+#[test]
+fn vbd_drape_cube_never_crosses_and_stays_cloth_stiff() {
+    let mut cfg = ScenarioConfig::new(ScenarioName::DrapeCube);
+    cfg.grid = 24;
+    cfg.frames = 150;
+    cfg.model = ModelKind::Vbd;
+    cfg.check_every = Some(5);
+    let dir = std::env::temp_dir().join(format!("saiho-vbd-drape-{}", std::process::id()));
+    let r = sim_core::scenario::run_scenario(&cfg, &dir).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(r.mesh_valid);
+    assert_eq!((r.crossings_self, r.crossings_body), (0, 0));
+    assert_eq!(
+        (r.crossings_self_max, r.crossings_body_max),
+        (Some(0), Some(0))
+    );
+    assert!(
+        r.strain_mean < 0.01 && r.strain_max < 0.25,
+        "strain mean {} max {}",
+        r.strain_mean,
+        r.strain_max
+    );
+}

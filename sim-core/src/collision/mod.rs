@@ -9,6 +9,7 @@ pub mod body;
 pub mod contact;
 pub mod crossings;
 pub mod obb;
+pub mod proximity;
 
 pub use body::{Body, BodyContact, BodyKind};
 pub use contact::{ContactCache, ContactParams};

@@ -251,6 +251,7 @@ impl Implicit {
             contacts,
             env,
             substeps,
+            ..
         } = frame;
         let h = (env.frame_dt / substeps as f32) as f64;
         let n = cloth.len();

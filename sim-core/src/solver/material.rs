@@ -7,6 +7,8 @@ use crate::error::{ConfigError, check_range};
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ModelKind {
+    /// Vertex Block Descent with penetration-free contact (cloth-body and self).
+    Vbd,
     /// Small-steps XPBD with membrane and bending constraints in physical units.
     #[default]
     Xpbd,
@@ -20,19 +22,21 @@ pub enum ModelKind {
 impl ModelKind {
     pub fn parse(s: &str) -> Result<Self, ConfigError> {
         match s {
+            "vbd" => Ok(Self::Vbd),
             "xpbd" => Ok(Self::Xpbd),
             "seed" => Ok(Self::Seed),
             "implicit" => Ok(Self::Implicit),
             other => Err(ConfigError::Unknown {
                 what: "model",
                 name: other.into(),
-                expected: "xpbd, seed, implicit",
+                expected: "vbd, xpbd, seed, implicit",
             }),
         }
     }
 
     pub fn name(self) -> &'static str {
         match self {
+            Self::Vbd => "vbd",
             Self::Xpbd => "xpbd",
             Self::Seed => "seed",
             Self::Implicit => "implicit",

@@ -15,15 +15,20 @@ mod seed;
 mod sim;
 mod state;
 mod stitch;
+mod vbd;
 mod xpbd;
 
 pub use constraints::{BendConstraint, Membrane, bending_energy, build_bending, build_membranes};
 pub use implicit::{Implicit, ImplicitError};
 pub use material::{DEFAULT_SHEAR_DAMPING, Material, ModelKind};
-pub use model::{Drive, Environment, FrameInput, Solver, StepError};
+pub use model::{ContactStats, Drive, Environment, FrameInput, Solver, StepError};
 pub use pinch::{Grip, PenInput, PenPath, Pinch};
 pub use seed::{Seed, seed_safe_step, seed_stable_step};
-pub use sim::{FrameStats, MAX_FRAME_SUBSTEPS, MAX_SUBSTEPS, Simulation, XPBD_DEFAULT_SUBSTEPS};
+pub use sim::{
+    FrameStats, MAX_FRAME_SUBSTEPS, MAX_SUBSTEPS, Simulation, VBD_DEFAULT_SUBSTEPS,
+    XPBD_DEFAULT_SUBSTEPS,
+};
 pub use state::Cloth;
 pub use stitch::{STITCH_STIFFNESS, Stitch};
+pub use vbd::{CONTACT_STIFFNESS, DEFAULT_ITERATIONS, Vbd};
 pub use xpbd::Xpbd;

@@ -7,7 +7,8 @@ use super::material::{Material, ModelKind};
 use super::pinch::{Grip, PenPath};
 use super::state::Cloth;
 use super::stitch::Stitch;
-use crate::collision::ContactCache;
+use crate::collision::proximity::PairCounts;
+use crate::collision::{Body, ContactCache};
 use crate::error::ConfigError;
 
 /// The world around the cloth.
@@ -54,9 +55,22 @@ pub struct Drive<'a, 'p> {
 /// the substeps to advance `env.frame_dt` in.
 pub struct FrameInput<'a> {
     pub cloth: &'a mut Cloth,
+    /// The body, for models that search their own contacts (VBD).
+    pub body: Option<&'a Body>,
     pub contacts: &'a ContactCache,
     pub env: &'a Environment,
     pub substeps: usize,
+}
+
+/// What the last frame's contact did, for models with penetration-free contact.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct ContactStats {
+    pub pairs: PairCounts,
+    /// Moves the guard projected onto a bound, and moves it had to shorten.
+    pub projected: usize,
+    pub shortened: usize,
+    /// Time the proximity search took, µs.
+    pub detect_us: u64,
 }
 
 /// A cloth model. [`Simulation`](super::Simulation) holds one and calls it once a frame,
@@ -99,6 +113,22 @@ pub trait Solver: std::fmt::Debug + Send {
 
     /// Threads for the model's passes (1 or 2); results do not depend on it.
     fn set_threads(&mut self, _threads: usize) {}
+
+    /// What the last frame's contact did (models with their own contact search).
+    fn contact_stats(&self) -> Option<ContactStats> {
+        None
+    }
+
+    /// Pairs of different parts of the cloth in contact now (models with self contact).
+    fn self_contacts(&self, _cloth: &Cloth) -> Option<usize> {
+        None
+    }
+
+    /// Whether the model searches its own contacts with the body (then the simulation's
+    /// per-particle planes are not needed).
+    fn own_contact(&self) -> bool {
+        false
+    }
 
     /// Total energy, for models that define one for tests (the seed model).
     fn energy(&self, _cloth: &Cloth, _gravity: Vec3) -> Option<f64> {

@@ -13,6 +13,7 @@ use super::pinch::{Grip, PenPath, Pinch};
 use super::seed::{Seed, seed_safe_step, seed_stable_step};
 use super::state::Cloth;
 use super::stitch::Stitch;
+use super::vbd::Vbd;
 use super::xpbd::Xpbd;
 use crate::collision::{Body, ContactCache};
 use crate::error::{ConfigError, GeometryError, check_range};
@@ -58,6 +59,9 @@ pub struct Simulation {
 /// stiff cotton, within the 128 x 128 budget on one core.
 pub const XPBD_DEFAULT_SUBSTEPS: usize = 5;
 
+/// Default steps per 1/60 s frame for VBD.
+pub const VBD_DEFAULT_SUBSTEPS: usize = 2;
+
 /// Most substeps per frame [`Simulation::set_material`] accepts (the XPBD model's
 /// interactive range).
 pub const MAX_SUBSTEPS: usize = 100;
@@ -90,6 +94,10 @@ impl Simulation {
         let mut stable_step = None;
         let contact = material.contact_params(env.floor);
         let (solver, substeps): (Box<dyn Solver>, usize) = match model {
+            ModelKind::Vbd => (
+                Box::new(Vbd::new(&cloth, &material)),
+                substeps.unwrap_or(VBD_DEFAULT_SUBSTEPS),
+            ),
             ModelKind::Xpbd => (
                 Box::new(Xpbd::new(&cloth, &material)),
                 substeps.unwrap_or(XPBD_DEFAULT_SUBSTEPS),
@@ -175,7 +183,8 @@ impl Simulation {
         let t0 = Instant::now();
         let mut stats = FrameStats::default();
         let cp = self.material.contact_params(self.env.floor);
-        if let Some(body) = &self.body {
+        let own_contact = self.solver.own_contact();
+        if let Some(body) = self.body.as_ref().filter(|_| !own_contact) {
             self.contacts.update(
                 body,
                 &self.cloth.x,
@@ -195,12 +204,22 @@ impl Simulation {
         };
         let frame = FrameInput {
             cloth: &mut self.cloth,
+            body: self.body.as_ref(),
             contacts: &self.contacts,
             env: &self.env,
             substeps: self.substeps,
         };
         self.solver.step(frame, &mut drive)?;
-        if let Some(body) = &self.body {
+        if let Some(c) = self.solver.contact_stats() {
+            stats.contacts = c.pairs.with_energy;
+            stats.queries = c.pairs.vertex_face
+                + c.pairs.edge_edge
+                + c.pairs.body_vertex_face
+                + c.pairs.body_edge_edge
+                + c.pairs.body_corner_face;
+            stats.collision_ms += c.detect_us as f64 * 1e-3;
+        }
+        if let Some(body) = self.body.as_ref().filter(|_| !own_contact) {
             let t1 = Instant::now();
             stats.rescued = self.contacts.resolve_penetrations(
                 body,

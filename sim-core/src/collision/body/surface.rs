@@ -8,6 +8,7 @@ use glam::Vec3;
 use super::analytic::Analytic;
 use super::clearance::ClearanceGrid;
 use crate::collision::obb::{BuildOptions, Feature, ObbTree, SurfaceWalk};
+use crate::collision::proximity::BodyGrids;
 use crate::error::GeometryError;
 
 #[derive(Clone, Debug)]
@@ -29,6 +30,9 @@ pub struct Body {
     /// What was repaired when the body was read from a file (an inside-out surface
     /// turned outward), for the user to be told.
     pub repairs: Vec<String>,
+    /// Its triangles, edges and vertices in spatial hashes, for the cloth's proximity
+    /// search (shared: a body never changes).
+    pub grids: std::sync::Arc<BodyGrids>,
 }
 
 /// The body surface near a point.
@@ -87,10 +91,12 @@ impl Body {
                 })
             })
             .collect();
+        let grids = std::sync::Arc::new(BodyGrids::new(&vertices, &triangles));
         let mut body = Self {
             name: name.into(),
             vertices,
             triangles,
+            grids,
             walk: SurfaceWalk::new(&tree),
             tree,
             face_normals,

@@ -19,6 +19,7 @@ impl Solver for Xpbd {
             contacts,
             env,
             substeps,
+            ..
         } = frame;
         self.frame(cloth, contacts, env, substeps, drive);
         Ok(())

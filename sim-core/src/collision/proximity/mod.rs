@@ -1,0 +1,17 @@
+//! Proximity: which primitives of the cloth and the body can come near each other over a
+//! frame, the direction that separates each such pair, and the guard that keeps every
+//! vertex move on its side of them. Together they make the cloth's contact
+//! penetration-free: see `pairs.rs` for the argument and ARCHITECTURE.md for what it
+//! covers.
+
+mod body_side;
+mod distance;
+mod grid;
+mod guard;
+mod pairs;
+
+pub use body_side::BodyGrids;
+pub use distance::{barycentric, point_triangle, segment_segment};
+pub use grid::{Aabb, BoxGrid};
+pub use guard::{Guarded, constrain};
+pub use pairs::{ClothView, NONE, Pair, PairCounts, Proximity, ProximityParams};

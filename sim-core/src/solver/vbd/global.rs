@@ -1,0 +1,293 @@
+//! The global step: what Gauss-Seidel over vertices cannot do in a few sweeps is carry a
+//! stretch across the whole cloth (a hanging cloth's weight, a pull at one corner). One
+//! sparse solve does: `x += -L^-1 grad Phi`, with `L` a fixed matrix that majorizes the
+//! Hessian of the inertia and the elastic energy (`M/h^2`, each triangle's warp and weft
+//! rows as springs in every direction, each hinge's bending exactly), so each step lowers
+//! the step's potential (Liu et al. 2017, "Quasi-Newton methods for real-time simulation
+//! of hyperelastic materials", use the same matrix). Its fixed point is the implicit
+//! step's, whatever `L` is: `L` decides only how fast it gets there. It is factored once
+//! (sparse Cholesky, faer), again in a background thread after the mesh changes; until the
+//! new factor is ready the old one serves (vertices it does not know take a Jacobi step).
+
+use std::thread::JoinHandle;
+
+use faer::Mat;
+use faer::Side;
+use faer::linalg::solvers::Solve;
+use faer::sparse::linalg::solvers::{Llt, SymbolicLlt};
+use faer::sparse::{SparseColMat, Triplet};
+use glam::{DVec3, Mat3, Vec3};
+
+use super::elastic::Elastic;
+use crate::solver::material::Material;
+
+/// A factored `L`.
+struct Factor {
+    n: usize,
+    llt: Llt<usize, f64>,
+    /// `L`'s lower triangle, diagonal included (duplicates summed), for products.
+    lower: Vec<(u32, u32, f64)>,
+}
+
+/// The global step's matrix, factored, and the factorisation under way.
+#[derive(Default)]
+pub struct GlobalStep {
+    factor: Option<Factor>,
+    pending: Option<JoinHandle<Option<Factor>>>,
+    /// The step length `h` and vertex count the current (or pending) factor is for.
+    key: Option<(u32, usize, u64)>,
+    rhs: Option<Mat<f64>>,
+    work: Work,
+}
+
+/// The filtered conjugate gradient's vectors, kept between steps.
+#[derive(Default)]
+struct Work {
+    x: Vec<DVec3>,
+    r: Vec<DVec3>,
+    z: Vec<DVec3>,
+    p: Vec<DVec3>,
+    q: Vec<DVec3>,
+}
+
+impl std::fmt::Debug for GlobalStep {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("GlobalStep")
+            .field("n", &self.factor.as_ref().map(|f| f.n))
+            .field("pending", &self.pending.is_some())
+            .finish()
+    }
+}
+
+impl Clone for GlobalStep {
+    /// A clone starts without a factor (it is rebuilt on its first step).
+    fn clone(&self) -> Self {
+        Self::default()
+    }
+}
+
+/// Weight on a triangle's shear rows in `L`, times its shear stiffness: the Gauss-Newton
+/// Hessian of `(F_u . F_v)^2` is at most twice `|F|^2` times the rows' outer products,
+/// and a little more for the term in `F_u . F_v` itself.
+const SHEAR_BOUND: f32 = 2.5;
+
+/// `L`'s entries (lower triangle) for the elements of `elastic`, masses `mass`, step `h`;
+/// rows of vertices that do not move are the identity.
+fn assemble(
+    elastic: &Elastic,
+    mass: &[f32],
+    free: &[bool],
+    h: f32,
+    m: &Material,
+) -> Vec<Triplet<usize, usize, f64>> {
+    let n = mass.len();
+    let mut diag = vec![0.0f64; n];
+    let mut trip = Vec::with_capacity(n + 9 * elastic.membranes.len());
+    let inv_h2 = 1.0 / (h as f64 * h as f64);
+    for i in 0..n {
+        diag[i] = if free[i] {
+            mass[i] as f64 * inv_h2
+        } else {
+            1.0
+        };
+    }
+    let mut add = |a: u32, b: u32, v: f64, trip: &mut Vec<Triplet<usize, usize, f64>>| {
+        let (a, b) = (a as usize, b as usize);
+        if !(free[a] && free[b]) {
+            return;
+        }
+        if a == b {
+            diag[a] += v;
+        } else {
+            trip.push(Triplet::new(a.max(b), a.min(b), v));
+        }
+    };
+    let rate = (m.shear_damping / h) as f64;
+    for t in &elastic.membranes {
+        let ks = (m.stretch * t.area) as f64;
+        let kg = (m.shear * t.area * SHEAR_BOUND) as f64 * (1.0 + rate);
+        let w = ks + kg;
+        for a in 0..3 {
+            for b in 0..3 {
+                let v = w * (t.c[a] as f64 * t.c[b] as f64 + t.d[a] as f64 * t.d[b] as f64);
+                if a >= b {
+                    add(t.v[a], t.v[b], v, &mut trip);
+                }
+            }
+        }
+    }
+    for bc in &elastic.bends {
+        let kb = (m.bending * bc.weight) as f64;
+        for a in 0..4 {
+            for b in 0..=a {
+                add(
+                    bc.v[a],
+                    bc.v[b],
+                    kb * bc.k[a] as f64 * bc.k[b] as f64,
+                    &mut trip,
+                );
+            }
+        }
+    }
+    for (i, &d) in diag.iter().enumerate() {
+        trip.push(Triplet::new(i, i, d));
+    }
+    trip
+}
+
+fn factor(n: usize, trip: Vec<Triplet<usize, usize, f64>>) -> Option<Factor> {
+    let a = SparseColMat::<usize, f64>::try_new_from_triplets(n, n, &trip).ok()?;
+    let sym = SymbolicLlt::try_new(a.symbolic(), Side::Lower).ok()?;
+    let llt = Llt::try_new_with_symbolic(sym, a.as_ref(), Side::Lower).ok()?;
+    let mut lower = Vec::with_capacity(a.compute_nnz());
+    for j in 0..n {
+        let rows = a.row_idx_of_col_raw(j);
+        let vals = a.val_of_col(j);
+        for (&i, &v) in rows.iter().zip(vals) {
+            lower.push((i as u32, j as u32, v));
+        }
+    }
+    Some(Factor { n, llt, lower })
+}
+
+impl GlobalStep {
+    /// Makes sure a factor for these elements and step is ready or under way: factored
+    /// here the first time (nothing to step with otherwise), in the background after
+    /// that. `version` changes whenever the elements or the free vertices do.
+    pub fn prepare(
+        &mut self,
+        elastic: &Elastic,
+        mass: &[f32],
+        free: &[bool],
+        h: f32,
+        m: &Material,
+        version: u64,
+    ) {
+        if let Some(job) = self.pending.take_if(|j| j.is_finished())
+            && let Ok(Some(f)) = job.join()
+        {
+            self.factor = Some(f);
+        }
+        let key = (h.to_bits(), mass.len(), version);
+        if self.key == Some(key) {
+            return;
+        }
+        if self.pending.is_some() {
+            // The last request is still being factored; ask again when it is done.
+            return;
+        }
+        self.key = Some(key);
+        let n = mass.len();
+        let trip = assemble(elastic, mass, free, h, m);
+        if self.factor.is_none() {
+            self.factor = factor(n, trip);
+        } else {
+            self.pending = Some(std::thread::spawn(move || factor(n, trip)));
+        }
+    }
+
+    /// The step `-L^-1 g` into `out`, each vertex `i` kept to the directions its
+    /// projector `filter[i]` passes (`None`: all): the minimiser of the quadratic model
+    /// `g . d + d^T L d / 2` over those directions, by conjugate gradients preconditioned
+    /// with the factor (Baraff and Witkin 1998's filtered PCG). Without filters that is one
+    /// solve. Vertices past the factor's (new since it was built) do not move. Returns
+    /// false when there is no factor.
+    pub fn solve(
+        &mut self,
+        g: &[Vec3],
+        free: &[bool],
+        filter: &[Option<Mat3>],
+        iterations: usize,
+        out: &mut [Vec3],
+    ) -> bool {
+        let Some(f) = &self.factor else {
+            return false;
+        };
+        let n = f.n;
+        let k = n.min(g.len()).min(out.len());
+        let w = &mut self.work;
+        for v in [&mut w.x, &mut w.r, &mut w.z, &mut w.p, &mut w.q] {
+            v.clear();
+            v.resize(n, DVec3::ZERO);
+        }
+        let rhs = self.rhs.get_or_insert_with(|| Mat::zeros(n, 3));
+        if rhs.nrows() != n {
+            *rhs = Mat::zeros(n, 3);
+        }
+        let project = |i: usize, v: DVec3| -> DVec3 {
+            match filter.get(i).copied().flatten() {
+                Some(s) => s.as_dmat3() * v,
+                None => v,
+            }
+        };
+        for i in 0..k {
+            if free[i] {
+                w.r[i] = project(i, -g[i].as_dvec3());
+            }
+        }
+        let precondition = |r: &[DVec3], z: &mut [DVec3], rhs: &mut Mat<f64>| {
+            for (i, v) in r.iter().enumerate() {
+                rhs[(i, 0)] = v.x;
+                rhs[(i, 1)] = v.y;
+                rhs[(i, 2)] = v.z;
+            }
+            f.llt.solve_in_place(rhs.as_mut());
+            for (i, v) in z.iter_mut().enumerate() {
+                *v = if i < k && free[i] {
+                    project(i, DVec3::new(rhs[(i, 0)], rhs[(i, 1)], rhs[(i, 2)]))
+                } else {
+                    DVec3::ZERO
+                };
+            }
+        };
+        precondition(&w.r, &mut w.z, rhs);
+        w.p.clone_from(&w.z);
+        let mut rho: f64 = w.r.iter().zip(&w.z).map(|(a, b)| a.dot(*b)).sum();
+        let any_filter = filter.iter().take(k).any(|s| s.is_some());
+        let rho0 = rho;
+        for it in 0..iterations.max(1) {
+            if it > 0 && (rho.is_nan() || rho <= 1e-8 * rho0) {
+                break;
+            }
+            // q = S L p
+            w.q.iter_mut().for_each(|q| *q = DVec3::ZERO);
+            for &(r, c, v) in &f.lower {
+                let (r, c) = (r as usize, c as usize);
+                w.q[r] += w.p[c] * v;
+                if r != c {
+                    w.q[c] += w.p[r] * v;
+                }
+            }
+            for i in 0..n {
+                w.q[i] = if i < k && free[i] {
+                    project(i, w.q[i])
+                } else {
+                    DVec3::ZERO
+                };
+            }
+            let pq: f64 = w.p.iter().zip(&w.q).map(|(a, b)| a.dot(*b)).sum();
+            if pq.is_nan() || pq <= 0.0 {
+                break;
+            }
+            let alpha = rho / pq;
+            for i in 0..n {
+                w.x[i] += w.p[i] * alpha;
+                w.r[i] -= w.q[i] * alpha;
+            }
+            if !any_filter {
+                break;
+            }
+            precondition(&w.r, &mut w.z, rhs);
+            let next: f64 = w.r.iter().zip(&w.z).map(|(a, b)| a.dot(*b)).sum();
+            let beta = next / rho;
+            rho = next;
+            for i in 0..n {
+                w.p[i] = w.z[i] + w.p[i] * beta;
+            }
+        }
+        for (i, o) in out.iter_mut().enumerate() {
+            *o = if i < k { w.x[i].as_vec3() } else { Vec3::ZERO };
+        }
+        true
+    }
+}

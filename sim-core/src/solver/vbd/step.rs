@@ -1,0 +1,631 @@
+//! Vertex Block Descent (Chen, Macklin et al. 2024) with penetration-free contact.
+//!
+//! Each step of `h` minimises the incremental potential of backward Euler
+//! `sum m/(2h^2) |x - y|^2 + E(x)`, `y = x + h v + h^2 g`, by Gauss-Seidel over vertices:
+//! each vertex in turn takes one Newton step on its own 3 x 3 block with the others held.
+//! Its fixed point is the implicit step's, so a settled cloth rests at the energy's
+//! equilibrium whatever the iteration count (the implicit model is the judge of that).
+//!
+//! Once per frame the proximity search lists the pairs of primitives that can meet
+//! (`collision::proximity`), and every position a vertex takes passes the guard, which
+//! keeps it in its motion box and on its side of its pairs: nothing crosses, at any
+//! speed and any stiffness. Contact energy (penalty and friction) acts within the
+//! contact distance, which is the material's thickness.
+
+use glam::{Mat3, Vec3};
+
+use super::contact::{CONTACT_STIFFNESS, ContactTerms};
+use super::elastic::{Elastic, Stiffness};
+use super::global::GlobalStep;
+use crate::collision::Body;
+use crate::collision::proximity::{
+    Aabb, ClothView, Guarded, Proximity, ProximityParams, constrain,
+};
+use crate::solver::material::Material;
+use crate::solver::model::{ContactStats, Drive, Environment};
+use crate::solver::state::Cloth;
+
+/// Default iterations per step (each a global step and a Gauss-Seidel sweep).
+pub const DEFAULT_ITERATIONS: usize = 4;
+/// Default conjugate-gradient iterations per global step (`global.rs`).
+pub const DEFAULT_CG_ITERATIONS: usize = 8;
+
+/// How far a vertex may stray from its predicted path in a frame at least, m.
+const STRAY_MIN: f32 = 0.0005;
+/// ... and at most (a vertex that strayed more last frame gets up to this), m.
+const STRAY_MAX: f32 = 0.02;
+/// Held vertices may stray this far from the pen's predicted path, m.
+const STRAY_HELD: f32 = 0.02;
+
+/// The least separation every pair keeps, m.
+const SEPARATION: f32 = 1e-4;
+
+#[derive(Clone, Debug)]
+pub struct Vbd {
+    pub(super) material: Material,
+    pub(super) elastic: Elastic,
+    tris: Vec<[u32; 3]>,
+    edges: Vec<[u32; 2]>,
+    /// Each vertex's place in the pattern.
+    pattern: Vec<Vec3>,
+    free: Vec<bool>,
+    pub(super) prox: Proximity,
+    boxes: Vec<Aabb>,
+    /// How far each vertex may stray from its predicted path this frame, m.
+    stray: Vec<f32>,
+    frame_start: Vec<Vec3>,
+    predicted: Vec<Vec3>,
+    xt: Vec<Vec3>,
+    y: Vec<Vec3>,
+    normals: Vec<Vec3>,
+    area: Vec<f32>,
+    /// Index of each vertex in the pinch's held list (`u32::MAX`: not held).
+    held: Vec<u32>,
+    has_stitch: Vec<bool>,
+    /// The pinch's target at the end of the last frame.
+    pen_last: Option<Vec3>,
+    /// The mean rest length of the live mesh's edges, m.
+    mean_edge: f32,
+    /// Iterations per step: each a global step (when on) and `sweeps` Gauss-Seidel sweeps.
+    pub iterations: usize,
+    pub sweeps: usize,
+    pub global_steps: bool,
+    /// Conjugate-gradient iterations of each global step while vertices touch the body.
+    pub cg_iterations: usize,
+    /// The contact search and its guard (on; off only to test the elastic solve alone:
+    /// then the cloth passes through everything).
+    pub contact: bool,
+    global: GlobalStep,
+    /// Bumped when the elements or the free vertices change (the global step refactors).
+    version: u64,
+    /// The step length of the current step, s.
+    h: f32,
+    force: Vec<Vec3>,
+    step: Vec<Vec3>,
+    /// Each vertex's directions the global step may move it in (`None`: all): a vertex
+    /// touching the body or floor does not move along the contact's normal in it.
+    filter: Vec<Option<Mat3>>,
+    /// Each vertex's acceleration along gravity over the last step, m/s^2.
+    accel: Vec<f32>,
+    pub threads: usize,
+    pub stats: ContactStats,
+}
+
+impl Vbd {
+    pub fn new(cloth: &Cloth, material: &Material) -> Self {
+        let n = cloth.len();
+        let mut v = Self {
+            material: *material,
+            elastic: Elastic::default(),
+            tris: Vec::new(),
+            edges: Vec::new(),
+            pattern: Vec::new(),
+            free: Vec::new(),
+            prox: Proximity::default(),
+            boxes: Vec::new(),
+            stray: vec![STRAY_MIN; n],
+            frame_start: Vec::new(),
+            predicted: Vec::new(),
+            xt: Vec::new(),
+            y: Vec::new(),
+            normals: Vec::new(),
+            area: Vec::new(),
+            held: Vec::new(),
+            has_stitch: Vec::new(),
+            pen_last: None,
+            mean_edge: 0.0,
+            iterations: DEFAULT_ITERATIONS,
+            sweeps: 1,
+            global_steps: true,
+            cg_iterations: DEFAULT_CG_ITERATIONS,
+            contact: true,
+            global: GlobalStep::default(),
+            version: 0,
+            h: 0.0,
+            force: Vec::new(),
+            step: Vec::new(),
+            filter: Vec::new(),
+            accel: Vec::new(),
+            threads: 1,
+            stats: ContactStats::default(),
+        };
+        v.rebuild(cloth);
+        v
+    }
+
+    /// Rebuilds everything that depends on the live mesh (after an edit or a new
+    /// material); what the vertices strayed last frame is kept.
+    pub(super) fn rebuild(&mut self, cloth: &Cloth) {
+        let n = cloth.len();
+        self.elastic = Elastic::new(cloth);
+        self.tris = cloth.live.triangles();
+        let mut edges: Vec<[u32; 2]> = self
+            .tris
+            .iter()
+            .flat_map(|t| [[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]])
+            .map(|[a, b]| [a.min(b), a.max(b)])
+            .collect();
+        edges.sort_unstable();
+        edges.dedup();
+        self.edges = edges;
+        self.mean_edge = {
+            let (mut sum, mut k) = (0.0f32, 0usize);
+            for (_, t) in cloth.live.iter() {
+                for j in 0..3 {
+                    sum += (t.rest[j] - t.rest[(j + 1) % 3]).length();
+                    k += 1;
+                }
+            }
+            if k == 0 { 0.0 } else { sum / k as f32 }
+        };
+        self.pattern = vec![Vec3::splat(f32::INFINITY); n];
+        self.area = vec![0.0; n];
+        for (_, t) in cloth.live.iter() {
+            let a = t.rest_area() / 3.0;
+            for k in 0..3 {
+                let v = t.v[k] as usize;
+                if !self.pattern[v].is_finite() {
+                    self.pattern[v] = t.rest[k];
+                }
+                self.area[v] += a;
+            }
+        }
+        self.refresh_free(cloth);
+        self.stray.resize(n, STRAY_MIN);
+        self.held.clear();
+        self.held.resize(n, u32::MAX);
+        self.has_stitch.resize(n, false);
+        self.normals.resize(n, Vec3::Y);
+        // The pairs referred to the old mesh.
+        self.prox.clear();
+        self.version += 1;
+    }
+
+    pub(super) fn refresh_free(&mut self, cloth: &Cloth) {
+        self.version += 1;
+        self.free = (0..cloth.len())
+            .map(|i| cloth.inv_mass[i] > 0.0 && cloth.live.vertex_alive(i as u32))
+            .collect();
+    }
+
+    fn params(&self, env: &Environment) -> ProximityParams {
+        let r = self.material.thickness;
+        ProximityParams {
+            radius: r,
+            delta: SEPARATION,
+            rest_exclusion: 2.0 * r + 2.0 * self.mean_edge,
+            floor: env.floor,
+        }
+    }
+
+    /// The frame's motion boxes: each vertex's predicted path over the frame, grown by
+    /// how far it may stray; a held vertex's also covers the pen's predicted path.
+    fn motion_boxes(&mut self, cloth: &Cloth, env: &Environment, drive: &Drive<'_, '_>) {
+        let n = cloth.len();
+        let t = env.frame_dt;
+        self.boxes.clear();
+        self.predicted.clear();
+        for i in 0..n {
+            let x = cloth.x[i];
+            if !self.free[i] {
+                self.boxes.push(Aabb::point(x));
+                self.predicted.push(Vec3::ZERO);
+                continue;
+            }
+            let p = cloth.v[i] * t + env.gravity * (0.5 * t * t);
+            self.predicted.push(p);
+            self.boxes
+                .push(Aabb::point(x).with(x + p).grown(self.stray[i]));
+        }
+        for h in &mut self.held {
+            *h = u32::MAX;
+        }
+        if let Some(pinch) = &drive.grip.pinch {
+            let pen_move = self.pen_last.map_or(Vec3::ZERO, |last| pinch.target - last);
+            for (k, &(v, offset)) in pinch.held.iter().enumerate() {
+                let v = v as usize;
+                if v < n && self.free[v] {
+                    self.held[v] = k as u32;
+                    let goal = pinch.target + offset;
+                    self.boxes[v] = self.boxes[v]
+                        .union(Aabb::point(goal).with(goal + pen_move).grown(STRAY_HELD));
+                }
+            }
+        }
+        for s in drive.stitches {
+            for (a, b) in [(s.a, s.b), (s.b, s.a)] {
+                if let (Some(&xa), Some(&xb)) = (cloth.x.get(a as usize), cloth.x.get(b as usize)) {
+                    // A stitch pulls its ends toward each other: room for a tenth of the way.
+                    let reach = 0.1 * (xb - xa).length();
+                    self.boxes[a as usize] = self.boxes[a as usize].grown(reach.min(STRAY_MAX));
+                }
+            }
+        }
+    }
+
+    /// One frame of `substeps` steps.
+    #[inline(never)]
+    pub(super) fn frame(
+        &mut self,
+        cloth: &mut Cloth,
+        body: Option<&Body>,
+        env: &Environment,
+        substeps: usize,
+        drive: &mut Drive<'_, '_>,
+    ) {
+        let n = cloth.len();
+        if self.free.len() != n {
+            self.rebuild(cloth);
+        }
+        self.motion_boxes(cloth, env, drive);
+        let params = self.params(env);
+        let t0 = std::time::Instant::now();
+        if !self.contact {
+            self.prox.clear();
+            for b in &mut self.boxes {
+                *b = b.grown(1e3);
+            }
+        } else {
+            self.prox.detect(
+                &ClothView {
+                    x: &cloth.x,
+                    boxes: &self.boxes,
+                    tris: &self.tris,
+                    edges: &self.edges,
+                    pattern: &self.pattern,
+                    free: &self.free,
+                },
+                body,
+                &params,
+            );
+        }
+        self.stats = ContactStats {
+            pairs: self.prox.counts,
+            detect_us: t0.elapsed().as_micros() as u64,
+            ..ContactStats::default()
+        };
+        self.frame_start.clone_from(&cloth.x);
+        self.has_stitch.iter_mut().for_each(|s| *s = false);
+        for s in drive.stitches {
+            for v in [s.a, s.b] {
+                if let Some(f) = self.has_stitch.get_mut(v as usize) {
+                    *f = true;
+                }
+            }
+        }
+        self.update_normals(cloth);
+        drive.grip.begin_frame();
+        let h = env.frame_dt / substeps as f32;
+        self.h = h;
+        if self.global_steps {
+            self.global.prepare(
+                &self.elastic,
+                &cloth.mass,
+                &self.free,
+                h,
+                &self.material,
+                self.version,
+            );
+        }
+        for k in 0..substeps {
+            drive.grip.follow(k, substeps, &mut *drive.pen);
+            self.substep(cloth, env, h, drive);
+        }
+        self.pen_last = drive.grip.pinch.as_ref().map(|p| p.target);
+        // How far each vertex strayed from its predicted path: next frame's room.
+        for i in 0..n {
+            if !self.free[i] {
+                continue;
+            }
+            let (a, p) = (self.frame_start[i], self.predicted[i]);
+            let d = cloth.x[i] - a;
+            let s = if p.length_squared() > 0.0 {
+                (d.dot(p) / p.length_squared()).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            let off = (d - p * s).length();
+            self.stray[i] = (1.5 * off + STRAY_MIN).min(STRAY_MAX);
+        }
+    }
+
+    fn substep(&mut self, cloth: &mut Cloth, env: &Environment, h: f32, drive: &mut Drive<'_, '_>) {
+        let n = cloth.len();
+        let m = self.material;
+        let inv_h2 = 1.0 / (h * h);
+        self.xt.clone_from(&cloth.x);
+        self.y.clear();
+        self.y
+            .extend((0..n).map(|i| cloth.x[i] + cloth.v[i] * h + env.gravity * (h * h)));
+        let stiffness = Stiffness::of(&m, h);
+        let contact = ContactTerms {
+            radius: m.thickness,
+            stiffness: CONTACT_STIFFNESS,
+            friction: m.friction,
+        };
+        // The pinch's springs this step: each held vertex to its goal, all scaled so
+        // their pull stays within the force limit.
+        let grip = drive.grip.pinch.as_ref().map(|p| {
+            let k = p.stiffness / p.held.len().max(1) as f32;
+            let pull: Vec3 = p
+                .held
+                .iter()
+                .filter(|(v, _)| self.free.get(*v as usize) == Some(&true))
+                .map(|&(v, off)| (p.target + off - cloth.x[v as usize]) * k)
+                .sum();
+            let scale = match p.force_limit {
+                Some(limit) if pull.length() > limit => limit / pull.length(),
+                _ => 1.0,
+            };
+            (k * scale, scale < 1.0)
+        });
+        // Start from the inertial prediction with as much of gravity as the vertex felt
+        // last step (VBD's adaptive initialisation: a cloth at rest on the body starts
+        // where it is, not a step's fall below it), meeting contacts inelastically.
+        let g_len = env.gravity.length();
+        let g_dir = env.gravity.normalize_or_zero();
+        self.accel.resize(n, 0.0);
+        for i in 0..n {
+            if !self.free[i] {
+                continue;
+            }
+            let a = self.accel[i].clamp(0.0, g_len);
+            let init = cloth.x[i] + cloth.v[i] * h + g_dir * (a * h * h);
+            let target = self.inelastic(i, init, &cloth.x, m.thickness);
+            self.guarded(i, target, &mut cloth.x);
+        }
+        let grip_k = grip.map(|(k, _)| k);
+        for _ in 0..self.iterations {
+            if self.global_steps {
+                self.global_step(cloth, &stiffness, &contact, grip_k, drive);
+            }
+            for _ in 0..self.sweeps {
+                self.sweep(cloth, &stiffness, &contact, grip_k, drive, inv_h2);
+            }
+        }
+        // Velocities, with the material's mass damping and the air's drag on the normal
+        // velocity (as in the XPBD model).
+        let damp = (-m.damping * h).exp();
+        for i in 0..n {
+            if !self.free[i] {
+                cloth.v[i] = Vec3::ZERO;
+                continue;
+            }
+            let mut v = (cloth.x[i] - self.xt[i]) * (damp / h);
+            let nrm = self.normals[i];
+            let kd = m.drag * self.area[i] * cloth.inv_mass[i] * h;
+            v -= nrm * (v.dot(nrm) * kd / (1.0 + kd));
+            self.accel[i] = ((v - cloth.v[i]) / h).dot(g_dir);
+            cloth.v[i] = v;
+        }
+        if let (Some((k, limited)), Some(p)) = (grip, &drive.grip.pinch) {
+            let force: Vec3 = p
+                .held
+                .iter()
+                .filter(|(v, _)| self.free.get(*v as usize) == Some(&true))
+                .map(|&(v, off)| (p.target + off - cloth.x[v as usize]) * k)
+                .sum();
+            drive.grip.forces.push(force);
+            if limited {
+                drive.grip.limited += 1;
+            }
+        }
+    }
+
+    /// One Gauss-Seidel sweep: each vertex takes a Newton step on its own block, the
+    /// others held, through the guard.
+    fn sweep(
+        &mut self,
+        cloth: &mut Cloth,
+        stiffness: &Stiffness,
+        contact: &ContactTerms,
+        grip_k: Option<f32>,
+        drive: &Drive<'_, '_>,
+        inv_h2: f32,
+    ) {
+        for i in 0..cloth.len() {
+            if !self.free[i] {
+                continue;
+            }
+            let x = &cloth.x;
+            let mi = cloth.mass[i] * inv_h2;
+            let mut f = (self.y[i] - x[i]) * mi;
+            let mut hess = Mat3::from_diagonal(Vec3::splat(mi));
+            self.elastic
+                .add_vertex(i, x, &self.xt, stiffness, &mut f, &mut hess);
+            contact.add_vertex(i, &self.prox, x, &self.xt, &mut f, &mut hess);
+            if let (Some(k), Some(p)) = (grip_k, &drive.grip.pinch)
+                && self.held[i] != u32::MAX
+            {
+                let off = p.held[self.held[i] as usize].1;
+                f += (p.target + off - x[i]) * k;
+                hess += Mat3::from_diagonal(Vec3::splat(k));
+            }
+            if self.has_stitch[i] {
+                stitch_terms(i, x, drive.stitches, &mut f, &mut hess);
+            }
+            let det = hess.determinant();
+            if !(det.is_finite() && det.abs() > 1e-30) {
+                continue;
+            }
+            let dx = hess.inverse() * f;
+            if dx.is_finite() {
+                let target = x[i] + dx;
+                self.guarded(i, target, &mut cloth.x);
+            }
+        }
+    }
+
+    /// The global step (`global.rs`): every vertex moves by `-L^-1 grad`, each through the
+    /// guard.
+    fn global_step(
+        &mut self,
+        cloth: &mut Cloth,
+        stiffness: &Stiffness,
+        contact: &ContactTerms,
+        grip_k: Option<f32>,
+        drive: &Drive<'_, '_>,
+    ) {
+        let n = cloth.len();
+        let inv_h2 = 1.0 / (self.h * self.h);
+        // The force (minus the gradient of the step's potential) on every vertex.
+        self.force.clear();
+        self.force
+            .extend((0..n).map(|i| (self.y[i] - cloth.x[i]) * (cloth.mass[i] * inv_h2)));
+        self.elastic
+            .add_forces(&cloth.x, &self.xt, stiffness, &mut self.force);
+        // Contact stays out: `L` knows nothing of it, and the sum of many contacts'
+        // pushes would throw the whole cloth (its lowest mode is only `M/h^2` stiff). The
+        // sweeps resolve contact, where each vertex's block has its contact's stiffness.
+        let _ = contact;
+        if let (Some(k), Some(p)) = (grip_k, &drive.grip.pinch) {
+            for &(v, off) in &p.held {
+                if let Some(f) = self.force.get_mut(v as usize) {
+                    *f += (p.target + off - cloth.x[v as usize]) * k;
+                }
+            }
+        }
+        for i in 0..n {
+            if self.has_stitch[i] {
+                let mut hess = Mat3::ZERO;
+                stitch_terms(i, &cloth.x, drive.stitches, &mut self.force[i], &mut hess);
+            }
+        }
+        // `solve` takes the gradient.
+        for f in &mut self.force {
+            *f = -*f;
+        }
+        self.step.resize(n, Vec3::ZERO);
+        self.contact_filter(&cloth.x);
+        let cg = self.cg_iterations;
+        if !self
+            .global
+            .solve(&self.force, &self.free, &self.filter, cg, &mut self.step)
+        {
+            return;
+        }
+        for i in 0..n {
+            if self.free[i] && self.step[i].is_finite() {
+                let target = cloth.x[i] + self.step[i];
+                self.guarded(i, target, &mut cloth.x);
+            }
+        }
+    }
+
+    /// The global step's filters: each cloth vertex within the contact distance of the
+    /// body or floor keeps still along the contact's normal (the sweeps, which know the
+    /// contact's stiffness, move it there).
+    fn contact_filter(&mut self, x: &[Vec3]) {
+        let r = self.material.thickness;
+        self.filter.clear();
+        self.filter.resize(x.len(), None);
+        for pair in &self.prox.pairs {
+            if pair.body_bound == f32::NEG_INFINITY || !pair.energy || pair.gap(x) >= r {
+                continue;
+            }
+            for k in 0..4 {
+                if pair.v[k] == crate::collision::proximity::NONE || pair.w[k].abs() < 0.25 {
+                    continue;
+                }
+                let s = self.filter[pair.v[k] as usize].get_or_insert(Mat3::IDENTITY);
+                let d = *s * pair.n;
+                let len2 = d.length_squared();
+                if len2 > 0.1 {
+                    let dd = Mat3::from_cols(d * d.x, d * d.y, d * d.z) * (1.0 / len2);
+                    *s -= dd;
+                }
+            }
+        }
+    }
+
+    /// `target` for vertex `i`, raised out of the contacts it would go deeper into (to
+    /// the contact distance `r`, or where it is when already closer): a falling vertex
+    /// meets the body or another layer without bouncing.
+    fn inelastic(&self, i: usize, mut target: Vec3, x: &[Vec3], r: f32) -> Vec3 {
+        for &role in self.prox.roles(i) {
+            let pair = &self.prox.pairs[(role / 4) as usize];
+            let k = (role % 4) as usize;
+            let w = pair.w[k];
+            if !pair.energy || w.abs() < 0.5 {
+                continue;
+            }
+            let now = pair.gap(x);
+            let then = now + w * pair.n.dot(target - x[i]);
+            let floor = now.min(r);
+            if then < floor {
+                target += pair.n * ((floor - then) / w);
+            }
+        }
+        target
+    }
+
+    /// Moves vertex `i` toward `target` as far as the guard allows.
+    #[inline]
+    fn guarded(&mut self, i: usize, target: Vec3, x: &mut [Vec3]) {
+        let (p, how) = constrain(i, target, x, &self.boxes[i], &self.prox);
+        match how {
+            Guarded::Free => {}
+            Guarded::Projected => self.stats.projected += 1,
+            Guarded::Shortened => self.stats.shortened += 1,
+        }
+        x[i] = p;
+    }
+
+    fn update_normals(&mut self, cloth: &Cloth) {
+        self.normals.iter_mut().for_each(|n| *n = Vec3::ZERO);
+        for t in &self.tris {
+            let [a, b, c] = t.map(|i| cloth.x[i as usize]);
+            let nrm = (b - a).cross(c - a);
+            for &i in t {
+                self.normals[i as usize] += nrm;
+            }
+        }
+        for nrm in &mut self.normals {
+            *nrm = nrm.normalize_or(Vec3::Y);
+        }
+    }
+
+    /// Pairs of different parts of the cloth within the contact distance now.
+    pub fn self_contacts(&self, x: &[Vec3]) -> usize {
+        self.prox
+            .pairs
+            .iter()
+            .filter(|p| {
+                p.energy && p.body_bound == f32::NEG_INFINITY && p.gap(x) < self.material.thickness
+            })
+            .count()
+    }
+}
+
+/// Vertex `i`'s seam stitches: zero-length springs to the other end, each pulling no
+/// harder than its limit.
+fn stitch_terms(
+    i: usize,
+    x: &[Vec3],
+    stitches: &[crate::solver::stitch::Stitch],
+    f: &mut Vec3,
+    hess: &mut Mat3,
+) {
+    let k = crate::solver::stitch::STITCH_STIFFNESS;
+    for s in stitches {
+        let other = if s.a as usize == i {
+            s.b
+        } else if s.b as usize == i {
+            s.a
+        } else {
+            continue;
+        };
+        let Some(&xo) = x.get(other as usize) else {
+            continue;
+        };
+        let pull = (xo - x[i]) * k;
+        let len = pull.length();
+        let scale = if len > s.max_force {
+            s.max_force / len
+        } else {
+            1.0
+        };
+        *f += pull * scale;
+        *hess += Mat3::from_diagonal(Vec3::splat(k * scale));
+    }
+}
