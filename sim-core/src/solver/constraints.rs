@@ -12,7 +12,7 @@
 
 use glam::{Mat2, Vec2, Vec3};
 
-use crate::mesh::{ClothMesh, Topology, edge_key};
+use crate::mesh::{ClothMesh, LiveMesh, Topology, edge_key};
 
 /// One triangle's membrane: `F_u = sum c[a] x[a]`, `F_v = sum d[a] x[a]`.
 #[derive(Clone, Copy, Debug)]
@@ -163,6 +163,22 @@ pub fn bending_energy(bends: &[BendConstraint], x: &[Vec3], b: f32) -> f64 {
             0.5 * (b * c.weight) as f64 * cv.length_squared() as f64
         })
         .sum()
+}
+
+/// The membranes and bending hinges of a live mesh, the elements every model built on
+/// this energy (xpbd, implicit, vbd) starts from.
+pub fn elements_of(live: &LiveMesh) -> (Vec<Membrane>, Vec<BendConstraint>) {
+    let membranes = live
+        .iter()
+        .map(|(slot, t)| membrane_of(t.v, slot, t.rest, t.uv))
+        .collect();
+    let bends = live
+        .hinge_keys()
+        .into_iter()
+        .filter_map(|k| live.hinge(k))
+        .filter_map(|(v, r0, r1)| bend_of(v, r0, r1))
+        .collect();
+    (membranes, bends)
 }
 
 #[cfg(test)]

@@ -11,7 +11,7 @@
 
 use glam::Vec3;
 
-use super::grid::{Aabb, BoxGrid};
+use super::grid::{Aabb, BoxGrid, unique_edges};
 
 /// The angle between two faces' normals under which their edge is flat, rad: a cloth
 /// edge of length `L` lying over such an edge dips at most `L * FLAT / 4` toward it, under
@@ -33,13 +33,7 @@ pub struct BodyGrids {
 impl BodyGrids {
     /// The hashes of an (already checked) closed surface.
     pub fn new(vertices: &[Vec3], triangles: &[[u32; 3]]) -> Self {
-        let mut edges: Vec<[u32; 2]> = triangles
-            .iter()
-            .flat_map(|t| [[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]])
-            .map(|[a, b]| [a.min(b), a.max(b)])
-            .collect();
-        edges.sort_unstable();
-        edges.dedup();
+        let mut edges = unique_edges(triangles);
         let at = |i: u32| vertices[i as usize];
         // Each edge's faces' normals; an edge is a crease when they differ.
         let mut normals: std::collections::HashMap<[u32; 2], (Vec3, Vec3)> =

@@ -12,6 +12,6 @@ mod pairs;
 
 pub use body_side::BodyGrids;
 pub use distance::{barycentric, point_triangle, segment_segment};
-pub use grid::{Aabb, BoxGrid};
+pub use grid::{Aabb, BoxGrid, unique_edges};
 pub use guard::{Guarded, constrain};
 pub use pairs::{ClothView, NONE, Pair, PairCounts, Proximity, ProximityParams};

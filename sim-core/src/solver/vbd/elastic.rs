@@ -7,7 +7,7 @@
 
 use glam::{Mat3, Vec3};
 
-use crate::solver::constraints::{BendConstraint, Membrane, bend_of, membrane_of};
+use crate::solver::constraints::{BendConstraint, Membrane, elements_of};
 use crate::solver::material::Material;
 use crate::solver::state::Cloth;
 
@@ -67,16 +67,7 @@ impl Elastic {
     /// The elements of `cloth`'s live mesh.
     pub fn new(cloth: &Cloth) -> Self {
         let live = &cloth.live;
-        let membranes: Vec<Membrane> = live
-            .iter()
-            .map(|(slot, t)| membrane_of(t.v, slot, t.rest, t.uv))
-            .collect();
-        let bends: Vec<BendConstraint> = live
-            .hinge_keys()
-            .into_iter()
-            .filter_map(|k| live.hinge(k))
-            .filter_map(|(v, r0, r1)| bend_of(v, r0, r1))
-            .collect();
+        let (membranes, bends) = elements_of(live);
         let n = cloth.len();
         let mem_items: Vec<(u32, u32)> = membranes
             .iter()

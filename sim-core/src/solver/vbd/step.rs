@@ -19,7 +19,7 @@ use super::elastic::{Elastic, Stiffness};
 use super::global::GlobalStep;
 use crate::collision::Body;
 use crate::collision::proximity::{
-    Aabb, ClothView, Guarded, Proximity, ProximityParams, constrain,
+    Aabb, ClothView, Guarded, Proximity, ProximityParams, constrain, unique_edges,
 };
 use crate::solver::material::Material;
 use crate::solver::model::{ContactStats, Drive, Environment};
@@ -139,15 +139,7 @@ impl Vbd {
         let n = cloth.len();
         self.elastic = Elastic::new(cloth);
         self.tris = cloth.live.triangles();
-        let mut edges: Vec<[u32; 2]> = self
-            .tris
-            .iter()
-            .flat_map(|t| [[t[0], t[1]], [t[1], t[2]], [t[2], t[0]]])
-            .map(|[a, b]| [a.min(b), a.max(b)])
-            .collect();
-        edges.sort_unstable();
-        edges.dedup();
-        self.edges = edges;
+        self.edges = unique_edges(&self.tris);
         self.mean_edge = {
             let (mut sum, mut k) = (0.0f32, 0usize);
             for (_, t) in cloth.live.iter() {
@@ -347,12 +339,7 @@ impl Vbd {
         // their pull stays within the force limit.
         let grip = drive.grip.pinch.as_ref().map(|p| {
             let k = p.stiffness / p.held.len().max(1) as f32;
-            let pull: Vec3 = p
-                .held
-                .iter()
-                .filter(|(v, _)| self.free.get(*v as usize) == Some(&true))
-                .map(|&(v, off)| (p.target + off - cloth.x[v as usize]) * k)
-                .sum();
+            let pull = self.grip_pull(p, &cloth.x, k);
             let scale = match p.force_limit {
                 Some(limit) if pull.length() > limit => limit / pull.length(),
                 _ => 1.0,
@@ -399,12 +386,7 @@ impl Vbd {
             cloth.v[i] = v;
         }
         if let (Some((k, limited)), Some(p)) = (grip, &drive.grip.pinch) {
-            let force: Vec3 = p
-                .held
-                .iter()
-                .filter(|(v, _)| self.free.get(*v as usize) == Some(&true))
-                .map(|&(v, off)| (p.target + off - cloth.x[v as usize]) * k)
-                .sum();
+            let force = self.grip_pull(p, &cloth.x, k);
             drive.grip.forces.push(force);
             if limited {
                 drive.grip.limited += 1;
@@ -536,6 +518,15 @@ impl Vbd {
                 }
             }
         }
+    }
+
+    /// The pinch's total pull on the free vertices it holds, springs of stiffness `k`.
+    fn grip_pull(&self, p: &crate::solver::pinch::Pinch, x: &[Vec3], k: f32) -> Vec3 {
+        p.held
+            .iter()
+            .filter(|(v, _)| self.free.get(*v as usize) == Some(&true))
+            .map(|&(v, off)| (p.target + off - x[v as usize]) * k)
+            .sum()
     }
 
     /// `target` for vertex `i`, raised out of the contacts it would go deeper into (to

@@ -8,7 +8,7 @@ use super::groups::{Compliance, Group, Loc, solve_bending, solve_membranes, spli
 use super::limits::StretchLimits;
 use super::tethers::{solve_tethers, stretch_limits, tethers};
 use crate::collision::ContactCache;
-use crate::solver::constraints::{BendConstraint, Membrane, bend_of, membrane_of};
+use crate::solver::constraints::{BendConstraint, Membrane, elements_of};
 use crate::solver::material::Material;
 use crate::solver::model::{Drive, Environment};
 use crate::solver::state::Cloth;
@@ -54,16 +54,7 @@ impl Xpbd {
         limits: Option<StretchLimits>,
     ) -> Self {
         let live = &cloth.live;
-        let membranes: Vec<Membrane> = live
-            .iter()
-            .map(|(slot, t)| membrane_of(t.v, slot, t.rest, t.uv))
-            .collect();
-        let bends: Vec<BendConstraint> = live
-            .hinge_keys()
-            .into_iter()
-            .filter_map(|k| live.hinge(k))
-            .filter_map(|(v, r0, r1)| bend_of(v, r0, r1))
-            .collect();
+        let (membranes, bends) = elements_of(live);
         let mut area = vec![0.0f32; cloth.len()];
         for m in &membranes {
             for &i in &m.v {
