@@ -13,7 +13,7 @@ use crate::collision::proximity::{NONE, Proximity};
 pub const CONTACT_STIFFNESS: f32 = 1000.0;
 
 /// Sliding below this over a step is static friction (the smoothing of IPC's `f1`), m.
-const STICK: f32 = 1e-4;
+const STICK: f32 = 1e-5;
 
 /// The contact's settings for a step.
 #[derive(Clone, Copy, Debug)]

@@ -83,8 +83,12 @@ pub struct Vbd {
     force: Vec<Vec3>,
     step: Vec<Vec3>,
     /// Each vertex's directions the global step may move it in (`None`: all): a vertex
-    /// touching the body or floor does not move along the contact's normal in it.
+    /// touching the body or floor does not move along the contact's normal in it, nor at
+    /// all while friction holds it (`contact_filter`).
     filter: Vec<Option<Mat3>>,
+    /// Scratch for the filters: each vertex's contact push from the body or floor, its
+    /// size and its (push-weighted) direction.
+    push: Vec<(f32, Vec3)>,
     /// Each vertex's acceleration along gravity over the last step, m/s^2.
     accel: Vec<f32>,
     pub threads: usize,
@@ -125,6 +129,7 @@ impl Vbd {
             force: Vec::new(),
             step: Vec::new(),
             filter: Vec::new(),
+            push: Vec::new(),
             accel: Vec::new(),
             threads: 1,
             stats: ContactStats::default(),
@@ -459,7 +464,6 @@ impl Vbd {
         // Contact stays out: `L` knows nothing of it, and the sum of many contacts'
         // pushes would throw the whole cloth (its lowest mode is only `M/h^2` stiff). The
         // sweeps resolve contact, where each vertex's block has its contact's stiffness.
-        let _ = contact;
         if let (Some(k), Some(p)) = (grip_k, &drive.grip.pinch) {
             for &(v, off) in &p.held {
                 if let Some(f) = self.force.get_mut(v as usize) {
@@ -478,7 +482,7 @@ impl Vbd {
             *f = -*f;
         }
         self.step.resize(n, Vec3::ZERO);
-        self.contact_filter(&cloth.x);
+        self.contact_filter(&cloth.x, &cloth.mass, contact);
         let cg = self.cg_iterations;
         if !self
             .global
@@ -496,26 +500,72 @@ impl Vbd {
 
     /// The global step's filters: each cloth vertex within the contact distance of the
     /// body or floor keeps still along the contact's normal (the sweeps, which know the
-    /// contact's stiffness, move it there).
-    fn contact_filter(&mut self, x: &[Vec3]) {
+    /// contact's stiffness, move it there), and still in every direction while friction
+    /// holds it: when the force it would take to keep it where the step began (inertia
+    /// included) lies, along the surface, within the friction cone of the contact's push
+    /// (Baraff and Witkin 1998 filter sticking contacts whole). Otherwise the global step,
+    /// which knows no friction, would slide it freely, and a cloth pulled at one corner
+    /// would skate over the floor.
+    fn contact_filter(&mut self, x: &[Vec3], mass: &[f32], contact: &ContactTerms) {
         let r = self.material.thickness;
         self.filter.clear();
         self.filter.resize(x.len(), None);
+        self.push.clear();
+        self.push.resize(x.len(), (0.0, Vec3::ZERO));
         for pair in &self.prox.pairs {
-            if pair.body_bound == f32::NEG_INFINITY || !pair.energy || pair.gap(x) >= r {
+            if pair.body_bound == f32::NEG_INFINITY || !pair.energy {
+                continue;
+            }
+            let gap = pair.gap(x);
+            if gap >= r {
                 continue;
             }
             for k in 0..4 {
                 if pair.v[k] == crate::collision::proximity::NONE || pair.w[k].abs() < 0.25 {
                     continue;
                 }
-                let s = self.filter[pair.v[k] as usize].get_or_insert(Mat3::IDENTITY);
+                let v = pair.v[k] as usize;
+                let lambda = contact.stiffness * (contact.radius - gap) * pair.w[k].abs();
+                let (sum, dir) = &mut self.push[v];
+                *sum += lambda;
+                *dir += pair.n * lambda;
+                let s = self.filter[v].get_or_insert(Mat3::IDENTITY);
                 let d = *s * pair.n;
                 let len2 = d.length_squared();
                 if len2 > 0.1 {
                     let dd = Mat3::from_cols(d * d.x, d * d.y, d * d.z) * (1.0 / len2);
                     *s -= dd;
                 }
+            }
+        }
+        let inv_h2 = 1.0 / (self.h * self.h);
+        for (i, s) in self.filter.iter_mut().enumerate() {
+            let (lambda, dir) = self.push[i];
+            let Some(n) = dir.try_normalize() else {
+                continue;
+            };
+            if s.is_none() {
+                continue;
+            }
+            // `force` holds the gradient at `x` here; at the step's start the inertia
+            // pulls harder by `m/h^2 (x - xt)`.
+            let hold = -self.force[i] + (x[i] - self.xt[i]) * (mass[i] * inv_h2);
+            if n.dot(hold) > 0.0 {
+                // Pulled off the surface: it needs no push, and lets go (a corner lifted
+                // from the floor peels the cloth off it).
+                *s = None;
+                continue;
+            }
+            if contact.friction <= 0.0 {
+                continue;
+            }
+            let along = hold - n * n.dot(hold);
+            let limit = contact.friction * lambda;
+            if along.length() <= limit {
+                *s = Some(Mat3::ZERO);
+            } else {
+                // Sliding: kinetic friction against the way it is pushed.
+                self.force[i] += along.normalize_or_zero() * limit;
             }
         }
     }
