@@ -156,7 +156,11 @@ pub(crate) fn replacement(
         Command::Load { path } => {
             let path = std::path::PathBuf::from(path);
             let d = Design::load_design_file(&path).map_err(|e| e.to_string())?;
-            (d, format!("Loaded the design {}", path.display()))
+            let mut msg = format!("Loaded the design {}", path.display());
+            for n in &d.sim.notices {
+                msg += &format!("; note: {n}");
+            }
+            (d, msg)
         }
         Command::Reset {
             body,
@@ -165,11 +169,13 @@ pub(crate) fn replacement(
             substeps,
         } => {
             let mut scene = cfg.scene.clone();
-            scene.body = match body {
+            let kind = match body {
                 BodyChoice::Sphere => BodyKind::Sphere,
                 BodyChoice::Mannequin => BodyKind::Mannequin,
                 BodyChoice::Cube => BodyKind::Cube,
             };
+            let name = kind.name();
+            scene.body = Some(kind);
             if let Some(g) = grid {
                 scene.grid = *g as usize;
             }
@@ -180,9 +186,7 @@ pub(crate) fn replacement(
             let d = build_design(&scene).map_err(|e| e.to_string())?;
             let msg = format!(
                 "New design: a {}x{} cloth over the {}",
-                scene.grid,
-                scene.grid,
-                scene.body.name()
+                scene.grid, scene.grid, name
             );
             (d, msg)
         }

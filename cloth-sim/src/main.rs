@@ -126,7 +126,9 @@ struct RunArgs {
 struct ScenarioArgs {
     /// Scenario: drape-cube (the paper's drape), drape-mannequin, fit-cube (the paper's
     /// experiment end to end: drape, cut the corners away, sew the flaps), tear (pull a
-    /// gripped corner until the cloth tears) or paint (paint a pattern, export the texture).
+    /// gripped corner until the cloth tears), paint (paint a pattern, export the texture) or
+    /// fold (a cloth on the floor folded corner to corner, then across: four layers; use
+    /// --model vbd for layers that do not cross).
     #[arg(value_parser = parse_scenario)]
     name: ScenarioName,
     /// Output directory (created if missing).
@@ -149,10 +151,11 @@ struct ScenarioArgs {
     /// Frames of 1/60 s to simulate (the operation scenarios act at frame 240).
     #[arg(long, default_value_t = 600, allow_negative_numbers = true, value_parser = whole_in::<u64>(1, MAX_FRAMES as i64, ""))]
     frames: u64,
-    /// Body: cube, sphere, mannequin or a path to an .obj (metres, Y up, closed, outward
-    /// winding). Default: the scenario's own.
-    #[arg(long, value_parser = parse_body)]
-    body: Option<BodyKind>,
+    /// Body: cube, sphere, mannequin, a path to an .obj (metres, Y up, closed, outward
+    /// winding) or floor (none: the cloth lies on the floor). Default: the scenario's own
+    /// (the cube; the mannequin for drape-mannequin; the floor for fold).
+    #[arg(long, value_parser = parse_scenario_body)]
+    body: Option<ScenarioBody>,
     /// Substeps per frame (default: 5 for xpbd, 1 for implicit, the stable count for seed).
     #[arg(long, allow_negative_numbers = true, value_parser = whole_in::<usize>(1, MAX_FRAME_SUBSTEPS as i64, " per frame"))]
     substeps: Option<usize>,
@@ -243,6 +246,16 @@ fn parse_model(s: &str) -> Result<ModelKind, String> {
 fn parse_body(s: &str) -> Result<BodyKind, String> {
     BodyKind::parse(s).map_err(|e| e.to_string())
 }
+/// A scenario's `--body`: a body, or `floor` for none.
+#[derive(Clone, Debug)]
+struct ScenarioBody(Option<BodyKind>);
+
+fn parse_scenario_body(s: &str) -> Result<ScenarioBody, String> {
+    if s == "floor" {
+        return Ok(ScenarioBody(None));
+    }
+    parse_body(s).map(|b| ScenarioBody(Some(b)))
+}
 fn parse_scenario(s: &str) -> Result<ScenarioName, String> {
     ScenarioName::parse(s).map_err(|e| e.to_string())
 }
@@ -280,7 +293,7 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
     cfg.pinch_stiffness = a.pinch_stiffness;
     cfg.couple_applied_force = !a.no_force_coupling;
     let mut scene = ScenarioConfig::new(ScenarioName::DrapeCube);
-    scene.body = a.body;
+    scene.body = Some(a.body);
     scene.grid = a.grid;
     scene.model = a.model;
     scene.substeps = a.substeps;
@@ -313,10 +326,8 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
         || build_design(&scene).map_err(|e| e.to_string()),
         &mut log,
     )?;
-    if !resumed {
-        for n in &design.sim.notices {
-            log(&format!("note: {n}"));
-        }
+    for n in &design.sim.notices {
+        log(&format!("note: {n}"));
     }
     log(&format!(
         "{} vertices, domain '{}', {} Hz, autosave {}{}",
@@ -351,7 +362,7 @@ fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>> {
     cfg.model = a.model;
     cfg.frames = a.frames;
     if let Some(b) = a.body {
-        cfg.body = b;
+        cfg.body = b.0;
     }
     cfg.substeps = a.substeps;
     cfg.cloth_size = a.cloth_size;

@@ -491,3 +491,32 @@ fn crossings_are_counted_exactly_in_reports_and_in_any_obj() {
     assert_eq!(n("check_every"), 25);
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn fold_lies_on_the_floor_and_the_scenarios_that_act_on_a_body_need_one() {
+    let dir = tmp("fold");
+    let o = dir.to_str().unwrap();
+    fails_cleanly(
+        &["scenario", "tear", "--body", "floor", "--out", o, "--quiet"],
+        "body must be cube, sphere, mannequin or an .obj",
+    );
+    assert!(!dir.join("report.json").exists());
+    let out = cloth_sim(&[
+        "scenario", "fold", "--model", "vbd", "--grid", "10", "--out", o, "--quiet",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    assert_eq!(r["body"], "floor");
+    assert_eq!(r["folds"], 2, "{r}");
+    // The folded cloth lies on itself, and no layer passes through another.
+    assert!(r["layers_max"].as_u64().unwrap() >= 2, "{r}");
+    assert!(r["self_contacts"].as_u64().unwrap() > 0, "{r}");
+    assert_eq!(r["crossings_self"], 0, "{r}");
+    assert!(!dir.join("body.obj").exists());
+    std::fs::remove_dir_all(dir).ok();
+}

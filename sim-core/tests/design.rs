@@ -170,3 +170,34 @@ proptest! {
         }
     }
 }
+
+/// A design saved crossing the body (moved 10 cm into the cube, as nobody's solver would
+/// leave it) loads, and says how it crosses rather than hide it.
+#[test]
+fn a_crossed_design_loads_and_says_so() {
+    let cfg = ScenarioConfig::new(ScenarioName::DrapeCube);
+    let mut s = build_design(&ScenarioConfig { grid: 12, ..cfg }).unwrap();
+    let clean = Design::load_design(&s.save_design().unwrap()).unwrap();
+    assert!(
+        !clean.sim.notices.iter().any(|n| n.contains("crosses")),
+        "{:?}",
+        clean.sim.notices
+    );
+    for p in &mut s.sim.cloth.x {
+        p.y -= 0.1;
+    }
+    let crossed = s.sim.crossings();
+    assert!(crossed.body_pairs > 0);
+    let t = Design::load_design(&s.save_design().unwrap()).unwrap();
+    let note = t
+        .sim
+        .notices
+        .iter()
+        .find(|n| n.contains("crosses"))
+        .unwrap_or_else(|| panic!("no crossing notice in {:?}", t.sim.notices));
+    assert!(
+        note.contains(&format!("the body in {}", crossed.body_pairs)),
+        "{note}"
+    );
+    assert_eq!(t.sim.cloth.x, s.sim.cloth.x, "loaded as it was saved");
+}

@@ -419,7 +419,7 @@ fn no_tunnelling_at_two_metres_per_second() {
     for body in [BodyKind::Cube, BodyKind::Sphere, BodyKind::Mannequin] {
         let mut cfg = ScenarioConfig::new(ScenarioName::DrapeCube);
         cfg.grid = 24;
-        cfg.body = body.clone();
+        cfg.body = Some(body.clone());
         cfg.cloth_size = 0.6;
         let mut sim = build_design(&cfg).unwrap().sim;
         // Throw the cloth down at 2 m/s from 10 cm above the body.

@@ -28,10 +28,13 @@ pub enum ScenarioName {
     Tear,
     /// Drape on the cube and paint a pattern on its top; exports the texture.
     Paint,
+    /// A cloth lying on the floor folded twice, corner to corner and then across: four
+    /// layers that must lie flat without crossing.
+    Fold,
 }
 
 impl ScenarioName {
-    pub const ALL: &'static str = "drape-cube, drape-mannequin, fit-cube, tear, paint";
+    pub const ALL: &'static str = "drape-cube, drape-mannequin, fit-cube, tear, paint, fold";
 
     pub fn parse(s: &str) -> Result<Self, ConfigError> {
         match s {
@@ -40,6 +43,7 @@ impl ScenarioName {
             "fit-cube" => Ok(Self::FitCube),
             "tear" => Ok(Self::Tear),
             "paint" => Ok(Self::Paint),
+            "fold" => Ok(Self::Fold),
             other => Err(ConfigError::Unknown {
                 what: "scenario",
                 name: other.into(),
@@ -55,6 +59,7 @@ impl ScenarioName {
             Self::FitCube => "fit-cube",
             Self::Tear => "tear",
             Self::Paint => "paint",
+            Self::Fold => "fold",
         }
     }
 
@@ -65,11 +70,18 @@ impl ScenarioName {
         (self == Self::Tear && model == ModelKind::Xpbd).then_some(20)
     }
 
-    pub fn default_body(self) -> BodyKind {
+    /// The body the scenario drapes over; `None`: the floor alone.
+    pub fn default_body(self) -> Option<BodyKind> {
         match self {
-            Self::DrapeMannequin => BodyKind::Mannequin,
-            Self::DrapeCube | Self::FitCube | Self::Tear | Self::Paint => BodyKind::Cube,
+            Self::DrapeMannequin => Some(BodyKind::Mannequin),
+            Self::DrapeCube | Self::FitCube | Self::Tear | Self::Paint => Some(BodyKind::Cube),
+            Self::Fold => None,
         }
+    }
+
+    /// Whether the scenario's operations need a body (they act on the cube).
+    pub fn needs_body(self) -> bool {
+        matches!(self, Self::FitCube | Self::Tear | Self::Paint)
     }
 }
 
@@ -80,7 +92,8 @@ pub struct ScenarioConfig {
     pub grid: usize,
     pub model: ModelKind,
     pub frames: u64,
-    pub body: BodyKind,
+    /// The body; `None`: the floor alone.
+    pub body: Option<BodyKind>,
     pub substeps: Option<usize>,
     pub material: Material,
     /// Side of the square cloth, m.
@@ -120,6 +133,13 @@ impl ScenarioConfig {
         }
         if let Some(n) = self.check_every {
             check_range("check every", n, 1, MAX_FRAMES, " frames")?;
+        }
+        if self.body.is_none() && self.scenario.needs_body() {
+            return Err(ConfigError::OutOfRange {
+                name: "body",
+                rule: "cube, sphere, mannequin or an .obj for this scenario (it acts on a body)",
+                value: "floor".into(),
+            });
         }
         check_range(
             "tear threshold",
@@ -178,15 +198,18 @@ pub enum ScenarioError {
 }
 
 /// Builds the scene of a scenario as a new design: the body, and the cloth centred 5 cm
-/// above it.
+/// above it; with no body, the cloth lying flat on the floor (its thickness above it).
 pub fn build_design(cfg: &ScenarioConfig) -> Result<Design, ScenarioError> {
     cfg.validate()?;
-    let body = cfg.body.build()?;
-    let repairs = body.repairs.clone();
-    let (_, top) = body.bounds();
-    let (mn, mx) = body.bounds();
-    let cx = (mn.x + mx.x) * 0.5;
-    let cz = (mn.z + mx.z) * 0.5;
+    let body = cfg.body.as_ref().map(BodyKind::build).transpose()?;
+    let repairs = body.as_ref().map(|b| b.repairs.clone()).unwrap_or_default();
+    let (cx, rest_y, cz) = match &body {
+        Some(body) => {
+            let (mn, mx) = body.bounds();
+            ((mn.x + mx.x) * 0.5, mx.y + 0.05, (mn.z + mx.z) * 0.5)
+        }
+        None => (0.0, cfg.material.thickness, 0.0),
+    };
     let mut mesh = match &cfg.cloth {
         None => ClothMesh::grid(cfg.cloth_size, cfg.cloth_size, cfg.grid, cfg.grid, 0.0)?,
         Some(path) => {
@@ -206,7 +229,7 @@ pub fn build_design(cfg: &ScenarioConfig) -> Result<Design, ScenarioError> {
     let (cmin, cmax) = crate::mesh::bounds(&mesh.positions);
     let shift = Vec3::new(
         cx - (cmin.x + cmax.x) * 0.5,
-        top.y + 0.05 - cmin.y,
+        rest_y - cmin.y,
         cz - (cmin.z + cmax.z) * 0.5,
     );
     for p in &mut mesh.positions {
@@ -219,7 +242,7 @@ pub fn build_design(cfg: &ScenarioConfig) -> Result<Design, ScenarioError> {
     };
     let mut sim = Simulation::new(
         cloth,
-        Some(body),
+        body,
         cfg.model,
         cfg.material,
         env,

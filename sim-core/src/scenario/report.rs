@@ -59,6 +59,19 @@ pub struct OpsReport {
     pub paint_strokes: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub texels_painted: Option<usize>,
+    /// fold: folds made (of 2); layers over the lying triangles, the most common count
+    /// and the most; the least height between two overlapping layers (pattern neighbours
+    /// at a crease left out), m; the cloth's highest point, m.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub folds: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub layers: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub layers_max: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub layer_gap_min_m: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub height_max_m: Option<f64>,
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -92,6 +105,9 @@ pub struct Report {
     /// intersect, and the cloth triangles among them.
     pub crossings_self: usize,
     pub crossings_body: usize,
+    /// Pairs of cloth primitives in contact at the end (`Simulation::self_contacts`):
+    /// closer than the thickness, and not neighbours in the pattern.
+    pub self_contacts: usize,
     pub crossings_body_triangles: usize,
     /// With `--check-every N`: the most seen at any checked frame (the end included).
     #[serde(skip_serializing_if = "Option::is_none")]

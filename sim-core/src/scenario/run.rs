@@ -13,7 +13,6 @@ use crate::collision::crossings::Crossings;
 use crate::collision::{Body, BodyKind};
 use crate::design::Design;
 use crate::design::export::{export_glb, export_obj};
-use crate::error::GeometryError;
 use crate::mesh::obj;
 
 /// What the frames of a run measured.
@@ -62,12 +61,23 @@ fn run_frames(cfg: &ScenarioConfig, design: &mut Design) -> Result<Frames, Scena
         ..Frames::default()
     };
     let mut last_print = Instant::now();
-    let body0 = design.sim.body.clone().ok_or(GeometryError::Empty)?;
+    let body0 = design.sim.body.clone();
     let ops = &mut frames.ops;
     let mut pull: Option<(Vec3, Vec3, u64)> = None;
+    let mut fold = (cfg.scenario == ScenarioName::Fold).then(scripts::Fold::default);
+    if fold.is_some() && cfg.frames < scripts::FOLD_FRAMES {
+        eprintln!(
+            "note: fold: {} frames end before the second fold has settled (it needs {})",
+            cfg.frames,
+            scripts::FOLD_FRAMES
+        );
+    }
     for f in 0..cfg.frames {
-        if f == scripts::DRAPE_FRAMES {
-            pull = run_script(cfg, design, &body0, ops, f)?;
+        if let Some(fold) = &mut fold {
+            fold.at_frame(design, f)?;
+            ops.folds = Some(fold.done);
+        } else if f == scripts::DRAPE_FRAMES {
+            pull = run_script(cfg, design, body0.as_ref(), ops, f)?;
         }
         if let Some((start, centre, f0)) = pull {
             let t = (f - f0) as f32 * cfg.frame_dt;
@@ -134,10 +144,14 @@ fn run_frames(cfg: &ScenarioConfig, design: &mut Design) -> Result<Frames, Scena
 fn run_script(
     cfg: &ScenarioConfig,
     design: &mut Design,
-    body0: &Body,
+    body0: Option<&Body>,
     ops: &mut OpsReport,
     f: u64,
 ) -> Result<Option<(Vec3, Vec3, u64)>, ScenarioError> {
+    // The scenarios that act on a body were refused without one (`needs_body`).
+    let Some(body0) = body0 else {
+        return Ok(None);
+    };
     match cfg.scenario {
         ScenarioName::FitCube => {
             let fit = scripts::fit_cube(design, body0, cfg.grid)?;
@@ -163,7 +177,7 @@ fn run_script(
         ScenarioName::Paint => {
             ops.paint_strokes = Some(scripts::paint_pattern(design, body0));
         }
-        ScenarioName::DrapeCube | ScenarioName::DrapeMannequin => {}
+        ScenarioName::DrapeCube | ScenarioName::DrapeMannequin | ScenarioName::Fold => {}
     }
     Ok(None)
 }
@@ -176,7 +190,6 @@ fn export(
     out: &Path,
     ops: &mut OpsReport,
 ) -> Result<Vec<PathBuf>, ScenarioError> {
-    let body = design.sim.body.as_ref().ok_or(GeometryError::Empty)?;
     let mut exported = export_obj(design, out, "cloth")?;
     exported.push(export_glb(design, out, "cloth")?);
     let design_path = out.join("design.saiho");
@@ -184,11 +197,19 @@ fn export(
     if matches!(
         cfg.scenario,
         ScenarioName::FitCube | ScenarioName::DrapeCube
-    ) && cfg.body == BodyKind::Cube
+    ) && cfg.body == Some(BodyKind::Cube)
+        && let Some(body) = &design.sim.body
     {
         let (mean, max) = scripts::fit_gap(design, body);
         ops.fit_gap_mean_m = Some(mean);
         ops.fit_gap_max_m = Some(max);
+    }
+    if cfg.scenario == ScenarioName::Fold {
+        let l = scripts::layers(design);
+        ops.layers = Some(l.mode);
+        ops.layers_max = Some(l.max);
+        ops.layer_gap_min_m = l.gap_min_m.is_finite().then_some(l.gap_min_m);
+        ops.height_max_m = Some(l.height_max_m);
     }
     if cfg.scenario == ScenarioName::Paint {
         let base = crate::design::CLOTH_COLOUR;
@@ -201,16 +222,18 @@ fn export(
                 .count(),
         );
     }
-    let body_path = out.join("body.obj");
-    obj::write_obj(
-        &body_path,
-        &body.name,
-        &body.vertices,
-        None,
-        &body.triangles,
-        None,
-    )
-    .map_err(write_err(&body_path))?;
+    if let Some(body) = &design.sim.body {
+        let body_path = out.join("body.obj");
+        obj::write_obj(
+            &body_path,
+            &body.name,
+            &body.vertices,
+            None,
+            &body.triangles,
+            None,
+        )
+        .map_err(write_err(&body_path))?;
+    }
     exported.push(design_path);
     Ok(exported)
 }
@@ -242,7 +265,9 @@ fn report(
     });
     let ke = sim.cloth.kinetic_energy();
     let top_face_gap = match &sim.body {
-        Some(body) if cfg.scenario == ScenarioName::DrapeCube && cfg.body == BodyKind::Cube => {
+        Some(body)
+            if cfg.scenario == ScenarioName::DrapeCube && cfg.body == Some(BodyKind::Cube) =>
+        {
             Some(top_face_gap(design, body))
         }
         _ => None,
@@ -252,7 +277,7 @@ fn report(
     Report {
         scenario: cfg.scenario.name().into(),
         model: cfg.model.name().into(),
-        body: cfg.body.name(),
+        body: cfg.body.as_ref().map_or("floor".into(), BodyKind::name),
         grid: cfg.grid,
         vertices: sim.cloth.len(),
         triangles: sim.cloth.live.tri_count(),
@@ -272,6 +297,7 @@ fn report(
         strain_max,
         crossings_self: crossings.self_pairs,
         crossings_body: crossings.body_pairs,
+        self_contacts: sim.self_contacts(),
         crossings_body_triangles: crossings.body_triangles,
         crossings_self_max: seen.map(|s| s.0),
         crossings_body_max: seen.map(|s| s.1),

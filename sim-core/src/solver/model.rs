@@ -119,11 +119,6 @@ pub trait Solver: std::fmt::Debug + Send {
         None
     }
 
-    /// Pairs of different parts of the cloth in contact now (models with self contact).
-    fn self_contacts(&self, _cloth: &Cloth) -> Option<usize> {
-        None
-    }
-
     /// Whether the model searches its own contacts with the body (then the simulation's
     /// per-particle planes are not needed).
     fn own_contact(&self) -> bool {

@@ -316,6 +316,36 @@ impl Simulation {
         )
     }
 
+    /// Pairs of the cloth's primitives in contact now, whatever the model: a vertex and a
+    /// triangle, or two edges, closer than the contact thickness and more than two
+    /// triangle sides plus twice the thickness apart in the pattern (so a flat cloth has
+    /// none: folds, layers and pieces lying on each other are what it counts).
+    pub fn self_contacts(&self) -> usize {
+        let n = self.cloth.len();
+        let mut pattern = vec![Vec3::splat(f32::INFINITY); n];
+        let (mut sum, mut sides) = (0.0f32, 0usize);
+        for (_, t) in self.cloth.live.iter() {
+            for k in 0..3 {
+                if let Some(p) = pattern.get_mut(t.v[k] as usize)
+                    && !p.is_finite()
+                {
+                    *p = t.rest[k];
+                }
+                sum += (t.rest[k] - t.rest[(k + 1) % 3]).length();
+                sides += 1;
+            }
+        }
+        let mean_side = if sides == 0 { 0.0 } else { sum / sides as f32 };
+        let th = self.material.thickness;
+        crate::collision::proximity::count_self_contacts(
+            &self.cloth.x,
+            &self.cloth.live.triangles(),
+            &pattern,
+            th,
+            2.0 * mean_side + 2.0 * th,
+        )
+    }
+
     pub fn constraint_count(&self) -> usize {
         self.solver.constraint_count(&self.cloth)
     }

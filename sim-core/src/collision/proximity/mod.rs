@@ -5,12 +5,14 @@
 //! covers.
 
 mod body_side;
+mod contacts;
 mod distance;
 mod grid;
 mod guard;
 mod pairs;
 
 pub use body_side::BodyGrids;
+pub use contacts::count_self_contacts;
 pub use distance::{barycentric, point_triangle, segment_segment};
 pub use grid::{Aabb, BoxGrid, unique_edges};
 pub use guard::{Guarded, constrain};

@@ -42,6 +42,15 @@ impl Design {
         design.tear = read_tear(h)?;
         design.texture =
             decode_texture(sections.get("texture")?, h.texture_width, h.texture_height)?;
+        let crossed = design.sim.crossings();
+        if crossed.self_pairs > 0 || crossed.body_pairs > 0 {
+            design.sim.notices.push(format!(
+                "the design's cloth crosses itself in {} pairs of triangles and the body in {} \
+                 (it was saved so, as the xpbd model leaves it); it loads as it is: the vbd \
+                 model keeps every pair from crossing further but does not untangle these",
+                crossed.self_pairs, crossed.body_pairs
+            ));
+        }
         Ok(design)
     }
 }

@@ -60,8 +60,4 @@ impl Solver for Vbd {
     fn own_contact(&self) -> bool {
         true
     }
-
-    fn self_contacts(&self, cloth: &Cloth) -> Option<usize> {
-        Some(Vbd::self_contacts(self, &cloth.x))
-    }
 }

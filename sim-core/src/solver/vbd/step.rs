@@ -625,17 +625,6 @@ impl Vbd {
             *nrm = nrm.normalize_or(Vec3::Y);
         }
     }
-
-    /// Pairs of different parts of the cloth within the contact distance now.
-    pub fn self_contacts(&self, x: &[Vec3]) -> usize {
-        self.prox
-            .pairs
-            .iter()
-            .filter(|p| {
-                p.energy && p.body_bound == f32::NEG_INFINITY && p.gap(x) < self.material.thickness
-            })
-            .count()
-    }
 }
 
 /// Vertex `i`'s seam stitches: zero-length springs to the other end, each pulling no
