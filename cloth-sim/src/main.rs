@@ -46,6 +46,19 @@ enum Command {
         #[arg(long, value_parser = parse_body)]
         body: Option<BodyKind>,
     },
+    /// Write a design's sewing pattern: every piece's outline in its pattern plane as it
+    /// is now (after cuts, tears and welds; seams marked and paired by label, grain line,
+    /// name), as DIR/pattern.svg (1 unit = 1 mm) and DIR/pattern.dxf (AAMA, ASCII R12).
+    ExportPattern {
+        /// The design file (.saiho: a scenario's design.saiho, or cloth-sim run's autosave).
+        design: PathBuf,
+        /// Output directory (created if missing).
+        #[arg(long)]
+        out: PathBuf,
+        /// Seam allowance added around every piece as its cut line, mm (0: none).
+        #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
+        allowance: f64,
+    },
     /// Find the largest cloth grid a model steps in real time (drape-cube, 60 Hz frames).
     MaxRealtimeGrid {
         /// Cloth model.
@@ -272,6 +285,11 @@ fn main() -> ExitCode {
             matched,
         } => realtime(model, frames, json, matched),
         Command::Crossings { cloth, body } => crossings(&cloth, body.as_ref()),
+        Command::ExportPattern {
+            design,
+            out,
+            allowance,
+        } => export_pattern(&design, &out, allowance),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -396,6 +414,40 @@ fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>> {
         r.crossings_body
     );
     eprintln!("wrote {}", a.out.join("report.json").display());
+    Ok(())
+}
+
+/// `cloth-sim export-pattern`: a design file's pattern as SVG and DXF.
+fn export_pattern(
+    design: &Path,
+    out: &Path,
+    allowance: f64,
+) -> Result<(), Box<dyn std::error::Error>> {
+    use sim_core::design::sewing_pattern;
+    if !(0.0..=sewing_pattern::MAX_ALLOWANCE_MM).contains(&allowance) {
+        return Err(format!(
+            "allowance must be between 0 and {} mm, got {allowance}",
+            sewing_pattern::MAX_ALLOWANCE_MM
+        )
+        .into());
+    }
+    let d = sim_core::design::Design::load_design_file(design)?;
+    let files = sewing_pattern::export_pattern(&d, out, allowance)?;
+    let pieces = sewing_pattern::pieces(&d);
+    for p in &pieces {
+        let per: Vec<String> = p.perimeters().iter().map(|l| format!("{l:.1}")).collect();
+        println!(
+            "{}: {} outline{} ({} mm), {} seam segments",
+            p.name,
+            p.loops.len(),
+            if p.loops.len() == 1 { "" } else { "s" },
+            per.join(" + "),
+            p.seams.len()
+        );
+    }
+    for f in files {
+        println!("wrote {}", f.display());
+    }
     Ok(())
 }
 

@@ -520,3 +520,120 @@ fn fold_lies_on_the_floor_and_the_scenarios_that_act_on_a_body_need_one() {
     assert!(!dir.join("body.obj").exists());
     std::fs::remove_dir_all(dir).ok();
 }
+
+/// Reads `dir/pattern.svg` and `dir/pattern.dxf` with readers that are not ours (Python's
+/// XML parser, and `ezdxf`, which `.ci/run` installs) and prints, per piece, its sewing
+/// line's loop lengths in mm: "svg L1 L2 ..." then "dxf L1 L2 ..." lines.
+const READ_PATTERN: &str = r#"
+import sys, math, re, xml.etree.ElementTree as ET
+import ezdxf
+d = sys.argv[1]
+def per(pts):
+    return sum(math.dist(pts[i], pts[(i + 1) % len(pts)]) for i in range(len(pts)))
+ns = {"s": "http://www.w3.org/2000/svg"}
+svg = ET.parse(d + "/pattern.svg").getroot()
+for g in svg.findall("s:g", ns):
+    sew = [p for p in g.findall("s:path", ns) if p.get("class") == "sew"][0]
+    loops = [l for l in sew.get("d").split("Z") if l.strip()]
+    lens = []
+    for l in loops:
+        pts = [tuple(map(float, xy.split(","))) for xy in re.findall(r"[-\d.]+,[-\d.]+", l)]
+        lens.append(per(pts))
+    print("svg", " ".join(f"{x:.2f}" for x in lens))
+doc = ezdxf.readfile(d + "/pattern.dxf")
+inserts = [e.dxf.name for e in doc.modelspace() if e.dxftype() == "INSERT"]
+for name in inserts:
+    b = doc.blocks[name]
+    lens = [per([(v.dxf.location.x, v.dxf.location.y) for v in e.vertices])
+            for e in b if e.dxftype() == "POLYLINE" and e.dxf.layer == "14"]
+    assert any(e.dxftype() == "POLYLINE" and e.dxf.layer == "1" for e in b), "no boundary"
+    assert any(e.dxftype() == "TEXT" and e.dxf.text.startswith("Piece Name:") for e in b)
+    assert any(e.dxftype() == "LINE" and e.dxf.layer == "7" for e in b), "no grain line"
+    print("dxf", " ".join(f"{x:.2f}" for x in lens))
+"#;
+
+#[test]
+fn the_pattern_out_opens_in_other_readers_with_the_lengths_we_cut() {
+    let dir = tmp("pattern");
+    let o = dir.to_str().unwrap();
+    let out = cloth_sim(&[
+        "scenario", "fit-cube", "--grid", "12", "--frames", "250", "--out", o, "--quiet",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(dir.join("pattern.svg").is_file() && dir.join("pattern.dxf").is_file());
+    let p = dir.join("again");
+    let design = dir.join("design.saiho");
+    let out = cloth_sim(&[
+        "export-pattern",
+        design.to_str().unwrap(),
+        "--out",
+        p.to_str().unwrap(),
+        "--allowance",
+        "15",
+    ]);
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // "piece 1: 1 outline (4000.0 mm), 8 seam segments": fit-cube's cross-shaped piece,
+    // whose cut corners keep the square's perimeter, with its four seams' sides marked.
+    let ours: Vec<Vec<f64>> = stdout
+        .lines()
+        .filter_map(|l| l.split_once('(')?.1.split_once(" mm)"))
+        .map(|(lens, _)| lens.split(" + ").map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(ours.len(), 1, "{stdout}");
+    assert!((ours[0][0] - 4000.0).abs() < 0.5, "{stdout}");
+    assert!(!stdout.contains(" 0 seam segments"), "{stdout}");
+    let read = Command::new("python3")
+        .args(["-c", READ_PATTERN, p.to_str().unwrap()])
+        .output()
+        .expect("python3 (the independent readers run in it)");
+    let text = String::from_utf8_lossy(&read.stdout).to_string();
+    assert!(
+        read.status.success(),
+        "the SVG or DXF did not read (ezdxf: python3 -m pip install ezdxf): {}",
+        String::from_utf8_lossy(&read.stderr)
+    );
+    for kind in ["svg", "dxf"] {
+        let theirs: Vec<Vec<f64>> = text
+            .lines()
+            .filter_map(|l| l.strip_prefix(kind))
+            .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
+            .collect();
+        assert_eq!(theirs.len(), ours.len(), "{kind}: {text}");
+        for (a, b) in theirs.iter().zip(&ours) {
+            assert_eq!(a.len(), b.len(), "{kind}: {text}");
+            for (x, y) in a.iter().zip(b) {
+                assert!((x - y).abs() < 0.5, "{kind}: {x} mm against our {y} mm");
+            }
+        }
+    }
+    fails_cleanly(
+        &[
+            "export-pattern",
+            design.to_str().unwrap(),
+            "--out",
+            o,
+            "--allowance",
+            "-1",
+        ],
+        "allowance must be between 0 and 100 mm",
+    );
+    fails_cleanly(
+        &[
+            "export-pattern",
+            dir.join("missing.saiho").to_str().unwrap(),
+            "--out",
+            o,
+        ],
+        "missing.saiho",
+    );
+    std::fs::remove_dir_all(dir).ok();
+}

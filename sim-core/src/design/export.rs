@@ -23,6 +23,8 @@ pub enum ExportError {
     BadName(String),
     #[error("the cloth has no triangles left to export")]
     Empty,
+    #[error("seam allowance must be between 0 and 100 mm, got {0}")]
+    BadAllowance(f64),
 }
 
 fn check_name(name: &str) -> Result<(), ExportError> {

@@ -10,8 +10,8 @@
 //!
 //! Inside, bottom up: `error`, `texture`, `parts` (seams, tearing settings) <- `prim`
 //! <- `history` <- `document` (the `Design`) <- `transaction` <- the operations (`cut`,
-//! `tear`, `sew`, `seam`, `paint`, `pin`, `pinch`, `pattern`) <- `frame`; `export` and
-//! `file` read a design.
+//! `tear`, `sew`, `seam`, `paint`, `pin`, `pinch`, `pattern`) <- `frame`; `export`,
+//! `sewing_pattern` (the pieces' outlines as SVG and AAMA DXF) and `file` read a design.
 
 mod cut;
 mod document;
@@ -28,6 +28,7 @@ mod pinch;
 mod prim;
 mod seam;
 mod sew;
+pub mod sewing_pattern;
 mod tear;
 mod texture;
 mod transaction;

@@ -26,6 +26,9 @@ struct Frames {
     crossings_max: Option<Crossings>,
 }
 
+/// The seam allowance of the pattern every scenario writes, mm.
+pub const SCENARIO_ALLOWANCE_MM: f64 = 10.0;
+
 /// Runs a scenario and writes `out/cloth.obj`, `out/body.obj` and `out/report.json`.
 pub fn run_scenario(cfg: &ScenarioConfig, out: &Path) -> Result<Report, ScenarioError> {
     let started = Instant::now();
@@ -192,6 +195,11 @@ fn export(
 ) -> Result<Vec<PathBuf>, ScenarioError> {
     let mut exported = export_obj(design, out, "cloth")?;
     exported.push(export_glb(design, out, "cloth")?);
+    exported.extend(crate::design::sewing_pattern::export_pattern(
+        design,
+        out,
+        SCENARIO_ALLOWANCE_MM,
+    )?);
     let design_path = out.join("design.saiho");
     design.save_design_file(&design_path)?;
     if matches!(

@@ -1,0 +1,494 @@
+//! The sewing pattern out: every piece of the design's cloth as it lies in its pattern
+//! plane now, after cuts, tears and welds, as outlines to cut real fabric from (the point
+//! of draping).
+//!
+//! A piece is a connected part of the cloth in the pattern: two triangles belong to the
+//! same piece when they share an edge there (the same two vertices at the same two
+//! pattern places). Welding two vertices in 3D does not join their pattern places, so a
+//! seam stays an edge of the outline on both sides and a dart sewn shut stays a notch
+//! cut into it, as a pattern maker draws them. Each piece's outline is the chain of its
+//! boundary edges: the outer loop counter-clockwise, holes clockwise.
+//!
+//! `svg.rs` and `dxf.rs` write the pieces, laid out side by side without overlap, in
+//! millimetres.
+
+mod dxf;
+mod svg;
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+use glam::{DVec2, DVec3, Vec3};
+
+use super::document::Design;
+use super::export::ExportError;
+
+pub use dxf::dxf_string;
+pub use svg::svg_string;
+
+/// One piece of the pattern, in millimetres in its pattern plane (x right, y up).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Piece {
+    pub name: String,
+    /// The sewing line: the outer loop (counter-clockwise) first, then holes (clockwise).
+    pub loops: Vec<Vec<DVec2>>,
+    /// With a seam allowance: the cut line, each loop offset away from the material by
+    /// it (mitred corners); otherwise equal to `loops`.
+    pub cut: Vec<Vec<DVec2>>,
+    /// Outline segments that are sewn to another (or the same) piece, with the seam's
+    /// label: the same label marks both sides of one seam.
+    pub seams: Vec<(String, DVec2, DVec2)>,
+    /// The grain line (warp direction: the pattern's first axis), through the piece.
+    pub grain: (DVec2, DVec2),
+}
+
+impl Piece {
+    /// Length of each sewing-line loop, mm.
+    pub fn perimeters(&self) -> Vec<f64> {
+        self.loops.iter().map(|l| perimeter(l)).collect()
+    }
+}
+
+/// The length of closed loop `l`.
+pub fn perimeter(l: &[DVec2]) -> f64 {
+    (0..l.len())
+        .map(|i| (l[(i + 1) % l.len()] - l[i]).length())
+        .sum()
+}
+
+/// Twice the signed area of closed loop `l` (positive counter-clockwise).
+fn area2(l: &[DVec2]) -> f64 {
+    (0..l.len())
+        .map(|i| l[i].perp_dot(l[(i + 1) % l.len()]))
+        .sum()
+}
+
+/// A corner's pattern place as a key: the vertex and its place, to a micrometre.
+type Key = (u32, [i64; 3]);
+
+fn key(v: u32, p: Vec3) -> Key {
+    let q = |x: f32| (x as f64 * 1e6).round() as i64;
+    (v, [q(p.x), q(p.y), q(p.z)])
+}
+
+/// The pattern plane of the cloth: an origin and two unit axes `u`, `v` with `u x v` the
+/// cloth's front normal (its triangles' winding), so the pattern is drawn as seen from
+/// the front, the face a designer sees. A square cloth lies in X and Z; any flat
+/// pattern's plane comes from its triangles' summed normals.
+fn plane(design: &Design) -> (DVec3, DVec3, DVec3) {
+    let mut n = DVec3::ZERO;
+    let mut o = DVec3::ZERO;
+    let mut k = 0.0f64;
+    for (_, t) in design.sim.cloth.live.iter() {
+        let [a, b, c] = t.rest.map(|p| p.as_dvec3());
+        n += (b - a).cross(c - a);
+        o += a + b + c;
+        k += 3.0;
+    }
+    let n = n.try_normalize().unwrap_or(DVec3::Y);
+    // The first axis: world X projected into the plane (the grid's warp), else Z.
+    let u = (DVec3::X - n * n.dot(DVec3::X))
+        .try_normalize()
+        .or_else(|| (DVec3::Z - n * n.dot(DVec3::Z)).try_normalize())
+        .unwrap_or(DVec3::X);
+    let v = n.cross(u);
+    (o / k.max(1.0), u, v)
+}
+
+/// The pieces of the design's pattern (no allowance, not laid out), in millimetres.
+pub fn pieces(design: &Design) -> Vec<Piece> {
+    let live = &design.sim.cloth.live;
+    let (origin, u, v) = plane(design);
+    let to2 = |p: Vec3| {
+        let d = p.as_dvec3() - origin;
+        DVec2::new(d.dot(u), d.dot(v)) * 1000.0
+    };
+    // Every triangle's corner keys, and which triangles hold each directed pattern edge.
+    let tris: Vec<[Key; 3]> = live
+        .iter()
+        .map(|(_, t)| [0, 1, 2].map(|k| key(t.v[k], t.rest[k])))
+        .collect();
+    let places: HashMap<Key, DVec2> = live
+        .iter()
+        .flat_map(|(_, t)| (0..3).map(move |k| (key(t.v[k], t.rest[k]), to2(t.rest[k]))))
+        .collect();
+    let mut edge_tri: HashMap<(Key, Key), usize> = HashMap::new();
+    for (i, t) in tris.iter().enumerate() {
+        for k in 0..3 {
+            edge_tri.insert((t[k], t[(k + 1) % 3]), i);
+        }
+    }
+    // Pieces: triangles joined across shared pattern edges (union-find).
+    let mut parent: Vec<usize> = (0..tris.len()).collect();
+    fn find(p: &mut [usize], mut i: usize) -> usize {
+        while p[i] != i {
+            p[i] = p[p[i]];
+            i = p[i];
+        }
+        i
+    }
+    for (i, t) in tris.iter().enumerate() {
+        for k in 0..3 {
+            if let Some(&j) = edge_tri.get(&(t[(k + 1) % 3], t[k])) {
+                let (a, b) = (find(&mut parent, i), find(&mut parent, j));
+                parent[a] = b;
+            }
+        }
+    }
+    // Boundary edges (no twin), grouped by piece.
+    let mut boundary: HashMap<usize, Vec<(Key, Key)>> = HashMap::new();
+    for (i, t) in tris.iter().enumerate() {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            if !edge_tri.contains_key(&(b, a)) {
+                let root = find(&mut parent, i);
+                boundary.entry(root).or_default().push((a, b));
+            }
+        }
+    }
+    let seam_of = seam_labels(design);
+    let mut roots: Vec<usize> = boundary.keys().copied().collect();
+    // Pieces in a fixed order: by their first triangle.
+    roots.sort_unstable();
+    let mut out = Vec::new();
+    for root in roots {
+        let edges = &boundary[&root];
+        let mut loops = chain(edges)
+            .into_iter()
+            .map(|l| l.iter().map(|k| places[k]).collect::<Vec<DVec2>>())
+            .filter(|l| l.len() >= 3)
+            .collect::<Vec<_>>();
+        if loops.is_empty() {
+            continue;
+        }
+        // The outer loop: the largest; counter-clockwise, holes clockwise.
+        loops.sort_by(|a, b| area2(b).abs().total_cmp(&area2(a).abs()));
+        for (i, l) in loops.iter_mut().enumerate() {
+            if (area2(l) > 0.0) != (i == 0) {
+                l.reverse();
+            }
+        }
+        let seams = edges
+            .iter()
+            .filter_map(|(a, b)| {
+                let (sa, sb) = (seam_of.get(&a.0)?, seam_of.get(&b.0)?);
+                let label = sa.iter().find(|l| sb.contains(l))?;
+                Some((label.clone(), places[a], places[b]))
+            })
+            .collect();
+        let (lo, hi) = bounds(&loops[0]);
+        let mid_y = 0.5 * (lo.y + hi.y);
+        let grain = (
+            DVec2::new(lo.x + 0.2 * (hi.x - lo.x), mid_y),
+            DVec2::new(lo.x + 0.8 * (hi.x - lo.x), mid_y),
+        );
+        out.push(Piece {
+            name: format!("piece {}", out.len() + 1),
+            cut: loops.clone(),
+            loops,
+            seams,
+            grain,
+        });
+    }
+    out
+}
+
+/// The seams' labels ("A", "B", ...) of each vertex in them.
+fn seam_labels(design: &Design) -> HashMap<u32, Vec<String>> {
+    let mut m: HashMap<u32, Vec<String>> = HashMap::new();
+    for (i, s) in design.seams.iter().enumerate() {
+        let label = label(i);
+        for &(a, b) in &s.pairs {
+            for v in [a, b] {
+                let e = m.entry(v).or_default();
+                if !e.contains(&label) {
+                    e.push(label.clone());
+                }
+            }
+        }
+    }
+    m
+}
+
+/// "A".."Z", then "AA", "AB", ...
+fn label(i: usize) -> String {
+    let letter = |k: usize| char::from(b'A' + (k % 26) as u8);
+    if i < 26 {
+        letter(i).to_string()
+    } else {
+        format!("{}{}", letter(i / 26 - 1), letter(i))
+    }
+}
+
+/// Chains directed boundary edges into closed loops of keys.
+fn chain(edges: &[(Key, Key)]) -> Vec<Vec<Key>> {
+    let mut next: HashMap<Key, Vec<Key>> = HashMap::new();
+    for &(a, b) in edges {
+        next.entry(a).or_default().push(b);
+    }
+    let mut loops = Vec::new();
+    let mut starts: Vec<Key> = edges.iter().map(|e| e.0).collect();
+    starts.sort_unstable();
+    for s in starts {
+        while next.get(&s).is_some_and(|n| !n.is_empty()) {
+            let mut l = vec![s];
+            let mut at = s;
+            while let Some(b) = next.get_mut(&at).and_then(|n| n.pop()) {
+                if b == s {
+                    break;
+                }
+                l.push(b);
+                at = b;
+            }
+            loops.push(l);
+        }
+    }
+    loops
+}
+
+fn bounds(l: &[DVec2]) -> (DVec2, DVec2) {
+    l.iter().fold(
+        (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+        |(lo, hi), &p| (lo.min(p), hi.max(p)),
+    )
+}
+
+/// Loop `l` offset by `d` to the right of its direction (away from the material, for
+/// an outer loop counter-clockwise and a hole clockwise), with mitred corners; a corner
+/// sharper than the mitre limit (4 d) is bevelled.
+pub fn offset(l: &[DVec2], d: f64) -> Vec<DVec2> {
+    let n = l.len();
+    let mut out = Vec::with_capacity(n);
+    for i in 0..n {
+        let (p, c, q) = (l[(i + n - 1) % n], l[i], l[(i + 1) % n]);
+        let right = |a: DVec2, b: DVec2| {
+            let t = (b - a).normalize_or_zero();
+            DVec2::new(t.y, -t.x)
+        };
+        let (n1, n2) = (right(p, c), right(c, q));
+        let m = n1 + n2;
+        let cos_half = (m.length() * 0.5).max(1e-9);
+        let miter = d / cos_half;
+        if miter <= 4.0 * d && m.length() > 1e-9 {
+            out.push(c + m.normalize() * miter);
+        } else {
+            out.push(c + n1 * d);
+            out.push(c + n2 * d);
+        }
+    }
+    out
+}
+
+/// Adds a seam allowance of `mm` to every piece (the cut line), then lays the pieces out
+/// left to right, 20 mm apart, their lowest points on y = 0.
+pub fn finish(mut pieces: Vec<Piece>, allowance_mm: f64) -> Vec<Piece> {
+    let mut x = 0.0;
+    for p in &mut pieces {
+        if allowance_mm > 0.0 {
+            p.cut = p.loops.iter().map(|l| offset(l, allowance_mm)).collect();
+        }
+        let (lo, hi) = p.cut.iter().fold(
+            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+            |(lo, hi), l| {
+                let (a, b) = bounds(l);
+                (lo.min(a), hi.max(b))
+            },
+        );
+        let shift = DVec2::new(x - lo.x, -lo.y);
+        for l in p.loops.iter_mut().chain(p.cut.iter_mut()) {
+            for q in l.iter_mut() {
+                *q += shift;
+            }
+        }
+        for s in &mut p.seams {
+            s.1 += shift;
+            s.2 += shift;
+        }
+        p.grain.0 += shift;
+        p.grain.1 += shift;
+        x += hi.x - lo.x + 20.0;
+    }
+    pieces
+}
+
+/// Largest seam allowance, mm.
+pub const MAX_ALLOWANCE_MM: f64 = 100.0;
+
+/// Writes `dir/pattern.svg` and `dir/pattern.dxf` (AAMA): the design's pieces with a seam
+/// allowance of `allowance_mm` (0: none). Returns the two paths.
+pub fn export_pattern(
+    design: &Design,
+    dir: &Path,
+    allowance_mm: f64,
+) -> Result<Vec<PathBuf>, ExportError> {
+    if !(0.0..=MAX_ALLOWANCE_MM).contains(&allowance_mm) {
+        return Err(ExportError::BadAllowance(allowance_mm));
+    }
+    let pieces = finish(pieces(design), allowance_mm);
+    if pieces.is_empty() {
+        return Err(ExportError::Empty);
+    }
+    let io = |path: &Path| {
+        let path = path.to_owned();
+        move |source| ExportError::Io { path, source }
+    };
+    std::fs::create_dir_all(dir).map_err(io(dir))?;
+    let svg = dir.join("pattern.svg");
+    std::fs::write(&svg, svg_string(&pieces)).map_err(io(&svg))?;
+    let dxf = dir.join("pattern.dxf");
+    std::fs::write(&dxf, dxf_string(&pieces)).map_err(io(&dxf))?;
+    Ok(vec![svg, dxf])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::ClothMesh;
+    use crate::solver::{Cloth, Environment, Material, ModelKind, Simulation};
+    use glam::Vec2;
+
+    /// A flat `size` m square cloth of `n` x `n` cells on the floor.
+    fn square(size: f32, n: usize) -> Design {
+        let m = Material::default();
+        let cloth = Cloth::new(ClothMesh::grid(size, size, n, n, 0.0).unwrap(), &m).unwrap();
+        let sim = Simulation::new(
+            cloth,
+            None,
+            ModelKind::Xpbd,
+            m,
+            Environment::default(),
+            None,
+        )
+        .unwrap();
+        Design::new(sim)
+    }
+
+    #[test]
+    fn a_square_cloth_is_one_piece_with_its_perimeter() {
+        let d = square(1.0, 8);
+        let p = pieces(&d);
+        assert_eq!(p.len(), 1);
+        assert_eq!(p[0].loops.len(), 1);
+        assert!(
+            (p[0].perimeters()[0] - 4000.0).abs() < 0.01,
+            "{:?}",
+            p[0].perimeters()
+        );
+        assert!(area2(&p[0].loops[0]) > 0.0, "outer loop counter-clockwise");
+        // A 10 mm allowance: the cut line is the square grown by 10 mm each side.
+        let f = finish(p, 10.0);
+        assert!((perimeter(&f[0].cut[0]) - 4080.0).abs() < 0.01);
+        let (lo, _) = bounds(&f[0].cut[0]);
+        assert!(
+            lo.x.abs() < 1e-9 && lo.y.abs() < 1e-9,
+            "laid out at the origin"
+        );
+    }
+
+    #[test]
+    fn a_band_cut_out_makes_two_pieces_and_a_hole_makes_two_loops() {
+        let mut d = square(1.0, 8);
+        // The two middle rows of cells (triangle centres in the band), across the cloth.
+        d.remove_region(Vec2::new(-0.1, 0.37), Vec2::new(1.1, 0.63))
+            .unwrap();
+        let p = pieces(&d);
+        assert_eq!(p.len(), 2);
+        for q in &p {
+            // Each half: 1000 x 375 mm.
+            assert!(
+                (q.perimeters()[0] - 2750.0).abs() < 0.01,
+                "{:?}",
+                q.perimeters()
+            );
+        }
+        let laid = finish(p, 0.0);
+        let (_, hi0) = bounds(&laid[0].cut[0]);
+        let (lo1, _) = bounds(&laid[1].cut[0]);
+        assert!(
+            lo1.x >= hi0.x + 19.999,
+            "laid out side by side without overlap"
+        );
+
+        let mut d = square(1.0, 8);
+        d.remove_region(Vec2::new(0.24, 0.24), Vec2::new(0.76, 0.76))
+            .unwrap();
+        let p = pieces(&d);
+        assert_eq!(p.len(), 1);
+        assert_eq!(p[0].loops.len(), 2, "an outline and a hole");
+        assert!(
+            (p[0].perimeters()[1] - 2000.0).abs() < 0.01,
+            "{:?}",
+            p[0].perimeters()
+        );
+        assert!(area2(&p[0].loops[1]) < 0.0, "the hole clockwise");
+        // The hole's allowance goes into the hole: its cut line is shorter.
+        let f = finish(p, 10.0);
+        assert!(perimeter(&f[0].cut[1]) < perimeter(&f[0].loops[1]));
+        assert!(perimeter(&f[0].cut[0]) > perimeter(&f[0].loops[0]));
+    }
+
+    #[test]
+    fn both_sides_of_a_seam_carry_its_label_and_a_welded_seam_stays_an_edge() {
+        let mut d = square(1.0, 8);
+        // Cut a notch: remove two columns of cells from the bottom edge to the middle,
+        // then sew the notch's two sides (a dart).
+        d.remove_region(Vec2::new(0.37, -0.1), Vec2::new(0.63, 0.5))
+            .unwrap();
+        let side = |x: f32| -> Vec<u32> {
+            let mut v: Vec<(f32, u32)> = (0..d.sim.cloth.len() as u32)
+                .filter(|&i| d.sim.cloth.live.vertex_alive(i))
+                .filter_map(|i| {
+                    let uv = d.vertex_uv(i)?;
+                    ((uv.x - x).abs() < 1e-4 && uv.y < 0.5 - 1e-4).then_some((uv.y, i))
+                })
+                .collect();
+            v.sort_by(|a, b| a.0.total_cmp(&b.0));
+            v.into_iter().map(|(_, i)| i).collect()
+        };
+        let (a, b) = (side(0.375), side(0.625));
+        assert_eq!(a.len(), 4);
+        d.add_seam(&a, &b, 0.05).unwrap();
+        let p = pieces(&d);
+        assert_eq!(p.len(), 1);
+        let labelled = |p: &Piece| p.seams.iter().filter(|s| s.0 == "A").count();
+        assert_eq!(
+            labelled(&p[0]),
+            6,
+            "three segments each side: {:?}",
+            p[0].seams
+        );
+        // Welding the pairs in 3D keeps the dart open in the pattern.
+        for &(x, y) in &d.seams[0].pairs.clone() {
+            d.sew(x, y).unwrap();
+        }
+        let p = pieces(&d);
+        assert_eq!(p.len(), 1);
+        assert!(
+            (p[0].perimeters()[0] - 5000.0).abs() < 0.01,
+            "{:?}",
+            p[0].perimeters()
+        );
+    }
+
+    #[test]
+    fn offset_mitres_right_angles_and_bevels_sharp_corners() {
+        let sq = vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(10.0, 0.0),
+            DVec2::new(10.0, 10.0),
+            DVec2::new(0.0, 10.0),
+        ];
+        let o = offset(&sq, 1.0);
+        assert_eq!(o.len(), 4);
+        assert!((o[0] - DVec2::new(-1.0, -1.0)).length() < 1e-9, "{o:?}");
+        // A needle-sharp spike: its tip is bevelled (two points), not mitred far out.
+        let spike = vec![
+            DVec2::new(0.0, 0.0),
+            DVec2::new(100.0, 0.5),
+            DVec2::new(0.0, 1.0),
+        ];
+        let o = offset(&spike, 1.0);
+        assert!(o.len() > 3);
+        assert!(o.iter().all(|p| p.x < 106.0), "{o:?}");
+    }
+}

@@ -1,0 +1,136 @@
+//! The pattern as SVG, one unit a millimetre: a group per piece with its cut line, its
+//! sewing line (dashed, when there is an allowance), its seams marked and labelled, its
+//! grain line with arrow heads, and its name.
+
+use std::fmt::Write as _;
+
+use glam::DVec2;
+
+use super::Piece;
+
+fn path_d(loops: &[Vec<DVec2>], h: f64) -> String {
+    let mut d = String::new();
+    for l in loops {
+        for (i, p) in l.iter().enumerate() {
+            let _ = write!(
+                d,
+                "{}{:.3},{:.3} ",
+                if i == 0 { "M" } else { "L" },
+                p.x,
+                h - p.y
+            );
+        }
+        d.push_str("Z ");
+    }
+    d.trim_end().to_string()
+}
+
+/// Escapes text for XML.
+fn xml(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// The SVG document of laid-out pieces (`super::finish`).
+pub fn svg_string(pieces: &[Piece]) -> String {
+    let (mut w, mut h) = (0.0f64, 0.0f64);
+    for p in pieces {
+        for l in &p.cut {
+            for q in l {
+                w = w.max(q.x);
+                h = h.max(q.y);
+            }
+        }
+    }
+    let (w, h) = (w + 10.0, h + 10.0);
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n\
+         <svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w:.1}mm\" height=\"{h:.1}mm\" \
+         viewBox=\"0 0 {w:.3} {h:.3}\">\n\
+         <title>Saiho sewing pattern (1 unit = 1 mm)</title>"
+    );
+    for (i, p) in pieces.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "<g id=\"piece-{}\" class=\"piece\">\n<title>{}</title>",
+            i + 1,
+            xml(&p.name)
+        );
+        let _ = writeln!(
+            s,
+            "<path class=\"cut\" d=\"{}\" fill=\"none\" stroke=\"black\" stroke-width=\"0.5\" fill-rule=\"evenodd\"/>",
+            path_d(&p.cut, h)
+        );
+        if p.cut != p.loops {
+            let _ = writeln!(
+                s,
+                "<path class=\"sew\" d=\"{}\" fill=\"none\" stroke=\"black\" stroke-width=\"0.3\" stroke-dasharray=\"4 2\"/>",
+                path_d(&p.loops, h)
+            );
+        }
+        for (label, a, b) in &p.seams {
+            let _ = writeln!(
+                s,
+                "<line class=\"seam\" data-seam=\"{}\" x1=\"{:.3}\" y1=\"{:.3}\" x2=\"{:.3}\" y2=\"{:.3}\" stroke=\"#c02030\" stroke-width=\"1\"/>",
+                xml(label),
+                a.x,
+                h - a.y,
+                b.x,
+                h - b.y
+            );
+        }
+        // One label per seam, at its first segment's middle.
+        let mut seen: Vec<&str> = Vec::new();
+        for (label, a, b) in &p.seams {
+            if seen.contains(&label.as_str()) {
+                continue;
+            }
+            seen.push(label);
+            let m = (*a + *b) * 0.5;
+            let _ = writeln!(
+                s,
+                "<text class=\"seam-label\" x=\"{:.3}\" y=\"{:.3}\" font-size=\"8\" fill=\"#c02030\">{}</text>",
+                m.x,
+                h - m.y,
+                xml(label)
+            );
+        }
+        let (a, b) = p.grain;
+        let t = (b - a).normalize_or_zero() * 6.0;
+        let n = DVec2::new(-t.y, t.x) * 0.5;
+        let _ = writeln!(
+            s,
+            "<path class=\"grain\" d=\"M{:.3},{:.3} L{:.3},{:.3} M{:.3},{:.3} L{:.3},{:.3} L{:.3},{:.3} M{:.3},{:.3} L{:.3},{:.3} L{:.3},{:.3}\" fill=\"none\" stroke=\"#2040a0\" stroke-width=\"0.5\"/>",
+            a.x,
+            h - a.y,
+            b.x,
+            h - b.y,
+            (b - t + n).x,
+            h - (b - t + n).y,
+            b.x,
+            h - b.y,
+            (b - t - n).x,
+            h - (b - t - n).y,
+            (a + t + n).x,
+            h - (a + t + n).y,
+            a.x,
+            h - a.y,
+            (a + t - n).x,
+            h - (a + t - n).y
+        );
+        let m = (a + b) * 0.5;
+        let _ = writeln!(
+            s,
+            "<text class=\"name\" x=\"{:.3}\" y=\"{:.3}\" font-size=\"10\">{}</text>\n</g>",
+            m.x,
+            h - m.y - 4.0,
+            xml(&p.name)
+        );
+    }
+    s.push_str("</svg>\n");
+    s
+}
