@@ -64,6 +64,14 @@ pub(crate) fn export(
     design.refresh_png_cache().map_err(|e| e.to_string())?;
     let mut files = export_obj(design, dir, "cloth").map_err(|e| e.to_string())?;
     files.push(export_glb(design, dir, "cloth").map_err(|e| e.to_string())?);
+    files.extend(
+        sim_core::design::sewing_pattern::export_pattern(
+            design,
+            dir,
+            sim_core::scenario::SCENARIO_ALLOWANCE_MM,
+        )
+        .map_err(|e| e.to_string())?,
+    );
     let design_path = dir.join("design.saiho");
     design
         .save_design_file(&design_path)

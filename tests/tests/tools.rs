@@ -338,6 +338,8 @@ fn lab_headless_fit_cube_drives_the_real_processes() {
         "cloth.mtl",
         "cloth.png",
         "cloth.glb",
+        "pattern.svg",
+        "pattern.dxf",
         "design.saiho",
         "body.obj",
     ] {
