@@ -1,12 +1,14 @@
 //! Triangle meshes, the bottom layer: edge keys, topology (edges and hinges), the cloth's
 //! pattern mesh, the live (edited) mesh and OBJ input/output. Imports nothing above it.
 //!
-//! Inside: `edge` <- `topology` <- `cloth_mesh` <- `live`; `obj` reads into a `ClothMesh`.
+//! Inside: `edge` <- `topology` <- `cloth_mesh` <- `live`; `obj` reads into a `ClothMesh`;
+//! `mesher` meshes a pattern outline into one.
 
 mod bounds;
 mod cloth_mesh;
 mod edge;
 pub mod live;
+pub mod mesher;
 pub mod obj;
 mod topology;
 

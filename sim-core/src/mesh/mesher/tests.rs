@@ -1,0 +1,240 @@
+use glam::Vec2;
+use proptest::prelude::*;
+
+use super::*;
+
+/// The mesh's boundary edges (in one triangle only), as pattern points.
+fn boundary(m: &ClothMesh) -> Vec<(Vec2, Vec2)> {
+    let mut count = std::collections::HashMap::new();
+    for t in &m.triangles {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    let p = |i: u32| {
+        let q = m.positions[i as usize];
+        Vec2::new(q.x, -q.z)
+    };
+    count
+        .into_iter()
+        .filter(|&(_, c)| c == 1)
+        .map(|((a, b), _)| (p(a), p(b)))
+        .collect()
+}
+
+/// Distance from `p` to the outline's nearest side.
+fn off_outline(o: &Outline, p: Vec2) -> f32 {
+    let mut d = f32::INFINITY;
+    for l in &o.loops {
+        for i in 0..l.len() {
+            let (a, b) = (l[i], l[(i + 1) % l.len()]);
+            let t = ((p - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+            d = d.min((a + (b - a) * t - p).length());
+        }
+    }
+    d
+}
+
+/// The smallest angle of the mesh's triangles, degrees.
+fn min_angle(m: &ClothMesh) -> f32 {
+    let mut worst = 180.0f32;
+    for t in &m.triangles {
+        let p = t.map(|i| m.positions[i as usize]);
+        for k in 0..3 {
+            let (a, b, c) = (p[k], p[(k + 1) % 3], p[(k + 2) % 3]);
+            worst = worst.min((b - a).angle_between(c - a).to_degrees());
+        }
+    }
+    worst
+}
+
+/// Checks what the issue asks of any simple outline: a valid mesh whose boundary lies on
+/// the outline and covers its length, no angle under 20 degrees, sides near `edge`.
+fn check_mesh(o: &Outline, edge: f32) -> ClothMesh {
+    let m = mesh_outline(o, edge).unwrap();
+    m.validate().unwrap();
+    let b = boundary(&m);
+    for (p, q) in &b {
+        assert!(
+            off_outline(o, *p) < 1e-5 && off_outline(o, *q) < 1e-5,
+            "{p} {q}"
+        );
+        assert!(
+            (*q - *p).length() <= edge * 1.0001,
+            "{} > {edge}",
+            (*q - *p).length()
+        );
+    }
+    let per: f32 = o
+        .loops
+        .iter()
+        .map(|l| {
+            (0..l.len())
+                .map(|i| (l[(i + 1) % l.len()] - l[i]).length())
+                .sum::<f32>()
+        })
+        .sum();
+    let blen: f32 = b.iter().map(|(p, q)| (*q - *p).length()).sum();
+    assert!(
+        (blen - per).abs() < 1e-4 * per,
+        "boundary {blen} against outline {per}"
+    );
+    assert!(min_angle(&m) >= 20.0, "min angle {}", min_angle(&m));
+    // Winding: every triangle's normal points +Y.
+    for t in &m.triangles {
+        let [a, b, c] = t.map(|i| m.positions[i as usize]);
+        assert!((b - a).cross(c - a).y > 0.0);
+    }
+    m
+}
+
+#[test]
+fn rectangles_ellipses_and_l_shapes_mesh_well() {
+    let m = check_mesh(&Outline::rectangle(1.0, 0.5), 0.05);
+    // About area / equilateral triangle: 0.5 / (0.433 * 0.05^2) = 462 triangles.
+    assert!(
+        m.triangles.len() > 300 && m.triangles.len() < 1500,
+        "{}",
+        m.triangles.len()
+    );
+    check_mesh(&Outline::ellipse(0.3, 0.2, 0.02), 0.02);
+    let l = Outline {
+        loops: vec![vec![
+            Vec2::new(0.0, 0.0),
+            Vec2::new(0.6, 0.0),
+            Vec2::new(0.6, 0.2),
+            Vec2::new(0.2, 0.2),
+            Vec2::new(0.2, 0.5),
+            Vec2::new(0.0, 0.5),
+        ]],
+    };
+    check_mesh(&l, 0.03);
+}
+
+#[test]
+fn a_hole_stays_a_hole() {
+    let mut o = Outline::rectangle(1.0, 1.0);
+    // A clockwise square hole in the middle.
+    o.loops.push(vec![
+        Vec2::new(0.3, 0.3),
+        Vec2::new(0.3, 0.7),
+        Vec2::new(0.7, 0.7),
+        Vec2::new(0.7, 0.3),
+    ]);
+    let m = check_mesh(&o, 0.05);
+    for t in &m.triangles {
+        let c = t
+            .iter()
+            .map(|&i| m.positions[i as usize])
+            .sum::<glam::Vec3>()
+            / 3.0;
+        let p = Vec2::new(c.x, -c.z);
+        assert!(
+            !(p.x > 0.3 && p.x < 0.7 && p.y > 0.3 && p.y < 0.7),
+            "{p} in the hole"
+        );
+    }
+}
+
+#[test]
+fn bad_outlines_are_refused_with_where() {
+    let bow = Outline {
+        loops: vec![vec![
+            Vec2::new(0.0, 0.0),
+            Vec2::new(1.0, 1.0),
+            Vec2::new(1.0, 0.0),
+            Vec2::new(0.0, 1.0),
+        ]],
+    };
+    let e = mesh_outline(&bow, 0.05).unwrap_err();
+    assert_eq!(
+        e,
+        MeshError::SelfIntersecting {
+            la: 0,
+            a: 0,
+            lb: 0,
+            b: 2
+        }
+    );
+    assert!(e.to_string().contains("crosses itself"));
+    let two = Outline {
+        loops: vec![vec![Vec2::ZERO, Vec2::X]],
+    };
+    assert!(matches!(
+        mesh_outline(&two, 0.05),
+        Err(MeshError::TooFewPoints { .. })
+    ));
+    let flat = Outline {
+        loops: vec![vec![Vec2::ZERO, Vec2::X, Vec2::new(2.0, 0.0)]],
+    };
+    // Flat: it runs back over itself, which is what is reported.
+    assert!(matches!(
+        mesh_outline(&flat, 0.05),
+        Err(MeshError::NoArea { .. } | MeshError::SelfIntersecting { .. })
+    ));
+    let nan = Outline {
+        loops: vec![vec![Vec2::ZERO, Vec2::X, Vec2::new(f32::NAN, 1.0)]],
+    };
+    assert!(matches!(
+        mesh_outline(&nan, 0.05),
+        Err(MeshError::NotFinite { .. })
+    ));
+    let sq = Outline::rectangle(1.0, 1.0);
+    for edge in [0.0, -1.0, f32::NAN, 2.0] {
+        assert!(matches!(
+            mesh_outline(&sq, edge),
+            Err(MeshError::EdgeLength(_))
+        ));
+    }
+    assert!(matches!(
+        mesh_outline(&Outline::rectangle(10.0, 10.0), 0.001),
+        Err(MeshError::TooLarge { .. })
+    ));
+    // A hole crossing the outline.
+    let mut o = Outline::rectangle(1.0, 1.0);
+    o.loops.push(vec![
+        Vec2::new(0.5, 0.5),
+        Vec2::new(1.5, 0.5),
+        Vec2::new(1.5, 0.6),
+    ]);
+    assert!(matches!(
+        mesh_outline(&o, 0.05),
+        Err(MeshError::SelfIntersecting { la: 0, lb: 1, .. })
+    ));
+}
+
+/// A star-shaped polygon: `n` points at angles evenly spaced, radii from `r`.
+fn star(r: &[f32]) -> Outline {
+    let n = r.len();
+    Outline {
+        loops: vec![
+            (0..n)
+                .map(|k| {
+                    let t = k as f32 / n as f32 * std::f32::consts::TAU;
+                    Vec2::new(t.cos(), t.sin()) * r[k]
+                })
+                .collect(),
+        ],
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(48))]
+
+    /// Any star-shaped outline whose corners are not sharper than the angle limit.
+    #[test]
+    fn star_outlines_mesh_well(r in prop::collection::vec(0.25f32..0.4, 5..24)) {
+        let o = star(&r);
+        // Skip outlines with a corner under 25 degrees (the refinement cannot widen an
+        // angle the outline itself makes).
+        let l = &o.loops[0];
+        let n = l.len();
+        let sharp = (0..n).any(|i| {
+            let (p, c, q) = (l[(i + n - 1) % n], l[i], l[(i + 1) % n]);
+            (p - c).angle_to(q - c).abs().to_degrees() < 25.0
+        });
+        prop_assume!(!sharp);
+        check_mesh(&o, 0.04);
+    }
+}
