@@ -11,7 +11,7 @@ use sim_core::collision::BodyKind;
 use sim_core::design::TearMode;
 use sim_core::mesh::obj::load_obj;
 use sim_core::scenario::{
-    MAX_FRAMES, MAX_GRID, MAX_THREADS, ScenarioConfig, ScenarioName, build_design,
+    MAX_FRAMES, MAX_GRID, MAX_THREADS, PieceShape, ScenarioConfig, ScenarioName, build_design,
     max_realtime_grid, run_scenario,
 };
 use sim_core::solver::{MAX_FRAME_SUBSTEPS, Material, ModelKind};
@@ -176,6 +176,13 @@ struct ScenarioArgs {
     /// instead of the square grid; it is centred 5 cm above the body.
     #[arg(long)]
     cloth: Option<PathBuf>,
+    /// Use a pattern piece instead of the square grid: rect:WxH or ellipse:WxH (metres),
+    /// meshed with well-shaped triangles (no angle under 20 degrees) of --piece-edge.
+    #[arg(long, value_parser = parse_piece)]
+    piece: Option<PieceShape>,
+    /// The piece's triangle side, m (default 1/64 m, the 64 x 64 grid's cell).
+    #[arg(long, allow_negative_numbers = true)]
+    piece_edge: Option<f32>,
     /// Side of the square cloth, m.
     #[arg(long, default_value_t = 1.0)]
     cloth_size: f32,
@@ -268,6 +275,9 @@ fn parse_scenario_body(s: &str) -> Result<ScenarioBody, String> {
         return Ok(ScenarioBody(None));
     }
     parse_body(s).map(|b| ScenarioBody(Some(b)))
+}
+fn parse_piece(s: &str) -> Result<PieceShape, String> {
+    PieceShape::parse(s).map_err(|e| e.to_string())
 }
 fn parse_scenario(s: &str) -> Result<ScenarioName, String> {
     ScenarioName::parse(s).map_err(|e| e.to_string())
@@ -385,6 +395,10 @@ fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>> {
     cfg.substeps = a.substeps;
     cfg.cloth_size = a.cloth_size;
     cfg.cloth = a.cloth;
+    cfg.piece = a.piece;
+    if let Some(e) = a.piece_edge {
+        cfg.piece_edge = e;
+    }
     cfg.material = a.material.material();
     cfg.progress = !a.quiet;
     cfg.threads = a.threads;

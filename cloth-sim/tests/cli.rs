@@ -637,3 +637,78 @@ fn the_pattern_out_opens_in_other_readers_with_the_lengths_we_cut() {
     );
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn a_piece_from_its_outline_drapes_and_comes_back_out_as_its_pattern() {
+    let dir = tmp("piece");
+    let o = dir.to_str().unwrap();
+    let out = cloth_sim(&[
+        "scenario",
+        "drape-cube",
+        "--piece",
+        "ellipse:0.8x0.5",
+        "--piece-edge",
+        "0.04",
+        "--frames",
+        "20",
+        "--out",
+        o,
+        "--quiet",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    assert!(r["triangles"].as_u64().unwrap() > 200, "{r}");
+    // The pattern out is the ellipse again: its perimeter (Ramanujan) 2,069.4 mm, less
+    // the little its 4 cm chords cut off.
+    let svg = std::fs::read_to_string(dir.join("pattern.svg")).unwrap();
+    assert_eq!(svg.matches("class=\"piece\"").count(), 1);
+    let out = cloth_sim(&[
+        "export-pattern",
+        dir.join("design.saiho").to_str().unwrap(),
+        "--out",
+        o,
+    ]);
+    let text = String::from_utf8_lossy(&out.stdout).to_string();
+    let per: f64 = text
+        .split_once('(')
+        .and_then(|(_, r)| r.split_once(" mm)"))
+        .map(|(l, _)| l.parse().unwrap())
+        .unwrap_or_else(|| panic!("{text}"));
+    assert!((2060.0..2069.4).contains(&per), "{text}");
+    fails_cleanly(
+        &["scenario", "drape-cube", "--piece", "circle:1", "--out", o],
+        "rect:WxH or ellipse:WxH",
+    );
+    fails_cleanly(
+        &[
+            "scenario",
+            "drape-cube",
+            "--piece",
+            "rect:1x1",
+            "--cloth",
+            "x.obj",
+            "--out",
+            o,
+        ],
+        "one of --cloth",
+    );
+    fails_cleanly(
+        &[
+            "scenario",
+            "drape-cube",
+            "--piece",
+            "rect:1x1",
+            "--piece-edge",
+            "nan",
+            "--out",
+            o,
+        ],
+        "piece edge must be between",
+    );
+    std::fs::remove_dir_all(dir).ok();
+}

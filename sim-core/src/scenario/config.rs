@@ -9,6 +9,7 @@ use crate::design::export::ExportError;
 use crate::design::file::DesignError;
 use crate::design::{Design, EditError, TearMode, TearSettings};
 use crate::error::{ConfigError, GeometryError, LoadError, check_range};
+use crate::mesh::mesher::{self, EDGE_RANGE, MeshError, Outline};
 use crate::mesh::{ClothMesh, obj};
 use crate::solver::{
     Cloth, Environment, MAX_FRAME_SUBSTEPS, Material, ModelKind, Simulation, StepError,
@@ -100,6 +101,10 @@ pub struct ScenarioConfig {
     pub cloth_size: f32,
     /// A cloth pattern from an OBJ file instead of the square grid.
     pub cloth: Option<PathBuf>,
+    /// A pattern piece meshed from its outline instead of the square grid, with
+    /// triangles of about `piece_edge` m a side.
+    pub piece: Option<PieceShape>,
+    pub piece_edge: f32,
     pub frame_dt: f32,
     /// Print progress to stderr (once a second) while running.
     pub progress: bool,
@@ -110,6 +115,52 @@ pub struct ScenarioConfig {
     pub tear_mode: TearMode,
     /// Count the crossings every this many frames too (the report keeps the most seen).
     pub check_every: Option<u64>,
+}
+
+/// A pattern piece by its outline's shape and size, m.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PieceShape {
+    Rectangle { width: f32, height: f32 },
+    Ellipse { width: f32, height: f32 },
+}
+
+impl PieceShape {
+    /// Parses `rect:WxH` or `ellipse:WxH` (metres; an ellipse by its two diameters).
+    pub fn parse(s: &str) -> Result<Self, ConfigError> {
+        let bad = || ConfigError::OutOfRange {
+            name: "piece",
+            rule: "rect:WxH or ellipse:WxH, sizes in metres between 0.01 and 10 (e.g. ellipse:0.8x0.5)",
+            value: s.into(),
+        };
+        let (kind, size) = s.split_once(':').ok_or_else(bad)?;
+        let (w, h) = size.split_once(['x', 'X']).ok_or_else(bad)?;
+        let (width, height): (f32, f32) = (
+            w.trim().parse().map_err(|_| bad())?,
+            h.trim().parse().map_err(|_| bad())?,
+        );
+        if !((0.01..=10.0).contains(&width) && (0.01..=10.0).contains(&height)) {
+            return Err(bad());
+        }
+        match kind {
+            "rect" | "rectangle" => Ok(Self::Rectangle { width, height }),
+            "ellipse" => Ok(Self::Ellipse { width, height }),
+            _ => Err(bad()),
+        }
+    }
+
+    /// The outline, centred on the origin.
+    pub fn outline(self, edge: f32) -> Outline {
+        match self {
+            Self::Rectangle { width, height } => {
+                let mut o = Outline::rectangle(width, height);
+                for p in &mut o.loops[0] {
+                    *p -= glam::Vec2::new(width, height) * 0.5;
+                }
+                o
+            }
+            Self::Ellipse { width, height } => Outline::ellipse(0.5 * width, 0.5 * height, edge),
+        }
+    }
 }
 
 /// Largest grid: (1999 + 1)^2 vertices is `MAX_VERTICES`.
@@ -126,6 +177,20 @@ impl ScenarioConfig {
         check_range("grid", self.grid, 1, MAX_GRID, " cells a side")?;
         check_range("frames", self.frames, 1, MAX_FRAMES, "")?;
         check_range("cloth size", self.cloth_size, 0.01, 10.0, " m")?;
+        check_range(
+            "piece edge",
+            self.piece_edge,
+            EDGE_RANGE.0,
+            EDGE_RANGE.1,
+            " m",
+        )?;
+        if self.piece.is_some() && self.cloth.is_some() {
+            return Err(ConfigError::OutOfRange {
+                name: "cloth",
+                rule: "one of --cloth FILE.obj and --piece SHAPE",
+                value: "both".into(),
+            });
+        }
         check_range("frame duration", self.frame_dt, 1.0e-4, 1.0, " s")?;
         check_range("threads", self.threads, 1, MAX_THREADS, "")?;
         if let Some(n) = self.substeps {
@@ -162,6 +227,8 @@ impl ScenarioConfig {
             material: Material::default(),
             cloth_size: 1.0,
             cloth: None,
+            piece: None,
+            piece_edge: 1.0 / 64.0,
             frame_dt: 1.0 / 60.0,
             progress: false,
             threads: 1,
@@ -182,6 +249,8 @@ pub enum ScenarioError {
     Cloth(#[from] GeometryError),
     #[error("cloth: {0}")]
     ClothFile(LoadError),
+    #[error("piece: {0}")]
+    Piece(#[from] MeshError),
     #[error(transparent)]
     Step(#[from] StepError),
     #[error("{0}")]
@@ -211,6 +280,10 @@ pub fn build_design(cfg: &ScenarioConfig) -> Result<Design, ScenarioError> {
         None => (0.0, cfg.material.thickness, 0.0),
     };
     let mut mesh = match &cfg.cloth {
+        None if cfg.piece.is_some() => {
+            let shape = cfg.piece.ok_or(GeometryError::Empty)?;
+            mesher::mesh_outline(&shape.outline(cfg.piece_edge), cfg.piece_edge)?
+        }
         None => ClothMesh::grid(cfg.cloth_size, cfg.cloth_size, cfg.grid, cfg.grid, 0.0)?,
         Some(path) => {
             let mesh = obj::load_obj(path).map_err(ScenarioError::ClothFile)?;

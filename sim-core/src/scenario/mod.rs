@@ -12,7 +12,8 @@ mod run;
 pub mod scripts;
 
 pub use config::{
-    MAX_FRAMES, MAX_GRID, MAX_THREADS, ScenarioConfig, ScenarioError, ScenarioName, build_design,
+    MAX_FRAMES, MAX_GRID, MAX_THREADS, PieceShape, ScenarioConfig, ScenarioError, ScenarioName,
+    build_design,
 };
 pub use realtime::max_realtime_grid;
 pub use report::{OpsReport, Percentiles, Report};
