@@ -176,8 +176,10 @@ struct ScenarioArgs {
     /// instead of the square grid; it is centred 5 cm above the body.
     #[arg(long)]
     cloth: Option<PathBuf>,
-    /// Use a pattern piece instead of the square grid: rect:WxH or ellipse:WxH (metres),
-    /// meshed with well-shaped triangles (no angle under 20 degrees) of --piece-edge.
+    /// Use pattern pieces instead of the square grid: rect:WxH or ellipse:WxH (metres), or
+    /// FILE.svg (every closed shape a piece, holes inside; mm unless the file's size says
+    /// otherwise, as our pattern.svg), meshed with well-shaped triangles (no angle under
+    /// 20 degrees) of --piece-edge. An SVG's pieces lie as the file lays them out.
     #[arg(long, value_parser = parse_piece)]
     piece: Option<PieceShape>,
     /// The piece's triangle side, m (default 1/64 m, the 64 x 64 grid's cell).

@@ -615,6 +615,57 @@ fn the_pattern_out_opens_in_other_readers_with_the_lengths_we_cut() {
             }
         }
     }
+    // Read back as pieces (the sewing line, not the cut line around it), meshed, draped
+    // a moment and written out again: the same outline to 0.5 mm.
+    let back = dir.join("back");
+    let out = cloth_sim(&[
+        "scenario",
+        "drape-cube",
+        "--piece",
+        p.join("pattern.svg").to_str().unwrap(),
+        "--piece-edge",
+        "0.05",
+        "--frames",
+        "2",
+        "--quiet",
+        "--out",
+        back.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = cloth_sim(&[
+        "export-pattern",
+        back.join("design.saiho").to_str().unwrap(),
+        "--out",
+        back.to_str().unwrap(),
+    ]);
+    let again = String::from_utf8_lossy(&out.stdout).to_string();
+    let per = again
+        .split_once('(')
+        .and_then(|(_, r)| r.split_once(" mm)"))
+        .map(|(l, _)| l.parse::<f64>().unwrap())
+        .unwrap_or_else(|| panic!("{again}"));
+    assert!((per - ours[0][0]).abs() < 0.5, "{again} against {stdout}");
+    let empty = dir.join("lines.svg");
+    std::fs::write(
+        &empty,
+        r#"<svg xmlns="http://www.w3.org/2000/svg"><path d="M0,0 L10,10"/></svg>"#,
+    )
+    .unwrap();
+    fails_cleanly(
+        &[
+            "scenario",
+            "drape-cube",
+            "--piece",
+            empty.to_str().unwrap(),
+            "--out",
+            o,
+        ],
+        "no closed shape",
+    );
     fails_cleanly(
         &[
             "export-pattern",

@@ -10,6 +10,7 @@ mod edge;
 pub mod live;
 pub mod mesher;
 pub mod obj;
+pub mod svg;
 mod topology;
 
 pub use bounds::bounds;

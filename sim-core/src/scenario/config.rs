@@ -10,6 +10,7 @@ use crate::design::file::DesignError;
 use crate::design::{Design, EditError, TearMode, TearSettings};
 use crate::error::{ConfigError, GeometryError, LoadError, check_range};
 use crate::mesh::mesher::{self, EDGE_RANGE, MeshError, Outline};
+use crate::mesh::svg;
 use crate::mesh::{ClothMesh, obj};
 use crate::solver::{
     Cloth, Environment, MAX_FRAME_SUBSTEPS, Material, ModelKind, Simulation, StepError,
@@ -117,19 +118,24 @@ pub struct ScenarioConfig {
     pub check_every: Option<u64>,
 }
 
-/// A pattern piece by its outline's shape and size, m.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// A pattern piece by its outline's shape and size, m, or the pieces of an SVG file.
+#[derive(Clone, Debug, PartialEq)]
 pub enum PieceShape {
     Rectangle { width: f32, height: f32 },
     Ellipse { width: f32, height: f32 },
+    Svg(PathBuf),
 }
 
 impl PieceShape {
-    /// Parses `rect:WxH` or `ellipse:WxH` (metres; an ellipse by its two diameters).
+    /// Parses `rect:WxH` or `ellipse:WxH` (metres; an ellipse by its two diameters), or
+    /// a path ending in `.svg`.
     pub fn parse(s: &str) -> Result<Self, ConfigError> {
+        if s.to_ascii_lowercase().ends_with(".svg") {
+            return Ok(Self::Svg(PathBuf::from(s)));
+        }
         let bad = || ConfigError::OutOfRange {
             name: "piece",
-            rule: "rect:WxH or ellipse:WxH, sizes in metres between 0.01 and 10 (e.g. ellipse:0.8x0.5)",
+            rule: "rect:WxH or ellipse:WxH, sizes in metres between 0.01 and 10 (e.g. ellipse:0.8x0.5), or FILE.svg",
             value: s.into(),
         };
         let (kind, size) = s.split_once(':').ok_or_else(bad)?;
@@ -148,18 +154,61 @@ impl PieceShape {
         }
     }
 
-    /// The outline, centred on the origin.
-    pub fn outline(self, edge: f32) -> Outline {
-        match self {
+    /// The outlines (one for a shape, centred on the origin; an SVG's pieces where the
+    /// file puts them).
+    pub fn outlines(&self, edge: f32) -> Result<Vec<Outline>, ScenarioError> {
+        Ok(match self {
             Self::Rectangle { width, height } => {
-                let mut o = Outline::rectangle(width, height);
+                let mut o = Outline::rectangle(*width, *height);
                 for p in &mut o.loops[0] {
-                    *p -= glam::Vec2::new(width, height) * 0.5;
+                    *p -= glam::Vec2::new(*width, *height) * 0.5;
                 }
-                o
+                vec![o]
             }
-            Self::Ellipse { width, height } => Outline::ellipse(0.5 * width, 0.5 * height, edge),
+            Self::Ellipse { width, height } => {
+                vec![Outline::ellipse(0.5 * width, 0.5 * height, edge)]
+            }
+            Self::Svg(path) => svg::load_svg(path)
+                .map_err(|e| ScenarioError::PieceFile {
+                    path: path.clone(),
+                    reason: e.to_string(),
+                })?
+                .into_iter()
+                .map(|p| p.outline)
+                .collect(),
+        })
+    }
+
+    /// Every piece meshed with triangles of about `edge` m, in one cloth; UVs span the
+    /// pieces together (so paint on one never shows on another).
+    pub fn mesh(&self, edge: f32) -> Result<ClothMesh, ScenarioError> {
+        let mut out = ClothMesh {
+            positions: Vec::new(),
+            uvs: Vec::new(),
+            triangles: Vec::new(),
+        };
+        for o in self.outlines(edge)? {
+            let m = mesher::mesh_outline(&o, edge)?;
+            let base = out.positions.len() as u32;
+            out.positions.extend(m.positions);
+            out.triangles
+                .extend(m.triangles.iter().map(|t| t.map(|i| i + base)));
         }
+        if out.positions.len() > crate::mesh::MAX_VERTICES {
+            return Err(MeshError::TooLarge {
+                vertices: out.positions.len(),
+                max: crate::mesh::MAX_VERTICES,
+            }
+            .into());
+        }
+        let (lo, hi) = crate::mesh::bounds(&out.positions);
+        let side = (hi.x - lo.x).max(hi.z - lo.z).max(1e-6);
+        out.uvs = out
+            .positions
+            .iter()
+            .map(|p| glam::Vec2::new((p.x - lo.x) / side, (p.z - lo.z) / side))
+            .collect();
+        Ok(out)
     }
 }
 
@@ -251,6 +300,8 @@ pub enum ScenarioError {
     ClothFile(LoadError),
     #[error("piece: {0}")]
     Piece(#[from] MeshError),
+    #[error("piece {path}: {reason}")]
+    PieceFile { path: PathBuf, reason: String },
     #[error(transparent)]
     Step(#[from] StepError),
     #[error("{0}")]
@@ -281,8 +332,8 @@ pub fn build_design(cfg: &ScenarioConfig) -> Result<Design, ScenarioError> {
     };
     let mut mesh = match &cfg.cloth {
         None if cfg.piece.is_some() => {
-            let shape = cfg.piece.ok_or(GeometryError::Empty)?;
-            mesher::mesh_outline(&shape.outline(cfg.piece_edge), cfg.piece_edge)?
+            let shape = cfg.piece.as_ref().ok_or(GeometryError::Empty)?;
+            shape.mesh(cfg.piece_edge)?
         }
         None => ClothMesh::grid(cfg.cloth_size, cfg.cloth_size, cfg.grid, cfg.grid, 0.0)?,
         Some(path) => {

@@ -1,0 +1,450 @@
+//! Pattern pieces from an SVG file: every closed shape (a path's closed subpaths with
+//! lines, arcs and Béziers, a polygon, a rect, a circle or an ellipse), under its groups'
+//! transforms, flattened to within 0.1 mm (kurbo), in millimetres as the document's size
+//! says (`width="...mm"` over its `viewBox`; without units, a user unit is a millimetre,
+//! as in our own `pattern.svg`). Loops inside loops are holes, loops inside holes pieces
+//! again. In a group that has a sewing line (`class="sew"`, ours), the cut line around it
+//! (`class="cut"`) is left out, so our patterns read back as their sewn shape.
+
+use std::path::Path;
+
+use glam::Vec2;
+use kurbo::{Affine, BezPath, PathEl, Shape};
+use quick_xml::events::{BytesStart, Event};
+
+use super::mesher::Outline;
+
+/// How closely curves are followed, mm.
+const TOLERANCE_MM: f64 = 0.1;
+
+/// A piece read from a file: its name (the group's title or id) and its outline, metres,
+/// pattern y up.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NamedOutline {
+    pub name: String,
+    pub outline: Outline,
+}
+
+#[derive(Debug, thiserror::Error)]
+pub enum SvgError {
+    #[error("cannot read {path}: {source}")]
+    Io {
+        path: std::path::PathBuf,
+        source: std::io::Error,
+    },
+    #[error("not an SVG document: {0}")]
+    Xml(String),
+    #[error(
+        "no closed shape: a piece is a closed path (ending in Z), a polygon, a rect, a circle or an ellipse"
+    )]
+    NoClosedShape,
+    #[error("a path's d is not SVG path data ({0})")]
+    PathData(String),
+}
+
+/// One closed loop found, in mm (SVG axes), with the group it belongs to and its class.
+struct Found {
+    points: Vec<Vec2>,
+    group: usize,
+    class: String,
+}
+
+/// An attribute's value.
+fn attr(e: &BytesStart<'_>, name: &str) -> Option<String> {
+    e.attributes()
+        .flatten()
+        .find(|a| a.key.as_ref() == name.as_bytes())
+        .map(|a| {
+            let raw = String::from_utf8_lossy(&a.value).into_owned();
+            quick_xml::escape::unescape(&raw)
+                .map(|v| v.into_owned())
+                .unwrap_or(raw)
+        })
+}
+
+fn num(e: &BytesStart<'_>, name: &str) -> f64 {
+    attr(e, name)
+        .and_then(|v| {
+            v.trim()
+                .trim_end_matches(|c: char| c.is_ascii_alphabetic() || c == '%')
+                .parse()
+                .ok()
+        })
+        .unwrap_or(0.0)
+}
+
+/// A length with its unit, in mm (`None` without a unit or for %).
+fn length_mm(v: &str) -> Option<f64> {
+    let v = v.trim();
+    let split = v
+        .find(|c: char| c.is_ascii_alphabetic() || c == '%')
+        .unwrap_or(v.len());
+    let (n, unit) = v.split_at(split);
+    let n: f64 = n.trim().parse().ok()?;
+    let per = match unit {
+        "mm" => 1.0,
+        "cm" => 10.0,
+        "in" => 25.4,
+        "pt" => 25.4 / 72.0,
+        "pc" => 25.4 / 6.0,
+        "px" => 25.4 / 96.0,
+        _ => return None,
+    };
+    Some(n * per)
+}
+
+/// Parses a `transform` attribute (matrix, translate, scale, rotate, skewX, skewY).
+fn transform(v: &str) -> Affine {
+    let mut out = Affine::IDENTITY;
+    let mut rest = v;
+    while let Some(open) = rest.find('(') {
+        let name = rest[..open].trim().trim_start_matches(',').trim();
+        let Some(close) = rest[open..].find(')') else {
+            break;
+        };
+        let args: Vec<f64> = rest[open + 1..open + close]
+            .split(|c: char| c == ',' || c.is_whitespace())
+            .filter(|s| !s.is_empty())
+            .filter_map(|s| s.parse().ok())
+            .collect();
+        let a = |i: usize| args.get(i).copied().unwrap_or(0.0);
+        let t = match name {
+            "matrix" if args.len() == 6 => Affine::new([a(0), a(1), a(2), a(3), a(4), a(5)]),
+            "translate" => Affine::translate((a(0), a(1))),
+            "scale" => Affine::scale_non_uniform(a(0), if args.len() > 1 { a(1) } else { a(0) }),
+            "rotate" => {
+                let r = Affine::rotate(a(0).to_radians());
+                if args.len() == 3 {
+                    Affine::translate((a(1), a(2))) * r * Affine::translate((-a(1), -a(2)))
+                } else {
+                    r
+                }
+            }
+            "skewX" => Affine::skew(a(0).to_radians().tan(), 0.0),
+            "skewY" => Affine::skew(0.0, a(0).to_radians().tan()),
+            _ => Affine::IDENTITY,
+        };
+        out *= t;
+        rest = &rest[open + close + 1..];
+    }
+    out
+}
+
+/// The closed subpaths of `path` under `affine`, flattened.
+fn closed_loops(path: &BezPath, affine: Affine) -> Vec<Vec<Vec2>> {
+    let mut p = path.clone();
+    p.apply_affine(affine);
+    // The path is in mm now.
+    let tol = TOLERANCE_MM;
+    let mut loops = Vec::new();
+    let mut cur: Vec<Vec2> = Vec::new();
+    let mut closed = false;
+    let finish = |cur: &mut Vec<Vec2>, closed: bool, loops: &mut Vec<Vec<Vec2>>| {
+        let first_last = cur.len() > 2 && (cur[0] - cur[cur.len() - 1]).length() < 1e-6;
+        if first_last {
+            cur.pop();
+        }
+        if (closed || first_last) && cur.len() >= 3 {
+            loops.push(std::mem::take(cur));
+        }
+        cur.clear();
+    };
+    kurbo::flatten(p, tol, |el| match el {
+        PathEl::MoveTo(q) => {
+            finish(&mut cur, closed, &mut loops);
+            closed = false;
+            cur.push(Vec2::new(q.x as f32, q.y as f32));
+        }
+        PathEl::LineTo(q) => {
+            let q = Vec2::new(q.x as f32, q.y as f32);
+            if cur.last().is_none_or(|l| (*l - q).length() > 1e-6) {
+                cur.push(q);
+            }
+        }
+        PathEl::ClosePath => closed = true,
+        _ => {}
+    });
+    finish(&mut cur, closed, &mut loops);
+    loops
+}
+
+/// The shape an element draws, as a path (`None`: not a shape).
+fn shape_of(e: &BytesStart<'_>) -> Result<Option<BezPath>, SvgError> {
+    let name = e.local_name();
+    Ok(match name.as_ref() {
+        b"path" => match attr(e, "d") {
+            Some(d) => {
+                Some(BezPath::from_svg(&d).map_err(|err| SvgError::PathData(format!("{err:?}")))?)
+            }
+            None => None,
+        },
+        b"polygon" => attr(e, "points").map(|pts| {
+            let v: Vec<f64> = pts
+                .split(|c: char| c == ',' || c.is_whitespace())
+                .filter(|s| !s.is_empty())
+                .filter_map(|s| s.parse().ok())
+                .collect();
+            let mut p = BezPath::new();
+            for (i, xy) in v.chunks_exact(2).enumerate() {
+                if i == 0 {
+                    p.move_to((xy[0], xy[1]));
+                } else {
+                    p.line_to((xy[0], xy[1]));
+                }
+            }
+            p.close_path();
+            p
+        }),
+        b"rect" => Some(
+            kurbo::Rect::new(
+                num(e, "x"),
+                num(e, "y"),
+                num(e, "x") + num(e, "width"),
+                num(e, "y") + num(e, "height"),
+            )
+            .to_path(TOLERANCE_MM),
+        ),
+        b"circle" => Some(
+            kurbo::Circle::new((num(e, "cx"), num(e, "cy")), num(e, "r")).to_path(TOLERANCE_MM),
+        ),
+        b"ellipse" => Some(
+            kurbo::Ellipse::new(
+                (num(e, "cx"), num(e, "cy")),
+                (num(e, "rx"), num(e, "ry")),
+                0.0,
+            )
+            .to_path(TOLERANCE_MM),
+        ),
+        _ => None,
+    })
+}
+
+fn area2(l: &[Vec2]) -> f64 {
+    (0..l.len())
+        .map(|i| l[i].as_dvec2().perp_dot(l[(i + 1) % l.len()].as_dvec2()))
+        .sum()
+}
+
+fn contains(l: &[Vec2], p: Vec2) -> bool {
+    let mut c = false;
+    for i in 0..l.len() {
+        let (a, b) = (l[i], l[(i + 1) % l.len()]);
+        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x) {
+            c = !c;
+        }
+    }
+    c
+}
+
+/// The pieces of an SVG document (see the module doc).
+pub fn read_svg(text: &str) -> Result<Vec<NamedOutline>, SvgError> {
+    let mut reader = quick_xml::Reader::from_str(text);
+    // (transform, group index) of the open groups; the root's transform scales to mm.
+    let mut stack: Vec<(Affine, usize)> = Vec::new();
+    let mut names: Vec<String> = vec![String::new()];
+    let mut found: Vec<Found> = Vec::new();
+    let mut in_title = false;
+    let mut saw_svg = false;
+    loop {
+        let ev = reader
+            .read_event()
+            .map_err(|e| SvgError::Xml(e.to_string()))?;
+        let (e, empty) = match &ev {
+            Event::Start(e) => (Some(e.clone()), false),
+            Event::Empty(e) => (Some(e.clone()), true),
+            Event::End(e) => {
+                let n = e.local_name();
+                if n.as_ref() == b"g" || n.as_ref() == b"svg" {
+                    stack.pop();
+                }
+                if n.as_ref() == b"title" {
+                    in_title = false;
+                }
+                continue;
+            }
+            Event::Text(t) if in_title => {
+                // A group's title names it (over its id); the document's does not.
+                if let (Some(&(_, g)), Ok(s)) = (stack.last(), t.decode())
+                    && g > 0
+                {
+                    names[g] = s.trim().to_string();
+                }
+                continue;
+            }
+            Event::Eof => break,
+            _ => continue,
+        };
+        let Some(e) = e else { continue };
+        let parent = stack.last().map_or(Affine::IDENTITY, |s| s.0);
+        let own = attr(&e, "transform").map_or(Affine::IDENTITY, |t| transform(&t));
+        match e.local_name().as_ref() {
+            b"svg" => {
+                saw_svg = true;
+                // User units to mm: the width's unit over the viewBox's width.
+                let vb: Vec<f64> = attr(&e, "viewBox")
+                    .map(|v| {
+                        v.split(|c: char| c == ',' || c.is_whitespace())
+                            .filter(|s| !s.is_empty())
+                            .filter_map(|s| s.parse().ok())
+                            .collect()
+                    })
+                    .unwrap_or_default();
+                let w = attr(&e, "width").and_then(|w| length_mm(&w));
+                let scale = match (w, vb.get(2)) {
+                    (Some(w), Some(&vw)) if vw > 0.0 => w / vw,
+                    _ => 1.0,
+                };
+                let origin =
+                    Affine::translate((-vb.first().unwrap_or(&0.0), -vb.get(1).unwrap_or(&0.0)));
+                if !empty {
+                    stack.push((parent * Affine::scale(scale) * origin, 0));
+                }
+            }
+            b"g" => {
+                names.push(attr(&e, "id").unwrap_or_default());
+                let g = names.len() - 1;
+                if !empty {
+                    stack.push((parent * own, g));
+                }
+            }
+            b"title" => in_title = !empty,
+            _ => {
+                if let Some(path) = shape_of(&e)? {
+                    let group = stack.last().map_or(0, |s| s.1);
+                    let class = attr(&e, "class").unwrap_or_default();
+                    for points in closed_loops(&path, parent * own) {
+                        found.push(Found {
+                            points,
+                            group,
+                            class: class.clone(),
+                        });
+                    }
+                }
+            }
+        }
+    }
+    if !saw_svg {
+        return Err(SvgError::Xml("no <svg> element".into()));
+    }
+    // Ours: a group's cut line is dropped when it has a sewing line.
+    let sewn: Vec<usize> = found
+        .iter()
+        .filter(|f| f.class == "sew")
+        .map(|f| f.group)
+        .collect();
+    found.retain(|f| !(f.class == "cut" && sewn.contains(&f.group)));
+    // Metres, pattern y up.
+    let mut loops: Vec<(Vec<Vec2>, usize)> = found
+        .into_iter()
+        .map(|f| {
+            (
+                f.points
+                    .iter()
+                    .map(|p| Vec2::new(p.x, -p.y) * 0.001)
+                    .collect(),
+                f.group,
+            )
+        })
+        .filter(|(l, _): &(Vec<Vec2>, usize)| area2(l).abs() > 1e-12)
+        .collect();
+    if loops.is_empty() {
+        return Err(SvgError::NoClosedShape);
+    }
+    // Largest first; each loop's depth is the number of larger loops holding it.
+    loops.sort_by(|a, b| area2(&b.0).abs().total_cmp(&area2(&a.0).abs()));
+    let mut pieces: Vec<(NamedOutline, usize)> = Vec::new();
+    for i in 0..loops.len() {
+        let p = loops[i].0[0];
+        let holders: Vec<usize> = (0..i).filter(|&j| contains(&loops[j].0, p)).collect();
+        let depth = holders.len();
+        // The innermost holder is the last (smallest) of them.
+        let holder = holders.last().copied();
+        let mut l = loops[i].0.clone();
+        if depth.is_multiple_of(2) {
+            if area2(&l) < 0.0 {
+                l.reverse();
+            }
+            let name = match names.get(loops[i].1) {
+                Some(n) if !n.is_empty() => n.clone(),
+                _ => format!("piece {}", pieces.len() + 1),
+            };
+            pieces.push((
+                NamedOutline {
+                    name,
+                    outline: Outline { loops: vec![l] },
+                },
+                i,
+            ));
+        } else if let Some(h) = holder
+            && let Some(piece) = pieces.iter_mut().find(|(_, k)| *k == h)
+        {
+            if area2(&l) > 0.0 {
+                l.reverse();
+            }
+            piece.0.outline.loops.push(l);
+        }
+    }
+    Ok(pieces.into_iter().map(|(p, _)| p).collect())
+}
+
+/// Reads the pieces of an SVG file.
+pub fn load_svg(path: &Path) -> Result<Vec<NamedOutline>, SvgError> {
+    let text = std::fs::read_to_string(path).map_err(|source| SvgError::Io {
+        path: path.to_owned(),
+        source,
+    })?;
+    read_svg(&text)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn perimeter(l: &[Vec2]) -> f32 {
+        (0..l.len())
+            .map(|i| (l[(i + 1) % l.len()] - l[i]).length())
+            .sum()
+    }
+
+    #[test]
+    fn shapes_transforms_units_and_holes() {
+        let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="200mm" height="100mm" viewBox="0 0 20 10">
+            <g id="front"><title>Front</title>
+              <rect x="0" y="0" width="8" height="5"/>
+              <circle cx="4" cy="2.5" r="1"/>
+            </g>
+            <g transform="translate(10,0)"><path d="M0,0 L5,0 A2.5,2.5 0 0 1 0,0 Z"/></g>
+            <path d="M0,8 L3,8" />
+        </svg>"#;
+        let p = read_svg(svg).unwrap();
+        assert_eq!(p.len(), 2, "{p:?}");
+        // 1 user unit = 10 mm: the rect is 80 x 50 mm, with the circle (r 10 mm) a hole.
+        assert_eq!(p[0].name, "Front");
+        assert_eq!(p[0].outline.loops.len(), 2);
+        assert!((perimeter(&p[0].outline.loops[0]) - 0.26).abs() < 1e-5);
+        let c = perimeter(&p[0].outline.loops[1]);
+        assert!((c - 0.02 * std::f32::consts::PI).abs() < 2e-4, "{c}");
+        // The half disc: 50 mm of line and a 25 mm-radius half circle, drawn with an arc.
+        let d = perimeter(&p[1].outline.loops[0]);
+        assert!(
+            (d - (0.05 + 0.025 * std::f32::consts::PI)).abs() < 3e-4,
+            "{d}"
+        );
+        assert_eq!(p[1].name, "piece 2");
+        // Meshable, hole included.
+        crate::mesh::mesher::mesh_outline(&p[0].outline, 0.005).unwrap();
+    }
+
+    #[test]
+    fn no_shape_or_no_svg_is_a_clear_error() {
+        assert!(matches!(
+            read_svg(r#"<svg xmlns="http://www.w3.org/2000/svg"><path d="M0,0 L1,1"/></svg>"#),
+            Err(SvgError::NoClosedShape)
+        ));
+        assert!(matches!(read_svg("hello"), Err(SvgError::Xml(_))));
+        assert!(matches!(
+            read_svg(r#"<svg><path d="Q oops"/></svg>"#),
+            Err(SvgError::PathData(_))
+        ));
+    }
+}
