@@ -763,3 +763,62 @@ fn a_piece_from_its_outline_drapes_and_comes_back_out_as_its_pattern() {
     );
     std::fs::remove_dir_all(dir).ok();
 }
+
+#[test]
+fn dress_mannequin_sews_two_panels_round_the_torso_without_crossing() {
+    let dir = tmp("dress");
+    let o = dir.to_str().unwrap();
+    let out = cloth_sim(&[
+        "scenario",
+        "dress-mannequin",
+        "--model",
+        "vbd",
+        "--piece-edge",
+        "0.05",
+        "--frames",
+        "150",
+        "--out",
+        o,
+        "--quiet",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    assert_eq!(r["pieces"], 2, "{r}");
+    assert_eq!(r["seams"], 4, "{r}");
+    assert!(r["sews"].as_u64().unwrap() > 0, "no stitch welded: {r}");
+    assert!(r["torso_coverage"].as_f64().unwrap() >= 0.9, "{r}");
+    assert_eq!(
+        (r["crossings_self"].clone(), r["crossings_body"].clone()),
+        (0.into(), 0.into()),
+        "{r}"
+    );
+    // The pattern: both panels, each seam's label on both.
+    let svg = std::fs::read_to_string(dir.join("pattern.svg")).unwrap();
+    assert_eq!(svg.matches("class=\"piece\"").count(), 2);
+    let groups: Vec<&str> = svg.split("<g id=\"piece-").skip(1).collect();
+    for label in ["A", "B", "C", "D"] {
+        for g in &groups {
+            assert!(
+                g.contains(&format!("data-seam=\"{label}\"")),
+                "seam {label}"
+            );
+        }
+    }
+    fails_cleanly(
+        &[
+            "scenario",
+            "dress-mannequin",
+            "--piece",
+            "rect:1x1",
+            "--out",
+            o,
+        ],
+        "the scenario's own panels",
+    );
+    std::fs::remove_dir_all(dir).ok();
+}

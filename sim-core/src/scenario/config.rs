@@ -33,10 +33,14 @@ pub enum ScenarioName {
     /// A cloth lying on the floor folded twice, corner to corner and then across: four
     /// layers that must lie flat without crossing.
     Fold,
+    /// A garment: a front and a back panel placed round the mannequin and sewn at the
+    /// shoulders and sides, draped.
+    DressMannequin,
 }
 
 impl ScenarioName {
-    pub const ALL: &'static str = "drape-cube, drape-mannequin, fit-cube, tear, paint, fold";
+    pub const ALL: &'static str =
+        "drape-cube, drape-mannequin, fit-cube, tear, paint, fold, dress-mannequin";
 
     pub fn parse(s: &str) -> Result<Self, ConfigError> {
         match s {
@@ -46,6 +50,7 @@ impl ScenarioName {
             "tear" => Ok(Self::Tear),
             "paint" => Ok(Self::Paint),
             "fold" => Ok(Self::Fold),
+            "dress-mannequin" => Ok(Self::DressMannequin),
             other => Err(ConfigError::Unknown {
                 what: "scenario",
                 name: other.into(),
@@ -62,6 +67,7 @@ impl ScenarioName {
             Self::Tear => "tear",
             Self::Paint => "paint",
             Self::Fold => "fold",
+            Self::DressMannequin => "dress-mannequin",
         }
     }
 
@@ -75,7 +81,7 @@ impl ScenarioName {
     /// The body the scenario drapes over; `None`: the floor alone.
     pub fn default_body(self) -> Option<BodyKind> {
         match self {
-            Self::DrapeMannequin => Some(BodyKind::Mannequin),
+            Self::DrapeMannequin | Self::DressMannequin => Some(BodyKind::Mannequin),
             Self::DrapeCube | Self::FitCube | Self::Tear | Self::Paint => Some(BodyKind::Cube),
             Self::Fold => None,
         }
@@ -83,7 +89,10 @@ impl ScenarioName {
 
     /// Whether the scenario's operations need a body (they act on the cube).
     pub fn needs_body(self) -> bool {
-        matches!(self, Self::FitCube | Self::Tear | Self::Paint)
+        matches!(
+            self,
+            Self::FitCube | Self::Tear | Self::Paint | Self::DressMannequin
+        )
     }
 }
 
@@ -302,6 +311,13 @@ pub enum ScenarioError {
     Piece(#[from] MeshError),
     #[error("piece {path}: {reason}")]
     PieceFile { path: PathBuf, reason: String },
+    #[error(
+        "the cloth starts crossing itself in {self_pairs} pairs of triangles and the body in {body_pairs}; nothing untangles that, so nothing was run"
+    )]
+    StartsCrossed {
+        self_pairs: usize,
+        body_pairs: usize,
+    },
     #[error(transparent)]
     Step(#[from] StepError),
     #[error("{0}")]
@@ -330,7 +346,17 @@ pub fn build_design(cfg: &ScenarioConfig) -> Result<Design, ScenarioError> {
         }
         None => (0.0, cfg.material.thickness, 0.0),
     };
+    let dress = cfg.scenario == ScenarioName::DressMannequin;
+    if dress && (cfg.cloth.is_some() || cfg.piece.is_some()) {
+        return Err(ConfigError::OutOfRange {
+            name: "cloth",
+            rule: "the scenario's own panels for dress-mannequin (no --cloth or --piece)",
+            value: "given".into(),
+        }
+        .into());
+    }
     let mut mesh = match &cfg.cloth {
+        None if dress => super::garment::panels(cfg.piece_edge)?,
         None if cfg.piece.is_some() => {
             let shape = cfg.piece.as_ref().ok_or(GeometryError::Empty)?;
             shape.mesh(cfg.piece_edge)?
@@ -356,10 +382,24 @@ pub fn build_design(cfg: &ScenarioConfig) -> Result<Design, ScenarioError> {
         rest_y - cmin.y,
         cz - (cmin.z + cmax.z) * 0.5,
     );
-    for p in &mut mesh.positions {
-        *p += shift;
+    if !dress {
+        for p in &mut mesh.positions {
+            *p += shift;
+        }
     }
-    let cloth = Cloth::new(mesh, &cfg.material)?;
+    let mut cloth = Cloth::new(mesh, &cfg.material)?;
+    if dress {
+        // The panels start round the body; their rest shape stays the flat pattern.
+        cloth.x = super::garment::place(&cloth.rest.positions, glam::Vec2::new(cx, cz));
+    }
+    // Nothing starts crossed: a cloth through itself or the body stays so.
+    let crossed = crossings::count(&cloth.x, &cloth.live.triangles(), body.as_ref());
+    if crossed.self_pairs > 0 || crossed.body_pairs > 0 {
+        return Err(ScenarioError::StartsCrossed {
+            self_pairs: crossed.self_pairs,
+            body_pairs: crossed.body_pairs,
+        });
+    }
     let env = Environment {
         frame_dt: cfg.frame_dt,
         ..Environment::default()

@@ -6,6 +6,7 @@
 //! exports); `report` (the JSON); `realtime` (the largest real-time grid).
 
 mod config;
+pub mod garment;
 mod realtime;
 mod report;
 mod run;

@@ -64,6 +64,12 @@ pub struct OpsReport {
     /// at a crease left out), m; the cloth's highest point, m.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub folds: Option<usize>,
+    /// dress-mannequin: pattern pieces at the end, and the share of 36 directions round
+    /// the torso at chest height in which the garment is found.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pieces: Option<usize>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub torso_coverage: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub layers: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]

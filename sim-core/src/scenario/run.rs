@@ -68,6 +68,17 @@ fn run_frames(cfg: &ScenarioConfig, design: &mut Design) -> Result<Frames, Scena
     let ops = &mut frames.ops;
     let mut pull: Option<(Vec3, Vec3, u64)> = None;
     let mut fold = (cfg.scenario == ScenarioName::Fold).then(scripts::Fold::default);
+    if cfg.scenario == ScenarioName::DressMannequin {
+        let sewn = super::garment::sew_panels(design)?;
+        ops.seams = Some(sewn.seams);
+        ops.seam_pairs = Some(sewn.pairs);
+        eprintln!(
+            "{}: {} seams of {} stitched pairs (shoulders and sides)",
+            cfg.scenario.name(),
+            sewn.seams,
+            sewn.pairs
+        );
+    }
     if fold.is_some() && cfg.frames < scripts::FOLD_FRAMES {
         eprintln!(
             "note: fold: {} frames end before the second fold has settled (it needs {})",
@@ -180,7 +191,10 @@ fn run_script(
         ScenarioName::Paint => {
             ops.paint_strokes = Some(scripts::paint_pattern(design, body0));
         }
-        ScenarioName::DrapeCube | ScenarioName::DrapeMannequin | ScenarioName::Fold => {}
+        ScenarioName::DrapeCube
+        | ScenarioName::DrapeMannequin
+        | ScenarioName::Fold
+        | ScenarioName::DressMannequin => {}
     }
     Ok(None)
 }
@@ -211,6 +225,14 @@ fn export(
         let (mean, max) = scripts::fit_gap(design, body);
         ops.fit_gap_mean_m = Some(mean);
         ops.fit_gap_max_m = Some(max);
+    }
+    if cfg.scenario == ScenarioName::DressMannequin
+        && let Some(body) = &design.sim.body
+    {
+        let (mn, mx) = body.bounds();
+        let axis = glam::Vec2::new(0.5 * (mn.x + mx.x), 0.5 * (mn.z + mx.z));
+        ops.pieces = Some(crate::design::sewing_pattern::pieces(design).len());
+        ops.torso_coverage = Some(super::garment::torso_coverage(design, axis));
     }
     if cfg.scenario == ScenarioName::Fold {
         let l = scripts::layers(design);
