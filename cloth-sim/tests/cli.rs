@@ -552,6 +552,75 @@ for name in inserts:
     print("dxf", " ".join(f"{x:.2f}" for x in lens))
 "#;
 
+/// The SVG and DXF in `p` read by readers that are not ours give loops of the lengths
+/// we printed (`ours`), to 0.5 mm.
+fn check_with_independent_readers(p: &std::path::Path, ours: &[Vec<f64>]) {
+    let read = Command::new("python3")
+        .args(["-c", READ_PATTERN, p.to_str().unwrap()])
+        .output()
+        .expect("python3 (the independent readers run in it)");
+    let text = String::from_utf8_lossy(&read.stdout).to_string();
+    assert!(
+        read.status.success(),
+        "the SVG or DXF did not read (ezdxf: python3 -m pip install ezdxf): {}",
+        String::from_utf8_lossy(&read.stderr)
+    );
+    for kind in ["svg", "dxf"] {
+        let theirs: Vec<Vec<f64>> = text
+            .lines()
+            .filter_map(|l| l.strip_prefix(kind))
+            .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
+            .collect();
+        assert_eq!(theirs.len(), ours.len(), "{kind}: {text}");
+        for (a, b) in theirs.iter().zip(ours) {
+            assert_eq!(a.len(), b.len(), "{kind}: {text}");
+            for (x, y) in a.iter().zip(b) {
+                assert!((x - y).abs() < 0.5, "{kind}: {x} mm against our {y} mm");
+            }
+        }
+    }
+}
+
+/// `svg` read back as pieces (the sewing line, not the cut line around it), meshed,
+/// draped a moment and written out again gives one outline of `expected` mm, to 0.5 mm.
+fn assert_reads_back(dir: &std::path::Path, svg: &std::path::Path, expected: f64) {
+    let back = dir.join("back");
+    let out = cloth_sim(&[
+        "scenario",
+        "drape-cube",
+        "--piece",
+        svg.to_str().unwrap(),
+        "--piece-edge",
+        "0.05",
+        "--frames",
+        "2",
+        "--quiet",
+        "--out",
+        back.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = cloth_sim(&[
+        "export-pattern",
+        back.join("design.saiho").to_str().unwrap(),
+        "--out",
+        back.to_str().unwrap(),
+    ]);
+    let again = String::from_utf8_lossy(&out.stdout).to_string();
+    let per = again
+        .split_once('(')
+        .and_then(|(_, r)| r.split_once(" mm)"))
+        .map(|(l, _)| l.parse::<f64>().unwrap())
+        .unwrap_or_else(|| panic!("{again}"));
+    assert!(
+        (per - expected).abs() < 0.5,
+        "{again} against {expected} mm"
+    );
+}
+
 #[test]
 fn the_pattern_out_opens_in_other_readers_with_the_lengths_we_cut() {
     let dir = tmp("pattern");
@@ -591,64 +660,8 @@ fn the_pattern_out_opens_in_other_readers_with_the_lengths_we_cut() {
     assert_eq!(ours.len(), 1, "{stdout}");
     assert!((ours[0][0] - 4000.0).abs() < 0.5, "{stdout}");
     assert!(!stdout.contains(" 0 seam segments"), "{stdout}");
-    let read = Command::new("python3")
-        .args(["-c", READ_PATTERN, p.to_str().unwrap()])
-        .output()
-        .expect("python3 (the independent readers run in it)");
-    let text = String::from_utf8_lossy(&read.stdout).to_string();
-    assert!(
-        read.status.success(),
-        "the SVG or DXF did not read (ezdxf: python3 -m pip install ezdxf): {}",
-        String::from_utf8_lossy(&read.stderr)
-    );
-    for kind in ["svg", "dxf"] {
-        let theirs: Vec<Vec<f64>> = text
-            .lines()
-            .filter_map(|l| l.strip_prefix(kind))
-            .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
-            .collect();
-        assert_eq!(theirs.len(), ours.len(), "{kind}: {text}");
-        for (a, b) in theirs.iter().zip(&ours) {
-            assert_eq!(a.len(), b.len(), "{kind}: {text}");
-            for (x, y) in a.iter().zip(b) {
-                assert!((x - y).abs() < 0.5, "{kind}: {x} mm against our {y} mm");
-            }
-        }
-    }
-    // Read back as pieces (the sewing line, not the cut line around it), meshed, draped
-    // a moment and written out again: the same outline to 0.5 mm.
-    let back = dir.join("back");
-    let out = cloth_sim(&[
-        "scenario",
-        "drape-cube",
-        "--piece",
-        p.join("pattern.svg").to_str().unwrap(),
-        "--piece-edge",
-        "0.05",
-        "--frames",
-        "2",
-        "--quiet",
-        "--out",
-        back.to_str().unwrap(),
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let out = cloth_sim(&[
-        "export-pattern",
-        back.join("design.saiho").to_str().unwrap(),
-        "--out",
-        back.to_str().unwrap(),
-    ]);
-    let again = String::from_utf8_lossy(&out.stdout).to_string();
-    let per = again
-        .split_once('(')
-        .and_then(|(_, r)| r.split_once(" mm)"))
-        .map(|(l, _)| l.parse::<f64>().unwrap())
-        .unwrap_or_else(|| panic!("{again}"));
-    assert!((per - ours[0][0]).abs() < 0.5, "{again} against {stdout}");
+    check_with_independent_readers(&p, &ours);
+    assert_reads_back(&dir, &p.join("pattern.svg"), ours[0][0]);
     let empty = dir.join("lines.svg");
     std::fs::write(
         &empty,

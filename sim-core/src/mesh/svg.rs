@@ -238,6 +238,13 @@ fn contains(l: &[Vec2], p: Vec2) -> bool {
 
 /// The pieces of an SVG document (see the module doc).
 pub fn read_svg(text: &str) -> Result<Vec<NamedOutline>, SvgError> {
+    let (found, names) = walk(text)?;
+    nest(found, &names)
+}
+
+/// Every closed loop of the document, in mm, with its group and class; and each group's
+/// name (index 0: the document).
+fn walk(text: &str) -> Result<(Vec<Found>, Vec<String>), SvgError> {
     let mut reader = quick_xml::Reader::from_str(text);
     // (transform, group index) of the open groups; the root's transform scales to mm.
     let mut stack: Vec<(Affine, usize)> = Vec::new();
@@ -326,6 +333,12 @@ pub fn read_svg(text: &str) -> Result<Vec<NamedOutline>, SvgError> {
     if !saw_svg {
         return Err(SvgError::Xml("no <svg> element".into()));
     }
+    Ok((found, names))
+}
+
+/// The loops as pieces: outer loops (counter-clockwise) with the holes inside them
+/// (clockwise), in metres with the pattern's y up.
+fn nest(mut found: Vec<Found>, names: &[String]) -> Result<Vec<NamedOutline>, SvgError> {
     // Ours: a group's cut line is dropped when it has a sewing line.
     let sewn: Vec<usize> = found
         .iter()

@@ -6,10 +6,9 @@
 
 use glam::{Vec2, Vec3};
 
-use super::config::ScenarioError;
 use crate::design::{Design, EditError, STITCH_FORCE};
 use crate::mesh::ClothMesh;
-use crate::mesh::mesher::{Outline, mesh_outline};
+use crate::mesh::mesher::{MeshError, Outline, mesh_outline};
 
 /// A panel's width and height, m: the half of the torso's girth it covers less the side
 /// gaps the seams close, and shoulder to hip.
@@ -29,7 +28,7 @@ const ARMHOLE: f32 = 0.22;
 
 /// The two panels as one cloth, flat in the pattern plane (front left, back right), with
 /// triangles of about `edge` m.
-pub fn panels(edge: f32) -> Result<ClothMesh, ScenarioError> {
+pub fn panels(edge: f32) -> Result<ClothMesh, MeshError> {
     let mut out = ClothMesh {
         positions: Vec::new(),
         uvs: Vec::new(),
@@ -162,6 +161,27 @@ pub fn sew_panels(design: &mut Design) -> Result<Sewn, EditError> {
         }
     }
     Ok(sewn)
+}
+
+/// The front neckline: half its width and its depth, m (a square neck between the
+/// shoulder seams).
+const NECKLINE: Vec2 = Vec2::new(0.07, 0.08);
+
+/// Cuts the front's neckline away: the triangles of the front panel whose pattern
+/// centre lies in the square below the middle of its top edge. Returns how many.
+pub fn cut_neckline(design: &mut Design) -> Result<usize, EditError> {
+    let slots: Vec<u32> = design
+        .sim
+        .cloth
+        .live
+        .iter()
+        .filter(|(_, t)| {
+            let (k, c) = on_panel((t.rest[0] + t.rest[1] + t.rest[2]) / 3.0);
+            k == 0 && c.x.abs() < NECKLINE.x && c.y > -NECKLINE.y
+        })
+        .map(|(s, _)| s)
+        .collect();
+    design.remove_triangles(&slots)
 }
 
 /// Share of 36 directions round the torso at chest height (1.25-1.35 m) in which some

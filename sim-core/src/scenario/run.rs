@@ -191,10 +191,15 @@ fn run_script(
         ScenarioName::Paint => {
             ops.paint_strokes = Some(scripts::paint_pattern(design, body0));
         }
-        ScenarioName::DrapeCube
-        | ScenarioName::DrapeMannequin
-        | ScenarioName::Fold
-        | ScenarioName::DressMannequin => {}
+        ScenarioName::DressMannequin => {
+            let n = super::garment::cut_neckline(design)?;
+            ops.cuts = Some(1);
+            eprintln!(
+                "{}: cut the front's neckline away ({n} triangles)",
+                cfg.scenario.name()
+            );
+        }
+        ScenarioName::DrapeCube | ScenarioName::DrapeMannequin | ScenarioName::Fold => {}
     }
     Ok(None)
 }
