@@ -153,8 +153,9 @@ pub fn pieces(design: &Design) -> Vec<Piece> {
     let mut out = Vec::new();
     for root in roots {
         let edges = &boundary[&root];
-        let mut loops = chain(edges)
-            .into_iter()
+        let key_loops = chain(edges);
+        let mut loops = key_loops
+            .iter()
             .map(|l| l.iter().map(|k| places[k]).collect::<Vec<DVec2>>())
             .filter(|l| l.len() >= 3)
             .collect::<Vec<_>>();
@@ -168,13 +169,10 @@ pub fn pieces(design: &Design) -> Vec<Piece> {
                 l.reverse();
             }
         }
-        let seams = edges
+        let seams = key_loops
             .iter()
-            .filter_map(|(a, b)| {
-                let (sa, sb) = (seam_of.get(&a.0)?, seam_of.get(&b.0)?);
-                let label = sa.iter().find(|l| sb.contains(l))?;
-                Some((label.clone(), places[a], places[b]))
-            })
+            .flat_map(|l| seam_segments(l, &places, &seam_of))
+            .map(|(label, a, b)| (label, places[&a], places[&b]))
             .collect();
         let (lo, hi) = bounds(&loops[0]);
         let mid_y = 0.5 * (lo.y + hi.y);
@@ -191,6 +189,49 @@ pub fn pieces(design: &Design) -> Vec<Piece> {
         });
     }
     out
+}
+
+/// Most outline edges in a row a seam may skip (see `seam_segments`).
+const SEAM_GAP: usize = 8;
+
+/// The outline edges of loop `l` (keys, with their pattern places) that belong to a
+/// seam, with its label: both ends in the seam, or in a short straight run of edges
+/// between two of the same seam going on in the same direction (a seam path resampled to
+/// its partner's count pairs only some of its vertices). A run that turns, as between a
+/// dart's two sides, is not a seam.
+fn seam_segments(
+    l: &[Key],
+    places: &HashMap<Key, DVec2>,
+    seam_of: &HashMap<u32, Vec<String>>,
+) -> Vec<(String, Key, Key)> {
+    let n = l.len();
+    let label = |i: usize| -> Option<&String> {
+        let (a, b) = (l[i % n], l[(i + 1) % n]);
+        let (sa, sb) = (seam_of.get(&a.0)?, seam_of.get(&b.0)?);
+        sa.iter().find(|s| sb.contains(s))
+    };
+    let own: Vec<Option<&String>> = (0..n).map(label).collect();
+    let mut out: Vec<Option<&String>> = own.clone();
+    for i in 0..n {
+        if own[i].is_some() || own[(i + n - 1) % n].is_none() {
+            continue;
+        }
+        // A run of unlabelled edges starts at i: fill it if the same seam resumes soon.
+        let before = own[(i + n - 1) % n];
+        let dir = |e: usize| (places[&l[(e + 1) % n]] - places[&l[e % n]]).normalize_or_zero();
+        let d0 = dir(i + n - 1);
+        if let Some(len) = (1..=SEAM_GAP.min(n - 1)).find(|&k| own[(i + k) % n].is_some())
+            && own[(i + len) % n] == before
+            && (0..=len).all(|k| dir(i + k).dot(d0) > 0.95)
+        {
+            for k in 0..len {
+                out[(i + k) % n] = before;
+            }
+        }
+    }
+    (0..n)
+        .filter_map(|i| Some((out[i]?.clone(), l[i], l[(i + 1) % n])))
+        .collect()
 }
 
 /// The seams' labels ("A", "B", ...) of each vertex in them.
@@ -468,6 +509,36 @@ mod tests {
             "{:?}",
             p[0].perimeters()
         );
+    }
+
+    #[test]
+    fn a_seam_skipping_vertices_on_a_straight_side_is_still_one_seam() {
+        // A loop whose bottom side runs 0..4; the seam holds 0, 1, 3, 4 (2 skipped, on
+        // the same straight side) and 6, round a corner from 4.
+        let pts = [
+            (0.0, 0.0),
+            (1.0, 0.0),
+            (2.0, 0.0),
+            (3.0, 0.0),
+            (4.0, 0.0),
+            (4.0, 2.0),
+            (2.0, 2.0),
+            (0.0, 2.0),
+        ];
+        let l: Vec<Key> = (0..pts.len() as u32)
+            .map(|v| (v, [v as i64, 0, 0]))
+            .collect();
+        let places: HashMap<Key, DVec2> = l
+            .iter()
+            .zip(pts)
+            .map(|(k, (x, y))| (*k, DVec2::new(x, y)))
+            .collect();
+        let seam_of: HashMap<u32, Vec<String>> =
+            [0, 1, 3, 4, 6].map(|v| (v, vec!["A".to_string()])).into();
+        let s = seam_segments(&l, &places, &seam_of);
+        let edges: Vec<(u32, u32)> = s.iter().map(|(_, a, b)| (a.0, b.0)).collect();
+        // 1-2 and 2-3 filled; 4-5-6 turns a corner: not.
+        assert_eq!(edges, vec![(0, 1), (1, 2), (2, 3), (3, 4)]);
     }
 
     #[test]
