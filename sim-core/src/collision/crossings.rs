@@ -220,7 +220,12 @@ pub fn count_self(x: &[Vec3], tris: &[[u32; 3]]) -> usize {
     for (i, (lo, hi)) in boxes.iter().enumerate() {
         let (a, b) = (key(*lo), key(*hi));
         // A triangle far larger than the cells (a stray vertex) is tested against all.
-        let n = (b.0 - a.0 + 1) as i64 * (b.1 - a.1 + 1) as i64 * (b.2 - a.2 + 1) as i64;
+        // In i64: far-flung corners saturate the i32 cell keys, whose difference would
+        // overflow.
+        let span = |lo: i32, hi: i32| (hi as i64 - lo as i64 + 1).max(0);
+        let n = span(a.0, b.0)
+            .saturating_mul(span(a.1, b.1))
+            .saturating_mul(span(a.2, b.2));
         if n > 4096 {
             return count_self_brute(x, &tris);
         }
@@ -303,6 +308,21 @@ mod tests {
 
     fn t(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> [Vec3; 3] {
         [Vec3::from(a), Vec3::from(b), Vec3::from(c)]
+    }
+
+    /// A damaged design's far-flung vertex (its cell keys saturate) is counted, not a
+    /// panic (a mutated design file once overflowed the cell span).
+    #[test]
+    fn far_flung_vertices_do_not_overflow_the_grid() {
+        let x = vec![
+            Vec3::ZERO,
+            Vec3::X,
+            Vec3::Y,
+            Vec3::new(-3.0e38, 0.0, 0.0),
+            Vec3::new(3.0e38, 1.0, 0.0),
+            Vec3::new(0.0, -3.0e38, 1.0),
+        ];
+        assert_eq!(count_self(&x, &[[0, 1, 2], [3, 4, 5]]), 1);
     }
 
     #[test]
