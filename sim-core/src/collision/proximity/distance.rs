@@ -14,7 +14,10 @@ pub fn point_triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> (Vec3, [f32; 3]) {
 /// The barycentric weights of `q` (in the plane of `a b c`, inside it) against its corners,
 /// clamped to the triangle. A degenerate triangle gives the weights of its nearest corner.
 pub fn barycentric(q: Vec3, a: Vec3, b: Vec3, c: Vec3) -> [f32; 3] {
-    let (v0, v1, v2) = (b - a, c - a, q - a);
+    // In f64: for a thin triangle the f32 normal equations lose the weights' last
+    // digits, and the weights must rebuild the point.
+    let (a64, q64) = (a.as_dvec3(), q.as_dvec3());
+    let (v0, v1, v2) = (b.as_dvec3() - a64, c.as_dvec3() - a64, q64 - a64);
     let (d00, d01, d11) = (v0.dot(v0), v0.dot(v1), v1.dot(v1));
     let (d20, d21) = (v2.dot(v0), v2.dot(v1));
     let den = d00 * d11 - d01 * d01;
@@ -27,7 +30,7 @@ pub fn barycentric(q: Vec3, a: Vec3, b: Vec3, c: Vec3) -> [f32; 3] {
     }
     let v = ((d11 * d20 - d01 * d21) / den).clamp(0.0, 1.0);
     let w = ((d00 * d21 - d01 * d20) / den).clamp(0.0, 1.0 - v);
-    [1.0 - v - w, v, w]
+    [(1.0 - v - w) as f32, v as f32, w as f32]
 }
 
 /// The closest points of segments `p0 p1` and `q0 q1` (Ericson, Real-Time Collision
