@@ -90,10 +90,12 @@ impl Design {
         Ok(count)
     }
 
-    /// Welds stitched pairs that came within the cloth's thickness (after a frame); each
-    /// weld is an undoable sew. Returns how many welded.
+    /// Welds stitched pairs that came within 1.5 x the cloth's thickness (after a frame);
+    /// each weld is an undoable sew. Returns how many welded. (Not within the thickness:
+    /// under penetration-free contact two pieces' edges meet at the contact distance,
+    /// which is the thickness, and would never weld.)
     pub(super) fn weld_close_stitches(&mut self) -> usize {
-        let reach = self.sim.material.thickness;
+        let reach = 1.5 * self.sim.material.thickness;
         let mut welded = 0;
         for si in 0..self.seams.len() {
             let mut k = 0;
