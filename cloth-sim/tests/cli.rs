@@ -555,7 +555,19 @@ for name in inserts:
 /// The SVG and DXF in `p` read by readers that are not ours give loops of the lengths
 /// we printed (`ours`), to 0.5 mm.
 fn check_with_independent_readers(p: &std::path::Path, ours: &[Vec<f64>]) {
-    let read = Command::new("python3")
+    // The Python that has ezdxf: the one on PATH (pip), else the system's (apt).
+    let python = ["python3", "/usr/bin/python3"]
+        .into_iter()
+        .find(|py| {
+            Command::new(py)
+                .args(["-c", "import ezdxf"])
+                .output()
+                .is_ok_and(|o| o.status.success())
+        })
+        .expect(
+            "a python3 with ezdxf: python3 -m pip install ezdxf, or apt-get install python3-ezdxf",
+        );
+    let read = Command::new(python)
         .args(["-c", READ_PATTERN, p.to_str().unwrap()])
         .output()
         .expect("python3 (the independent readers run in it)");
