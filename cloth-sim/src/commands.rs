@@ -10,6 +10,23 @@ use sim_core::solver::Material;
 
 use crate::config::ServiceConfig;
 
+/// "; warning: ..." when a seam's two sides' pattern lengths (m) differ by more than
+/// `SEAM_MISMATCH` of the longer, else nothing.
+fn mismatch_warning(la: f32, lb: f32) -> String {
+    let long = la.max(lb);
+    if long > 0.0 && (la - lb).abs() > sim_core::design::SEAM_MISMATCH * long {
+        format!(
+            "; warning: its sides differ in length by {:.0}% ({:.0} mm against {:.0} mm), \
+             so the longer will gather",
+            100.0 * (la - lb).abs() / long,
+            1000.0 * la,
+            1000.0 * lb
+        )
+    } else {
+        String::new()
+    }
+}
+
 /// Carries out a command on the design itself (not SET_TOOL, RESET, LOAD or EXPORT, which
 /// the service handles); the message says what happened or why not.
 pub(crate) fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
@@ -59,12 +76,17 @@ pub(crate) fn carry_out(design: &mut Design, c: &Command) -> Result<String, Stri
             .map_err(e),
         Command::Seam { a, b, tolerance } => {
             let seg = |s: &[[f32; 2]; 2]| s.map(Vec2::from_array);
+            let (sa, sb) = (seg(a), seg(b));
+            // The two sides' pattern lengths, for a warning when they do not match.
+            let la = design.pattern_length(&design.pattern_path(sa[0], sa[1], *tolerance));
+            let lb = design.pattern_length(&design.pattern_path(sb[0], sb[1], *tolerance));
             design
-                .seam_on_pattern(seg(a), seg(b), *tolerance)
+                .seam_on_pattern(sa, sb, *tolerance)
                 .map(|n| {
                     format!(
                         "Seam: {n} pairs of border vertices stitched; they pull together and \
-                         are sewn as they meet"
+                         are sewn as they meet{}",
+                        mismatch_warning(la, lb)
                     )
                 })
                 .map_err(e)
@@ -212,4 +234,20 @@ pub(crate) fn replacement(
             backup.display()
         ),
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::mismatch_warning;
+
+    #[test]
+    fn mismatched_seam_sides_are_a_warning() {
+        assert_eq!(mismatch_warning(0.5, 0.45), "");
+        let w = mismatch_warning(0.7, 1.0);
+        assert!(
+            w.contains("30%") && w.contains("700 mm against 1000 mm"),
+            "{w}"
+        );
+        assert_eq!(mismatch_warning(0.0, 0.0), "");
+    }
 }

@@ -817,6 +817,7 @@ fn dress_mannequin_sews_two_panels_round_the_torso_without_crossing() {
     assert_eq!(r["seams"], 4, "{r}");
     assert!(r["sews"].as_u64().unwrap() > 0, "no stitch welded: {r}");
     assert!(r["torso_coverage"].as_f64().unwrap() >= 0.9, "{r}");
+    assert!(r["seam_length_mismatch_m"].as_f64().unwrap() < 1e-3, "{r}");
     assert_eq!(
         (r["crossings_self"].clone(), r["crossings_body"].clone()),
         (0.into(), 0.into()),

@@ -38,4 +38,5 @@ pub use error::EditError;
 pub use history::History;
 pub use parts::{STITCH_FORCE, Seam, TearMode, TearSettings, open_stitches};
 pub use prim::{Edit, Prim};
+pub use seam::SEAM_MISMATCH;
 pub use texture::{PaintPatch, TILE, Texture};

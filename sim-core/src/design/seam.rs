@@ -2,6 +2,10 @@
 //! bounded force, each pair welded (sewn) once closer than the cloth's thickness.
 
 use super::document::Design;
+
+/// Sides of a seam whose pattern lengths differ by more than this share of the longer
+/// are worth a warning (not a refusal: easing a longer side in is a tailor's choice).
+pub const SEAM_MISMATCH: f32 = 0.2;
 use super::error::EditError;
 use super::parts::Seam;
 use super::prim::Prim;
@@ -29,6 +33,32 @@ impl Design {
             }
         }
         Ok(())
+    }
+
+    /// The length of a vertex path in the pattern (the rest length of each of its edges,
+    /// as the triangle holding the edge has it; the present distance where no triangle
+    /// holds both ends), m. Two sides to be sewn should match: a designer is told when
+    /// they differ by more than [`SEAM_MISMATCH`].
+    pub fn pattern_length(&self, path: &[u32]) -> f32 {
+        let live = &self.sim.cloth.live;
+        path.windows(2)
+            .map(|w| {
+                live.tris_of(w[0])
+                    .iter()
+                    .filter_map(|&t| live.tri(t))
+                    .find_map(|t| {
+                        let (i, j) = (t.corner(w[0])?, t.corner(w[1])?);
+                        Some((t.rest[i] - t.rest[j]).length())
+                    })
+                    .unwrap_or_else(|| {
+                        let x = &self.sim.cloth.x;
+                        match (x.get(w[0] as usize), x.get(w[1] as usize)) {
+                            (Some(a), Some(b)) => (*a - *b).length(),
+                            _ => 0.0,
+                        }
+                    })
+            })
+            .sum()
     }
 
     /// Adds a seam between border paths `a` and `b` (vertex chains along the border, in

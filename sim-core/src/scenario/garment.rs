@@ -38,11 +38,23 @@ pub fn panels(edge: f32) -> Result<ClothMesh, MeshError> {
         uvs: Vec::new(),
         triangles: Vec::new(),
     };
+    let (w, h) = (0.5 * PANEL.x, PANEL.y);
     for cx in PATTERN_X {
-        let mut o = Outline::rectangle(PANEL.x, PANEL.y);
-        for p in &mut o.loops[0] {
-            *p += Vec2::new(cx - 0.5 * PANEL.x, -PANEL.y);
-        }
+        // The rectangle with corners where the seams end, so a vertex lies at each end
+        // and both sides of a seam have its length exactly.
+        let corners = [
+            (-w, -h),
+            (w, -h),
+            (w, -ARMHOLE),
+            (w, 0.0),
+            (NECK_HALF, 0.0),
+            (-NECK_HALF, 0.0),
+            (-w, 0.0),
+            (-w, -ARMHOLE),
+        ];
+        let o = Outline {
+            loops: vec![corners.map(|(x, y)| Vec2::new(cx + x, y)).to_vec()],
+        };
         let m = mesh_outline(&o, edge)?;
         let base = out.positions.len() as u32;
         out.positions.extend(m.positions);
@@ -131,6 +143,8 @@ fn border(design: &Design, k: usize, a: Vec2, b: Vec2) -> Vec<u32> {
 pub struct Sewn {
     pub seams: usize,
     pub pairs: usize,
+    /// The largest difference between a seam's two sides' pattern lengths, m.
+    pub mismatch_m: f32,
 }
 
 /// Sews the shoulders (the top edges' outer parts) and the sides (the side edges below
@@ -160,6 +174,8 @@ pub fn sew_panels(design: &mut Design) -> Result<Sewn, EditError> {
             Vec2::new(-s * w, -h),
         );
         for (a, b) in [(shoulder_front, shoulder_back), (side_front, side_back)] {
+            let d = (design.pattern_length(&a) - design.pattern_length(&b)).abs();
+            sewn.mismatch_m = sewn.mismatch_m.max(d);
             sewn.pairs += design.add_seam(&a, &b, SEAM_PULL)?;
             sewn.seams += 1;
         }

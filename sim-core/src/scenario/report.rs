@@ -70,6 +70,10 @@ pub struct OpsReport {
     pub pieces: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub torso_coverage: Option<f64>,
+    /// dress-mannequin: the largest difference between a seam's two sides' pattern
+    /// lengths, m.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub seam_length_mismatch_m: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub layers: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]

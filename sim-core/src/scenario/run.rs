@@ -72,6 +72,7 @@ fn run_frames(cfg: &ScenarioConfig, design: &mut Design) -> Result<Frames, Scena
         let sewn = super::garment::sew_panels(design)?;
         ops.seams = Some(sewn.seams);
         ops.seam_pairs = Some(sewn.pairs);
+        ops.seam_length_mismatch_m = Some(sewn.mismatch_m as f64);
         eprintln!(
             "{}: {} seams of {} stitched pairs (shoulders and sides)",
             cfg.scenario.name(),

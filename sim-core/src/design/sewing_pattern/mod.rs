@@ -512,6 +512,19 @@ mod tests {
     }
 
     #[test]
+    fn a_paths_pattern_length_is_its_rest_length_however_it_hangs() {
+        let mut d = square(1.0, 8);
+        let row: Vec<u32> = (0..=8).collect();
+        assert!((d.pattern_length(&row) - 1.0).abs() < 1e-5);
+        // Stretched in 3D, the pattern length stays.
+        for v in &row {
+            d.sim.cloth.x[*v as usize].x *= 2.0;
+        }
+        assert!((d.pattern_length(&row) - 1.0).abs() < 1e-5);
+        assert!((d.pattern_length(&row[..3]) - 0.25).abs() < 1e-5);
+    }
+
+    #[test]
     fn a_seam_skipping_vertices_on_a_straight_side_is_still_one_seam() {
         // A loop whose bottom side runs 0..4; the seam holds 0, 1, 3, 4 (2 skipped, on
         // the same straight side) and 6, round a corner from 4.
