@@ -448,8 +448,8 @@ fn export_pattern(
         .into());
     }
     let d = sim_core::design::Design::load_design_file(design)?;
-    let files = sewing_pattern::export_pattern(&d, out, allowance)?;
-    let pieces = sewing_pattern::pieces(&d);
+    let pieces = sewing_pattern::finish(sewing_pattern::pieces(&d), allowance);
+    let files = sewing_pattern::write_pattern(&pieces, out)?;
     for p in &pieces {
         let per: Vec<String> = p.perimeters().iter().map(|l| format!("{l:.1}")).collect();
         println!(

@@ -492,6 +492,42 @@ fn crossings_are_counted_exactly_in_reports_and_in_any_obj() {
     std::fs::remove_dir_all(dir).ok();
 }
 
+/// Runs a scenario (`args` after `scenario`, `--out dir` added), which must succeed, and
+/// returns its report.
+fn scenario_report(dir: &std::path::Path, args: &[&str]) -> serde_json::Value {
+    let mut all = vec!["scenario"];
+    all.extend_from_slice(args);
+    all.extend(["--out", dir.to_str().unwrap(), "--quiet"]);
+    let out = cloth_sim(&all);
+    assert!(
+        out.status.success(),
+        "{all:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap()
+}
+
+/// Runs `export-pattern` (`args` after it), which must succeed; returns each piece's
+/// sewing-line loop lengths as it printed them ("piece 1: 1 outline (4000.0 mm), ..."),
+/// and what it printed.
+fn exported_lengths(args: &[&str]) -> (Vec<Vec<f64>>, String) {
+    let mut all = vec!["export-pattern"];
+    all.extend_from_slice(args);
+    let out = cloth_sim(&all);
+    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let lengths = stdout
+        .lines()
+        .filter_map(|l| l.split_once('(')?.1.split_once(" mm)"))
+        .map(|(lens, _)| lens.split(" + ").map(|x| x.parse().unwrap()).collect())
+        .collect();
+    (lengths, stdout)
+}
+
 #[test]
 fn fold_lies_on_the_floor_and_the_scenarios_that_act_on_a_body_need_one() {
     let dir = tmp("fold");
@@ -501,16 +537,7 @@ fn fold_lies_on_the_floor_and_the_scenarios_that_act_on_a_body_need_one() {
         "body must be cube, sphere, mannequin or an .obj",
     );
     assert!(!dir.join("report.json").exists());
-    let out = cloth_sim(&[
-        "scenario", "fold", "--model", "vbd", "--grid", "10", "--out", o, "--quiet",
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let r: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    let r = scenario_report(&dir, &["fold", "--model", "vbd", "--grid", "10"]);
     assert_eq!(r["body"], "floor");
     assert_eq!(r["folds"], 2, "{r}");
     // The folded cloth lies on itself, and no layer passes through another.
@@ -597,39 +624,21 @@ fn check_with_independent_readers(p: &std::path::Path, ours: &[Vec<f64>]) {
 /// draped a moment and written out again gives one outline of `expected` mm, to 0.5 mm.
 fn assert_reads_back(dir: &std::path::Path, svg: &std::path::Path, expected: f64) {
     let back = dir.join("back");
-    let out = cloth_sim(&[
-        "scenario",
+    let args = [
         "drape-cube",
         "--piece",
         svg.to_str().unwrap(),
         "--piece-edge",
         "0.05",
-        "--frames",
-        "2",
-        "--quiet",
-        "--out",
-        back.to_str().unwrap(),
-    ]);
+    ];
+    scenario_report(&back, &[&args[..], &["--frames", "2"]].concat());
+    let design = back.join("design.saiho");
+    let (again, text) =
+        exported_lengths(&[design.to_str().unwrap(), "--out", back.to_str().unwrap()]);
+    assert_eq!(again.len(), 1, "{text}");
     assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let out = cloth_sim(&[
-        "export-pattern",
-        back.join("design.saiho").to_str().unwrap(),
-        "--out",
-        back.to_str().unwrap(),
-    ]);
-    let again = String::from_utf8_lossy(&out.stdout).to_string();
-    let per = again
-        .split_once('(')
-        .and_then(|(_, r)| r.split_once(" mm)"))
-        .map(|(l, _)| l.parse::<f64>().unwrap())
-        .unwrap_or_else(|| panic!("{again}"));
-    assert!(
-        (per - expected).abs() < 0.5,
-        "{again} against {expected} mm"
+        (again[0][0] - expected).abs() < 0.5,
+        "{text} against {expected} mm"
     );
 }
 
@@ -637,38 +646,14 @@ fn assert_reads_back(dir: &std::path::Path, svg: &std::path::Path, expected: f64
 fn the_pattern_out_opens_in_other_readers_with_the_lengths_we_cut() {
     let dir = tmp("pattern");
     let o = dir.to_str().unwrap();
-    let out = cloth_sim(&[
-        "scenario", "fit-cube", "--grid", "12", "--frames", "250", "--out", o, "--quiet",
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    scenario_report(&dir, &["fit-cube", "--grid", "12", "--frames", "250"]);
     assert!(dir.join("pattern.svg").is_file() && dir.join("pattern.dxf").is_file());
     let p = dir.join("again");
     let design = dir.join("design.saiho");
-    let out = cloth_sim(&[
-        "export-pattern",
-        design.to_str().unwrap(),
-        "--out",
-        p.to_str().unwrap(),
-        "--allowance",
-        "15",
-    ]);
-    let stdout = String::from_utf8_lossy(&out.stdout).to_string();
-    assert!(
-        out.status.success(),
-        "{stdout}{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let (d, ps) = (design.to_str().unwrap(), p.to_str().unwrap());
     // "piece 1: 1 outline (4000.0 mm), 8 seam segments": fit-cube's cross-shaped piece,
     // whose cut corners keep the square's perimeter, with its four seams' sides marked.
-    let ours: Vec<Vec<f64>> = stdout
-        .lines()
-        .filter_map(|l| l.split_once('(')?.1.split_once(" mm)"))
-        .map(|(lens, _)| lens.split(" + ").map(|x| x.parse().unwrap()).collect())
-        .collect();
+    let (ours, stdout) = exported_lengths(&[d, "--out", ps, "--allowance", "15"]);
     assert_eq!(ours.len(), 1, "{stdout}");
     assert!((ours[0][0] - 4000.0).abs() < 0.5, "{stdout}");
     assert!(!stdout.contains(" 0 seam segments"), "{stdout}");
@@ -718,44 +703,27 @@ fn the_pattern_out_opens_in_other_readers_with_the_lengths_we_cut() {
 fn a_piece_from_its_outline_drapes_and_comes_back_out_as_its_pattern() {
     let dir = tmp("piece");
     let o = dir.to_str().unwrap();
-    let out = cloth_sim(&[
-        "scenario",
-        "drape-cube",
-        "--piece",
-        "ellipse:0.8x0.5",
-        "--piece-edge",
-        "0.04",
-        "--frames",
-        "20",
-        "--out",
-        o,
-        "--quiet",
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let r = scenario_report(
+        &dir,
+        &[
+            "drape-cube",
+            "--piece",
+            "ellipse:0.8x0.5",
+            "--piece-edge",
+            "0.04",
+            "--frames",
+            "20",
+        ],
     );
-    let r: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
     assert!(r["triangles"].as_u64().unwrap() > 200, "{r}");
     // The pattern out is the ellipse again: its perimeter (Ramanujan) 2,069.4 mm, less
     // the little its 4 cm chords cut off.
     let svg = std::fs::read_to_string(dir.join("pattern.svg")).unwrap();
     assert_eq!(svg.matches("class=\"piece\"").count(), 1);
-    let out = cloth_sim(&[
-        "export-pattern",
-        dir.join("design.saiho").to_str().unwrap(),
-        "--out",
-        o,
-    ]);
-    let text = String::from_utf8_lossy(&out.stdout).to_string();
-    let per: f64 = text
-        .split_once('(')
-        .and_then(|(_, r)| r.split_once(" mm)"))
-        .map(|(l, _)| l.parse().unwrap())
-        .unwrap_or_else(|| panic!("{text}"));
-    assert!((2060.0..2069.4).contains(&per), "{text}");
+    let design = dir.join("design.saiho");
+    let (lengths, text) = exported_lengths(&[design.to_str().unwrap(), "--out", o]);
+    assert_eq!(lengths.len(), 1, "{text}");
+    assert!((2060.0..2069.4).contains(&lengths[0][0]), "{text}");
     fails_cleanly(
         &["scenario", "drape-cube", "--piece", "circle:1", "--out", o],
         "rect:WxH or ellipse:WxH",
@@ -793,26 +761,18 @@ fn a_piece_from_its_outline_drapes_and_comes_back_out_as_its_pattern() {
 fn dress_mannequin_sews_two_panels_round_the_torso_without_crossing() {
     let dir = tmp("dress");
     let o = dir.to_str().unwrap();
-    let out = cloth_sim(&[
-        "scenario",
-        "dress-mannequin",
-        "--model",
-        "vbd",
-        "--piece-edge",
-        "0.05",
-        "--frames",
-        "150",
-        "--out",
-        o,
-        "--quiet",
-    ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let r = scenario_report(
+        &dir,
+        &[
+            "dress-mannequin",
+            "--model",
+            "vbd",
+            "--piece-edge",
+            "0.05",
+            "--frames",
+            "150",
+        ],
     );
-    let r: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
     assert_eq!(r["pieces"], 2, "{r}");
     assert_eq!(r["seams"], 4, "{r}");
     assert!(r["sews"].as_u64().unwrap() > 0, "no stitch welded: {r}");

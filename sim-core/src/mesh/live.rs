@@ -108,6 +108,34 @@ impl LiveMesh {
             .filter_map(|(i, t)| t.as_ref().map(|t| (i as u32, t)))
     }
 
+    /// Each of `n` vertices' place in the pattern (its first alive triangle's rest
+    /// corner; infinite for a vertex no triangle uses).
+    pub fn pattern_places(&self, n: usize) -> Vec<Vec3> {
+        let mut places = vec![Vec3::splat(f32::INFINITY); n];
+        for (_, t) in self.iter() {
+            for k in 0..3 {
+                if let Some(p) = places.get_mut(t.v[k] as usize)
+                    && !p.is_finite()
+                {
+                    *p = t.rest[k];
+                }
+            }
+        }
+        places
+    }
+
+    /// The mean rest length of the alive triangles' sides (0 with none).
+    pub fn mean_rest_side(&self) -> f32 {
+        let (mut sum, mut k) = (0.0f32, 0usize);
+        for (_, t) in self.iter() {
+            for j in 0..3 {
+                sum += (t.rest[j] - t.rest[(j + 1) % 3]).length();
+                k += 1;
+            }
+        }
+        if k == 0 { 0.0 } else { sum / k as f32 }
+    }
+
     /// Alive triangles' vertex indices, in slot order.
     pub fn triangles(&self) -> Vec<[u32; 3]> {
         self.iter().map(|(_, t)| t.v).collect()

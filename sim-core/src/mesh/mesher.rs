@@ -89,12 +89,10 @@ impl Outline {
     }
 }
 
-fn area2(l: &[Vec2]) -> f64 {
+/// Twice the signed area of closed polygon `l` (positive counter-clockwise).
+pub fn signed_area2(l: &[Vec2]) -> f64 {
     (0..l.len())
-        .map(|i| {
-            let (p, q) = (l[i].as_dvec2(), l[(i + 1) % l.len()].as_dvec2());
-            p.perp_dot(q)
-        })
+        .map(|i| l[i].as_dvec2().perp_dot(l[(i + 1) % l.len()].as_dvec2()))
         .sum()
 }
 
@@ -202,27 +200,32 @@ pub fn check(outline: &Outline) -> Result<(), MeshError> {
             }
         }
     }
-    if let Some(li) = outline.loops.iter().position(|l| area2(l).abs() < 1e-12) {
+    if let Some(li) = outline
+        .loops
+        .iter()
+        .position(|l| signed_area2(l).abs() < 1e-12)
+    {
         return Err(MeshError::NoArea { looped: li });
     }
     Ok(())
 }
 
-/// Whether `p` lies inside the outline (even-odd over all its loops).
-fn inside(outline: &Outline, p: Vec2) -> bool {
+/// Whether `p` crosses an odd number of `l`'s sides going toward +x (inside `l`, for a
+/// simple polygon).
+pub fn contains(l: &[Vec2], p: Vec2) -> bool {
     let mut c = false;
-    for l in &outline.loops {
-        for i in 0..l.len() {
-            let (a, b) = (l[i], l[(i + 1) % l.len()]);
-            if (a.y > p.y) != (b.y > p.y) {
-                let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
-                if p.x < x {
-                    c = !c;
-                }
-            }
+    for i in 0..l.len() {
+        let (a, b) = (l[i], l[(i + 1) % l.len()]);
+        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x) {
+            c = !c;
         }
     }
     c
+}
+
+/// Whether `p` lies inside the outline (even-odd over all its loops).
+fn inside(outline: &Outline, p: Vec2) -> bool {
+    outline.loops.iter().filter(|l| contains(l, p)).count() % 2 == 1
 }
 
 /// Meshes `outline` with triangles of about `edge` metres a side (see the module doc).
@@ -232,7 +235,7 @@ pub fn mesh_outline(outline: &Outline, edge: f32) -> Result<ClothMesh, MeshError
     }
     check(outline)?;
     // Rough size check before any work: area over an equilateral triangle's.
-    let area: f64 = area2(&outline.loops[0]).abs() * 0.5;
+    let area: f64 = signed_area2(&outline.loops[0]).abs() * 0.5;
     let estimate = (2.0 * area / (0.433 * (edge as f64).powi(2))) as usize;
     if estimate > MAX_VERTICES {
         return Err(MeshError::TooLarge {
@@ -325,6 +328,38 @@ pub fn mesh_outline(outline: &Outline, edge: f32) -> Result<ClothMesh, MeshError
     mesh.validate()
         .map_err(|e| MeshError::Triangulation(e.to_string()))?;
     Ok(mesh)
+}
+
+/// Several outlines meshed into one cloth, each a piece where its outline lies; UVs span
+/// the pieces together (the square of their bounds), so paint on one never shows on
+/// another.
+pub fn mesh_pieces(outlines: &[Outline], edge: f32) -> Result<ClothMesh, MeshError> {
+    let mut out = ClothMesh {
+        positions: Vec::new(),
+        uvs: Vec::new(),
+        triangles: Vec::new(),
+    };
+    for o in outlines {
+        let m = mesh_outline(o, edge)?;
+        let base = out.positions.len() as u32;
+        out.positions.extend(m.positions);
+        out.triangles
+            .extend(m.triangles.iter().map(|t| t.map(|i| i + base)));
+        if out.positions.len() > MAX_VERTICES {
+            return Err(MeshError::TooLarge {
+                vertices: out.positions.len(),
+                max: MAX_VERTICES,
+            });
+        }
+    }
+    let (lo, hi) = super::bounds(&out.positions);
+    let side = (hi.x - lo.x).max(hi.z - lo.z).max(1e-6);
+    out.uvs = out
+        .positions
+        .iter()
+        .map(|p| Vec2::new((p.x - lo.x) / side, (p.z - lo.z) / side))
+        .collect();
+    Ok(out)
 }
 
 #[cfg(test)]

@@ -12,7 +12,7 @@ use glam::Vec2;
 use kurbo::{Affine, BezPath, PathEl, Shape};
 use quick_xml::events::{BytesStart, Event};
 
-use super::mesher::Outline;
+use super::mesher::{Outline, contains, signed_area2 as area2};
 
 /// How closely curves are followed, mm.
 const TOLERANCE_MM: f64 = 0.1;
@@ -217,23 +217,6 @@ fn shape_of(e: &BytesStart<'_>) -> Result<Option<BezPath>, SvgError> {
         ),
         _ => None,
     })
-}
-
-fn area2(l: &[Vec2]) -> f64 {
-    (0..l.len())
-        .map(|i| l[i].as_dvec2().perp_dot(l[(i + 1) % l.len()].as_dvec2()))
-        .sum()
-}
-
-fn contains(l: &[Vec2], p: Vec2) -> bool {
-    let mut c = false;
-    for i in 0..l.len() {
-        let (a, b) = (l[i], l[(i + 1) % l.len()]);
-        if (a.y > p.y) != (b.y > p.y) && p.x < a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x) {
-            c = !c;
-        }
-    }
-    c
 }
 
 /// The pieces of an SVG document (see the module doc).

@@ -188,36 +188,9 @@ impl PieceShape {
         })
     }
 
-    /// Every piece meshed with triangles of about `edge` m, in one cloth; UVs span the
-    /// pieces together (so paint on one never shows on another).
+    /// Every piece meshed with triangles of about `edge` m, in one cloth.
     pub fn mesh(&self, edge: f32) -> Result<ClothMesh, ScenarioError> {
-        let mut out = ClothMesh {
-            positions: Vec::new(),
-            uvs: Vec::new(),
-            triangles: Vec::new(),
-        };
-        for o in self.outlines(edge)? {
-            let m = mesher::mesh_outline(&o, edge)?;
-            let base = out.positions.len() as u32;
-            out.positions.extend(m.positions);
-            out.triangles
-                .extend(m.triangles.iter().map(|t| t.map(|i| i + base)));
-        }
-        if out.positions.len() > crate::mesh::MAX_VERTICES {
-            return Err(MeshError::TooLarge {
-                vertices: out.positions.len(),
-                max: crate::mesh::MAX_VERTICES,
-            }
-            .into());
-        }
-        let (lo, hi) = crate::mesh::bounds(&out.positions);
-        let side = (hi.x - lo.x).max(hi.z - lo.z).max(1e-6);
-        out.uvs = out
-            .positions
-            .iter()
-            .map(|p| glam::Vec2::new((p.x - lo.x) / side, (p.z - lo.z) / side))
-            .collect();
-        Ok(out)
+        Ok(mesher::mesh_pieces(&self.outlines(edge)?, edge)?)
     }
 }
 

@@ -8,7 +8,7 @@ use glam::{Vec2, Vec3};
 
 use crate::design::{Design, EditError};
 use crate::mesh::ClothMesh;
-use crate::mesh::mesher::{MeshError, Outline, mesh_outline};
+use crate::mesh::mesher::{MeshError, Outline, mesh_pieces};
 
 /// A panel's width and height, m: the half of the torso's girth it covers less the side
 /// gaps the seams close, and shoulder to hip.
@@ -33,42 +33,23 @@ const ARMHOLE: f32 = 0.22;
 /// The two panels as one cloth, flat in the pattern plane (front left, back right), with
 /// triangles of about `edge` m.
 pub fn panels(edge: f32) -> Result<ClothMesh, MeshError> {
-    let mut out = ClothMesh {
-        positions: Vec::new(),
-        uvs: Vec::new(),
-        triangles: Vec::new(),
-    };
     let (w, h) = (0.5 * PANEL.x, PANEL.y);
-    for cx in PATTERN_X {
-        // The rectangle with corners where the seams end, so a vertex lies at each end
-        // and both sides of a seam have its length exactly.
-        let corners = [
-            (-w, -h),
-            (w, -h),
-            (w, -ARMHOLE),
-            (w, 0.0),
-            (NECK_HALF, 0.0),
-            (-NECK_HALF, 0.0),
-            (-w, 0.0),
-            (-w, -ARMHOLE),
-        ];
-        let o = Outline {
-            loops: vec![corners.map(|(x, y)| Vec2::new(cx + x, y)).to_vec()],
-        };
-        let m = mesh_outline(&o, edge)?;
-        let base = out.positions.len() as u32;
-        out.positions.extend(m.positions);
-        out.triangles
-            .extend(m.triangles.iter().map(|t| t.map(|i| i + base)));
-    }
-    let (lo, hi) = crate::mesh::bounds(&out.positions);
-    let side = (hi.x - lo.x).max(hi.z - lo.z);
-    out.uvs = out
-        .positions
-        .iter()
-        .map(|p| Vec2::new((p.x - lo.x) / side, (p.z - lo.z) / side))
-        .collect();
-    Ok(out)
+    // Each a rectangle with corners where the seams end, so a vertex lies at each end and
+    // both sides of a seam have its length exactly.
+    let corners = [
+        (-w, -h),
+        (w, -h),
+        (w, -ARMHOLE),
+        (w, 0.0),
+        (NECK_HALF, 0.0),
+        (-NECK_HALF, 0.0),
+        (-w, 0.0),
+        (-w, -ARMHOLE),
+    ];
+    let outlines = PATTERN_X.map(|cx| Outline {
+        loops: vec![corners.map(|(x, y)| Vec2::new(cx + x, y)).to_vec()],
+    });
+    mesh_pieces(&outlines, edge)
 }
 
 /// Which panel a pattern point belongs to (0 front, 1 back) and its place on it: across

@@ -321,28 +321,14 @@ impl Simulation {
     /// triangle sides plus twice the thickness apart in the pattern (so a flat cloth has
     /// none: folds, layers and pieces lying on each other are what it counts).
     pub fn self_contacts(&self) -> usize {
-        let n = self.cloth.len();
-        let mut pattern = vec![Vec3::splat(f32::INFINITY); n];
-        let (mut sum, mut sides) = (0.0f32, 0usize);
-        for (_, t) in self.cloth.live.iter() {
-            for k in 0..3 {
-                if let Some(p) = pattern.get_mut(t.v[k] as usize)
-                    && !p.is_finite()
-                {
-                    *p = t.rest[k];
-                }
-                sum += (t.rest[k] - t.rest[(k + 1) % 3]).length();
-                sides += 1;
-            }
-        }
-        let mean_side = if sides == 0 { 0.0 } else { sum / sides as f32 };
+        let live = &self.cloth.live;
         let th = self.material.thickness;
         crate::collision::proximity::count_self_contacts(
             &self.cloth.x,
-            &self.cloth.live.triangles(),
-            &pattern,
+            &live.triangles(),
+            &live.pattern_places(self.cloth.len()),
             th,
-            2.0 * mean_side + 2.0 * th,
+            2.0 * live.mean_rest_side() + 2.0 * th,
         )
     }
 

@@ -8,6 +8,7 @@ use glam::Vec3;
 
 use super::distance::{point_triangle, segment_segment};
 use super::grid::{Aabb, BoxGrid, unique_edges};
+use super::pairs::grid_cell;
 
 /// Pairs of primitives of the cloth `(x, tris)` closer than `gap`, whose vertices lie at
 /// least `exclusion` apart in the pattern (`pattern[v]`: vertex `v`'s place in it).
@@ -29,7 +30,7 @@ pub fn count_self_contacts(
     };
     let tri_box = |t: &[u32; 3]| Aabb::of(&t.map(|v| x[v as usize])).grown(gap);
     let mut grid = BoxGrid::default();
-    let cell = mean_extent(tris.iter().map(tri_box));
+    let cell = grid_cell(tris.iter().map(tri_box));
     grid.build(tris.iter().map(tri_box), cell);
     let mut used = vec![false; x.len()];
     for t in tris {
@@ -55,7 +56,7 @@ pub fn count_self_contacts(
     }
     let edges = unique_edges(tris);
     let edge_box = |e: &[u32; 2]| Aabb::of(&e.map(|v| x[v as usize])).grown(gap);
-    let cell = mean_extent(edges.iter().map(edge_box));
+    let cell = grid_cell(edges.iter().map(edge_box));
     grid.build(edges.iter().map(edge_box), cell);
     for (k, e) in edges.iter().enumerate() {
         let [p0, p1] = e.map(|v| x[v as usize]);
@@ -72,19 +73,6 @@ pub fn count_self_contacts(
         });
     }
     count
-}
-
-fn mean_extent(boxes: impl Iterator<Item = Aabb>) -> f32 {
-    let (mut sum, mut n) = (0.0f32, 0usize);
-    for b in boxes.filter(Aabb::is_finite) {
-        sum += (b.hi - b.lo).max_element();
-        n += 1;
-    }
-    if n == 0 {
-        0.01
-    } else {
-        (sum / n as f32).max(1e-3)
-    }
 }
 
 #[cfg(test)]

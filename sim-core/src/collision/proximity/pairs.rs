@@ -644,7 +644,7 @@ impl Proximity {
 }
 
 /// A hash cell for a set of boxes: about their mean size, at least 2 mm.
-fn grid_cell(boxes: impl Iterator<Item = Aabb>) -> f32 {
+pub(super) fn grid_cell(boxes: impl Iterator<Item = Aabb>) -> f32 {
     let (mut sum, mut n) = (0.0f32, 0usize);
     for b in boxes.step_by(7) {
         if b.is_finite() {

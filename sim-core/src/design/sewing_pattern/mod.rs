@@ -365,7 +365,11 @@ pub fn export_pattern(
     if !(0.0..=MAX_ALLOWANCE_MM).contains(&allowance_mm) {
         return Err(ExportError::BadAllowance(allowance_mm));
     }
-    let pieces = finish(pieces(design), allowance_mm);
+    write_pattern(&finish(pieces(design), allowance_mm), dir)
+}
+
+/// Writes laid-out pieces (`finish`) as `dir/pattern.svg` and `dir/pattern.dxf`.
+pub fn write_pattern(pieces: &[Piece], dir: &Path) -> Result<Vec<PathBuf>, ExportError> {
     if pieces.is_empty() {
         return Err(ExportError::Empty);
     }
@@ -375,9 +379,9 @@ pub fn export_pattern(
     };
     std::fs::create_dir_all(dir).map_err(io(dir))?;
     let svg = dir.join("pattern.svg");
-    std::fs::write(&svg, svg_string(&pieces)).map_err(io(&svg))?;
+    std::fs::write(&svg, svg_string(pieces)).map_err(io(&svg))?;
     let dxf = dir.join("pattern.dxf");
-    std::fs::write(&dxf, dxf_string(&pieces)).map_err(io(&dxf))?;
+    std::fs::write(&dxf, dxf_string(pieces)).map_err(io(&dxf))?;
     Ok(vec![svg, dxf])
 }
 

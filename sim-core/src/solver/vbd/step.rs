@@ -145,26 +145,13 @@ impl Vbd {
         self.elastic = Elastic::new(cloth);
         self.tris = cloth.live.triangles();
         self.edges = unique_edges(&self.tris);
-        self.mean_edge = {
-            let (mut sum, mut k) = (0.0f32, 0usize);
-            for (_, t) in cloth.live.iter() {
-                for j in 0..3 {
-                    sum += (t.rest[j] - t.rest[(j + 1) % 3]).length();
-                    k += 1;
-                }
-            }
-            if k == 0 { 0.0 } else { sum / k as f32 }
-        };
-        self.pattern = vec![Vec3::splat(f32::INFINITY); n];
+        self.mean_edge = cloth.live.mean_rest_side();
+        self.pattern = cloth.live.pattern_places(n);
         self.area = vec![0.0; n];
         for (_, t) in cloth.live.iter() {
             let a = t.rest_area() / 3.0;
             for k in 0..3 {
-                let v = t.v[k] as usize;
-                if !self.pattern[v].is_finite() {
-                    self.pattern[v] = t.rest[k];
-                }
-                self.area[v] += a;
+                self.area[t.v[k] as usize] += a;
             }
         }
         self.refresh_free(cloth);
