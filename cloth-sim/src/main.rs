@@ -141,9 +141,15 @@ struct ScenarioArgs {
     /// experiment end to end: drape, cut the corners away, sew the flaps), tear (pull a
     /// gripped corner until the cloth tears), paint (paint a pattern, export the texture) or
     /// fold (a cloth on the floor folded corner to corner, then across: four layers; use
-    /// --model vbd for layers that do not cross).
+    /// --model vbd for layers that do not cross), dress-mannequin (a front and a back
+    /// panel arranged round the mannequin, sewn, draped, the neckline cut) or
+    /// drape-pattern FILE (any pattern placed, sewn and draped the same way).
     #[arg(value_parser = parse_scenario)]
     name: ScenarioName,
+    /// drape-pattern: the pattern, an .svg or .dxf (pieces arranged by name: front,
+    /// back, left/right side, left/right sleeve; seams from Saiho's marks) or a
+    /// GarmentCode .json specification (its panels' placement and stitches).
+    pattern: Option<PathBuf>,
     /// Output directory (created if missing).
     #[arg(long)]
     out: PathBuf,
@@ -397,6 +403,7 @@ fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>> {
     cfg.substeps = a.substeps;
     cfg.cloth_size = a.cloth_size;
     cfg.cloth = a.cloth;
+    cfg.pattern = a.pattern;
     cfg.piece = a.piece;
     if let Some(e) = a.piece_edge {
         cfg.piece_edge = e;

@@ -795,6 +795,33 @@ fn dress_mannequin_sews_two_panels_round_the_torso_without_crossing() {
             );
         }
     }
+    // The pieces keep their names in the pattern out.
+    assert!(svg.contains("<title>front</title>") && svg.contains("<title>back</title>"));
+    // The pattern out read back in, seams and all, placed, sewn and draped again.
+    for file in ["pattern.svg", "pattern.dxf"] {
+        let again = dir.join(format!("again-{file}"));
+        let pattern = dir.join(file);
+        let r = scenario_report(
+            &again,
+            &[
+                "drape-pattern",
+                pattern.to_str().unwrap(),
+                "--model",
+                "vbd",
+                "--piece-edge",
+                "0.05",
+                "--frames",
+                "30",
+            ],
+        );
+        assert_eq!(r["pieces"], 2, "{file}: {r}");
+        assert_eq!(r["seams"], 4, "{file}: {r}");
+        assert_eq!(
+            (r["crossings_self"].clone(), r["crossings_body"].clone()),
+            (0.into(), 0.into()),
+            "{file}: {r}"
+        );
+    }
     fails_cleanly(
         &[
             "scenario",
@@ -805,6 +832,21 @@ fn dress_mannequin_sews_two_panels_round_the_torso_without_crossing() {
             o,
         ],
         "the scenario's own panels",
+    );
+    fails_cleanly(
+        &["scenario", "drape-pattern", "--out", o],
+        "a pattern file (--pattern FILE) for drape-pattern",
+    );
+    let report = dir.join("report.json");
+    fails_cleanly(
+        &[
+            "scenario",
+            "drape-pattern",
+            report.to_str().unwrap(),
+            "--out",
+            o,
+        ],
+        "GarmentCode specification: no \"pattern\"",
     );
     std::fs::remove_dir_all(dir).ok();
 }

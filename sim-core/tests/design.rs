@@ -201,3 +201,56 @@ fn a_crossed_design_loads_and_says_so() {
     );
     assert_eq!(t.sim.cloth.x, s.sim.cloth.x, "loaded as it was saved");
 }
+
+#[test]
+fn pieces_round_trip_and_format_1_files_still_load() {
+    // A dress: two named pieces, placed round the mannequin.
+    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+    cfg.piece_edge = 0.06;
+    let d = build_design(&cfg).unwrap();
+    let names: Vec<String> = d.piece_list().into_iter().map(|p| p.name).collect();
+    assert_eq!(names, ["front", "back"]);
+    let t = Design::load_design(&d.save_design().unwrap()).unwrap();
+    assert_eq!(t.pieces, d.pieces);
+    assert!(t.pieces.iter().all(|p| p.placement.is_some()));
+    // A file written in format 1 (before pieces), kept as it was written.
+    let bytes = include_bytes!("fixtures/format1-drape-cube-grid8.saiho");
+    assert_eq!(u32::from_le_bytes(bytes[8..12].try_into().unwrap()), 1);
+    const { assert!(FORMAT >= 2) };
+    let old = Design::load_design(bytes).unwrap();
+    assert!(old.pieces.is_empty());
+    assert_eq!(old.sim.cloth.len(), 81);
+    let list = old.piece_list();
+    assert_eq!(list.len(), 1);
+    assert_eq!(list[0].name, "piece 1");
+    // A piece record that is not one is refused, and nothing is built.
+    let mut bad = d;
+    bad.pieces[0].name = String::new();
+    let err = Design::load_design(&bad.save_design().unwrap()).unwrap_err();
+    assert!(err.to_string().contains("a piece's name"), "{err}");
+}
+
+#[test]
+fn cutting_a_piece_in_two_lists_two_pieces() {
+    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+    cfg.piece_edge = 0.06;
+    let mut d = build_design(&cfg).unwrap();
+    // Every triangle of the front across a band at mid height goes.
+    let front = d.pieces[0].clone();
+    let band: Vec<u32> = d
+        .sim
+        .cloth
+        .live
+        .iter()
+        .filter(|(_, t)| {
+            let c = (t.rest[0] + t.rest[1] + t.rest[2]) / 3.0;
+            let own = glam::Vec2::new(c.x, -c.z) - front.offset;
+            d.record_at(glam::Vec2::new(c.x, -c.z)) == Some(0) && (own.y + 0.4).abs() < 0.05
+        })
+        .map(|(s, _)| s)
+        .collect();
+    assert!(!band.is_empty());
+    d.remove_triangles(&band).unwrap();
+    let names: Vec<String> = d.piece_list().into_iter().map(|p| p.name).collect();
+    assert_eq!(names, ["front", "front 2", "back"], "{names:?}");
+}

@@ -3,6 +3,7 @@
 
 use super::history::History;
 use super::parts::{Seam, TearSettings};
+use super::pieces::PieceRecord;
 use super::texture::Texture;
 use crate::error::GeometryError;
 use crate::solver::Simulation;
@@ -26,6 +27,9 @@ pub struct Design {
     pub tear: TearSettings,
     /// Seams being stitched (welded pairs stay, as `a == b`).
     pub seams: Vec<Seam>,
+    /// The pieces as named when the design was made from a pattern (empty for a cloth
+    /// made otherwise); see `pieces`.
+    pub pieces: Vec<PieceRecord>,
     /// The texture as PNG for design files, with the texture version it encodes.
     pub(super) png_cache: Option<(u64, Vec<u8>)>,
 }
@@ -39,6 +43,7 @@ impl Design {
             history: History::default(),
             tear: TearSettings::default(),
             seams: Vec::new(),
+            pieces: Vec::new(),
             png_cache: None,
         }
     }

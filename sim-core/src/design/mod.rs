@@ -11,7 +11,10 @@
 //! Inside, bottom up: `error`, `texture`, `parts` (seams, tearing settings) <- `prim`
 //! <- `history` <- `document` (the `Design`) <- `transaction` <- the operations (`cut`,
 //! `tear`, `sew`, `seam`, `paint`, `pin`, `pinch`, `pattern`) <- `frame`; `export`,
-//! `sewing_pattern` (the pieces' outlines as SVG and AAMA DXF) and `file` read a design.
+//! `sewing_pattern` (the pieces' outlines as SVG and AAMA DXF) and `file` read a design;
+//! `pieces` (named pieces and the list of the cloth's parts) and `garment` (a pattern's
+//! pieces placed round the body, meshed, sewn; the pattern files read in) sit beside
+//! them.
 
 mod cut;
 mod document;
@@ -19,10 +22,12 @@ mod error;
 pub mod export;
 pub mod file;
 mod frame;
+pub mod garment;
 mod history;
 mod paint;
 mod parts;
 mod pattern;
+mod pieces;
 mod pin;
 mod pinch;
 mod prim;
@@ -37,6 +42,7 @@ pub use document::{CLOTH_COLOUR, Design, TEXTURE_SIZE};
 pub use error::EditError;
 pub use history::History;
 pub use parts::{STITCH_FORCE, Seam, TearMode, TearSettings, open_stitches};
+pub use pieces::{MAX_NAME, PieceInfo, PieceRecord};
 pub use prim::{Edit, Prim};
 pub use seam::SEAM_MISMATCH;
 pub use texture::{PaintPatch, TILE, Texture};

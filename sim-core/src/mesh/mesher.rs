@@ -52,7 +52,7 @@ pub enum MeshError {
 
 /// A piece's outline: the outer loop first, then holes, each a closed polygon (the last
 /// point joins the first), metres.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Outline {
     pub loops: Vec<Vec<Vec2>>,
 }
@@ -334,6 +334,15 @@ pub fn mesh_outline(outline: &Outline, edge: f32) -> Result<ClothMesh, MeshError
 /// the pieces together (the square of their bounds), so paint on one never shows on
 /// another.
 pub fn mesh_pieces(outlines: &[Outline], edge: f32) -> Result<ClothMesh, MeshError> {
+    Ok(mesh_pieces_ranged(outlines, edge)?.0)
+}
+
+/// [`mesh_pieces`], with each outline's range of vertices in the cloth.
+pub fn mesh_pieces_ranged(
+    outlines: &[Outline],
+    edge: f32,
+) -> Result<(ClothMesh, Vec<std::ops::Range<usize>>), MeshError> {
+    let mut ranges = Vec::with_capacity(outlines.len());
     let mut out = ClothMesh {
         positions: Vec::new(),
         uvs: Vec::new(),
@@ -343,6 +352,7 @@ pub fn mesh_pieces(outlines: &[Outline], edge: f32) -> Result<ClothMesh, MeshErr
         let m = mesh_outline(o, edge)?;
         let base = out.positions.len() as u32;
         out.positions.extend(m.positions);
+        ranges.push(base as usize..out.positions.len());
         out.triangles
             .extend(m.triangles.iter().map(|t| t.map(|i| i + base)));
         if out.positions.len() > MAX_VERTICES {
@@ -359,7 +369,7 @@ pub fn mesh_pieces(outlines: &[Outline], edge: f32) -> Result<ClothMesh, MeshErr
         .iter()
         .map(|p| Vec2::new((p.x - lo.x) / side, (p.z - lo.z) / side))
         .collect();
-    Ok(out)
+    Ok((out, ranges))
 }
 
 #[cfg(test)]

@@ -2,10 +2,12 @@
 //! pattern mesh, the live (edited) mesh and OBJ input/output. Imports nothing above it.
 //!
 //! Inside: `edge` <- `topology` <- `cloth_mesh` <- `live`; `obj` reads into a `ClothMesh`;
-//! `mesher` meshes a pattern outline into one.
+//! `mesher` meshes a pattern outline into one; `svg` and `dxf` read pattern files into
+//! outlines (`dxf` uses `svg`'s `NamedOutline`).
 
 mod bounds;
 mod cloth_mesh;
+pub mod dxf;
 mod edge;
 pub mod live;
 pub mod mesher;

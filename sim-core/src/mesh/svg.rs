@@ -18,11 +18,54 @@ use super::mesher::{Outline, contains, signed_area2 as area2};
 const TOLERANCE_MM: f64 = 0.1;
 
 /// A piece read from a file: its name (the group's title or id) and its outline, metres,
-/// pattern y up.
+/// pattern y up; with the seam marks on its outline (a label and a segment), where the
+/// file has them (ours do).
 #[derive(Clone, Debug, PartialEq)]
 pub struct NamedOutline {
     pub name: String,
     pub outline: Outline,
+    pub marks: Vec<SeamMark>,
+}
+
+/// A segment of an outline marked as part of the seam `label`, metres, pattern y up.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SeamMark {
+    pub label: String,
+    pub a: Vec2,
+    pub b: Vec2,
+}
+
+impl NamedOutline {
+    /// Gives each mark to the piece whose outer loop it lies on (within `tol` m);
+    /// returns how many lay on none.
+    pub fn take_marks(pieces: &mut [NamedOutline], marks: Vec<SeamMark>, tol: f32) -> usize {
+        let mut lost = 0;
+        for m in marks {
+            let mid = (m.a + m.b) * 0.5;
+            let near = pieces
+                .iter()
+                .enumerate()
+                .map(|(i, p)| (i, loop_distance(&p.outline.loops[0], mid)))
+                .min_by(|x, y| x.1.total_cmp(&y.1));
+            match near {
+                Some((i, d)) if d <= tol => pieces[i].marks.push(m),
+                _ => lost += 1,
+            }
+        }
+        lost
+    }
+}
+
+/// The distance from `p` to closed loop `l`.
+pub fn loop_distance(l: &[Vec2], p: Vec2) -> f32 {
+    (0..l.len())
+        .map(|i| {
+            let (a, b) = (l[i], l[(i + 1) % l.len()]);
+            let ab = b - a;
+            let t = ((p - a).dot(ab) / ab.length_squared().max(1e-20)).clamp(0.0, 1.0);
+            (a + ab * t - p).length()
+        })
+        .fold(f32::INFINITY, f32::min)
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -219,20 +262,66 @@ fn shape_of(e: &BytesStart<'_>) -> Result<Option<BezPath>, SvgError> {
     })
 }
 
-/// The pieces of an SVG document (see the module doc).
+/// The pieces of an SVG document (see the module doc), with our seam marks
+/// (`class="seam"` lines or paths labelled by `data-seam`).
 pub fn read_svg(text: &str) -> Result<Vec<NamedOutline>, SvgError> {
-    let (found, names) = walk(text)?;
-    nest(found, &names)
+    let (found, names, marks) = walk(text)?;
+    let mut pieces = nest(found, &names)?;
+    let to_m = |p: Vec2| Vec2::new(p.x, -p.y) * 0.001;
+    let marks = marks
+        .into_iter()
+        .map(|m| SeamMark {
+            label: m.label,
+            a: to_m(m.a),
+            b: to_m(m.b),
+        })
+        .collect();
+    NamedOutline::take_marks(&mut pieces, marks, 1e-4);
+    Ok(pieces)
+}
+
+/// The segments of an open or closed path under `affine`, flattened, in mm.
+fn segments(path: &BezPath, affine: Affine) -> Vec<(Vec2, Vec2)> {
+    let mut p = path.clone();
+    p.apply_affine(affine);
+    let mut out = Vec::new();
+    let (mut start, mut at): (Option<Vec2>, Option<Vec2>) = (None, None);
+    kurbo::flatten(p, TOLERANCE_MM, |el| match el {
+        PathEl::MoveTo(q) => {
+            let q = Vec2::new(q.x as f32, q.y as f32);
+            start = Some(q);
+            at = Some(q);
+        }
+        PathEl::LineTo(q) => {
+            let q = Vec2::new(q.x as f32, q.y as f32);
+            if let Some(a) = at {
+                out.push((a, q));
+            }
+            at = Some(q);
+        }
+        PathEl::ClosePath => {
+            if let (Some(a), Some(s)) = (at, start) {
+                out.push((a, s));
+            }
+            at = start;
+        }
+        _ => {}
+    });
+    out
 }
 
 /// Every closed loop of the document, in mm, with its group and class; and each group's
 /// name (index 0: the document).
-fn walk(text: &str) -> Result<(Vec<Found>, Vec<String>), SvgError> {
+/// What `walk` finds: the loops, the groups' names, the seam marks (mm, SVG axes).
+type Walked = (Vec<Found>, Vec<String>, Vec<SeamMark>);
+
+fn walk(text: &str) -> Result<Walked, SvgError> {
     let mut reader = quick_xml::Reader::from_str(text);
     // (transform, group index) of the open groups; the root's transform scales to mm.
     let mut stack: Vec<(Affine, usize)> = Vec::new();
     let mut names: Vec<String> = vec![String::new()];
     let mut found: Vec<Found> = Vec::new();
+    let mut marks: Vec<SeamMark> = Vec::new();
     let mut in_title = false;
     let mut saw_svg = false;
     loop {
@@ -298,6 +387,26 @@ fn walk(text: &str) -> Result<(Vec<Found>, Vec<String>), SvgError> {
                 }
             }
             b"title" => in_title = !empty,
+            _ if attr(&e, "class").as_deref() == Some("seam") => {
+                let label = attr(&e, "data-seam").unwrap_or_default();
+                let path = if e.local_name().as_ref() == b"line" {
+                    let mut p = BezPath::new();
+                    p.move_to((num(&e, "x1"), num(&e, "y1")));
+                    p.line_to((num(&e, "x2"), num(&e, "y2")));
+                    Some(p)
+                } else {
+                    shape_of(&e)?
+                };
+                if let Some(path) = path {
+                    for (a, b) in segments(&path, parent * own) {
+                        marks.push(SeamMark {
+                            label: label.clone(),
+                            a,
+                            b,
+                        });
+                    }
+                }
+            }
             _ => {
                 if let Some(path) = shape_of(&e)? {
                     let group = stack.last().map_or(0, |s| s.1);
@@ -316,7 +425,7 @@ fn walk(text: &str) -> Result<(Vec<Found>, Vec<String>), SvgError> {
     if !saw_svg {
         return Err(SvgError::Xml("no <svg> element".into()));
     }
-    Ok((found, names))
+    Ok((found, names, marks))
 }
 
 /// The loops as pieces: outer loops (counter-clockwise) with the holes inside them
@@ -368,6 +477,7 @@ fn nest(mut found: Vec<Found>, names: &[String]) -> Result<Vec<NamedOutline>, Sv
                 NamedOutline {
                     name,
                     outline: Outline { loops: vec![l] },
+                    marks: Vec::new(),
                 },
                 i,
             ));

@@ -7,6 +7,7 @@ use glam::Vec3;
 use crate::collision::{BodyKind, crossings};
 use crate::design::export::ExportError;
 use crate::design::file::DesignError;
+use crate::design::garment::{self, Landmarks, PatternSpec};
 use crate::design::{Design, EditError, TearMode, TearSettings};
 use crate::error::{ConfigError, GeometryError, LoadError, check_range};
 use crate::mesh::mesher::{self, EDGE_RANGE, MeshError, Outline};
@@ -36,11 +37,14 @@ pub enum ScenarioName {
     /// A garment: a front and a back panel placed round the mannequin and sewn at the
     /// shoulders and sides, draped.
     DressMannequin,
+    /// Any pattern file (SVG, DXF or GarmentCode JSON, `--pattern`) placed round the
+    /// body, sewn at its seams and draped.
+    DrapePattern,
 }
 
 impl ScenarioName {
     pub const ALL: &'static str =
-        "drape-cube, drape-mannequin, fit-cube, tear, paint, fold, dress-mannequin";
+        "drape-cube, drape-mannequin, fit-cube, tear, paint, fold, dress-mannequin, drape-pattern";
 
     pub fn parse(s: &str) -> Result<Self, ConfigError> {
         match s {
@@ -51,6 +55,7 @@ impl ScenarioName {
             "paint" => Ok(Self::Paint),
             "fold" => Ok(Self::Fold),
             "dress-mannequin" => Ok(Self::DressMannequin),
+            "drape-pattern" => Ok(Self::DrapePattern),
             other => Err(ConfigError::Unknown {
                 what: "scenario",
                 name: other.into(),
@@ -68,6 +73,7 @@ impl ScenarioName {
             Self::Paint => "paint",
             Self::Fold => "fold",
             Self::DressMannequin => "dress-mannequin",
+            Self::DrapePattern => "drape-pattern",
         }
     }
 
@@ -81,7 +87,9 @@ impl ScenarioName {
     /// The body the scenario drapes over; `None`: the floor alone.
     pub fn default_body(self) -> Option<BodyKind> {
         match self {
-            Self::DrapeMannequin | Self::DressMannequin => Some(BodyKind::Mannequin),
+            Self::DrapeMannequin | Self::DressMannequin | Self::DrapePattern => {
+                Some(BodyKind::Mannequin)
+            }
             Self::DrapeCube | Self::FitCube | Self::Tear | Self::Paint => Some(BodyKind::Cube),
             Self::Fold => None,
         }
@@ -111,6 +119,8 @@ pub struct ScenarioConfig {
     pub cloth_size: f32,
     /// A cloth pattern from an OBJ file instead of the square grid.
     pub cloth: Option<PathBuf>,
+    /// The pattern drape-pattern drapes (SVG, DXF or GarmentCode JSON).
+    pub pattern: Option<PathBuf>,
     /// A pattern piece meshed from its outline instead of the square grid, with
     /// triangles of about `piece_edge` m a side.
     pub piece: Option<PieceShape>,
@@ -230,6 +240,16 @@ impl ScenarioConfig {
         if let Some(n) = self.check_every {
             check_range("check every", n, 1, MAX_FRAMES, " frames")?;
         }
+        if (self.scenario == ScenarioName::DrapePattern) != self.pattern.is_some() {
+            return Err(ConfigError::OutOfRange {
+                name: "pattern",
+                rule: "a pattern file (--pattern FILE) for drape-pattern, and for no other scenario",
+                value: self
+                    .pattern
+                    .as_ref()
+                    .map_or("none".into(), |p| p.display().to_string()),
+            });
+        }
         if self.body.is_none() && self.scenario.needs_body() {
             return Err(ConfigError::OutOfRange {
                 name: "body",
@@ -258,6 +278,7 @@ impl ScenarioConfig {
             material: Material::default(),
             cloth_size: 1.0,
             cloth: None,
+            pattern: None,
             piece: None,
             piece_edge: 1.0 / 64.0,
             frame_dt: 1.0 / 60.0,
@@ -284,6 +305,10 @@ pub enum ScenarioError {
     Piece(#[from] MeshError),
     #[error("piece {path}: {reason}")]
     PieceFile { path: PathBuf, reason: String },
+    #[error("pattern {0}")]
+    Pattern(#[from] crate::design::garment::ImportError),
+    #[error("garment: {0}")]
+    Garment(#[from] crate::design::garment::GarmentError),
     #[error(
         "the cloth starts crossing itself in {self_pairs} pairs of triangles and the body in {body_pairs}; nothing untangles that, so nothing was run"
     )]
@@ -309,6 +334,12 @@ pub enum ScenarioError {
 /// Builds the scene of a scenario as a new design: the body, and the cloth centred 5 cm
 /// above it; with no body, the cloth lying flat on the floor (its thickness above it).
 pub fn build_design(cfg: &ScenarioConfig) -> Result<Design, ScenarioError> {
+    Ok(build_scene(cfg)?.0)
+}
+
+/// [`build_design`], and for the garment scenarios the pattern whose pieces the design
+/// holds (to be sewn), with what its file's reader noticed.
+pub fn build_scene(cfg: &ScenarioConfig) -> Result<(Design, Option<PatternSpec>), ScenarioError> {
     cfg.validate()?;
     let body = cfg.body.as_ref().map(BodyKind::build).transpose()?;
     let repairs = body.as_ref().map(|b| b.repairs.clone()).unwrap_or_default();
@@ -319,52 +350,69 @@ pub fn build_design(cfg: &ScenarioConfig) -> Result<Design, ScenarioError> {
         }
         None => (0.0, cfg.material.thickness, 0.0),
     };
-    let dress = cfg.scenario == ScenarioName::DressMannequin;
-    if dress && (cfg.cloth.is_some() || cfg.piece.is_some()) {
+    let garment = matches!(
+        cfg.scenario,
+        ScenarioName::DressMannequin | ScenarioName::DrapePattern
+    );
+    if garment && (cfg.cloth.is_some() || cfg.piece.is_some()) {
         return Err(ConfigError::OutOfRange {
             name: "cloth",
-            rule: "the scenario's own panels for dress-mannequin (no --cloth or --piece)",
+            rule: "the pattern's own pieces for dress-mannequin and drape-pattern (no --cloth or --piece)",
             value: "given".into(),
         }
         .into());
     }
-    let mut mesh = match &cfg.cloth {
-        None if dress => super::garment::panels(cfg.piece_edge)?,
-        None if cfg.piece.is_some() => {
-            let shape = cfg.piece.as_ref().ok_or(GeometryError::Empty)?;
-            shape.mesh(cfg.piece_edge)?
-        }
-        None => ClothMesh::grid(cfg.cloth_size, cfg.cloth_size, cfg.grid, cfg.grid, 0.0)?,
-        Some(path) => {
-            let mesh = obj::load_obj(path).map_err(ScenarioError::ClothFile)?;
-            let (x, tris) = crossings::weld(&mesh.positions, &mesh.triangles);
-            let pairs = crossings::count_self(&x, &tris);
-            if pairs > 0 {
-                return Err(ScenarioError::ClothFile(LoadError::CrossesItself {
-                    path: path.clone(),
-                    pairs,
-                }));
+    let mut notices = repairs;
+    let (cloth, spec, records) = if garment {
+        let marks = Landmarks::of(body.as_ref());
+        let spec = match &cfg.pattern {
+            Some(path) => {
+                let (spec, said) = garment::load_pattern(path, &marks)?;
+                notices.extend(said);
+                spec
             }
-            mesh
-        }
-    };
-    // Centre the cloth over the body, its lowest point 5 cm above the body's top.
-    let (cmin, cmax) = crate::mesh::bounds(&mesh.positions);
-    let shift = Vec3::new(
-        cx - (cmin.x + cmax.x) * 0.5,
-        rest_y - cmin.y,
-        cz - (cmin.z + cmax.z) * 0.5,
-    );
-    if !dress {
+            None => super::garment::dress(&marks).map_err(|e| ScenarioError::PieceFile {
+                path: "assets/dress.svg".into(),
+                reason: e.to_string(),
+            })?,
+        };
+        let made = garment::assemble(&spec, &marks, cfg.piece_edge)?;
+        let mut cloth = Cloth::new(made.mesh, &cfg.material)?;
+        // The pieces start round the body; their rest shape stays the flat pattern.
+        cloth.x = made.starts;
+        (cloth, Some(spec), made.records)
+    } else {
+        let mut mesh = match &cfg.cloth {
+            None if cfg.piece.is_some() => {
+                let shape = cfg.piece.as_ref().ok_or(GeometryError::Empty)?;
+                shape.mesh(cfg.piece_edge)?
+            }
+            None => ClothMesh::grid(cfg.cloth_size, cfg.cloth_size, cfg.grid, cfg.grid, 0.0)?,
+            Some(path) => {
+                let mesh = obj::load_obj(path).map_err(ScenarioError::ClothFile)?;
+                let (x, tris) = crossings::weld(&mesh.positions, &mesh.triangles);
+                let pairs = crossings::count_self(&x, &tris);
+                if pairs > 0 {
+                    return Err(ScenarioError::ClothFile(LoadError::CrossesItself {
+                        path: path.clone(),
+                        pairs,
+                    }));
+                }
+                mesh
+            }
+        };
+        // Centre the cloth over the body, its lowest point 5 cm above the body's top.
+        let (cmin, cmax) = crate::mesh::bounds(&mesh.positions);
+        let shift = Vec3::new(
+            cx - (cmin.x + cmax.x) * 0.5,
+            rest_y - cmin.y,
+            cz - (cmin.z + cmax.z) * 0.5,
+        );
         for p in &mut mesh.positions {
             *p += shift;
         }
-    }
-    let mut cloth = Cloth::new(mesh, &cfg.material)?;
-    if dress {
-        // The panels start round the body; their rest shape stays the flat pattern.
-        cloth.x = super::garment::place(&cloth.rest.positions, glam::Vec2::new(cx, cz));
-    }
+        (Cloth::new(mesh, &cfg.material)?, None, Vec::new())
+    };
     // Nothing starts crossed: a cloth through itself or the body stays so.
     let crossed = crossings::count(&cloth.x, &cloth.live.triangles(), body.as_ref());
     if crossed.self_pairs > 0 || crossed.body_pairs > 0 {
@@ -386,6 +434,8 @@ pub fn build_design(cfg: &ScenarioConfig) -> Result<Design, ScenarioError> {
         cfg.substeps.or(cfg.scenario.default_substeps(cfg.model)),
     )?;
     sim.set_threads(cfg.threads);
-    sim.notices.extend(repairs);
-    Ok(Design::new(sim))
+    sim.notices.extend(notices);
+    let mut design = Design::new(sim);
+    design.pieces = records;
+    Ok((design, spec))
 }

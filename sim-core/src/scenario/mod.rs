@@ -14,7 +14,7 @@ pub mod scripts;
 
 pub use config::{
     MAX_FRAMES, MAX_GRID, MAX_THREADS, PieceShape, ScenarioConfig, ScenarioError, ScenarioName,
-    build_design,
+    build_design, build_scene,
 };
 pub use realtime::max_realtime_grid;
 pub use report::{OpsReport, Percentiles, Report};

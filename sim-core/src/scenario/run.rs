@@ -6,13 +6,14 @@ use std::time::Instant;
 
 use glam::Vec3;
 
-use super::config::{ScenarioConfig, ScenarioError, ScenarioName, build_design};
+use super::config::{ScenarioConfig, ScenarioError, ScenarioName, build_scene};
 use super::report::{OpsReport, Percentiles, Report};
 use super::scripts;
 use crate::collision::crossings::Crossings;
 use crate::collision::{Body, BodyKind};
 use crate::design::Design;
 use crate::design::export::{export_glb, export_obj};
+use crate::design::garment::PatternSpec;
 use crate::mesh::obj;
 
 /// What the frames of a run measured.
@@ -32,12 +33,12 @@ pub const SCENARIO_ALLOWANCE_MM: f64 = 10.0;
 /// Runs a scenario and writes `out/cloth.obj`, `out/body.obj` and `out/report.json`.
 pub fn run_scenario(cfg: &ScenarioConfig, out: &Path) -> Result<Report, ScenarioError> {
     let started = Instant::now();
-    let mut design = build_design(cfg)?;
+    let (mut design, spec) = build_scene(cfg)?;
     std::fs::create_dir_all(out).map_err(write_err(out))?;
     for n in &design.sim.notices {
         eprintln!("note: {n}");
     }
-    let mut frames = run_frames(cfg, &mut design)?;
+    let mut frames = run_frames(cfg, &mut design, spec.as_ref())?;
     let exported = export(cfg, &design, out, &mut frames.ops)?;
     let report = report(cfg, &design, frames, exported, started);
     let report_path = out.join("report.json");
@@ -55,7 +56,11 @@ fn write_err(path: &Path) -> impl FnOnce(std::io::Error) -> ScenarioError + use<
 }
 
 /// Steps every frame of the scenario, running its script once the cloth has draped.
-fn run_frames(cfg: &ScenarioConfig, design: &mut Design) -> Result<Frames, ScenarioError> {
+fn run_frames(
+    cfg: &ScenarioConfig,
+    design: &mut Design,
+    spec: Option<&PatternSpec>,
+) -> Result<Frames, ScenarioError> {
     // Room for the frames up front, but never more than a long run's worth at once.
     let room = cfg.frames.min(100_000) as usize;
     let mut frames = Frames {
@@ -68,17 +73,22 @@ fn run_frames(cfg: &ScenarioConfig, design: &mut Design) -> Result<Frames, Scena
     let ops = &mut frames.ops;
     let mut pull: Option<(Vec3, Vec3, u64)> = None;
     let mut fold = (cfg.scenario == ScenarioName::Fold).then(scripts::Fold::default);
-    if cfg.scenario == ScenarioName::DressMannequin {
-        let sewn = super::garment::sew_panels(design)?;
+    if let Some(spec) = spec {
+        let sewn = crate::design::garment::sew(design, spec, super::garment::SEAM_PULL)?;
         ops.seams = Some(sewn.seams);
         ops.seam_pairs = Some(sewn.pairs);
         ops.seam_length_mismatch_m = Some(sewn.mismatch_m as f64);
         eprintln!(
-            "{}: {} seams of {} stitched pairs (shoulders and sides)",
+            "{}: {} pieces, {} seams of {} stitched pairs",
             cfg.scenario.name(),
+            spec.pieces.len(),
             sewn.seams,
             sewn.pairs
         );
+        for n in sewn.open {
+            eprintln!("note: {n}");
+            design.sim.notices.push(n);
+        }
     }
     if fold.is_some() && cfg.frames < scripts::FOLD_FRAMES {
         eprintln!(
@@ -200,7 +210,10 @@ fn run_script(
                 cfg.scenario.name()
             );
         }
-        ScenarioName::DrapeCube | ScenarioName::DrapeMannequin | ScenarioName::Fold => {}
+        ScenarioName::DrapeCube
+        | ScenarioName::DrapeMannequin
+        | ScenarioName::Fold
+        | ScenarioName::DrapePattern => {}
     }
     Ok(None)
 }
@@ -232,13 +245,16 @@ fn export(
         ops.fit_gap_mean_m = Some(mean);
         ops.fit_gap_max_m = Some(max);
     }
-    if cfg.scenario == ScenarioName::DressMannequin
-        && let Some(body) = &design.sim.body
-    {
-        let (mn, mx) = body.bounds();
-        let axis = glam::Vec2::new(0.5 * (mn.x + mx.x), 0.5 * (mn.z + mx.z));
-        ops.pieces = Some(crate::design::sewing_pattern::pieces(design).len());
-        ops.torso_coverage = Some(super::garment::torso_coverage(design, axis));
+    if matches!(
+        cfg.scenario,
+        ScenarioName::DressMannequin | ScenarioName::DrapePattern
+    ) {
+        ops.pieces = Some(design.piece_list().len());
+        if let Some(body) = &design.sim.body {
+            let (mn, mx) = body.bounds();
+            let axis = glam::Vec2::new(0.5 * (mn.x + mx.x), 0.5 * (mn.z + mx.z));
+            ops.torso_coverage = Some(super::garment::torso_coverage(design, axis));
+        }
     }
     if cfg.scenario == ScenarioName::Fold {
         let l = scripts::layers(design);

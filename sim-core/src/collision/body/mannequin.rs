@@ -9,6 +9,16 @@ use super::analytic::{Analytic, Primitive};
 use super::surface::Body;
 use crate::error::GeometryError;
 
+/// The left arm (+X, the figure faces +Z): shoulder, elbow and wrist, m; the right arm
+/// is its mirror image.
+pub const ARM: [Vec3; 3] = [
+    Vec3::new(0.25, 1.42, 0.0),
+    Vec3::new(0.31, 1.12, 0.0),
+    Vec3::new(0.34, 0.86, 0.04),
+];
+/// The upper arm's radius, m (the forearm's is smaller).
+pub const ARM_RADIUS: f32 = 0.045;
+
 /// The mannequin's parts, metres, feet on the floor, facing +Z, arms slightly out.
 pub fn mannequin_parts() -> Vec<Primitive> {
     let mut parts = vec![
@@ -36,14 +46,15 @@ pub fn mannequin_parts() -> Vec<Primitive> {
             b: Vec3::new(s * 0.25, 1.44, 0.0),
             radius: 0.055,
         });
+        let side = Vec3::new(s, 1.0, 1.0);
         parts.push(Primitive::Capsule {
-            a: Vec3::new(s * 0.25, 1.42, 0.0),
-            b: Vec3::new(s * 0.31, 1.12, 0.0),
-            radius: 0.045,
+            a: ARM[0] * side,
+            b: ARM[1] * side,
+            radius: ARM_RADIUS,
         });
         parts.push(Primitive::Capsule {
-            a: Vec3::new(s * 0.31, 1.12, 0.0),
-            b: Vec3::new(s * 0.34, 0.86, 0.04),
+            a: ARM[1] * side,
+            b: ARM[2] * side,
             radius: 0.038,
         });
         parts.push(Primitive::Capsule {

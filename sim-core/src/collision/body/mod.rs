@@ -13,7 +13,7 @@ mod shapes;
 mod surface;
 
 pub use analytic::{Analytic, Primitive};
-pub use mannequin::{MANNEQUIN_CELL, mannequin, mannequin_parts};
+pub use mannequin::{ARM, ARM_RADIUS, MANNEQUIN_CELL, mannequin, mannequin_parts};
 #[cfg(test)]
 pub(crate) use shapes::icosphere;
 pub use shapes::{BodyKind, cube, sphere};

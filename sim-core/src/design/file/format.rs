@@ -8,7 +8,11 @@ use crate::error::GeometryError;
 use crate::solver::Material;
 
 pub const MAGIC: &[u8; 8] = b"SAIHODSN";
-pub const FORMAT: u32 = 1;
+/// The format this build writes: 2 adds the pieces (names, fabrics, grain, placement,
+/// outlines). Every earlier format still loads.
+pub const FORMAT: u32 = 2;
+/// Most pieces a design may carry.
+pub(super) const MAX_PIECES: usize = 10_000;
 /// Largest texture side a design may carry.
 pub(super) const MAX_TEXTURE: usize = 8192;
 
@@ -74,6 +78,9 @@ pub struct Header {
     pub texture_width: usize,
     pub texture_height: usize,
     pub sections: Vec<Section>,
+    /// The named pieces (format 2; none in format 1).
+    #[serde(default)]
+    pub pieces: Vec<crate::design::PieceRecord>,
 }
 
 pub(super) fn fnv1a(bytes: &[u8]) -> u64 {

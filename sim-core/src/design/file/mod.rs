@@ -7,7 +7,7 @@
 //! | bytes | content |
 //! |---|---|
 //! | 8 | magic `SAIHODSN` |
-//! | 4 | format version (`FORMAT`, currently 1) |
+//! | 4 | format version (`FORMAT`, currently 2; 1 still loads) |
 //! | 4 | header length `H` |
 //! | H | header, UTF-8 JSON ([`Header`]): settings, counts, and the byte range of each section |
 //! | ... | sections, in any order, at the offsets the header gives (relative to the end of the header) |
@@ -15,7 +15,8 @@
 //!
 //! Sections: `x` and `v` (f32 x 3 per vertex), `tris` (per triangle: 3 u32 indices, 3 x 3
 //! f32 rest corners, 3 x 2 f32 UVs), `body_vertices` (f32 x 3), `body_triangles` (u32 x 3),
-//! `texture` (PNG, RGBA8). A reader refuses a newer format, a bad checksum, or any count,
+//! `texture` (PNG, RGBA8). The header's `pieces` (format 2) name the pieces (see
+//! `PieceRecord`); a format 1 file has none and loads with its parts unnamed. A reader refuses a newer format, a bad checksum, or any count,
 //! index or value out of range, and builds nothing in that case.
 //!
 //! Inside: `format` (container, header, readers) <- `write` and `read`.

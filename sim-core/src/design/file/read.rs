@@ -2,7 +2,9 @@
 
 use glam::{Vec2, Vec3};
 
-use super::format::{Cursor, DesignError, FORMAT, Header, MAGIC, MAX_TEXTURE, corrupt, fnv1a};
+use super::format::{
+    Cursor, DesignError, FORMAT, Header, MAGIC, MAX_PIECES, MAX_TEXTURE, corrupt, fnv1a,
+};
 use crate::collision::{Body, BodyKind};
 use crate::design::{Design, Seam, TearMode, TearSettings, Texture};
 use crate::error::GeometryError;
@@ -39,6 +41,16 @@ impl Design {
         sim.frame = h.frame;
         let mut design = Design::new(sim);
         design.seams = read_seams(h)?;
+        if h.pieces.len() > MAX_PIECES {
+            return Err(corrupt(format!(
+                "{} pieces (at most {MAX_PIECES})",
+                h.pieces.len()
+            )));
+        }
+        for r in &h.pieces {
+            r.check().map_err(corrupt)?;
+        }
+        design.pieces = h.pieces.clone();
         design.tear = read_tear(h)?;
         design.texture =
             decode_texture(sections.get("texture")?, h.texture_width, h.texture_height)?;

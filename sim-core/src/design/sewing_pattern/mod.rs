@@ -95,22 +95,14 @@ fn plane(design: &Design) -> (DVec3, DVec3, DVec3) {
     (o / k.max(1.0), u, v)
 }
 
-/// The pieces of the design's pattern (no allowance, not laid out), in millimetres.
-pub fn pieces(design: &Design) -> Vec<Piece> {
+/// The triangles of each part of the cloth connected in the pattern (see the module
+/// doc): slots, each part's in order, the parts in the order of their first triangle.
+pub fn pattern_parts(design: &Design) -> Vec<Vec<u32>> {
     let live = &design.sim.cloth.live;
-    let (origin, u, v) = plane(design);
-    let to2 = |p: Vec3| {
-        let d = p.as_dvec3() - origin;
-        DVec2::new(d.dot(u), d.dot(v)) * 1000.0
-    };
-    // Every triangle's corner keys, and which triangles hold each directed pattern edge.
+    let slots: Vec<u32> = live.iter().map(|(s, _)| s).collect();
     let tris: Vec<[Key; 3]> = live
         .iter()
         .map(|(_, t)| [0, 1, 2].map(|k| key(t.v[k], t.rest[k])))
-        .collect();
-    let places: HashMap<Key, DVec2> = live
-        .iter()
-        .flat_map(|(_, t)| (0..3).map(move |k| (key(t.v[k], t.rest[k]), to2(t.rest[k]))))
         .collect();
     let mut edge_tri: HashMap<(Key, Key), usize> = HashMap::new();
     for (i, t) in tris.iter().enumerate() {
@@ -118,7 +110,7 @@ pub fn pieces(design: &Design) -> Vec<Piece> {
             edge_tri.insert((t[k], t[(k + 1) % 3]), i);
         }
     }
-    // Pieces: triangles joined across shared pattern edges (union-find).
+    // Triangles joined across shared pattern edges (union-find).
     let mut parent: Vec<usize> = (0..tris.len()).collect();
     fn find(p: &mut [usize], mut i: usize) -> usize {
         while p[i] != i {
@@ -135,25 +127,54 @@ pub fn pieces(design: &Design) -> Vec<Piece> {
             }
         }
     }
-    // Boundary edges (no twin), grouped by piece.
-    let mut boundary: HashMap<usize, Vec<(Key, Key)>> = HashMap::new();
-    for (i, t) in tris.iter().enumerate() {
-        for k in 0..3 {
-            let (a, b) = (t[k], t[(k + 1) % 3]);
-            if !edge_tri.contains_key(&(b, a)) {
-                let root = find(&mut parent, i);
-                boundary.entry(root).or_default().push((a, b));
-            }
-        }
+    let mut part_of: HashMap<usize, usize> = HashMap::new();
+    let mut parts: Vec<Vec<u32>> = Vec::new();
+    for i in 0..tris.len() {
+        let root = find(&mut parent, i);
+        let k = *part_of.entry(root).or_insert_with(|| {
+            parts.push(Vec::new());
+            parts.len() - 1
+        });
+        parts[k].push(slots[i]);
     }
+    parts
+}
+
+/// The pieces of the design's pattern (no allowance, not laid out), in millimetres,
+/// named as [`Design::piece_list`] names them.
+pub fn pieces(design: &Design) -> Vec<Piece> {
+    let live = &design.sim.cloth.live;
+    let (origin, u, v) = plane(design);
+    let to2 = |p: Vec3| {
+        let d = p.as_dvec3() - origin;
+        DVec2::new(d.dot(u), d.dot(v)) * 1000.0
+    };
+    let parts = pattern_parts(design);
+    let names = design.describe(&parts);
     let seam_of = seam_labels(design);
-    let mut roots: Vec<usize> = boundary.keys().copied().collect();
-    // Pieces in a fixed order: by their first triangle.
-    roots.sort_unstable();
     let mut out = Vec::new();
-    for root in roots {
-        let edges = &boundary[&root];
-        let key_loops = chain(edges);
+    for (part, info) in parts.iter().zip(names) {
+        let corners: Vec<[Key; 3]> = part
+            .iter()
+            .filter_map(|&s| live.tri(s))
+            .map(|t| [0, 1, 2].map(|k| key(t.v[k], t.rest[k])))
+            .collect();
+        let places: HashMap<Key, DVec2> = part
+            .iter()
+            .filter_map(|&s| live.tri(s))
+            .flat_map(|t| (0..3).map(move |k| (key(t.v[k], t.rest[k]), to2(t.rest[k]))))
+            .collect();
+        // Boundary edges: directed pattern edges without their twin in the part.
+        let directed: std::collections::HashSet<(Key, Key)> = corners
+            .iter()
+            .flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3])))
+            .collect();
+        let boundary: Vec<(Key, Key)> = corners
+            .iter()
+            .flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3])))
+            .filter(|&(a, b)| !directed.contains(&(b, a)))
+            .collect();
+        let key_loops = chain(&boundary);
         let mut loops = key_loops
             .iter()
             .map(|l| l.iter().map(|k| places[k]).collect::<Vec<DVec2>>())
@@ -174,14 +195,15 @@ pub fn pieces(design: &Design) -> Vec<Piece> {
             .flat_map(|l| seam_segments(l, &places, &seam_of))
             .map(|(label, a, b)| (label, places[&a], places[&b]))
             .collect();
+        // The grain line through the middle, along the piece's warp, 60% of its extent.
         let (lo, hi) = bounds(&loops[0]);
-        let mid_y = 0.5 * (lo.y + hi.y);
-        let grain = (
-            DVec2::new(lo.x + 0.2 * (hi.x - lo.x), mid_y),
-            DVec2::new(lo.x + 0.8 * (hi.x - lo.x), mid_y),
-        );
+        let angle = info.record.map_or(0.0, |r| design.pieces[r].grain as f64);
+        let dir = DVec2::new(angle.cos(), angle.sin());
+        let half = 0.3 * ((hi.x - lo.x) * dir.x.abs() + (hi.y - lo.y) * dir.y.abs());
+        let mid = (lo + hi) * 0.5;
+        let grain = (mid - dir * half, mid + dir * half);
         out.push(Piece {
-            name: format!("piece {}", out.len() + 1),
+            name: info.name,
             cut: loops.clone(),
             loops,
             seams,
@@ -252,7 +274,7 @@ fn seam_labels(design: &Design) -> HashMap<u32, Vec<String>> {
 }
 
 /// "A".."Z", then "AA", "AB", ...
-fn label(i: usize) -> String {
+pub(crate) fn label(i: usize) -> String {
     let letter = |k: usize| char::from(b'A' + (k % 26) as u8);
     if i < 26 {
         letter(i).to_string()

@@ -1,0 +1,285 @@
+//! A pattern made cloth: its pieces laid side by side in the design's pattern plane,
+//! meshed, started where their placements put them; then its seams sewn.
+
+use glam::{Vec2, Vec3};
+
+use super::place::{Landmarks, Place, PlaceError, Placement, place};
+use super::spec::{EdgeRef, PatternSpec, PieceSpec, SpecError};
+use crate::design::{Design, EditError, PieceRecord};
+use crate::mesh::ClothMesh;
+use crate::mesh::mesher::{self, MeshError, Outline};
+
+/// Space between pieces in the design's pattern plane, m.
+const PATTERN_GAP: f32 = 0.05;
+
+#[derive(Debug, thiserror::Error)]
+pub enum GarmentError {
+    #[error(transparent)]
+    Spec(#[from] SpecError),
+    #[error("piece {piece}: {source}")]
+    Mesh { piece: String, source: MeshError },
+    #[error(transparent)]
+    Place(#[from] PlaceError),
+    #[error("seam {label}: {source}")]
+    Seam { label: String, source: EditError },
+    #[error(
+        "seam {label}: no border of piece {piece} runs between the points it names (its outline may have been cut)"
+    )]
+    NoStretch { label: String, piece: String },
+}
+
+/// The cloth of a pattern, before it is simulated.
+pub struct Assembled {
+    /// Every piece, flat in the design's pattern plane (rest shape).
+    pub mesh: ClothMesh,
+    /// Where each vertex starts.
+    pub starts: Vec<Vec3>,
+    pub records: Vec<PieceRecord>,
+}
+
+fn bounds2(l: &[Vec2]) -> (Vec2, Vec2) {
+    l.iter().fold(
+        (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY)),
+        |(lo, hi), &p| (lo.min(p), hi.max(p)),
+    )
+}
+
+/// Lays out, meshes (triangles of about `edge` m) and places every piece of `spec`
+/// (normalised and arranged: see [`PatternSpec`]).
+pub fn assemble(
+    spec: &PatternSpec,
+    marks: &Landmarks,
+    edge: f32,
+) -> Result<Assembled, GarmentError> {
+    let mut outlines = Vec::with_capacity(spec.pieces.len());
+    let mut records = Vec::with_capacity(spec.pieces.len());
+    let mut cursor = 0.0f32;
+    for p in &spec.pieces {
+        mesher::check(&p.outline).map_err(|source| GarmentError::Mesh {
+            piece: p.name.clone(),
+            source,
+        })?;
+        let (lo, hi) = bounds2(&p.outline.loops[0]);
+        let offset = Vec2::new(cursor - lo.x, -hi.y);
+        cursor += hi.x - lo.x + PATTERN_GAP;
+        outlines.push(Outline {
+            loops: p
+                .outline
+                .loops
+                .iter()
+                .map(|l| l.iter().map(|&q| q + offset).collect())
+                .collect(),
+        });
+        records.push(PieceRecord {
+            name: p.name.clone(),
+            fabric: p.fabric.clone(),
+            grain: p.grain,
+            placement: p.placement,
+            offset,
+            outline: p.outline.clone(),
+        });
+    }
+    let (mesh, ranges) =
+        mesher::mesh_pieces_ranged(&outlines, edge).map_err(|source| GarmentError::Mesh {
+            piece: "(all)".into(),
+            source,
+        })?;
+    let placements = layered(spec, marks);
+    let mut starts = vec![Vec3::ZERO; mesh.positions.len()];
+    for (((p, r), range), placement) in spec
+        .pieces
+        .iter()
+        .zip(&mut records)
+        .zip(ranges)
+        .zip(placements)
+    {
+        r.placement = Some(placement);
+        let own: Vec<Vec2> = mesh.positions[range.clone()]
+            .iter()
+            .map(|q| Vec2::new(q.x, -q.z) - r.offset)
+            .collect();
+        let x = place(
+            &p.name,
+            &own,
+            bounds2(&p.outline.loops[0]),
+            &placement,
+            marks,
+        )?;
+        starts[range].copy_from_slice(&x);
+    }
+    Ok(Assembled {
+        mesh,
+        starts,
+        records,
+    })
+}
+
+/// Space between layers of pieces that would start in one place, m.
+const LAYER: f32 = 0.015;
+
+/// Every piece's placement (the front for one without), each piece round the torso that
+/// would start on or within 1 cm of an earlier one (their arcs and heights overlapping)
+/// moved a layer out, until it starts clear of them all.
+fn layered(spec: &PatternSpec, marks: &Landmarks) -> Vec<Placement> {
+    let girth = marks.girth();
+    // Arc interval (centre, half width) and height interval of a piece round the torso.
+    let span = |p: &PieceSpec, pl: &Placement| -> Option<(f32, f32, f32, f32)> {
+        let Placement::Around { angle, top, .. } = *pl else {
+            return None;
+        };
+        let (lo, hi) = bounds2(&p.outline.loops[0]);
+        let s = super::place::arc_of_angle(marks, angle);
+        Some((s, 0.5 * (hi.x - lo.x), top - (hi.y - lo.y), top))
+    };
+    let mut out: Vec<Placement> = Vec::with_capacity(spec.pieces.len());
+    for p in &spec.pieces {
+        let mut pl = p.placement.unwrap_or(Place::Front.at(marks.shoulders));
+        if let Some((s, hw, y0, y1)) = span(p, &pl) {
+            let clash = |layer: f32, placed: &[Placement]| {
+                placed.iter().zip(&spec.pieces).any(|(q, qs)| {
+                    let Placement::Around { out: o, .. } = *q else {
+                        return false;
+                    };
+                    let Some((t, tw, z0, z1)) = span(qs, q) else {
+                        return false;
+                    };
+                    let d = (s - t).rem_euclid(girth);
+                    let d = d.min(girth - d);
+                    (o - layer).abs() < 0.5 * LAYER
+                        && d < hw + tw + 0.01
+                        && y0 < z1 + 0.01
+                        && z0 < y1 + 0.01
+                })
+            };
+            let mut layer = 0.0;
+            while clash(layer, &out) && layer < 20.0 * LAYER {
+                layer += LAYER;
+            }
+            if let Placement::Around { out: o, .. } = &mut pl {
+                *o = layer;
+            }
+        }
+        out.push(pl);
+    }
+    out
+}
+
+/// What sewing a pattern did.
+#[derive(Clone, Debug, Default)]
+pub struct Sewn {
+    pub seams: usize,
+    pub pairs: usize,
+    /// The largest difference between a seam's two sides' pattern lengths, m.
+    pub mismatch_m: f32,
+    /// Seams left open, and why.
+    pub open: Vec<String>,
+}
+
+/// Arc length of each point of closed loop `l` from its first.
+fn arc(l: &[Vec2]) -> Vec<f32> {
+    let mut out = Vec::with_capacity(l.len() + 1);
+    out.push(0.0);
+    for i in 0..l.len() {
+        let d = (l[(i + 1) % l.len()] - l[i]).length();
+        out.push(out[i] + d);
+    }
+    out
+}
+
+/// Where `p` projects on closed loop `l` (arc lengths `cum`): its arc length and its
+/// distance from the loop.
+pub(crate) fn project(l: &[Vec2], cum: &[f32], p: Vec2) -> (f32, f32) {
+    let mut best = (0.0, f32::INFINITY);
+    for i in 0..l.len() {
+        let (a, b) = (l[i], l[(i + 1) % l.len()]);
+        let ab = b - a;
+        let t = ((p - a).dot(ab) / ab.length_squared().max(1e-20)).clamp(0.0, 1.0);
+        let d = (a + ab * t - p).length();
+        if d < best.1 {
+            best = (cum[i] + t * (cum[i + 1] - cum[i]), d);
+        }
+    }
+    best
+}
+
+/// The border vertices of piece `side.piece` along the stretch, in order.
+fn stretch(design: &Design, side: &EdgeRef) -> Vec<u32> {
+    let Some(rec) = design.pieces.get(side.piece) else {
+        return Vec::new();
+    };
+    let l = &rec.outline.loops[0];
+    let cum = arc(l);
+    let per = cum[l.len()];
+    let (t0, _) = project(l, &cum, side.from);
+    let (t1, _) = project(l, &cum, side.to);
+    let span = (t1 - t0).rem_euclid(per);
+    let cloth = &design.sim.cloth;
+    let mut on: Vec<(f32, u32)> = (0..cloth.rest.positions.len() as u32)
+        .filter(|&v| cloth.live.vertex_alive(v) && cloth.live.is_boundary(v))
+        .filter_map(|v| {
+            let r = cloth.rest.positions[v as usize];
+            let q = Vec2::new(r.x, -r.z);
+            if design.record_at(q) != Some(side.piece) {
+                return None;
+            }
+            let (t, d) = project(l, &cum, q - rec.offset);
+            let mut s = (t - t0).rem_euclid(per);
+            if s > per - 1e-5 {
+                s = 0.0;
+            }
+            (d < 1e-4 && s <= span + 1e-5).then_some((s, v))
+        })
+        .collect();
+    on.sort_by(|x, y| x.0.total_cmp(&y.0));
+    on.into_iter().map(|(_, v)| v).collect()
+}
+
+/// Sews every seam of `spec` (whose pieces are `design.pieces`, in order), each stitch
+/// pulling up to `pull` N; each seam's ends meet the way its sides start closer.
+pub fn sew(design: &mut Design, spec: &PatternSpec, pull: f32) -> Result<Sewn, GarmentError> {
+    let mut sewn = Sewn::default();
+    for s in &spec.seams {
+        let mut a = stretch(design, &s.a);
+        let mut b = stretch(design, &s.b);
+        // A dart's two sides meet at its point: that vertex is sewn already.
+        let shared: Vec<u32> = a.iter().copied().filter(|v| b.contains(v)).collect();
+        if !shared.is_empty() {
+            a.retain(|v| !shared.contains(v));
+            b.retain(|v| !shared.contains(v));
+            if a.len() < 2 || b.len() < 2 {
+                sewn.open.push(format!(
+                    "seam {}: a side has fewer than two vertices besides the point both share (mesh finer to sew it)",
+                    s.label
+                ));
+                continue;
+            }
+        }
+        for (side, path) in [(&s.a, &a), (&s.b, &b)] {
+            if path.len() < 2 {
+                return Err(GarmentError::NoStretch {
+                    label: s.label.clone(),
+                    piece: design
+                        .pieces
+                        .get(side.piece)
+                        .map_or_else(|| side.piece.to_string(), |r| r.name.clone()),
+                });
+            }
+        }
+        let x = &design.sim.cloth.x;
+        let d = |i: u32, j: u32| (x[i as usize] - x[j as usize]).length();
+        let (a0, a1, b0, b1) = (a[0], a[a.len() - 1], b[0], b[b.len() - 1]);
+        if d(a0, b1) + d(a1, b0) < d(a0, b0) + d(a1, b1) {
+            b.reverse();
+        }
+        let m = (design.pattern_length(&a) - design.pattern_length(&b)).abs();
+        sewn.mismatch_m = sewn.mismatch_m.max(m);
+        sewn.pairs += design
+            .add_seam(&a, &b, pull)
+            .map_err(|source| GarmentError::Seam {
+                label: s.label.clone(),
+                source,
+            })?;
+        sewn.seams += 1;
+    }
+    Ok(sewn)
+}

@@ -1,0 +1,452 @@
+//! GarmentCode's pattern specification (the JSON of ETH's GarmentCode and its data set):
+//! `pattern.panels` by name, each with `vertices` (2D, in `properties.units_in_meter`,
+//! centimetres by default), `edges` (`endpoints`, and a `curvature`: quadratic or cubic
+//! Bézier control points relative to the edge, or a circular arc as SVG gives it:
+//! radius, large-arc and sweep flags), `rotation` (XYZ Euler degrees, applied z·y·x)
+//! and `translation`; `pattern.stitches`, pairs of `{panel, edge}`.
+//!
+//! Their 3D placement is for their own body in a T-pose. We keep what it says of where a
+//! panel goes (front or back, how far round, how high, which arm) and bend the panel
+//! round our body's torso or arm from there, so it starts close without touching; a panel
+//! that cannot be bent (lying flat, upside down, wider than the limb) keeps their
+//! transform.
+
+use glam::{Mat3, Vec2, Vec3};
+use serde_json::Value;
+
+use super::place::{Landmarks, Placement};
+use super::spec::{DEFAULT_FABRIC, EdgeRef, PatternSpec, PieceSpec, SeamSpec, shift_angle};
+use crate::mesh::mesher::{Outline, signed_area2};
+
+/// GarmentCode's average body stands lower than ours (shoulders at about 1.40 m against
+/// 1.50 m): its panels are raised by this much, m.
+pub const GC_RAISE: f32 = 0.10;
+
+/// Most points one curved edge is flattened into.
+const CURVE_POINTS: usize = 64;
+
+fn bad(s: impl Into<String>) -> String {
+    s.into()
+}
+
+fn num(v: &Value) -> Option<f32> {
+    v.as_f64().map(|x| x as f32).filter(|x| x.is_finite())
+}
+
+fn vec2(v: &Value) -> Option<Vec2> {
+    let a = v.as_array()?;
+    Some(Vec2::new(num(a.first()?)?, num(a.get(1)?)?))
+}
+
+fn vec3(v: Option<&Value>) -> Option<Vec3> {
+    let a = v?.as_array()?;
+    Some(Vec3::new(
+        num(a.first()?)?,
+        num(a.get(1)?)?,
+        num(a.get(2)?)?,
+    ))
+}
+
+/// A point given relative to edge `p -> q` (along it, and to its left, in edge lengths).
+fn rel(p: Vec2, q: Vec2, r: Vec2) -> Vec2 {
+    let e = q - p;
+    p + e * r.x + Vec2::new(-e.y, e.x) * r.y
+}
+
+/// The points of an edge from `p` to `q` (m) after `p`, up to but not including `q`.
+/// Absolute control points and radii are in the file's units, `scale` m each.
+fn curve(
+    p: Vec2,
+    q: Vec2,
+    c: Option<&Value>,
+    absolute: bool,
+    scale: f32,
+) -> Result<Vec<Vec2>, String> {
+    let Some(c) = c else {
+        return Ok(Vec::new());
+    };
+    let ctrl = |v: &Value| -> Result<Vec2, String> {
+        let r = vec2(v).ok_or_else(|| bad("a curvature control point is not [x, y]"))?;
+        Ok(if absolute { r * scale } else { rel(p, q, r) })
+    };
+    let n = CURVE_POINTS;
+    let sample = |f: &dyn Fn(f32) -> Vec2| (1..n).map(|k| f(k as f32 / n as f32)).collect();
+    // The older format: a bare [x, y] is a quadratic control point.
+    if c.is_array() {
+        let m = ctrl(c)?;
+        return Ok(sample(&|t| {
+            p * (1.0 - t).powi(2) + m * 2.0 * t * (1.0 - t) + q * t * t
+        }));
+    }
+    let kind = c.get("type").and_then(Value::as_str).unwrap_or("quadratic");
+    let params = c
+        .get("params")
+        .and_then(Value::as_array)
+        .ok_or_else(|| bad("a curvature has no params"))?;
+    match kind {
+        "quadratic" => {
+            let m = ctrl(
+                params
+                    .first()
+                    .ok_or_else(|| bad("quadratic without a control point"))?,
+            )?;
+            Ok(sample(&|t| {
+                p * (1.0 - t).powi(2) + m * 2.0 * t * (1.0 - t) + q * t * t
+            }))
+        }
+        "cubic" => {
+            let a = ctrl(
+                params
+                    .first()
+                    .ok_or_else(|| bad("cubic without control points"))?,
+            )?;
+            let b = ctrl(
+                params
+                    .get(1)
+                    .ok_or_else(|| bad("cubic needs two control points"))?,
+            )?;
+            Ok(sample(&|t| {
+                let u = 1.0 - t;
+                p * u * u * u + a * 3.0 * u * u * t + b * 3.0 * u * t * t + q * t * t * t
+            }))
+        }
+        "circle" => {
+            let r = params
+                .first()
+                .and_then(num)
+                .ok_or_else(|| bad("circle without a radius"))?;
+            let large = params.get(1).and_then(Value::as_f64).unwrap_or(0.0) != 0.0;
+            let right = params.get(2).and_then(Value::as_f64).unwrap_or(1.0) != 0.0;
+            Ok(arc(p, q, r * scale, large, right, n))
+        }
+        other => Err(format!("unknown curvature type {other:?}")),
+    }
+}
+
+/// The circular arc from `p` to `q` of radius `r` (grown to half the chord if smaller),
+/// bulging to the right of `p -> q` when `right`, the long way round when `large`.
+fn arc(p: Vec2, q: Vec2, r: f32, large: bool, right: bool, n: usize) -> Vec<Vec2> {
+    let chord = (q - p).length();
+    if chord < 1e-9 {
+        return Vec::new();
+    }
+    let r = r.abs().max(0.5 * chord);
+    let h = (r * r - 0.25 * chord * chord).max(0.0).sqrt();
+    let left = Vec2::new(-(q - p).y, (q - p).x) / chord;
+    // The arc's middle is on the bulge side; the centre is h from the chord's middle,
+    // on the bulge side for a large arc, across for a small one.
+    let bulge = if right { -left } else { left };
+    let centre = (p + q) * 0.5 + bulge * if large { h } else { -h };
+    let a0 = (p - centre).to_angle();
+    let a1 = (q - centre).to_angle();
+    let mid = centre + bulge * r;
+    let mut sweep = (a1 - a0).rem_euclid(std::f32::consts::TAU);
+    // Go the way that passes through the middle.
+    let am = (mid - centre).to_angle();
+    if (am - a0).rem_euclid(std::f32::consts::TAU) > sweep {
+        sweep -= std::f32::consts::TAU;
+    }
+    (1..n)
+        .map(|k| centre + Vec2::from_angle(a0 + sweep * k as f32 / n as f32) * r)
+        .collect()
+}
+
+/// Rotation from XYZ Euler degrees, as GarmentCode applies them (z · y · x).
+fn euler(d: Vec3) -> Mat3 {
+    Mat3::from_rotation_z(d.z.to_radians())
+        * Mat3::from_rotation_y(d.y.to_radians())
+        * Mat3::from_rotation_x(d.x.to_radians())
+}
+
+/// Where a panel starts on our body, from where GarmentCode put it on theirs.
+fn placement(outline: &[Vec2], rot: Mat3, trans: Vec3, marks: &Landmarks) -> Placement {
+    let (lo, hi) = outline.iter().fold(
+        (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY)),
+        |(l, h), &p| (l.min(p), h.max(p)),
+    );
+    let to_ours = Vec3::new(marks.axis.x, GC_RAISE, marks.axis.y);
+    let world = |p: Vec2| rot * p.extend(0.0) + trans + to_ours;
+    let centre = world((lo + hi) * 0.5);
+    let top = outline.iter().map(|&p| world(p).y).fold(f32::MIN, f32::max);
+    let fixed = Placement::Transform {
+        rotation: rot,
+        translation: trans + to_ours,
+    };
+    let (xdir, up, normal) = (rot * Vec3::X, rot * Vec3::Y, rot * Vec3::Z);
+    if up.y < 0.7 {
+        return fixed;
+    }
+    let radial = Vec2::new(centre.x - marks.axis.x, centre.z - marks.axis.y);
+    let width = hi.x - lo.x;
+    if let Some(arms) = marks.arms
+        && radial.x.abs() > marks.torso.x + 0.05
+    {
+        let left = radial.x > 0.0;
+        let r = arms[usize::from(!left)].2;
+        if width >= std::f32::consts::TAU * r * 0.95 {
+            return fixed;
+        }
+        let front = normal.z * radial.y.signum() >= 0.0 || normal.z > 0.0;
+        return Placement::Arm {
+            left,
+            angle: if front { 0.0 } else { std::f32::consts::PI },
+            down: (arms[usize::from(!left)].0.y - top).max(0.0),
+            mirrored: xdir.x * if front { 1.0 } else { -1.0 } < 0.0,
+        };
+    }
+    let mut out = Vec2::new(normal.x, normal.z);
+    if out.dot(radial) < 0.0 {
+        out = -out;
+    }
+    if out.length() < 0.3 {
+        out = radial;
+    }
+    let phi = out.x.atan2(out.y);
+    let tangent = Vec2::new(phi.cos(), -phi.sin());
+    let lateral = radial.dot(tangent);
+    Placement::Around {
+        angle: shift_angle(marks, phi, lateral),
+        top,
+        mirrored: Vec2::new(xdir.x, xdir.z).dot(tangent) < 0.0,
+        out: 0.0,
+    }
+}
+
+/// A GarmentCode pattern specification as a pattern to drape on a body with `marks`.
+pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, String> {
+    let root: Value = serde_json::from_str(text).map_err(|e| format!("not JSON: {e}"))?;
+    let pattern = root
+        .get("pattern")
+        .ok_or_else(|| bad("no \"pattern\": not a GarmentCode specification"))?;
+    let panels = pattern
+        .get("panels")
+        .and_then(Value::as_object)
+        .ok_or_else(|| bad("no \"pattern.panels\" object"))?;
+    let props = root.get("properties");
+    let per_m = props
+        .and_then(|p| p.get("units_in_meter"))
+        .and_then(num)
+        .unwrap_or(100.0);
+    if per_m <= 0.0 {
+        return Err(format!("units_in_meter must be positive, got {per_m}"));
+    }
+    let absolute = props
+        .and_then(|p| p.get("curvature_coords"))
+        .and_then(Value::as_str)
+        == Some("absolute");
+    let scale = 1.0 / per_m;
+    let mut spec = PatternSpec::default();
+    // Each panel's edges as (from, to) on its counter-clockwise outline.
+    let mut edges_of: Vec<(String, Vec<(Vec2, Vec2)>)> = Vec::new();
+    for (name, panel) in panels {
+        let err = |s: String| format!("panel {name}: {s}");
+        let verts: Vec<Vec2> = panel
+            .get("vertices")
+            .and_then(Value::as_array)
+            .ok_or_else(|| err("no vertices".into()))?
+            .iter()
+            .map(|v| vec2(v).map(|p| p * scale))
+            .collect::<Option<_>>()
+            .ok_or_else(|| err("a vertex is not [x, y]".into()))?;
+        let edges = panel
+            .get("edges")
+            .and_then(Value::as_array)
+            .ok_or_else(|| err("no edges".into()))?;
+        let mut outline: Vec<Vec2> = Vec::new();
+        let mut ends: Vec<(Vec2, Vec2)> = Vec::new();
+        for (k, e) in edges.iter().enumerate() {
+            let ep = e
+                .get("endpoints")
+                .and_then(Value::as_array)
+                .ok_or_else(|| err(format!("edge {k} has no endpoints")))?;
+            let idx = |i: usize| {
+                ep.get(i)
+                    .and_then(Value::as_u64)
+                    .and_then(|j| verts.get(j as usize).copied())
+                    .ok_or_else(|| err(format!("edge {k} names a vertex that is not there")))
+            };
+            let (p, q) = (idx(0)?, idx(1)?);
+            outline.push(p);
+            let pts = curve(p, q, e.get("curvature"), absolute, scale)
+                .map_err(|s| err(format!("edge {k}: {s}")))?;
+            outline.extend(pts);
+            ends.push((p, q));
+        }
+        if outline.len() < 3 {
+            return Err(err("fewer than 3 points".into()));
+        }
+        // Their loops may run either way; ours run counter-clockwise.
+        if signed_area2(&outline) < 0.0 {
+            outline.reverse();
+            for e in &mut ends {
+                *e = (e.1, e.0);
+            }
+        }
+        let rot = euler(vec3(panel.get("rotation")).unwrap_or(Vec3::ZERO));
+        let trans = vec3(panel.get("translation")).unwrap_or(Vec3::ZERO) * scale;
+        spec.pieces.push(PieceSpec {
+            name: name.clone(),
+            placement: Some(placement(&outline, rot, trans, marks)),
+            outline: Outline {
+                loops: vec![outline],
+            },
+            fabric: DEFAULT_FABRIC.into(),
+            grain: 0.0,
+        });
+        edges_of.push((name.clone(), ends));
+    }
+    let stitches = pattern
+        .get("stitches")
+        .and_then(Value::as_array)
+        .cloned()
+        .unwrap_or_default();
+    for (i, st) in stitches.iter().enumerate() {
+        let label = super::super::sewing_pattern::label(i);
+        let side = |k: usize| -> Result<EdgeRef, String> {
+            let s = st
+                .get(k)
+                .ok_or_else(|| format!("stitch {i} does not have two sides"))?;
+            let panel = s.get("panel").and_then(Value::as_str).unwrap_or("");
+            let edge = s.get("edge").and_then(Value::as_u64).unwrap_or(u64::MAX) as usize;
+            let piece = edges_of
+                .iter()
+                .position(|(n, _)| n == panel)
+                .ok_or_else(|| format!("stitch {i} names panel {panel:?}, which is not there"))?;
+            let (from, to) = *edges_of[piece].1.get(edge).ok_or_else(|| {
+                format!("stitch {i} names edge {edge} of panel {panel}, which is not there")
+            })?;
+            Ok(EdgeRef { piece, from, to })
+        };
+        spec.seams.push(SeamSpec {
+            label,
+            a: side(0)?,
+            b: side(1)?,
+        });
+    }
+    Ok(spec)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A front and a back rectangle in GarmentCode's form (cm), the front's top edge a
+    /// quadratic curve, the back turned half round; stitched at both sides.
+    const TWO_PANELS: &str = r#"{
+      "pattern": {
+        "panels": {
+          "front": {
+            "translation": [-25, 90, 30], "rotation": [0, 0, 0],
+            "vertices": [[0, 0], [50, 0], [50, 60], [0, 60]],
+            "edges": [
+              {"endpoints": [0, 1]}, {"endpoints": [1, 2]},
+              {"endpoints": [2, 3], "curvature": {"type": "quadratic", "params": [[0.5, 0.2]]}},
+              {"endpoints": [3, 0]}
+            ]
+          },
+          "back": {
+            "translation": [25, 90, -25], "rotation": [0, 180, 0],
+            "vertices": [[0, 0], [50, 0], [50, 60], [0, 60]],
+            "edges": [
+              {"endpoints": [0, 1]}, {"endpoints": [1, 2]}, {"endpoints": [2, 3]},
+              {"endpoints": [3, 0]}
+            ]
+          }
+        },
+        "stitches": [
+          [{"panel": "front", "edge": 1}, {"panel": "back", "edge": 3}],
+          [{"panel": "front", "edge": 3}, {"panel": "back", "edge": 1}]
+        ]
+      },
+      "properties": {"units_in_meter": 100, "curvature_coords": "relative"}
+    }"#;
+
+    #[test]
+    fn panels_stitches_and_placement_are_read() {
+        let marks = Landmarks {
+            axis: Vec2::ZERO,
+            torso: Vec2::new(0.215, 0.175),
+            shoulders: 1.53,
+            arms: None,
+        };
+        let spec = read_garmentcode(TWO_PANELS, &marks).unwrap();
+        assert_eq!(spec.pieces.len(), 2);
+        assert_eq!(spec.seams.len(), 2);
+        // Panels come in the order of their names (JSON objects have none).
+        let (fi, bi) = (1, 0);
+        let front = &spec.pieces[fi];
+        assert_eq!(front.name, "front");
+        // cm to m; the top edge, run right to left, curves to its left (down) by half
+        // its control point's 0.2 x 0.5 m.
+        let l = &front.outline.loops[0];
+        let top = l.iter().map(|p| p.y).fold(f32::MIN, f32::max);
+        let dip = l
+            .iter()
+            .filter(|p| (p.x - 0.25).abs() < 0.01 && p.y > 0.3)
+            .map(|p| p.y)
+            .fold(f32::MAX, f32::min);
+        assert!((top - 0.6).abs() < 1e-5, "{top}");
+        assert!((dip - 0.55).abs() < 2e-3, "{dip}");
+        // The front goes in front, the back (turned round) at the back, both reading
+        // the right way out; the tops 10 cm higher on our body.
+        match (front.placement, spec.pieces[bi].placement) {
+            (
+                Some(Placement::Around {
+                    angle: a,
+                    top: t,
+                    mirrored: false,
+                    ..
+                }),
+                Some(Placement::Around {
+                    angle: b,
+                    mirrored: false,
+                    ..
+                }),
+            ) => {
+                assert!(a.abs() < 0.05, "{a}");
+                assert!(
+                    (b.rem_euclid(std::f32::consts::TAU) - std::f32::consts::PI).abs() < 0.05,
+                    "{b}"
+                );
+                assert!((t - (0.9 + 0.6 + GC_RAISE)).abs() < 2e-3, "{t}");
+            }
+            other => panic!("{other:?}"),
+        }
+        // The front's right side (edge 1, up) meets the back's edge 3.
+        let s = &spec.seams[0];
+        assert_eq!((s.a.piece, s.b.piece), (fi, bi));
+        assert_eq!(
+            (s.a.from, s.a.to),
+            (Vec2::new(0.5, 0.0), Vec2::new(0.5, 0.6))
+        );
+        assert!(
+            read_garmentcode("{}", &marks)
+                .unwrap_err()
+                .contains("pattern")
+        );
+        let broken = TWO_PANELS.replace("\"edge\": 3}", "\"edge\": 9}");
+        assert!(
+            read_garmentcode(&broken, &marks)
+                .unwrap_err()
+                .contains("edge 9")
+        );
+    }
+
+    #[test]
+    fn arcs_pass_through_their_ends_and_bulge_the_asked_way() {
+        let (p, q) = (Vec2::ZERO, Vec2::new(2.0, 0.0));
+        for (large, right) in [(false, false), (false, true), (true, false), (true, true)] {
+            let pts = arc(p, q, 1.5, large, right, 32);
+            let c = pts[15];
+            // Right of p -> q (going +x) is -y.
+            assert_eq!(c.y < 0.0, right, "{large} {right}");
+            let depth = pts.iter().map(|v| v.y.abs()).fold(0.0, f32::max);
+            let small = 1.5 - (1.5f32 * 1.5 - 1.0).sqrt();
+            let want = if large { 3.0 - small } else { small };
+            assert!(
+                (depth - want).abs() < 0.02,
+                "{large} {right}: {depth} {want}"
+            );
+        }
+    }
+}

@@ -1,0 +1,247 @@
+//! Pattern files in: SVG and DXF pieces (with our seam marks read back as seams, and
+//! pieces arranged by name), or a GarmentCode specification (with its stitches and its
+//! placement), as a [`PatternSpec`] ready to assemble.
+
+use std::path::{Path, PathBuf};
+
+use glam::Vec2;
+
+use super::assemble::project;
+use super::garmentcode::read_garmentcode;
+use super::place::Landmarks;
+use super::spec::{DEFAULT_FABRIC, EdgeRef, PatternSpec, PieceSpec, SeamSpec, SpecError};
+use crate::mesh::dxf::{DxfError, load_dxf};
+use crate::mesh::svg::{NamedOutline, SeamMark, SvgError, load_svg};
+
+#[derive(Debug, thiserror::Error)]
+pub enum ImportError {
+    #[error("{path}: {source}")]
+    Svg { path: PathBuf, source: SvgError },
+    #[error("{path}: {source}")]
+    Dxf { path: PathBuf, source: DxfError },
+    #[error("{path}: GarmentCode specification: {reason}")]
+    GarmentCode { path: PathBuf, reason: String },
+    #[error("cannot read {path}: {source}")]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("{path}: a pattern is an .svg, a .dxf or a GarmentCode .json file")]
+    Kind { path: PathBuf },
+    #[error("{path}: {source}")]
+    Spec { path: PathBuf, source: SpecError },
+}
+
+/// Reads the pattern in `path` for a body with `marks`: normalised, every piece placed.
+/// Returns what a designer should know (seam marks that make no seam).
+pub fn load_pattern(
+    path: &Path,
+    marks: &Landmarks,
+) -> Result<(PatternSpec, Vec<String>), ImportError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .unwrap_or_default();
+    let (mut spec, notices) = match ext.as_str() {
+        "svg" => pattern_from_outlines(load_svg(path).map_err(|source| ImportError::Svg {
+            path: path.into(),
+            source,
+        })?),
+        "dxf" => pattern_from_outlines(load_dxf(path).map_err(|source| ImportError::Dxf {
+            path: path.into(),
+            source,
+        })?),
+        "json" => {
+            let text = std::fs::read_to_string(path).map_err(|source| ImportError::Io {
+                path: path.into(),
+                source,
+            })?;
+            let spec =
+                read_garmentcode(&text, marks).map_err(|reason| ImportError::GarmentCode {
+                    path: path.into(),
+                    reason,
+                })?;
+            (spec, Vec::new())
+        }
+        _ => return Err(ImportError::Kind { path: path.into() }),
+    };
+    spec.normalise().map_err(|source| ImportError::Spec {
+        path: path.into(),
+        source,
+    })?;
+    spec.arrange(marks);
+    Ok((spec, notices))
+}
+
+/// Pieces read from SVG or DXF as a pattern: each piece in the default fabric, its grain
+/// along its x; each seam label marked on exactly two stretches of outline is a seam.
+pub fn pattern_from_outlines(pieces: Vec<NamedOutline>) -> (PatternSpec, Vec<String>) {
+    let mut spec = PatternSpec::default();
+    let mut runs: Vec<(String, EdgeRef)> = Vec::new();
+    for (k, p) in pieces.into_iter().enumerate() {
+        let mut outline = p.outline;
+        if crate::mesh::mesher::signed_area2(&outline.loops[0]) < 0.0 {
+            outline.loops[0].reverse();
+        }
+        for (label, from, to) in stretches(&outline.loops[0], &p.marks) {
+            runs.push((label, EdgeRef { piece: k, from, to }));
+        }
+        spec.pieces.push(PieceSpec {
+            name: p.name,
+            outline,
+            fabric: DEFAULT_FABRIC.into(),
+            grain: 0.0,
+            placement: None,
+        });
+    }
+    let mut notices = Vec::new();
+    let mut labels: Vec<&String> = runs.iter().map(|r| &r.0).collect();
+    labels.sort();
+    labels.dedup();
+    for label in labels {
+        let sides: Vec<EdgeRef> = runs.iter().filter(|r| &r.0 == label).map(|r| r.1).collect();
+        if let [a, b] = sides[..] {
+            spec.seams.push(SeamSpec {
+                label: label.clone(),
+                a,
+                b,
+            });
+        } else {
+            notices.push(format!(
+                "seam {label} is marked on {} stretches of outline, and a seam joins two: left unsewn",
+                sides.len()
+            ));
+        }
+    }
+    (spec, notices)
+}
+
+/// The marked stretches of outer loop `l`: per label, its marks chained where they meet,
+/// each chain as the points it starts and ends at going counter-clockwise.
+fn stretches(l: &[Vec2], marks: &[SeamMark]) -> Vec<(String, Vec2, Vec2)> {
+    let n = marks.len();
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn find(p: &mut [usize], mut i: usize) -> usize {
+        while p[i] != i {
+            p[i] = p[p[i]];
+            i = p[i];
+        }
+        i
+    }
+    for i in 0..n {
+        for j in i + 1..n {
+            let (m, o) = (&marks[i], &marks[j]);
+            let meet = m.label == o.label
+                && [m.a, m.b]
+                    .iter()
+                    .any(|p| (*p - o.a).length() < 1e-5 || (*p - o.b).length() < 1e-5);
+            if meet {
+                let (a, b) = (find(&mut parent, i), find(&mut parent, j));
+                parent[a] = b;
+            }
+        }
+    }
+    let mut cum = vec![0.0f32];
+    for i in 0..l.len() {
+        cum.push(cum[i] + (l[(i + 1) % l.len()] - l[i]).length());
+    }
+    let per = cum[l.len()];
+    let mut out = Vec::new();
+    let mut roots: Vec<usize> = (0..n).map(|i| find(&mut parent, i)).collect();
+    let members = roots.clone();
+    roots.sort_unstable();
+    roots.dedup();
+    for r in roots {
+        // Every point of the chain by its place along the loop; the chain is the loop
+        // less the widest gap between them.
+        let mut pts: Vec<(f32, Vec2)> = (0..n)
+            .filter(|&i| members[i] == r)
+            .flat_map(|i| [marks[i].a, marks[i].b])
+            .map(|p| (project(l, &cum, p).0, p))
+            .collect();
+        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+        if pts.len() < 2 {
+            continue;
+        }
+        let k = pts.len();
+        let gap = |i: usize| (pts[(i + 1) % k].0 - pts[i].0).rem_euclid(per);
+        let widest = (0..k)
+            .max_by(|&a, &b| gap(a).total_cmp(&gap(b)))
+            .unwrap_or(0);
+        let from = pts[(widest + 1) % k].1;
+        let to = pts[widest].1;
+        let label = marks[members.iter().position(|&m| m == r).unwrap_or(0)]
+            .label
+            .clone();
+        out.push((label, from, to));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::mesher::Outline;
+
+    fn square(name: &str, marks: Vec<SeamMark>) -> NamedOutline {
+        NamedOutline {
+            name: name.into(),
+            outline: Outline::rectangle(1.0, 1.0),
+            marks,
+        }
+    }
+
+    fn mark(label: &str, a: (f32, f32), b: (f32, f32)) -> SeamMark {
+        SeamMark {
+            label: label.into(),
+            a: Vec2::new(a.0, a.1),
+            b: Vec2::new(b.0, b.1),
+        }
+    }
+
+    #[test]
+    fn marks_on_two_stretches_make_a_seam_and_others_a_notice() {
+        // A on the right side of one square (in two pieces of mark) and the left of the
+        // other; B only once; C across the first square's corner (0, 0).
+        let a = square(
+            "front",
+            vec![
+                mark("A", (1.0, 0.0), (1.0, 0.5)),
+                mark("A", (1.0, 0.5), (1.0, 1.0)),
+                mark("B", (0.0, 1.0), (0.5, 1.0)),
+                mark("C", (0.0, 0.2), (0.0, 0.0)),
+                mark("C", (0.0, 0.0), (0.3, 0.0)),
+            ],
+        );
+        let b = square(
+            "back",
+            vec![
+                mark("A", (0.0, 1.0), (0.0, 0.0)),
+                mark("C", (0.2, 1.0), (0.8, 1.0)),
+            ],
+        );
+        let (spec, notices) = pattern_from_outlines(vec![a, b]);
+        assert_eq!(spec.seams.len(), 2, "{spec:?}");
+        let s = &spec.seams[0];
+        assert_eq!(s.label, "A");
+        // Counter-clockwise on the front: up its right side.
+        assert_eq!(
+            (s.a.from, s.a.to),
+            (Vec2::new(1.0, 0.0), Vec2::new(1.0, 1.0))
+        );
+        // Down the back's left side.
+        assert_eq!(
+            (s.b.from, s.b.to),
+            (Vec2::new(0.0, 1.0), Vec2::new(0.0, 0.0))
+        );
+        // C wraps past the loop's first point.
+        let c = &spec.seams[1];
+        assert_eq!(
+            (c.a.from, c.a.to),
+            (Vec2::new(0.0, 0.2), Vec2::new(0.3, 0.0))
+        );
+        assert_eq!(notices.len(), 1);
+        assert!(notices[0].contains("seam B"), "{notices:?}");
+    }
+}

@@ -1,0 +1,19 @@
+//! Garments: a pattern's pieces (read from SVG, DXF or GarmentCode JSON, or made by
+//! hand) arranged round the body, meshed, and sewn.
+//!
+//! Inside, bottom up: `place` (named places, placements, a body's landmarks) <- `spec`
+//! (the pattern before it is cloth; arrangement by name) <- `assemble` (layout in the
+//! design's pattern plane, meshing, start positions; sewing) and `import` (pattern files
+//! in: `garmentcode`, and the SVG and DXF readers of `mesh`).
+
+mod assemble;
+mod garmentcode;
+mod import;
+mod place;
+mod spec;
+
+pub use assemble::{Assembled, GarmentError, Sewn, assemble, sew};
+pub use garmentcode::{GC_RAISE, read_garmentcode};
+pub use import::{ImportError, load_pattern, pattern_from_outlines};
+pub use place::{Landmarks, Place, PlaceError, Placement, place};
+pub use spec::{DEFAULT_FABRIC, EdgeRef, PatternSpec, PieceSpec, SeamSpec, SpecError};

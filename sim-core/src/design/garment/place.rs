@@ -1,0 +1,445 @@
+//! Arrangement: where a piece starts in 3D. A piece is bent round the body's torso
+//! cylinder (an ellipse round its vertical axis) or round an arm, by arc length so no side
+//! starts stretched, close to the body without touching it; or put at an explicit rigid
+//! transform. Its rest shape stays the flat pattern: only its start positions are bent.
+//!
+//! Angles go round the body as a designer walks round a dress form: 0 in front (+Z),
+//! a quarter turn to the body's left (+X), a half turn at the back. A piece's pattern x
+//! runs the way a viewer facing it reads (to the viewer's right), so its front face, the
+//! one the pattern is drawn from, faces out.
+
+use std::f32::consts::{FRAC_PI_2, PI, TAU};
+
+use glam::{Mat3, Vec2, Vec3};
+
+use crate::collision::Body;
+use crate::collision::body::{ARM, ARM_RADIUS};
+
+/// The named places of a dress form, as a designer says them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Place {
+    Front,
+    Back,
+    LeftSide,
+    RightSide,
+    LeftArm,
+    RightArm,
+}
+
+impl Place {
+    pub const ALL: &'static str = "front, back, left-side, right-side, left-arm, right-arm";
+
+    pub fn parse(s: &str) -> Option<Self> {
+        Some(
+            match s
+                .trim()
+                .to_ascii_lowercase()
+                .replace(['_', ' '], "-")
+                .as_str()
+            {
+                "front" => Self::Front,
+                "back" => Self::Back,
+                "left-side" | "left" => Self::LeftSide,
+                "right-side" | "right" => Self::RightSide,
+                "left-arm" => Self::LeftArm,
+                "right-arm" => Self::RightArm,
+                _ => return None,
+            },
+        )
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Front => "front",
+            Self::Back => "back",
+            Self::LeftSide => "left-side",
+            Self::RightSide => "right-side",
+            Self::LeftArm => "left-arm",
+            Self::RightArm => "right-arm",
+        }
+    }
+
+    /// The placement at this place with the piece's top at height `top` m (for an arm:
+    /// `top` m down the arm from the shoulder).
+    pub fn at(self, top: f32) -> Placement {
+        let around = |angle| Placement::Around {
+            angle,
+            top,
+            mirrored: false,
+            out: 0.0,
+        };
+        match self {
+            Self::Front => around(0.0),
+            Self::LeftSide => around(FRAC_PI_2),
+            Self::Back => around(PI),
+            Self::RightSide => around(3.0 * FRAC_PI_2),
+            Self::LeftArm | Self::RightArm => Placement::Arm {
+                left: self == Self::LeftArm,
+                angle: 0.0,
+                down: top,
+                mirrored: false,
+            },
+        }
+    }
+}
+
+/// Where a piece starts. Pattern points are taken from the top middle of the piece's
+/// outline bounds: across (x) and down (y, negative).
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case", tag = "kind")]
+pub enum Placement {
+    /// Round the torso cylinder, the piece's middle at `angle` (radians, see the module
+    /// doc), its top at height `top` m. `mirrored`: the pattern's x runs the other way
+    /// round (its back face out).
+    Around {
+        angle: f32,
+        top: f32,
+        mirrored: bool,
+        /// How far outside the cylinder, m: a piece that would start where another
+        /// does goes a layer out (see `assemble`).
+        #[serde(default)]
+        out: f32,
+    },
+    /// Round an arm (the body's left or right), the piece's middle facing `angle` round
+    /// it (0 to the front), its top `down` m below the shoulder along the arm.
+    Arm {
+        left: bool,
+        angle: f32,
+        down: f32,
+        mirrored: bool,
+    },
+    /// The pattern plane (x, y, 0), in the piece's own coordinates, turned by `rotation`
+    /// and moved by `translation` (m).
+    Transform { rotation: Mat3, translation: Vec3 },
+}
+
+/// What arrangement needs of a body: its vertical axis, the elliptic cylinder round its
+/// torso that pieces start on, and its arms, if it has them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Landmarks {
+    /// The body's vertical axis (x, z), m.
+    pub axis: Vec2,
+    /// The cylinder's semi-axes across (x) and front to back (z), m.
+    pub torso: Vec2,
+    /// The height of the shoulders, m (where a top's pieces start).
+    pub shoulders: f32,
+    /// Left then right: shoulder, wrist and the radius pieces start at.
+    pub arms: Option<[(Vec3, Vec3, f32); 2]>,
+}
+
+/// How far from the body a piece starts where the body's shape is known only by its
+/// bounds, m.
+const CLEARANCE: f32 = 0.03;
+
+impl Landmarks {
+    /// The mannequin's (its torso between its arms, its arms), or any body's from its
+    /// bounds (an ellipse round its box, no arms), or the floor's (a 1 m wide axis).
+    pub fn of(body: Option<&Body>) -> Self {
+        match body {
+            Some(b) if b.name == "mannequin" => {
+                let (mn, mx) = b.bounds();
+                let axis = Vec2::new(0.5 * (mn.x + mx.x), 0.5 * (mn.z + mx.z));
+                let arm = |s: f32| {
+                    let m = Vec3::new(s, 1.0, 1.0);
+                    (
+                        ARM[0] * m + Vec3::new(axis.x, 0.0, axis.y),
+                        ARM[2] * m + Vec3::new(axis.x, 0.0, axis.y),
+                        ARM_RADIUS + 0.025,
+                    )
+                };
+                Self {
+                    axis,
+                    // Round the chest (0.18 x 0.11) with room for the shoulders, inside
+                    // the arms (see dress-mannequin).
+                    torso: Vec2::new(0.215, 0.175),
+                    shoulders: 1.53,
+                    arms: Some([arm(1.0), arm(-1.0)]),
+                }
+            }
+            Some(b) => {
+                let (mn, mx) = b.bounds();
+                let half = Vec2::new(0.5 * (mx.x - mn.x), 0.5 * (mx.z - mn.z));
+                Self {
+                    axis: Vec2::new(0.5 * (mn.x + mx.x), 0.5 * (mn.z + mx.z)),
+                    // The ellipse through the box's corners, and room.
+                    torso: half * std::f32::consts::SQRT_2 + Vec2::splat(CLEARANCE),
+                    shoulders: mx.y + CLEARANCE,
+                    arms: None,
+                }
+            }
+            None => Self {
+                axis: Vec2::ZERO,
+                torso: Vec2::new(0.2, 0.15),
+                shoulders: 1.5,
+                arms: None,
+            },
+        }
+    }
+
+    /// The length round the torso cylinder, m.
+    pub fn girth(&self) -> f32 {
+        Ellipse::new(self.torso).perimeter()
+    }
+}
+
+/// The arc length round the torso cylinder from the front to `angle`, m.
+pub(super) fn arc_of_angle(marks: &Landmarks, angle: f32) -> f32 {
+    Ellipse::new(marks.torso).arc_of(angle)
+}
+
+/// An ellipse walked by arc length: a table of the arc length at even steps of the
+/// angle (x = a sin(phi), z = b cos(phi)).
+struct Ellipse {
+    semi: Vec2,
+    arc: Vec<f32>,
+}
+
+const STEPS: usize = 4096;
+
+impl Ellipse {
+    fn new(semi: Vec2) -> Self {
+        let at = |phi: f32| Vec2::new(semi.x * phi.sin(), semi.y * phi.cos());
+        let mut arc = Vec::with_capacity(STEPS + 1);
+        arc.push(0.0);
+        let step = TAU / STEPS as f32;
+        for k in 1..=STEPS {
+            let d = (at(step * k as f32) - at(step * (k - 1) as f32)).length();
+            arc.push(arc[k - 1] + d);
+        }
+        Self { semi, arc }
+    }
+
+    fn perimeter(&self) -> f32 {
+        self.arc[STEPS]
+    }
+
+    /// The arc length from the front to angle `phi`.
+    fn arc_of(&self, phi: f32) -> f32 {
+        let t = phi.rem_euclid(TAU) / TAU * STEPS as f32;
+        let k = (t as usize).min(STEPS - 1);
+        let f = t - k as f32;
+        self.arc[k] + (self.arc[k + 1] - self.arc[k]) * f
+    }
+
+    /// The point (x, z) at arc length `s` from the front.
+    fn at_arc(&self, s: f32) -> Vec2 {
+        let s = s.rem_euclid(self.perimeter());
+        let k = self.arc.partition_point(|&a| a <= s).clamp(1, STEPS);
+        let (a0, a1) = (self.arc[k - 1], self.arc[k]);
+        let f = if a1 > a0 { (s - a0) / (a1 - a0) } else { 0.0 };
+        let phi = TAU * ((k - 1) as f32 + f) / STEPS as f32;
+        Vec2::new(self.semi.x * phi.sin(), self.semi.y * phi.cos())
+    }
+}
+
+/// Why a piece cannot start where it was asked to.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum PlaceError {
+    #[error(
+        "piece {piece} is {width:.2} m wide, more than the {girth:.2} m round the {round} it is placed on: it would start through itself"
+    )]
+    TooWide {
+        piece: String,
+        width: f32,
+        girth: f32,
+        round: &'static str,
+    },
+    #[error("piece {piece} is placed on an arm, and this body has none")]
+    NoArms { piece: String },
+}
+
+/// The start positions of a piece's pattern points `pattern` (m, the piece's own
+/// coordinates, whose outline bounds are `lo`..`hi`) under `placement`.
+pub fn place(
+    name: &str,
+    pattern: &[Vec2],
+    (lo, hi): (Vec2, Vec2),
+    placement: &Placement,
+    marks: &Landmarks,
+) -> Result<Vec<Vec3>, PlaceError> {
+    let top_mid = Vec2::new(0.5 * (lo.x + hi.x), hi.y);
+    let width = hi.x - lo.x;
+    let local = |p: Vec2, mirrored: bool| {
+        let d = p - top_mid;
+        Vec2::new(if mirrored { -d.x } else { d.x }, d.y)
+    };
+    match *placement {
+        Placement::Around {
+            angle,
+            top,
+            mirrored,
+            out,
+        } => {
+            let e = Ellipse::new(marks.torso + Vec2::splat(out.max(0.0)));
+            if width >= e.perimeter() {
+                return Err(PlaceError::TooWide {
+                    piece: name.into(),
+                    width,
+                    girth: e.perimeter(),
+                    round: "body",
+                });
+            }
+            let s0 = e.arc_of(angle);
+            Ok(pattern
+                .iter()
+                .map(|&p| {
+                    let q = local(p, mirrored);
+                    let xz = e.at_arc(s0 + q.x);
+                    Vec3::new(marks.axis.x + xz.x, top + q.y, marks.axis.y + xz.y)
+                })
+                .collect())
+        }
+        Placement::Arm {
+            left,
+            angle,
+            down,
+            mirrored,
+        } => {
+            let Some(arms) = marks.arms else {
+                return Err(PlaceError::NoArms { piece: name.into() });
+            };
+            let (shoulder, wrist, r) = arms[usize::from(!left)];
+            if width >= TAU * r {
+                return Err(PlaceError::TooWide {
+                    piece: name.into(),
+                    width,
+                    girth: TAU * r,
+                    round: "arm",
+                });
+            }
+            // A frame on the arm: along it (down), to the front, and to a front viewer's
+            // right; round it by arc length.
+            let along = (wrist - shoulder).normalize_or(Vec3::NEG_Y);
+            let front = (Vec3::Z - along * along.z).normalize_or(Vec3::Z);
+            let right = along.cross(front).normalize_or(Vec3::X);
+            let right = if right.x < 0.0 { -right } else { right };
+            Ok(pattern
+                .iter()
+                .map(|&p| {
+                    let q = local(p, mirrored);
+                    let theta = angle + q.x / r;
+                    shoulder
+                        + along * (down - q.y)
+                        + (front * theta.cos() + right * theta.sin()) * r
+                })
+                .collect())
+        }
+        Placement::Transform {
+            rotation,
+            translation,
+        } => Ok(pattern
+            .iter()
+            .map(|p| rotation * Vec3::new(p.x, p.y, 0.0) + translation)
+            .collect()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn marks() -> Landmarks {
+        Landmarks {
+            axis: Vec2::new(0.1, -0.2),
+            torso: Vec2::new(0.2, 0.15),
+            shoulders: 1.5,
+            arms: Some([
+                (Vec3::new(0.25, 1.4, 0.0), Vec3::new(0.3, 0.9, 0.0), 0.07),
+                (Vec3::new(-0.25, 1.4, 0.0), Vec3::new(-0.3, 0.9, 0.0), 0.07),
+            ]),
+        }
+    }
+
+    /// A 0.3 x 0.2 grid of pattern points, 1 cm apart.
+    fn grid() -> Vec<Vec2> {
+        (0..=30)
+            .flat_map(|i| (0..=20).map(move |j| Vec2::new(i as f32 * 0.01, j as f32 * 0.01)))
+            .collect()
+    }
+
+    #[test]
+    fn pieces_bend_round_the_body_by_arc_length_without_stretch() {
+        let m = marks();
+        let pts = grid();
+        let bounds = (Vec2::ZERO, Vec2::new(0.3, 0.2));
+        for place in [Place::Front, Place::Back, Place::LeftSide, Place::RightSide] {
+            let x = super::place("p", &pts, bounds, &place.at(1.2), &m).unwrap();
+            // Neighbours 1 cm apart in the pattern stay 1 cm apart (to the chord).
+            for (i, p) in pts.iter().enumerate() {
+                for (j, q) in pts.iter().enumerate() {
+                    if (*p - *q).length() < 0.0101 && i < j {
+                        let d = (x[i] - x[j]).length();
+                        assert!((d - 0.01).abs() < 2e-4, "{place:?}: {d}");
+                    }
+                }
+            }
+            // On the cylinder, the top at 1.2 m.
+            for p in &x {
+                let d = Vec2::new(p.x - m.axis.x, p.z - m.axis.y) / m.torso;
+                assert!((d.length() - 1.0).abs() < 1e-3);
+                assert!(p.y <= 1.2 + 1e-6 && p.y >= 1.0 - 1e-6);
+            }
+        }
+        // The front's middle is in front of the axis, the left side's to the +X.
+        let mid = |place: Place| {
+            let x =
+                super::place("p", &[Vec2::new(0.15, 0.2)], bounds, &place.at(1.2), &m).unwrap()[0];
+            Vec2::new(x.x - m.axis.x, x.z - m.axis.y)
+        };
+        assert!(mid(Place::Front).y > 0.14 && mid(Place::Front).x.abs() < 1e-3);
+        assert!(mid(Place::LeftSide).x > 0.19);
+        assert!(mid(Place::Back).y < -0.14);
+        assert!(mid(Place::RightSide).x < -0.19);
+    }
+
+    #[test]
+    fn the_front_face_faces_out_and_mirroring_turns_it_in() {
+        let m = marks();
+        // A triangle wound counter-clockwise in the pattern: its normal is the front.
+        let tri = [Vec2::ZERO, Vec2::new(0.1, 0.0), Vec2::new(0.0, 0.1)];
+        let bounds = (Vec2::ZERO, Vec2::new(0.1, 0.1));
+        for angle in [0.0, 1.0, PI, 4.0] {
+            for mirrored in [false, true] {
+                let p = Placement::Around {
+                    angle,
+                    top: 1.0,
+                    mirrored,
+                    out: 0.0,
+                };
+                let x = super::place("p", &tri, bounds, &p, &m).unwrap();
+                let n = (x[1] - x[0]).cross(x[2] - x[0]);
+                let out = Vec3::new(x[0].x - m.axis.x, 0.0, x[0].z - m.axis.y);
+                assert_eq!(n.dot(out) > 0.0, !mirrored, "angle {angle}");
+            }
+        }
+        // Round an arm too.
+        let x = super::place("p", &tri, bounds, &Place::LeftArm.at(0.1), &m).unwrap();
+        let (s, w, _) = m.arms.unwrap()[0];
+        let axis = (w - s).normalize();
+        let c = s + axis * axis.dot(x[0] - s);
+        let n = (x[1] - x[0]).cross(x[2] - x[0]);
+        assert!(n.dot(x[0] - c) > 0.0);
+        assert!(((x[0] - c).length() - 0.07).abs() < 1e-4);
+    }
+
+    #[test]
+    fn too_wide_or_no_arms_is_refused() {
+        let mut m = marks();
+        let wide = (Vec2::ZERO, Vec2::new(1.5, 0.2));
+        assert!(matches!(
+            super::place("p", &[Vec2::ZERO], wide, &Place::Front.at(1.0), &m),
+            Err(PlaceError::TooWide { .. })
+        ));
+        m.arms = None;
+        let small = (Vec2::ZERO, Vec2::new(0.1, 0.1));
+        assert_eq!(
+            super::place("sleeve", &[Vec2::ZERO], small, &Place::RightArm.at(0.0), &m),
+            Err(PlaceError::NoArms {
+                piece: "sleeve".into()
+            })
+        );
+        assert_eq!(Place::parse("Left side"), Some(Place::LeftSide));
+        assert_eq!(Place::parse("left_arm"), Some(Place::LeftArm));
+        assert_eq!(Place::parse("hat"), None);
+    }
+}

@@ -1,0 +1,319 @@
+//! A pattern as read from a file or made by hand, before it becomes cloth: named pieces
+//! with their outlines, fabric, grain and (maybe) placement, and seams between stretches
+//! of their outlines.
+
+use glam::Vec2;
+
+use super::place::{Landmarks, Place, Placement};
+use crate::mesh::mesher::{Outline, signed_area2};
+
+/// A piece of a pattern.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PieceSpec {
+    pub name: String,
+    /// Metres, the piece's own coordinates, y up; the outer loop first.
+    pub outline: Outline,
+    pub fabric: String,
+    /// The warp's direction, radians from the pattern's x.
+    pub grain: f32,
+    /// `None`: arranged by [`PatternSpec::arrange`].
+    pub placement: Option<Placement>,
+}
+
+/// A stretch of a piece's outer loop: from the outline point nearest `from` to the one
+/// nearest `to`, going counter-clockwise (the way the outer loop runs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EdgeRef {
+    pub piece: usize,
+    pub from: Vec2,
+    pub to: Vec2,
+}
+
+/// A seam between two stretches. Which ends meet is decided by where the pieces start:
+/// the pairing whose ends lie closer together.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SeamSpec {
+    pub label: String,
+    pub a: EdgeRef,
+    pub b: EdgeRef,
+}
+
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PatternSpec {
+    pub pieces: Vec<PieceSpec>,
+    pub seams: Vec<SeamSpec>,
+}
+
+/// Why a pattern cannot be made into cloth.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum SpecError {
+    #[error("the pattern has no pieces")]
+    NoPieces,
+    #[error("seam {label}: it names piece {piece}, and the pattern has {count}")]
+    NoPiece {
+        label: String,
+        piece: usize,
+        count: usize,
+    },
+    #[error("seam {label}: a side has no length (it starts where it ends)")]
+    EmptySide { label: String },
+    #[error("seam {label}: both sides are the same stretch of piece {piece}")]
+    SameSide { label: String, piece: String },
+}
+
+/// The default fabric of pieces a pattern does not give one.
+pub const DEFAULT_FABRIC: &str = "cotton";
+
+impl PatternSpec {
+    /// Puts each outer loop counter-clockwise and each hole clockwise, gives duplicate
+    /// names a number, and checks the seams.
+    pub fn normalise(&mut self) -> Result<(), SpecError> {
+        if self.pieces.is_empty() {
+            return Err(SpecError::NoPieces);
+        }
+        for p in &mut self.pieces {
+            for (i, l) in p.outline.loops.iter_mut().enumerate() {
+                if (signed_area2(l) > 0.0) != (i == 0) {
+                    l.reverse();
+                }
+            }
+        }
+        for i in 1..self.pieces.len() {
+            let base = self.pieces[i].name.clone();
+            let mut k = 1;
+            while self.pieces[..i]
+                .iter()
+                .any(|p| p.name == self.pieces[i].name)
+            {
+                k += 1;
+                self.pieces[i].name = format!("{base} ({k})");
+            }
+        }
+        let count = self.pieces.len();
+        for s in &self.seams {
+            for side in [&s.a, &s.b] {
+                if side.piece >= count {
+                    return Err(SpecError::NoPiece {
+                        label: s.label.clone(),
+                        piece: side.piece,
+                        count,
+                    });
+                }
+                if (side.from - side.to).length() < 1e-6 {
+                    return Err(SpecError::EmptySide {
+                        label: s.label.clone(),
+                    });
+                }
+            }
+            let same = |p: Vec2, q: Vec2| (p - q).length() < 1e-4;
+            if s.a.piece == s.b.piece
+                && ((same(s.a.from, s.b.from) && same(s.a.to, s.b.to))
+                    || (same(s.a.from, s.b.to) && same(s.a.to, s.b.from)))
+            {
+                return Err(SpecError::SameSide {
+                    label: s.label.clone(),
+                    piece: self.pieces[s.a.piece].name.clone(),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Places every piece that has no placement, by its name: "front", "back", "left"
+    /// or "right" (a side), "sleeve" or "arm" with "left" or "right" (an arm, when the
+    /// body has them); otherwise front and back in turn. Pieces at one place stand side
+    /// by side there, 2 cm apart, in the order a viewer facing them reads the body's
+    /// right and left. Tops start at the shoulders, sleeves at the shoulder.
+    pub fn arrange(&mut self, marks: &Landmarks) {
+        let mut at: Vec<Option<Place>> = Vec::with_capacity(self.pieces.len());
+        let mut turn = 0;
+        for p in &self.pieces {
+            if p.placement.is_some() {
+                at.push(None);
+                continue;
+            }
+            let n = p.name.to_ascii_lowercase();
+            let has = |w: &str| n.contains(w);
+            let (left, right) = (has("left"), has("right"));
+            let place = if (has("sleeve") || has("arm")) && marks.arms.is_some() {
+                if right {
+                    Place::RightArm
+                } else {
+                    Place::LeftArm
+                }
+            } else if has("front") {
+                Place::Front
+            } else if has("back") {
+                Place::Back
+            } else if left && !right {
+                Place::LeftSide
+            } else if right && !left {
+                Place::RightSide
+            } else {
+                turn += 1;
+                if turn % 2 == 1 {
+                    Place::Front
+                } else {
+                    Place::Back
+                }
+            };
+            at.push(Some(place));
+        }
+        for place in [
+            Place::Front,
+            Place::Back,
+            Place::LeftSide,
+            Place::RightSide,
+            Place::LeftArm,
+            Place::RightArm,
+        ] {
+            let mut group: Vec<usize> = (0..self.pieces.len())
+                .filter(|&i| at[i] == Some(place))
+                .collect();
+            // A viewer facing the front sees the body's right on their left; facing the
+            // back, its left.
+            let first_word = if place == Place::Back {
+                "left"
+            } else {
+                "right"
+            };
+            group.sort_by_key(|&i| {
+                let n = self.pieces[i].name.to_ascii_lowercase();
+                (!n.contains(first_word), i)
+            });
+            let widths: Vec<f32> = group
+                .iter()
+                .map(|&i| width(&self.pieces[i].outline))
+                .collect();
+            let gap = 0.02;
+            let total: f32 =
+                widths.iter().sum::<f32>() + gap * widths.len().saturating_sub(1) as f32;
+            let mut s = -0.5 * total;
+            for (&i, w) in group.iter().zip(&widths) {
+                let centre = s + 0.5 * w;
+                s += w + gap;
+                let mut placement = place.at(match place {
+                    Place::LeftArm | Place::RightArm => 0.0,
+                    _ => marks.shoulders,
+                });
+                match &mut placement {
+                    Placement::Around { angle, .. } => {
+                        *angle = shift_angle(marks, *angle, centre);
+                    }
+                    Placement::Arm { angle, .. } => {
+                        let r = marks.arms.map_or(0.07, |a| a[0].2);
+                        *angle += centre / r;
+                    }
+                    Placement::Transform { .. } => {}
+                }
+                self.pieces[i].placement = Some(placement);
+            }
+        }
+    }
+}
+
+/// The width of an outline's outer loop, m.
+fn width(o: &Outline) -> f32 {
+    let xs = o.loops.first().into_iter().flatten().map(|p| p.x);
+    let (lo, hi) = xs.fold((f32::INFINITY, f32::NEG_INFINITY), |(l, h), x| {
+        (l.min(x), h.max(x))
+    });
+    (hi - lo).max(0.0)
+}
+
+/// The angle `ds` m of arc round the torso cylinder on from `angle` (in small steps,
+/// so a long shift follows the ellipse).
+pub(super) fn shift_angle(marks: &Landmarks, angle: f32, ds: f32) -> f32 {
+    let (a, b) = (marks.torso.x, marks.torso.y);
+    let steps = 16;
+    let mut phi = angle;
+    for _ in 0..steps {
+        // Arc length per radian at phi.
+        let v = Vec2::new(a * phi.cos(), -b * phi.sin()).length().max(1e-3);
+        phi += ds / steps as f32 / v;
+    }
+    phi
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn piece(name: &str, w: f32) -> PieceSpec {
+        PieceSpec {
+            name: name.into(),
+            outline: Outline::rectangle(w, 0.5),
+            fabric: DEFAULT_FABRIC.into(),
+            grain: 0.0,
+            placement: None,
+        }
+    }
+
+    #[test]
+    fn bad_seams_are_refused_and_names_made_unique() {
+        let mut s = PatternSpec {
+            pieces: vec![piece("a", 0.2), piece("a", 0.2)],
+            seams: vec![],
+        };
+        s.normalise().unwrap();
+        assert_eq!(s.pieces[1].name, "a (2)");
+        let side = EdgeRef {
+            piece: 0,
+            from: Vec2::ZERO,
+            to: Vec2::new(0.2, 0.0),
+        };
+        s.seams = vec![SeamSpec {
+            label: "A".into(),
+            a: side,
+            b: EdgeRef {
+                from: side.to,
+                to: side.from,
+                ..side
+            },
+        }];
+        assert!(matches!(s.normalise(), Err(SpecError::SameSide { .. })));
+        s.seams[0].b.piece = 7;
+        assert!(matches!(s.normalise(), Err(SpecError::NoPiece { .. })));
+        s.seams[0].b = EdgeRef {
+            piece: 1,
+            from: Vec2::ZERO,
+            to: Vec2::ZERO,
+        };
+        assert!(matches!(s.normalise(), Err(SpecError::EmptySide { .. })));
+        assert_eq!(PatternSpec::default().normalise(), Err(SpecError::NoPieces));
+    }
+
+    #[test]
+    fn pieces_are_arranged_by_name_side_by_side() {
+        let marks = Landmarks {
+            axis: Vec2::ZERO,
+            torso: Vec2::new(0.2, 0.15),
+            shoulders: 1.5,
+            arms: None,
+        };
+        let mut s = PatternSpec {
+            pieces: vec![
+                piece("left front", 0.2),
+                piece("right front", 0.2),
+                piece("back", 0.4),
+                piece("left sleeve", 0.2),
+            ],
+            seams: vec![],
+        };
+        s.arrange(&marks);
+        let angle = |i: usize| match s.pieces[i].placement {
+            Some(Placement::Around { angle, .. }) => angle,
+            ref p => panic!("{p:?}"),
+        };
+        // The body's right front is on the viewer's left: a smaller angle.
+        assert!(
+            angle(1) < 0.0 && angle(0) > 0.0,
+            "{} {}",
+            angle(0),
+            angle(1)
+        );
+        assert!((angle(2) - std::f32::consts::PI).abs() < 1e-6);
+        // No arms on this body: the sleeve goes to the body's left side.
+        assert!((angle(3) - std::f32::consts::FRAC_PI_2).abs() < 1e-6);
+    }
+}
