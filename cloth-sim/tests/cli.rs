@@ -831,7 +831,7 @@ fn dress_mannequin_sews_two_panels_round_the_torso_without_crossing() {
             "--out",
             o,
         ],
-        "the scenario's own panels",
+        "the pattern's own pieces",
     );
     fails_cleanly(
         &["scenario", "drape-pattern", "--out", o],

@@ -1,0 +1,102 @@
+//! The cloth's pieces now: [`Design::piece_list`] finds the connected parts of the
+//! pattern and names each by the [`PieceRecord`] whose band holds it, so cutting a piece
+//! in two lists two pieces ("front" and "front 2") and a piece torn away keeps its name.
+
+use std::collections::HashMap;
+
+use glam::Vec2;
+
+use super::document::Design;
+#[cfg(doc)]
+use super::pieces::PieceRecord;
+
+/// A piece as the cloth has it now.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PieceInfo {
+    pub name: String,
+    /// The record it came from (`None`: a cloth made without pieces).
+    pub record: Option<usize>,
+    pub fabric: String,
+    pub vertices: usize,
+    pub triangles: usize,
+}
+
+impl Design {
+    /// The record of the piece whose band holds pattern point `p` (the design's pattern
+    /// x and -z).
+    pub fn record_at(&self, p: Vec2) -> Option<usize> {
+        self.pieces.iter().position(|r| {
+            let (lo, hi) = r.band();
+            p.x >= lo - 1e-4 && p.x <= hi + 1e-4
+        })
+    }
+
+    /// The pieces of the cloth now: its parts connected in the pattern, listed by
+    /// record and largest first within one, named by their record (a second part of one
+    /// record gets " 2", and so on); parts of a cloth made without pieces are "piece 1",
+    /// "piece 2", ...
+    pub fn piece_list(&self) -> Vec<PieceInfo> {
+        let parts = super::sewing_pattern::pattern_parts(self);
+        let mut out = self.describe(&parts);
+        out.sort_by(|a, b| a.record.cmp(&b.record).then(b.triangles.cmp(&a.triangles)));
+        out
+    }
+
+    /// Each part (its triangle slots) named as [`Design::piece_list`] says, in the
+    /// parts' order.
+    pub(super) fn describe(&self, parts: &[Vec<u32>]) -> Vec<PieceInfo> {
+        let live = &self.sim.cloth.live;
+        let mut out: Vec<PieceInfo> = Vec::with_capacity(parts.len());
+        for tris in parts {
+            let mut verts: Vec<u32> = tris
+                .iter()
+                .filter_map(|&s| live.tri(s))
+                .flat_map(|t| t.v)
+                .collect();
+            verts.sort_unstable();
+            verts.dedup();
+            let centre = tris
+                .first()
+                .and_then(|&s| live.tri(s))
+                .map(|t| (t.rest[0] + t.rest[1] + t.rest[2]) / 3.0)
+                .unwrap_or_default();
+            let record = self.record_at(Vec2::new(centre.x, -centre.z));
+            out.push(PieceInfo {
+                name: String::new(),
+                record,
+                fabric: record
+                    .map(|r| self.pieces[r].fabric.clone())
+                    .unwrap_or_else(|| "cloth".into()),
+                vertices: verts.len(),
+                triangles: tris.len(),
+            });
+        }
+        // Within a record, the largest part keeps the name (the bigger side of a cut).
+        let mut order: Vec<usize> = (0..out.len()).collect();
+        order.sort_by(|&a, &b| {
+            (out[a].record.cmp(&out[b].record))
+                .then(out[b].triangles.cmp(&out[a].triangles))
+                .then(a.cmp(&b))
+        });
+        let mut seen: HashMap<usize, usize> = HashMap::new();
+        let mut loose = 0;
+        for i in order {
+            out[i].name = match out[i].record {
+                Some(r) => {
+                    let k = seen.entry(r).or_insert(0);
+                    *k += 1;
+                    if *k == 1 {
+                        self.pieces[r].name.clone()
+                    } else {
+                        format!("{} {}", self.pieces[r].name, k)
+                    }
+                }
+                None => {
+                    loose += 1;
+                    format!("piece {loose}")
+                }
+            };
+        }
+        out
+    }
+}
