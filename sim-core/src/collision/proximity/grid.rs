@@ -186,7 +186,14 @@ impl BoxGrid {
         let inv = self.inv_cell;
         cells(q, inv, |c| {
             let k = hash(c) & self.mask;
+            // A box with several cells hashed to this bucket is in it several times, in a
+            // row (`build` fills box by box): look at it once.
+            let mut prev = u32::MAX;
             for &id in &self.items[self.start[k] as usize..self.start[k + 1] as usize] {
+                if id == prev {
+                    continue;
+                }
+                prev = id;
                 let b = &self.boxes[id as usize];
                 if b.overlaps(q) && cell_of(b.lo.max(q.lo), inv) == c {
                     f(id);
@@ -240,6 +247,19 @@ mod tests {
             let want: Vec<u32> = (0..bs.len() as u32).filter(|&i| bs[i as usize].overlaps(&q)).collect();
             prop_assert_eq!(got, want);
         }
+    }
+
+    /// Found by the property above: two of the box's cells share a bucket, and it was
+    /// reported twice.
+    #[test]
+    fn a_box_whose_cells_share_a_bucket_is_found_once() {
+        let bs = boxes(&[(-0.34849206, 0.83573365, -0.2644955, 0.36205113)]);
+        let mut g = BoxGrid::default();
+        g.build(bs.iter().copied(), 0.05);
+        let q = boxes(&[(0.0, 0.79071057, -0.23401642, 0.3886301)])[0];
+        let mut got = Vec::new();
+        g.query(&q, |id| got.push(id));
+        assert_eq!(got, [0]);
     }
 
     #[test]
