@@ -33,17 +33,8 @@ pub struct PieceRecord {
 impl PieceRecord {
     /// The band of the design's pattern x this piece owns.
     pub(super) fn band(&self) -> (f32, f32) {
-        let xs = self
-            .outline
-            .loops
-            .first()
-            .into_iter()
-            .flatten()
-            .map(|p| p.x);
-        let (lo, hi) = xs.fold((f32::INFINITY, f32::NEG_INFINITY), |(l, h), x| {
-            (l.min(x), h.max(x))
-        });
-        (lo + self.offset.x, hi + self.offset.x)
+        let (lo, hi) = crate::mesh::bounds2(self.outline.loops.first().map_or(&[], |l| &l[..]));
+        (lo.x + self.offset.x, hi.x + self.offset.x)
     }
 
     /// Checks a record read from a file: a name, finite numbers, loops of 3 points.

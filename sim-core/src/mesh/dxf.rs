@@ -15,6 +15,7 @@ use std::path::Path;
 use glam::{DVec2, Vec2};
 
 use super::mesher::{Outline, contains, signed_area2};
+use super::sets::Sets;
 use super::svg::{NamedOutline, SeamMark};
 
 #[derive(Debug, thiserror::Error)]
@@ -396,14 +397,7 @@ fn seam_marks(d: &Drawn) -> Vec<SeamMark> {
         .collect();
     let n = d.seam_lines.len();
     // Runs: lines joined at shared ends (union-find).
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn find(p: &mut [usize], mut i: usize) -> usize {
-        while p[i] != i {
-            p[i] = p[p[i]];
-            i = p[i];
-        }
-        i
-    }
+    let mut sets = Sets::new(n);
     for i in 0..n {
         for j in i + 1..n {
             let (a, b) = d.seam_lines[i];
@@ -412,8 +406,7 @@ fn seam_marks(d: &Drawn) -> Vec<SeamMark> {
                 .iter()
                 .any(|p| (*p - c).length() < 1e-3 || (*p - e).length() < 1e-3);
             if meet {
-                let (ri, rj) = (find(&mut parent, i), find(&mut parent, j));
-                parent[ri] = rj;
+                sets.join(i, j);
             }
         }
     }
@@ -421,13 +414,13 @@ fn seam_marks(d: &Drawn) -> Vec<SeamMark> {
     for (i, &(a, b)) in d.seam_lines.iter().enumerate() {
         let mid = (a + b) * 0.5;
         if let Some((_, l)) = labels.iter().find(|(p, _)| (*p - mid).length() < 0.05) {
-            let r = find(&mut parent, i);
+            let r = sets.find(i);
             label_of.insert(r, (*l).to_string());
         }
     }
     (0..n)
         .filter_map(|i| {
-            let r = find(&mut parent, i);
+            let r = sets.find(i);
             let (a, b) = d.seam_lines[i];
             Some(SeamMark {
                 label: label_of.get(&r)?.clone(),

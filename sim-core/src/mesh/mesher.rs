@@ -312,10 +312,7 @@ pub fn mesh_outline(outline: &Outline, edge: f32) -> Result<ClothMesh, MeshError
         }
         triangles.push(t);
     }
-    let (lo, hi) = pattern.iter().fold(
-        (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY)),
-        |(lo, hi), &p| (lo.min(p), hi.max(p)),
-    );
+    let (lo, hi) = super::bounds2(&pattern);
     let side = (hi - lo).max_element().max(1e-6);
     let mesh = ClothMesh {
         positions: pattern.iter().map(|p| Vec3::new(p.x, 0.0, -p.y)).collect(),

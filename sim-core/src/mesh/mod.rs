@@ -3,7 +3,8 @@
 //!
 //! Inside: `edge` <- `topology` <- `cloth_mesh` <- `live`; `obj` reads into a `ClothMesh`;
 //! `mesher` meshes a pattern outline into one; `svg` and `dxf` read pattern files into
-//! outlines (`dxf` uses `svg`'s `NamedOutline`).
+//! outlines (`dxf` uses `svg`'s `NamedOutline`); `bounds` and `sets` (union-find) serve
+//! them all.
 
 mod bounds;
 mod cloth_mesh;
@@ -12,10 +13,11 @@ mod edge;
 pub mod live;
 pub mod mesher;
 pub mod obj;
+pub mod sets;
 pub mod svg;
 mod topology;
 
-pub use bounds::bounds;
+pub use bounds::{bounds, bounds2};
 pub use cloth_mesh::{ClothMesh, MAX_VERTICES};
 pub use edge::{edge_ends, edge_key};
 pub use live::{LiveMesh, NONE, Tri};

@@ -37,10 +37,7 @@ pub fn cut_neckline(design: &mut Design) -> Result<usize, EditError> {
         return Ok(0);
     };
     let rec = &design.pieces[k];
-    let (lo, hi) = rec.outline.loops[0].iter().fold(
-        (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY)),
-        |(l, h), &p| (l.min(p), h.max(p)),
-    );
+    let (lo, hi) = crate::mesh::bounds2(&rec.outline.loops[0]);
     let mid = 0.5 * (lo.x + hi.x);
     let slots: Vec<u32> = design
         .sim

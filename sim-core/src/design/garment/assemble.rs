@@ -6,8 +6,8 @@ use glam::{Vec2, Vec3};
 use super::place::{Landmarks, Place, PlaceError, Placement, place};
 use super::spec::{EdgeRef, PatternSpec, PieceSpec, SpecError};
 use crate::design::{Design, EditError, PieceRecord};
-use crate::mesh::ClothMesh;
 use crate::mesh::mesher::{self, MeshError, Outline};
+use crate::mesh::{ClothMesh, bounds2};
 
 /// Space between pieces in the design's pattern plane, m.
 const PATTERN_GAP: f32 = 0.05;
@@ -35,13 +35,6 @@ pub struct Assembled {
     /// Where each vertex starts.
     pub starts: Vec<Vec3>,
     pub records: Vec<PieceRecord>,
-}
-
-fn bounds2(l: &[Vec2]) -> (Vec2, Vec2) {
-    l.iter().fold(
-        (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY)),
-        |(lo, hi), &p| (lo.min(p), hi.max(p)),
-    )
 }
 
 /// Lays out, meshes (triangles of about `edge` m) and places every piece of `spec`

@@ -160,10 +160,7 @@ fn euler(d: Vec3) -> Mat3 {
 
 /// Where a panel starts on our body, from where GarmentCode put it on theirs.
 fn placement(outline: &[Vec2], rot: Mat3, trans: Vec3, marks: &Landmarks) -> Placement {
-    let (lo, hi) = outline.iter().fold(
-        (Vec2::splat(f32::INFINITY), Vec2::splat(f32::NEG_INFINITY)),
-        |(l, h), &p| (l.min(p), h.max(p)),
-    );
+    let (lo, hi) = crate::mesh::bounds2(outline);
     let to_ours = Vec3::new(marks.axis.x, GC_RAISE, marks.axis.y);
     let world = |p: Vec2| rot * p.extend(0.0) + trans + to_ours;
     let centre = world((lo + hi) * 0.5);

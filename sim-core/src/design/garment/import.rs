@@ -11,6 +11,7 @@ use super::garmentcode::read_garmentcode;
 use super::place::Landmarks;
 use super::spec::{DEFAULT_FABRIC, EdgeRef, PatternSpec, PieceSpec, SeamSpec, SpecError};
 use crate::mesh::dxf::{DxfError, load_dxf};
+use crate::mesh::sets::Sets;
 use crate::mesh::svg::{NamedOutline, SeamMark, SvgError, load_svg};
 
 #[derive(Debug, thiserror::Error)]
@@ -121,14 +122,7 @@ pub fn pattern_from_outlines(pieces: Vec<NamedOutline>) -> (PatternSpec, Vec<Str
 /// each chain as the points it starts and ends at going counter-clockwise.
 fn stretches(l: &[Vec2], marks: &[SeamMark]) -> Vec<(String, Vec2, Vec2)> {
     let n = marks.len();
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn find(p: &mut [usize], mut i: usize) -> usize {
-        while p[i] != i {
-            p[i] = p[p[i]];
-            i = p[i];
-        }
-        i
-    }
+    let mut sets = Sets::new(n);
     for i in 0..n {
         for j in i + 1..n {
             let (m, o) = (&marks[i], &marks[j]);
@@ -137,8 +131,7 @@ fn stretches(l: &[Vec2], marks: &[SeamMark]) -> Vec<(String, Vec2, Vec2)> {
                     .iter()
                     .any(|p| (*p - o.a).length() < 1e-5 || (*p - o.b).length() < 1e-5);
             if meet {
-                let (a, b) = (find(&mut parent, i), find(&mut parent, j));
-                parent[a] = b;
+                sets.join(i, j);
             }
         }
     }
@@ -148,7 +141,7 @@ fn stretches(l: &[Vec2], marks: &[SeamMark]) -> Vec<(String, Vec2, Vec2)> {
     }
     let per = cum[l.len()];
     let mut out = Vec::new();
-    let mut roots: Vec<usize> = (0..n).map(|i| find(&mut parent, i)).collect();
+    let mut roots: Vec<usize> = (0..n).map(|i| sets.find(i)).collect();
     let members = roots.clone();
     roots.sort_unstable();
     roots.dedup();

@@ -214,11 +214,8 @@ impl PatternSpec {
 
 /// The width of an outline's outer loop, m.
 fn width(o: &Outline) -> f32 {
-    let xs = o.loops.first().into_iter().flatten().map(|p| p.x);
-    let (lo, hi) = xs.fold((f32::INFINITY, f32::NEG_INFINITY), |(l, h), x| {
-        (l.min(x), h.max(x))
-    });
-    (hi - lo).max(0.0)
+    let (lo, hi) = crate::mesh::bounds2(o.loops.first().map_or(&[], |l| &l[..]));
+    (hi.x - lo.x).max(0.0)
 }
 
 /// The angle `ds` m of arc round the torso cylinder on from `angle` (in small steps,

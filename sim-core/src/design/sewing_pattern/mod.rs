@@ -22,6 +22,7 @@ use glam::{DVec2, DVec3, Vec3};
 
 use super::document::Design;
 use super::export::ExportError;
+use crate::mesh::sets::Sets;
 
 pub use dxf::dxf_string;
 pub use svg::svg_string;
@@ -111,26 +112,18 @@ pub fn pattern_parts(design: &Design) -> Vec<Vec<u32>> {
         }
     }
     // Triangles joined across shared pattern edges (union-find).
-    let mut parent: Vec<usize> = (0..tris.len()).collect();
-    fn find(p: &mut [usize], mut i: usize) -> usize {
-        while p[i] != i {
-            p[i] = p[p[i]];
-            i = p[i];
-        }
-        i
-    }
+    let mut sets = Sets::new(tris.len());
     for (i, t) in tris.iter().enumerate() {
         for k in 0..3 {
             if let Some(&j) = edge_tri.get(&(t[(k + 1) % 3], t[k])) {
-                let (a, b) = (find(&mut parent, i), find(&mut parent, j));
-                parent[a] = b;
+                sets.join(i, j);
             }
         }
     }
     let mut part_of: HashMap<usize, usize> = HashMap::new();
     let mut parts: Vec<Vec<u32>> = Vec::new();
     for i in 0..tris.len() {
-        let root = find(&mut parent, i);
+        let root = sets.find(i);
         let k = *part_of.entry(root).or_insert_with(|| {
             parts.push(Vec::new());
             parts.len() - 1
