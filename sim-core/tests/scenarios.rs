@@ -92,3 +92,48 @@ fn paint_scenario_paints_and_exports_the_texture() {
     assert_eq!(&png[1..4], b"PNG");
     std::fs::remove_dir_all(out).unwrap();
 }
+
+/// A GarmentCode pattern whose panels have an edge of a hundredth of a millimetre (their
+/// data set has such), stitched to each other: the crowded points merge when meshed, the
+/// seam along that edge is left unsewn with a notice, and the rest is sewn.
+#[test]
+fn a_garmentcode_seam_shorter_than_the_mesh_is_left_unsewn_with_a_notice() {
+    let panel = |name: &str, x: f32, turn: f32| {
+        format!(
+            r#""{name}": {{
+              "translation": [{x}, 90, 0], "rotation": [0, {turn}, 0],
+              "vertices": [[0, 0], [40, 0], [40, 50], [39.999, 50], [0, 50]],
+              "edges": [{{"endpoints": [0, 1]}}, {{"endpoints": [1, 2]}}, {{"endpoints": [2, 3]}},
+                        {{"endpoints": [3, 4]}}, {{"endpoints": [4, 0]}}]
+            }}"#
+        )
+    };
+    let json = format!(
+        r#"{{"pattern": {{"panels": {{{}, {}}},
+          "stitches": [
+            [{{"panel": "front", "edge": 1}}, {{"panel": "back", "edge": 4}}],
+            [{{"panel": "front", "edge": 2}}, {{"panel": "back", "edge": 2}}],
+            [{{"panel": "front", "edge": 4}}, {{"panel": "back", "edge": 1}}]
+          ]}},
+          "properties": {{"units_in_meter": 100}}}}"#,
+        panel("front", -20.0, 0.0),
+        panel("back", 20.0, 180.0)
+    );
+    let dir = std::env::temp_dir().join(format!("saiho-gc-tiny-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("tiny_specification.json");
+    std::fs::write(&file, json).unwrap();
+    let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
+    cfg.pattern = Some(file);
+    cfg.piece_edge = 0.05;
+    cfg.frames = 2;
+    let r = run_scenario(&cfg, &dir.join("out")).unwrap();
+    assert_eq!(r.ops.pieces, Some(2));
+    assert_eq!(r.ops.seams, Some(2), "{:?}", r.notices);
+    assert!(
+        r.notices.iter().any(|n| n.contains("left unsewn")),
+        "{:?}",
+        r.notices
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

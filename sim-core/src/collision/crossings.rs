@@ -259,6 +259,58 @@ pub fn count_self(x: &[Vec3], tris: &[[u32; 3]]) -> usize {
     count
 }
 
+/// How many (fan triangle, other triangle) pairs intersect, exactly, where `fan`'s
+/// triangles are tested against `others` (those sharing a vertex with them skipped) and
+/// the body's surface, with vertex `moved.0` at `moved.1` (when given) and the rest where
+/// `x` has them. A weld asks this of its vertex's triangles before and after it would
+/// move them: the contact guard keeps the solver's moves uncrossed, and a weld is not
+/// one of those.
+pub fn fan_crossings(
+    x: &[Vec3],
+    moved: Option<(u32, Vec3)>,
+    fan: &[[u32; 3]],
+    others: &[[u32; 3]],
+    body: Option<&Body>,
+) -> usize {
+    let at = |v: u32| match moved {
+        Some((m, p)) if m == v => Some(p),
+        _ => x.get(v as usize).copied(),
+    };
+    let tri = |t: [u32; 3]| Some([at(t[0])?, at(t[1])?, at(t[2])?]);
+    let mut near = Vec::new();
+    let mut count = 0;
+    for &f in fan {
+        let Some(c) = tri(f) else {
+            continue;
+        };
+        let (lo, hi) = bounds(&c);
+        for &o in others {
+            if share_vertex(f, o) {
+                continue;
+            }
+            let Some(d) = tri(o) else {
+                continue;
+            };
+            let (olo, ohi) = bounds(&d);
+            if lo.cmpgt(ohi).any() || olo.cmpgt(hi).any() {
+                continue;
+            }
+            count += usize::from(triangles_intersect(&c, &d));
+        }
+        if let Some(b) = body {
+            near.clear();
+            b.tree().overlap_box(&Obb::aabb(lo, hi), &mut near);
+            count += near
+                .iter()
+                .filter(|&&k| {
+                    triangles_intersect(&c, &corners(&b.vertices, b.triangles[k as usize]))
+                })
+                .count();
+        }
+    }
+    count
+}
+
 /// `count_self` by testing every pair: the reference, and the fallback for meshes the
 /// grid does not suit.
 pub fn count_self_brute(x: &[Vec3], tris: &[[u32; 3]]) -> usize {

@@ -120,6 +120,41 @@ impl Design {
         Ok(count)
     }
 
+    /// Whether the weld `prims` (from [`Design::sew_prims`], which moves `a` and gives it
+    /// `b`'s triangles) would leave `a`'s triangles crossing the rest of the cloth or the
+    /// body more than `a`'s and `b`'s triangles do now. Such a weld waits: the stitch
+    /// keeps pulling, and the pair welds once it can without a new crossing. (A cloth
+    /// under the vbd model crosses nothing, so there any crossing is new.)
+    fn weld_would_cross(&self, prims: &[Prim], a: u32, b: u32) -> bool {
+        let Some(&Prim::Move { new: (to, _), .. }) = prims.first() else {
+            return false;
+        };
+        let live = &self.sim.cloth.live;
+        let tris_of = |v: u32| {
+            live.tris_of(v)
+                .iter()
+                .filter_map(|&t| live.tri(t).map(|t| t.v))
+                .collect::<Vec<_>>()
+        };
+        let mut now = tris_of(a);
+        now.extend(tris_of(b));
+        let mut fan = tris_of(a);
+        fan.extend(prims.iter().filter_map(|p| match p {
+            Prim::Tri { new: Some(t), .. } => Some(t.v),
+            _ => None,
+        }));
+        let others: Vec<[u32; 3]> = live
+            .iter()
+            .map(|(_, t)| t.v)
+            .filter(|t| !t.contains(&a) && !t.contains(&b))
+            .collect();
+        let (x, body) = (&self.sim.cloth.x, self.sim.body.as_ref());
+        let count = |moved, fan: &[[u32; 3]]| {
+            crate::collision::crossings::fan_crossings(x, moved, fan, &others, body)
+        };
+        count(Some((a, to)), &fan) > count(None, &now)
+    }
+
     /// Welds stitched pairs that came within 1.5 x the cloth's thickness (after a frame);
     /// each weld is an undoable sew. Returns how many welded. (Not within the thickness:
     /// under penetration-free contact two pieces' edges meet at the contact distance,
@@ -127,6 +162,7 @@ impl Design {
     pub(super) fn weld_close_stitches(&mut self) -> usize {
         let reach = 1.5 * self.sim.material.thickness;
         let mut welded = 0;
+
         for si in 0..self.seams.len() {
             let mut k = 0;
             while k < self.seams[si].pairs.len() {
@@ -141,6 +177,9 @@ impl Design {
                 let Ok(mut prims) = self.sew_prims(a, b) else {
                     continue;
                 };
+                if self.weld_would_cross(&prims, a, b) {
+                    continue;
+                }
                 // Every seam now refers to `a` where it referred to `b`.
                 for (sj, seam) in self.seams.iter().enumerate() {
                     if seam.pairs.iter().any(|&(p, q)| p == b || q == b) {
@@ -164,5 +203,103 @@ impl Design {
             }
         }
         welded
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use crate::collision::Body;
+    use crate::design::Design;
+    use crate::mesh::ClothMesh;
+    use crate::solver::{Cloth, Environment, Material, ModelKind, Simulation};
+
+    /// A 0.5 m cloth at y = 1 cut in two along x, the far half raised 5 mm (within the
+    /// weld's reach of 6 mm), a seam joining the cut's two sides.
+    fn cut_and_sewn() -> Design {
+        let n = 8;
+        let mesh = ClothMesh::grid(0.5, 0.5, n, n, 1.0).unwrap();
+        let m = Material::default();
+        let cloth = Cloth::new(mesh, &m).unwrap();
+        let env = Environment {
+            floor: None,
+            gravity: Vec3::ZERO,
+            ..Environment::default()
+        };
+        let sim = Simulation::new(cloth, None, ModelKind::Xpbd, m, env, None).unwrap();
+        let mut d = Design::new(sim);
+        let z = 0.0021;
+        d.cut_stroke(&[Vec3::new(-0.3, 1.0, z), Vec3::new(0.3, 1.0, z)], 0.015)
+            .unwrap();
+        let row = (n / 2 * (n + 1)) as u32;
+        let a: Vec<u32> = (row..row + n as u32 + 1).collect();
+        let x = d.sim.cloth.x.clone();
+        let b: Vec<u32> = a
+            .iter()
+            .map(|&v| {
+                (0..x.len() as u32)
+                    .rev()
+                    .find(|&u| u != v && x[u as usize] == x[v as usize])
+                    .unwrap()
+            })
+            .collect();
+        for i in 0..x.len() {
+            if x[i].z > 0.0 || b.contains(&(i as u32)) {
+                d.sim.cloth.x[i].y += 0.005;
+            }
+        }
+        d.add_seam(&a, &b, 0.05).unwrap();
+        d
+    }
+
+    /// A closed box, outward wound, from `lo` to `hi`.
+    fn plate(lo: Vec3, hi: Vec3) -> Body {
+        let v: Vec<Vec3> = (0..8)
+            .map(|i| {
+                Vec3::new(
+                    if i & 1 == 0 { lo.x } else { hi.x },
+                    if i & 2 == 0 { lo.y } else { hi.y },
+                    if i & 4 == 0 { lo.z } else { hi.z },
+                )
+            })
+            .collect();
+        let quads = [
+            [0, 2, 3, 1],
+            [4, 5, 7, 6],
+            [0, 1, 5, 4],
+            [2, 6, 7, 3],
+            [0, 4, 6, 2],
+            [1, 3, 7, 5],
+        ];
+        let t = quads
+            .iter()
+            .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
+            .collect();
+        Body::new("plate", v, t, None).unwrap()
+    }
+
+    /// A weld moves its vertices by up to 4.5 mm outside the contact guard: one that
+    /// would leave the cloth through something waits.
+    #[test]
+    fn a_weld_that_would_cross_the_body_waits() {
+        let mut open = cut_and_sewn();
+        let pairs = open.seams[0].pairs.len();
+        assert_eq!(
+            open.weld_close_stitches(),
+            pairs,
+            "with nothing between, all weld"
+        );
+
+        let mut blocked = cut_and_sewn();
+        // A 2 mm plate between the two sides, where the welded vertices would meet.
+        blocked.sim.body = Some(plate(
+            Vec3::new(-0.4, 1.0015, -0.05),
+            Vec3::new(0.4, 1.0035, 0.05),
+        ));
+        let before = blocked.sim.cloth.x.clone();
+        assert_eq!(blocked.weld_close_stitches(), 0);
+        assert_eq!(blocked.sim.cloth.x, before, "nothing moved");
+        assert!(blocked.seams[0].pairs.iter().all(|(p, q)| p != q));
     }
 }

@@ -210,6 +210,73 @@ pub fn check(outline: &Outline) -> Result<(), MeshError> {
     Ok(())
 }
 
+/// A corner sharper than this (turn between the sides, degrees) is kept by
+/// [`simplify`] however close it lies to its neighbours.
+const KEEP_TURN_DEG: f32 = 30.0;
+
+/// Kept points (corners, seam ends) closer than this share of [`simplify`]'s length to
+/// the point before are merged all the same: GarmentCode has edges of 0.01 mm.
+const CROWDED: f32 = 0.25;
+
+/// `outline` without the points that lie closer than `min_len` to the point kept before
+/// them, except corners (a turn over [`KEEP_TURN_DEG`]) and any point within 0.1 mm of one
+/// of `keep` (a seam's end, say) unless they are closer than a quarter of `min_len`. Curves sampled densely (a GarmentCode curve is 64
+/// points however short) would otherwise be meshed as triangles a tenth of the asked edge,
+/// light and stiff, which no step length suits; the outline moves by less than `min_len`.
+/// Returns the outline unchanged when dropping points would leave a loop under three
+/// points or make it cross itself.
+pub fn simplify(outline: &Outline, min_len: f32, keep: &[Vec2]) -> Outline {
+    let cos_keep = KEEP_TURN_DEG.to_radians().cos();
+    let kept = |l: &[Vec2], i: usize| {
+        let n = l.len();
+        let (a, p, b) = (l[(i + n - 1) % n], l[i], l[(i + 1) % n]);
+        let (u, v) = ((p - a).normalize_or_zero(), (b - p).normalize_or_zero());
+        u.dot(v) < cos_keep || keep.iter().any(|k| (*k - p).length() < 1e-4)
+    };
+    let loops: Vec<Vec<Vec2>> = outline
+        .loops
+        .iter()
+        .map(|l| {
+            // Start at a kept point when there is one, so the loop's seam is not special.
+            let start = (0..l.len()).find(|&i| kept(l, i)).unwrap_or(0);
+            let mut out: Vec<(Vec2, bool)> = Vec::with_capacity(l.len());
+            for k in 0..l.len() {
+                let i = (start + k) % l.len();
+                let must = k == 0 || kept(l, i);
+                if must {
+                    // A kept point pushes aside the ordinary points just before it.
+                    while let Some(&(q, false)) = out.last() {
+                        if (l[i] - q).length() >= min_len {
+                            break;
+                        }
+                        out.pop();
+                    }
+                }
+                let gap = out.last().map_or(f32::INFINITY, |q| (l[i] - q.0).length());
+                // Even kept points merge when all but on top of each other.
+                if (must && gap >= CROWDED * min_len) || gap >= min_len {
+                    out.push((l[i], must));
+                }
+            }
+            // The loop closes on its first point: the last ones must not crowd it.
+            while out.len() > 1 {
+                let (q, must) = out[out.len() - 1];
+                let gap = (q - out[0].0).length();
+                if (must && gap >= CROWDED * min_len) || gap >= min_len {
+                    break;
+                }
+                out.pop();
+            }
+            out.into_iter().map(|(q, _)| q).collect()
+        })
+        .collect();
+    let simpler = Outline { loops };
+    if simpler.loops.iter().any(|l| l.len() < 3) || check(&simpler).is_err() {
+        return outline.clone();
+    }
+    simpler
+}
+
 /// Whether `p` crosses an odd number of `l`'s sides going toward +x (inside `l`, for a
 /// simple polygon).
 pub fn contains(l: &[Vec2], p: Vec2) -> bool {

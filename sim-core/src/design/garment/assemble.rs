@@ -12,6 +12,10 @@ use crate::mesh::{ClothMesh, bounds2};
 /// Space between pieces in the design's pattern plane, m.
 const PATTERN_GAP: f32 = 0.05;
 
+/// Outline points closer than this many edge lengths to the one before are dropped
+/// (`mesher::simplify`): the outline moves by less than this, well within an edge.
+const SIMPLIFY: f32 = 0.4;
+
 #[derive(Debug, thiserror::Error)]
 pub enum GarmentError {
     #[error(transparent)]
@@ -47,17 +51,26 @@ pub fn assemble(
     let mut outlines = Vec::with_capacity(spec.pieces.len());
     let mut records = Vec::with_capacity(spec.pieces.len());
     let mut cursor = 0.0f32;
-    for p in &spec.pieces {
+    for (i, p) in spec.pieces.iter().enumerate() {
         mesher::check(&p.outline).map_err(|source| GarmentError::Mesh {
             piece: p.name.clone(),
             source,
         })?;
-        let (lo, hi) = bounds2(&p.outline.loops[0]);
+        // Points much closer than the edge length would mesh as tiny stiff triangles;
+        // the seams' ends stay where they are.
+        let ends: Vec<Vec2> = spec
+            .seams
+            .iter()
+            .flat_map(|s| [s.a, s.b])
+            .filter(|side| side.piece == i)
+            .flat_map(|side| [side.from, side.to])
+            .collect();
+        let outline = mesher::simplify(&p.outline, SIMPLIFY * edge, &ends);
+        let (lo, hi) = bounds2(&outline.loops[0]);
         let offset = Vec2::new(cursor - lo.x, -hi.y);
         cursor += hi.x - lo.x + PATTERN_GAP;
         outlines.push(Outline {
-            loops: p
-                .outline
+            loops: outline
                 .loops
                 .iter()
                 .map(|l| l.iter().map(|&q| q + offset).collect())
@@ -69,7 +82,7 @@ pub fn assemble(
             grain: p.grain,
             placement: p.placement,
             offset,
-            outline: p.outline.clone(),
+            outline,
         });
     }
     let (mesh, ranges) =
@@ -94,7 +107,7 @@ pub fn assemble(
         let x = place(
             &p.name,
             &own,
-            bounds2(&p.outline.loops[0]),
+            bounds2(&r.outline.loops[0]),
             &placement,
             marks,
         )?;
@@ -195,10 +208,11 @@ pub(crate) fn project(l: &[Vec2], cum: &[f32], p: Vec2) -> (f32, f32) {
     best
 }
 
-/// The border vertices of piece `side.piece` along the stretch, in order.
-fn stretch(design: &Design, side: &EdgeRef) -> Vec<u32> {
+/// The border vertices of piece `side.piece` along the stretch, in order, and the
+/// stretch's length along the piece's outline, m.
+fn stretch(design: &Design, side: &EdgeRef) -> (Vec<u32>, f32) {
     let Some(rec) = design.pieces.get(side.piece) else {
-        return Vec::new();
+        return (Vec::new(), 0.0);
     };
     let l = &rec.outline.loops[0];
     let cum = arc(l);
@@ -224,16 +238,26 @@ fn stretch(design: &Design, side: &EdgeRef) -> Vec<u32> {
         })
         .collect();
     on.sort_by(|x, y| x.0.total_cmp(&y.0));
-    on.into_iter().map(|(_, v)| v).collect()
+    (on.into_iter().map(|(_, v)| v).collect(), span)
 }
 
 /// Sews every seam of `spec` (whose pieces are `design.pieces`, in order), each stitch
 /// pulling up to `pull` N; each seam's ends meet the way its sides start closer.
 pub fn sew(design: &mut Design, spec: &PatternSpec, pull: f32) -> Result<Sewn, GarmentError> {
     let mut sewn = Sewn::default();
+    let edge = design.sim.cloth.live.mean_rest_side();
     for s in &spec.seams {
-        let mut a = stretch(design, &s.a);
-        let mut b = stretch(design, &s.b);
+        let ((mut a, span_a), (mut b, span_b)) = (stretch(design, &s.a), stretch(design, &s.b));
+        // A side shorter than the mesh's edge has no border edge of its own to sew
+        // (GarmentCode has edges of a hundredth of a millimetre): say so, sew the rest.
+        if (a.len() < 2 && span_a < edge) || (b.len() < 2 && span_b < edge) {
+            sewn.open.push(format!(
+                "seam {}: a side is {:.1} mm long, shorter than the mesh's edge; left unsewn",
+                s.label,
+                1000.0 * span_a.min(span_b)
+            ));
+            continue;
+        }
         // A dart's two sides meet at its point: that vertex is sewn already.
         let shared: Vec<u32> = a.iter().copied().filter(|v| b.contains(v)).collect();
         if !shared.is_empty() {

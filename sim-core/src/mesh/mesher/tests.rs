@@ -204,6 +204,61 @@ fn bad_outlines_are_refused_with_where() {
     ));
 }
 
+/// A densely sampled curve (a GarmentCode curve is 64 points however short) loses the
+/// points closer than the asked length, keeps its corners and the points asked to stay,
+/// and still meshes with no side much shorter than the edge along it.
+#[test]
+fn simplify_drops_crowded_points_and_keeps_corners_and_seam_ends() {
+    // A half disc of radius 0.1 m: its arc 400 points (0.8 mm apart), then the diameter.
+    let mut l: Vec<Vec2> = (0..=400)
+        .map(|k| {
+            let t = k as f32 / 400.0 * std::f32::consts::PI;
+            Vec2::new(t.cos(), t.sin()) * 0.1
+        })
+        .collect();
+    l.push(Vec2::new(0.0, 0.0));
+    let o = Outline { loops: vec![l] };
+    let keep = o.loops[0][137];
+    let edge = 0.03;
+    let s = simplify(&o, 0.4 * edge, &[keep]);
+    let out = &s.loops[0];
+    assert!(out.len() < 40, "{} points left", out.len());
+    let corners = [o.loops[0][0], o.loops[0][400], o.loops[0][401]];
+    for c in corners.into_iter().chain([keep]) {
+        assert!(out.contains(&c), "{c} kept");
+    }
+    for i in 0..out.len() {
+        let (p, q) = (out[i], out[(i + 1) % out.len()]);
+        let kept = |v: Vec2| v == keep || corners.contains(&v);
+        assert!(
+            (p - q).length() >= 0.4 * edge || kept(p) || kept(q),
+            "{p} and {q} are {} apart",
+            (p - q).length()
+        );
+    }
+    // Every point dropped lies within the asked length of the new outline.
+    for p in &o.loops[0] {
+        assert!(off_outline(&s, *p) < 0.4 * edge);
+    }
+    let fine = mesh_outline(&o, edge).unwrap();
+    let coarse = check_mesh(&s, edge);
+    assert!(coarse.positions.len() * 3 < fine.positions.len());
+    // Corners all but on top of each other merge (GarmentCode has 0.01 mm edges).
+    let notch = Outline {
+        loops: vec![vec![
+            Vec2::ZERO,
+            Vec2::new(0.4, 0.0),
+            Vec2::new(0.4, 0.5),
+            Vec2::new(0.39999, 0.5),
+            Vec2::new(0.0, 0.5),
+        ]],
+    };
+    assert_eq!(simplify(&notch, 0.4 * edge, &[]).loops[0].len(), 4);
+    // An outline that simplifying would leave under three points stays as it was.
+    let tiny = Outline::rectangle(0.005, 0.005);
+    assert_eq!(simplify(&tiny, 0.012, &[]), tiny);
+}
+
 /// A star-shaped polygon: `n` points at angles evenly spaced, radii from `r`.
 fn star(r: &[f32]) -> Outline {
     let n = r.len();
