@@ -254,3 +254,71 @@ fn cutting_a_piece_in_two_lists_two_pieces() {
     let names: Vec<String> = d.piece_list().into_iter().map(|p| p.name).collect();
     assert_eq!(names, ["front", "front 2", "back"], "{names:?}");
 }
+
+/// A pocket added to the dress starts a layer out from the front, crossing nothing;
+/// placed at the back it goes there; deleted, it leaves the list; undo takes each back.
+#[test]
+fn pieces_are_added_placed_and_deleted_undoably() {
+    use sim_core::design::garment::{PieceSpec, Place, Placement};
+    use sim_core::mesh::mesher::Outline;
+    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+    cfg.piece_edge = 0.06;
+    let mut d = build_design(&cfg).unwrap();
+    let before = (d.sim.cloth.len(), d.piece_list());
+    let pocket = PieceSpec {
+        name: "pocket".into(),
+        outline: Outline::rectangle(0.3, 0.2),
+        fabric: "cotton".into(),
+        grain: 0.0,
+        placement: None,
+    };
+    let n = d.add_piece(&pocket, Place::Front, 0.05).unwrap();
+    assert!(n > 10);
+    assert_eq!(d.sim.cloth.len(), before.0 + n);
+    let list = d.piece_list();
+    assert_eq!(
+        list.iter().map(|p| p.name.as_str()).collect::<Vec<_>>(),
+        ["front", "back", "pocket"]
+    );
+    assert_eq!(list[2].vertices, n);
+    let tris: Vec<[u32; 3]> = d.sim.cloth.live.iter().map(|(_, t)| t.v).collect();
+    let crossed = sim_core::collision::crossings::count(&d.sim.cloth.x, &tris, d.sim.body.as_ref());
+    assert_eq!((crossed.self_pairs, crossed.body_pairs), (0, 0));
+    // The front panel is there already: the pocket starts a layer (or more) out.
+    match d.pieces[2].placement {
+        Some(Placement::Around { out, .. }) => assert!(out > 0.0, "{out}"),
+        other => panic!("{other:?}"),
+    }
+    // It is cloth like any other piece: it survives a frame, and the file keeps it.
+    d.step().unwrap();
+    let loaded = Design::load_design(&d.save_design().unwrap()).unwrap();
+    assert_eq!(loaded.piece_list().len(), 3);
+    // Placed at the back: its vertices go behind the body (z < 0).
+    let front_z = d.sim.cloth.x[before.0].z;
+    d.place_piece(2, Place::Back).unwrap();
+    assert!(front_z > 0.0 && d.sim.cloth.x[before.0].z < 0.0);
+    assert!(matches!(
+        d.place_piece(7, Place::Back),
+        Err(sim_core::design::EditError::NoPiece { index: 7, count: 3 })
+    ));
+    // Deleted: two pieces listed again.
+    d.delete_piece(2).unwrap();
+    assert_eq!(d.piece_list().len(), 2);
+    // Undo: delete, place, (the frame is not an edit), add.
+    assert_eq!(d.undo().unwrap(), "delete piece");
+    assert_eq!(d.undo().unwrap(), "place piece");
+    assert!(d.sim.cloth.x[before.0].z > 0.0);
+    assert_eq!(d.undo().unwrap(), "add piece");
+    assert_eq!((d.sim.cloth.len(), d.piece_list()), before);
+    d.validate().unwrap();
+    // A piece that cannot be meshed is refused with its name, nothing changed.
+    let bad = PieceSpec {
+        outline: Outline {
+            loops: vec![vec![glam::Vec2::ZERO, glam::Vec2::X]],
+        },
+        ..pocket
+    };
+    let err = d.add_piece(&bad, Place::Front, 0.05).unwrap_err();
+    assert!(err.to_string().starts_with("pocket:"), "{err}");
+    assert_eq!((d.sim.cloth.len(), d.piece_list()), before);
+}

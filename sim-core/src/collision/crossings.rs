@@ -261,22 +261,23 @@ pub fn count_self(x: &[Vec3], tris: &[[u32; 3]]) -> usize {
 
 /// How many (fan triangle, other triangle) pairs intersect, exactly, where `fan`'s
 /// triangles are tested against `others` (those sharing a vertex with them skipped) and
-/// the body's surface, with vertex `moved.0` at `moved.1` (when given) and the rest where
-/// `x` has them. A weld asks this of its vertex's triangles before and after it would
-/// move them: the contact guard keeps the solver's moves uncrossed, and a weld is not
-/// one of those.
+/// the body's surface, with each vertex where `at` puts it (`None`: skip the triangle).
+/// A weld asks this of its vertex's triangles before and after it would move them, and
+/// a piece added or placed asks it of its triangles where they would start: the contact
+/// guard keeps the solver's moves uncrossed, and edits are not solver moves.
 pub fn fan_crossings(
-    x: &[Vec3],
-    moved: Option<(u32, Vec3)>,
+    at: impl Fn(u32) -> Option<Vec3>,
     fan: &[[u32; 3]],
     others: &[[u32; 3]],
     body: Option<&Body>,
 ) -> usize {
-    let at = |v: u32| match moved {
-        Some((m, p)) if m == v => Some(p),
-        _ => x.get(v as usize).copied(),
-    };
     let tri = |t: [u32; 3]| Some([at(t[0])?, at(t[1])?, at(t[2])?]);
+    // Each other triangle: its vertices, corners and bounds.
+    type Placed = ([u32; 3], [Vec3; 3], (Vec3, Vec3));
+    let other: Vec<Placed> = others
+        .iter()
+        .filter_map(|&o| tri(o).map(|c| (o, c, bounds(&c))))
+        .collect();
     let mut near = Vec::new();
     let mut count = 0;
     for &f in fan {
@@ -284,18 +285,11 @@ pub fn fan_crossings(
             continue;
         };
         let (lo, hi) = bounds(&c);
-        for &o in others {
-            if share_vertex(f, o) {
+        for (o, d, (olo, ohi)) in &other {
+            if lo.cmpgt(*ohi).any() || olo.cmpgt(hi).any() || share_vertex(f, *o) {
                 continue;
             }
-            let Some(d) = tri(o) else {
-                continue;
-            };
-            let (olo, ohi) = bounds(&d);
-            if lo.cmpgt(ohi).any() || olo.cmpgt(hi).any() {
-                continue;
-            }
-            count += usize::from(triangles_intersect(&c, &d));
+            count += usize::from(triangles_intersect(&c, d));
         }
         if let Some(b) = body {
             near.clear();

@@ -189,6 +189,15 @@ impl Design {
     /// Cuts a piece away: removes the triangles in `slots` (alive ones; at least one) as
     /// one undoable operation. Returns how many went.
     pub fn remove_triangles(&mut self, slots: &[u32]) -> Result<usize, EditError> {
+        self.remove_labelled("cut away", slots)
+    }
+
+    /// [`Design::remove_triangles`] under the history label `label`.
+    pub(super) fn remove_labelled(
+        &mut self,
+        label: &'static str,
+        slots: &[u32],
+    ) -> Result<usize, EditError> {
         self.check_editable()?;
         let mut seen = std::collections::HashSet::new();
         let prims: Vec<Prim> = slots
@@ -206,7 +215,7 @@ impl Design {
             return Err(EditError::NothingNear { radius: 0.0 });
         }
         let n = prims.len();
-        self.commit("cut away", prims)?;
+        self.commit(label, prims)?;
         Ok(n)
     }
 }

@@ -45,6 +45,14 @@ pub enum EditError {
     Stale(u32),
     #[error("no {what} on the pattern there")]
     NothingOnPattern { what: &'static str },
+    #[error("there is no piece {index} (the design has {count}, counted from 0)")]
+    NoPiece { index: usize, count: usize },
+    #[error("{0}")]
+    Piece(String),
+    #[error(
+        "piece {piece} would start crossing the cloth or the body ({crossings} crossing triangle pairs); try another place"
+    )]
+    PieceWouldCross { piece: String, crossings: usize },
     #[error("nothing to undo")]
     NothingToUndo,
     #[error("nothing to redo")]

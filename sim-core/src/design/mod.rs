@@ -27,6 +27,7 @@ mod history;
 mod paint;
 mod parts;
 mod pattern;
+mod piece_edit;
 mod piece_list;
 mod pieces;
 mod pin;

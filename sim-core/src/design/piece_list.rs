@@ -19,6 +19,9 @@ pub struct PieceInfo {
     pub fabric: String,
     pub vertices: usize,
     pub triangles: usize,
+    /// One corner of the piece: its vertex and UV (a viewer finds the piece's triangles
+    /// from it, as those joined to it in the pattern).
+    pub anchor: Option<(u32, Vec2)>,
 }
 
 impl Design {
@@ -36,9 +39,15 @@ impl Design {
     /// record gets " 2", and so on); parts of a cloth made without pieces are "piece 1",
     /// "piece 2", ...
     pub fn piece_list(&self) -> Vec<PieceInfo> {
+        self.listed().into_iter().map(|(info, _)| info).collect()
+    }
+
+    /// [`Design::piece_list`] with each piece's triangle slots.
+    pub(super) fn listed(&self) -> Vec<(PieceInfo, Vec<u32>)> {
         let parts = super::sewing_pattern::pattern_parts(self);
-        let mut out = self.describe(&parts);
-        out.sort_by(|a, b| a.record.cmp(&b.record).then(b.triangles.cmp(&a.triangles)));
+        let mut out: Vec<(PieceInfo, Vec<u32>)> =
+            self.describe(&parts).into_iter().zip(parts).collect();
+        out.sort_by(|(a, _), (b, _)| a.record.cmp(&b.record).then(b.triangles.cmp(&a.triangles)));
         out
     }
 
@@ -61,6 +70,10 @@ impl Design {
                 .map(|t| (t.rest[0] + t.rest[1] + t.rest[2]) / 3.0)
                 .unwrap_or_default();
             let record = self.record_at(Vec2::new(centre.x, -centre.z));
+            let anchor = tris
+                .first()
+                .and_then(|&s| live.tri(s))
+                .map(|t| (t.v[0], t.uv[0]));
             out.push(PieceInfo {
                 name: String::new(),
                 record,
@@ -69,6 +82,7 @@ impl Design {
                     .unwrap_or_else(|| "cloth".into()),
                 vertices: verts.len(),
                 triangles: tris.len(),
+                anchor,
             });
         }
         // Within a record, the largest part keeps the name (the bigger side of a cut).

@@ -5,6 +5,7 @@
 use glam::Vec3;
 
 use super::parts::Seam;
+use super::pieces::PieceRecord;
 use super::texture::PaintPatch;
 use crate::mesh::Tri;
 
@@ -47,6 +48,13 @@ pub enum Prim {
         old: Option<Seam>,
         new: Option<Seam>,
     },
+    /// Piece record `index` goes from `old` to `new` (`index == len` with `old == None`
+    /// appends; `new == None` removes the last).
+    Piece {
+        index: u32,
+        old: Option<PieceRecord>,
+        new: Option<PieceRecord>,
+    },
 }
 
 impl Prim {
@@ -71,6 +79,11 @@ impl Prim {
             },
             Prim::Paint(p) => Prim::Paint(p.inverse()),
             Prim::Seam { index, old, new } => Prim::Seam {
+                index,
+                old: new,
+                new: old,
+            },
+            Prim::Piece { index, old, new } => Prim::Piece {
                 index,
                 old: new,
                 new: old,

@@ -149,10 +149,10 @@ impl Design {
             .filter(|t| !t.contains(&a) && !t.contains(&b))
             .collect();
         let (x, body) = (&self.sim.cloth.x, self.sim.body.as_ref());
-        let count = |moved, fan: &[[u32; 3]]| {
-            crate::collision::crossings::fan_crossings(x, moved, fan, &others, body)
-        };
-        count(Some((a, to)), &fan) > count(None, &now)
+        let now_at = |v: u32| x.get(v as usize).copied();
+        let then_at = |v: u32| if v == a { Some(to) } else { now_at(v) };
+        use crate::collision::crossings::fan_crossings;
+        fan_crossings(then_at, &fan, &others, body) > fan_crossings(now_at, &now, &others, body)
     }
 
     /// Welds stitched pairs that came within 1.5 x the cloth's thickness (after a frame);

@@ -9,6 +9,7 @@
 use super::document::Design;
 use super::error::EditError;
 use super::parts::Seam;
+use super::pieces::PieceRecord;
 use super::prim::{Edit, Prim};
 use crate::mesh::{Tri, edge_key};
 
@@ -104,6 +105,7 @@ impl Design {
             }
             Prim::Paint(patch) => self.texture.apply(patch, false),
             Prim::Seam { index, old, new } => self.set_seam(*index, old, new)?,
+            Prim::Piece { index, old, new } => self.set_piece(*index, old, new)?,
         }
         Ok(())
     }
@@ -203,6 +205,33 @@ impl Design {
             }
             (Some(_), Some(s)) => self.seams[i] = s.clone(),
             _ => return Err(EditError::StaleSeam(index)),
+        }
+        Ok(())
+    }
+
+    /// Piece record `index` from `old` to `new` (appending and removing at the end).
+    fn set_piece(
+        &mut self,
+        index: u32,
+        old: &Option<PieceRecord>,
+        new: &Option<PieceRecord>,
+    ) -> Result<(), EditError> {
+        let i = index as usize;
+        let stale = || {
+            EditError::Piece(format!(
+                "the design changed underneath this edit (piece record {index})"
+            ))
+        };
+        if self.pieces.get(i) != old.as_ref() {
+            return Err(stale());
+        }
+        match (old, new) {
+            (None, Some(r)) if i == self.pieces.len() => self.pieces.push(r.clone()),
+            (Some(_), None) if i + 1 == self.pieces.len() => {
+                self.pieces.pop();
+            }
+            (Some(_), Some(r)) => self.pieces[i] = r.clone(),
+            _ => return Err(stale()),
         }
         Ok(())
     }

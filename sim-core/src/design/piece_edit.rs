@@ -1,0 +1,258 @@
+//! Pieces added to, placed in and deleted from a design that exists, each one undoable
+//! edit: a new piece is meshed, given its own band of the design's pattern plane (to the
+//! right of everything there) and started at a named place round the body, a layer out
+//! at a time until it crosses nothing; placing a piece moves its vertices to where the
+//! place puts its pattern; deleting one removes its triangles.
+
+use std::collections::HashMap;
+
+use glam::{Vec2, Vec3};
+
+use super::document::Design;
+use super::error::EditError;
+use super::garment::{Landmarks, PieceSpec, Place, Placement, place};
+use super::pieces::PieceRecord;
+use super::prim::Prim;
+use crate::collision::crossings::fan_crossings;
+use crate::mesh::{Tri, bounds2, mesher};
+
+/// Space between a new piece's band and the pattern already there, m.
+const PATTERN_GAP: f32 = 0.05;
+/// Outline points closer than this many edge lengths are thinned (`mesher::simplify`).
+const SIMPLIFY: f32 = 0.4;
+/// How far out each further try to start a new piece goes, m, and how many tries.
+const LAYER: f32 = 0.015;
+const LAYERS: usize = 8;
+
+impl Design {
+    /// The triangle slots of piece `index` of [`Design::piece_list`].
+    pub fn piece_slots(&self, index: usize) -> Result<Vec<u32>, EditError> {
+        let mut listed = self.listed();
+        let count = listed.len();
+        if index >= count {
+            return Err(EditError::NoPiece { index, count });
+        }
+        Ok(listed.swap_remove(index).1)
+    }
+
+    /// Adds `spec` as a new piece meshed with triangles of about `edge` m, started at its
+    /// own placement or else at `at` (tops at the shoulders, sleeves at the shoulder),
+    /// as many layers out as it takes to cross nothing. Returns its vertex count.
+    pub fn add_piece(
+        &mut self,
+        spec: &PieceSpec,
+        at: Place,
+        edge: f32,
+    ) -> Result<usize, EditError> {
+        self.check_editable()?;
+        let bad = |e: String| EditError::Piece(format!("{}: {e}", spec.name));
+        mesher::check(&spec.outline).map_err(|e| bad(e.to_string()))?;
+        let outline = mesher::simplify(&spec.outline, SIMPLIFY * edge, &[]);
+        let mesh = mesher::mesh_outline(&outline, edge).map_err(|e| bad(e.to_string()))?;
+        let (lo, hi) = bounds2(&outline.loops[0]);
+        let right = self
+            .sim
+            .cloth
+            .live
+            .iter()
+            .flat_map(|(_, t)| t.rest)
+            .map(|p| p.x)
+            .chain(self.pieces.iter().map(|r| r.band().1))
+            .fold(f32::NEG_INFINITY, f32::max);
+        let left = if right.is_finite() {
+            right + PATTERN_GAP
+        } else {
+            0.0
+        };
+        let offset = Vec2::new(left - lo.x, -hi.y);
+        let mut name = spec.name.clone();
+        let mut k = 1;
+        while self.pieces.iter().any(|r| r.name == name) {
+            k += 1;
+            name = format!("{} ({k})", spec.name);
+        }
+        let own: Vec<Vec2> = mesh
+            .positions
+            .iter()
+            .map(|p| Vec2::new(p.x, -p.z))
+            .collect();
+        let marks = Landmarks::of(self.sim.body.as_ref());
+        let base = spec
+            .placement
+            .unwrap_or_else(|| at.at(start_height(at, &marks)));
+        let n0 = self.sim.cloth.len() as u32;
+        let slot0 = self.sim.cloth.live.slots() as u32;
+        let tris: Vec<[u32; 3]> = mesh.triangles.iter().map(|t| t.map(|v| v + n0)).collect();
+        let verts: Vec<u32> = (n0..n0 + own.len() as u32).collect();
+        let others: Vec<[u32; 3]> = self.sim.cloth.live.iter().map(|(_, t)| t.v).collect();
+        let (placement, starts) =
+            self.first_clear(&name, &verts, &own, (lo, hi), base, &tris, &others)?;
+        let mut prims: Vec<Prim> = starts
+            .iter()
+            .enumerate()
+            .map(|(i, &x)| Prim::AddVertex {
+                index: n0 + i as u32,
+                x,
+                v: Vec3::ZERO,
+            })
+            .collect();
+        for (k, t) in mesh.triangles.iter().enumerate() {
+            let rest = t.map(|v| {
+                let p = own[v as usize] + offset;
+                Vec3::new(p.x, 0.0, -p.y)
+            });
+            prims.push(Prim::Tri {
+                slot: slot0 + k as u32,
+                old: None,
+                new: Some(Tri {
+                    v: tris[k],
+                    rest,
+                    uv: t.map(|v| mesh.uvs[v as usize]),
+                }),
+            });
+        }
+        prims.push(Prim::Piece {
+            index: self.pieces.len() as u32,
+            old: None,
+            new: Some(PieceRecord {
+                name,
+                fabric: spec.fabric.clone(),
+                grain: spec.grain,
+                placement: Some(placement),
+                offset,
+                outline,
+            }),
+        });
+        self.commit("add piece", prims)?;
+        Ok(starts.len())
+    }
+
+    /// Where a piece starts under `base`: the first of `base` and up to [`LAYERS`]
+    /// layers further out at which its triangles `fan` cross neither `others` nor the
+    /// body. Its vertices `verts` (new ones numbered from the cloth's end) have pattern
+    /// points `own`, whose outline bounds are `b`.
+    #[allow(clippy::too_many_arguments)]
+    fn first_clear(
+        &self,
+        name: &str,
+        verts: &[u32],
+        own: &[Vec2],
+        b: (Vec2, Vec2),
+        base: Placement,
+        fan: &[[u32; 3]],
+        others: &[[u32; 3]],
+    ) -> Result<(Placement, Vec<Vec3>), EditError> {
+        let marks = Landmarks::of(self.sim.body.as_ref());
+        let index: HashMap<u32, usize> = verts.iter().enumerate().map(|(i, &v)| (v, i)).collect();
+        let mut last = 0;
+        for k in 0..LAYERS {
+            let mut pl = base;
+            match &mut pl {
+                Placement::Around { out, .. } => *out += k as f32 * LAYER,
+                _ if k > 0 => break,
+                _ => {}
+            }
+            let x =
+                place(name, own, b, &pl, &marks).map_err(|e| EditError::Piece(e.to_string()))?;
+            let at = |v: u32| match index.get(&v) {
+                Some(&i) => x.get(i).copied(),
+                None => self.sim.cloth.x.get(v as usize).copied(),
+            };
+            last = fan_crossings(at, fan, others, self.sim.body.as_ref());
+            if last == 0 {
+                return Ok((pl, x));
+            }
+        }
+        Err(EditError::PieceWouldCross {
+            piece: name.into(),
+            crossings: last,
+        })
+    }
+
+    /// Moves piece `index` of [`Design::piece_list`] to `at`: its vertices go where the
+    /// place puts its pattern, at rest, as many layers out as it takes to cross nothing
+    /// (refused when none does).
+    pub fn place_piece(&mut self, index: usize, at: Place) -> Result<(), EditError> {
+        self.check_editable()?;
+        let slots = self.piece_slots(index)?;
+        let live = &self.sim.cloth.live;
+        let first = slots.first().and_then(|&s| live.tri(s)).map(|t| t.rest[0]);
+        let record = first.and_then(|p| self.record_at(Vec2::new(p.x, -p.z)));
+        let (offset, bounds, name) = match record {
+            Some(r) => {
+                let r = &self.pieces[r];
+                (r.offset, bounds2(&r.outline.loops[0]), r.name.clone())
+            }
+            None => {
+                let pts: Vec<Vec2> = slots
+                    .iter()
+                    .filter_map(|&s| live.tri(s))
+                    .flat_map(|t| t.rest.map(|p| Vec2::new(p.x, -p.z)))
+                    .collect();
+                (Vec2::ZERO, bounds2(&pts), format!("piece {}", index + 1))
+            }
+        };
+        // Each vertex of the piece at its pattern place (a welded one has two: the
+        // first seen wins).
+        let mut own: HashMap<u32, Vec2> = HashMap::new();
+        for t in slots.iter().filter_map(|&s| live.tri(s)) {
+            for k in 0..3 {
+                own.entry(t.v[k])
+                    .or_insert(Vec2::new(t.rest[k].x, -t.rest[k].z) - offset);
+            }
+        }
+        let verts: Vec<u32> = own.keys().copied().collect();
+        let pattern: Vec<Vec2> = verts.iter().map(|v| own[v]).collect();
+        let marks = Landmarks::of(self.sim.body.as_ref());
+        let base = at.at(start_height(at, &marks));
+        let fan: Vec<[u32; 3]> = slots
+            .iter()
+            .filter_map(|&s| live.tri(s))
+            .map(|t| t.v)
+            .collect();
+        let mine: std::collections::HashSet<u32> = slots.iter().copied().collect();
+        let others: Vec<[u32; 3]> = live
+            .iter()
+            .filter(|(s, _)| !mine.contains(s))
+            .map(|(_, t)| t.v)
+            .collect();
+        let (placement, x) =
+            self.first_clear(&name, &verts, &pattern, bounds, base, &fan, &others)?;
+        let cloth = &self.sim.cloth;
+        let moved: Vec<(u32, Vec3)> = verts.iter().copied().zip(x).collect();
+        let mut prims: Vec<Prim> = moved
+            .iter()
+            .map(|&(v, p)| Prim::Move {
+                vertex: v,
+                old: (cloth.x[v as usize], cloth.v[v as usize]),
+                new: (p, Vec3::ZERO),
+            })
+            .collect();
+        if let Some(r) = record {
+            let old = self.pieces[r].clone();
+            let mut new = old.clone();
+            new.placement = Some(placement);
+            prims.push(Prim::Piece {
+                index: r as u32,
+                old: Some(old),
+                new: Some(new),
+            });
+        }
+        self.commit("place piece", prims)
+    }
+
+    /// Deletes piece `index` of [`Design::piece_list`] (its triangles; undoable).
+    /// Returns how many triangles went.
+    pub fn delete_piece(&mut self, index: usize) -> Result<usize, EditError> {
+        let slots = self.piece_slots(index)?;
+        self.remove_labelled("delete piece", &slots)
+    }
+}
+
+/// Where a piece starts at `at`: tops at the shoulders, sleeves at the shoulder.
+fn start_height(at: Place, marks: &Landmarks) -> f32 {
+    match at {
+        Place::LeftArm | Place::RightArm => 0.0,
+        _ => marks.shoulders,
+    }
+}
