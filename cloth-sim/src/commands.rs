@@ -2,10 +2,13 @@
 //! nothing did (a refused command changes nothing).
 
 use glam::{Vec2, Vec3};
-use shared::command::{BodyChoice, Command, MaterialChange, Tearing};
+use shared::command::{BodyChoice, Command, MaterialChange, PieceShape, Tearing};
 use sim_core::collision::BodyKind;
+use sim_core::design::garment::{DEFAULT_FABRIC, Landmarks, PieceSpec, Place, load_pattern, sew};
 use sim_core::design::{Design, EditError, TearMode};
+use sim_core::mesh::mesher::Outline;
 use sim_core::scenario::build_design;
+use sim_core::scenario::garment::SEAM_PULL;
 use sim_core::solver::Material;
 
 use crate::config::ServiceConfig;
@@ -100,10 +103,114 @@ pub(crate) fn carry_out(design: &mut Design, c: &Command) -> Result<String, Stri
             .and_then(|_| design.save_design_file(std::path::Path::new(path)))
             .map(|_| format!("Saved the design to {path}"))
             .map_err(|e| e.to_string()),
+        Command::AddPiece {
+            shape,
+            place,
+            edge_m,
+        } => add_piece(design, shape, *place, *edge_m),
+        Command::PlacePiece { piece, place } => {
+            let at = place_of(*place)?;
+            let name = piece_name(design, *piece);
+            design
+                .place_piece(*piece as usize, at)
+                .map(|_| format!("Placed {name} at the {}", at.name()))
+                .map_err(e)
+        }
+        Command::DeletePiece { piece } => {
+            let name = piece_name(design, *piece);
+            design
+                .delete_piece(*piece as usize)
+                .map(|n| format!("Deleted {name} ({n} triangles)"))
+                .map_err(e)
+        }
         Command::SetTool { .. }
         | Command::Reset { .. }
         | Command::Load { .. }
         | Command::Export { .. } => Err(format!("operation {} is the service's", c.op())),
+    }
+}
+
+/// The place a wire code names.
+fn place_of(code: u32) -> Result<Place, String> {
+    shared::ui_to_sim::place::NAMES
+        .get(code as usize)
+        .and_then(|n| Place::parse(n))
+        .ok_or_else(|| format!("no place {code}"))
+}
+
+/// Piece `index`'s name as the list has it, or its number.
+fn piece_name(design: &Design, index: u32) -> String {
+    design
+        .piece_list()
+        .get(index as usize)
+        .map_or_else(|| format!("piece {index}"), |p| p.name.clone())
+}
+
+/// Adds a rectangle, an ellipse or every piece of a pattern file (its seams sewn).
+fn add_piece(
+    design: &mut Design,
+    shape: &PieceShape,
+    place: u32,
+    edge: f32,
+) -> Result<String, String> {
+    let at = place_of(place)?;
+    let piece = |name: &str, outline: Outline| PieceSpec {
+        name: name.into(),
+        outline,
+        fabric: DEFAULT_FABRIC.into(),
+        grain: 0.0,
+        placement: None,
+    };
+    let one = |design: &mut Design, p: PieceSpec| {
+        let n = design.add_piece(&p, at, edge).map_err(|e| e.to_string())?;
+        Ok(format!(
+            "Added {} at the {} ({n} vertices)",
+            p.name,
+            at.name()
+        ))
+    };
+    match shape {
+        PieceShape::Rectangle { w, h } => {
+            one(design, piece("rectangle", Outline::rectangle(*w, *h)))
+        }
+        PieceShape::Ellipse { w, h } => one(
+            design,
+            piece("ellipse", Outline::ellipse(0.5 * w, 0.5 * h, edge)),
+        ),
+        PieceShape::File { path } => {
+            let marks = Landmarks::of(design.sim.body.as_ref());
+            let (mut spec, notes) =
+                load_pattern(std::path::Path::new(path), &marks).map_err(|e| e.to_string())?;
+            if spec.pieces.len() == 1 {
+                // One piece goes where the designer asked, not where its name says.
+                spec.pieces[0].placement = None;
+                return one(design, spec.pieces.remove(0));
+            }
+            let base = design.pieces.len();
+            let mut added = 0;
+            for p in &spec.pieces {
+                if let Err(e) = design.add_piece(p, at, edge) {
+                    return Err(format!(
+                        "{e} ({added} of the file's {} pieces were added; undo takes them back)",
+                        spec.pieces.len()
+                    ));
+                }
+                added += 1;
+            }
+            for s in &mut spec.seams {
+                s.a.piece += base;
+                s.b.piece += base;
+            }
+            let sewn = sew(design, &spec, SEAM_PULL).map_err(|e| e.to_string())?;
+            let mut msg = format!(
+                "Added the {added} pieces of {path}, {} seams stitched ({} pairs)",
+                sewn.seams, sewn.pairs
+            );
+            for n in notes.iter().chain(&sewn.open) {
+                msg += &format!("; note: {n}");
+            }
+            Ok(msg)
+        }
     }
 }
 

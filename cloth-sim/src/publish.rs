@@ -6,7 +6,10 @@ use glam::Vec3;
 use shared::Header;
 use shared::services::SlicePub;
 use shared::sim_to_haptic::{LocalModel, MAX_PLANES};
-use shared::sim_to_ui::{BodyMeshHeader, ClothFrameHeader, MeshCorner, MeshHeader, TextureTile};
+use shared::sim_to_ui::{
+    BodyMeshHeader, ClothFrameHeader, MAX_LISTED, MeshCorner, MeshHeader, PieceList, TextureTile,
+    put_text,
+};
 use sim_core::design::{Design, TILE, Texture};
 
 fn port_error(e: impl std::fmt::Debug) -> String {
@@ -205,4 +208,27 @@ impl ClothOut {
         s.send().map_err(port_error)?;
         Ok(())
     }
+}
+
+/// The design's pieces as `saiho/pieces` carries them (the first [`MAX_LISTED`]).
+pub(crate) fn piece_list(design: &Design, seq: &mut u64) -> PieceList {
+    let pieces = design.piece_list();
+    let mut l = PieceList {
+        header: Header::next(seq),
+        topology: design.sim.cloth.live.version(),
+        total: pieces.len() as u32,
+        count: pieces.len().min(MAX_LISTED) as u32,
+        ..PieceList::default()
+    };
+    for (e, p) in l.entries.iter_mut().zip(&pieces) {
+        e.name_len = put_text(&mut e.name, &p.name);
+        e.fabric_len = put_text(&mut e.fabric, &p.fabric);
+        e.vertices = p.vertices as u32;
+        e.triangles = p.triangles as u32;
+        if let Some((v, uv)) = p.anchor {
+            e.anchor_vertex = v;
+            e.anchor_uv = uv.to_array();
+        }
+    }
+    l
 }

@@ -42,6 +42,9 @@ struct Service<'a> {
     /// When the telemetry was last sent, and the frame then.
     tel_at: (Instant, u64),
     tool_sent: Option<ToolState>,
+    /// The mesh version and piece count the last piece list was sent for.
+    pieces_sent: Option<(u64, usize)>,
+    seq_pieces: u64,
     tile_cursor: usize,
     threads: usize,
     seq_model: u64,
@@ -85,6 +88,8 @@ pub fn run(
         cloth_out: ClothOut::default(),
         tel: Box::default(),
         tool_sent: None,
+        pieces_sent: None,
+        seq_pieces: 0,
         tile_cursor: 0,
         seq_model: 0,
         seq_reply: 0,
@@ -133,6 +138,7 @@ impl Service<'_> {
             );
         }
         self.publish_tool_state();
+        self.publish_pieces();
         // The local model goes out before the frame too (the state now, with the newest
         // tip): a 60 Hz frame that takes 8-12 ms would otherwise leave gaps near the
         // haptic loop's 20 ms staleness limit between models.
@@ -219,6 +225,23 @@ impl Service<'_> {
                 &self.stats,
             ),
             other => carry_out(&mut self.design, other),
+        }
+    }
+
+    /// The piece list, when the mesh or the pieces changed (the history gives a late UI
+    /// the last one).
+    fn publish_pieces(&mut self) {
+        let key = (
+            self.design.sim.cloth.live.version(),
+            self.design.pieces.len(),
+        );
+        let _ = self.ports.pieces.update_connections();
+        if self.pieces_sent == Some(key) {
+            return;
+        }
+        let list = crate::publish::piece_list(&self.design, &mut self.seq_pieces);
+        if self.ports.pieces.send_copy(list).is_ok() {
+            self.pieces_sent = Some(key);
         }
     }
 

@@ -760,3 +760,97 @@ fn the_pinch_pulls_the_cloth_no_harder_than_the_rendered_force() {
         std::env::temp_dir().join(format!("saiho-pull-{}.saiho", std::process::id())),
     );
 }
+
+/// Pieces over the protocol: a rectangle added at the front is listed on `saiho/pieces`,
+/// placed at the back, deleted; a pattern file adds all its pieces with their seams; a
+/// piece that is not there is refused with the count.
+#[test]
+fn pieces_are_added_placed_listed_and_deleted_over_the_protocol() {
+    use shared::ui_to_sim::{place, shape};
+    let d = Domain::new(&format!("svcp{}", std::process::id())).unwrap();
+    let mut cfg = ServiceConfig::new(d.clone());
+    cfg.autosave = std::env::temp_dir().join(format!("saiho-svcp-{}.saiho", std::process::id()));
+    cfg.seconds = Some(60.0);
+    let stop = std::sync::Arc::new(AtomicBool::new(false));
+    let stop2 = stop.clone();
+    let handle = std::thread::spawn(move || {
+        let mut scene = ScenarioConfig::new(ScenarioName::DressMannequin);
+        scene.piece_edge = 0.08;
+        let sim = build_design(&scene).unwrap();
+        run(sim, &cfg, &stop2, &mut |_| {}).unwrap()
+    });
+    let node = services::node(&d, "ui").unwrap();
+    let mut ask = asker(ports::command_client(&node).unwrap());
+    let lists: services::Sub<shared::sim_to_ui::PieceList> =
+        ports::subscriber(&node, services::pieces, None).unwrap();
+    // The newest list with `n` pieces, waiting for it.
+    let names = |n: usize| -> Vec<String> {
+        let deadline = Instant::now() + Duration::from_secs(10);
+        loop {
+            while let Some(l) = lists.receive().unwrap() {
+                let p = shared::sim_to_ui::check_pieces(&l).unwrap();
+                if p.len() == n {
+                    return p.into_iter().map(|p| p.name).collect();
+                }
+            }
+            assert!(Instant::now() < deadline, "no list of {n} pieces");
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    };
+    assert_eq!(names(2), ["front", "back"]);
+    let r = ask(ToolCommand {
+        op: op::ADD_PIECE,
+        mode: shape::RECTANGLE,
+        a: place::FRONT,
+        vec: [0.25, 0.2, 0.0],
+        value: 0.05,
+        ..Default::default()
+    });
+    assert_eq!(r.ok, 1, "{}", r.message());
+    assert!(
+        r.message().contains("Added rectangle at the front"),
+        "{}",
+        r.message()
+    );
+    assert_eq!(names(3), ["front", "back", "rectangle"]);
+    let r = ask(ToolCommand {
+        op: op::PLACE_PIECE,
+        a: 2,
+        b: place::BACK,
+        ..Default::default()
+    });
+    assert_eq!(r.ok, 1, "{}", r.message());
+    let r = ask(ToolCommand {
+        op: op::DELETE_PIECE,
+        a: 9,
+        ..Default::default()
+    });
+    assert!(
+        r.ok == 0 && r.message().contains("no piece 9"),
+        "{}",
+        r.message()
+    );
+    let r = ask(ToolCommand {
+        op: op::DELETE_PIECE,
+        a: 2,
+        ..Default::default()
+    });
+    assert_eq!(r.ok, 1, "{}", r.message());
+    assert_eq!(names(2), ["front", "back"]);
+    // The shipped dress pattern: two more pieces, sewn to each other.
+    let mut file = ToolCommand {
+        op: op::ADD_PIECE,
+        mode: shape::FILE,
+        a: place::FRONT,
+        value: 0.08,
+        ..Default::default()
+    };
+    let dress = concat!(env!("CARGO_MANIFEST_DIR"), "/../sim-core/assets/dress.svg");
+    assert!(file.set_text(dress));
+    let r = ask(file);
+    assert_eq!(r.ok, 1, "{}", r.message());
+    assert!(r.message().contains("4 seams stitched"), "{}", r.message());
+    assert_eq!(names(4).len(), 4);
+    stop.store(true, Ordering::Relaxed);
+    handle.join().unwrap();
+}

@@ -3,7 +3,7 @@
 //! [`Command`] and calls [`Command::to_wire`]; cloth-sim calls [`Command::from_wire`],
 //! which checks the record first. Nothing else reads or writes a record's fields.
 
-use crate::ui_to_sim::{TEXT_LEN, ToolCommand, body, op};
+use crate::ui_to_sim::{TEXT_LEN, ToolCommand, body, op, shape};
 use crate::{Checked, Header, MessageError};
 
 /// The body of a new design.
@@ -40,6 +40,17 @@ pub enum Tearing {
         threshold: f32,
         split: bool,
     },
+}
+
+/// What a new piece is made from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PieceShape {
+    /// `w` x `h` m.
+    Rectangle { w: f32, h: f32 },
+    /// Axes `w` and `h` m.
+    Ellipse { w: f32, h: f32 },
+    /// Every piece of a pattern file (SVG, DXF or GarmentCode JSON).
+    File { path: String },
 }
 
 /// One operation on the design (see [`op`] for what each does on cloth-sim's side).
@@ -117,6 +128,21 @@ pub enum Command {
         material: MaterialChange,
         substeps: Option<u32>,
     },
+    /// A new piece, meshed with edges of `edge_m`, started at `place`
+    /// ([`place`](crate::ui_to_sim::place) codes).
+    AddPiece {
+        shape: PieceShape,
+        place: u32,
+        edge_m: f32,
+    },
+    /// Piece `piece` (in `saiho/pieces` order) moved to `place`.
+    PlacePiece {
+        piece: u32,
+        place: u32,
+    },
+    DeletePiece {
+        piece: u32,
+    },
 }
 
 /// Why a command cannot be put on the wire.
@@ -181,6 +207,9 @@ impl Command {
             Self::Reset { .. } => op::RESET,
             Self::Load { .. } => op::LOAD,
             Self::SetMaterial { .. } => op::SET_MATERIAL,
+            Self::AddPiece { .. } => op::ADD_PIECE,
+            Self::PlacePiece { .. } => op::PLACE_PIECE,
+            Self::DeletePiece { .. } => op::DELETE_PIECE,
         }
     }
 
@@ -249,6 +278,27 @@ impl Command {
                 c.a = substeps.unwrap_or(0);
                 c.uv[..6].copy_from_slice(&material.to_wire());
             }
+            Self::AddPiece {
+                shape: s,
+                place,
+                edge_m,
+            } => {
+                (c.a, c.value) = (*place, *edge_m);
+                match s {
+                    PieceShape::Rectangle { w, h } => {
+                        (c.mode, c.vec) = (shape::RECTANGLE, [*w, *h, 0.0])
+                    }
+                    PieceShape::Ellipse { w, h } => {
+                        (c.mode, c.vec) = (shape::ELLIPSE, [*w, *h, 0.0])
+                    }
+                    PieceShape::File { path } => {
+                        c.mode = shape::FILE;
+                        set_text(&mut c, path)?;
+                    }
+                }
+            }
+            Self::PlacePiece { piece, place } => (c.a, c.b) = (*piece, *place),
+            Self::DeletePiece { piece } => c.a = *piece,
         }
         Ok(c)
     }
@@ -318,6 +368,26 @@ impl Command {
                 material: MaterialChange::from_wire(u),
                 substeps: some_nonzero(c.a),
             },
+            op::ADD_PIECE => Self::AddPiece {
+                shape: match c.mode {
+                    shape::RECTANGLE => PieceShape::Rectangle {
+                        w: c.vec[0],
+                        h: c.vec[1],
+                    },
+                    shape::ELLIPSE => PieceShape::Ellipse {
+                        w: c.vec[0],
+                        h: c.vec[1],
+                    },
+                    _ => PieceShape::File { path: text(c) },
+                },
+                place: c.a,
+                edge_m: c.value,
+            },
+            op::PLACE_PIECE => Self::PlacePiece {
+                piece: c.a,
+                place: c.b,
+            },
+            op::DELETE_PIECE => Self::DeletePiece { piece: c.a },
             other => {
                 return Err(MessageError::Malformed {
                     what: ToolCommand::WHAT,
@@ -425,6 +495,25 @@ mod tests {
                 material: MaterialChange::default(),
                 substeps: Some(20),
             },
+            Command::AddPiece {
+                shape: PieceShape::Rectangle { w: 0.3, h: 0.5 },
+                place: crate::ui_to_sim::place::BACK,
+                edge_m: 0.02,
+            },
+            Command::AddPiece {
+                shape: PieceShape::Ellipse { w: 0.2, h: 0.1 },
+                place: crate::ui_to_sim::place::LEFT_ARM,
+                edge_m: 0.01,
+            },
+            Command::AddPiece {
+                shape: PieceShape::File {
+                    path: "patterns/skirt.dxf".into(),
+                },
+                place: crate::ui_to_sim::place::FRONT,
+                edge_m: 0.03,
+            },
+            Command::PlacePiece { piece: 2, place: 3 },
+            Command::DeletePiece { piece: 1 },
         ]
     }
 
@@ -459,6 +548,43 @@ mod tests {
             Command::from_wire(&wire),
             Err(MessageError::Protocol { .. })
         ));
+        // A piece of no size, a place that is not one, an edge out of range, NaN.
+        for bad in [
+            Command::AddPiece {
+                shape: PieceShape::Rectangle { w: 0.0, h: 0.4 },
+                place: 0,
+                edge_m: 0.02,
+            },
+            Command::AddPiece {
+                shape: PieceShape::Ellipse {
+                    w: 0.2,
+                    h: f32::NAN,
+                },
+                place: 0,
+                edge_m: 0.02,
+            },
+            Command::AddPiece {
+                shape: PieceShape::Rectangle { w: 0.2, h: 0.2 },
+                place: crate::ui_to_sim::place::LAST + 1,
+                edge_m: 0.02,
+            },
+            Command::AddPiece {
+                shape: PieceShape::Rectangle { w: 0.2, h: 0.2 },
+                place: 0,
+                edge_m: 0.0001,
+            },
+            Command::AddPiece {
+                shape: PieceShape::File {
+                    path: String::new(),
+                },
+                place: 0,
+                edge_m: 0.02,
+            },
+            Command::PlacePiece { piece: 0, place: 9 },
+        ] {
+            let wire = bad.to_wire(Header::next(&mut seq)).unwrap();
+            assert!(Command::from_wire(&wire).is_err(), "{bad:?}");
+        }
         let long = Command::Save {
             path: "x".repeat(TEXT_LEN + 1),
         };

@@ -17,7 +17,7 @@ use crate::haptic_to_sim::{AppliedForce, DeviceSample};
 use crate::services::{self, Pub, ServiceError, SlicePub, SliceSub, Sub};
 use crate::sim_to_haptic::LocalModel;
 use crate::sim_to_ui::{
-    BodyMeshHeader, ClothFrameHeader, MeshCorner, MeshHeader, TextureTile, ToolState,
+    BodyMeshHeader, ClothFrameHeader, MeshCorner, MeshHeader, PieceList, TextureTile, ToolState,
 };
 use crate::telemetry::{LoopTelemetry, SimTelemetry};
 use crate::ui_to_haptic::PointerInput;
@@ -178,6 +178,7 @@ pub struct SimPorts {
     pub body: SlicePub<f32, BodyMeshHeader>,
     pub commands: CommandServer,
     pub tool: Pub<ToolState>,
+    pub pieces: Pub<PieceList>,
     pub texture: SlicePub<u8, TextureTile>,
     pub telemetry: Pub<SimTelemetry>,
 }
@@ -193,6 +194,7 @@ impl SimPorts {
             body: slice_publisher(node, services::body_mesh, sizes.body_floats, true)?,
             commands: command_server(node)?,
             tool: publisher(node, services::tool_state)?,
+            pieces: publisher(node, services::pieces)?,
             texture: slice_publisher(node, services::texture, sizes.tile_bytes, false)?,
             telemetry: publisher(node, services::sim_telemetry)?,
         })
@@ -206,6 +208,7 @@ pub struct UiPorts {
     pub tiles: SliceSub<u8, TextureTile>,
     pub bodies: SliceSub<f32, BodyMeshHeader>,
     pub tools: Sub<ToolState>,
+    pub pieces: Sub<PieceList>,
     pub pens: Sub<DeviceSample>,
     pub models: Sub<LocalModel>,
     pub loop_telemetry: Sub<LoopTelemetry>,
@@ -222,6 +225,7 @@ impl UiPorts {
             tiles: subscriber(node, services::texture, None)?,
             bodies: subscriber(node, services::body_mesh, None)?,
             tools: subscriber(node, services::tool_state, None)?,
+            pieces: subscriber(node, services::pieces, None)?,
             pens: subscriber(node, services::device, None)?,
             models: subscriber(node, services::local_model, None)?,
             loop_telemetry: subscriber(node, services::haptic_telemetry, None)?,

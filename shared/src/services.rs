@@ -14,6 +14,7 @@
 //!
 //! | `saiho/texture` | `[u8]` + [`TextureTile`] | sim -> ui | 256 (a full texture) | 512, overwrite |
 //! | `saiho/tool-state` | [`ToolState`] | sim -> ui | 1 (latest) | 1, overwrite |
+//! | `saiho/pieces` | [`PieceList`] | sim -> ui | 1 (latest) | 1, overwrite |
 //! | `saiho/commands` | [`ToolCommand`] -> [`CommandReply`] | ui -> sim | request-response | |
 //!
 //! History 1 gives a process that starts late the current value at once.
@@ -26,7 +27,7 @@ use iceoryx2::service::port_factory::publish_subscribe::PortFactory;
 use crate::haptic_to_sim::{AppliedForce, DeviceSample};
 use crate::sim_to_haptic::LocalModel;
 use crate::sim_to_ui::{
-    BodyMeshHeader, ClothFrameHeader, MeshCorner, MeshHeader, TextureTile, ToolState,
+    BodyMeshHeader, ClothFrameHeader, MeshCorner, MeshHeader, PieceList, TextureTile, ToolState,
 };
 use crate::telemetry::{LoopTelemetry, SimTelemetry};
 use crate::ui_to_haptic::PointerInput;
@@ -42,6 +43,7 @@ pub const CLOTH_FRAME: &str = "saiho/cloth-frame";
 pub const CLOTH_MESH: &str = "saiho/cloth-mesh";
 pub const COMMANDS: &str = "saiho/commands";
 pub const TOOL_STATE: &str = "saiho/tool-state";
+pub const PIECES: &str = "saiho/pieces";
 pub const TEXTURE: &str = "saiho/texture";
 pub const BODY_MESH: &str = "saiho/body-mesh";
 /// cloth-latency's echo of device samples, opened with the device service's QoS.
@@ -136,6 +138,10 @@ pub fn sim_telemetry(node: &Node<ipc::Service>) -> Result<Factory<SimTelemetry>,
 
 pub fn tool_state(node: &Node<ipc::Service>) -> Result<Factory<ToolState>, ServiceError> {
     open(node, TOOL_STATE, 1, 1)
+}
+
+pub fn pieces(node: &Node<ipc::Service>) -> Result<Factory<PieceList>, ServiceError> {
+    open(node, PIECES, 1, 1)
 }
 
 pub fn haptic_telemetry(node: &Node<ipc::Service>) -> Result<Factory<LoopTelemetry>, ServiceError> {

@@ -220,6 +220,127 @@ pub struct ToolState {
     pub sew_first: u32,
 }
 
+/// Most pieces a [`PieceList`] carries; a design with more lists the first ones and says
+/// how many there are.
+pub const MAX_LISTED: usize = 32;
+/// Bytes of a listed piece's name and fabric (longer ones are cut at a character).
+pub const PIECE_NAME_LEN: usize = 48;
+pub const FABRIC_NAME_LEN: usize = 24;
+
+/// One piece as the list carries it.
+#[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("saiho::PieceEntry")]
+pub struct PieceEntry {
+    pub name_len: u32,
+    pub name: [u8; PIECE_NAME_LEN],
+    pub fabric_len: u32,
+    pub fabric: [u8; FABRIC_NAME_LEN],
+    pub vertices: u32,
+    pub triangles: u32,
+    /// One corner of the piece (`anchor_vertex == u32::MAX`: none): the piece is the
+    /// mesh's triangles joined to it in the pattern (by shared vertex and UV).
+    pub anchor_vertex: u32,
+    pub anchor_uv: [f32; 2],
+}
+
+impl Default for PieceEntry {
+    fn default() -> Self {
+        Self {
+            name_len: 0,
+            name: [0; PIECE_NAME_LEN],
+            fabric_len: 0,
+            fabric: [0; FABRIC_NAME_LEN],
+            vertices: 0,
+            triangles: 0,
+            anchor_vertex: u32::MAX,
+            anchor_uv: [0.0; 2],
+        }
+    }
+}
+
+/// The design's pieces now (`saiho/pieces`, history 1): sent when they change, in the
+/// order cloth-sim numbers them for PLACE_PIECE and DELETE_PIECE.
+#[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("saiho::PieceList")]
+pub struct PieceList {
+    pub header: Header,
+    /// The mesh (`MeshHeader::topology`) the anchors refer to.
+    pub topology: u64,
+    /// How many pieces the design has (more than `entries` when over [`MAX_LISTED`]).
+    pub total: u32,
+    /// How many of `entries` are filled.
+    pub count: u32,
+    pub entries: [PieceEntry; MAX_LISTED],
+}
+
+impl Default for PieceList {
+    fn default() -> Self {
+        Self {
+            header: Header::default(),
+            topology: 0,
+            total: 0,
+            count: 0,
+            entries: [PieceEntry::default(); MAX_LISTED],
+        }
+    }
+}
+
+/// A piece of a checked [`PieceList`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct ListedPiece {
+    pub name: String,
+    pub fabric: String,
+    pub vertices: u32,
+    pub triangles: u32,
+    pub anchor: Option<(u32, [f32; 2])>,
+}
+
+/// Copies `s` into `buf` up to its length, cut at a character; returns the length.
+pub fn put_text(buf: &mut [u8], s: &str) -> u32 {
+    let mut n = s.len().min(buf.len());
+    while !s.is_char_boundary(n) {
+        n -= 1;
+    }
+    buf[..n].copy_from_slice(&s.as_bytes()[..n]);
+    n as u32
+}
+
+/// Checks a received piece list and returns its pieces.
+pub fn check_pieces(l: &PieceList) -> Result<Vec<ListedPiece>, MessageError> {
+    l.header.check()?;
+    let n = l.count as usize;
+    if n > MAX_LISTED || l.total < l.count {
+        return Err(malformed(
+            "piece list",
+            format!("{} of {} pieces (at most {MAX_LISTED})", l.count, l.total),
+        ));
+    }
+    let text = |b: &[u8], len: u32, what: &str| -> Result<String, MessageError> {
+        let len = len as usize;
+        b.get(..len)
+            .and_then(|t| std::str::from_utf8(t).ok())
+            .map(str::to_string)
+            .ok_or_else(|| malformed("piece list", format!("a piece's {what} is not UTF-8 text")))
+    };
+    l.entries[..n]
+        .iter()
+        .map(|e| {
+            if !e.anchor_uv.iter().all(|c| c.is_finite()) {
+                return Err(malformed("piece list", "an anchor UV is not finite".into()));
+            }
+            Ok(ListedPiece {
+                name: text(&e.name, e.name_len, "name")?,
+                fabric: text(&e.fabric, e.fabric_len, "fabric")?,
+                vertices: e.vertices,
+                triangles: e.triangles,
+                anchor: (e.anchor_vertex != u32::MAX).then_some((e.anchor_vertex, e.anchor_uv)),
+            })
+        })
+        .collect()
+}
+
 /// One square of the cloth's texture (`saiho/texture`, `[u8]` RGBA rows under this
 /// header). Changed tiles go out at once; all tiles are also re-sent round-robin, so a
 /// viewer that starts late has the whole texture within a refresh cycle.

@@ -49,7 +49,15 @@ pub mod op {
     /// the current value), and its substeps per frame to `a` (0 keeps them). Positions,
     /// edits, seams and history stay.
     pub const SET_MATERIAL: u32 = 16;
-    pub const LAST: u32 = SET_MATERIAL;
+    /// A new piece (`mode`: 0 rectangle, 1 ellipse of `vec[0]` x `vec[1]` m; 2 from the
+    /// pattern file at `text`), meshed with edges of `value` m, started at place `a`
+    /// (see [`place`](super::place)).
+    pub const ADD_PIECE: u32 = 17;
+    /// Piece `a` (as `saiho/pieces` lists them) moved to place `b`.
+    pub const PLACE_PIECE: u32 = 18;
+    /// Piece `a` deleted.
+    pub const DELETE_PIECE: u32 = 19;
+    pub const LAST: u32 = DELETE_PIECE;
 }
 
 /// [`ToolCommand::b`] of a RESET: the body.
@@ -59,6 +67,38 @@ pub mod body {
     pub const MANNEQUIN: u32 = 2;
     pub const LAST: u32 = MANNEQUIN;
 }
+
+/// The named places round the body a piece can start at.
+pub mod place {
+    pub const FRONT: u32 = 0;
+    pub const BACK: u32 = 1;
+    pub const LEFT_SIDE: u32 = 2;
+    pub const RIGHT_SIDE: u32 = 3;
+    pub const LEFT_ARM: u32 = 4;
+    pub const RIGHT_ARM: u32 = 5;
+    pub const LAST: u32 = RIGHT_ARM;
+    /// Each place's name, by code (as `cloth-sim` and the design file spell them).
+    pub const NAMES: [&str; 6] = [
+        "front",
+        "back",
+        "left-side",
+        "right-side",
+        "left-arm",
+        "right-arm",
+    ];
+}
+
+/// The shapes of ADD_PIECE.
+pub mod shape {
+    pub const RECTANGLE: u32 = 0;
+    pub const ELLIPSE: u32 = 1;
+    pub const FILE: u32 = 2;
+    pub const LAST: u32 = FILE;
+}
+
+/// A new piece's size, each side, m, and its mesh's edge length, m.
+pub const PIECE_SIZE: (f32, f32) = (0.01, 3.0);
+pub const PIECE_EDGE: (f32, f32) = (0.005, 0.5);
 
 pub const TEXT_LEN: usize = 240;
 pub const MESSAGE_LEN: usize = 200;
@@ -173,6 +213,35 @@ impl Checked for ToolCommand {
             if self.uv.iter().any(|v| *v < 0.0) {
                 return Err("material values must not be negative".into());
             }
+        }
+        if self.op == op::ADD_PIECE {
+            if self.mode > shape::LAST || self.a > place::LAST {
+                return Err(format!(
+                    "shape {} at place {} (shapes 0 rectangle, 1 ellipse, 2 file; places 0..={})",
+                    self.mode,
+                    self.a,
+                    place::LAST
+                ));
+            }
+            if !(PIECE_EDGE.0..=PIECE_EDGE.1).contains(&self.value) {
+                return Err(format!(
+                    "edge length {} m (between {} and {} m)",
+                    self.value, PIECE_EDGE.0, PIECE_EDGE.1
+                ));
+            }
+            let sized = |v: f32| (PIECE_SIZE.0..=PIECE_SIZE.1).contains(&v);
+            if self.mode != shape::FILE && !(sized(self.vec[0]) && sized(self.vec[1])) {
+                return Err(format!(
+                    "a piece of {} x {} m (each side between {} and {} m)",
+                    self.vec[0], self.vec[1], PIECE_SIZE.0, PIECE_SIZE.1
+                ));
+            }
+            if self.mode == shape::FILE && self.text().is_none_or(str::is_empty) {
+                return Err("a piece from a file needs a UTF-8 path".into());
+            }
+        }
+        if self.op == op::PLACE_PIECE && self.b > place::LAST {
+            return Err(format!("place {} (0..={})", self.b, place::LAST));
         }
         if self.op == op::SEAM && self.value.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
         {

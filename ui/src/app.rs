@@ -17,7 +17,7 @@ use crate::action::{Action, Emitted, PathOp};
 use crate::camera::{Camera, Hit};
 use crate::input;
 use crate::link::Link;
-use crate::panels::{MaterialPanel, ScenePanel, StatusPanel, ToolsPanel, ViewPanel};
+use crate::panels::{MaterialPanel, PiecesPanel, ScenePanel, StatusPanel, ToolsPanel, ViewPanel};
 use crate::store::Store;
 use crate::tools::{tool_name, tool_sentence};
 use crate::view3d::Overlay;
@@ -67,6 +67,7 @@ pub struct App {
     pub tools: ToolsPanel,
     pub material: MaterialPanel,
     pub scene: ScenePanel,
+    pub pieces: PiecesPanel,
     pub status_panel: StatusPanel,
     pub view: ViewPanel,
     /// How long after start everything of the design had arrived.
@@ -98,6 +99,7 @@ impl App {
             tools: ToolsPanel::default(),
             material: MaterialPanel::default(),
             scene: ScenePanel::default(),
+            pieces: PiecesPanel::default(),
             status_panel: StatusPanel::default(),
             view: ViewPanel::default(),
             design_arrived: None,
@@ -530,6 +532,9 @@ impl App {
             actions,
         );
         ui.separator();
+        self.pieces.ui(ui, &self.store, actions);
+        self.store.highlight = self.pieces.selected.and_then(|i| self.store.mesh_piece(i));
+        ui.separator();
         ToolsPanel::view_section(ui, actions);
     }
 }
@@ -581,6 +586,7 @@ impl eframe::App for App {
             .show(ui, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| self.left_column(ui, &mut actions));
             });
+        self.pieces.pattern_window(&ctx, &self.store);
         egui::Panel::right("status panel")
             .frame(panel)
             .default_size(300.0)

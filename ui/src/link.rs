@@ -9,7 +9,9 @@ use iceoryx2::prelude::*;
 use shared::command::Command;
 use shared::domain::Domain;
 use shared::ports::UiPorts;
-use shared::sim_to_ui::{check_body, check_frame, check_mesh, check_tile, frame_stitches};
+use shared::sim_to_ui::{
+    check_body, check_frame, check_mesh, check_pieces, check_tile, frame_stitches,
+};
 use shared::ui_to_haptic::PointerInput;
 use shared::ui_to_sim::{CommandReply, ToolCommand};
 use shared::{Checked, Header, services};
@@ -129,6 +131,15 @@ impl Link {
     /// The tool state, the pen, the local model and both telemetries.
     fn poll_state(&mut self, store: &mut Store, now: std::time::Instant) {
         let p = &self.ports;
+        while let Ok(Some(l)) = p.pieces.receive() {
+            match check_pieces(&l) {
+                Ok(list) => {
+                    store.pieces = list;
+                    store.pieces_total = l.total;
+                }
+                Err(x) => store.record(&x),
+            }
+        }
         while let Ok(Some(s)) = p.tools.receive() {
             match s.header.check() {
                 Ok(()) => store.tool = Some(*s),

@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use shared::haptic_to_sim::DeviceSample;
 use shared::sim_to_haptic::LocalModel;
-use shared::sim_to_ui::{MeshCorner, ToolState};
+use shared::sim_to_ui::{ListedPiece, MeshCorner, ToolState};
 use shared::telemetry::{LoopTelemetry, SimTelemetry};
 
 /// The cloth's triangles and what the renderer derives from them.
@@ -21,6 +21,74 @@ pub struct Mesh {
     /// Edges whose two triangles map them to different places of the pattern: where
     /// pieces were sewn (a sew or a welded seam).
     pub sewn: Vec<[u32; 2]>,
+    /// The pattern's pieces: each corner key (vertex and UV bits) to its piece, the
+    /// triangles joined by shared keys (as cloth-sim finds its pieces).
+    pub piece_of: std::collections::HashMap<Key, u32>,
+    /// The pattern's outline edges (in one triangle only, by key), as UV pairs with the
+    /// piece they belong to: what the pattern view draws.
+    pub outline: Vec<OutlineEdge>,
+}
+
+/// An outline edge of the pattern: its two ends' UVs and its piece.
+pub type OutlineEdge = ([f32; 2], [f32; 2], u32);
+
+/// A corner of the pattern: its vertex and its UV's bits.
+pub type Key = (u32, u32, u32);
+
+/// The key of a corner.
+pub fn key(vertex: u32, uv: [f32; 2]) -> Key {
+    (vertex, uv[0].to_bits(), uv[1].to_bits())
+}
+
+/// Each key's piece (pattern-connected triangles) and the outline edges.
+fn pieces_of(corners: &[MeshCorner]) -> (std::collections::HashMap<Key, u32>, Vec<OutlineEdge>) {
+    let mut id: std::collections::HashMap<Key, usize> = Default::default();
+    let keys: Vec<usize> = corners
+        .iter()
+        .map(|c| {
+            let n = id.len();
+            *id.entry(key(c.vertex, [c.u, c.v])).or_insert(n)
+        })
+        .collect();
+    let mut parent: Vec<usize> = (0..id.len()).collect();
+    fn find(p: &mut [usize], mut i: usize) -> usize {
+        while p[i] != i {
+            p[i] = p[p[i]];
+            i = p[i];
+        }
+        i
+    }
+    for t in keys.chunks_exact(3) {
+        for k in 1..3 {
+            let (a, b) = (find(&mut parent, t[0]), find(&mut parent, t[k]));
+            parent[a] = b;
+        }
+    }
+    let piece_of = id
+        .iter()
+        .map(|(&k, &i)| (k, find(&mut parent, i) as u32))
+        .collect();
+    let mut count: std::collections::HashMap<(usize, usize), u32> = Default::default();
+    for t in keys.chunks_exact(3) {
+        for k in 0..3 {
+            let (a, b) = (t[k], t[(k + 1) % 3]);
+            *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    let uv: Vec<[f32; 2]> = {
+        let mut v = vec![[0.0; 2]; id.len()];
+        for (c, &i) in corners.iter().zip(&keys) {
+            v[i] = [c.u, c.v];
+        }
+        v
+    };
+    let mut outline: Vec<OutlineEdge> = count
+        .into_iter()
+        .filter(|&(_, n)| n == 1)
+        .map(|((a, b), _)| (uv[a], uv[b], find(&mut parent, a) as u32))
+        .collect();
+    outline.sort_by(|p, q| p.partial_cmp(q).unwrap_or(std::cmp::Ordering::Equal));
+    (piece_of, outline)
 }
 
 impl Mesh {
@@ -54,12 +122,15 @@ impl Mesh {
         }
         border.sort_unstable();
         sewn.sort_unstable();
+        let (piece_of, outline) = pieces_of(&corners);
         Self {
             topology,
             vertices,
             corners,
             border,
             sewn,
+            piece_of,
+            outline,
         }
     }
 
@@ -176,6 +247,11 @@ pub struct Store {
     pub last_rejection: Option<String>,
     /// The newest protocol mismatch, if any: shown as a banner.
     pub mismatch: Option<String>,
+    /// The design's pieces as cloth-sim lists them, and how many it has in all.
+    pub pieces: Vec<ListedPiece>,
+    pub pieces_total: u32,
+    /// The mesh piece (`Mesh::piece_of`) the 3D view and pattern view highlight.
+    pub highlight: Option<u32>,
 }
 
 impl Default for Store {
@@ -201,6 +277,9 @@ impl Default for Store {
             rejected: 0,
             last_rejection: None,
             mismatch: None,
+            pieces: Vec::new(),
+            pieces_total: 0,
+            highlight: None,
         }
     }
 }
@@ -290,6 +369,14 @@ pub fn vertex_normals(mesh: Option<&Mesh>, x: &[[f32; 3]]) -> Vec<[f32; 3]> {
     n.into_iter()
         .map(|v| v.normalize_or(Vec3::Y).to_array())
         .collect()
+}
+
+impl Store {
+    /// The mesh piece (`Mesh::piece_of`) of listed piece `index`, found from its anchor.
+    pub fn mesh_piece(&self, index: usize) -> Option<u32> {
+        let (v, uv) = self.pieces.get(index)?.anchor?;
+        self.mesh.as_ref()?.piece_of.get(&key(v, uv)).copied()
+    }
 }
 
 #[cfg(test)]

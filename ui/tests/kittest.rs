@@ -452,3 +452,65 @@ fn the_view_frames_a_tall_body() {
     let foot = cam.to_screen(glam::Vec3::ZERO, size).unwrap();
     assert!((foot.y - top.y) > 0.5 * size.y, "{top} {foot} in {size}");
 }
+
+/// The pieces panel lists what cloth-sim lists; selecting one tints it (the store's
+/// highlight is its mesh piece); Add, Place at and Delete send their commands; the
+/// pattern view opens.
+#[test]
+fn the_pieces_panel_lists_selects_adds_places_and_deletes() {
+    use shared::sim_to_ui::ListedPiece;
+    use shared::ui_to_sim::place;
+    let mut h = harness();
+    let corner = h.state().store.mesh.as_ref().unwrap().corners[0];
+    h.state_mut().store.pieces = vec![ListedPiece {
+        name: "front".into(),
+        fabric: "cotton".into(),
+        vertices: 289,
+        triangles: 512,
+        anchor: Some((corner.vertex, [corner.u, corner.v])),
+    }];
+    h.state_mut().store.pieces_total = 1;
+    h.run_steps(2);
+    assert_eq!(h.state().store.highlight, None);
+    press(&mut h, "front · 289 vertices · cotton");
+    let want = h
+        .state()
+        .store
+        .mesh
+        .as_ref()
+        .unwrap()
+        .piece_of
+        .get(&ui::store::key(corner.vertex, [corner.u, corner.v]))
+        .copied();
+    assert!(want.is_some());
+    assert_eq!(h.state().store.highlight, want);
+
+    h.state_mut().pieces.place = place::BACK;
+    h.run_steps(1);
+    press(&mut h, "Place at");
+    let c = *commands(&h).last().unwrap();
+    assert_eq!((c.op, c.a, c.b), (op::PLACE_PIECE, 0, place::BACK));
+    press(&mut h, "Delete");
+    let c = *commands(&h).last().unwrap();
+    assert_eq!((c.op, c.a), (op::DELETE_PIECE, 0));
+    assert_eq!(h.state().pieces.selected, None);
+
+    press(&mut h, "Add piece");
+    let c = *commands(&h).last().unwrap();
+    assert_eq!((c.op, c.mode, c.a), (op::ADD_PIECE, 0, place::BACK));
+    assert_eq!(&c.vec[..2], &[0.4, 0.5]);
+    // From a file with no path: nothing goes out, the status says why.
+    let n = commands(&h).len();
+    press(&mut h, "From file");
+    press(&mut h, "Add piece");
+    assert_eq!(commands(&h).len(), n);
+    assert!(
+        h.state().status.contains("pattern file"),
+        "{}",
+        h.state().status
+    );
+
+    press(&mut h, "Pattern view");
+    assert!(h.state().pieces.pattern_open);
+    h.get_by_label("Pattern");
+}

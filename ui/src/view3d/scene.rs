@@ -11,6 +11,8 @@ use crate::store::{Mesh, Store};
 pub const BORDER_COLOUR: [f32; 4] = [0.95, 0.55, 0.1, 1.0];
 pub const SEWN_COLOUR: [f32; 4] = [0.3, 0.65, 1.0, 1.0];
 pub const STITCH_COLOUR: [f32; 4] = [0.85, 0.3, 0.95, 1.0];
+/// The selected piece's tint (times the texture).
+pub const HIGHLIGHT: [f32; 4] = [1.0, 0.78, 0.45, 1.0];
 
 /// Extra things to draw this frame besides cloth and body.
 #[derive(Clone, Debug, Default)]
@@ -48,6 +50,12 @@ pub(super) fn cloth_keys(mesh: Option<&Mesh>, keys: &mut Vec<(u32, [f32; 2])>) -
 pub(super) fn cloth_vertices(keys: &[(u32, [f32; 2])], store: &Store, out: &mut Vec<Vertex>) {
     out.clear();
     let (x, n) = (&store.x, &store.normals);
+    // The selected piece, tinted.
+    let piece_of = store.mesh.as_ref().map(|m| &m.piece_of);
+    let tint = |v: u32, uv: [f32; 2]| match (store.highlight, piece_of) {
+        (Some(h), Some(p)) if p.get(&crate::store::key(v, uv)) == Some(&h) => HIGHLIGHT,
+        _ => [1.0; 4],
+    };
     for &(v, uv) in keys {
         let i = v as usize;
         let (Some(p), Some(nn)) = (x.get(i), n.get(i)) else {
@@ -58,7 +66,7 @@ pub(super) fn cloth_vertices(keys: &[(u32, [f32; 2])], store: &Store, out: &mut 
             pos: *p,
             nrm: *nn,
             uv,
-            col: [1.0; 4],
+            col: tint(v, uv),
         });
     }
 }

@@ -220,13 +220,17 @@ fn stretch(design: &Design, side: &EdgeRef) -> (Vec<u32>, f32) {
     let (t0, _) = project(l, &cum, side.from);
     let (t1, _) = project(l, &cum, side.to);
     let span = (t1 - t0).rem_euclid(per);
-    let cloth = &design.sim.cloth;
-    let mut on: Vec<(f32, u32)> = (0..cloth.rest.positions.len() as u32)
-        .filter(|&v| cloth.live.vertex_alive(v) && cloth.live.is_boundary(v))
-        .filter_map(|v| {
-            let r = cloth.rest.positions[v as usize];
+    let live = &design.sim.cloth.live;
+    // Each border vertex's place in this piece's band of the pattern (from the live
+    // triangles: a piece added to a design has no place in the original mesh).
+    let mut seen = std::collections::HashSet::new();
+    let mut on: Vec<(f32, u32)> = live
+        .iter()
+        .flat_map(|(_, t)| (0..3).map(move |k| (t.v[k], t.rest[k])))
+        .filter(|&(v, _)| live.is_boundary(v))
+        .filter_map(|(v, r)| {
             let q = Vec2::new(r.x, -r.z);
-            if design.record_at(q) != Some(side.piece) {
+            if design.record_at(q) != Some(side.piece) || !seen.insert(v) {
                 return None;
             }
             let (t, d) = project(l, &cum, q - rec.offset);

@@ -1,0 +1,251 @@
+//! The pieces panel: the design's pieces as cloth-sim lists them (name, vertices,
+//! fabric), one selected (tinted in the 3D view and drawn bright in the pattern view);
+//! new pieces (a rectangle, an ellipse, or every piece of an SVG, DXF or GarmentCode
+//! file) at a place round the body; the selected piece placed elsewhere or deleted; and
+//! the pattern view: every piece flat as it is now, with the stitches still pulling.
+
+use shared::command::{Command, PieceShape};
+use shared::ui_to_sim::{PIECE_EDGE, PIECE_SIZE, place, shape};
+
+use crate::action::Action;
+use crate::store::Store;
+use crate::view3d::{HIGHLIGHT, STITCH_COLOUR};
+
+/// What the panel holds between frames: the selection and the new piece's settings.
+pub struct PiecesPanel {
+    pub selected: Option<usize>,
+    pub shape: u32,
+    /// A new rectangle's or ellipse's size, m.
+    pub size: [f32; 2],
+    pub path: String,
+    pub place: u32,
+    /// The new piece's mesh edge, m.
+    pub edge: f32,
+    pub pattern_open: bool,
+}
+
+impl Default for PiecesPanel {
+    fn default() -> Self {
+        Self {
+            selected: None,
+            shape: shape::RECTANGLE,
+            size: [0.4, 0.5],
+            path: String::new(),
+            place: place::FRONT,
+            edge: 0.03,
+            pattern_open: false,
+        }
+    }
+}
+
+fn place_combo(ui: &mut egui::Ui, id: &str, value: &mut u32) {
+    egui::ComboBox::from_id_salt(id)
+        .selected_text(place::NAMES[(*value as usize).min(place::NAMES.len() - 1)])
+        .show_ui(ui, |ui| {
+            for (code, name) in place::NAMES.iter().enumerate() {
+                ui.selectable_value(value, code as u32, *name);
+            }
+        })
+        .response
+        .on_hover_text("Where round the body the piece starts (a layer out if another is there)");
+}
+
+impl PiecesPanel {
+    pub fn ui(&mut self, ui: &mut egui::Ui, store: &Store, actions: &mut Vec<Action>) {
+        ui.label("Pieces");
+        if self.selected.is_some_and(|i| i >= store.pieces.len()) {
+            self.selected = None;
+        }
+        if store.pieces.is_empty() {
+            ui.label("No pieces heard from cloth-sim yet");
+        }
+        for (i, p) in store.pieces.iter().enumerate() {
+            let text = format!("{} · {} vertices · {}", p.name, p.vertices, p.fabric);
+            if ui
+                .selectable_label(self.selected == Some(i), text)
+                .on_hover_text("Select: the piece is tinted in the view")
+                .clicked()
+            {
+                self.selected = if self.selected == Some(i) {
+                    None
+                } else {
+                    Some(i)
+                };
+            }
+        }
+        if store.pieces_total as usize > store.pieces.len() {
+            ui.label(format!(
+                "… and {} more",
+                store.pieces_total as usize - store.pieces.len()
+            ));
+        }
+        if let Some(i) = self.selected {
+            ui.horizontal(|ui| {
+                if ui
+                    .button("Place at")
+                    .on_hover_text("Move the selected piece to the place chosen below")
+                    .clicked()
+                {
+                    actions.push(Action::Command(Command::PlacePiece {
+                        piece: i as u32,
+                        place: self.place,
+                    }));
+                }
+                if ui
+                    .button("Delete")
+                    .on_hover_text("Delete the selected piece (undo brings it back)")
+                    .clicked()
+                {
+                    actions.push(Action::Command(Command::DeletePiece { piece: i as u32 }));
+                    self.selected = None;
+                }
+            });
+        }
+        ui.horizontal(|ui| {
+            ui.label("Place");
+            place_combo(ui, "piece-place", &mut self.place);
+        });
+        self.add_section(ui, actions);
+        ui.checkbox(&mut self.pattern_open, "Pattern view")
+            .on_hover_text("The pieces flat, as they are now, with the stitches still pulling");
+    }
+
+    /// The new piece's shape, size or file, edge length, and the Add button.
+    fn add_section(&mut self, ui: &mut egui::Ui, actions: &mut Vec<Action>) {
+        ui.horizontal(|ui| {
+            for (code, name) in [
+                (shape::RECTANGLE, "Rectangle"),
+                (shape::ELLIPSE, "Ellipse"),
+                (shape::FILE, "From file"),
+            ] {
+                ui.selectable_value(&mut self.shape, code, name);
+            }
+        });
+        if self.shape == shape::FILE {
+            ui.add(
+                egui::TextEdit::singleline(&mut self.path)
+                    .hint_text("pattern.svg, .dxf or GarmentCode .json"),
+            )
+            .on_hover_text("Every piece of the file is added, its seams stitched");
+        } else {
+            ui.horizontal(|ui| {
+                for (k, label) in ["W", "H"].iter().enumerate() {
+                    ui.label(*label);
+                    ui.add(
+                        egui::DragValue::new(&mut self.size[k])
+                            .range(PIECE_SIZE.0..=PIECE_SIZE.1)
+                            .speed(0.01)
+                            .suffix(" m"),
+                    );
+                }
+            });
+        }
+        ui.add(
+            egui::Slider::new(&mut self.edge, PIECE_EDGE.0..=0.1)
+                .text("Edge")
+                .suffix(" m"),
+        )
+        .on_hover_text("The new piece's triangle side: shorter is finer and slower");
+        if ui
+            .button("Add piece")
+            .on_hover_text("Add the piece at the chosen place")
+            .clicked()
+        {
+            let [w, h] = self.size;
+            let shape = match self.shape {
+                shape::ELLIPSE => PieceShape::Ellipse { w, h },
+                shape::FILE => {
+                    if self.path.trim().is_empty() {
+                        actions.push(Action::Status(
+                            "Add piece: type a pattern file's path first".into(),
+                        ));
+                        return;
+                    }
+                    // cloth-sim resolves a relative path in its own directory: send ours.
+                    let path = std::path::absolute(self.path.trim()).map_or_else(
+                        |_| self.path.trim().to_string(),
+                        |p| p.display().to_string(),
+                    );
+                    PieceShape::File { path }
+                }
+                _ => PieceShape::Rectangle { w, h },
+            };
+            actions.push(Action::Command(Command::AddPiece {
+                shape,
+                place: self.place,
+                edge_m: self.edge,
+            }));
+        }
+    }
+
+    /// The pattern view's window, when open.
+    pub fn pattern_window(&mut self, ctx: &egui::Context, store: &Store) {
+        let mut open = self.pattern_open;
+        egui::Window::new("Pattern")
+            .open(&mut open)
+            .default_size([420.0, 420.0])
+            .show(ctx, |ui| pattern_view(ui, store));
+        self.pattern_open = open;
+    }
+}
+
+fn colour(c: [f32; 4]) -> egui::Color32 {
+    let b = |v: f32| (v.clamp(0.0, 1.0) * 255.0) as u8;
+    egui::Color32::from_rgb(b(c[0]), b(c[1]), b(c[2]))
+}
+
+/// Every piece's outline in the pattern (UV) plane, the highlighted piece bright, and a
+/// line for each stitch still pulling between the places it joins.
+fn pattern_view(ui: &mut egui::Ui, store: &Store) {
+    let Some(mesh) = &store.mesh else {
+        ui.label("No cloth heard from cloth-sim yet");
+        return;
+    };
+    let size = ui.available_size().max(egui::vec2(200.0, 200.0));
+    let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
+    let painter = ui.painter_at(rect);
+    painter.rect_filled(rect, 0.0, egui::Color32::from_gray(24));
+    let (mut lo, mut hi) = ([f32::MAX; 2], [f32::MIN; 2]);
+    for (a, b, _) in &mesh.outline {
+        for p in [a, b] {
+            for k in 0..2 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+    }
+    if lo[0] > hi[0] {
+        return;
+    }
+    let span = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-6);
+    let scale = 0.92 * rect.width().min(rect.height()) / span;
+    let at = |p: [f32; 2]| {
+        rect.center()
+            + egui::vec2(
+                (p[0] - 0.5 * (lo[0] + hi[0])) * scale,
+                (p[1] - 0.5 * (lo[1] + hi[1])) * scale,
+            )
+    };
+    for (a, b, piece) in &mesh.outline {
+        let bright = store.highlight == Some(*piece);
+        let (w, c) = if bright {
+            (2.0, colour(HIGHLIGHT))
+        } else {
+            (1.0, egui::Color32::from_gray(190))
+        };
+        painter.line_segment([at(*a), at(*b)], egui::Stroke::new(w, c));
+    }
+    // A stitch joins two vertices; each is drawn at its first place in the pattern.
+    let mut uv_of: std::collections::HashMap<u32, [f32; 2]> = Default::default();
+    for c in &mesh.corners {
+        uv_of.entry(c.vertex).or_insert([c.u, c.v]);
+    }
+    for [a, b] in &store.stitches {
+        if let (Some(pa), Some(pb)) = (uv_of.get(a), uv_of.get(b)) {
+            painter.line_segment(
+                [at(*pa), at(*pb)],
+                egui::Stroke::new(1.0, colour(STITCH_COLOUR).gamma_multiply(0.6)),
+            );
+        }
+    }
+}
