@@ -226,9 +226,9 @@ fn keys_load_and_reset(h: &mut Harness<'static, App>) {
         (op::RESET, 64, shared::ui_to_sim::body::CUBE)
     );
     assert!((c.uv[0] - 0.15).abs() < 1e-6 && c.uv[1] > 0.0);
-    // A click beside the cloth is explained, not sent.
-    h.get_by_label("Pin  (N)").click();
-    h.run_steps(2);
+    // A click beside the cloth is explained, not sent. (The tools panel scrolled down
+    // for the buttons above: scroll back to the tool.)
+    press(h, "Pin  (N)");
     let n = commands(h).len();
     let rect = h.state().view.rect.unwrap();
     click(h, rect.left_top() + egui::vec2(5.0, 5.0));
