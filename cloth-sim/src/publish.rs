@@ -164,6 +164,7 @@ impl ClothOut {
                     vertex: tri.v[k],
                     u: tri.uv[k].x,
                     v: tri.uv[k].y,
+                    pattern: [tri.rest[k].x, -tri.rest[k].z],
                 })
             });
             let s = s.write_from_fn(|_| corners.next().unwrap_or_default());

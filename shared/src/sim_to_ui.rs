@@ -3,7 +3,8 @@
 //! - `saiho/cloth-frame`, every simulation frame: `[f32]` with the positions (3 per vertex)
 //!   then the vertex normals (3 per vertex), under a [`ClothFrameHeader`].
 //! - `saiho/cloth-mesh`, when the topology changes (cut, tear, sew): `[MeshCorner]`, three
-//!   corners per triangle, each a vertex index and its own UV (a sewn vertex can have two).
+//!   corners per triangle, each a vertex index, its own UV and pattern place (a sewn
+//!   vertex can have two).
 //!
 //! Both keep the latest sample for a viewer that (re)starts.
 
@@ -47,6 +48,9 @@ pub struct MeshCorner {
     pub vertex: u32,
     pub u: f32,
     pub v: f32,
+    /// The corner's place in the design's pattern plane, m (x right, y up): where the
+    /// pattern view draws it (UVs of pieces added later may overlap; these do not).
+    pub pattern: [f32; 2],
 }
 
 /// The body the cloth drapes over (`saiho/body-mesh`, sent once, history 1). Its `[f32]`
@@ -160,10 +164,10 @@ pub fn check_mesh(h: &MeshHeader, corners: &[MeshCorner]) -> Result<(), MessageE
                 format!("corner {k} names vertex {} of {}", c.vertex, h.vertices),
             ));
         }
-        if !(c.u.is_finite() && c.v.is_finite()) {
+        if !(c.u.is_finite() && c.v.is_finite() && c.pattern.iter().all(|p| p.is_finite())) {
             return Err(malformed(
                 "cloth mesh",
-                format!("corner {k} has a non-finite UV"),
+                format!("corner {k} has a non-finite UV or pattern place"),
             ));
         }
     }

@@ -150,6 +150,7 @@ fn cloth_frames_and_meshes_are_checked() {
         vertex: v,
         u: 0.5,
         v: 0.5,
+        pattern: [0.1, 0.2],
     };
     check_mesh(&m, &[c(0), c(1), c(2)]).unwrap();
     assert!(

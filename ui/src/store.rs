@@ -24,12 +24,12 @@ pub struct Mesh {
     /// The pattern's pieces: each corner key (vertex and UV bits) to its piece, the
     /// triangles joined by shared keys (as cloth-sim finds its pieces).
     pub piece_of: std::collections::HashMap<Key, u32>,
-    /// The pattern's outline edges (in one triangle only, by key), as UV pairs with the
-    /// piece they belong to: what the pattern view draws.
+    /// The pattern's outline edges (in one triangle only, by key), as pairs of pattern
+    /// places (m) with the piece they belong to: what the pattern view draws.
     pub outline: Vec<OutlineEdge>,
 }
 
-/// An outline edge of the pattern: its two ends' UVs and its piece.
+/// An outline edge of the pattern: its two ends' pattern places (m) and its piece.
 pub type OutlineEdge = ([f32; 2], [f32; 2], u32);
 
 /// A corner of the pattern: its vertex and its UV's bits.
@@ -75,17 +75,17 @@ fn pieces_of(corners: &[MeshCorner]) -> (std::collections::HashMap<Key, u32>, Ve
             *count.entry((a.min(b), a.max(b))).or_insert(0) += 1;
         }
     }
-    let uv: Vec<[f32; 2]> = {
+    let place: Vec<[f32; 2]> = {
         let mut v = vec![[0.0; 2]; id.len()];
         for (c, &i) in corners.iter().zip(&keys) {
-            v[i] = [c.u, c.v];
+            v[i] = c.pattern;
         }
         v
     };
     let mut outline: Vec<OutlineEdge> = count
         .into_iter()
         .filter(|&(_, n)| n == 1)
-        .map(|((a, b), _)| (uv[a], uv[b], find(&mut parent, a) as u32))
+        .map(|((a, b), _)| (place[a], place[b], find(&mut parent, a) as u32))
         .collect();
     outline.sort_by(|p, q| p.partial_cmp(q).unwrap_or(std::cmp::Ordering::Equal));
     (piece_of, outline)
@@ -306,6 +306,7 @@ impl Store {
                         vertex: v as u32,
                         u,
                         v: w,
+                        pattern: [u, -w],
                     });
                 }
             }
@@ -394,7 +395,12 @@ mod tests {
 
     #[test]
     fn an_edge_two_pieces_share_at_different_pattern_places_is_sewn() {
-        let c = |vertex, u: f32, v: f32| MeshCorner { vertex, u, v };
+        let c = |vertex, u: f32, v: f32| MeshCorner {
+            vertex,
+            u,
+            v,
+            pattern: [u, -v],
+        };
         // Two triangles over edge (1, 2); the second maps it elsewhere on the pattern,
         // as after sewing two pieces. Edge (2, 3) shares its UVs: not sewn.
         let corners = vec![

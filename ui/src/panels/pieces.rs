@@ -194,8 +194,8 @@ fn colour(c: [f32; 4]) -> egui::Color32 {
     egui::Color32::from_rgb(b(c[0]), b(c[1]), b(c[2]))
 }
 
-/// Every piece's outline in the pattern (UV) plane, the highlighted piece bright, and a
-/// line for each stitch still pulling between the places it joins.
+/// Every piece's outline in the design's pattern plane, the highlighted piece bright, a
+/// line for each stitch still pulling between the places it joins, and a 10 cm scale.
 fn pattern_view(ui: &mut egui::Ui, store: &Store) {
     let Some(mesh) = &store.mesh else {
         ui.label("No cloth heard from cloth-sim yet");
@@ -219,13 +219,26 @@ fn pattern_view(ui: &mut egui::Ui, store: &Store) {
     }
     let span = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-6);
     let scale = 0.92 * rect.width().min(rect.height()) / span;
+    // Pattern y is up; the screen's is down.
     let at = |p: [f32; 2]| {
         rect.center()
             + egui::vec2(
                 (p[0] - 0.5 * (lo[0] + hi[0])) * scale,
-                (p[1] - 0.5 * (lo[1] + hi[1])) * scale,
+                -(p[1] - 0.5 * (lo[1] + hi[1])) * scale,
             )
     };
+    let bar = egui::pos2(rect.left() + 8.0, rect.bottom() - 10.0);
+    painter.line_segment(
+        [bar, bar + egui::vec2(0.1 * scale, 0.0)],
+        egui::Stroke::new(2.0, egui::Color32::from_gray(140)),
+    );
+    painter.text(
+        bar + egui::vec2(0.0, -4.0),
+        egui::Align2::LEFT_BOTTOM,
+        "10 cm",
+        egui::FontId::proportional(11.0),
+        egui::Color32::from_gray(140),
+    );
     for (a, b, piece) in &mesh.outline {
         let bright = store.highlight == Some(*piece);
         let (w, c) = if bright {
@@ -238,7 +251,7 @@ fn pattern_view(ui: &mut egui::Ui, store: &Store) {
     // A stitch joins two vertices; each is drawn at its first place in the pattern.
     let mut uv_of: std::collections::HashMap<u32, [f32; 2]> = Default::default();
     for c in &mesh.corners {
-        uv_of.entry(c.vertex).or_insert([c.u, c.v]);
+        uv_of.entry(c.vertex).or_insert(c.pattern);
     }
     for [a, b] in &store.stitches {
         if let (Some(pa), Some(pb)) = (uv_of.get(a), uv_of.get(b)) {
