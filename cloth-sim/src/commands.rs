@@ -77,23 +77,8 @@ pub(crate) fn carry_out(design: &mut Design, c: &Command) -> Result<String, Stri
             .remove_region(Vec2::from_array(*min), Vec2::from_array(*max))
             .map(|n| format!("Cut away: {n} triangles removed from the pattern"))
             .map_err(e),
-        Command::Seam { a, b, tolerance } => {
-            let seg = |s: &[[f32; 2]; 2]| s.map(Vec2::from_array);
-            let (sa, sb) = (seg(a), seg(b));
-            // The two sides' pattern lengths, for a warning when they do not match.
-            let la = design.pattern_length(&design.pattern_path(sa[0], sa[1], *tolerance));
-            let lb = design.pattern_length(&design.pattern_path(sb[0], sb[1], *tolerance));
-            design
-                .seam_on_pattern(sa, sb, *tolerance)
-                .map(|n| {
-                    format!(
-                        "Seam: {n} pairs of border vertices stitched; they pull together and \
-                         are sewn as they meet{}",
-                        mismatch_warning(la, lb)
-                    )
-                })
-                .map_err(e)
-        }
+        Command::Seam { a, b, tolerance } => seam(design, a, b, *tolerance, false),
+        Command::SeamPlane { a, b, tolerance_m } => seam(design, a, b, *tolerance_m, true),
         Command::SetMaterial { material, substeps } => set_material(design, material, *substeps),
         Command::Undo => design.undo().map(|l| format!("Undone: {l}")).map_err(e),
         Command::Redo => design.redo().map(|l| format!("Redone: {l}")).map_err(e),
@@ -212,6 +197,42 @@ fn add_piece(
             Ok(msg)
         }
     }
+}
+
+/// A seam between the border paths along two segments, in UV or (`plane`) in the
+/// design's pattern plane, with a warning when their lengths do not match.
+fn seam(
+    design: &mut Design,
+    a: &[[f32; 2]; 2],
+    b: &[[f32; 2]; 2],
+    tol: f32,
+    plane: bool,
+) -> Result<String, String> {
+    let seg = |s: &[[f32; 2]; 2]| s.map(Vec2::from_array);
+    let (sa, sb) = (seg(a), seg(b));
+    // The two sides' pattern lengths, for a warning when they do not match.
+    let path = |d: &Design, s: [Vec2; 2]| {
+        if plane {
+            d.plane_path(s[0], s[1], tol)
+        } else {
+            d.pattern_path(s[0], s[1], tol)
+        }
+    };
+    let la = design.pattern_length(&path(design, sa));
+    let lb = design.pattern_length(&path(design, sb));
+    let done = if plane {
+        design.seam_on_plane(sa, sb, tol)
+    } else {
+        design.seam_on_pattern(sa, sb, tol)
+    };
+    done.map(|n| {
+        format!(
+            "Seam: {n} pairs of border vertices stitched; they pull together and are sewn as \
+             they meet{}",
+            mismatch_warning(la, lb)
+        )
+    })
+    .map_err(|e| e.to_string())
 }
 
 fn set_material(

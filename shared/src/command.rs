@@ -135,6 +135,12 @@ pub enum Command {
         place: u32,
         edge_m: f32,
     },
+    /// As [`Command::Seam`], in the design's pattern plane (m).
+    SeamPlane {
+        a: [[f32; 2]; 2],
+        b: [[f32; 2]; 2],
+        tolerance_m: f32,
+    },
     /// Piece `piece` (in `saiho/pieces` order) moved to `place`.
     PlacePiece {
         piece: u32,
@@ -210,6 +216,7 @@ impl Command {
             Self::AddPiece { .. } => op::ADD_PIECE,
             Self::PlacePiece { .. } => op::PLACE_PIECE,
             Self::DeletePiece { .. } => op::DELETE_PIECE,
+            Self::SeamPlane { .. } => op::SEAM_PLANE,
         }
     }
 
@@ -253,7 +260,12 @@ impl Command {
             Self::RemoveRegion { min, max } => {
                 c.uv[..4].copy_from_slice(&[min[0], min[1], max[0], max[1]])
             }
-            Self::Seam { a, b, tolerance } => {
+            Self::Seam { a, b, tolerance }
+            | Self::SeamPlane {
+                a,
+                b,
+                tolerance_m: tolerance,
+            } => {
                 c.uv = [
                     a[0][0], a[0][1], a[1][0], a[1][1], b[0][0], b[0][1], b[1][0], b[1][1],
                 ];
@@ -388,6 +400,11 @@ impl Command {
                 place: c.b,
             },
             op::DELETE_PIECE => Self::DeletePiece { piece: c.a },
+            op::SEAM_PLANE => Self::SeamPlane {
+                a: [[u[0], u[1]], [u[2], u[3]]],
+                b: [[u[4], u[5]], [u[6], u[7]]],
+                tolerance_m: c.value,
+            },
             other => {
                 return Err(MessageError::Malformed {
                     what: ToolCommand::WHAT,
@@ -511,6 +528,11 @@ mod tests {
                 },
                 place: crate::ui_to_sim::place::FRONT,
                 edge_m: 0.03,
+            },
+            Command::SeamPlane {
+                a: [[0.1, -0.2], [0.1, -0.6]],
+                b: [[0.7, -0.2], [0.7, -0.6]],
+                tolerance_m: 0.01,
             },
             Command::PlacePiece { piece: 2, place: 3 },
             Command::DeletePiece { piece: 1 },

@@ -57,7 +57,10 @@ pub mod op {
     pub const PLACE_PIECE: u32 = 18;
     /// Piece `a` deleted.
     pub const DELETE_PIECE: u32 = 19;
-    pub const LAST: u32 = DELETE_PIECE;
+    /// As SEAM, the segments and tolerance in the design's pattern plane (m) rather
+    /// than UV: what the studio's pattern view draws.
+    pub const SEAM_PLANE: u32 = 20;
+    pub const LAST: u32 = SEAM_PLANE;
 }
 
 /// [`ToolCommand::b`] of a RESET: the body.
@@ -243,7 +246,8 @@ impl Checked for ToolCommand {
         if self.op == op::PLACE_PIECE && self.b > place::LAST {
             return Err(format!("place {} (0..={})", self.b, place::LAST));
         }
-        if self.op == op::SEAM && self.value.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+        if matches!(self.op, op::SEAM | op::SEAM_PLANE)
+            && self.value.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
         {
             return Err(format!(
                 "a seam needs a positive tolerance, got {}",

@@ -301,6 +301,27 @@ fn pieces_are_added_placed_and_deleted_undoably() {
         d.place_piece(7, Place::Back),
         Err(sim_core::design::EditError::NoPiece { index: 7, count: 3 })
     ));
+    // A seam drawn in the pattern plane: the pocket's top edge to the front's hem (both
+    // borders), as the studio's pattern view sends it.
+    let edge_of = |r: &sim_core::design::PieceRecord, top: bool| {
+        let l = &r.outline.loops[0];
+        let (lo, hi) = l
+            .iter()
+            .fold((glam::Vec2::MAX, glam::Vec2::MIN), |(a, b), p| {
+                (a.min(*p), b.max(*p))
+            });
+        let y = if top { hi.y } else { lo.y };
+        [
+            glam::Vec2::new(lo.x, y) + r.offset,
+            glam::Vec2::new(hi.x, y) + r.offset,
+        ]
+    };
+    let (hem, top) = (edge_of(&d.pieces[0], false), edge_of(&d.pieces[2], true));
+    let seams = d.seams.len();
+    let pairs = d.seam_on_plane(top, hem, 0.01).unwrap();
+    assert!(pairs >= 5, "{pairs} pairs");
+    assert_eq!(d.seams.len(), seams + 1);
+    assert_eq!(d.undo().unwrap(), "seam");
     // Deleted: two pieces listed again.
     d.delete_piece(2).unwrap();
     assert_eq!(d.piece_list().len(), 2);

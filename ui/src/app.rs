@@ -586,7 +586,7 @@ impl eframe::App for App {
             .show(ui, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| self.left_column(ui, &mut actions));
             });
-        self.pieces.pattern_window(&ctx, &self.store);
+        self.pieces.pattern_window(&ctx, &self.store, &mut actions);
         egui::Panel::right("status panel")
             .frame(panel)
             .default_size(300.0)

@@ -513,4 +513,44 @@ fn the_pieces_panel_lists_selects_adds_places_and_deletes() {
     press(&mut h, "Pattern view");
     assert!(h.state().pieces.pattern_open);
     h.get_by_label("Pattern");
+    // Two drags in the pattern view: a seam between the borders they follow, sent in
+    // the pattern plane (the demo cloth's is its UV square, y down: x in 0..1, y in -1..0).
+    let hint = h
+        .get_by_label("Drag along a border, then along another: a seam joins them")
+        .rect();
+    let n = commands(&h).len();
+    let view = egui::Rect::from_min_size(
+        egui::pos2(hint.left(), hint.bottom() + 8.0),
+        egui::vec2(hint.width().max(300.0), 300.0),
+    );
+    let drag = |h: &mut Harness<'_, App>, a: egui::Pos2, b: egui::Pos2| {
+        h.hover_at(a);
+        h.run_steps(1);
+        h.drag_at(a);
+        h.run_steps(2);
+        h.hover_at(b);
+        h.run_steps(2);
+        h.drop_at(b);
+        h.run_steps(2);
+    };
+    let c = view.center();
+    drag(
+        &mut h,
+        c + egui::vec2(-60.0, -60.0),
+        c + egui::vec2(-60.0, 60.0),
+    );
+    assert_eq!(h.state().pieces.seam_sides.len(), 1);
+    drag(
+        &mut h,
+        c + egui::vec2(60.0, -60.0),
+        c + egui::vec2(60.0, 60.0),
+    );
+    let sent = commands(&h);
+    assert_eq!(sent.len(), n + 1, "one seam");
+    let s = sent.last().unwrap();
+    assert_eq!(s.op, op::SEAM_PLANE);
+    // Side a runs down the view (pattern y falls), left of side b; the tolerance is metres.
+    assert!(s.uv[1] > s.uv[3] && s.uv[0] < s.uv[4], "{:?}", s.uv);
+    assert!(s.value > 0.0 && s.value <= 0.05, "{}", s.value);
+    assert!(h.state().pieces.seam_sides.is_empty());
 }

@@ -1,5 +1,6 @@
-//! Operations given on the pattern (UV space), as a designer selects in a 2D pattern
-//! view: delete a rectangle of cloth, or seam two boundary paths drawn as segments.
+//! Operations given on the pattern, as a designer selects in a 2D pattern view: delete a
+//! rectangle of cloth, or seam two boundary paths drawn as segments (in UV space, or in
+//! the design's pattern plane, where pieces added later never overlap).
 
 use glam::Vec2;
 
@@ -44,6 +45,20 @@ impl Design {
     /// The live border vertices within `tol` (UV) of segment `a -> b`, past its start (by
     /// more than `tol`), in order from `a` to `b`.
     pub fn pattern_path(&self, a: Vec2, b: Vec2, tol: f32) -> Vec<u32> {
+        self.path_near(a, b, tol, |v| vertex_places(self, v, |t, k| t.uv[k]))
+    }
+
+    /// [`Design::pattern_path`] in the design's pattern plane (its x and -z, m): what the
+    /// studio's pattern view draws, where pieces never overlap (their UVs may).
+    pub fn plane_path(&self, a: Vec2, b: Vec2, tol: f32) -> Vec<u32> {
+        self.path_near(a, b, tol, |v| {
+            vertex_places(self, v, |t, k| Vec2::new(t.rest[k].x, -t.rest[k].z))
+        })
+    }
+
+    /// The border vertices with a place (of those `places` gives) within `tol` of segment
+    /// `a -> b`, past its start, in order from `a` to `b`.
+    fn path_near(&self, a: Vec2, b: Vec2, tol: f32, places: impl Fn(u32) -> Vec<Vec2>) -> Vec<u32> {
         let d = b - a;
         let len2 = d.length_squared();
         if len2 <= 0.0 || tol.is_nan() || tol <= 0.0 {
@@ -54,10 +69,11 @@ impl Design {
         let mut on: Vec<(f32, u32)> = (0..self.sim.cloth.len() as u32)
             .filter(|&v| live.vertex_alive(v) && live.is_boundary(v))
             .filter_map(|v| {
-                let p = self.vertex_uv(v)?;
-                let t = (p - a).dot(d) / len2;
-                let dist = (p - (a + d * t.clamp(0.0, 1.0))).length();
-                (dist < tol && t * len > tol && t <= 1.0 + tol / len).then_some((t, v))
+                places(v).into_iter().find_map(|p| {
+                    let t = (p - a).dot(d) / len2;
+                    let dist = (p - (a + d * t.clamp(0.0, 1.0))).length();
+                    (dist < tol && t * len > tol && t <= 1.0 + tol / len).then_some((t, v))
+                })
             })
             .collect();
         on.sort_by(|x, y| x.0.total_cmp(&y.0));
@@ -81,11 +97,45 @@ impl Design {
         }
         let pa = self.pattern_path(a[0], a[1], tol);
         let pb = self.pattern_path(b[0], b[1], tol);
+        self.seam_paths(&pa, &pb)
+    }
+
+    /// [`Design::seam_on_pattern`] with segments in the design's pattern plane (m), as
+    /// the studio's pattern view draws it; returns the stitched pairs.
+    pub fn seam_on_plane(
+        &mut self,
+        a: [Vec2; 2],
+        b: [Vec2; 2],
+        tol: f32,
+    ) -> Result<usize, EditError> {
+        if !(tol.is_finite() && tol > 0.0) {
+            return Err(EditError::BadValue {
+                name: "seam tolerance",
+                rule: "a positive distance on the pattern",
+                value: tol.to_string(),
+            });
+        }
+        let pa = self.plane_path(a[0], a[1], tol);
+        let pb = self.plane_path(b[0], b[1], tol);
+        self.seam_paths(&pa, &pb)
+    }
+
+    fn seam_paths(&mut self, pa: &[u32], pb: &[u32]) -> Result<usize, EditError> {
         if pa.len() < 2 || pb.len() < 2 {
             return Err(EditError::NothingOnPattern {
                 what: "border path of two or more vertices",
             });
         }
-        self.add_seam(&pa, &pb, STITCH_FORCE)
+        self.add_seam(pa, pb, STITCH_FORCE)
     }
+}
+
+/// Vertex `v`'s places in the pattern, one per triangle corner it has (`at` reads one).
+fn vertex_places(d: &Design, v: u32, at: impl Fn(&crate::mesh::Tri, usize) -> Vec2) -> Vec<Vec2> {
+    let live = &d.sim.cloth.live;
+    live.tris_of(v)
+        .iter()
+        .filter_map(|&t| live.tri(t))
+        .filter_map(|t| t.corner(v).map(|k| at(t, k)))
+        .collect()
 }

@@ -22,6 +22,10 @@ pub struct PiecesPanel {
     /// The new piece's mesh edge, m.
     pub edge: f32,
     pub pattern_open: bool,
+    /// Seam sides drawn in the pattern view so far (pattern plane, m), and the drag
+    /// under way.
+    pub seam_sides: Vec<[[f32; 2]; 2]>,
+    drag_from: Option<[f32; 2]>,
 }
 
 impl Default for PiecesPanel {
@@ -34,6 +38,8 @@ impl Default for PiecesPanel {
             place: place::FRONT,
             edge: 0.03,
             pattern_open: false,
+            seam_sides: Vec::new(),
+            drag_from: None,
         }
     }
 }
@@ -179,86 +185,167 @@ impl PiecesPanel {
     }
 
     /// The pattern view's window, when open.
-    pub fn pattern_window(&mut self, ctx: &egui::Context, store: &Store) {
+    pub fn pattern_window(
+        &mut self,
+        ctx: &egui::Context,
+        store: &Store,
+        actions: &mut Vec<Action>,
+    ) {
         let mut open = self.pattern_open;
         egui::Window::new("Pattern")
             .open(&mut open)
-            .default_size([420.0, 420.0])
-            .show(ctx, |ui| pattern_view(ui, store));
+            .default_size([420.0, 440.0])
+            .show(ctx, |ui| {
+                ui.label("Drag along a border, then along another: a seam joins them")
+                    .on_hover_text(
+                        "Each side from its start to its end; right-click forgets a first side",
+                    );
+                self.pattern_view(ui, store, actions);
+            });
         self.pattern_open = open;
+    }
+
+    /// Every piece's outline in the design's pattern plane, the highlighted piece bright, a
+    /// line for each stitch still pulling between the places it joins, and a 10 cm scale;
+    /// two drags make a seam between the borders they follow.
+    fn pattern_view(&mut self, ui: &mut egui::Ui, store: &Store, actions: &mut Vec<Action>) {
+        let Some(mesh) = &store.mesh else {
+            ui.label("No cloth heard from cloth-sim yet");
+            return;
+        };
+        let size = ui.available_size().max(egui::vec2(200.0, 200.0));
+        let (rect, response) = ui.allocate_exact_size(size, egui::Sense::click_and_drag());
+        let Some(frame) = PatternFrame::of(mesh, rect) else {
+            return;
+        };
+        let painter = ui.painter_at(rect);
+        painter.rect_filled(rect, 0.0, egui::Color32::from_gray(24));
+        frame.draw(&painter, mesh, store);
+        // Two drags, each a side from its start to its end.
+        // A drag starts once the pointer has moved; the side starts where it was pressed.
+        if response.drag_started()
+            && let Some(p) = ui.input(|i| i.pointer.press_origin())
+        {
+            self.drag_from = Some(frame.to_plane(p));
+        }
+        if let (Some(a), Some(p)) = (self.drag_from, response.interact_pointer_pos()) {
+            let b = frame.to_plane(p);
+            painter.line_segment([frame.at(a), frame.at(b)], egui::Stroke::new(2.0, SIDE));
+            if response.drag_stopped() {
+                self.drag_from = None;
+                self.seam_sides.push([a, b]);
+            }
+        }
+        if response.secondary_clicked() {
+            self.seam_sides.clear();
+        }
+        for s in &self.seam_sides {
+            painter.line_segment(
+                [frame.at(s[0]), frame.at(s[1])],
+                egui::Stroke::new(2.0, SIDE),
+            );
+        }
+        if let [a, b] = self.seam_sides[..] {
+            self.seam_sides.clear();
+            actions.push(Action::Command(Command::SeamPlane {
+                a,
+                b,
+                // Eight pixels either side of the line, in metres.
+                tolerance_m: (8.0 / frame.scale).clamp(0.002, 0.05),
+            }));
+        }
+    }
+}
+
+/// What a drawn seam side looks like.
+const SIDE: egui::Color32 = egui::Color32::from_rgb(90, 220, 120);
+
+/// The pattern plane fitted into a rectangle of the screen.
+struct PatternFrame {
+    rect: egui::Rect,
+    centre: [f32; 2],
+    /// Pixels per metre.
+    scale: f32,
+}
+
+impl PatternFrame {
+    fn of(mesh: &crate::store::Mesh, rect: egui::Rect) -> Option<Self> {
+        let (mut lo, mut hi) = ([f32::MAX; 2], [f32::MIN; 2]);
+        for (a, b, _) in &mesh.outline {
+            for p in [a, b] {
+                for k in 0..2 {
+                    lo[k] = lo[k].min(p[k]);
+                    hi[k] = hi[k].max(p[k]);
+                }
+            }
+        }
+        if lo[0] > hi[0] {
+            return None;
+        }
+        let span = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-6);
+        Some(Self {
+            rect,
+            centre: [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])],
+            scale: 0.92 * rect.width().min(rect.height()) / span,
+        })
+    }
+
+    /// A pattern place on the screen (pattern y is up, the screen's down).
+    fn at(&self, p: [f32; 2]) -> egui::Pos2 {
+        self.rect.center()
+            + egui::vec2(
+                (p[0] - self.centre[0]) * self.scale,
+                -(p[1] - self.centre[1]) * self.scale,
+            )
+    }
+
+    /// The pattern place under a screen point.
+    fn to_plane(&self, q: egui::Pos2) -> [f32; 2] {
+        let d = q - self.rect.center();
+        [
+            self.centre[0] + d.x / self.scale,
+            self.centre[1] - d.y / self.scale,
+        ]
+    }
+
+    /// The outlines, the stitches still pulling and the scale bar.
+    fn draw(&self, painter: &egui::Painter, mesh: &crate::store::Mesh, store: &Store) {
+        let bar = egui::pos2(self.rect.left() + 8.0, self.rect.bottom() - 10.0);
+        let grey = egui::Color32::from_gray(140);
+        painter.line_segment(
+            [bar, bar + egui::vec2(0.1 * self.scale, 0.0)],
+            egui::Stroke::new(2.0, grey),
+        );
+        painter.text(
+            bar + egui::vec2(0.0, -4.0),
+            egui::Align2::LEFT_BOTTOM,
+            "10 cm",
+            egui::FontId::proportional(11.0),
+            grey,
+        );
+        for (a, b, piece) in &mesh.outline {
+            let (w, c) = if store.highlight == Some(*piece) {
+                (2.0, colour(HIGHLIGHT))
+            } else {
+                (1.0, egui::Color32::from_gray(190))
+            };
+            painter.line_segment([self.at(*a), self.at(*b)], egui::Stroke::new(w, c));
+        }
+        // A stitch joins two vertices; each is drawn at its first place in the pattern.
+        let mut place_of: std::collections::HashMap<u32, [f32; 2]> = Default::default();
+        for c in &mesh.corners {
+            place_of.entry(c.vertex).or_insert(c.pattern);
+        }
+        let stitch = egui::Stroke::new(1.0, colour(STITCH_COLOUR).gamma_multiply(0.6));
+        for [a, b] in &store.stitches {
+            if let (Some(pa), Some(pb)) = (place_of.get(a), place_of.get(b)) {
+                painter.line_segment([self.at(*pa), self.at(*pb)], stitch);
+            }
+        }
     }
 }
 
 fn colour(c: [f32; 4]) -> egui::Color32 {
     let b = |v: f32| (v.clamp(0.0, 1.0) * 255.0) as u8;
     egui::Color32::from_rgb(b(c[0]), b(c[1]), b(c[2]))
-}
-
-/// Every piece's outline in the design's pattern plane, the highlighted piece bright, a
-/// line for each stitch still pulling between the places it joins, and a 10 cm scale.
-fn pattern_view(ui: &mut egui::Ui, store: &Store) {
-    let Some(mesh) = &store.mesh else {
-        ui.label("No cloth heard from cloth-sim yet");
-        return;
-    };
-    let size = ui.available_size().max(egui::vec2(200.0, 200.0));
-    let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
-    let painter = ui.painter_at(rect);
-    painter.rect_filled(rect, 0.0, egui::Color32::from_gray(24));
-    let (mut lo, mut hi) = ([f32::MAX; 2], [f32::MIN; 2]);
-    for (a, b, _) in &mesh.outline {
-        for p in [a, b] {
-            for k in 0..2 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
-    }
-    if lo[0] > hi[0] {
-        return;
-    }
-    let span = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-6);
-    let scale = 0.92 * rect.width().min(rect.height()) / span;
-    // Pattern y is up; the screen's is down.
-    let at = |p: [f32; 2]| {
-        rect.center()
-            + egui::vec2(
-                (p[0] - 0.5 * (lo[0] + hi[0])) * scale,
-                -(p[1] - 0.5 * (lo[1] + hi[1])) * scale,
-            )
-    };
-    let bar = egui::pos2(rect.left() + 8.0, rect.bottom() - 10.0);
-    painter.line_segment(
-        [bar, bar + egui::vec2(0.1 * scale, 0.0)],
-        egui::Stroke::new(2.0, egui::Color32::from_gray(140)),
-    );
-    painter.text(
-        bar + egui::vec2(0.0, -4.0),
-        egui::Align2::LEFT_BOTTOM,
-        "10 cm",
-        egui::FontId::proportional(11.0),
-        egui::Color32::from_gray(140),
-    );
-    for (a, b, piece) in &mesh.outline {
-        let bright = store.highlight == Some(*piece);
-        let (w, c) = if bright {
-            (2.0, colour(HIGHLIGHT))
-        } else {
-            (1.0, egui::Color32::from_gray(190))
-        };
-        painter.line_segment([at(*a), at(*b)], egui::Stroke::new(w, c));
-    }
-    // A stitch joins two vertices; each is drawn at its first place in the pattern.
-    let mut uv_of: std::collections::HashMap<u32, [f32; 2]> = Default::default();
-    for c in &mesh.corners {
-        uv_of.entry(c.vertex).or_insert(c.pattern);
-    }
-    for [a, b] in &store.stitches {
-        if let (Some(pa), Some(pb)) = (uv_of.get(a), uv_of.get(b)) {
-            painter.line_segment(
-                [at(*pa), at(*pb)],
-                egui::Stroke::new(1.0, colour(STITCH_COLOUR).gamma_multiply(0.6)),
-            );
-        }
-    }
 }
