@@ -88,13 +88,7 @@ impl Design {
         b: [Vec2; 2],
         tol: f32,
     ) -> Result<usize, EditError> {
-        if !(tol.is_finite() && tol > 0.0) {
-            return Err(EditError::BadValue {
-                name: "seam tolerance",
-                rule: "a positive distance on the pattern",
-                value: tol.to_string(),
-            });
-        }
+        seam_tolerance(tol)?;
         let pa = self.pattern_path(a[0], a[1], tol);
         let pb = self.pattern_path(b[0], b[1], tol);
         self.seam_paths(&pa, &pb)
@@ -108,13 +102,7 @@ impl Design {
         b: [Vec2; 2],
         tol: f32,
     ) -> Result<usize, EditError> {
-        if !(tol.is_finite() && tol > 0.0) {
-            return Err(EditError::BadValue {
-                name: "seam tolerance",
-                rule: "a positive distance on the pattern",
-                value: tol.to_string(),
-            });
-        }
+        seam_tolerance(tol)?;
         let pa = self.plane_path(a[0], a[1], tol);
         let pb = self.plane_path(b[0], b[1], tol);
         self.seam_paths(&pa, &pb)
@@ -138,4 +126,17 @@ fn vertex_places(d: &Design, v: u32, at: impl Fn(&crate::mesh::Tri, usize) -> Ve
         .filter_map(|&t| live.tri(t))
         .filter_map(|t| t.corner(v).map(|k| at(t, k)))
         .collect()
+}
+
+/// A seam's tolerance must be a positive distance.
+fn seam_tolerance(tol: f32) -> Result<(), EditError> {
+    if tol.is_finite() && tol > 0.0 {
+        Ok(())
+    } else {
+        Err(EditError::BadValue {
+            name: "seam tolerance",
+            rule: "a positive distance on the pattern",
+            value: tol.to_string(),
+        })
+    }
 }
