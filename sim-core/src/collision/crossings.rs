@@ -272,20 +272,72 @@ pub fn fan_crossings(
     body: Option<&Body>,
 ) -> usize {
     let tri = |t: [u32; 3]| Some([at(t[0])?, at(t[1])?, at(t[2])?]);
-    // Each other triangle: its vertices, corners and bounds.
+    // Each other triangle: its vertices, corners and bounds, in a uniform grid of cells
+    // twice the typical triangle (a piece of 14,000 triangles against a dress of 2,700
+    // took 170 ms pair by pair).
     type Placed = ([u32; 3], [Vec3; 3], (Vec3, Vec3));
     let other: Vec<Placed> = others
         .iter()
         .filter_map(|&o| tri(o).map(|c| (o, c, bounds(&c))))
+        .filter(|(_, _, (lo, hi))| lo.is_finite() && hi.is_finite())
         .collect();
+    let mut extents: Vec<f32> = other
+        .iter()
+        .map(|(_, _, (lo, hi))| (*hi - *lo).max_element())
+        .collect();
+    extents.sort_by(f32::total_cmp);
+    let cell = 2.0
+        * extents
+            .get(extents.len() / 2)
+            .copied()
+            .unwrap_or(1.0)
+            .max(1e-4);
+    let key = |p: Vec3| {
+        let c = (p / cell).floor();
+        (c.x as i32, c.y as i32, c.z as i32)
+    };
+    let cells = |lo: Vec3, hi: Vec3| {
+        let (a, b) = (key(lo), key(hi));
+        (a.0..=b.0)
+            .flat_map(move |x| (a.1..=b.1).flat_map(move |y| (a.2..=b.2).map(move |z| (x, y, z))))
+    };
+    let mut grid: HashMap<(i32, i32, i32), Vec<u32>> = HashMap::new();
+    let mut huge = Vec::new();
+    for (i, (_, _, (lo, hi))) in other.iter().enumerate() {
+        // A triangle far larger than the cells (a stray vertex) is tested against all.
+        if ((*hi - *lo) / cell).max_element() > 16.0 {
+            huge.push(i as u32);
+            continue;
+        }
+        for c in cells(*lo, *hi) {
+            grid.entry(c).or_default().push(i as u32);
+        }
+    }
+    let mut seen = vec![usize::MAX; other.len()];
     let mut near = Vec::new();
     let mut count = 0;
-    for &f in fan {
+    for (n, &f) in fan.iter().enumerate() {
         let Some(c) = tri(f) else {
             continue;
         };
         let (lo, hi) = bounds(&c);
-        for (o, d, (olo, ohi)) in &other {
+        let candidates: Box<dyn Iterator<Item = u32>> =
+            if !(lo.is_finite() && hi.is_finite()) || ((hi - lo) / cell).max_element() > 16.0 {
+                Box::new(0..other.len() as u32)
+            } else {
+                Box::new(
+                    cells(lo, hi)
+                        .filter_map(|k| grid.get(&k))
+                        .flatten()
+                        .copied()
+                        .chain(huge.iter().copied()),
+                )
+            };
+        for i in candidates {
+            if std::mem::replace(&mut seen[i as usize], n) == n {
+                continue;
+            }
+            let (o, d, (olo, ohi)) = &other[i as usize];
             if lo.cmpgt(*ohi).any() || olo.cmpgt(hi).any() || share_vertex(f, *o) {
                 continue;
             }
@@ -538,6 +590,33 @@ mod tests {
             }
             proptest::prop_assert_eq!(count_self(&x, &tris), reference);
             proptest::prop_assert_eq!(count_self_brute(&x, &tris), reference);
+        }
+
+        /// The fan count through its grid equals the pairs by SAT between the soup's
+        /// first `k` triangles and the rest.
+        #[test]
+        fn the_fan_count_equals_brute_force_on_soups(
+            soup in proptest::collection::vec(small_triangle(), 2..40),
+            shift in proptest::collection::vec(proptest::array::uniform3(0i64..4), 40),
+            k in 1usize..20,
+        ) {
+            let soup: Vec<[[i64; 3]; 3]> = soup
+                .iter()
+                .zip(&shift)
+                .map(|(t, s)| t.map(|p| [p[0] + s[0], p[1] + s[1], p[2] + s[2]]))
+                .collect();
+            let k = k.min(soup.len() - 1);
+            let x: Vec<Vec3> = soup.iter().flat_map(to_f32).collect();
+            let tris: Vec<[u32; 3]> =
+                (0..soup.len() as u32).map(|i| [3 * i, 3 * i + 1, 3 * i + 2]).collect();
+            let mut reference = 0;
+            for i in 0..k {
+                for j in k..soup.len() {
+                    reference += usize::from(sat_intersect(&soup[i], &soup[j]));
+                }
+            }
+            let at = |v: u32| x.get(v as usize).copied();
+            proptest::prop_assert_eq!(fan_crossings(at, &tris[..k], &tris[k..], None), reference);
         }
     }
 }

@@ -84,8 +84,9 @@ impl Design {
                 cloth.v.pop();
                 cloth.mass.pop();
                 cloth.inv_mass.pop();
+                // `sync` drops touched vertices past the end (a retain here cost O(n)
+                // per vertex: seconds to undo a large added piece).
                 cloth.pinned.pop();
-                touched.verts.retain(|&i| i != *index);
             }
             Prim::Move { vertex, new, .. } => {
                 let i = *vertex as usize;
