@@ -235,9 +235,15 @@ fn seam_segments(
         let before = own[(i + n - 1) % n];
         let dir = |e: usize| (places[&l[(e + 1) % n]] - places[&l[e % n]]).normalize_or_zero();
         let d0 = dir(i + n - 1);
-        if let Some(len) = (1..=SEAM_GAP.min(n - 1)).find(|&k| own[(i + k) % n].is_some())
-            && own[(i + len) % n] == before
-            && (0..=len).all(|k| dir(i + k).dot(d0) > 0.95)
+        // The run ends at the first vertex of the same seam (a side's last vertex can
+        // follow one the pairing skipped, with no labelled edge after it).
+        let in_before = |k: usize| {
+            seam_of
+                .get(&l[(i + k) % n].0)
+                .is_some_and(|labels| before.is_some_and(|b| labels.contains(b)))
+        };
+        if let Some(len) = (1..=SEAM_GAP.min(n - 1)).find(|&k| in_before(k))
+            && (0..len).all(|k| dir(i + k).dot(d0) > 0.95)
         {
             for k in 0..len {
                 out[(i + k) % n] = before;
@@ -570,6 +576,14 @@ mod tests {
         let s = seam_segments(&l, &places, &seam_of);
         let edges: Vec<(u32, u32)> = s.iter().map(|(_, a, b)| (a.0, b.0)).collect();
         // 1-2 and 2-3 filled; 4-5-6 turns a corner: not.
+        assert_eq!(edges, vec![(0, 1), (1, 2), (2, 3), (3, 4)]);
+        // The seam's last vertex follows a skipped one, and the outline turns at it (the
+        // dress's back at the armhole corner, 29 mm of seam D lost before): 3-4 is the
+        // seam's all the same.
+        let seam_of: HashMap<u32, Vec<String>> =
+            [0, 1, 2, 4].map(|v| (v, vec!["A".to_string()])).into();
+        let s = seam_segments(&l, &places, &seam_of);
+        let edges: Vec<(u32, u32)> = s.iter().map(|(_, a, b)| (a.0, b.0)).collect();
         assert_eq!(edges, vec![(0, 1), (1, 2), (2, 3), (3, 4)]);
     }
 
