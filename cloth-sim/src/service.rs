@@ -211,6 +211,8 @@ impl Service<'_> {
                 // rate starts over with it.
                 self.tel_at = (Instant::now(), self.design.sim.frame);
                 self.cloth_out.mesh_sent = None;
+                // Another design may have the same mesh version and piece count.
+                self.pieces_sent = None;
                 self.tools.sew_first = None;
                 if let Err(e) = publish_body(&self.ports.body, &self.design) {
                     log(&format!("publishing the body failed: {e}"));

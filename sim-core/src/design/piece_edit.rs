@@ -10,18 +10,13 @@ use glam::{Vec2, Vec3};
 
 use super::document::Design;
 use super::error::EditError;
-use super::garment::{Landmarks, PieceSpec, Place, Placement, place};
+use super::garment::{LAYER, Landmarks, PATTERN_GAP, PieceSpec, Place, Placement, SIMPLIFY, place};
 use super::pieces::PieceRecord;
 use super::prim::Prim;
 use crate::collision::crossings::fan_crossings;
 use crate::mesh::{Tri, bounds2, mesher};
 
-/// Space between a new piece's band and the pattern already there, m.
-const PATTERN_GAP: f32 = 0.05;
-/// Outline points closer than this many edge lengths are thinned (`mesher::simplify`).
-const SIMPLIFY: f32 = 0.4;
-/// How far out each further try to start a new piece goes, m, and how many tries.
-const LAYER: f32 = 0.015;
+/// How many layers out (each `LAYER`, as a pattern's pieces use) a new piece may try.
 const LAYERS: usize = 8;
 
 impl Design {

@@ -10,11 +10,11 @@ use crate::mesh::mesher::{self, MeshError, Outline};
 use crate::mesh::{ClothMesh, bounds2};
 
 /// Space between pieces in the design's pattern plane, m.
-const PATTERN_GAP: f32 = 0.05;
+pub(crate) const PATTERN_GAP: f32 = 0.05;
 
 /// Outline points closer than this many edge lengths to the one before are dropped
 /// (`mesher::simplify`): the outline moves by less than this, well within an edge.
-const SIMPLIFY: f32 = 0.4;
+pub(crate) const SIMPLIFY: f32 = 0.4;
 
 #[derive(Debug, thiserror::Error)]
 pub enum GarmentError {
@@ -121,7 +121,7 @@ pub fn assemble(
 }
 
 /// Space between layers of pieces that would start in one place, m.
-const LAYER: f32 = 0.015;
+pub(crate) const LAYER: f32 = 0.015;
 
 /// Every piece's placement (the front for one without), each piece round the torso that
 /// would start on or within 1 cm of an earlier one (their arcs and heights overlapping)

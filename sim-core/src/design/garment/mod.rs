@@ -13,6 +13,7 @@ mod place;
 mod spec;
 
 pub use assemble::{Assembled, GarmentError, Sewn, assemble, sew};
+pub(crate) use assemble::{LAYER, PATTERN_GAP, SIMPLIFY};
 pub use garmentcode::{GC_RAISE, read_garmentcode};
 pub use import::{ImportError, load_pattern, pattern_from_outlines};
 pub use place::{Landmarks, Place, PlaceError, Placement, place};
