@@ -108,6 +108,18 @@ pub(crate) fn carry_out(design: &mut Design, c: &Command) -> Result<String, Stri
                 .map(|n| format!("Deleted {name} ({n} triangles)"))
                 .map_err(e)
         }
+        Command::RemoveSeam { seam } => {
+            let label = sim_core::design::sewing_pattern::seam_label(*seam as usize);
+            design
+                .remove_seam(*seam as usize)
+                .map(|n| {
+                    format!(
+                        "Removed seam {label} ({n} pairs); pairs already sewn stay sewn, and \
+                         the seams after it move up a letter"
+                    )
+                })
+                .map_err(e)
+        }
         Command::SetTool { .. }
         | Command::Reset { .. }
         | Command::Load { .. }

@@ -7,9 +7,10 @@ use shared::Header;
 use shared::services::SlicePub;
 use shared::sim_to_haptic::{LocalModel, MAX_PLANES};
 use shared::sim_to_ui::{
-    BodyMeshHeader, ClothFrameHeader, MAX_LISTED, MeshCorner, MeshHeader, PieceList, TextureTile,
-    put_text,
+    BodyMeshHeader, ClothFrameHeader, MAX_LISTED, MeshCorner, MeshHeader, PieceList, SeamEntry,
+    TextureTile, put_text,
 };
+use sim_core::design::sewing_pattern::seam_label;
 use sim_core::design::{Design, TILE, Texture};
 
 fn port_error(e: impl std::fmt::Debug) -> String {
@@ -230,6 +231,20 @@ pub(crate) fn piece_list(design: &Design, seq: &mut u64) -> PieceList {
             e.anchor_vertex = v;
             e.anchor_uv = uv.to_array();
         }
+    }
+    l.seam_total = design.seams.len() as u32;
+    l.seam_count = design.seams.len().min(MAX_LISTED) as u32;
+    for (i, (e, s)) in l.seams.iter_mut().zip(&design.seams).enumerate() {
+        let (a, b) = design.seam_lengths(s);
+        let mut label = [0u8; 4];
+        let label_len = put_text(&mut label, &seam_label(i));
+        *e = SeamEntry {
+            label,
+            label_len,
+            pairs: s.pairs.len() as u32,
+            open: s.open_pairs().count() as u32,
+            lengths: [a, b],
+        };
     }
     l
 }

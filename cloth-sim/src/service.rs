@@ -42,8 +42,9 @@ struct Service<'a> {
     /// When the telemetry was last sent, and the frame then.
     tel_at: (Instant, u64),
     tool_sent: Option<ToolState>,
-    /// The mesh version and piece count the last piece list was sent for.
-    pieces_sent: Option<(u64, usize)>,
+    /// The mesh version, piece and seam counts and open stitches the last piece list was
+    /// sent for.
+    pieces_sent: Option<(u64, usize, usize, usize)>,
     seq_pieces: u64,
     tile_cursor: usize,
     threads: usize,
@@ -233,9 +234,15 @@ impl Service<'_> {
     /// The piece list, when the mesh or the pieces changed (the history gives a late UI
     /// the last one).
     fn publish_pieces(&mut self) {
+        let d = &self.design;
         let key = (
-            self.design.sim.cloth.live.version(),
-            self.design.pieces.len(),
+            d.sim.cloth.live.version(),
+            d.pieces.len(),
+            d.seams.len(),
+            d.seams
+                .iter()
+                .map(|s| s.open_pairs().count())
+                .sum::<usize>(),
         );
         let _ = self.ports.pieces.update_connections();
         if self.pieces_sent == Some(key) {

@@ -851,6 +851,32 @@ fn pieces_are_added_placed_listed_and_deleted_over_the_protocol() {
     assert_eq!(r.ok, 1, "{}", r.message());
     assert!(r.message().contains("4 seams stitched"), "{}", r.message());
     assert_eq!(names(4).len(), 4);
+    // Its seams are listed; the second is removed and the list says so.
+    let seams = |n: usize| -> Vec<String> {
+        let deadline = Instant::now() + Duration::from_secs(10);
+        loop {
+            while let Some(l) = lists.receive().unwrap() {
+                let s = shared::sim_to_ui::check_seams(&l).unwrap();
+                if s.len() == n {
+                    return s.iter().map(|s| s.label().to_string()).collect();
+                }
+            }
+            assert!(Instant::now() < deadline, "no list of {n} seams");
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    };
+    assert_eq!(seams(4), ["A", "B", "C", "D"]);
+    let r = ask(ToolCommand {
+        op: op::REMOVE_SEAM,
+        a: 1,
+        ..Default::default()
+    });
+    assert!(
+        r.ok == 1 && r.message().contains("Removed seam B"),
+        "{}",
+        r.message()
+    );
+    assert_eq!(seams(3), ["A", "B", "C"]);
     stop.store(true, Ordering::Relaxed);
     handle.join().unwrap();
 }

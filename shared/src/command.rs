@@ -149,6 +149,10 @@ pub enum Command {
     DeletePiece {
         piece: u32,
     },
+    /// Seam `seam` (in `saiho/pieces` order) removed.
+    RemoveSeam {
+        seam: u32,
+    },
 }
 
 /// Why a command cannot be put on the wire.
@@ -217,6 +221,7 @@ impl Command {
             Self::PlacePiece { .. } => op::PLACE_PIECE,
             Self::DeletePiece { .. } => op::DELETE_PIECE,
             Self::SeamPlane { .. } => op::SEAM_PLANE,
+            Self::RemoveSeam { .. } => op::REMOVE_SEAM,
         }
     }
 
@@ -311,6 +316,7 @@ impl Command {
             }
             Self::PlacePiece { piece, place } => (c.a, c.b) = (*piece, *place),
             Self::DeletePiece { piece } => c.a = *piece,
+            Self::RemoveSeam { seam } => c.a = *seam,
         }
         Ok(c)
     }
@@ -400,6 +406,7 @@ impl Command {
                 place: c.b,
             },
             op::DELETE_PIECE => Self::DeletePiece { piece: c.a },
+            op::REMOVE_SEAM => Self::RemoveSeam { seam: c.a },
             op::SEAM_PLANE => Self::SeamPlane {
                 a: [[u[0], u[1]], [u[2], u[3]]],
                 b: [[u[4], u[5]], [u[6], u[7]]],
@@ -536,6 +543,7 @@ mod tests {
             },
             Command::PlacePiece { piece: 2, place: 3 },
             Command::DeletePiece { piece: 1 },
+            Command::RemoveSeam { seam: 3 },
         ]
     }
 

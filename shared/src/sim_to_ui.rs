@@ -263,8 +263,24 @@ impl Default for PieceEntry {
     }
 }
 
-/// The design's pieces now (`saiho/pieces`, history 1): sent when they change, in the
-/// order cloth-sim numbers them for PLACE_PIECE and DELETE_PIECE.
+/// One seam as the list carries it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[repr(C)]
+#[type_name("saiho::SeamEntry")]
+pub struct SeamEntry {
+    /// Its label in the pattern out ("A", "B", ... "AA": its place in the list).
+    pub label: [u8; 4],
+    pub label_len: u32,
+    pub pairs: u32,
+    /// Pairs still pulling (not yet welded).
+    pub open: u32,
+    /// Its two sides' lengths in the pattern, m.
+    pub lengths: [f32; 2],
+}
+
+/// The design's pieces and seams now (`saiho/pieces`, history 1): sent when they
+/// change, in the order cloth-sim numbers them for PLACE_PIECE, DELETE_PIECE and
+/// REMOVE_SEAM.
 #[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend)]
 #[repr(C)]
 #[type_name("saiho::PieceList")]
@@ -277,6 +293,10 @@ pub struct PieceList {
     /// How many of `entries` are filled.
     pub count: u32,
     pub entries: [PieceEntry; MAX_LISTED],
+    /// How many seams the design has, and how many of `seams` are filled.
+    pub seam_total: u32,
+    pub seam_count: u32,
+    pub seams: [SeamEntry; MAX_LISTED],
 }
 
 impl Default for PieceList {
@@ -287,6 +307,9 @@ impl Default for PieceList {
             total: 0,
             count: 0,
             entries: [PieceEntry::default(); MAX_LISTED],
+            seam_total: 0,
+            seam_count: 0,
+            seams: [SeamEntry::default(); MAX_LISTED],
         }
     }
 }
@@ -309,6 +332,45 @@ pub fn put_text(buf: &mut [u8], s: &str) -> u32 {
     }
     buf[..n].copy_from_slice(&s.as_bytes()[..n]);
     n as u32
+}
+
+impl SeamEntry {
+    /// The label (checked to be UTF-8 by [`check_seams`]).
+    pub fn label(&self) -> &str {
+        self.label
+            .get(..self.label_len as usize)
+            .and_then(|t| std::str::from_utf8(t).ok())
+            .unwrap_or("?")
+    }
+}
+
+/// Checks a received list's seams and returns them.
+pub fn check_seams(l: &PieceList) -> Result<Vec<SeamEntry>, MessageError> {
+    let n = l.seam_count as usize;
+    if n > MAX_LISTED || l.seam_total < l.seam_count {
+        return Err(malformed(
+            "piece list",
+            format!(
+                "{} of {} seams (at most {MAX_LISTED})",
+                l.seam_count, l.seam_total
+            ),
+        ));
+    }
+    let seams = &l.seams[..n];
+    if seams.iter().any(|s| {
+        s.open > s.pairs
+            || !s.lengths.iter().all(|v| v.is_finite() && *v >= 0.0)
+            || s.label
+                .get(..s.label_len as usize)
+                .and_then(|t| std::str::from_utf8(t).ok())
+                .is_none()
+    }) {
+        return Err(malformed(
+            "piece list",
+            "a seam's counts or lengths are impossible".into(),
+        ));
+    }
+    Ok(seams.to_vec())
 }
 
 /// Checks a received piece list and returns its pieces.

@@ -60,7 +60,9 @@ pub mod op {
     /// As SEAM, the segments and tolerance in the design's pattern plane (m) rather
     /// than UV: what the studio's pattern view draws.
     pub const SEAM_PLANE: u32 = 20;
-    pub const LAST: u32 = SEAM_PLANE;
+    /// Seam `a` (as `saiho/pieces` lists them) removed.
+    pub const REMOVE_SEAM: u32 = 21;
+    pub const LAST: u32 = REMOVE_SEAM;
 }
 
 /// [`ToolCommand::b`] of a RESET: the body.

@@ -321,7 +321,36 @@ fn pieces_are_added_placed_and_deleted_undoably() {
     let pairs = d.seam_on_plane(top, hem, 0.01).unwrap();
     assert!(pairs >= 5, "{pairs} pairs");
     assert_eq!(d.seams.len(), seams + 1);
-    assert_eq!(d.undo().unwrap(), "seam");
+    // Two more: the pocket's sides to each other (a tube), its bottom to the back's hem.
+    let r = d.pieces[2].clone();
+    let [tl, tr] = edge_of(&r, true);
+    let [bl, br] = edge_of(&r, false);
+    d.seam_on_plane([tl, bl], [tr, br], 0.01).unwrap();
+    d.seam_on_plane([bl, br], edge_of(&d.pieces[1].clone(), false), 0.01)
+        .unwrap();
+    // Removing a seam in the middle: the later ones move up; undo puts it back in place.
+    let all = d.seams.clone();
+    assert_eq!(all.len(), seams + 3);
+    let n = d.remove_seam(seams + 1).unwrap();
+    assert_eq!(n, all[seams + 1].pairs.len());
+    assert_eq!(d.seams.len(), all.len() - 1);
+    assert_eq!(d.seams[seams + 1], all[seams + 2]);
+    assert!(matches!(
+        d.remove_seam(99),
+        Err(sim_core::design::EditError::NoSeam { index: 99, .. })
+    ));
+    assert_eq!(d.undo().unwrap(), "remove seam");
+    assert_eq!(d.seams, all);
+    // The tube's two sides are equal: the pocket's 0.2 m height less the first edge (a
+    // path starts past its segment's start).
+    let (la, lb) = d.seam_lengths(&d.seams[seams + 1]);
+    assert!(
+        (la - lb).abs() < 1e-4 && (la - 0.15).abs() < 1e-3,
+        "{la} {lb}"
+    );
+    for _ in 0..3 {
+        assert_eq!(d.undo().unwrap(), "seam");
+    }
     // Deleted: two pieces listed again.
     d.delete_piece(2).unwrap();
     assert_eq!(d.piece_list().len(), 2);

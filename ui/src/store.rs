@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use shared::haptic_to_sim::DeviceSample;
 use shared::sim_to_haptic::LocalModel;
-use shared::sim_to_ui::{ListedPiece, MeshCorner, ToolState};
+use shared::sim_to_ui::{ListedPiece, MeshCorner, SeamEntry, ToolState};
 use shared::telemetry::{LoopTelemetry, SimTelemetry};
 
 /// The cloth's triangles and what the renderer derives from them.
@@ -250,6 +250,9 @@ pub struct Store {
     /// The design's pieces as cloth-sim lists them, and how many it has in all.
     pub pieces: Vec<ListedPiece>,
     pub pieces_total: u32,
+    /// The design's seams as cloth-sim lists them (labelled A, B, ... by place).
+    pub seams: Vec<SeamEntry>,
+    pub seams_total: u32,
     /// The mesh piece (`Mesh::piece_of`) the 3D view and pattern view highlight.
     pub highlight: Option<u32>,
 }
@@ -279,6 +282,8 @@ impl Default for Store {
             mismatch: None,
             pieces: Vec::new(),
             pieces_total: 0,
+            seams: Vec::new(),
+            seams_total: 0,
             highlight: None,
         }
     }

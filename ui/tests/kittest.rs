@@ -470,7 +470,31 @@ fn the_pieces_panel_lists_selects_adds_places_and_deletes() {
         anchor: Some((corner.vertex, [corner.u, corner.v])),
     }];
     h.state_mut().store.pieces_total = 1;
+    // Two seams: A matched, B with sides 30% apart (shown as a warning).
+    let seam = |label: &[u8], lengths| {
+        let mut l = [0u8; 4];
+        l[..label.len()].copy_from_slice(label);
+        shared::sim_to_ui::SeamEntry {
+            label: l,
+            label_len: label.len() as u32,
+            pairs: 12,
+            open: 3,
+            lengths,
+        }
+    };
+    h.state_mut().store.seams = vec![seam(b"A", [0.24, 0.24]), seam(b"B", [0.3, 0.2])];
+    h.state_mut().store.seams_total = 2;
     h.run_steps(2);
+    h.get_by_label("A · 12 pairs, 3 pulling · 240 / 240 mm");
+    h.get_by_label("B · 12 pairs, 3 pulling · 300 / 200 mm");
+    let removes = h.get_all_by_label("Remove").count();
+    assert_eq!(removes, 2);
+    h.get_all_by_label("Remove").nth(1).unwrap().scroll_to_me();
+    h.run_steps(20);
+    h.get_all_by_label("Remove").nth(1).unwrap().click();
+    h.run_steps(2);
+    let c = *commands(&h).last().unwrap();
+    assert_eq!((c.op, c.a), (op::REMOVE_SEAM, 1));
     assert_eq!(h.state().store.highlight, None);
     press(&mut h, "front · 289 vertices · cotton");
     let want = h

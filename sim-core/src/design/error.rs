@@ -45,6 +45,8 @@ pub enum EditError {
     Stale(u32),
     #[error("no {what} on the pattern there")]
     NothingOnPattern { what: &'static str },
+    #[error("there is no seam {index} (the design has {count}, counted from 0)")]
+    NoSeam { index: usize, count: usize },
     #[error("there is no piece {index} (the design has {count}, counted from 0)")]
     NoPiece { index: usize, count: usize },
     #[error("{0}")]

@@ -120,6 +120,36 @@ impl Design {
         Ok(count)
     }
 
+    /// Removes seam `index` (its open stitches stop pulling; pairs already welded stay
+    /// sewn, each weld being its own edit). Undoable. Returns how many pairs it had.
+    pub fn remove_seam(&mut self, index: usize) -> Result<usize, EditError> {
+        let count = self.seams.len();
+        let Some(old) = self.seams.get(index).cloned() else {
+            return Err(EditError::NoSeam { index, count });
+        };
+        let n = old.pairs.len();
+        self.commit(
+            "remove seam",
+            vec![Prim::Seam {
+                index: index as u32,
+                old: Some(old),
+                new: None,
+            }],
+        )?;
+        Ok(n)
+    }
+
+    /// Each seam's two sides' pattern lengths (the A side's vertices, then the B side's,
+    /// each in order without repeats), m.
+    pub fn seam_lengths(&self, seam: &Seam) -> (f32, f32) {
+        let side = |pick: fn(&(u32, u32)) -> u32| {
+            let mut path: Vec<u32> = seam.pairs.iter().map(pick).collect();
+            path.dedup();
+            self.pattern_length(&path)
+        };
+        (side(|p| p.0), side(|p| p.1))
+    }
+
     /// Whether the weld `prims` (from [`Design::sew_prims`], which moves `a` and gives it
     /// `b`'s triangles) would leave `a`'s triangles crossing the rest of the cloth or the
     /// body more than `a`'s and `b`'s triangles do now. Such a weld waits: the stitch

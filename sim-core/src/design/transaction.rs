@@ -181,7 +181,8 @@ impl Design {
         Ok(label)
     }
 
-    /// Applies a seam primitive (`index == len` appends, `new == None` at the end pops).
+    /// Applies a seam primitive: `old == None` inserts at `index` (up to the end),
+    /// `new == None` removes the seam there, both replace it.
     pub(super) fn set_seam(
         &mut self,
         index: u32,
@@ -189,7 +190,7 @@ impl Design {
         new: &Option<Seam>,
     ) -> Result<(), EditError> {
         let i = index as usize;
-        if self.seams.get(i) != old.as_ref() {
+        if old.is_some() && self.seams.get(i) != old.as_ref() {
             return Err(EditError::StaleSeam(index));
         }
         if let Some(s) = new
@@ -199,10 +200,12 @@ impl Design {
         {
             return Err(EditError::StaleSeam(index));
         }
+        // A seam comes and goes at its place in the list (the later ones move up one,
+        // and back on undo).
         match (old, new) {
-            (None, Some(s)) if i == self.seams.len() => self.seams.push(s.clone()),
-            (Some(_), None) if i + 1 == self.seams.len() => {
-                self.seams.pop();
+            (None, Some(s)) if i <= self.seams.len() => self.seams.insert(i, s.clone()),
+            (Some(_), None) if i < self.seams.len() => {
+                self.seams.remove(i);
             }
             (Some(_), Some(s)) => self.seams[i] = s.clone(),
             _ => return Err(EditError::StaleSeam(index)),

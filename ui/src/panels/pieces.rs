@@ -111,6 +111,7 @@ impl PiecesPanel {
             ui.label("Place");
             place_combo(ui, "piece-place", &mut self.place);
         });
+        seams_section(ui, store, actions);
         self.add_section(ui, actions);
         ui.checkbox(&mut self.pattern_open, "Pattern view")
             .on_hover_text("The pieces flat, as they are now, with the stitches still pulling");
@@ -254,6 +255,50 @@ impl PiecesPanel {
                 tolerance_m: (8.0 / frame.scale).clamp(0.002, 0.05),
             }));
         }
+    }
+}
+
+/// The seams: label, pairs (still pulling), the sides' lengths with a warning when they
+/// differ by more than a fifth, and a Remove button each.
+fn seams_section(ui: &mut egui::Ui, store: &Store, actions: &mut Vec<Action>) {
+    if store.seams.is_empty() {
+        return;
+    }
+    ui.label("Seams");
+    for (i, s) in store.seams.iter().enumerate() {
+        let [a, b] = s.lengths;
+        let long = a.max(b);
+        let warn = long > 0.0 && (a - b).abs() > 0.2 * long;
+        ui.horizontal(|ui| {
+            let text = format!(
+                "{} · {} pairs, {} pulling · {:.0} / {:.0} mm",
+                s.label(),
+                s.pairs,
+                s.open,
+                1000.0 * a,
+                1000.0 * b
+            );
+            let label = if warn {
+                ui.colored_label(egui::Color32::from_rgb(240, 170, 60), text)
+                    .on_hover_text("Its sides differ by more than a fifth: the longer will gather")
+            } else {
+                ui.label(text)
+            };
+            label.on_hover_text("Pairs already sewn stay sewn when the seam is removed");
+            if ui
+                .small_button("Remove")
+                .on_hover_text("Remove this seam (undo brings it back)")
+                .clicked()
+            {
+                actions.push(Action::Command(Command::RemoveSeam { seam: i as u32 }));
+            }
+        });
+    }
+    if store.seams_total as usize > store.seams.len() {
+        ui.label(format!(
+            "… and {} more",
+            store.seams_total as usize - store.seams.len()
+        ));
     }
 }
 

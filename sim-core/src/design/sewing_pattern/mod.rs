@@ -272,6 +272,11 @@ fn seam_labels(design: &Design) -> HashMap<u32, Vec<String>> {
     m
 }
 
+/// Seam `i`'s label in the pattern out: "A".."Z", then "AA", "AB", ...
+pub fn seam_label(i: usize) -> String {
+    label(i)
+}
+
 /// "A".."Z", then "AA", "AB", ...
 pub(crate) fn label(i: usize) -> String {
     let letter = |k: usize| char::from(b'A' + (k % 26) as u8);
