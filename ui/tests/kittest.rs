@@ -454,8 +454,8 @@ fn the_view_frames_a_tall_body() {
 }
 
 /// The pieces panel lists what cloth-sim lists; selecting one tints it (the store's
-/// highlight is its mesh piece); Add, Place at and Delete send their commands; the
-/// pattern view opens.
+/// highlight is its mesh piece); Add, Place at and Delete send their commands; the seams
+/// are listed and one removed; the pattern view opens and two drags there make a seam.
 #[test]
 fn the_pieces_panel_lists_selects_adds_places_and_deletes() {
     use shared::sim_to_ui::ListedPiece;
@@ -470,31 +470,7 @@ fn the_pieces_panel_lists_selects_adds_places_and_deletes() {
         anchor: Some((corner.vertex, [corner.u, corner.v])),
     }];
     h.state_mut().store.pieces_total = 1;
-    // Two seams: A matched, B with sides 30% apart (shown as a warning).
-    let seam = |label: &[u8], lengths| {
-        let mut l = [0u8; 4];
-        l[..label.len()].copy_from_slice(label);
-        shared::sim_to_ui::SeamEntry {
-            label: l,
-            label_len: label.len() as u32,
-            pairs: 12,
-            open: 3,
-            lengths,
-        }
-    };
-    h.state_mut().store.seams = vec![seam(b"A", [0.24, 0.24]), seam(b"B", [0.3, 0.2])];
-    h.state_mut().store.seams_total = 2;
-    h.run_steps(2);
-    h.get_by_label("A · 12 pairs, 3 pulling · 240 / 240 mm");
-    h.get_by_label("B · 12 pairs, 3 pulling · 300 / 200 mm");
-    let removes = h.get_all_by_label("Remove").count();
-    assert_eq!(removes, 2);
-    h.get_all_by_label("Remove").nth(1).unwrap().scroll_to_me();
-    h.run_steps(20);
-    h.get_all_by_label("Remove").nth(1).unwrap().click();
-    h.run_steps(2);
-    let c = *commands(&h).last().unwrap();
-    assert_eq!((c.op, c.a), (op::REMOVE_SEAM, 1));
+    seam_rows(&mut h);
     assert_eq!(h.state().store.highlight, None);
     press(&mut h, "front · 289 vertices · cotton");
     let want = h
@@ -537,12 +513,46 @@ fn the_pieces_panel_lists_selects_adds_places_and_deletes() {
     press(&mut h, "Pattern view");
     assert!(h.state().pieces.pattern_open);
     h.get_by_label("Pattern");
+    seam_by_two_drags(&mut h);
+}
+
+/// The seam rows: two seams listed (the second's sides 30% apart), the second removed.
+fn seam_rows(h: &mut Harness<'static, App>) {
+    // Two seams: A matched, B with sides 30% apart (shown as a warning).
+    let seam = |label: &[u8], lengths| {
+        let mut l = [0u8; 4];
+        l[..label.len()].copy_from_slice(label);
+        shared::sim_to_ui::SeamEntry {
+            label: l,
+            label_len: label.len() as u32,
+            pairs: 12,
+            open: 3,
+            lengths,
+        }
+    };
+    h.state_mut().store.seams = vec![seam(b"A", [0.24, 0.24]), seam(b"B", [0.3, 0.2])];
+    h.state_mut().store.seams_total = 2;
+    h.run_steps(2);
+    h.get_by_label("A · 12 pairs, 3 pulling · 240 / 240 mm");
+    h.get_by_label("B · 12 pairs, 3 pulling · 300 / 200 mm");
+    let removes = h.get_all_by_label("Remove").count();
+    assert_eq!(removes, 2);
+    h.get_all_by_label("Remove").nth(1).unwrap().scroll_to_me();
+    h.run_steps(20);
+    h.get_all_by_label("Remove").nth(1).unwrap().click();
+    h.run_steps(2);
+    let c = *commands(h).last().unwrap();
+    assert_eq!((c.op, c.a), (op::REMOVE_SEAM, 1));
+}
+
+/// Two drags in the open pattern view send one seam in the pattern plane.
+fn seam_by_two_drags(h: &mut Harness<'static, App>) {
     // Two drags in the pattern view: a seam between the borders they follow, sent in
     // the pattern plane (the demo cloth's is its UV square, y down: x in 0..1, y in -1..0).
     let hint = h
         .get_by_label("Drag along a border, then along another: a seam joins them")
         .rect();
-    let n = commands(&h).len();
+    let n = commands(h).len();
     let view = egui::Rect::from_min_size(
         egui::pos2(hint.left(), hint.bottom() + 8.0),
         egui::vec2(hint.width().max(300.0), 300.0),
@@ -558,18 +568,10 @@ fn the_pieces_panel_lists_selects_adds_places_and_deletes() {
         h.run_steps(2);
     };
     let c = view.center();
-    drag(
-        &mut h,
-        c + egui::vec2(-60.0, -60.0),
-        c + egui::vec2(-60.0, 60.0),
-    );
+    drag(h, c + egui::vec2(-60.0, -60.0), c + egui::vec2(-60.0, 60.0));
     assert_eq!(h.state().pieces.seam_sides.len(), 1);
-    drag(
-        &mut h,
-        c + egui::vec2(60.0, -60.0),
-        c + egui::vec2(60.0, 60.0),
-    );
-    let sent = commands(&h);
+    drag(h, c + egui::vec2(60.0, -60.0), c + egui::vec2(60.0, 60.0));
+    let sent = commands(h);
     assert_eq!(sent.len(), n + 1, "one seam");
     let s = sent.last().unwrap();
     assert_eq!(s.op, op::SEAM_PLANE);
