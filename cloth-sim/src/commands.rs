@@ -223,15 +223,13 @@ fn seam(
     let seg = |s: &[[f32; 2]; 2]| s.map(Vec2::from_array);
     let (sa, sb) = (seg(a), seg(b));
     // The two sides' pattern lengths, for a warning when they do not match.
-    let path = |d: &Design, s: [Vec2; 2]| {
-        if plane {
-            d.plane_path(s[0], s[1], tol)
-        } else {
-            d.pattern_path(s[0], s[1], tol)
-        }
+    let path: fn(&Design, Vec2, Vec2, f32) -> Vec<u32> = if plane {
+        Design::plane_path
+    } else {
+        Design::pattern_path
     };
-    let la = design.pattern_length(&path(design, sa));
-    let lb = design.pattern_length(&path(design, sb));
+    let la = design.pattern_length(&path(design, sa[0], sa[1], tol));
+    let lb = design.pattern_length(&path(design, sb[0], sb[1], tol));
     let done = if plane {
         design.seam_on_plane(sa, sb, tol)
     } else {

@@ -236,19 +236,7 @@ fn cutting_a_piece_in_two_lists_two_pieces() {
     cfg.piece_edge = 0.06;
     let mut d = build_design(&cfg).unwrap();
     // Every triangle of the front across a band at mid height goes.
-    let front = d.pieces[0].clone();
-    let band: Vec<u32> = d
-        .sim
-        .cloth
-        .live
-        .iter()
-        .filter(|(_, t)| {
-            let c = (t.rest[0] + t.rest[1] + t.rest[2]) / 3.0;
-            let own = glam::Vec2::new(c.x, -c.z) - front.offset;
-            d.record_at(glam::Vec2::new(c.x, -c.z)) == Some(0) && (own.y + 0.4).abs() < 0.05
-        })
-        .map(|(s, _)| s)
-        .collect();
+    let band = d.record_slots(0, |own| (own.y + 0.4).abs() < 0.05);
     assert!(!band.is_empty());
     d.remove_triangles(&band).unwrap();
     let names: Vec<String> = d.piece_list().into_iter().map(|p| p.name).collect();

@@ -271,6 +271,22 @@ pub fn fan_crossings(
     others: &[[u32; 3]],
     body: Option<&Body>,
 ) -> usize {
+    // A weld's dozen triangles against the cloth: one pass over it beats building a grid
+    // (each frame, for every stitch close enough to weld).
+    let grid = fan.len().saturating_mul(others.len()) > GRID_ABOVE;
+    fan_crossings_by(at, fan, others, body, grid)
+}
+
+/// Pairs to test past which [`fan_crossings`] puts the other triangles in a grid.
+const GRID_ABOVE: usize = 200_000;
+
+fn fan_crossings_by(
+    at: impl Fn(u32) -> Option<Vec3>,
+    fan: &[[u32; 3]],
+    others: &[[u32; 3]],
+    body: Option<&Body>,
+    use_grid: bool,
+) -> usize {
     let tri = |t: [u32; 3]| Some([at(t[0])?, at(t[1])?, at(t[2])?]);
     // Each other triangle: its vertices, corners and bounds, in a uniform grid of cells
     // twice the typical triangle (a piece of 14,000 triangles against a dress of 2,700
@@ -281,17 +297,20 @@ pub fn fan_crossings(
         .filter_map(|&o| tri(o).map(|c| (o, c, bounds(&c))))
         .filter(|(_, _, (lo, hi))| lo.is_finite() && hi.is_finite())
         .collect();
-    let mut extents: Vec<f32> = other
-        .iter()
-        .map(|(_, _, (lo, hi))| (*hi - *lo).max_element())
-        .collect();
-    extents.sort_by(f32::total_cmp);
-    let cell = 2.0
-        * extents
+    let cell = if use_grid {
+        let mut extents: Vec<f32> = other
+            .iter()
+            .map(|(_, _, (lo, hi))| (*hi - *lo).max_element())
+            .collect();
+        extents.sort_by(f32::total_cmp);
+        2.0 * extents
             .get(extents.len() / 2)
             .copied()
             .unwrap_or(1.0)
-            .max(1e-4);
+            .max(1e-4)
+    } else {
+        1.0
+    };
     let key = |p: Vec3| {
         let c = (p / cell).floor();
         (c.x as i32, c.y as i32, c.z as i32)
@@ -303,7 +322,7 @@ pub fn fan_crossings(
     };
     let mut grid: HashMap<(i32, i32, i32), Vec<u32>> = HashMap::new();
     let mut huge = Vec::new();
-    for (i, (_, _, (lo, hi))) in other.iter().enumerate() {
+    for (i, (_, _, (lo, hi))) in other.iter().enumerate().filter(|_| use_grid) {
         // A triangle far larger than the cells (a stray vertex) is tested against all.
         if ((*hi - *lo) / cell).max_element() > 16.0 {
             huge.push(i as u32);
@@ -322,7 +341,9 @@ pub fn fan_crossings(
         };
         let (lo, hi) = bounds(&c);
         let candidates: Box<dyn Iterator<Item = u32>> =
-            if !(lo.is_finite() && hi.is_finite()) || ((hi - lo) / cell).max_element() > 16.0 {
+            if !(use_grid && lo.is_finite() && hi.is_finite())
+                || ((hi - lo) / cell).max_element() > 16.0
+            {
                 Box::new(0..other.len() as u32)
             } else {
                 Box::new(
@@ -592,8 +613,8 @@ mod tests {
             proptest::prop_assert_eq!(count_self_brute(&x, &tris), reference);
         }
 
-        /// The fan count through its grid equals the pairs by SAT between the soup's
-        /// first `k` triangles and the rest.
+        /// The fan count, through its grid or pair by pair, equals the pairs by SAT
+        /// between the soup's first `k` triangles and the rest.
         #[test]
         fn the_fan_count_equals_brute_force_on_soups(
             soup in proptest::collection::vec(small_triangle(), 2..40),
@@ -616,7 +637,12 @@ mod tests {
                 }
             }
             let at = |v: u32| x.get(v as usize).copied();
-            proptest::prop_assert_eq!(fan_crossings(at, &tris[..k], &tris[k..], None), reference);
+            for grid in [false, true] {
+                proptest::prop_assert_eq!(
+                    fan_crossings_by(at, &tris[..k], &tris[k..], None, grid),
+                    reference
+                );
+            }
         }
     }
 }

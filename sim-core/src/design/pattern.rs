@@ -88,10 +88,7 @@ impl Design {
         b: [Vec2; 2],
         tol: f32,
     ) -> Result<usize, EditError> {
-        seam_tolerance(tol)?;
-        let pa = self.pattern_path(a[0], a[1], tol);
-        let pb = self.pattern_path(b[0], b[1], tol);
-        self.seam_paths(&pa, &pb)
+        self.seam_along(a, b, tol, Self::pattern_path)
     }
 
     /// [`Design::seam_on_pattern`] with segments in the design's pattern plane (m), as
@@ -102,19 +99,25 @@ impl Design {
         b: [Vec2; 2],
         tol: f32,
     ) -> Result<usize, EditError> {
-        seam_tolerance(tol)?;
-        let pa = self.plane_path(a[0], a[1], tol);
-        let pb = self.plane_path(b[0], b[1], tol);
-        self.seam_paths(&pa, &pb)
+        self.seam_along(a, b, tol, Self::plane_path)
     }
 
-    fn seam_paths(&mut self, pa: &[u32], pb: &[u32]) -> Result<usize, EditError> {
+    /// A seam between the border paths `path` finds along segments `a` and `b`.
+    fn seam_along(
+        &mut self,
+        a: [Vec2; 2],
+        b: [Vec2; 2],
+        tol: f32,
+        path: fn(&Self, Vec2, Vec2, f32) -> Vec<u32>,
+    ) -> Result<usize, EditError> {
+        seam_tolerance(tol)?;
+        let (pa, pb) = (path(self, a[0], a[1], tol), path(self, b[0], b[1], tol));
         if pa.len() < 2 || pb.len() < 2 {
             return Err(EditError::NothingOnPattern {
                 what: "border path of two or more vertices",
             });
         }
-        self.add_seam(pa, pb, STITCH_FORCE)
+        self.add_seam(&pa, &pb, STITCH_FORCE)
     }
 }
 

@@ -34,6 +34,26 @@ impl Design {
         })
     }
 
+    /// The triangle slots of record `k`'s piece whose centre, in the piece's own
+    /// coordinates (its outline's), satisfies `keep`: a region of a piece, as a
+    /// designer's pattern names it.
+    pub fn record_slots(&self, k: usize, keep: impl Fn(Vec2) -> bool) -> Vec<u32> {
+        let Some(rec) = self.pieces.get(k) else {
+            return Vec::new();
+        };
+        self.sim
+            .cloth
+            .live
+            .iter()
+            .filter(|(_, t)| {
+                let c = (t.rest[0] + t.rest[1] + t.rest[2]) / 3.0;
+                let q = Vec2::new(c.x, -c.z);
+                self.record_at(q) == Some(k) && keep(q - rec.offset)
+            })
+            .map(|(s, _)| s)
+            .collect()
+    }
+
     /// The pieces of the cloth now: its parts connected in the pattern, listed by
     /// record and largest first within one, named by their record (a second part of one
     /// record gets " 2", and so on); parts of a cloth made without pieces are "piece 1",

@@ -36,24 +36,11 @@ pub fn cut_neckline(design: &mut Design) -> Result<usize, EditError> {
     let Some(k) = design.pieces.iter().position(|r| r.name == "front") else {
         return Ok(0);
     };
-    let rec = &design.pieces[k];
-    let (lo, hi) = crate::mesh::bounds2(&rec.outline.loops[0]);
+    let (lo, hi) = crate::mesh::bounds2(&design.pieces[k].outline.loops[0]);
     let mid = 0.5 * (lo.x + hi.x);
-    let slots: Vec<u32> = design
-        .sim
-        .cloth
-        .live
-        .iter()
-        .filter(|(_, t)| {
-            let c = (t.rest[0] + t.rest[1] + t.rest[2]) / 3.0;
-            let q = Vec2::new(c.x, -c.z);
-            let own = q - rec.offset;
-            design.record_at(q) == Some(k)
-                && (own.x - mid).abs() < NECKLINE.x
-                && own.y > hi.y - NECKLINE.y
-        })
-        .map(|(s, _)| s)
-        .collect();
+    let slots = design.record_slots(k, |own| {
+        (own.x - mid).abs() < NECKLINE.x && own.y > hi.y - NECKLINE.y
+    });
     design.remove_triangles(&slots)
 }
 
