@@ -9,12 +9,15 @@ use cloth_sim::{ServiceConfig, backup_of, resume_or};
 use shared::cli::whole_in;
 use sim_core::collision::BodyKind;
 use sim_core::design::TearMode;
+use sim_core::fabric::{Library, Standard};
 use sim_core::mesh::obj::load_obj;
 use sim_core::scenario::{
     MAX_FRAMES, MAX_GRID, MAX_THREADS, PieceShape, ScenarioConfig, ScenarioName, build_design,
     max_realtime_grid, run_scenario,
 };
 use sim_core::solver::{MAX_FRAME_SUBSTEPS, Material, ModelKind};
+
+mod fabrics;
 
 #[derive(Parser)]
 #[command(
@@ -58,6 +61,31 @@ enum Command {
         /// Seam allowance added around every piece as its cut line, mm (0: none).
         #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
         allowance: f64,
+    },
+    /// List the fabric library: every fabric's source and its parameters in SI units
+    /// (density, stretch and shear in N/m, bending rigidity warp/weft/bias in µN·m), and
+    /// the drape coefficient its source measured. Conversions: docs/fabrics.md.
+    Fabrics {
+        /// Every field as JSON (for tools), with the model's material for each.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Run the Cusick drape test on every fabric whose source measured its drape, and
+    /// print ours beside theirs (a Markdown table) with the mean absolute error.
+    ValidateFabrics {
+        /// Also write the table as JSON (fields per fabric: name, dc_measured, dc_sim,
+        /// nodes_measured, nodes_sim; and mae_dc, in points).
+        #[arg(long)]
+        json: Option<PathBuf>,
+        /// Cloth model (default: the implicit reference; see docs/fabrics.md).
+        #[arg(long, value_parser = parse_model, default_value = "implicit")]
+        model: ModelKind,
+        /// Mesh edge, m.
+        #[arg(long, default_value_t = sim_core::fabric::cusick::DEFAULT_EDGE, allow_negative_numbers = true)]
+        edge: f32,
+        /// No progress lines on stderr.
+        #[arg(long)]
+        quiet: bool,
     },
     /// Find the largest cloth grid a model steps in real time (drape-cube, 60 Hz frames).
     MaxRealtimeGrid {
@@ -144,8 +172,11 @@ struct ScenarioArgs {
     /// --model vbd for layers that do not cross), dress-mannequin (a front and a back
     /// panel arranged round the mannequin, sewn, draped, the neckline cut) or
     /// drape-pattern FILE (any pattern placed, sewn and draped the same way).
-    #[arg(value_parser = parse_scenario)]
-    name: ScenarioName,
+    /// cusick: the textile drape test (BS 5058: a 30 cm specimen clamped on an 18 cm
+    /// disc) on --fabric NAME; writes report.json (drape_coefficient, nodes, converged),
+    /// shadow.png and cloth.obj.
+    #[arg(value_parser = parse_scenario_choice)]
+    name: ScenarioChoice,
     /// drape-pattern: the pattern, an .svg or .dxf (pieces arranged by name: front,
     /// back, left/right side, left/right sleeve; seams from Saiho's marks) or a
     /// GarmentCode .json specification (its panels' placement and stitches).
@@ -160,13 +191,21 @@ struct ScenarioArgs {
     /// the triangles stay).
     #[arg(long, value_parser = parse_tear_mode, default_value = "delete")]
     tear_mode: TearMode,
+    /// cusick: the standard's sizes, bs5058 (30 cm on 18 cm) or astm-d4848 (36 cm on
+    /// 12.7 cm).
+    #[arg(long, value_parser = parse_standard, default_value = "bs5058")]
+    standard: Standard,
+    /// cusick: skip the second run on a finer mesh (half the triangle area) that checks
+    /// the drape coefficient has converged.
+    #[arg(long)]
+    no_refine: bool,
     /// Cells per side of the square cloth: N x N cells, (N+1)^2 vertices.
     #[arg(long, default_value_t = 64, allow_negative_numbers = true, value_parser = whole_in::<usize>(1, MAX_GRID as i64, " cells a side"))]
     grid: usize,
     /// Cloth model: xpbd (default), vbd (never crosses; slow, see docs/models.md), seed (the
-    /// paper's mass-spring) or implicit (reference).
-    #[arg(long, value_parser = parse_model, default_value = "xpbd")]
-    model: ModelKind,
+    /// paper's mass-spring) or implicit (reference; cusick's default).
+    #[arg(long, value_parser = parse_model)]
+    model: Option<ModelKind>,
     /// Frames of 1/60 s to simulate (the operation scenarios act at frame 240).
     #[arg(long, default_value_t = 600, allow_negative_numbers = true, value_parser = whole_in::<u64>(1, MAX_FRAMES as i64, ""))]
     frames: u64,
@@ -210,6 +249,11 @@ struct ScenarioArgs {
 
 #[derive(Args)]
 struct MaterialArgs {
+    /// A fabric from the library (`cloth-sim fabrics` lists them): its density, stretch,
+    /// shear, bending (warp, weft, bias), friction and thickness; damping, drag and the
+    /// solver switches stay as given.
+    #[arg(long, value_parser = parse_fabric, conflicts_with_all = ["density", "stretch", "shear", "bending", "friction", "thickness"])]
+    fabric: Option<String>,
     /// Areal density, kg/m^2.
     #[arg(long, default_value_t = Material::default().density, allow_negative_numbers = true)]
     density: f32,
@@ -251,12 +295,26 @@ struct MaterialArgs {
 
 impl MaterialArgs {
     fn material(&self) -> Material {
+        let lib = Library::builtin();
+        if let Some(f) = self.fabric.as_deref().and_then(|n| lib.get(n).ok()) {
+            return Material {
+                shear_damping: self.shear_damping,
+                damping: self.damping,
+                drag: self.drag,
+                seed_stiffness: self.seed_stiffness,
+                tethers: !self.no_tethers,
+                stretch_limits: !self.no_stretch_limits,
+                ..f.material()
+            };
+        }
         Material {
             density: self.density,
             stretch: self.stretch,
             shear: self.shear,
             shear_damping: self.shear_damping,
             bending: self.bending,
+            bending_weft: 1.0,
+            bending_bias: 1.0,
             damping: self.damping,
             drag: self.drag,
             friction: self.friction,
@@ -287,8 +345,29 @@ fn parse_scenario_body(s: &str) -> Result<ScenarioBody, String> {
 fn parse_piece(s: &str) -> Result<PieceShape, String> {
     PieceShape::parse(s).map_err(|e| e.to_string())
 }
-fn parse_scenario(s: &str) -> Result<ScenarioName, String> {
-    ScenarioName::parse(s).map_err(|e| e.to_string())
+/// `scenario`'s name: the drape test, or a scene of the library's.
+#[derive(Clone, Copy, Debug)]
+enum ScenarioChoice {
+    Cusick,
+    Scene(ScenarioName),
+}
+
+fn parse_scenario_choice(s: &str) -> Result<ScenarioChoice, String> {
+    if s == "cusick" {
+        return Ok(ScenarioChoice::Cusick);
+    }
+    ScenarioName::parse(s)
+        .map(ScenarioChoice::Scene)
+        .map_err(|e| format!("{e}, cusick"))
+}
+fn parse_standard(s: &str) -> Result<Standard, String> {
+    Standard::parse(s).map_err(|e| e.to_string())
+}
+fn parse_fabric(s: &str) -> Result<String, String> {
+    Library::builtin()
+        .get(s)
+        .map(|f| f.name.clone())
+        .map_err(|e| e.to_string())
 }
 
 fn main() -> ExitCode {
@@ -303,6 +382,13 @@ fn main() -> ExitCode {
             matched,
         } => realtime(model, frames, json, matched),
         Command::Crossings { cloth, body } => crossings(&cloth, body.as_ref()),
+        Command::Fabrics { json } => fabrics::list(json),
+        Command::ValidateFabrics {
+            json,
+            model,
+            edge,
+            quiet,
+        } => fabrics::validate(model, edge, json, quiet),
         Command::ExportPattern {
             design,
             out,
@@ -393,9 +479,30 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
 }
 
 fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>> {
-    let mut cfg = ScenarioConfig::new(a.name);
+    let name = match a.name {
+        ScenarioChoice::Cusick => {
+            if a.material.fabric.is_none() {
+                return Err("cusick needs --fabric NAME (cloth-sim fabrics lists them)".into());
+            }
+            return fabrics::scenario(fabrics::CusickArgs {
+                fabric: a.material.fabric.clone(),
+                material: a.material.material(),
+                standard: a.standard,
+                edge: a
+                    .piece_edge
+                    .unwrap_or(sim_core::fabric::cusick::DEFAULT_EDGE),
+                model: a.model.unwrap_or(sim_core::fabric::cusick::DEFAULT_MODEL),
+                substeps: a.substeps,
+                out: a.out,
+                quiet: a.quiet,
+                refine: !a.no_refine,
+            });
+        }
+        ScenarioChoice::Scene(n) => n,
+    };
+    let mut cfg = ScenarioConfig::new(name);
     cfg.grid = a.grid;
-    cfg.model = a.model;
+    cfg.model = a.model.unwrap_or(ModelKind::Xpbd);
     cfg.frames = a.frames;
     if let Some(b) = a.body {
         cfg.body = b.0;

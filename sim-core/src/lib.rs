@@ -16,6 +16,7 @@
 pub mod collision;
 pub mod design;
 pub mod error;
+pub mod fabric;
 pub mod mesh;
 pub mod scenario;
 pub mod solver;

@@ -35,7 +35,15 @@ const CRATES: [&str; 6] = [
 ];
 
 /// sim-core's layers, bottom first.
-const LAYERS: [&str; 6] = ["error", "mesh", "collision", "solver", "design", "scenario"];
+const LAYERS: [&str; 7] = [
+    "error",
+    "mesh",
+    "collision",
+    "solver",
+    "fabric",
+    "design",
+    "scenario",
+];
 
 /// One source file as a module.
 struct Module {

@@ -213,6 +213,12 @@ impl LiveMesh {
         (c != d).then_some(([a, b, c, d], r0, r1))
     }
 
+    /// The warp direction at the hinge of edge `key` (its first triangle's, at rest).
+    pub fn hinge_warp(&self, key: u64) -> Option<Vec3> {
+        let t = self.tri(self.edges.get(&key)?[0])?;
+        Some(warp_of(t.rest, t.uv))
+    }
+
     /// Adds an isolated vertex slot (it becomes alive when a triangle uses it).
     pub fn push_vertex(&mut self) -> u32 {
         self.vert_tris.push(Vec::new());
@@ -355,6 +361,26 @@ impl LiveMesh {
         }
         Ok(())
     }
+}
+
+/// The warp direction of a triangle, in 3D at rest: where U grows across its UVs,
+/// projected into its plane (the first side when the UVs are degenerate).
+pub fn warp_of(rest: [Vec3; 3], uv: [Vec2; 3]) -> Vec3 {
+    let [x0, x1, x2] = rest;
+    let [t0, t1, t2] = uv;
+    let (e1, e2) = (x1 - x0, x2 - x0);
+    let n = e1.cross(e2).normalize_or(Vec3::Y);
+    let (du1, du2) = (t1 - t0, t2 - t0);
+    let det = du1.x * du2.y - du2.x * du1.y;
+    let mut tangent = if det.abs() > 1e-12 {
+        (e1 * du2.y - e2 * du1.y) / det
+    } else {
+        e1
+    };
+    tangent -= n * n.dot(tangent);
+    tangent
+        .try_normalize()
+        .unwrap_or_else(|| e1.normalize_or(Vec3::X))
 }
 
 #[cfg(test)]

@@ -20,5 +20,5 @@ mod topology;
 pub use bounds::{bounds, bounds2};
 pub use cloth_mesh::{ClothMesh, MAX_VERTICES};
 pub use edge::{edge_ends, edge_key};
-pub use live::{LiveMesh, NONE, Tri};
+pub use live::{LiveMesh, NONE, Tri, warp_of};
 pub use topology::{Edge, Hinge, Topology};

@@ -12,7 +12,8 @@
 
 use glam::{Mat2, Vec2, Vec3};
 
-use crate::mesh::{ClothMesh, LiveMesh, Topology, edge_key};
+use crate::mesh::{ClothMesh, LiveMesh, Topology, edge_key, warp_of};
+use crate::solver::Material;
 
 /// One triangle's membrane: `F_u = sum c[a] x[a]`, `F_v = sum d[a] x[a]`.
 #[derive(Clone, Copy, Debug)]
@@ -57,23 +58,11 @@ pub fn build_membranes(mesh: &ClothMesh) -> Vec<Membrane> {
 /// One triangle's membrane from its rest corners and their UVs.
 pub fn membrane_of(v: [u32; 3], id: u32, rest: [Vec3; 3], uv: [Vec2; 3]) -> Membrane {
     let [x0, x1, x2] = rest;
-    let [t0, t1, t2] = uv;
     let (e1, e2) = (x1 - x0, x2 - x0);
     let n = e1.cross(e2);
     let area = 0.5 * n.length();
     let n = n.normalize_or(Vec3::Y);
-    // Warp direction: where U grows, projected into the triangle's plane.
-    let (du1, du2) = (t1 - t0, t2 - t0);
-    let det = du1.x * du2.y - du2.x * du1.y;
-    let mut tangent = if det.abs() > 1e-12 {
-        (e1 * du2.y - e2 * du1.y) / det
-    } else {
-        e1
-    };
-    tangent -= n * n.dot(tangent);
-    let tangent = tangent
-        .try_normalize()
-        .unwrap_or_else(|| e1.normalize_or(Vec3::X));
+    let tangent = warp_of(rest, uv);
     let bitangent = n.cross(tangent);
     let p1 = Vec2::new(e1.dot(tangent), e1.dot(bitangent));
     let p2 = Vec2::new(e2.dot(tangent), e2.dot(bitangent));
@@ -94,19 +83,38 @@ pub fn membrane_of(v: [u32; 3], id: u32, rest: [Vec3; 3], uv: [Vec2; 3]) -> Memb
     }
 }
 
+/// Scales a hinge's weight by the material's rigidity in the direction it bends: across
+/// its edge `edge` (rest), at `warp` (the warp direction of one of its triangles).
+pub fn orient_bend(b: &mut BendConstraint, material: &Material, warp: Vec3, edge: Vec3) {
+    if material.isotropic_bending() {
+        return;
+    }
+    // The hinge bends the yarns that cross its edge: cos² of the angle between the
+    // bending direction and the warp is sin² of the edge's angle to the warp.
+    let along = edge.normalize_or(Vec3::X).dot(warp);
+    b.weight *= material.bending_share(1.0 - along * along);
+}
+
 fn cot(a: Vec3, b: Vec3) -> f32 {
     let s = a.cross(b).length();
     if s < 1e-20 { 0.0 } else { a.dot(b) / s }
 }
 
-/// Bending constraints for every interior edge.
-pub fn build_bending(mesh: &ClothMesh, topology: &Topology) -> Vec<BendConstraint> {
+/// Bending constraints for every interior edge, weighted for `material`'s anisotropy.
+pub fn build_bending(
+    mesh: &ClothMesh,
+    topology: &Topology,
+    material: &Material,
+) -> Vec<BendConstraint> {
     topology
         .hinges
         .iter()
         .filter_map(|h| {
             let [x0, x1, x2, x3] = h.v.map(|i| mesh.positions[i as usize]);
-            bend_of(h.v, [x0, x1, x2], [x0, x1, x3])
+            let mut b = bend_of(h.v, [x0, x1, x2], [x0, x1, x3])?;
+            let uv = [h.v[0], h.v[1], h.v[2]].map(|i| mesh.uvs[i as usize]);
+            orient_bend(&mut b, material, warp_of([x0, x1, x2], uv), x1 - x0);
+            Some(b)
         })
         .collect()
 }
@@ -165,9 +173,19 @@ pub fn bending_energy(bends: &[BendConstraint], x: &[Vec3], b: f32) -> f64 {
         .sum()
 }
 
+/// The bending hinge of the live mesh's edge `key`, weighted for `material`.
+pub fn live_bend(live: &LiveMesh, key: u64, material: &Material) -> Option<BendConstraint> {
+    let (v, r0, r1) = live.hinge(key)?;
+    let mut b = bend_of(v, r0, r1)?;
+    if let Some(warp) = live.hinge_warp(key) {
+        orient_bend(&mut b, material, warp, r0[1] - r0[0]);
+    }
+    Some(b)
+}
+
 /// The membranes and bending hinges of a live mesh, the elements every model built on
 /// this energy (xpbd, implicit, vbd) starts from.
-pub fn elements_of(live: &LiveMesh) -> (Vec<Membrane>, Vec<BendConstraint>) {
+pub fn elements_of(live: &LiveMesh, material: &Material) -> (Vec<Membrane>, Vec<BendConstraint>) {
     let membranes = live
         .iter()
         .map(|(slot, t)| membrane_of(t.v, slot, t.rest, t.uv))
@@ -175,8 +193,7 @@ pub fn elements_of(live: &LiveMesh) -> (Vec<Membrane>, Vec<BendConstraint>) {
     let bends = live
         .hinge_keys()
         .into_iter()
-        .filter_map(|k| live.hinge(k))
-        .filter_map(|(v, r0, r1)| bend_of(v, r0, r1))
+        .filter_map(|k| live_bend(live, k, material))
         .collect();
     (membranes, bends)
 }
@@ -201,7 +218,13 @@ mod tests {
             assert!(fu.x > 0.99, "{fu}");
         }
         let t = Topology::build(&m.triangles).unwrap();
-        assert!(bending_energy(&build_bending(&m, &t), &m.positions, 1.0) < 1e-9);
+        assert!(
+            bending_energy(
+                &build_bending(&m, &t, &Material::default()),
+                &m.positions,
+                1.0
+            ) < 1e-9
+        );
     }
 
     #[test]
@@ -224,7 +247,7 @@ mod tests {
         let (w, r, b) = (0.3f32, 0.5f32, 2.0e-5f32);
         let m = ClothMesh::grid(w, w, 60, 60, 0.0).unwrap();
         let t = Topology::build(&m.triangles).unwrap();
-        let bends = build_bending(&m, &t);
+        let bends = build_bending(&m, &t, &Material::default());
         let rolled: Vec<Vec3> = m
             .positions
             .iter()
@@ -240,5 +263,44 @@ mod tests {
             (got / want - 1.0).abs() < 0.06,
             "discrete {got} continuum {want}"
         );
+    }
+
+    /// A sheet rolled so its warp bends costs the warp rigidity; rolled the other way,
+    /// the weft's (three times more here), up to the diagonal hinges' share.
+    #[test]
+    fn anisotropic_bending_follows_the_grain() {
+        let (w, r) = (0.3f32, 0.5f32);
+        let m = ClothMesh::grid(w, w, 40, 40, 0.0).unwrap();
+        let t = Topology::build(&m.triangles).unwrap();
+        let roll = |along_x: bool| -> Vec<Vec3> {
+            m.positions
+                .iter()
+                .map(|p| {
+                    let s = if along_x { p.x } else { p.z };
+                    let th = s / r;
+                    let (a, h) = (r * th.sin(), r * (1.0 - th.cos()));
+                    if along_x {
+                        Vec3::new(a, h, p.z)
+                    } else {
+                        Vec3::new(p.x, h, a)
+                    }
+                })
+                .collect()
+        };
+        let iso = Material::default();
+        let aniso = Material {
+            bending_weft: 3.0,
+            bending_bias: 2.0,
+            ..Material::default()
+        };
+        let energy = |mat: &Material, along_x: bool| {
+            bending_energy(&build_bending(&m, &t, mat), &roll(along_x), 1.0)
+        };
+        let (iw, if_) = (energy(&iso, true), energy(&iso, false));
+        assert!((iw / if_ - 1.0).abs() < 0.02, "isotropic: {iw} {if_}");
+        let (aw, af) = (energy(&aniso, true), energy(&aniso, false));
+        // Warp roll: at least the warp's, less than the bias's; weft roll: above the bias's.
+        assert!(aw >= 0.99 * iw && aw < 2.0 * iw, "{aw} {iw}");
+        assert!(af > 2.0 * if_ && af <= 3.01 * if_, "{af} {if_}");
     }
 }

@@ -67,7 +67,7 @@ impl Implicit {
         }
         Self {
             membranes: build_membranes(&cloth.rest),
-            bends: build_bending(&cloth.rest, &cloth.topology),
+            bends: build_bending(&cloth.rest, &cloth.topology, material),
             material: *material,
             dof,
             nfree,

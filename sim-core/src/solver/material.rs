@@ -54,6 +54,10 @@ fn default_on() -> bool {
     true
 }
 
+fn default_one() -> f32 {
+    1.0
+}
+
 fn default_shear_damping() -> f32 {
     DEFAULT_SHEAR_DAMPING
 }
@@ -75,8 +79,17 @@ pub struct Material {
     /// mannequin at 5 substeps). Design files without it get the default.
     #[serde(default = "default_shear_damping")]
     pub shear_damping: f32,
-    /// Bending rigidity, N m. Cotton: ~1e-6..1e-4 (bending length 1-3 cm).
+    /// Bending rigidity, N m, in the warp direction (bending the warp yarns: the fold
+    /// line runs along the weft). Cotton: ~1e-6..1e-4 (bending length 1-3 cm).
     pub bending: f32,
+    /// Weft bending rigidity as a share of `bending` (woven fabrics: 0.3-3). Design files
+    /// without it are isotropic.
+    #[serde(default = "default_one")]
+    pub bending_weft: f32,
+    /// Bias (45°) bending rigidity as a share of `bending`; the rigidity at any other
+    /// angle follows [`Material::bending_share`].
+    #[serde(default = "default_one")]
+    pub bending_bias: f32,
     /// Mass-proportional velocity damping, 1/s.
     pub damping: f32,
     /// Air drag on the normal velocity, kg/(m^2 s).
@@ -105,6 +118,8 @@ impl Default for Material {
             shear: 40.0,
             shear_damping: DEFAULT_SHEAR_DAMPING,
             bending: 1.0e-5,
+            bending_weft: 1.0,
+            bending_bias: 1.0,
             damping: 0.6,
             drag: 0.5,
             friction: 0.4,
@@ -117,6 +132,25 @@ impl Default for Material {
 }
 
 impl Material {
+    /// Whether warp, weft and bias bend alike.
+    pub fn isotropic_bending(&self) -> bool {
+        self.bending_weft == 1.0 && self.bending_bias == 1.0
+    }
+
+    /// The bending rigidity in a direction at angle `θ` from the warp, as a share of
+    /// [`bending`](Self::bending), given `cos²θ`: the orthotropic plate's
+    /// `B(θ) = Bw c⁴ + 2 Bm c² s² + Bf s⁴`, with `Bm` set so that `B(45°)` is the bias
+    /// rigidity (with the bias at the mean of warp and weft this is `Bw c² + Bf s²`).
+    /// Never below a twentieth of the smaller of warp and weft.
+    pub fn bending_share(&self, cos2: f32) -> f32 {
+        let c2 = cos2.clamp(0.0, 1.0);
+        let s2 = 1.0 - c2;
+        let (w, b) = (self.bending_weft, self.bending_bias);
+        let mixed = 2.0 * b - 0.5 * (1.0 + w);
+        let share = c2 * c2 + 2.0 * mixed * c2 * s2 + w * s2 * s2;
+        share.max(0.05 * w.min(1.0))
+    }
+
     /// The contact settings this material gives, over a floor at `floor` if any.
     pub fn contact_params(&self, floor: Option<f32>) -> ContactParams {
         ContactParams {
@@ -134,6 +168,8 @@ impl Material {
         check_range("shear", self.shear, 0.0, 1.0e7, " N/m")?;
         check_range("shear damping", self.shear_damping, 0.0, 1.0, " s")?;
         check_range("bending", self.bending, 0.0, 1.0, " N m")?;
+        check_range("weft bending", self.bending_weft, 0.05, 20.0, " x warp")?;
+        check_range("bias bending", self.bending_bias, 0.05, 20.0, " x warp")?;
         check_range("damping", self.damping, 0.0, 1000.0, " /s")?;
         check_range("drag", self.drag, 0.0, 1000.0, " kg/(m² s)")?;
         check_range("friction", self.friction, 0.0, 10.0, "")?;
@@ -145,5 +181,37 @@ impl Material {
             1.0e12,
             " N/m",
         )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bending_share_runs_from_warp_through_bias_to_weft() {
+        let m = Material {
+            bending_weft: 0.3,
+            bending_bias: 0.5,
+            ..Material::default()
+        };
+        assert!((m.bending_share(1.0) - 1.0).abs() < 1e-6);
+        assert!((m.bending_share(0.0) - 0.3).abs() < 1e-6);
+        assert!((m.bending_share(0.5) - 0.5).abs() < 1e-6);
+        // With the bias at the mean, B = Bw cos² + Bf sin².
+        let mean = Material {
+            bending_weft: 3.0,
+            bending_bias: 2.0,
+            ..Material::default()
+        };
+        for c2 in [0.0f32, 0.2, 0.7, 1.0] {
+            assert!((mean.bending_share(c2) - (c2 + 3.0 * (1.0 - c2))).abs() < 1e-5);
+        }
+        assert!(Material::default().isotropic_bending());
+        let bad = Material {
+            bending_weft: 0.0,
+            ..Material::default()
+        };
+        assert!(bad.validate().is_err());
     }
 }

@@ -65,9 +65,9 @@ fn lists(n: usize, items: &[(u32, u32)]) -> (Vec<u32>, Vec<u32>) {
 
 impl Elastic {
     /// The elements of `cloth`'s live mesh.
-    pub fn new(cloth: &Cloth) -> Self {
+    pub fn new(cloth: &Cloth, material: &Material) -> Self {
         let live = &cloth.live;
-        let (membranes, bends) = elements_of(live);
+        let (membranes, bends) = elements_of(live, material);
         let n = cloth.len();
         let mem_items: Vec<(u32, u32)> = membranes
             .iter()
@@ -228,7 +228,7 @@ mod tests {
             ..Material::default()
         };
         let cloth = Cloth::new(mesh, &m).expect("cloth");
-        let el = Elastic::new(&cloth);
+        let el = Elastic::new(&cloth, &m);
         // A stretched, sheared, bent state.
         let x: Vec<Vec3> = cloth
             .x

@@ -142,7 +142,7 @@ impl Vbd {
     /// material); what the vertices strayed last frame is kept.
     pub(super) fn rebuild(&mut self, cloth: &Cloth) {
         let n = cloth.len();
-        self.elastic = Elastic::new(cloth);
+        self.elastic = Elastic::new(cloth, &self.material);
         self.tris = cloth.live.triangles();
         self.edges = unique_edges(&self.tris);
         self.mean_edge = cloth.live.mean_rest_side();

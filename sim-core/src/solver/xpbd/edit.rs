@@ -12,7 +12,7 @@ use super::groups::{Group, Loc};
 use super::simd::LANES;
 use super::step::Xpbd;
 use super::tethers::tethers;
-use crate::solver::constraints::{bend_of, membrane_of};
+use crate::solver::constraints::{live_bend, membrane_of};
 use crate::solver::state::Cloth;
 
 /// Where item `item` of a coloured list is: `Ok((colour, block, lane))` when packed in a
@@ -99,11 +99,7 @@ impl Xpbd {
         }
         for &key in edges {
             self.remove_bend(key);
-            if let Some(b) = cloth
-                .live
-                .hinge(key)
-                .and_then(|(v, r0, r1)| bend_of(v, r0, r1))
-            {
+            if let Some(b) = live_bend(&cloth.live, key, &self.material) {
                 self.bend_loc
                     .insert(key, Loc::Extra(self.extra_bends.len() as u32));
                 self.extra_bends.push(b);
