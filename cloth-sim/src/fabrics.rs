@@ -101,7 +101,7 @@ pub fn scenario(a: CusickArgs) -> Res<()> {
     std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
     let (big, disc) = a.standard.radii();
     let picture = shadow::top_view(&r.radii, disc, big, 600, big * 1.1);
-    let png = shadow::png_of(&picture, 600)?;
+    let png = sim_core::mesh::png::rgba_png(&picture, 600, 600)?;
     write(&a.out.join("shadow.png"), &png)?;
     let obj = a.out.join("cloth.obj");
     sim_core::mesh::obj::write_obj(&obj, "specimen", &r.positions, Some(&r.uvs), &r.tris, None)

@@ -40,17 +40,7 @@ fn check_name(name: &str) -> Result<(), ExportError> {
 
 /// Encodes an RGBA8 texture as PNG bytes.
 pub fn png_bytes(t: &Texture) -> Result<Vec<u8>, String> {
-    let mut out = Vec::new();
-    {
-        let mut enc = png::Encoder::new(&mut out, t.width as u32, t.height as u32);
-        enc.set_color(png::ColorType::Rgba);
-        enc.set_depth(png::BitDepth::Eight);
-        enc.set_compression(png::Compression::Fast);
-        let mut w = enc.write_header().map_err(|e| e.to_string())?;
-        w.write_image_data(&t.rgba).map_err(|e| e.to_string())?;
-        w.finish().map_err(|e| e.to_string())?;
-    }
-    Ok(out)
+    crate::mesh::png::rgba_png(&t.rgba, t.width, t.height)
 }
 
 /// Writes `dir/name.obj`, `dir/name.mtl` and `dir/name.png`; returns the three paths.

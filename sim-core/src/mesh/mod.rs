@@ -13,6 +13,7 @@ mod edge;
 pub mod live;
 pub mod mesher;
 pub mod obj;
+pub mod png;
 pub mod sets;
 pub mod svg;
 mod topology;
