@@ -6,6 +6,7 @@ use shared::command::{BodyChoice, Command, MaterialChange, PieceShape, Tearing};
 use sim_core::collision::BodyKind;
 use sim_core::design::garment::{DEFAULT_FABRIC, Landmarks, PieceSpec, Place, load_pattern, sew};
 use sim_core::design::{Design, EditError, TearMode};
+use sim_core::fabric::Library;
 use sim_core::mesh::mesher::Outline;
 use sim_core::scenario::build_design;
 use sim_core::scenario::garment::SEAM_PULL;
@@ -80,6 +81,7 @@ pub(crate) fn carry_out(design: &mut Design, c: &Command) -> Result<String, Stri
         Command::Seam { a, b, tolerance } => seam(design, a, b, *tolerance, false),
         Command::SeamPlane { a, b, tolerance_m } => seam(design, a, b, *tolerance_m, true),
         Command::SetMaterial { material, substeps } => set_material(design, material, *substeps),
+        Command::SetFabric { name } => set_fabric(design, name),
         Command::Undo => design.undo().map(|l| format!("Undone: {l}")).map_err(e),
         Command::Redo => design.redo().map(|l| format!("Redone: {l}")).map_err(e),
         Command::SetTearing(t) => set_tearing(design, *t),
@@ -151,10 +153,11 @@ fn add_piece(
     edge: f32,
 ) -> Result<String, String> {
     let at = place_of(place)?;
+    let fabric = design_fabric(design);
     let piece = |name: &str, outline: Outline| PieceSpec {
         name: name.into(),
         outline,
-        fabric: DEFAULT_FABRIC.into(),
+        fabric: fabric.clone(),
         grain: 0.0,
         placement: None,
     };
@@ -252,15 +255,61 @@ fn set_material(
 ) -> Result<String, String> {
     let mut m = design.sim.material;
     apply_material(&mut m, change);
+    let edited = m != design.sim.material;
     design
         .sim
         .set_material(m, substeps.map(|n| n as usize))
         .map_err(|e| format!("Material not changed: {e}"))?;
+    if edited {
+        // The pieces no longer hang as their fabric measured: their list says so.
+        for p in &mut design.pieces {
+            if !p.fabric.ends_with(EDITED) {
+                p.fabric.push_str(EDITED);
+            }
+        }
+    }
     Ok(format!(
         "Material: density {} kg/m², stretch {} N/m, shear {} N/m, bending {} N m, \
          friction {}, damping {}/s; {} substeps",
         m.density, m.stretch, m.shear, m.bending, m.friction, m.damping, design.sim.substeps
     ))
+}
+
+/// What a fabric's name gains when its values are changed by hand.
+const EDITED: &str = ", edited";
+
+/// The library's fabric `name` for the whole design, in place: its measured values
+/// replace the material's, damping and the solver's settings stay.
+fn set_fabric(design: &mut Design, name: &str) -> Result<String, String> {
+    let lib = Library::builtin();
+    let f = lib
+        .get(name.trim())
+        .map_err(|e| format!("Fabric not changed: {e}; `cloth-sim fabrics` lists them"))?;
+    let m = f.material_over(&design.sim.material);
+    design
+        .sim
+        .set_material(m, None)
+        .map_err(|e| format!("Fabric not changed: {e}"))?;
+    for p in &mut design.pieces {
+        p.fabric.clone_from(&f.name);
+    }
+    Ok(format!(
+        "Fabric: {} ({:.0} g/m², bending {:.1e} N m warp, {:.1e} weft) for the whole design; \
+         source: {}",
+        f.name,
+        m.density * 1e3,
+        m.bending,
+        m.bending * m.bending_weft,
+        f.source
+    ))
+}
+
+/// The fabric a new piece gets: the one every piece of the design has, else the default.
+fn design_fabric(design: &Design) -> String {
+    match design.pieces.first() {
+        Some(p) if design.pieces.iter().all(|q| q.fabric == p.fabric) => p.fabric.clone(),
+        _ => DEFAULT_FABRIC.into(),
+    }
 }
 
 fn set_tearing(design: &mut Design, t: Tearing) -> Result<String, String> {
@@ -376,7 +425,61 @@ pub(crate) fn replacement(
 
 #[cfg(test)]
 mod tests {
-    use super::mismatch_warning;
+    use super::*;
+    use sim_core::scenario::{ScenarioConfig, ScenarioName};
+
+    /// A fabric by name replaces the measured values for the whole design and names
+    /// every piece; an unknown one changes nothing; values edited by hand mark the pieces.
+    #[test]
+    fn a_fabric_by_name_is_the_whole_designs() {
+        let mut scene = ScenarioConfig::new(ScenarioName::DrapeCube);
+        scene.grid = 4;
+        let mut d = build_design(&scene).unwrap();
+        let add = |d: &mut Design| {
+            let shape = PieceShape::Rectangle { w: 0.2, h: 0.3 };
+            add_piece(d, &shape, shared::ui_to_sim::place::FRONT, 0.05).unwrap();
+        };
+        add(&mut d);
+        assert_eq!(d.pieces[0].fabric, DEFAULT_FABRIC);
+        d.sim.material.damping = 1.7;
+
+        let before = d.sim.material;
+        let bad = Command::SetFabric {
+            name: "silk-charmeuse".into(),
+        };
+        let err = carry_out(&mut d, &bad).unwrap_err();
+        assert!(err.contains("no fabric named \"silk-charmeuse\""), "{err}");
+        assert_eq!(d.sim.material, before);
+
+        let denim = Command::SetFabric {
+            name: "denim".into(),
+        };
+        let said = carry_out(&mut d, &denim).unwrap();
+        assert!(said.starts_with("Fabric: denim"), "{said}");
+        let want = Library::builtin().get("denim").unwrap().material();
+        let m = d.sim.material;
+        assert_eq!(
+            (m.density, m.bending, m.bending_weft),
+            (want.density, want.bending, want.bending_weft)
+        );
+        assert_eq!(m.damping, 1.7, "the designer's damping stays");
+        assert_eq!(d.pieces[0].fabric, "denim");
+        // A piece added now is denim too.
+        add(&mut d);
+        assert_eq!(d.pieces[1].fabric, "denim");
+
+        let stiffer = Command::SetMaterial {
+            material: MaterialChange {
+                bending: Some(2.0 * m.bending),
+                ..MaterialChange::default()
+            },
+            substeps: None,
+        };
+        carry_out(&mut d, &stiffer).unwrap();
+        assert!(d.pieces.iter().all(|p| p.fabric == "denim, edited"));
+        carry_out(&mut d, &stiffer).unwrap();
+        assert_eq!(d.pieces[0].fabric, "denim, edited", "marked once");
+    }
 
     #[test]
     fn mismatched_seam_sides_are_a_warning() {

@@ -153,12 +153,16 @@ pub enum Command {
     RemoveSeam {
         seam: u32,
     },
+    /// The fabric `name` (the fabric library's) for the current design, in place.
+    SetFabric {
+        name: String,
+    },
 }
 
 /// Why a command cannot be put on the wire.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum CommandError {
-    #[error("the path is {len} bytes, more than the {TEXT_LEN} a command carries")]
+    #[error("the path or name is {len} bytes, more than the {TEXT_LEN} a command carries")]
     PathTooLong { len: usize },
 }
 
@@ -222,6 +226,7 @@ impl Command {
             Self::DeletePiece { .. } => op::DELETE_PIECE,
             Self::SeamPlane { .. } => op::SEAM_PLANE,
             Self::RemoveSeam { .. } => op::REMOVE_SEAM,
+            Self::SetFabric { .. } => op::SET_FABRIC,
         }
     }
 
@@ -254,7 +259,10 @@ impl Command {
             Self::SetTearing(Tearing::On { threshold, split }) => {
                 (c.mode, c.value) = (if *split { 2 } else { 1 }, *threshold);
             }
-            Self::Save { path } | Self::Export { dir: path } | Self::Load { path } => {
+            Self::Save { path }
+            | Self::Export { dir: path }
+            | Self::Load { path }
+            | Self::SetFabric { name: path } => {
                 set_text(&mut c, path)?;
             }
             Self::SetTool {
@@ -407,6 +415,7 @@ impl Command {
             },
             op::DELETE_PIECE => Self::DeletePiece { piece: c.a },
             op::REMOVE_SEAM => Self::RemoveSeam { seam: c.a },
+            op::SET_FABRIC => Self::SetFabric { name: text(c) },
             op::SEAM_PLANE => Self::SeamPlane {
                 a: [[u[0], u[1]], [u[2], u[3]]],
                 b: [[u[4], u[5]], [u[6], u[7]]],
@@ -544,6 +553,9 @@ mod tests {
             Command::PlacePiece { piece: 2, place: 3 },
             Command::DeletePiece { piece: 1 },
             Command::RemoveSeam { seam: 3 },
+            Command::SetFabric {
+                name: "denim-11oz".into(),
+            },
         ]
     }
 
@@ -611,6 +623,7 @@ mod tests {
                 edge_m: 0.02,
             },
             Command::PlacePiece { piece: 0, place: 9 },
+            Command::SetFabric { name: "  ".into() },
         ] {
             let wire = bad.to_wire(Header::next(&mut seq)).unwrap();
             assert!(Command::from_wire(&wire).is_err(), "{bad:?}");

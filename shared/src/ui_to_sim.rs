@@ -62,7 +62,11 @@ pub mod op {
     pub const SEAM_PLANE: u32 = 20;
     /// Seam `a` (as `saiho/pieces` lists them) removed.
     pub const REMOVE_SEAM: u32 = 21;
-    pub const LAST: u32 = REMOVE_SEAM;
+    /// The fabric named in `text` (as `cloth-sim fabrics` lists them) for the current
+    /// design, in place: its density, stretch, shear, bending (warp, weft and bias),
+    /// friction and thickness; damping and substeps stay. Every piece records it.
+    pub const SET_FABRIC: u32 = 22;
+    pub const LAST: u32 = SET_FABRIC;
 }
 
 /// [`ToolCommand::b`] of a RESET: the body.
@@ -193,6 +197,9 @@ impl Checked for ToolCommand {
             && self.text().is_none_or(str::is_empty)
         {
             return Err("save, load and export need a UTF-8 path".into());
+        }
+        if self.op == op::SET_FABRIC && self.text().is_none_or(|t| t.trim().is_empty()) {
+            return Err("a fabric needs a UTF-8 name".into());
         }
         if self.op == op::SET_MATERIAL {
             if self.a > 100 {

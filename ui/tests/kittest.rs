@@ -321,6 +321,54 @@ fn the_material_follows_cloth_sim_and_applies_in_place() {
     assert_eq!(commands(&h).len(), n, "nothing changed, nothing to apply");
 }
 
+/// The fabric chooser names the library's fabrics, sends the one picked for the whole
+/// design, and shows which one the design has from cloth-sim's telemetry alone.
+#[test]
+fn a_fabric_is_chosen_by_name() {
+    use shared::telemetry::SimTelemetry;
+    let mut h = harness();
+    let tel = |values: [f32; 5]| {
+        let [d, s, g, b, f] = values;
+        Some(Box::new(SimTelemetry {
+            substeps: 5,
+            material: [d, s, g, b, f, 0.6],
+            ..Default::default()
+        }))
+    };
+    h.state_mut().store.sim_tel = tel([0.15, 2000.0, 40.0, 1e-5, 0.4]);
+    h.run_steps(2);
+    assert_eq!(h.state().material.current_fabric(), None);
+    press(&mut h, "Fabric");
+    press(&mut h, "denim");
+    let c = *commands(&h).last().unwrap();
+    assert_eq!((c.op, c.text()), (op::SET_FABRIC, Some("denim")));
+
+    // cloth-sim reports denim's values: the chooser names it.
+    let denim = sim_core::fabric::Library::builtin()
+        .get("denim")
+        .unwrap()
+        .material();
+    h.state_mut().store.sim_tel = tel([
+        denim.density,
+        denim.stretch,
+        denim.shear,
+        denim.bending,
+        denim.friction,
+    ]);
+    h.run_steps(2);
+    assert_eq!(h.state().material.current_fabric(), Some("denim"));
+    // Edited by hand, it is no longer denim.
+    h.state_mut().store.sim_tel = tel([
+        denim.density,
+        denim.stretch,
+        denim.shear,
+        denim.bending * 2.0,
+        denim.friction,
+    ]);
+    h.run_steps(2);
+    assert_eq!(h.state().material.current_fabric(), None);
+}
+
 /// A peer from another build: the UI rejects its messages, says why over the view, and
 /// keeps running.
 #[test]

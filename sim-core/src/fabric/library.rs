@@ -183,6 +183,26 @@ impl Fabric {
     }
 }
 
+impl Fabric {
+    /// `base` with this fabric's measured values (density, stretch, shear, bending in
+    /// warp, weft and bias, friction, thickness); its damping, drag and solver switches
+    /// stay, being the designer's settings rather than the cloth's.
+    pub fn material_over(&self, base: &Material) -> Material {
+        let f = self.material();
+        Material {
+            density: f.density,
+            stretch: f.stretch,
+            shear: f.shear,
+            bending: f.bending,
+            bending_weft: f.bending_weft,
+            bending_bias: f.bending_bias,
+            friction: f.friction,
+            thickness: f.thickness,
+            ..*base
+        }
+    }
+}
+
 /// What is wrong with a fabric file.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum FabricError {

@@ -1,5 +1,6 @@
 //! The material panel: the current design's material and substeps as cloth-sim reports
-//! them (its telemetry), edited here and applied in place.
+//! them (its telemetry), edited here and applied in place, or a measured fabric chosen by
+//! name from the fabric library.
 
 use shared::command::{Command, MaterialChange};
 use shared::telemetry::SimTelemetry;
@@ -48,6 +49,40 @@ pub struct MaterialPanel {
     /// The material last read from cloth-sim's telemetry: a different one (a reset, a
     /// load, another UI's change) replaces what is shown.
     seen: Option<MaterialChoice>,
+    /// The library's fabrics: name, what the chooser's hover says, and the values the
+    /// telemetry shows when the design has that fabric.
+    fabrics: Vec<FabricEntry>,
+}
+
+/// A fabric as the chooser offers it.
+struct FabricEntry {
+    name: String,
+    about: String,
+    /// density, stretch, shear, bending, friction (the telemetry's first five).
+    values: [f32; 5],
+}
+
+/// The built-in fabric library as the chooser lists it.
+fn fabric_entries() -> Vec<FabricEntry> {
+    sim_core::fabric::Library::builtin()
+        .fabrics
+        .iter()
+        .map(|f| {
+            let m = f.material();
+            FabricEntry {
+                name: f.name.clone(),
+                about: format!(
+                    "{}: {:.0} g/m², bending {:.1e} N m (weft {:.1e}); {}",
+                    f.name,
+                    m.density * 1e3,
+                    m.bending,
+                    m.bending * m.bending_weft,
+                    f.source
+                ),
+                values: [m.density, m.stretch, m.shear, m.bending, m.friction],
+            }
+        })
+        .collect()
 }
 
 impl Default for MaterialPanel {
@@ -58,6 +93,7 @@ impl Default for MaterialPanel {
             values: d.values,
             substeps: d.substeps,
             seen: None,
+            fabrics: fabric_entries(),
         }
     }
 }
@@ -87,10 +123,55 @@ impl MaterialPanel {
         }
     }
 
+    /// The library's fabric whose measured values the design has now, if one does.
+    pub fn current_fabric(&self) -> Option<&str> {
+        let seen = self.seen?;
+        let close = |a: f32, b: f32| (a - b).abs() <= 1e-3 * a.abs().max(b.abs());
+        self.fabrics
+            .iter()
+            .find(|f| {
+                f.values
+                    .iter()
+                    .zip(&seen.values)
+                    .all(|(a, b)| close(*a, *b))
+            })
+            .map(|f| f.name.as_str())
+    }
+
+    /// The fabric chooser: a name picked sends it for the whole design.
+    fn chooser(&self, ui: &mut egui::Ui, actions: &mut Vec<Action>) {
+        let shown = self.current_fabric().unwrap_or("custom");
+        egui::ComboBox::from_label("Fabric")
+            .selected_text(shown)
+            .show_ui(ui, |ui| {
+                for f in &self.fabrics {
+                    if ui
+                        .add_enabled(
+                            self.seen.is_some(),
+                            egui::Button::selectable(shown == f.name, &f.name),
+                        )
+                        .on_hover_text(&f.about)
+                        .clicked()
+                    {
+                        actions.push(Action::Command(Command::SetFabric {
+                            name: f.name.clone(),
+                        }));
+                    }
+                }
+            })
+            .response
+            .on_hover_text(
+                "A measured fabric for the whole design, in place: its weight, stretch, shear, \
+                 bending (warp, weft, bias), friction and thickness (docs/fabrics.md lists the \
+                 sources). 'custom' when the values are not one of the library's.",
+            );
+    }
+
     /// The material and substeps of the current design, applied in place.
     pub fn ui(&mut self, ui: &mut egui::Ui, tel: Option<&SimTelemetry>, actions: &mut Vec<Action>) {
         self.follow(tel);
         ui.label("Material and solver");
+        self.chooser(ui, actions);
         self.sliders(ui);
         let changed = self.seen.is_some_and(|m| m != self.choice());
         ui.horizontal(|ui| {
