@@ -21,6 +21,11 @@ pub enum GeometryError {
     BadUv { vertex: usize },
     #[error("the mesh has {vertices} vertices, more than the supported {max}")]
     TooLarge { vertices: usize, max: usize },
+    #[error(
+        "vertex {vertex} lies {at:.3e} m out, beyond the {max} m a scene holds (is the file in \
+         another unit, or damaged?)"
+    )]
+    TooFar { vertex: usize, at: f32, max: f32 },
 }
 
 /// Failure to read a mesh file.

@@ -93,6 +93,17 @@ impl ClothMesh {
         if let Some(i) = self.positions.iter().position(|p| !p.is_finite()) {
             return Err(GeometryError::NonFinite { vertex: i });
         }
+        if let Some(i) = self
+            .positions
+            .iter()
+            .position(|p| p.abs().max_element() > super::MAX_COORD)
+        {
+            return Err(GeometryError::TooFar {
+                vertex: i,
+                at: self.positions[i].abs().max_element(),
+                max: super::MAX_COORD,
+            });
+        }
         if self.uvs.len() != self.positions.len() {
             return Err(GeometryError::BadUv {
                 vertex: self.uvs.len().min(self.positions.len()),

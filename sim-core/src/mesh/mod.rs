@@ -18,6 +18,11 @@ pub mod sets;
 pub mod svg;
 mod topology;
 
+/// The farthest a vertex may lie from the origin along any axis, m: a scene is a room,
+/// and a coordinate past this is another unit or a damaged file (and would overflow the
+/// areas and lengths computed from it).
+pub const MAX_COORD: f32 = 1.0e4;
+
 pub use bounds::{bounds, bounds2};
 pub use cloth_mesh::{ClothMesh, MAX_VERTICES};
 pub use edge::{edge_ends, edge_key};

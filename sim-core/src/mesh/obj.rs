@@ -9,6 +9,49 @@ use glam::{Vec2, Vec3};
 use super::cloth_mesh::ClothMesh;
 use crate::error::LoadError;
 
+/// The largest OBJ file read, bytes: room for the most vertices a mesh may have
+/// ([`super::cloth_mesh::MAX_VERTICES`]) with their UVs and faces, refused before reading.
+pub const MAX_OBJ_BYTES: u64 = 512 << 20;
+
+/// The text of the OBJ file at `path`, with errors that say what is wrong: missing, a
+/// directory, no permission, too large (before reading it), binary data.
+pub fn read_obj_text(path: &Path) -> Result<String, LoadError> {
+    let io = |source| LoadError::Io {
+        path: path.to_owned(),
+        source,
+    };
+    let meta = std::fs::metadata(path).map_err(io)?;
+    if meta.is_dir() {
+        return Err(io(std::io::Error::new(
+            std::io::ErrorKind::IsADirectory,
+            "it is a directory, not an OBJ file",
+        )));
+    }
+    if meta.len() > MAX_OBJ_BYTES {
+        return Err(LoadError::Parse {
+            path: path.to_owned(),
+            reason: format!(
+                "it is {} MB, more than the {} MB an OBJ may have here ({} vertices at most)",
+                meta.len() >> 20,
+                MAX_OBJ_BYTES >> 20,
+                super::cloth_mesh::MAX_VERTICES
+            ),
+        });
+    }
+    let bytes = std::fs::read(path).map_err(io)?;
+    if let Some(at) = bytes.iter().position(|&b| b == 0) {
+        return Err(LoadError::Parse {
+            path: path.to_owned(),
+            reason: format!("it holds binary data (a zero byte at offset {at}), not OBJ text"),
+        });
+    }
+    // Comments and names in another encoding do not matter to the geometry.
+    Ok(match String::from_utf8(bytes) {
+        Ok(s) => s,
+        Err(e) => String::from_utf8_lossy(e.as_bytes()).into_owned(),
+    })
+}
+
 /// Loads every object of an OBJ file into one mesh. Missing UVs become a planar projection
 /// onto the mesh's two widest axes. The result is validated (finite, in range, no
 /// degenerate triangle, manifold).
@@ -19,17 +62,17 @@ pub fn load_obj(path: &Path) -> Result<ClothMesh, LoadError> {
         ignore_points: true,
         ignore_lines: true,
     };
-    let (models, _materials) = tobj::load_obj(path, &opts).map_err(|e| match e {
-        tobj::LoadError::OpenFileFailed | tobj::LoadError::ReadError => LoadError::Io {
-            path: path.to_owned(),
-            source: std::fs::metadata(path)
-                .err()
-                .unwrap_or_else(|| std::io::Error::other(e.to_string())),
-        },
-        other => LoadError::Parse {
-            path: path.to_owned(),
-            reason: other.to_string(),
-        },
+    let text = read_obj_text(path)?;
+    // Materials are not read: a cloth's look is its painted texture.
+    let no_materials = |_: &Path| Err(tobj::LoadError::OpenFileFailed);
+    let (models, _materials) = tobj::load_obj_buf(
+        &mut std::io::Cursor::new(text.as_bytes()),
+        &opts,
+        no_materials,
+    )
+    .map_err(|e| LoadError::Parse {
+        path: path.to_owned(),
+        reason: e.to_string(),
     })?;
     let mut mesh = ClothMesh {
         positions: Vec::new(),
@@ -145,7 +188,7 @@ pub fn write_obj(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     fn tmp(name: &str) -> std::path::PathBuf {
@@ -199,5 +242,56 @@ mod tests {
             load_obj(Path::new("/nonexistent/x.obj")),
             Err(LoadError::Io { .. })
         ));
+    }
+
+    /// Files `read_obj_text` and the readers must refuse saying why: a directory, binary
+    /// data, a coordinate out of range, too large, no permission (the body's reader is
+    /// checked on the same files in `collision::body::check`).
+    pub(crate) fn unreadable(name: &str) -> Vec<(std::path::PathBuf, &'static str)> {
+        let dir = tmp(&format!("{name}-adir"));
+        std::fs::create_dir_all(&dir).unwrap();
+        let garbage = tmp(&format!("{name}-garbage.obj"));
+        let bytes: Vec<u8> = (0..4096u32)
+            .map(|i| (i.wrapping_mul(2654435761) >> 24) as u8)
+            .chain([0])
+            .collect();
+        std::fs::write(&garbage, &bytes).unwrap();
+        let far = tmp(&format!("{name}-far.obj"));
+        std::fs::write(
+            &far,
+            "v 0 0 0\nv 1e30 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\nf 1 4 2\nf 2 4 3\n",
+        )
+        .unwrap();
+        // Too large: refused from its size, before reading (a sparse file takes no disk).
+        let huge = tmp(&format!("{name}-huge.obj"));
+        std::fs::File::create(&huge)
+            .unwrap()
+            .set_len(MAX_OBJ_BYTES + 1)
+            .unwrap();
+        let mut out = vec![
+            (dir, "is a directory"),
+            (garbage, "binary data"),
+            (far, "1.000e30 m out"),
+            (huge, "more than the 512 MB"),
+        ];
+        // No permission (root reads anything, so only as another user).
+        let locked = tmp(&format!("{name}-locked.obj"));
+        std::fs::write(&locked, "v 0 0 0\n").unwrap();
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o000)).unwrap();
+        if std::fs::read(&locked).is_err() {
+            out.push((locked, "ermission denied"));
+        }
+        out
+    }
+
+    /// What the issue found saying "read error", "open file failed" or "degenerate" now
+    /// says what is wrong.
+    #[test]
+    fn unreadable_files_say_why() {
+        for (p, why) in unreadable("cloth") {
+            let e = load_obj(&p).unwrap_err().to_string();
+            assert!(e.contains(why), "{}: {e}", p.display());
+        }
     }
 }

@@ -47,10 +47,7 @@ fn not_solid(path: &Path, problem: String) -> LoadError {
 
 /// Reads `path` and checks it (see the module's doc).
 pub fn read_body_obj(path: &Path) -> Result<CheckedBody, LoadError> {
-    let text = std::fs::read_to_string(path).map_err(|source| LoadError::Io {
-        path: path.to_owned(),
-        source,
-    })?;
+    let text = crate::mesh::obj::read_obj_text(path)?;
     let (vertices, faces) = parse(path, &text)?;
     check(path, &vertices, faces)
 }
@@ -76,6 +73,17 @@ fn parse(path: &Path, text: &str) -> Result<(Vec<Vec3>, Vec<Face>), LoadError> {
                     return Err(bad(
                         path,
                         format!("line {line}: vertex {} is not finite", vertices.len() + 1),
+                    ));
+                }
+                if let Some(far) = c.iter().find(|x| x.abs() > crate::mesh::MAX_COORD) {
+                    return Err(bad(
+                        path,
+                        format!(
+                            "line {line}: vertex {} lies {far:.3e} m out, beyond the {} m a \
+                             scene holds (another unit, or a damaged file?)",
+                            vertices.len() + 1,
+                            crate::mesh::MAX_COORD
+                        ),
                     ));
                 }
                 vertices.push(Vec3::from(c));
@@ -494,6 +502,15 @@ mod tests {
             let back = read_body_obj(&p).unwrap_or_else(|e| panic!("{name}: {e}"));
             assert!(back.repairs.is_empty(), "{name}: {:?}", back.repairs);
             assert_eq!(back.triangles.len(), body.triangles.len(), "{name}");
+        }
+    }
+
+    /// The body's reader refuses what the cloth's does, saying why.
+    #[test]
+    fn unreadable_bodies_say_why() {
+        for (p, why) in crate::mesh::obj::tests::unreadable("body") {
+            let e = read_body_obj(&p).err().unwrap().to_string();
+            assert!(e.contains(why), "{}: {e}", p.display());
         }
     }
 }
