@@ -528,6 +528,15 @@ mod tests {
                 material: MaterialChange::default(),
                 substeps: Some(20),
             },
+        ]
+        .into_iter()
+        .chain(piece_variants())
+        .collect()
+    }
+
+    /// The variants that make and sew pieces, and the fabric.
+    fn piece_variants() -> Vec<Command> {
+        vec![
             Command::AddPiece {
                 shape: PieceShape::Rectangle { w: 0.3, h: 0.5 },
                 place: crate::ui_to_sim::place::BACK,
