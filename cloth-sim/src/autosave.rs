@@ -19,6 +19,23 @@ use sim_core::design::file::{set_aside, write_atomically};
 
 use crate::config::{ServiceConfig, ServiceStats};
 
+/// Makes the autosave's directory ready before anything in it is read or written: the
+/// user's state directory (the default) is made private and refused if it is a symbolic
+/// link or another user's; a directory the user chose is created as the umask allows.
+pub fn prepare_dir(autosave: &Path) -> Result<(), String> {
+    let Some(dir) = autosave.parent().filter(|d| !d.as_os_str().is_empty()) else {
+        return Ok(());
+    };
+    let (state, var) = shared::paths::state_dir_path();
+    if dir == state {
+        shared::paths::state_dir()
+            .map(|_| ())
+            .map_err(|e| format!("autosave directory ({var}): {e}"))
+    } else {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))
+    }
+}
+
 /// Where the previous good autosave is kept: `NAME.previous.saiho` beside `NAME.saiho`.
 pub fn backup_of(autosave: &Path) -> PathBuf {
     let stem = autosave.file_stem().unwrap_or_default().to_string_lossy();
@@ -40,6 +57,7 @@ pub fn resume_or(
             cfg.autosave.display()
         ));
     }
+    prepare_dir(&cfg.autosave)?;
     for (path, what) in [
         (cfg.autosave.clone(), "autosave"),
         (backup_of(&cfg.autosave), "backup of the autosave"),
@@ -91,9 +109,7 @@ pub(crate) struct Autosave {
 impl Autosave {
     /// Starts the writer thread for `path` (its directory is created).
     pub(crate) fn start(path: &Path, every_s: f64) -> Result<Self, String> {
-        if let Some(dir) = path.parent() {
-            std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        }
+        prepare_dir(path)?;
         if path.is_dir() {
             return Err(format!(
                 "the autosave path {} is a directory; give a file path",

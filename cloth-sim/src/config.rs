@@ -28,8 +28,9 @@ pub struct ServiceConfig {
 
 impl ServiceConfig {
     pub fn new(domain: Domain) -> Self {
-        let autosave = std::env::temp_dir()
-            .join("saiho")
+        // The user's private state directory (checked when the autosave is first used).
+        let autosave = shared::paths::state_dir_path()
+            .0
             .join(format!("{}.autosave.saiho", domain.name()));
         Self {
             domain,

@@ -19,6 +19,6 @@ mod pen;
 mod publish;
 mod service;
 
-pub use autosave::{backup_of, resume_or};
+pub use autosave::{backup_of, prepare_dir, resume_or};
 pub use config::{ServiceConfig, ServiceStats};
 pub use service::run;

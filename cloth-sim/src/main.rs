@@ -136,7 +136,8 @@ struct RunArgs {
     #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
     rate: f64,
     /// The design's autosave (resumed at start when valid). Default:
-    /// $TMPDIR/saiho/DOMAIN.autosave.saiho.
+    /// ~/.local/state/saiho/DOMAIN.autosave.saiho ($XDG_STATE_HOME/saiho/ when set), in a
+    /// directory of the user's alone.
     #[arg(long)]
     autosave: Option<PathBuf>,
     /// Start a new design even if an autosave exists.
@@ -428,6 +429,7 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
     }
     let stop = shared::signals::termination_flag();
     let mut log = |m: &str| eprintln!("cloth-sim: {m}");
+    cloth_sim::prepare_dir(&cfg.autosave)?;
     if a.fresh && cfg.autosave.is_file() {
         // A new design, but the last one is not thrown away: it becomes the backup.
         let kept = backup_of(&cfg.autosave);

@@ -62,6 +62,7 @@ pub fn run(
     stop: &AtomicBool,
     log: &mut dyn FnMut(&str),
 ) -> Result<ServiceStats, String> {
+    let _release = services::ReleaseOnDrop(cfg.domain.clone());
     let node = services::node(&cfg.domain, "cloth-sim").map_err(|e| e.to_string())?;
     let body_floats = design
         .sim

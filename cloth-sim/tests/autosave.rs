@@ -123,10 +123,32 @@ static STOP: AtomicBool = AtomicBool::new(false);
 fn the_previous_autosave_stays_as_the_backup() {
     let d = dir("backup");
     let autosave = d.join("run.autosave.saiho");
-    let mut cfg = config(&autosave, &format!("asb{}", std::process::id()));
+    let domain = format!("asb{}", std::process::id());
+    let mut cfg = config(&autosave, &domain);
     cfg.autosave_every_s = 0.2;
     cfg.seconds = Some(2.0);
     let stats = run(small(6), &cfg, &STOP, &mut |_| {}).unwrap();
+    // The designs are the user's alone.
+    use std::os::unix::fs::PermissionsExt;
+    for f in [autosave.clone(), backup_of(&autosave)] {
+        let mode = std::fs::metadata(&f).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode, 0o600, "{}", f.display());
+    }
+    // A clean stop, alone in its domain, leaves nothing of it in /dev/shm or the runtime
+    // directory.
+    let d_ = Domain::new(&domain).unwrap();
+    let shm: Vec<String> = std::fs::read_dir("/dev/shm")
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.starts_with(&d_.prefix()))
+        .collect();
+    assert!(shm.is_empty(), "left in /dev/shm: {shm:?}");
+    let root = shared::paths::runtime_dir()
+        .unwrap()
+        .join("iceoryx2")
+        .join(&domain);
+    assert!(!root.exists(), "{} left", root.display());
     assert!(
         stats.autosaves >= 3 && stats.autosave_failures == 0,
         "{stats:?}"

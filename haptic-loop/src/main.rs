@@ -133,6 +133,7 @@ fn run(a: Args) -> Result<(), String> {
         }
     };
     let stop = rt::termination_flag();
+    let _release = services::ReleaseOnDrop(domain.clone());
     let node = services::node(&domain, "haptic-loop").map_err(|e| e.to_string())?;
     let ports = HapticPorts::open(&node).map_err(|e| e.to_string())?;
     // The recorder's writer thread first, so it does not inherit the loop's priority and CPU.

@@ -1,6 +1,14 @@
 //! Domains: `--domain NAME` (or the `SAIHO_DOMAIN` environment variable) gives a running
 //! system an iceoryx2 configuration of its own (file prefix and root path), so two systems
 //! on one machine, or tests running in parallel, never see each other's services.
+//!
+//! A domain is per user: its root directory is in the user's private runtime directory
+//! ([`crate::paths::runtime_dir`]) and its shared-memory files in `/dev/shm` carry the
+//! user id in their prefix (`saiho_<uid>_<name>_`) and are the user's alone (0600; iceoryx2
+//! makes its management segment 0666, [`Domain::secure_shared_memory`] closes it). Another
+//! user's file under that prefix is refused, never opened.
+
+use std::os::unix::fs::{MetadataExt, PermissionsExt};
 
 use iceoryx2::config::Config;
 use iceoryx2::prelude::{FileName, Path, SemanticString};
@@ -18,7 +26,22 @@ pub enum DomainError {
     BadName(String),
     #[error("cannot set up the iceoryx2 configuration for domain '{0}': {1}")]
     Config(String, String),
+    #[error(
+        "domain '{domain}': /dev/shm/{file} belongs to user {owner}, not to you; another user \
+         placed it where this domain's shared memory goes. Remove it (as that user or root) \
+         or choose another --domain"
+    )]
+    Squatted {
+        domain: String,
+        file: String,
+        owner: u32,
+    },
+    #[error("domain '{0}': cannot close its shared memory to other users: {1}")]
+    Permissions(String, String),
 }
+
+/// Where POSIX shared memory lives.
+const SHM: &str = "/dev/shm";
 
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Domain {
@@ -50,10 +73,58 @@ impl Domain {
         }
     }
 
-    /// This domain's directory under the system temp directory (iceoryx2's root path; the
-    /// launcher's control socket lives here too).
-    pub fn root_dir(&self) -> std::path::PathBuf {
-        std::env::temp_dir().join("saiho-iceoryx2").join(&self.name)
+    /// This domain's directory in the user's private runtime directory (iceoryx2's root
+    /// path; the launcher's control socket lives here too), created 0700.
+    pub fn root_dir(&self) -> Result<std::path::PathBuf, DomainError> {
+        let err =
+            |e: crate::paths::PathError| DomainError::Config(self.name.clone(), e.to_string());
+        let dir = crate::paths::runtime_dir()
+            .map_err(err)?
+            .join("iceoryx2")
+            .join(&self.name);
+        crate::paths::ensure_private(&dir, "XDG_RUNTIME_DIR").map_err(err)?;
+        Ok(dir)
+    }
+
+    /// The start of every file name iceoryx2 makes for this domain.
+    pub fn prefix(&self) -> String {
+        format!("saiho_{}_{}_", crate::paths::uid(), self.name)
+    }
+
+    /// Checks this domain's files in /dev/shm: another user's is refused (before anything
+    /// of ours opens it); one of ours that others may read or write is closed to 0600.
+    /// Returns how many were closed.
+    pub fn secure_shared_memory(&self) -> Result<usize, DomainError> {
+        let prefix = self.prefix();
+        let mut closed = 0;
+        let Ok(dir) = std::fs::read_dir(SHM) else {
+            return Ok(0);
+        };
+        for e in dir.flatten() {
+            let file = e.file_name().to_string_lossy().into_owned();
+            if !file.starts_with(&prefix) {
+                continue;
+            }
+            // Gone meanwhile (its owner stopped): nothing to check.
+            let Ok(meta) = std::fs::symlink_metadata(e.path()) else {
+                continue;
+            };
+            if meta.uid() != crate::paths::uid() || meta.file_type().is_symlink() {
+                return Err(DomainError::Squatted {
+                    domain: self.name.clone(),
+                    file,
+                    owner: meta.uid(),
+                });
+            }
+            if meta.mode() & 0o077 != 0 {
+                std::fs::set_permissions(e.path(), std::fs::Permissions::from_mode(0o600))
+                    .map_err(|err| {
+                        DomainError::Permissions(self.name.clone(), format!("{file}: {err}"))
+                    })?;
+                closed += 1;
+            }
+        }
+        Ok(closed)
     }
 
     pub fn name(&self) -> &str {
@@ -65,10 +136,9 @@ impl Domain {
     pub fn config(&self) -> Result<Config, DomainError> {
         let err = |e: String| DomainError::Config(self.name.clone(), e);
         let mut cfg = Config::default();
-        let prefix = format!("saiho_{}_", self.name);
+        let prefix = self.prefix();
         cfg.global.prefix = FileName::new(prefix.as_bytes()).map_err(|e| err(format!("{e:?}")))?;
-        let root = self.root_dir();
-        std::fs::create_dir_all(&root).map_err(|e| err(e.to_string()))?;
+        let root = self.root_dir()?;
         let mut root_s = root.display().to_string();
         root_s.push('/');
         let path = Path::new(root_s.as_bytes()).map_err(|e| err(format!("{e:?}")))?;
@@ -79,20 +149,23 @@ impl Domain {
 
 impl Domain {
     /// Deletes what iceoryx2 left in /dev/shm for this domain (its `*_global_mgmt`
-    /// segment). Only for when no process of the domain runs (tests, after a clean
-    /// shutdown of all). The small root directory under the temp directory stays: iceoryx2
-    /// may still touch it until the process exits.
+    /// segment, and any segment a killed process left) and the domain's root directory.
+    /// Only for when no process of the domain runs (tests, after a clean shutdown of
+    /// all): see [`crate::services::release`]. Only this user's files are touched.
     pub fn remove_leftovers(&self) {
-        let prefix = format!("saiho_{}_", self.name);
-        if let Ok(dir) = std::fs::read_dir("/dev/shm") {
+        let prefix = self.prefix();
+        if let Ok(dir) = std::fs::read_dir(SHM) {
             for e in dir.flatten() {
-                if e.file_name().to_string_lossy().starts_with(&prefix) {
+                let ours = std::fs::symlink_metadata(e.path())
+                    .is_ok_and(|m| m.uid() == crate::paths::uid());
+                if ours && e.file_name().to_string_lossy().starts_with(&prefix) {
                     let _ = std::fs::remove_file(e.path());
                 }
             }
         }
-        let _ =
-            std::fs::remove_dir_all(std::env::temp_dir().join("saiho-iceoryx2").join(&self.name));
+        if let Ok(root) = crate::paths::runtime_dir() {
+            let _ = std::fs::remove_dir_all(root.join("iceoryx2").join(&self.name));
+        }
     }
 }
 

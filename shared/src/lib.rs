@@ -12,13 +12,15 @@
 //!   quality of service; [`ports`] builds every process's ports from them, one struct per
 //!   process.
 //! - [`domain`] turns `--domain NAME` (or `SAIHO_DOMAIN`) into an iceoryx2 configuration of
-//!   its own, so two systems, or tests running in parallel, never see each other.
+//!   its own, so two systems, or tests running in parallel, never see each other;
+//!   [`paths`] keeps each user's files private (0700 directories, 0600 shared memory).
 
 pub mod cli;
 pub mod command;
 pub mod cpus;
 pub mod domain;
 pub mod haptic_to_sim;
+pub mod paths;
 pub mod ports;
 pub mod services;
 pub mod signals;

@@ -220,29 +220,75 @@ pub fn texture(node: &Node<ipc::Service>) -> Result<SliceFactory<u8, TextureTile
 }
 
 /// A node in `domain`, with iceoryx2's own signal handlers off (each process handles
-/// SIGINT/SIGTERM itself) and stale resources of dead nodes removed.
+/// SIGINT/SIGTERM itself) and stale resources of dead nodes removed. The domain's shared
+/// memory is checked before (another user's file there is refused, not opened) and closed
+/// to other users after (iceoryx2 makes its management segment world-writable).
 pub fn node(
     domain: &crate::domain::Domain,
     name: &str,
 ) -> Result<Node<ipc::Service>, ServiceError> {
-    let cfg = domain.config().map_err(|e| ServiceError::Open {
+    let open = |detail: String| ServiceError::Open {
         service: "node",
-        detail: e.to_string(),
-    })?;
+        detail,
+    };
+    let cfg = domain.config().map_err(|e| open(e.to_string()))?;
+    domain
+        .secure_shared_memory()
+        .map_err(|e| open(e.to_string()))?;
     cleanup_dead_nodes(&cfg);
-    let node_name: NodeName = name.try_into().map_err(|e| ServiceError::Open {
-        service: "node",
-        detail: format!("{e:?}"),
-    })?;
-    NodeBuilder::new()
+    let node_name: NodeName = name.try_into().map_err(|e| open(format!("{e:?}")))?;
+    let node = NodeBuilder::new()
         .name(&node_name)
         .config(&cfg)
         .signal_handling_mode(SignalHandlingMode::Disabled)
         .create::<ipc::Service>()
-        .map_err(|e| ServiceError::Open {
-            service: "node",
-            detail: format!("{e:?}"),
-        })
+        .map_err(|e| open(format!("{e:?}")))?;
+    domain
+        .secure_shared_memory()
+        .map_err(|e| open(e.to_string()))?;
+    Ok(node)
+}
+
+/// How many nodes of `domain` are alive now (0 when its configuration cannot be read).
+pub fn alive_nodes(domain: &crate::domain::Domain) -> usize {
+    let Ok(cfg) = domain.config() else { return 0 };
+    let mut alive = 0;
+    let _ = Node::<ipc::Service>::list(&cfg, |state| {
+        if matches!(state, NodeState::Alive(_)) {
+            alive += 1;
+        }
+        CallbackProgression::Continue
+    });
+    alive
+}
+
+/// A clean stop's last step, after the process's node and ports are dropped: when no
+/// other node of the domain is alive, removes what the domain left (its management
+/// segment in /dev/shm and its root directory), so a clean stop leaves nothing behind.
+/// Returns whether it did. A process that starts in the same instant opens a new
+/// management segment; the one it may have mapped is only a node counter.
+pub fn release(domain: &crate::domain::Domain) -> bool {
+    let Ok(cfg) = domain.config() else {
+        return false;
+    };
+    cleanup_dead_nodes(&cfg);
+    if alive_nodes(domain) == 0 {
+        domain.remove_leftovers();
+        true
+    } else {
+        false
+    }
+}
+
+/// Calls [`release`] for its domain when dropped. Declared before a process's node, it
+/// is dropped after the node and its ports, on every way out of the function (an error
+/// returned included).
+pub struct ReleaseOnDrop(pub crate::domain::Domain);
+
+impl Drop for ReleaseOnDrop {
+    fn drop(&mut self) {
+        release(&self.0);
+    }
 }
 
 /// Removes what dead processes of this domain left behind; returns how many nodes.

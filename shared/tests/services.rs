@@ -161,3 +161,88 @@ fn cloth_frames_and_meshes_are_checked() {
     );
     assert!(check_mesh(&m, &[c(0), c(1)]).is_err());
 }
+
+/// The files in /dev/shm that start with `prefix`, with their owner and mode.
+fn shm_files(prefix: &str) -> Vec<(String, u32, u32)> {
+    use std::os::unix::fs::MetadataExt;
+    std::fs::read_dir("/dev/shm")
+        .unwrap()
+        .flatten()
+        .filter_map(|e| {
+            let n = e.file_name().to_string_lossy().into_owned();
+            let m = std::fs::symlink_metadata(e.path()).ok()?;
+            n.starts_with(prefix)
+                .then_some((n, m.uid(), m.mode() & 0o777))
+        })
+        .collect()
+}
+
+/// A running domain's shared memory and directory are the user's alone, its management
+/// segment included (iceoryx2 makes it 0666); the last node's release removes them all.
+#[test]
+fn a_domains_files_are_the_users_alone_and_a_clean_stop_removes_them() {
+    use std::os::unix::fs::MetadataExt;
+    let d = domain("modes");
+    assert!(d.prefix().contains(&format!("_{}_", shared::paths::uid())));
+    {
+        let node = services::node(&d, "haptic").unwrap();
+        let publisher = ports::publisher(&node, services::device).unwrap();
+        publisher.send_copy(sample(&mut 0, 1.0)).unwrap();
+        let files = shm_files(&d.prefix());
+        assert!(
+            files.iter().any(|f| f.0.ends_with("global_mgmt")),
+            "{files:?}"
+        );
+        for (name, owner, mode) in &files {
+            assert_eq!(*owner, shared::paths::uid(), "{name}");
+            assert_eq!(*mode, 0o600, "{name} is {mode:o}");
+        }
+        let root = d.root_dir().unwrap();
+        assert_eq!(std::fs::metadata(&root).unwrap().mode() & 0o777, 0o700);
+        let runtime = shared::paths::runtime_dir().unwrap();
+        assert_eq!(std::fs::metadata(&runtime).unwrap().mode() & 0o777, 0o700);
+        // Another node is alive: nothing is removed.
+        let other = services::node(&d, "sim").unwrap();
+        drop(other);
+        assert!(!services::release(&d), "the haptic node still runs");
+        assert!(!shm_files(&d.prefix()).is_empty());
+    }
+    assert!(services::release(&d));
+    assert_eq!(shm_files(&d.prefix()), vec![]);
+    assert!(
+        !shared::paths::runtime_dir()
+            .unwrap()
+            .join("iceoryx2")
+            .join(d.name())
+            .exists()
+    );
+}
+
+/// Another user's file where the domain's shared memory goes is refused, never opened.
+/// Only root can make a file of another user's, so elsewhere this checks nothing more
+/// than that the user's own files pass.
+#[test]
+fn another_users_file_in_the_domains_place_is_refused() {
+    let d = domain("squat");
+    let squat = std::path::PathBuf::from("/dev/shm").join(format!("{}node.squat", d.prefix()));
+    std::fs::write(&squat, b"").unwrap();
+    let root = shared::paths::uid() == 0;
+    if root {
+        std::os::unix::fs::chown(&squat, Some(65534), None).unwrap();
+    }
+    let r = services::node(&d, "haptic");
+    std::fs::remove_file(&squat).unwrap();
+    if root {
+        let Err(e) = r else {
+            panic!("a squatted domain is refused")
+        };
+        let e = e.to_string();
+        assert!(
+            e.contains("belongs to user 65534") && e.contains("choose another --domain"),
+            "{e}"
+        );
+    } else {
+        r.unwrap();
+    }
+    d.remove_leftovers();
+}

@@ -301,6 +301,7 @@ pub fn fit_cube(
     stop: &AtomicBool,
     progress: &mut dyn FnMut(&str),
 ) -> Result<StandInReport, String> {
+    let _release = services::ReleaseOnDrop(domain.clone());
     let node = services::node(domain, "lab-ui-standin").map_err(|e| e.to_string())?;
     let ports = DesignerPorts::open(&node).map_err(|e| e.to_string())?;
     let mut ui = Ui {

@@ -54,14 +54,17 @@ impl Role {
     }
 }
 
-/// The launcher's control socket for `domain`.
-pub fn socket_path(domain: &Domain) -> PathBuf {
-    domain.root_dir().join("cloth-lab.sock")
+/// The launcher's control socket for `domain`, in the domain's private directory.
+pub fn socket_path(domain: &Domain) -> Result<PathBuf, String> {
+    Ok(domain
+        .root_dir()
+        .map_err(|e| e.to_string())?
+        .join("cloth-lab.sock"))
 }
 
 /// Sends one request line to a running launcher and returns its one-line reply.
 pub fn request(domain: &Domain, line: &str) -> Result<String, String> {
-    let path = socket_path(domain);
+    let path = socket_path(domain)?;
     let mut s = UnixStream::connect(&path).map_err(|e| {
         format!(
             "no cloth-lab is running in domain '{}' ({}: {e})",
@@ -156,10 +159,7 @@ impl Supervisor {
     /// A supervisor for `domain` with its control socket open (refused when another
     /// launcher is live in the domain).
     pub fn new(domain: Domain) -> Result<Self, String> {
-        let path = socket_path(&domain);
-        if let Some(dir) = path.parent() {
-            std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        }
+        let path = socket_path(&domain)?;
         if UnixStream::connect(&path).is_ok() {
             return Err(format!(
                 "a cloth-lab is already running in domain '{}'; use another --domain or `cloth-lab restart`",
@@ -168,6 +168,9 @@ impl Supervisor {
         }
         let _ = std::fs::remove_file(&path);
         let listener = UnixListener::bind(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        // The directory is the user's alone already; the socket is too.
+        std::fs::set_permissions(&path, std::os::unix::fs::PermissionsExt::from_mode(0o600))
+            .map_err(|e| format!("{}: {e}", path.display()))?;
         listener.set_nonblocking(true).map_err(|e| e.to_string())?;
         let (req_tx, requests) = mpsc::channel();
         Ok(Self {
@@ -477,9 +480,14 @@ impl Drop for Supervisor {
                 let _ = c.wait();
             }
         }
-        if self.listener.take().is_some() {
-            let _ = std::fs::remove_file(socket_path(&self.domain));
+        if self.listener.take().is_some()
+            && let Ok(path) = socket_path(&self.domain)
+        {
+            let _ = std::fs::remove_file(path);
         }
+        // The children are gone: what they left in /dev/shm and the domain's directory
+        // goes too (unless a process of the domain started outside cloth-lab still runs).
+        shared::services::release(&self.domain);
     }
 }
 

@@ -27,6 +27,8 @@ pub struct Link {
     pending: Vec<(u32, Pending, std::time::Instant)>,
     seq_cmd: u64,
     seq_ptr: u64,
+    /// Last, so dropped after the node and ports: a clean stop leaves nothing behind.
+    _release: services::ReleaseOnDrop,
 }
 
 /// A reply to a command the UI sent, or that none came.
@@ -50,6 +52,7 @@ impl Link {
             pending: Vec::new(),
             seq_cmd: 0,
             seq_ptr: 0,
+            _release: services::ReleaseOnDrop(domain.clone()),
         })
     }
 

@@ -4,6 +4,7 @@
 //! file that cannot be read is moved aside under a name that says why, never overwritten.
 
 use std::io::Write;
+use std::os::unix::fs::{OpenOptionsExt, PermissionsExt};
 use std::path::{Path, PathBuf};
 
 use super::format::DesignError;
@@ -18,6 +19,9 @@ pub fn temporary_of(path: &Path) -> PathBuf {
 /// Writes `bytes` to `path` through a temporary file that is synced and then renamed over
 /// it. With `backup`, an existing `path` is first renamed to `backup` (the previous
 /// version stays). On failure the temporary file is removed and the error names `path`.
+/// A design is private: a new file is 0600 (the user's alone), one that replaces another
+/// keeps that file's mode. The temporary file is made afresh (a stale one, or a link
+/// someone put in its place, is removed, never written through).
 pub fn write_atomically(
     path: &Path,
     bytes: &[u8],
@@ -34,10 +38,20 @@ pub fn write_atomically(
         )));
     }
     let tmp = temporary_of(path);
-    let written = std::fs::File::create(&tmp).and_then(|mut f| {
-        f.write_all(bytes)?;
-        f.sync_all()
-    });
+    let mode = std::fs::metadata(path).map_or(0o600, |m| m.permissions().mode() & 0o777);
+    let _ = std::fs::remove_file(&tmp);
+    let written = std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .mode(0o600)
+        .open(&tmp)
+        .and_then(|mut f| {
+            f.write_all(bytes)?;
+            if mode != 0o600 {
+                f.set_permissions(std::fs::Permissions::from_mode(mode))?;
+            }
+            f.sync_all()
+        });
     let renamed = written.and_then(|()| {
         if let Some(b) = backup
             && path.is_file()
