@@ -37,6 +37,7 @@ pub struct Measured<R> {
 /// The echo: returns every ping on both paths until `stop` or `seconds`. The project path
 /// checks each sample as a real subscriber must.
 pub fn pong(domain: &Domain, seconds: f64, stop: &AtomicBool) -> Result<u64, String> {
+    let _release = services::ReleaseOnDrop(domain.clone());
     let node = services::node(domain, "latency-pong").map_err(|e| e.to_string())?;
     let dev_sub = ports::subscriber(&node, services::device, None).map_err(|e| e.to_string())?;
     let echo_pub = ports::publisher(&node, services::device_echo).map_err(|e| e.to_string())?;
@@ -196,6 +197,7 @@ pub fn ping(
     stop: &AtomicBool,
     progress: &mut dyn FnMut(&str),
 ) -> Result<Measured<PingReport>, String> {
+    let _release = services::ReleaseOnDrop(domain.clone());
     let node = services::node(domain, "latency-ping").map_err(|e| e.to_string())?;
     let dev_pub = ports::publisher(&node, services::device).map_err(|e| e.to_string())?;
     let echo_sub =
@@ -265,6 +267,24 @@ pub fn ping(
             std::thread::sleep(next - now);
         } else {
             next = now;
+        }
+    }
+    for (path, p) in [("project", &proj), ("raw", &raw)] {
+        if p.rtt.is_empty() && p.lost == 0 {
+            return Err(format!(
+                "measured nothing: the run was too short; the first {WARMUP} round trips of \
+                 each path warm up and are not counted (give more --seconds)"
+            ));
+        }
+        if p.rtt.is_empty() {
+            return Err(format!(
+                "measured nothing: none of the pings on the {path} path came back in {:.0} s \
+                 ({} lost) in domain '{}'. The echo process did not answer: it may not have \
+                 started in time on a saturated machine, or it runs in another domain",
+                started.elapsed().as_secs_f64(),
+                p.lost,
+                domain.name()
+            ));
         }
     }
     Ok(ping_report(
@@ -383,6 +403,7 @@ pub fn loop_(
     seconds: f64,
     stop: &AtomicBool,
 ) -> Result<Measured<LoopReport>, String> {
+    let _release = services::ReleaseOnDrop(domain.clone());
     let node = services::node(domain, "latency-loop").map_err(|e| e.to_string())?;
     let sub = loop_sub(&node)?;
     let mut rejected = 0;
@@ -469,6 +490,7 @@ pub fn e2e(
     seconds: f64,
     stop: &AtomicBool,
 ) -> Result<Measured<E2eReport>, String> {
+    let _release = services::ReleaseOnDrop(domain.clone());
     let node = services::node(domain, "latency-e2e").map_err(|e| e.to_string())?;
     let sub = loop_sub(&node)?;
     let frames =
@@ -563,6 +585,7 @@ pub fn e2e(
 
 /// The haptic loop's telemetry now (cumulative since it started), waiting up to `timeout`.
 pub fn loop_snapshot(domain: &Domain, timeout: Duration) -> Result<Box<LoopTelemetry>, String> {
+    let _release = services::ReleaseOnDrop(domain.clone());
     let node = services::node(domain, "latency-snapshot").map_err(|e| e.to_string())?;
     let sub = loop_sub(&node)?;
     let mut rejected = 0;
@@ -597,5 +620,31 @@ impl LoopSummary {
             model_age_us: Percentiles::of(&window(None, &t.model_age)),
             sample_to_model_used_us: Percentiles::of(&window(None, &t.pen_to_model)),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An echo that connects but never answers (a saturated machine's): ping measured
+    /// nothing, and says so as an error instead of reporting zeros.
+    #[test]
+    fn a_ping_that_measured_nothing_fails_and_says_why() {
+        let domain = Domain::new(&format!("lpn{}", std::process::id())).unwrap();
+        let node = services::node(&domain, "silent-echo").unwrap();
+        let _dev = ports::subscriber(&node, services::device, None).unwrap();
+        let _raw = ports::raw_device_pair(&node, RAW_PONG, RAW_PING).unwrap();
+        let stop = AtomicBool::new(false);
+        let r = ping(&domain, 0.5, 1000.0, &stop, &mut |_| {});
+        let Err(e) = r else {
+            panic!("nothing measured is an error")
+        };
+        assert!(
+            e.starts_with("measured nothing") && e.contains("lost") && e.contains("project"),
+            "{e}"
+        );
+        drop((_dev, _raw, node));
+        domain.remove_leftovers();
     }
 }
