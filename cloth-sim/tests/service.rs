@@ -8,7 +8,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
 use cloth_sim::{ServiceConfig, run};
-use shared::domain::Domain;
+use shared::domain::ScratchDomain;
 use shared::ports;
 use shared::services;
 use shared::ui_to_sim::{CommandReply, ToolCommand, op};
@@ -22,8 +22,8 @@ type Node = iceoryx2::prelude::Node<iceoryx2::prelude::ipc::Service>;
 
 #[test]
 fn commands_are_carried_out_and_answered() {
-    let d = Domain::new(&format!("svc{}", std::process::id())).unwrap();
-    let mut cfg = ServiceConfig::new(d.clone());
+    let d = ScratchDomain::new(&format!("svc{}", std::process::id())).unwrap();
+    let mut cfg = ServiceConfig::new(d.0.clone());
     cfg.autosave = std::env::temp_dir().join(format!("saiho-svc-{}.saiho", std::process::id()));
     cfg.seconds = Some(30.0);
     let handle = std::thread::spawn(move || {
@@ -525,8 +525,8 @@ fn use_tool(ask: Ask<'_>, t: u32) {
 #[test]
 fn the_pens_button_acts_with_every_tool() {
     static STOP_TOOLS: AtomicBool = AtomicBool::new(false);
-    let d = Domain::new(&format!("pen{}", std::process::id())).unwrap();
-    let mut cfg = ServiceConfig::new(d.clone());
+    let d = ScratchDomain::new(&format!("pen{}", std::process::id())).unwrap();
+    let mut cfg = ServiceConfig::new(d.0.clone());
     cfg.autosave = std::env::temp_dir().join(format!("saiho-pen-{}.saiho", std::process::id()));
     cfg.seconds = Some(60.0);
     cfg.pinch_stiffness = 2000.0;
@@ -675,8 +675,8 @@ fn sew_by_pen(rig: &mut PenRig, ask: Ask<'_>) {
 fn the_pinch_pulls_the_cloth_no_harder_than_the_rendered_force() {
     use shared::haptic_to_sim::{AppliedForce, DeviceSample};
     static STOP_PULL: AtomicBool = AtomicBool::new(false);
-    let d = Domain::new(&format!("pull{}", std::process::id())).unwrap();
-    let mut cfg = ServiceConfig::new(d.clone());
+    let d = ScratchDomain::new(&format!("pull{}", std::process::id())).unwrap();
+    let mut cfg = ServiceConfig::new(d.0.clone());
     cfg.autosave = std::env::temp_dir().join(format!("saiho-pull-{}.saiho", std::process::id()));
     cfg.seconds = Some(30.0);
     let handle = std::thread::spawn(move || {
@@ -767,8 +767,8 @@ fn the_pinch_pulls_the_cloth_no_harder_than_the_rendered_force() {
 #[test]
 fn pieces_are_added_placed_listed_and_deleted_over_the_protocol() {
     use shared::ui_to_sim::{place, shape};
-    let d = Domain::new(&format!("svcp{}", std::process::id())).unwrap();
-    let mut cfg = ServiceConfig::new(d.clone());
+    let d = ScratchDomain::new(&format!("svcp{}", std::process::id())).unwrap();
+    let mut cfg = ServiceConfig::new(d.0.clone());
     cfg.autosave = std::env::temp_dir().join(format!("saiho-svcp-{}.saiho", std::process::id()));
     cfg.seconds = Some(60.0);
     let stop = std::sync::Arc::new(AtomicBool::new(false));

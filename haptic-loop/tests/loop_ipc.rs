@@ -10,7 +10,7 @@ use std::time::Duration;
 
 use haptic_loop::device::{SimDevice, Still, Workspace};
 use haptic_loop::looper::{self, LoopConfig};
-use shared::domain::Domain;
+use shared::domain::{Domain, ScratchDomain};
 use shared::haptic_to_sim::AppliedForce;
 use shared::ports::{self, HapticPorts};
 use shared::services;
@@ -33,8 +33,8 @@ fn start_loop(d: Domain, ticks: u64) -> std::thread::JoinHandle<looper::LoopStat
 
 #[test]
 fn pinch_force_then_stale_model_ramps_to_zero_and_ticks_go_on() {
-    let d = Domain::new(&format!("hl{}", std::process::id())).unwrap();
-    let handle = start_loop(d.clone(), 1500);
+    let d = ScratchDomain::new(&format!("hl{}", std::process::id())).unwrap();
+    let handle = start_loop(d.0.clone(), 1500);
     let node = services::node(&d, "fake-sim").unwrap();
     let model_pub = ports::publisher(&node, services::local_model).unwrap();
     let applied = ports::subscriber(&node, services::applied_force, None).unwrap();

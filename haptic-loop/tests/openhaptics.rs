@@ -13,7 +13,7 @@ use haptic_loop::device::{HapticDevice, OpenHaptics, Workspace};
 use haptic_loop::looper::{self, LoopConfig};
 use shared::ports::{self, HapticPorts};
 
-use shared::domain::Domain;
+use shared::domain::ScratchDomain;
 use shared::services;
 
 /// Compiles the stand-in into a fresh directory; returns the .so path.
@@ -45,7 +45,7 @@ fn standin(tag: &str) -> PathBuf {
 fn a_whole_session_drives_the_standin() {
     let so = standin("session");
     let log = so.with_file_name("calls.log");
-    let d = Domain::new(&format!("hd{}", std::process::id())).unwrap();
+    let d = ScratchDomain::new(&format!("hd{}", std::process::id())).unwrap();
     let node = services::node(&d, "haptic").unwrap();
     let ports = HapticPorts::open(&node).unwrap();
     let samples = ports::subscriber(&node, services::device, None).unwrap();

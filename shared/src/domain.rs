@@ -76,14 +76,18 @@ impl Domain {
     /// This domain's directory in the user's private runtime directory (iceoryx2's root
     /// path; the launcher's control socket lives here too), created 0700.
     pub fn root_dir(&self) -> Result<std::path::PathBuf, DomainError> {
-        let err =
-            |e: crate::paths::PathError| DomainError::Config(self.name.clone(), e.to_string());
-        let dir = crate::paths::runtime_dir()
-            .map_err(err)?
-            .join("iceoryx2")
-            .join(&self.name);
-        crate::paths::ensure_private(&dir, "XDG_RUNTIME_DIR").map_err(err)?;
+        let dir = self.root_path()?;
+        crate::paths::ensure_private(&dir, "XDG_RUNTIME_DIR")
+            .map_err(|e| DomainError::Config(self.name.clone(), e.to_string()))?;
         Ok(dir)
+    }
+
+    /// Where [`Domain::root_dir`] is, without making it (for looking into a domain that
+    /// may not run).
+    pub fn root_path(&self) -> Result<std::path::PathBuf, DomainError> {
+        let runtime = crate::paths::runtime_dir()
+            .map_err(|e| DomainError::Config(self.name.clone(), e.to_string()))?;
+        Ok(runtime.join("iceoryx2").join(&self.name))
     }
 
     /// The start of every file name iceoryx2 makes for this domain.
@@ -166,6 +170,31 @@ impl Domain {
         if let Ok(root) = crate::paths::runtime_dir() {
             let _ = std::fs::remove_dir_all(root.join("iceoryx2").join(&self.name));
         }
+    }
+}
+
+/// A domain for one test or one measurement, removed with all it left when dropped (a
+/// failed test's too, as its panic unwinds): declare it before the nodes and the child
+/// processes' guards, so it goes last.
+pub struct ScratchDomain(pub Domain);
+
+impl ScratchDomain {
+    /// A scratch domain named `name` (see [`Domain::new`]).
+    pub fn new(name: &str) -> Result<Self, DomainError> {
+        Domain::new(name).map(Self)
+    }
+}
+
+impl std::ops::Deref for ScratchDomain {
+    type Target = Domain;
+    fn deref(&self) -> &Domain {
+        &self.0
+    }
+}
+
+impl Drop for ScratchDomain {
+    fn drop(&mut self) {
+        self.0.remove_leftovers();
     }
 }
 

@@ -9,7 +9,7 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
 use shared::Checked;
-use shared::domain::Domain;
+use shared::domain::ScratchDomain;
 use shared::haptic_to_sim::{AppliedForce, DeviceSample};
 use shared::ports;
 use shared::services;
@@ -93,7 +93,7 @@ impl Watch {
 
 #[test]
 fn pinch_force_kill_and_resume() {
-    let d = Domain::new(&format!("e2e{}", std::process::id())).unwrap();
+    let d = ScratchDomain::new(&format!("e2e{}", std::process::id())).unwrap();
     let tmp = std::env::temp_dir().join(format!("saiho-e2e-{}", std::process::id()));
     std::fs::create_dir_all(&tmp).unwrap();
     let autosave = tmp.join("design.saiho");

@@ -10,7 +10,7 @@ use std::time::{Duration, Instant};
 
 use serde_json::Value;
 use shared::Checked;
-use shared::domain::Domain;
+use shared::domain::{Domain, ScratchDomain};
 use shared::ports;
 use shared::services;
 use tests::{Proc, bin};
@@ -83,7 +83,7 @@ fn pct(v: &Value, key: &str) -> (f64, f64, f64, f64) {
 
 #[test]
 fn cloth_latency_measures_a_real_run() {
-    let d = Domain::new(&format!("lat{}", std::process::id())).unwrap();
+    let d = ScratchDomain::new(&format!("lat{}", std::process::id())).unwrap();
     let tmp = std::env::temp_dir().join(format!("saiho-lat-{}", std::process::id()));
     std::fs::create_dir_all(&tmp).unwrap();
     let autosave = tmp.join("design.saiho");
@@ -173,9 +173,12 @@ fn cloth_latency_says_when_nothing_runs() {
 /// the restarts.
 #[test]
 fn lab_restart_leaves_the_haptic_loop_ticking() {
-    let d = Domain::new(&format!("lab{}", std::process::id())).unwrap();
+    let d = ScratchDomain::new(&format!("lab{}", std::process::id())).unwrap();
+    // The autosave goes to a state directory of the test's, not the user's.
+    let state = std::env::temp_dir().join(format!("saiho-labstate-{}", std::process::id()));
     let mut lab = Proc(
         tests::under_xvfb(&bin("cloth-lab"))
+            .env("XDG_STATE_HOME", &state)
             .args([
                 "--domain",
                 d.name(),
@@ -233,6 +236,13 @@ fn lab_restart_leaves_the_haptic_loop_ticking() {
     }
     restarted_once_each_and_no_tick_lost(&lab_status(&d), &seen);
     bad_request_then_stop(&d, &mut lab);
+    // The autosave went where XDG_STATE_HOME says, in a directory of the user's alone.
+    use std::os::unix::fs::PermissionsExt;
+    let saved = state.join("saiho");
+    let mode = std::fs::metadata(&saved).unwrap().permissions().mode() & 0o777;
+    assert_eq!(mode, 0o700);
+    assert!(saved.join(format!("{}.autosave.saiho", d.name())).is_file());
+    let _ = std::fs::remove_dir_all(&state);
 }
 
 /// A request to the running lab through its control socket.

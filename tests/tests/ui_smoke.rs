@@ -8,7 +8,7 @@
 
 use std::process::Stdio;
 
-use shared::domain::Domain;
+use shared::domain::ScratchDomain;
 use tests::{Proc, bin, under_xvfb};
 
 fn shot(domain: &str, path: &std::path::Path) -> (String, u32, u32, Vec<u8>) {
@@ -46,7 +46,7 @@ fn cloth_pixels(w: u32, h: u32, rgba: &[u8]) -> usize {
 
 #[test]
 fn cloth_ui_draws_the_cloth_under_xvfb_and_survives_a_restart() {
-    let d = Domain::new(&format!("uismoke{}", std::process::id())).unwrap();
+    let d = ScratchDomain::new(&format!("uismoke{}", std::process::id())).unwrap();
     let tmp = std::env::temp_dir().join(format!("saiho-uismoke-{}", std::process::id()));
     std::fs::create_dir_all(&tmp).unwrap();
     let autosave = tmp.join("design.saiho");

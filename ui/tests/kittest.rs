@@ -373,10 +373,10 @@ fn a_fabric_is_chosen_by_name() {
 /// keeps running.
 #[test]
 fn a_peer_of_another_protocol_version_gets_a_banner() {
-    use shared::domain::Domain;
+    use shared::domain::ScratchDomain;
     use shared::{Header, PROTOCOL_VERSION, services, sim_to_ui::ToolState};
 
-    let domain = Domain::new(&format!("kt-mismatch-{}", std::process::id())).unwrap();
+    let domain = ScratchDomain::new(&format!("kt-mismatch-{}", std::process::id())).unwrap();
     let node = services::node(&domain, "test-peer").unwrap();
     let publisher = ports::publisher(&node, services::tool_state).unwrap();
     let mut h = Harness::builder()
@@ -384,7 +384,7 @@ fn a_peer_of_another_protocol_version_gets_a_banner() {
         .wgpu()
         .build_eframe(|_cc| {
             App::new(Options {
-                domain: Some(domain.clone()),
+                domain: Some(domain.0.clone()),
                 ..Options::default()
             })
         });
@@ -423,7 +423,6 @@ fn a_peer_of_another_protocol_version_gets_a_banner() {
     drop(h);
     drop(publisher);
     drop(node);
-    domain.remove_leftovers();
 }
 
 /// Every tool, chosen by its label, says in words what it does (never "tool 1").
