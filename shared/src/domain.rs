@@ -77,8 +77,10 @@ impl Domain {
     /// path; the launcher's control socket lives here too), created 0700.
     pub fn root_dir(&self) -> Result<std::path::PathBuf, DomainError> {
         let dir = self.root_path()?;
-        crate::paths::ensure_private(&dir, "XDG_RUNTIME_DIR")
-            .map_err(|e| DomainError::Config(self.name.clone(), e.to_string()))?;
+        for d in [dir.parent().unwrap_or(&dir), &dir] {
+            crate::paths::ensure_private(d, "XDG_RUNTIME_DIR")
+                .map_err(|e| DomainError::Config(self.name.clone(), e.to_string()))?;
+        }
         Ok(dir)
     }
 

@@ -199,6 +199,8 @@ fn a_domains_files_are_the_users_alone_and_a_clean_stop_removes_them() {
         }
         let root = d.root_dir().unwrap();
         assert_eq!(std::fs::metadata(&root).unwrap().mode() & 0o777, 0o700);
+        let all = root.parent().unwrap();
+        assert_eq!(std::fs::metadata(all).unwrap().mode() & 0o777, 0o700);
         let runtime = shared::paths::runtime_dir().unwrap();
         assert_eq!(std::fs::metadata(&runtime).unwrap().mode() & 0o777, 0o700);
         // Another node is alive: nothing is removed.
