@@ -2,7 +2,8 @@
 //!
 //! - Every few seconds the design is serialised on the frame's thread and written by a
 //!   writer thread through a synced temporary file renamed into place; the autosave it
-//!   replaces becomes the backup (`NAME.previous.saiho`).
+//!   replaces becomes the backup (`NAME.previous.saiho`). After an edit it is saved within
+//!   [`EDIT_SAVE_S`], so a crash loses at most that much of the designer's work.
 //! - A write that fails leaves no temporary file, is logged, and is counted as a failure,
 //!   not as an autosave.
 //! - At start the autosave is resumed; if it cannot be read it is moved aside under a name
@@ -35,6 +36,10 @@ pub fn prepare_dir(autosave: &Path) -> Result<(), String> {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))
     }
 }
+
+/// How soon after an edit the design is saved, s: the most of a designer's work a crash
+/// can take (the cloth's motion is saved every `--autosave-every`).
+pub const EDIT_SAVE_S: f64 = 0.25;
 
 /// Where the previous good autosave is kept: `NAME.previous.saiho` beside `NAME.saiho`.
 pub fn backup_of(autosave: &Path) -> PathBuf {
@@ -100,8 +105,10 @@ pub(crate) struct Autosave {
     tx: Option<SyncSender<Vec<u8>>>,
     results: Receiver<Result<(), String>>,
     writer: Option<JoinHandle<()>>,
-    /// How long each save held up its frame, ms.
-    hold_ms: Vec<f64>,
+    /// The longest a save held up its frame, ms.
+    hold_ms_max: f64,
+    /// The design was edited since the last save.
+    edited: bool,
     /// The last failure logged (the same one again is only counted).
     last_error: Option<String>,
 }
@@ -136,14 +143,15 @@ impl Autosave {
             tx: Some(tx),
             results,
             writer: Some(writer),
-            hold_ms: Vec::new(),
+            hold_ms_max: 0.0,
+            edited: false,
             last_error: None,
         })
     }
 
     /// The longest hold-up of a frame so far, ms.
     pub(crate) fn hold_max_ms(&self) -> f64 {
-        self.hold_ms.iter().copied().fold(0.0, f64::max)
+        self.hold_ms_max
     }
 
     /// Counts what the writer finished: successes as autosaves, failures as failures
@@ -172,8 +180,14 @@ impl Autosave {
         }
     }
 
-    /// Saves when the interval has passed: serialises now, writes on the writer thread
-    /// (skipped while it is still busy with the last one).
+    /// The design was edited: it is saved within [`EDIT_SAVE_S`].
+    pub(crate) fn edited(&mut self) {
+        self.edited = true;
+    }
+
+    /// Saves when the interval has passed, or soon after an edit: serialises now, writes
+    /// on the writer thread (skipped while it is still busy with the last one, and then an
+    /// edit stays unsaved for the next tick).
     pub(crate) fn tick(
         &mut self,
         design: &mut Design,
@@ -181,7 +195,8 @@ impl Autosave {
         log: &mut dyn FnMut(&str),
     ) {
         self.collect(stats, log);
-        if self.last.elapsed().as_secs_f64() < self.every_s {
+        let since = self.last.elapsed().as_secs_f64();
+        if since < self.every_s && !(self.edited && since >= EDIT_SAVE_S) {
             return;
         }
         let t = Instant::now();
@@ -191,13 +206,15 @@ impl Autosave {
         {
             // A full channel means the writer is still busy: skip this one.
             Ok(bytes) => {
-                if let Some(tx) = &self.tx {
-                    let _ = tx.try_send(bytes);
+                if let Some(tx) = &self.tx
+                    && tx.try_send(bytes).is_ok()
+                {
+                    self.edited = false;
                 }
             }
             Err(e) => self.count(Err(format!("autosave failed: {e}")), stats, log),
         }
-        self.hold_ms.push(t.elapsed().as_secs_f64() * 1e3);
+        self.hold_ms_max = self.hold_ms_max.max(t.elapsed().as_secs_f64() * 1e3);
         self.last = Instant::now();
     }
 

@@ -53,6 +53,8 @@ struct Service<'a> {
     seq_tool: u64,
     seq_tile: u64,
     seq_tel: u64,
+    /// A command changed the design since the autosave last heard of it.
+    edited: bool,
 }
 
 /// Runs the service until `stop` or `cfg.seconds`.
@@ -98,6 +100,7 @@ pub fn run(
         seq_tool: 0,
         seq_tile: 0,
         seq_tel: 0,
+        edited: false,
     };
     let mut autosave = Autosave::start(&cfg.autosave, cfg.autosave_every_s)?;
     let period = Duration::from_secs_f64(1.0 / cfg.rate_hz.clamp(1.0, 1000.0));
@@ -108,7 +111,12 @@ pub fn run(
             .seconds
             .is_none_or(|secs| started.elapsed().as_secs_f64() < secs)
     {
+        let undo_before = s.design.history.undo_len();
         s.frame(&autosave, log)?;
+        // A command, or the pen's operation (it goes on the history), changed the design.
+        if std::mem::take(&mut s.edited) || s.design.history.undo_len() != undo_before {
+            autosave.edited();
+        }
         autosave.tick(&mut s.design, &mut s.stats, log);
         let now = Instant::now();
         if next > now {
@@ -175,7 +183,10 @@ impl Service<'_> {
                     (false, e.to_string())
                 }
                 Ok(c) => match self.command(&c, log) {
-                    Ok(m) => (true, m),
+                    Ok(m) => {
+                        self.edited = true;
+                        (true, m)
+                    }
                     Err(m) => (false, m),
                 },
             };

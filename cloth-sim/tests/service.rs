@@ -25,6 +25,10 @@ fn commands_are_carried_out_and_answered() {
     let d = ScratchDomain::new(&format!("svc{}", std::process::id())).unwrap();
     let mut cfg = ServiceConfig::new(d.0.clone());
     cfg.autosave = std::env::temp_dir().join(format!("saiho-svc-{}.saiho", std::process::id()));
+    // Only an edit saves within the test's time.
+    cfg.autosave_every_s = 600.0;
+    let _ = std::fs::remove_file(&cfg.autosave);
+    let autosave = cfg.autosave.clone();
     cfg.seconds = Some(30.0);
     let handle = std::thread::spawn(move || {
         let mut scene = ScenarioConfig::new(ScenarioName::DrapeCube);
@@ -35,7 +39,7 @@ fn commands_are_carried_out_and_answered() {
     let node = services::node(&d, "ui").unwrap();
     let mut ask = asker(ports::command_client(&node).unwrap());
     let path = std::env::temp_dir().join(format!("saiho-svc-save-{}.saiho", std::process::id()));
-    edits_refusals_and_save(&mut ask, &path);
+    edits_refusals_and_save(&mut ask, &path, &autosave);
     let (states, frames, _pen) = tool_state_and_the_pens_pin(&node, &mut ask);
     let meshes = paint_reaches_a_late_viewer(&node, &mut ask, &frames);
     reset_and_load(&mut ask, &meshes, &path);
@@ -46,10 +50,30 @@ fn commands_are_carried_out_and_answered() {
     assert_eq!(stats.commands, 16);
     assert_eq!(stats.rejected, 5);
     let _ = std::fs::remove_file(&path);
+    for f in [autosave.clone(), cloth_sim::backup_of(&autosave)] {
+        let _ = std::fs::remove_file(f);
+    }
+}
+
+/// The autosave holds a design of `vertices` within a second of the edit that made it
+/// (the periodic autosave is 10 minutes away).
+fn the_edit_is_autosaved_at_once(autosave: &std::path::Path, vertices: usize) {
+    let until = std::time::Instant::now() + std::time::Duration::from_secs(1);
+    loop {
+        let n = sim_core::design::Design::load_design_file(autosave).map(|d| d.sim.cloth.len());
+        if n.as_ref().is_ok_and(|&n| n == vertices) {
+            return;
+        }
+        assert!(
+            std::time::Instant::now() < until,
+            "not saved within 1 s: {n:?}"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
 }
 
 /// A cut, refusals (sewing a vertex to itself, malformed requests), undo, and a save.
-fn edits_refusals_and_save(ask: Ask<'_>, path: &std::path::Path) {
+fn edits_refusals_and_save(ask: Ask<'_>, path: &std::path::Path, autosave: &std::path::Path) {
     let centre = (4 * 9 + 4) as u32;
     let r = ask(ToolCommand {
         op: op::CUT_VERTEX,
@@ -60,6 +84,7 @@ fn edits_refusals_and_save(ask: Ask<'_>, path: &std::path::Path) {
     assert_eq!(r.ok, 1, "{}", r.message());
     assert!(r.message().contains("new vertex 81"), "{}", r.message());
     assert_eq!(r.undo_depth, 1);
+    the_edit_is_autosaved_at_once(autosave, 82);
     // Refused: sewing a vertex to itself. The reason comes back; nothing changes.
     let r = ask(ToolCommand {
         op: op::SEW,
