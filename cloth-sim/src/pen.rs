@@ -15,6 +15,9 @@ use crate::config::{ServiceConfig, ServiceStats};
 /// An applied force older than this no longer limits the pinch to its size: the haptic
 /// loop is gone, so the cloth gets no pull at all.
 const APPLIED_STALE_S: f64 = 0.02;
+/// A pen with no sample for this long (haptic-loop stopped or killed) is let go: its
+/// buttons read as released, so a pinch ends and the cloth hangs free where it was.
+pub(crate) const PEN_GONE_S: f64 = 0.1;
 
 pub(crate) fn v3(a: [f32; 3]) -> Vec3 {
     Vec3::from_array(a)
@@ -150,6 +153,22 @@ impl PenFeed {
         })
     }
 
+    /// Lets go of a pen that went silent for [`PEN_GONE_S`]: its newest sample keeps its
+    /// place with no button held. Returns whether it did so now.
+    pub(crate) fn let_go_if_gone(&mut self) -> bool {
+        let Some(p) = self.latest.as_mut() else {
+            return false;
+        };
+        let age_s = shared::monotonic_ns().saturating_sub(p.header.sent_ns) as f64 * 1e-9;
+        if age_s > PEN_GONE_S && p.buttons != 0 {
+            p.buttons = 0;
+            self.path.clear();
+            self.path.push(*p);
+            return true;
+        }
+        false
+    }
+
     /// Where the tip is now (infinitely far without a sample), and when that sample was
     /// sent (0: none).
     pub(crate) fn tip(&self) -> (Vec3, u64) {
@@ -236,5 +255,33 @@ pub(crate) fn pen_acts(
             }
         }
         _ => {}
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A pen held down that goes silent is let go once, where it was; a live one is not.
+    #[test]
+    fn a_silent_pen_is_let_go() {
+        let sample = |age_s: f64| DeviceSample {
+            header: shared::Header {
+                sent_ns: shared::monotonic_ns() - (age_s * 1e9) as u64,
+                ..shared::Header::default()
+            },
+            position: [0.1, 0.5, 0.0],
+            buttons: BUTTON_1,
+            ..DeviceSample::default()
+        };
+        let mut feed = PenFeed::new();
+        feed.latest = Some(sample(0.01));
+        assert!(!feed.let_go_if_gone(), "live");
+        feed.latest = Some(sample(2.0 * PEN_GONE_S));
+        assert!(feed.let_go_if_gone());
+        let p = feed.latest.unwrap();
+        assert_eq!((p.buttons, p.position), (0, [0.1, 0.5, 0.0]));
+        assert_eq!(feed.path.len(), 1);
+        assert!(!feed.let_go_if_gone(), "once");
     }
 }

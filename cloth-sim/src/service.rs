@@ -137,6 +137,9 @@ impl Service<'_> {
         self.feed
             .drain(&self.ports.device, &self.ports.applied, &mut self.stats);
         self.serve_commands(log);
+        if self.feed.let_go_if_gone() {
+            log("the pen went silent (is haptic-loop running?): its buttons read as released");
+        }
         if let Some(p) = self.feed.latest {
             pen_acts(
                 &mut self.design,
@@ -349,6 +352,7 @@ impl Service<'_> {
             tel.rate_hz = (frames as f64 / self.tel_at.0.elapsed().as_secs_f64()) as f32;
             tel.autosave_ms_max = autosave.hold_max_ms() as f32;
             tel.substeps = sim.substeps as u32;
+            tel.pinned = sim.cloth.pinned.iter().filter(|&&p| p).count() as u32;
             let m = &sim.material;
             tel.material = [
                 m.density, m.stretch, m.shear, m.bending, m.friction, m.damping,

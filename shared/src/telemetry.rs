@@ -165,6 +165,8 @@ pub struct SimTelemetry {
     pub body: u32,
     /// Cells a side of the cloth it was made from (0: not a square grid, or not known).
     pub grid: u32,
+    /// Pinned vertices of the design (what a test of lost edits counts after a restart).
+    pub pinned: u32,
 }
 
 /// [`SimTelemetry::body`] values.
