@@ -5,4 +5,5 @@ pub mod headless;
 pub mod lab;
 pub mod latency;
 pub mod plot;
+pub mod soak;
 pub mod stats;

@@ -96,6 +96,75 @@ enum Cmd {
         #[arg(long)]
         domain: Option<String>,
     },
+    /// The fault-and-soak suite: the three processes in a domain of their own, the pen
+    /// pinching, and in turn kill -9 of cloth-ui, of cloth-sim (at random moments, autosave
+    /// writes included), of haptic-loop, and SIGSTOP of cloth-sim for 5 s; writes
+    /// soak-report.json and soak-summary.txt, and exits 1 when a requirement was broken
+    /// (docs/reliability.md).
+    Soak(SoakArgs),
+}
+
+#[derive(clap::Args)]
+struct SoakArgs {
+    /// Stop injecting after this many minutes.
+    #[arg(long, default_value_t = 10.0)]
+    minutes: f64,
+    /// Stop after this many faults (the four kinds in turn).
+    #[arg(long, default_value_t = 400, value_parser = whole_in::<usize>(1, 1_000_000, " faults"))]
+    faults: usize,
+    /// Cloth grid (cells a side).
+    #[arg(long, default_value_t = 128, value_parser = whole_in::<usize>(2, 256, " cells a side"))]
+    grid: usize,
+    /// Seconds of cyclictest first, for the machine's timing floor (0: none).
+    #[arg(long, default_value_t = 10.0)]
+    floor_seconds: f64,
+    /// No cloth-ui (and no ui-kill faults).
+    #[arg(long)]
+    no_ui: bool,
+    /// Where the report, the logs and the autosave go.
+    #[arg(long, default_value = "out/soak")]
+    out: PathBuf,
+    /// The domain (default: soak-PID, removed at the end).
+    #[arg(long)]
+    domain: Option<String>,
+}
+
+/// `cloth-lab soak`.
+fn run_soak(a: &SoakArgs) -> Result<(), String> {
+    let sane = a.minutes > 0.0 && a.minutes <= 10_000.0 && (0.0..=600.0).contains(&a.floor_seconds);
+    if !sane {
+        return Err("--minutes must be in (0, 10000] and --floor-seconds in [0, 600]".into());
+    }
+    let name = a
+        .domain
+        .clone()
+        .unwrap_or_else(|| format!("soak-{}", std::process::id()));
+    let cfg = tools::soak::SoakConfig {
+        domain: Domain::new(&name).map_err(|e| e.to_string())?,
+        out: a.out.clone(),
+        faults: a.faults,
+        minutes: a.minutes,
+        grid: a.grid,
+        ui: !a.no_ui,
+        floor_s: a.floor_seconds,
+    };
+    let r = tools::soak::soak(&cfg, &mut |m| eprintln!("cloth-lab soak: {m}"))?;
+    let json = serde_json::to_string_pretty(&r).map_err(|e| e.to_string())?;
+    let report = a.out.join("soak-report.json");
+    std::fs::write(&report, json).map_err(|e| format!("{}: {e}", report.display()))?;
+    let text = tools::soak::summary(&r);
+    let summary = a.out.join("soak-summary.txt");
+    std::fs::write(&summary, &text).map_err(|e| format!("{}: {e}", summary.display()))?;
+    print!("{text}");
+    if r.failures.is_empty() {
+        Ok(())
+    } else {
+        Err(format!(
+            "{} requirement(s) broken; see {}",
+            r.failures.len(),
+            report.display()
+        ))
+    }
 }
 
 fn domain_of(arg: Option<&str>) -> Result<Domain, String> {
@@ -359,6 +428,7 @@ fn main() -> ExitCode {
             .and_then(|r| control(&format!("restart {}", r.name()), domain.as_deref())),
         Some(Cmd::Status { domain }) => control("status", domain.as_deref()),
         Some(Cmd::Stop { domain }) => control("stop", domain.as_deref()),
+        Some(Cmd::Soak(a)) => run_soak(a),
         None if cli.headless => run_headless(&cli),
         None if !have_display() && !cli.no_ui => {
             eprintln!(
