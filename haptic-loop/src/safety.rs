@@ -79,6 +79,11 @@ impl ForceSafety {
             self.gain = (self.gain + dt / l.ramp_up_s.max(1e-6)).min(1.0);
         } else {
             self.gain = (self.gain - dt / l.stale_ramp_s.max(1e-6)).max(0.0);
+            // Ten steps of a tenth can leave a rounding error above zero (and a tick a
+            // hair under 1 ms a sliver): what is left of the ramp's last step is zero.
+            if self.gain < 0.02 {
+                self.gain = 0.0;
+            }
         }
         let mut f = f;
         if !f.iter().all(|c| c.is_finite()) {
@@ -145,6 +150,15 @@ mod tests {
             last = norm(f);
         }
         assert_eq!(last, 0.0, "zero after 10 ms of staleness");
+        // Ticks a hair short of 1 ms: still zero by the tenth.
+        for _ in 0..500 {
+            s.filter([0.0, 0.5, 0.0], 0.001, Hold::None);
+        }
+        let f = (0..10)
+            .map(|_| s.filter([0.0, 0.5, 0.0], 0.000_99, Hold::Stale))
+            .last()
+            .unwrap();
+        assert_eq!(norm(f), 0.0, "zero by the tenth short tick");
     }
 
     #[test]
