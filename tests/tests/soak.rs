@@ -51,7 +51,10 @@ fn one_fault_of_each_kind_is_survived() {
     // The requirement is at most 1 s of edits (10 pins), judged in the report; here twice
     // that, to stay clear of a loaded machine's timing.
     let lost = r["edits_lost"][0].as_u64().unwrap();
-    assert!(lost <= 20 && r["edits_acked"].as_u64().unwrap() > 0, "{text}");
+    assert!(
+        lost <= 20 && r["edits_acked"].as_u64().unwrap() > 0,
+        "{text}"
+    );
     assert_eq!(r["left_behind"], serde_json::json!([]), "{text}");
     assert!(r["haptic_ticks"].as_u64().unwrap() > 5000, "{text}");
     // The summary is there too, and says the verdict.

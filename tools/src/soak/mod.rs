@@ -47,13 +47,13 @@ pub fn summary(r: &SoakReport) -> String {
     let mut s = format!(
         "soak: {:.0} s on a {g}x{g} cloth; faults recovered/injected: {}\n\
          haptic loop: worst lateness {} us over {} ticks, {} later than the floor + 2 ms \
-         (floor during the run {}; quiet {})\n\
+         (floor during the run {}; quiet {}; {} later than the quiet floor + 2 ms)\n\
          cloth-sim: longest stall {:.1} ms outside its own faults; force at zero {:.1} ms \
          at most after a kill or stop ({:.1} ms after the model went stale); {} stale-force \
          ticks\n\
          cloth-ui: whole design {:.0} ms at most after a restart\n\
          edits: {} acknowledged, at most {} lost to a kill; ramp: the first force back at \
-         {:.0}% of the force before at most\n",
+         {:.0}% of the ramped force at most\n",
         r.seconds,
         faults.join(", "),
         r.haptic_late_max_us,
@@ -65,6 +65,7 @@ pub fn summary(r: &SoakReport) -> String {
             || r.floor_source.clone(),
             |f| format!("{f} us, {}", r.floor_source)
         ),
+        r.haptic_ticks_over_quiet_floor_2ms,
         r.sim_stall_max_ms,
         max(&r.force_zero_ms),
         r.force_zero_after_stale_ms_max,
@@ -137,6 +138,9 @@ pub struct SoakReport {
     pub haptic_late_max_us: u64,
     /// Ticks later than the floor plus 2 ms (the floor taken as 0 without cyclictest).
     pub haptic_ticks_over_floor_2ms: u64,
+    /// Ticks later than the quiet floor plus 2 ms (for a machine whose floor under load
+    /// is far above its quiet one).
+    pub haptic_ticks_over_quiet_floor_2ms: u64,
     pub haptic_ticks: u64,
     /// Those late ticks by what was going on: "start", "steady" or a fault's kind.
     pub late_ticks_by_phase: BTreeMap<String, u64>,
@@ -145,6 +149,8 @@ pub struct SoakReport {
     pub lateness: BTreeMap<String, Histogram>,
     /// The longest gap between cloth-sim's models outside its own faults, ms.
     pub sim_stall_max_ms: f64,
+    /// Each such gap over 50 ms: (phase, ms).
+    pub stalls: Vec<(String, f64)>,
     /// Forces rendered from a model older than 31 ms (must be 0).
     pub stale_force_ticks: u64,
     /// Per cloth-sim kill or stop: from the fault to the force at zero, ms.
@@ -157,7 +163,7 @@ pub struct SoakReport {
     /// Per haptic-loop kill: whether cloth-sim let go of the pinch and kept stepping.
     pub pinch_released: Vec<bool>,
     /// Per cloth-sim stop or resume with the pen still pinching: the first force back over
-    /// the force before the fault (about 1 would be no ramp).
+    /// the force 100-200 ms later, once ramped (about 1 would be no ramp).
     pub ramp_ratio_max: f64,
     /// Each measured ramp: (fault, ratio).
     pub ramps: Vec<(String, f64)>,

@@ -45,10 +45,9 @@ fn force_zero(w: &Watch, r: &mut SoakReport, t: u64, last_model: u64) {
     }
 }
 
-/// The force's return when the loop re-engages after `after` (ns), against the force
-/// before the fault at `fault` ([`ramp_ratio`]).
-fn ramp(w: &Watch, r: &mut SoakReport, fault: u64, after: u64) {
-    if let Some(x) = ramp_ratio(&w.recent, fault, after) {
+/// The force's return when the loop re-engages after `after` (ns) ([`ramp_ratio`]).
+fn ramp(w: &Watch, r: &mut SoakReport, after: u64) {
+    if let Some(x) = ramp_ratio(&w.recent, after) {
         r.ramp_ratio_max = r.ramp_ratio_max.max(x);
         r.ramps.push((w.phase.to_string(), x));
     }
@@ -98,7 +97,7 @@ fn sim_kill(p: &mut Procs, w: &mut Watch, r: &mut SoakReport) -> Result<bool, St
         w.acked = restored;
     }
     w.edits = true;
-    ramp(w, r, t, restart);
+    ramp(w, r, restart);
     Ok(told)
 }
 
@@ -136,7 +135,7 @@ fn sim_stop(p: &mut Procs, w: &mut Watch, r: &mut SoakReport) -> Result<bool, St
         w.resume_gaps();
     }
     pump_for(w, Duration::from_millis(800));
-    ramp(w, r, t, cont);
+    ramp(w, r, cont);
     Ok(back)
 }
 
@@ -175,14 +174,17 @@ pub fn soak(cfg: &SoakConfig, progress: &mut dyn FnMut(&str)) -> Result<SoakRepo
     r.floor_us = super::floor_during_end(during);
     // Late ticks, against the floor measured meanwhile (the quiet one when cyclictest
     // could not run beside the faults; none without cyclictest at all).
-    // The floor measured beside the faults judges; without it, the quiet one.
+    // The floor measured beside the faults judges; without it, the quiet one. The ticks
+    // over the quiet floor are counted too: a VM's floor under load can be far above it.
     let over = r.floor_us.or(r.floor_quiet_us).unwrap_or(0) * 1000 + 2_000_000;
+    let over_quiet = r.floor_quiet_us.unwrap_or(0) * 1000 + 2_000_000;
     for (phase, h) in &r.lateness {
         let n = super::ticks_over(h, over);
         if n > 0 {
             r.late_ticks_by_phase.insert(phase.clone(), n);
         }
         r.haptic_ticks_over_floor_2ms += n;
+        r.haptic_ticks_over_quiet_floor_2ms += super::ticks_over(h, over_quiet);
     }
     for c in [&mut p.ui, &mut p.haptic, &mut p.sim] {
         stop(c);
@@ -253,6 +255,7 @@ fn course(
     r.haptic_ticks = w.ticks;
     r.lateness = std::mem::take(&mut w.lateness_by_phase);
     r.sim_stall_max_ms = w.gap_max_ms;
+    r.stalls = std::mem::take(&mut w.stalls);
     r.stale_force_ticks = w.stale_force_ticks;
     r.edits_acked = w.acked;
     Ok(())
@@ -327,7 +330,7 @@ fn judge(r: &mut SoakReport) {
     }
     if r.ramp_ratio_max > 0.5 {
         f.push(format!(
-            "a force came back without its ramp (at {:.0}% of the force before the fault)",
+            "a force came back without its ramp (at {:.0}% of the force once ramped)",
             100.0 * r.ramp_ratio_max
         ));
     }

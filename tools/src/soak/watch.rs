@@ -37,6 +37,8 @@ pub(super) struct Watch {
     gaps_paused: bool,
     skip_gap: bool,
     pub gap_max_ms: f64,
+    /// Gaps over 50 ms between models outside cloth-sim's faults: (phase, ms).
+    pub stalls: Vec<(String, f64)>,
     pub stale_force_ticks: u64,
     /// The current haptic-loop lifetime's telemetry, and what the ended ones add up to.
     loop_last: Option<LoopTelemetry>,
@@ -79,6 +81,7 @@ impl Watch {
             gaps_paused: false,
             skip_gap: true,
             gap_max_ms: 0.0,
+            stalls: Vec::new(),
             stale_force_ticks: 0,
             loop_last: None,
             loop_lifetimes: 0,
@@ -116,6 +119,9 @@ impl Watch {
             if !self.gaps_paused && !self.skip_gap && self.last_model_ns > 0 {
                 let gap = sent.saturating_sub(self.last_model_ns) as f64 * 1e-6;
                 self.gap_max_ms = self.gap_max_ms.max(gap);
+                if gap > 50.0 {
+                    self.stalls.push((self.phase.into(), gap));
+                }
             }
             self.skip_gap = false;
             self.last_model_ns = self.last_model_ns.max(sent);
@@ -244,22 +250,22 @@ pub(super) fn zero_from(recent: &VecDeque<(u64, f32)>, after: u64) -> Option<u64
     zero_at
 }
 
-/// The force's return after a fault at `fault` (ns) once the loop re-engages after
-/// `after`: the first force back (within 100 ms of `after`) over the largest in the 100 ms
-/// before the fault. With the loop's 100 ms ramp it comes back at a few percent; without,
-/// at about the whole. `None` when there was no force before or it did not come back so
-/// soon (a new pinch later is no re-engagement).
-pub(super) fn ramp_ratio(recent: &VecDeque<(u64, f32)>, fault: u64, after: u64) -> Option<f64> {
-    let before = recent
-        .iter()
-        .filter(|(t, _)| *t + 100_000_000 >= fault && *t < fault)
-        .map(|&(_, m)| m)
-        .fold(0.0f32, f32::max);
-    let back = recent
+/// The force's return once the loop re-engages after `after` (ns): the first force back
+/// (within 100 ms of `after`) over the largest 100-200 ms later, when the loop's 100 ms
+/// ramp is done. With the ramp it comes back at a few percent; without, at about the
+/// whole. `None` when it did not come back so soon (a new pinch later is no
+/// re-engagement) or had let go again by then.
+pub(super) fn ramp_ratio(recent: &VecDeque<(u64, f32)>, after: u64) -> Option<f64> {
+    let &(t1, first) = recent
         .iter()
         .find(|(t, m)| *t >= after && *m > 0.0)
         .filter(|(t, _)| *t <= after + 100_000_000)?;
-    (before > 0.05).then(|| f64::from(back.1 / before))
+    let full = recent
+        .iter()
+        .filter(|(t, _)| *t >= t1 + 100_000_000 && *t < t1 + 200_000_000)
+        .map(|&(_, m)| m)
+        .fold(0.0f32, f32::max);
+    (full > 0.05).then(|| f64::from(first / full))
 }
 
 #[cfg(test)]
@@ -285,13 +291,14 @@ mod tests {
         assert_eq!(zero_from(&r, 100 * ms), None, "it came back");
         let cut: VecDeque<_> = r.iter().copied().filter(|(t, _)| *t < 300 * ms).collect();
         assert_eq!(zero_from(&cut, 100 * ms), Some(115 * ms));
-        // The fault at 100 ms, the loop back at 290 ms: 1% of the 1 N before.
-        let ratio = ramp_ratio(&r, 100 * ms, 290 * ms).unwrap();
+        // The loop back at 290 ms, ramping from 300 ms: its first force is 1% of the
+        // force once the ramp is done.
+        let ratio = ramp_ratio(&r, 290 * ms).unwrap();
         assert!((0.005..0.02).contains(&ratio), "{ratio}");
         // No ramp: the full force at once.
         let step: VecDeque<_> = (0..1000u64).map(|k| (k * ms, 1.0)).collect();
-        assert_eq!(ramp_ratio(&step, 100 * ms, 290 * ms), Some(1.0));
+        assert_eq!(ramp_ratio(&step, 290 * ms), Some(1.0));
         // Back only 200 ms later: a new pinch, not measured.
-        assert_eq!(ramp_ratio(&r, 100 * ms, 190 * ms), None);
+        assert_eq!(ramp_ratio(&r, 190 * ms), None);
     }
 }
