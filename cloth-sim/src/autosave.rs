@@ -109,6 +109,8 @@ pub(crate) struct Autosave {
     hold_ms_max: f64,
     /// The design was edited since the last save.
     edited: bool,
+    /// The frame of the last design handed to the writer.
+    sent_frame: Option<u64>,
     /// The last failure logged (the same one again is only counted).
     last_error: Option<String>,
 }
@@ -145,6 +147,7 @@ impl Autosave {
             writer: Some(writer),
             hold_ms_max: 0.0,
             edited: false,
+            sent_frame: None,
             last_error: None,
         })
     }
@@ -210,6 +213,7 @@ impl Autosave {
                     && tx.try_send(bytes).is_ok()
                 {
                     self.edited = false;
+                    self.sent_frame = Some(design.sim.frame);
                 }
             }
             Err(e) => self.count(Err(format!("autosave failed: {e}")), stats, log),
@@ -230,6 +234,12 @@ impl Autosave {
             let _ = w.join();
         }
         self.collect(stats, log);
+        // The design as last written, unedited since: writing it again would only push the
+        // previous autosave out of the backup.
+        if !self.edited && self.sent_frame == Some(design.sim.frame) && self.last_error.is_none() {
+            stats.autosave_ms_max = self.hold_max_ms();
+            return;
+        }
         let r = design
             .refresh_png_cache()
             .and_then(|_| design.save_design())

@@ -190,8 +190,9 @@ pub fn soak(cfg: &SoakConfig, progress: &mut dyn FnMut(&str)) -> Result<SoakRepo
         stop(c);
     }
     kill9(&mut p.xvfb);
-    result?;
+    // The domain goes whether the course finished or not.
     services::release(&cfg.domain);
+    result?;
     r.left_behind = left_behind(&cfg.domain);
     judge(&mut r);
     Ok(r)
