@@ -101,20 +101,13 @@ impl Domain {
     /// of ours opens it); one of ours that others may read or write is closed to 0600.
     /// Returns how many were closed.
     pub fn secure_shared_memory(&self) -> Result<usize, DomainError> {
-        let prefix = self.prefix();
         let mut closed = 0;
-        let Ok(dir) = std::fs::read_dir(SHM) else {
-            return Ok(0);
-        };
-        for e in dir.flatten() {
-            let file = e.file_name().to_string_lossy().into_owned();
-            if !file.starts_with(&prefix) {
-                continue;
-            }
-            // Gone meanwhile (its owner stopped): nothing to check.
-            let Ok(meta) = std::fs::symlink_metadata(e.path()) else {
-                continue;
-            };
+        for (path, meta) in self.shm_files() {
+            let file = path
+                .file_name()
+                .unwrap_or_default()
+                .to_string_lossy()
+                .into_owned();
             if meta.uid() != crate::paths::uid() || meta.file_type().is_symlink() {
                 return Err(DomainError::Squatted {
                     domain: self.name.clone(),
@@ -123,10 +116,9 @@ impl Domain {
                 });
             }
             if meta.mode() & 0o077 != 0 {
-                std::fs::set_permissions(e.path(), std::fs::Permissions::from_mode(0o600))
-                    .map_err(|err| {
-                        DomainError::Permissions(self.name.clone(), format!("{file}: {err}"))
-                    })?;
+                std::fs::set_permissions(&path, std::fs::Permissions::from_mode(0o600)).map_err(
+                    |err| DomainError::Permissions(self.name.clone(), format!("{file}: {err}")),
+                )?;
                 closed += 1;
             }
         }
@@ -159,19 +151,28 @@ impl Domain {
     /// Only for when no process of the domain runs (tests, after a clean shutdown of
     /// all): see [`crate::services::release`]. Only this user's files are touched.
     pub fn remove_leftovers(&self) {
-        let prefix = self.prefix();
-        if let Ok(dir) = std::fs::read_dir(SHM) {
-            for e in dir.flatten() {
-                let ours = std::fs::symlink_metadata(e.path())
-                    .is_ok_and(|m| m.uid() == crate::paths::uid());
-                if ours && e.file_name().to_string_lossy().starts_with(&prefix) {
-                    let _ = std::fs::remove_file(e.path());
-                }
+        for (path, meta) in self.shm_files() {
+            if meta.uid() == crate::paths::uid() {
+                let _ = std::fs::remove_file(path);
             }
         }
-        if let Ok(root) = crate::paths::runtime_dir() {
-            let _ = std::fs::remove_dir_all(root.join("iceoryx2").join(&self.name));
+        if let Ok(root) = self.root_path() {
+            let _ = std::fs::remove_dir_all(root);
         }
+    }
+
+    /// This domain's files in /dev/shm (anyone's, under its prefix), with their metadata
+    /// as they are (a symbolic link is not followed).
+    pub fn shm_files(&self) -> Vec<(std::path::PathBuf, std::fs::Metadata)> {
+        let prefix = self.prefix();
+        let Ok(dir) = std::fs::read_dir(SHM) else {
+            return Vec::new();
+        };
+        dir.flatten()
+            .filter(|e| e.file_name().to_string_lossy().starts_with(&prefix))
+            // Gone meanwhile (its owner stopped): not there.
+            .filter_map(|e| Some((e.path(), std::fs::symlink_metadata(e.path()).ok()?)))
+            .collect()
     }
 }
 

@@ -249,11 +249,10 @@ pub fn node(
     Ok(node)
 }
 
-/// How many nodes of `domain` are alive now (0 when its configuration cannot be read).
-pub fn alive_nodes(domain: &crate::domain::Domain) -> usize {
-    let Ok(cfg) = domain.config() else { return 0 };
+/// How many nodes of the domain configured by `cfg` are alive now.
+pub fn alive_nodes(cfg: &Config) -> usize {
     let mut alive = 0;
-    let _ = Node::<ipc::Service>::list(&cfg, |state| {
+    let _ = Node::<ipc::Service>::list(cfg, |state| {
         if matches!(state, NodeState::Alive(_)) {
             alive += 1;
         }
@@ -272,7 +271,7 @@ pub fn release(domain: &crate::domain::Domain) -> bool {
         return false;
     };
     cleanup_dead_nodes(&cfg);
-    if alive_nodes(domain) == 0 {
+    if alive_nodes(&cfg) == 0 {
         domain.remove_leftovers();
         true
     } else {

@@ -105,10 +105,12 @@ fn haptic_kill(p: &mut Procs, w: &mut Watch, r: &mut SoakReport) -> Result<bool,
     let models = w.models_seen;
     kill9(&mut p.haptic);
     w.end_lifetime();
-    pump_for(w, Duration::from_millis(500));
-    // cloth-sim kept stepping, and let go of the pinch.
-    r.pinch_released
-        .push(!w.pinching && w.models_seen > models + 20);
+    // cloth-sim keeps stepping, and lets go of the pinch 0.1 s after the pen went silent
+    // (a loaded machine's frames may come slower: up to 3 s is waited for).
+    let released = pump_until(w, Duration::from_secs(3), &|w| {
+        !w.pinching && w.models_seen > models + 20
+    });
+    r.pinch_released.push(released);
     let restart = monotonic_ns();
     p.spawn_haptic()?;
     // The pen's script starts over: it pinches again 2.2 s in.
@@ -264,16 +266,11 @@ fn course(
 
 /// What of `domain` is left in /dev/shm and the runtime directory.
 fn left_behind(domain: &shared::domain::Domain) -> Vec<String> {
-    let prefix = domain.prefix();
-    let mut left: Vec<String> = std::fs::read_dir("/dev/shm")
-        .map(|d| {
-            d.flatten()
-                .map(|e| e.file_name().to_string_lossy().into_owned())
-                .filter(|n| n.starts_with(&prefix))
-                .map(|n| format!("/dev/shm/{n}"))
-                .collect()
-        })
-        .unwrap_or_default();
+    let mut left: Vec<String> = domain
+        .shm_files()
+        .into_iter()
+        .map(|(p, _)| p.display().to_string())
+        .collect();
     if let Ok(root) = domain.root_path()
         && root.exists()
     {
