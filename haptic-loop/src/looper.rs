@@ -183,8 +183,11 @@ impl Tick {
                     .model
                     .as_ref()
                     .map(|(m, _)| start.saturating_sub(m.header.sent_ns) as f32 * 1e-9);
+                let l = &cfg.limits;
                 match age_s {
-                    Some(a) if a <= cfg.limits.stale_after_s => (Hold::None, Some(*s)),
+                    Some(a) if a <= l.stale_after_s => (Hold::None, Some(*s)),
+                    // Past the ramp too: the tick itself came late; no stale force at all.
+                    Some(a) if a > l.stale_after_s + l.stale_ramp_s => (Hold::Expired, Some(*s)),
                     _ => (Hold::Stale, Some(*s)),
                 }
             }
@@ -269,6 +272,7 @@ impl Tick {
             log(match hold {
                 Hold::None => "local model fresh: rendering force",
                 Hold::Stale => "local model stale (cloth-sim not sending): force ramped to zero",
+                Hold::Expired => "local model expired (cloth-sim gone 30 ms): force zero",
                 Hold::DeviceError => "device error: force ramped to zero",
             });
             self.hold_was = hold;

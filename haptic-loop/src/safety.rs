@@ -49,6 +49,9 @@ pub struct ForceSafety {
 pub enum Hold {
     None,
     Stale,
+    /// Older than the staleness limit and its ramp together (the loop itself was held up,
+    /// e.g. a VM frozen mid-tick): no force at all, at once.
+    Expired,
     DeviceError,
 }
 
@@ -77,6 +80,8 @@ impl ForceSafety {
         };
         if hold == Hold::None {
             self.gain = (self.gain + dt / l.ramp_up_s.max(1e-6)).min(1.0);
+        } else if hold == Hold::Expired {
+            self.gain = 0.0;
         } else {
             self.gain = (self.gain - dt / l.stale_ramp_s.max(1e-6)).max(0.0);
             // Ten steps of a tenth can leave a rounding error above zero (and a tick a
@@ -159,6 +164,12 @@ mod tests {
             .last()
             .unwrap();
         assert_eq!(norm(f), 0.0, "zero by the tenth short tick");
+        // A model past the limit and its ramp (a tick held up): zero at once.
+        for _ in 0..500 {
+            s.filter([0.0, 0.5, 0.0], 0.001, Hold::None);
+        }
+        let f = s.filter([0.0, 0.5, 0.0], 0.005, Hold::Expired);
+        assert_eq!(norm(f), 0.0, "expired: zero in one tick");
     }
 
     #[test]
