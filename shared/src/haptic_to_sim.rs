@@ -10,7 +10,9 @@ pub const BUTTON_2: u32 = 2;
 
 /// The pen at one haptic tick (latest value, 1 kHz). Positions are in the scene frame
 /// (metres, Y up), mapped from the device workspace by the haptic process.
-#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable,
+)]
 #[repr(C)]
 #[type_name("saiho::DeviceSample")]
 pub struct DeviceSample {
@@ -44,7 +46,9 @@ impl Checked for DeviceSample {
 
 /// The force the haptic loop rendered on the pen at a tick, N, scene frame. cloth-sim
 /// applies the opposite to the cloth.
-#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable,
+)]
 #[repr(C)]
 #[type_name("saiho::AppliedForce")]
 pub struct AppliedForce {

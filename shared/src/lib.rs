@@ -36,7 +36,9 @@ use iceoryx2::prelude::ZeroCopySend;
 pub const PROTOCOL_VERSION: u32 = 6;
 
 /// The start of every message.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ZeroCopySend)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, Eq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable,
+)]
 #[repr(C)]
 pub struct Header {
     pub protocol: u32,

@@ -8,7 +8,9 @@ use crate::{Checked, Header, finite3};
 /// Most contact planes in a local model.
 pub const MAX_PLANES: usize = 16;
 
-#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable,
+)]
 #[repr(C)]
 #[type_name("saiho::LocalModel")]
 pub struct LocalModel {
@@ -29,6 +31,8 @@ pub struct LocalModel {
     /// space on the normal's side.
     pub plane_count: u32,
     pub planes: [[f32; 4]; MAX_PLANES],
+    /// Explicit padding (was implicit): every byte of a message is a field.
+    pub _pad: u32,
 }
 
 impl Checked for LocalModel {

@@ -12,7 +12,9 @@ use iceoryx2::prelude::ZeroCopySend;
 
 use crate::{Header, MessageError};
 
-#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable,
+)]
 #[repr(C)]
 #[type_name("saiho::ClothFrameHeader")]
 pub struct ClothFrameHeader {
@@ -30,7 +32,9 @@ pub struct ClothFrameHeader {
     pub stitches: u32,
 }
 
-#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable,
+)]
 #[repr(C)]
 #[type_name("saiho::MeshHeader")]
 pub struct MeshHeader {
@@ -41,7 +45,9 @@ pub struct MeshHeader {
     pub triangles: u32,
 }
 
-#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable,
+)]
 #[repr(C)]
 #[type_name("saiho::MeshCorner")]
 pub struct MeshCorner {
@@ -56,7 +62,9 @@ pub struct MeshCorner {
 /// The body the cloth drapes over (`saiho/body-mesh`, sent once, history 1). Its `[f32]`
 /// payload is `3 * vertices` positions, then `3 * triangles` vertex indices stored as
 /// f32 (exact below 2^24, checked).
-#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable,
+)]
 #[repr(C)]
 #[type_name("saiho::BodyMeshHeader")]
 pub struct BodyMeshHeader {
@@ -209,7 +217,9 @@ pub mod tool {
 
 /// The current tool and its settings, owned by cloth-sim (so a restarted UI and the pen's
 /// buttons see the same), with the undo and redo depth.
-#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable,
+)]
 #[repr(C)]
 #[type_name("saiho::ToolState")]
 pub struct ToolState {
@@ -232,7 +242,7 @@ pub const PIECE_NAME_LEN: usize = 48;
 pub const FABRIC_NAME_LEN: usize = 24;
 
 /// One piece as the list carries it.
-#[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend)]
+#[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable)]
 #[repr(C)]
 #[type_name("saiho::PieceEntry")]
 pub struct PieceEntry {
@@ -264,7 +274,9 @@ impl Default for PieceEntry {
 }
 
 /// One seam as the list carries it.
-#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable,
+)]
 #[repr(C)]
 #[type_name("saiho::SeamEntry")]
 pub struct SeamEntry {
@@ -281,7 +293,7 @@ pub struct SeamEntry {
 /// The design's pieces and seams now (`saiho/pieces`, history 1): sent when they
 /// change, in the order cloth-sim numbers them for PLACE_PIECE, DELETE_PIECE and
 /// REMOVE_SEAM.
-#[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend)]
+#[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable)]
 #[repr(C)]
 #[type_name("saiho::PieceList")]
 pub struct PieceList {
@@ -410,7 +422,9 @@ pub fn check_pieces(l: &PieceList) -> Result<Vec<ListedPiece>, MessageError> {
 /// One square of the cloth's texture (`saiho/texture`, `[u8]` RGBA rows under this
 /// header). Changed tiles go out at once; all tiles are also re-sent round-robin, so a
 /// viewer that starts late has the whole texture within a refresh cycle.
-#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable,
+)]
 #[repr(C)]
 #[type_name("saiho::TextureTile")]
 pub struct TextureTile {

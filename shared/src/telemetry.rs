@@ -11,10 +11,12 @@ pub const COARSE_BUCKETS: usize = 101;
 pub const BUCKETS: usize = FINE_BUCKETS + COARSE_BUCKETS;
 
 /// A fixed-size histogram of durations (no allocation, so the haptic tick can record).
-#[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend)]
+#[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable)]
 #[repr(C)]
 pub struct Histogram {
     pub counts: [u32; BUCKETS],
+    /// Explicit padding (was implicit, `BUCKETS` being odd): every byte is a field.
+    pub _pad: u32,
     pub total: u64,
     pub max_ns: u64,
 }
@@ -23,6 +25,7 @@ impl Default for Histogram {
     fn default() -> Self {
         Self {
             counts: [0; BUCKETS],
+            _pad: 0,
             total: 0,
             max_ns: 0,
         }
@@ -79,7 +82,9 @@ impl Histogram {
 }
 
 /// The haptic loop's timing since it started.
-#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable,
+)]
 #[repr(C)]
 #[type_name("saiho::LoopTelemetry")]
 pub struct LoopTelemetry {
@@ -140,7 +145,9 @@ mod tests {
 }
 
 /// cloth-sim's timing, once a second: how long frames take against their period.
-#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable,
+)]
 #[repr(C)]
 #[type_name("saiho::SimTelemetry")]
 pub struct SimTelemetry {

@@ -6,7 +6,9 @@ use crate::haptic_to_sim::{BUTTON_1, BUTTON_2};
 use crate::{Checked, Header, finite3};
 
 /// Where the simulated pen's hand should go (scene frame, metres), and its buttons.
-#[derive(Clone, Copy, Debug, Default, PartialEq, ZeroCopySend)]
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable,
+)]
 #[repr(C)]
 #[type_name("saiho::PointerInput")]
 pub struct PointerInput {
@@ -14,6 +16,8 @@ pub struct PointerInput {
     pub target: [f32; 3],
     pub buttons: u32,
     pub _reserved: u32,
+    /// Explicit padding (was implicit): every byte of a message is a field.
+    pub _pad: u32,
 }
 
 impl Checked for PointerInput {

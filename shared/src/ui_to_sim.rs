@@ -112,7 +112,7 @@ pub const PIECE_EDGE: (f32, f32) = (0.005, 0.5);
 pub const TEXT_LEN: usize = 240;
 pub const MESSAGE_LEN: usize = 200;
 
-#[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend)]
+#[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable)]
 #[repr(C)]
 #[type_name("saiho::ToolCommand")]
 pub struct ToolCommand {
@@ -268,7 +268,7 @@ impl Checked for ToolCommand {
 }
 
 /// The answer to one command.
-#[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend)]
+#[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable)]
 #[repr(C)]
 #[type_name("saiho::CommandReply")]
 pub struct CommandReply {
@@ -281,6 +281,8 @@ pub struct CommandReply {
     pub undo_depth: u32,
     pub message_len: u32,
     pub message: [u8; MESSAGE_LEN],
+    /// Explicit padding (was implicit): every byte of a message is a field.
+    pub _pad: u32,
 }
 
 impl CommandReply {
@@ -299,6 +301,7 @@ impl CommandReply {
             undo_depth: undo_depth as u32,
             message_len: n as u32,
             message,
+            _pad: 0,
         }
     }
 

@@ -247,6 +247,7 @@ impl Link {
             target,
             buttons,
             _reserved: 0,
+            _pad: 0,
         });
     }
 }

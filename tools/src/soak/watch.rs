@@ -182,7 +182,7 @@ impl Watch {
         let h = self.lateness_by_phase.entry(self.phase.into()).or_default();
         for (b, c) in t.lateness.counts.iter().enumerate() {
             let before = self.loop_last.map_or(0, |l| l.lateness.counts[b]);
-            h.counts[b] += c.saturating_sub(before);
+            h.counts[b] = h.counts[b].saturating_add(c.saturating_sub(before));
         }
         self.late_max_ns = self.late_max_ns.max(t.lateness.max_ns);
         if self.loop_last.is_none() {

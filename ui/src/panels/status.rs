@@ -159,7 +159,11 @@ fn plots(ui: &mut egui::Ui, store: &Store) {
         // The period histogram around 1 ms, bucketed by 10 µs.
         let mut bars = Vec::new();
         for b in (900..1100).step_by(10) {
-            let c: u32 = l.period.counts[b..b + 10].iter().sum();
+            // In u64: ten u32 counts from another process may add past u32's range.
+            let c: u64 = l.period.counts[b..b + 10]
+                .iter()
+                .map(|&c| u64::from(c))
+                .sum();
             if c > 0 {
                 bars.push(egui_plot::Bar::new(b as f64 + 5.0, (c as f64).log10() + 1.0).width(9.0));
             }
