@@ -33,7 +33,7 @@ fn mismatch_warning(la: f32, lb: f32) -> String {
 
 /// Carries out a command on the design itself (not SET_TOOL, RESET, LOAD or EXPORT, which
 /// the service handles); the message says what happened or why not.
-pub(crate) fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
+pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
     let e = |e: EditError| e.to_string();
     match c {
         Command::CutVertex { vertex, direction } => design

@@ -102,6 +102,9 @@ mod tests {
         );
         assert!(Replay::parse(&format!("{LOG_HEADER}\n0 1 2 3 4 5 6")).is_err());
         assert!(Replay::parse(&format!("{LOG_HEADER}\n0 nan 0 0 0 0 0 0")).is_err());
+        // Finite as f64 but past f32's range: it would reach the loop as infinity.
+        let far = Replay::parse(&format!("{LOG_HEADER}\n0 1e39 0 0 0 0 0 0\n"));
+        assert!(far.unwrap_err().contains("out of range"));
         // A log cut inside its last record (the writer killed) replays what came before,
         // and says where it was cut; a bad line anywhere else is still an error.
         let whole = format!("{LOG_HEADER}\n0 0 0.6 0 0 0 0 0\n0.001 0 0.6 0 0 0 0 1\n");

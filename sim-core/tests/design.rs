@@ -138,6 +138,21 @@ fn reseal(mut b: Vec<u8>) -> Vec<u8> {
     b
 }
 
+/// Found by the design fuzz target: a design whose cloth moves at 1e30 m/s (or lies 1e5
+/// m away) loaded, and its first step sent the contact's grids over billions of cells.
+/// Such a file is damaged: refused, saying which vertex.
+#[test]
+fn far_flung_or_racing_vertices_are_refused() {
+    let mut d = edited();
+    d.sim.cloth.v[3] = Vec3::new(0.0, -1e30, 0.0);
+    let e = Design::load_design(&d.save_design().unwrap()).unwrap_err();
+    assert!(e.to_string().contains("vertex 3 moves at"), "{e}");
+    let mut d = edited();
+    d.sim.cloth.x[5].x = 1e5;
+    let e = Design::load_design(&d.save_design().unwrap()).unwrap_err();
+    assert!(e.to_string().contains("vertex 5 lies"), "{e}");
+}
+
 proptest! {
     #![proptest_config(ProptestConfig { cases: 256, ..ProptestConfig::default() })]
 

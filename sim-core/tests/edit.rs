@@ -695,6 +695,14 @@ fn pattern_selections_remove_and_seam_or_refuse() {
         Err(EditError::NothingOnPattern { what: "triangle" })
     );
     assert_eq!(sim.sim.cloth.live.tri_count(), tris);
+    // All of it (found by the commands fuzz target): a design with no cloth could be
+    // neither saved nor loaded, so it is refused and nothing changes.
+    assert_eq!(
+        sim.remove_region(Vec2::splat(-1.0), Vec2::splat(2.0)),
+        Err(EditError::LastCloth)
+    );
+    assert_eq!(sim.sim.cloth.live.tri_count(), tris);
+    assert_eq!(sim.undo().map(|_| ()), Err(EditError::NothingToUndo));
     // The corner square beyond u, v = 0.75: 2 x 2 cells, 8 triangles.
     assert_eq!(
         sim.remove_region(Vec2::splat(0.75), Vec2::splat(1.5)),

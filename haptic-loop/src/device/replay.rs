@@ -94,6 +94,14 @@ fn record(line: &str, n: usize, last: Option<&Record>) -> Result<Record, String>
             .filter(|v| v.is_finite())
             .ok_or_else(|| format!("line {n}: '{s}' is not a finite number"))
     };
+    // Positions and velocities are f32 on the wire: a number past f32's range would
+    // become infinite there.
+    let num32 = |s: &str| -> Result<f32, String> {
+        let v = num(s)? as f32;
+        v.is_finite()
+            .then_some(v)
+            .ok_or_else(|| format!("line {n}: '{s}' is out of range"))
+    };
     let t = num(f[0])?;
     if last.is_some_and(|r| t < r.t) {
         return Err(format!("line {n}: time goes backwards"));
@@ -104,8 +112,8 @@ fn record(line: &str, n: usize, last: Option<&Record>) -> Result<Record, String>
     Ok(Record {
         t,
         state: DeviceState {
-            position: [num(f[1])? as f32, num(f[2])? as f32, num(f[3])? as f32],
-            velocity: [num(f[4])? as f32, num(f[5])? as f32, num(f[6])? as f32],
+            position: [num32(f[1])?, num32(f[2])?, num32(f[3])?],
+            velocity: [num32(f[4])?, num32(f[5])?, num32(f[6])?],
             buttons: buttons & 0b11,
         },
     })

@@ -142,7 +142,14 @@ impl Script {
                     .ok_or_else(|| format!("line {}: '{s}' is not a finite number", n + 1))
             };
             let t = num(f[0])?;
-            let p = [num(f[1])? as f32, num(f[2])? as f32, num(f[3])? as f32];
+            // Positions are f32: a number past its range would become infinite.
+            let num32 = |s: &str| -> Result<f32, String> {
+                let v = num(s)? as f32;
+                v.is_finite()
+                    .then_some(v)
+                    .ok_or_else(|| format!("line {}: '{s}' is out of range", n + 1))
+            };
+            let p = [num32(f[1])?, num32(f[2])?, num32(f[3])?];
             let b: u32 = f[4]
                 .parse()
                 .map_err(|_| format!("line {}: buttons '{}' is not a bit mask", n + 1, f[4]))?;
@@ -211,5 +218,10 @@ mod tests {
                 .contains("backwards")
         );
         assert!(Script::parse("0 nan 0 0 0").is_err());
+        assert!(
+            Script::parse("0 0 -1e300 0 0")
+                .unwrap_err()
+                .contains("out of range")
+        );
     }
 }

@@ -37,9 +37,14 @@ pub struct Design {
 impl Design {
     /// A new design around `sim`: unpainted, no seams, nothing to undo, tearing off.
     pub fn new(sim: Simulation) -> Self {
+        Self::with_texture(sim, Texture::new(TEXTURE_SIZE, TEXTURE_SIZE, CLOTH_COLOUR))
+    }
+
+    /// [`Design::new`] with the texture given (a loaded one: no blank texture made first).
+    pub fn with_texture(sim: Simulation, texture: Texture) -> Self {
         Self {
             sim,
-            texture: Texture::new(TEXTURE_SIZE, TEXTURE_SIZE, CLOTH_COLOUR),
+            texture,
             history: History::default(),
             tear: TearSettings::default(),
             seams: Vec::new(),

@@ -55,6 +55,10 @@ pub enum EditError {
         "piece {piece} would start crossing the cloth or the body ({crossings} crossing triangle pairs); try another place"
     )]
     PieceWouldCross { piece: String, crossings: usize },
+    #[error(
+        "the edit would remove all of the cloth; a design keeps at least one piece (start a new design instead)"
+    )]
+    LastCloth,
     #[error("nothing to undo")]
     NothingToUndo,
     #[error("nothing to redo")]

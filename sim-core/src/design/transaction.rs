@@ -152,6 +152,13 @@ impl Design {
         prims: Vec<Prim>,
     ) -> Result<(), EditError> {
         self.apply_prims(&prims)?;
+        if self.sim.cloth.live.tri_count() == 0 {
+            // A design with no cloth cannot be saved and loaded again: refuse, as if
+            // nothing happened (the inverse of applied primitives always applies).
+            let inverse: Vec<Prim> = prims.iter().rev().map(Prim::inverse).collect();
+            let _ = self.apply_prims(&inverse);
+            return Err(EditError::LastCloth);
+        }
         self.history.push(Edit { label, prims });
         Ok(())
     }

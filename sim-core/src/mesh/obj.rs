@@ -13,6 +13,76 @@ use crate::error::LoadError;
 /// ([`super::cloth_mesh::MAX_VERTICES`]) with their UVs and faces, refused before reading.
 pub const MAX_OBJ_BYTES: u64 = 512 << 20;
 
+/// The most triangles an OBJ may describe (faces fanned into triangles): twice the most
+/// vertices a mesh may have, as a closed surface has.
+pub const MAX_OBJ_TRIANGLES: usize = 2 * super::cloth_mesh::MAX_VERTICES;
+
+/// Counts the vertices and the triangles of an OBJ's text (nothing kept) and refuses one
+/// over the limits before any parser allocates for it: a 10-million-triangle file is
+/// turned away holding only its text. Then checks every face's indices (position, UV and
+/// normal, counted from 1, or back from -1) name an element the file has, with the line:
+/// `tobj` takes an index far out of range as a huge number and overflows on it.
+pub fn check_obj_counts(path: &Path, text: &str) -> Result<(), LoadError> {
+    let (mut vertices, mut triangles, mut uvs, mut normals) = (0usize, 0usize, 0usize, 0usize);
+    for line in text.lines() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => vertices += 1,
+            Some("vt") => uvs += 1,
+            Some("vn") => normals += 1,
+            Some("f") => triangles += words.count().saturating_sub(2),
+            _ => {}
+        }
+    }
+    let max_v = super::cloth_mesh::MAX_VERTICES;
+    if vertices > max_v || triangles > MAX_OBJ_TRIANGLES {
+        return Err(LoadError::Parse {
+            path: path.to_owned(),
+            reason: format!(
+                "it has {vertices} vertices and {triangles} triangles, more than a mesh may \
+                 have here ({max_v} vertices, {MAX_OBJ_TRIANGLES} triangles)"
+            ),
+        });
+    }
+    let counts = [vertices, uvs, normals];
+    let mut seen = [0usize; 3];
+    for (n, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => seen[0] += 1,
+            Some("vt") => seen[1] += 1,
+            Some("vn") => seen[2] += 1,
+            Some("f") => {
+                for w in words {
+                    for (k, part) in w.split('/').enumerate().take(3) {
+                        if part.is_empty() {
+                            continue;
+                        }
+                        // Forward: any element of the file; backward: one already read.
+                        let ok = part.parse::<i64>().is_ok_and(|i| {
+                            (i > 0 && i as u64 <= counts[k] as u64)
+                                || (i < 0 && i.unsigned_abs() <= seen[k] as u64)
+                        });
+                        if !ok {
+                            let what = ["vertex", "texture coordinate", "normal"][k];
+                            return Err(LoadError::Parse {
+                                path: path.to_owned(),
+                                reason: format!(
+                                    "line {}: face index '{part}' names no {what} (the file has {})",
+                                    n + 1,
+                                    counts[k]
+                                ),
+                            });
+                        }
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(())
+}
+
 /// The text of the OBJ file at `path`, with errors that say what is wrong: missing, a
 /// directory, no permission, too large (before reading it), binary data.
 pub fn read_obj_text(path: &Path) -> Result<String, LoadError> {
@@ -56,13 +126,18 @@ pub fn read_obj_text(path: &Path) -> Result<String, LoadError> {
 /// onto the mesh's two widest axes. The result is validated (finite, in range, no
 /// degenerate triangle, manifold).
 pub fn load_obj(path: &Path) -> Result<ClothMesh, LoadError> {
+    parse_obj(path, &read_obj_text(path)?)
+}
+
+/// [`load_obj`] on text already read; `path` names it in errors.
+pub fn parse_obj(path: &Path, text: &str) -> Result<ClothMesh, LoadError> {
+    check_obj_counts(path, text)?;
     let opts = tobj::LoadOptions {
         single_index: true,
         triangulate: true,
         ignore_points: true,
         ignore_lines: true,
     };
-    let text = read_obj_text(path)?;
     // Materials are not read: a cloth's look is its painted texture.
     let no_materials = |_: &Path| Err(tobj::LoadError::OpenFileFailed);
     let (models, _materials) = tobj::load_obj_buf(
@@ -195,6 +270,59 @@ pub(crate) mod tests {
         let dir = std::env::temp_dir().join(format!("saiho-obj-{}-{name}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         dir.join(name)
+    }
+
+    /// Too many vertices or triangles is refused from a count of the lines, before any
+    /// parser allocates for them (as the body reader does, through the same check).
+    #[test]
+    fn too_many_vertices_or_triangles_is_refused_before_parsing() {
+        let max = crate::mesh::MAX_VERTICES;
+        let mut text = "v\n".repeat(max);
+        assert!(check_obj_counts(Path::new("a.obj"), &text).is_ok());
+        text.push_str("v 0 0 0\n");
+        let e = parse_obj(Path::new("many.obj"), &text)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(&format!("{} vertices", max + 1)) && e.contains("many.obj"),
+            "{e}"
+        );
+        // One polygon fanned into more triangles than allowed.
+        let mut face = String::from("v 0 0 0\nf");
+        for i in 0..MAX_OBJ_TRIANGLES + 3 {
+            face.push_str(if i % 2 == 0 { " 1" } else { " 1/1" });
+        }
+        let e = crate::collision::body::check_body_text(Path::new("fan.obj"), &face)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(&format!("{} triangles", MAX_OBJ_TRIANGLES + 1)),
+            "{e}"
+        );
+    }
+
+    /// Found by the obj fuzz target: a UV index of -7877777 reached `tobj` as a huge
+    /// number and overflowed there. Each out-of-range index is refused with its line.
+    #[test]
+    fn face_indices_out_of_range_are_refused_with_the_line() {
+        let head = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n";
+        let e = |face: &str| {
+            parse_obj(Path::new("f.obj"), &format!("{head}{face}\n"))
+                .map(|_| ())
+                .unwrap_err()
+                .to_string()
+        };
+        assert!(
+            e("f 1/1 2/2 3/-7877777")
+                .contains("line 7: face index '-7877777' names no texture coordinate")
+        );
+        assert!(e("f 1 2 4").contains("'4' names no vertex (the file has 3)"));
+        assert!(e("f 1 2 0").contains("'0' names no vertex"));
+        assert!(e("f 1//1 2//1 3//1").contains("names no normal (the file has 0)"));
+        assert!(e("f 1 2 x").contains("'x' names no vertex"));
+        // In range, counted back from the last: fine.
+        let ok = parse_obj(Path::new("f.obj"), &format!("{head}f -3/-3 -2/-2 -1/-1\n"));
+        assert!(ok.is_ok(), "{ok:?}");
     }
 
     #[test]

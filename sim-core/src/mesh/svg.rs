@@ -83,6 +83,31 @@ pub enum SvgError {
     NoClosedShape,
     #[error("a path's d is not SVG path data ({0})")]
     PathData(String),
+    #[error(
+        "a shape reaches {0} mm from the origin, beyond the {max} mm a pattern may span (another unit, or a damaged file?)",
+        max = crate::mesh::MAX_COORD * 1000.0
+    )]
+    TooFar(f64),
+}
+
+/// `path` under `affine` (in mm), refused when it reaches farther than a scene spans:
+/// flattening a curve kilometres long to 0.1 mm would take all the memory there is.
+fn placed(path: &BezPath, affine: Affine) -> Result<BezPath, SvgError> {
+    use kurbo::Shape;
+    let mut p = path.clone();
+    p.apply_affine(affine);
+    let b = p.bounding_box();
+    let reach = [b.x0, b.y0, b.x1, b.y1].iter().fold(0.0f64, |m, v| {
+        if v.is_finite() {
+            m.max(v.abs())
+        } else {
+            f64::INFINITY
+        }
+    });
+    if reach > crate::mesh::MAX_COORD as f64 * 1000.0 {
+        return Err(SvgError::TooFar(reach));
+    }
+    Ok(p)
 }
 
 /// One closed loop found, in mm (SVG axes), with the group it belongs to and its class.
@@ -173,11 +198,8 @@ fn transform(v: &str) -> Affine {
     out
 }
 
-/// The closed subpaths of `path` under `affine`, flattened.
-fn closed_loops(path: &BezPath, affine: Affine) -> Vec<Vec<Vec2>> {
-    let mut p = path.clone();
-    p.apply_affine(affine);
-    // The path is in mm now.
+/// The closed subpaths of `p` (in mm, [`placed`]), flattened.
+fn closed_loops(p: BezPath) -> Vec<Vec<Vec2>> {
     let tol = TOLERANCE_MM;
     let mut loops = Vec::new();
     let mut cur: Vec<Vec2> = Vec::new();
@@ -280,10 +302,8 @@ pub fn read_svg(text: &str) -> Result<Vec<NamedOutline>, SvgError> {
     Ok(pieces)
 }
 
-/// The segments of an open or closed path under `affine`, flattened, in mm.
-fn segments(path: &BezPath, affine: Affine) -> Vec<(Vec2, Vec2)> {
-    let mut p = path.clone();
-    p.apply_affine(affine);
+/// The segments of an open or closed path `p` (in mm, [`placed`]), flattened.
+fn segments(p: BezPath) -> Vec<(Vec2, Vec2)> {
     let mut out = Vec::new();
     let (mut start, mut at): (Option<Vec2>, Option<Vec2>) = (None, None);
     kurbo::flatten(p, TOLERANCE_MM, |el| match el {
@@ -398,7 +418,7 @@ fn walk(text: &str) -> Result<Walked, SvgError> {
                     shape_of(&e)?
                 };
                 if let Some(path) = path {
-                    for (a, b) in segments(&path, parent * own) {
+                    for (a, b) in segments(placed(&path, parent * own)?) {
                         marks.push(SeamMark {
                             label: label.clone(),
                             a,
@@ -411,7 +431,7 @@ fn walk(text: &str) -> Result<Walked, SvgError> {
                 if let Some(path) = shape_of(&e)? {
                     let group = stack.last().map_or(0, |s| s.1);
                     let class = attr(&e, "class").unwrap_or_default();
-                    for points in closed_loops(&path, parent * own) {
+                    for points in closed_loops(placed(&path, parent * own)?) {
                         found.push(Found {
                             points,
                             group,
@@ -552,5 +572,23 @@ mod tests {
             read_svg(r#"<svg><path d="Q oops"/></svg>"#),
             Err(SvgError::PathData(_))
         ));
+    }
+
+    /// Found by the svg fuzz target: a coordinate of 1e29 made the flattening ask for
+    /// 690 GB (an abort), one of 2e30 in a curve's control point took seconds.
+    #[test]
+    fn a_shape_beyond_the_scene_is_refused() {
+        for d in [
+            "M 10 10 L 190 100000000000000000000000000000 C 0 150 0 50 10 10 Z",
+            "M 10 10 L 190 10 Q 2000000000000000000000000000000 100 190 190 Z",
+        ] {
+            let svg = format!(r#"<svg width="200mm" viewBox="0 0 200 200"><path d="{d}"/></svg>"#);
+            let e = read_svg(&svg).unwrap_err();
+            assert!(matches!(e, SvgError::TooFar(_)), "{e}");
+            assert!(e.to_string().contains("another unit"), "{e}");
+        }
+        // A transform that scales a small shape out of the scene, likewise.
+        let svg = r#"<svg><g transform="scale(1e12)"><rect width="10" height="10"/></g></svg>"#;
+        assert!(matches!(read_svg(svg), Err(SvgError::TooFar(_))));
     }
 }

@@ -46,9 +46,15 @@ fn not_solid(path: &Path, problem: String) -> LoadError {
 }
 
 /// Reads `path` and checks it (see the module's doc).
+#[cfg(test)]
 pub fn read_body_obj(path: &Path) -> Result<CheckedBody, LoadError> {
-    let text = crate::mesh::obj::read_obj_text(path)?;
-    let (vertices, faces) = parse(path, &text)?;
+    check_body_text(path, &crate::mesh::obj::read_obj_text(path)?)
+}
+
+/// [`read_body_obj`] on text already read; `path` names it in errors.
+pub fn check_body_text(path: &Path, text: &str) -> Result<CheckedBody, LoadError> {
+    crate::mesh::obj::check_obj_counts(path, text)?;
+    let (vertices, faces) = parse(path, text)?;
     check(path, &vertices, faces)
 }
 

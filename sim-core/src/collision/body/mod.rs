@@ -13,8 +13,9 @@ mod shapes;
 mod surface;
 
 pub use analytic::{Analytic, Primitive};
+pub use check::{CheckedBody, check_body_text};
 pub use mannequin::{ARM, ARM_RADIUS, MANNEQUIN_CELL, mannequin, mannequin_parts};
 #[cfg(test)]
 pub(crate) use shapes::icosphere;
-pub use shapes::{BodyKind, cube, sphere};
+pub use shapes::{BodyKind, body_from_obj_text, cube, sphere};
 pub use surface::{Body, BodyContact};

@@ -212,7 +212,13 @@ pub(crate) fn icosphere(subdiv: usize) -> (Vec<Vec3>, Vec<[u32; 3]>) {
 /// A body from an OBJ file: checked to be a solid (closed, manifold, consistently wound,
 /// enclosing a volume), its winding turned outward if it was not (`Body::repairs` says so).
 fn obj_body(path: &Path) -> Result<Body, LoadError> {
-    let checked = super::check::read_body_obj(path)?;
+    body_from_obj_text(path, &crate::mesh::obj::read_obj_text(path)?)
+}
+
+/// A body from OBJ text already read, checked as [`BodyKind`]'s files are; `path` names
+/// it in errors and is its name.
+pub fn body_from_obj_text(path: &Path, text: &str) -> Result<Body, LoadError> {
+    let checked = super::check::check_body_text(path, text)?;
     let mut body = Body::new(
         path.display().to_string(),
         checked.vertices,

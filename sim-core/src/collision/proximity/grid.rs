@@ -108,9 +108,11 @@ fn hash(c: [i32; 3]) -> usize {
 #[inline]
 fn cells(b: &Aabb, inv: f32, mut f: impl FnMut([i32; 3])) {
     let (lo, hi) = (cell_of(b.lo, inv), cell_of(b.hi, inv));
+    // In i64 and saturating: far-flung boxes (cells at i32's ends) must neither overflow
+    // nor loop over billions of cells.
     let count = (0..3)
-        .map(|k| (hi[k] - lo[k] + 1).max(1) as i64)
-        .product::<i64>();
+        .map(|k| (hi[k] as i64 - lo[k] as i64 + 1).max(1))
+        .fold(1i64, i64::saturating_mul);
     let hi = if count > MAX_CELLS_PER_BOX { lo } else { hi };
     for z in lo[2]..=hi[2] {
         for y in lo[1]..=hi[1] {
@@ -260,6 +262,24 @@ mod tests {
         let mut got = Vec::new();
         g.query(&q, |id| got.push(id));
         assert_eq!(got, [0]);
+    }
+
+    /// Found by the design fuzz target: a box spanning ±1e30 m (a damaged design's
+    /// velocities) overflowed the cell count and, wrapped, walked billions of cells.
+    #[test]
+    fn a_far_flung_box_covers_few_cells_without_overflow() {
+        let huge = Aabb {
+            lo: Vec3::splat(-1e30),
+            hi: Vec3::new(1e30, 2e30, 1e30),
+        };
+        let mut n = 0;
+        cells(&huge, 100.0, |_| n += 1);
+        assert_eq!(n, 1);
+        let mut g = BoxGrid::default();
+        g.build([huge, boxes(&[(0.0, 0.0, 0.0, 0.1)])[0]], 0.01);
+        let mut got = Vec::new();
+        g.query(&huge, |id| got.push(id));
+        assert!(got.contains(&0), "{got:?}");
     }
 
     #[test]

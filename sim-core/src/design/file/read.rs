@@ -8,8 +8,11 @@ use super::format::{
 use crate::collision::{Body, BodyKind};
 use crate::design::{Design, Seam, TearMode, TearSettings, Texture};
 use crate::error::GeometryError;
-use crate::mesh::{ClothMesh, LiveMesh, MAX_VERTICES, Tri};
+use crate::mesh::{ClothMesh, LiveMesh, MAX_COORD, MAX_VERTICES, Tri};
 use crate::solver::{Cloth, Environment, MAX_FRAME_SUBSTEPS, ModelKind, Simulation};
+
+/// The fastest a loaded cloth's vertex may move, m/s (a falling cloth reaches a few).
+const MAX_SPEED: f32 = 1000.0;
 
 impl Design {
     pub fn load_design_file(path: &std::path::Path) -> Result<Self, DesignError> {
@@ -39,7 +42,8 @@ impl Design {
         let mut sim = Simulation::new(cloth, body, model, h.material, env, Some(h.substeps))
             .map_err(|e| corrupt(e.to_string()))?;
         sim.frame = h.frame;
-        let mut design = Design::new(sim);
+        let texture = decode_texture(sections.get("texture")?, h.texture_width, h.texture_height)?;
+        let mut design = Design::with_texture(sim, texture);
         design.seams = read_seams(h)?;
         if h.pieces.len() > MAX_PIECES {
             return Err(corrupt(format!(
@@ -52,8 +56,6 @@ impl Design {
         }
         design.pieces = h.pieces.clone();
         design.tear = read_tear(h)?;
-        design.texture =
-            decode_texture(sections.get("texture")?, h.texture_width, h.texture_height)?;
         let crossed = design.sim.crossings();
         if crossed.self_pairs > 0 || crossed.body_pairs > 0 {
             design.sim.notices.push(format!(
@@ -145,8 +147,11 @@ fn read_cloth(h: &Header, sections: &Sections) -> Result<Cloth, DesignError> {
     let n = h.vertices;
     if n == 0 || n > MAX_VERTICES || h.triangles == 0 || h.triangles > 4 * MAX_VERTICES {
         return Err(corrupt(format!(
-            "{} vertices and {} triangles",
-            h.vertices, h.triangles
+            "the header claims {} vertices and {} triangles (a design has 1 to {MAX_VERTICES} \
+             vertices and 1 to {} triangles)",
+            h.vertices,
+            h.triangles,
+            4 * MAX_VERTICES
         )));
     }
     let read3 = |b: &[u8], count: usize| -> Result<Vec<Vec3>, DesignError> {
@@ -155,6 +160,21 @@ fn read_cloth(h: &Header, sections: &Sections) -> Result<Cloth, DesignError> {
     };
     let x = read3(sections.exact("x", 12 * n)?, n)?;
     let v = read3(sections.exact("v", 12 * n)?, n)?;
+    // Coordinates within the scene's bounds and speeds a cloth can have: a file past
+    // them is damaged (and would send the contact's grids over billions of cells).
+    let far = |p: &Vec3| p.abs().max_element() > MAX_COORD;
+    if let Some(i) = x.iter().position(far) {
+        return Err(corrupt(format!(
+            "vertex {i} lies {:?} m from the origin, beyond the {MAX_COORD} m a scene spans",
+            x[i]
+        )));
+    }
+    if let Some(i) = v.iter().position(|v| v.length() > MAX_SPEED) {
+        return Err(corrupt(format!(
+            "vertex {i} moves at {} m/s, more than the {MAX_SPEED} m/s a cloth can",
+            v[i].length()
+        )));
+    }
     let mut c = Cursor {
         b: sections.exact("tris", 72 * h.triangles)?,
         at: 0,
@@ -167,6 +187,11 @@ fn read_cloth(h: &Header, sections: &Sections) -> Result<Cloth, DesignError> {
         let idx = [c.u32()?, c.u32()?, c.u32()?];
         let rest = [c.vec3()?, c.vec3()?, c.vec3()?];
         let uv = [c.vec2()?, c.vec2()?, c.vec2()?];
+        if rest.iter().any(far) {
+            return Err(corrupt(format!(
+                "triangle {k}'s rest shape lies beyond the {MAX_COORD} m a scene spans"
+            )));
+        }
         let t = Tri { v: idx, rest, uv };
         if t.rest_area() <= 0.0 {
             return Err(GeometryError::Degenerate { triangle: k }.into());
