@@ -48,6 +48,10 @@ pub enum MeshError {
     TooLarge { vertices: usize, max: usize },
     #[error("triangulation failed: {0}")]
     Triangulation(String),
+    #[error(
+        "the outline's sides meet in {0} places once divided into edges (a sliver, or corners on one line); widen it or move the points apart"
+    )]
+    SidesMeet(usize),
 }
 
 /// A piece's outline: the outer loop first, then holes, each a closed polygon (the last
@@ -328,8 +332,17 @@ pub fn mesh_outline(outline: &Outline, edge: f32) -> Result<ClothMesh, MeshError
             edges.push([first + k, first + (k + 1) % n]);
         }
     }
-    let mut cdt = ConstrainedDelaunayTriangulation::<Point2<f64>>::bulk_load_cdt(points, edges)
+    // Sides that check() passed can still meet once resampled (a sliver whose corners
+    // lie on one line to within rounding): spade reports them here instead of panicking.
+    let mut conflicts = 0usize;
+    let mut cdt =
+        ConstrainedDelaunayTriangulation::<Point2<f64>>::try_bulk_load_cdt(points, edges, |_| {
+            conflicts += 1
+        })
         .map_err(|e| MeshError::Triangulation(format!("{e:?}")))?;
+    if conflicts > 0 {
+        return Err(MeshError::SidesMeet(conflicts));
+    }
     let max_area = 0.5 * 0.433 * 2.0 * (edge as f64).powi(2);
     let budget = estimate.saturating_mul(3).clamp(1000, MAX_VERTICES);
     let refined = cdt.refine(

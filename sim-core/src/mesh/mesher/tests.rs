@@ -89,6 +89,35 @@ fn check_mesh(o: &Outline, edge: f32) -> ClothMesh {
     m
 }
 
+/// Found by the outline fuzz target: triangles whose corners lie on one line to within
+/// f32 rounding passed the outline check, and spade panicked on their resampled sides
+/// ("Conflicting edge"). They are refused, or meshed if spade can.
+#[test]
+fn slivers_are_refused_not_a_panic() {
+    let p = |x: u8, y: u8| Vec2::new(x as f32 / 254.0, y as f32 / 254.0);
+    for (corners, edge) in [
+        ([p(0, 200), p(200, 0), p(120, 80)], 0.0976),
+        ([p(80, 80), p(120, 0), p(60, 120)], 0.025),
+        ([p(26, 0), p(31, 120), p(34, 192)], 0.0976),
+    ] {
+        let o = Outline {
+            loops: vec![corners.to_vec()],
+        };
+        match mesh_outline(&o, edge) {
+            Ok(m) => assert!(m.validate().is_ok()),
+            Err(e) => assert!(
+                matches!(
+                    e,
+                    MeshError::SidesMeet(_)
+                        | MeshError::NoArea { .. }
+                        | MeshError::SelfIntersecting { .. }
+                ),
+                "{e}"
+            ),
+        }
+    }
+}
+
 #[test]
 fn rectangles_ellipses_and_l_shapes_mesh_well() {
     let m = check_mesh(&Outline::rectangle(1.0, 0.5), 0.05);
