@@ -192,6 +192,32 @@ fn a_sew_that_would_make_an_edge_non_manifold_is_refused() {
     assert_eq!(snapshot(&s), before);
 }
 
+/// Found by the commands fuzz target: a material change rebuilds the solver's packed
+/// groups from a cloth holding a tear's new vertex; undoing the tear then removed the
+/// vertex while a switched-off constraint in the groups still named it, and the next
+/// frame indexed past the cloth (a panic in cloth-sim, reached by SET_FABRIC, Ctrl+Z).
+#[test]
+fn undoing_an_edit_after_a_material_change_keeps_stepping() {
+    for (n, cut, a, b) in [(4, 12, 6, 7), (8, 40, 20, 21)] {
+        let mut s = flat(n, true);
+        s.set_pin(0, true).unwrap();
+        s.cut_vertex(cut, Vec3::X).unwrap();
+        s.tear_edge(a, b, TearMode::Split).unwrap();
+        let before = s.sim.cloth.len();
+        let m = s.sim.material;
+        s.sim.set_material(m, None).unwrap();
+        s.undo().unwrap();
+        assert!(s.sim.cloth.len() < before);
+        for _ in 0..3 {
+            s.step().unwrap();
+        }
+        s.undo().unwrap();
+        s.redo().unwrap();
+        s.step().unwrap();
+        assert!(s.validate().is_ok());
+    }
+}
+
 #[test]
 fn tearing_by_hand_deletes_or_splits() {
     let mut s = flat(6, false);

@@ -77,9 +77,18 @@ impl Xpbd {
     pub fn follow_edit(&mut self, cloth: &Cloth, tris: &[u32], edges: &[u64], verts: &[u32]) {
         let n = cloth.len();
         if self.prev.len() > n {
-            self.prev.truncate(n);
-            self.normals.truncate(n);
-            self.area.truncate(n);
+            // Vertices went (an undone cut, tear or new piece). A switched-off constraint
+            // in the packed groups still names its vertices, and the groups may have been
+            // built while those existed (after a material change, say): rebuild rather
+            // than leave an index past the cloth (found by the commands fuzz target).
+            let mut prev = std::mem::take(&mut self.prev);
+            prev.truncate(n);
+            let limits = std::mem::take(&mut self.limits);
+            let mut fresh = Xpbd::with_limits(cloth, &self.material, Some(limits));
+            fresh.prev = prev;
+            fresh.threads = self.threads;
+            *self = fresh;
+            return;
         }
         for i in self.prev.len()..n {
             self.prev.push(cloth.x[i]);
