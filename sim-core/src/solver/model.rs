@@ -34,7 +34,7 @@ impl Default for Environment {
 #[derive(Debug, thiserror::Error)]
 pub enum StepError {
     #[error(
-        "the simulation diverged (NaN or infinite positions) at frame {frame}; the step is too large for this model and stiffness"
+        "the simulation diverged (positions not finite, or beyond 10 km) at frame {frame}; the step is too large for this model and stiffness"
     )]
     Diverged { frame: u64 },
     /// The implicit model's sparse Cholesky factorisation failed.

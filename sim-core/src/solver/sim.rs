@@ -234,7 +234,7 @@ impl Simulation {
         }
         self.frame += 1;
         stats.wall_ms = t0.elapsed().as_secs_f64() * 1e3;
-        if !self.cloth.is_finite() {
+        if !self.cloth.in_scene() {
             return Err(StepError::Diverged { frame: self.frame });
         }
         Ok(stats)

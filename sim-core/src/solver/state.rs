@@ -200,4 +200,11 @@ impl Cloth {
     pub fn is_finite(&self) -> bool {
         self.x.iter().all(|p| p.is_finite()) && self.v.iter().all(|p| p.is_finite())
     }
+
+    /// Finite, and every vertex within [`crate::mesh::MAX_COORD`] of the origin on each
+    /// axis: what a design file may hold.
+    pub fn in_scene(&self) -> bool {
+        let max = crate::mesh::MAX_COORD;
+        self.x.iter().all(|p| p.abs().max_element() <= max) && self.v.iter().all(|p| p.is_finite())
+    }
 }
