@@ -141,6 +141,29 @@ fn a_device_error_turns_forces_off_with_a_log_line() {
         err.contains("device error, forces off: device error 0x0300"),
         "{err}"
     );
+    // A position the device cannot reach (5 m off, then NaN) turns forces off too.
+    let out = Command::new(env!("CARGO_BIN_EXE_haptic-loop"))
+        .args([
+            "--device",
+            "openhaptics",
+            "--domain",
+            &d,
+            "--seconds",
+            "1",
+            "--hd-lib",
+        ])
+        .arg(&so)
+        .env("SAIHO_STANDIN_GLITCH_AT", "200")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    assert!(
+        err.contains(
+            "forces off: device error 0x0000: the device reported a position outside its workspace"
+        ),
+        "{err}"
+    );
     // A calibration that needs an update is updated, and said.
     let out = Command::new(env!("CARGO_BIN_EXE_haptic-loop"))
         .args([

@@ -27,6 +27,10 @@ pub const HD_CURRENT_FORCE: c_uint = 0x2700;
 pub const HD_FORCE_OUTPUT: c_uint = 0x4000;
 pub const HD_CALLBACK_CONTINUE: c_uint = 1;
 pub const HD_CALLBACK_DONE: c_uint = 0;
+/// How far from its origin a Phantom's tip can be, mm, on any axis (a Touch's arm reaches
+/// under 300 mm; its workspace is 160 x 120 x 70 mm): a reading beyond is a glitch.
+pub const REACH_MM: f64 = 400.0;
+
 pub const HD_MAX_SCHEDULER_PRIORITY: c_ushort = c_ushort::MAX;
 pub const HD_CALIBRATION_OK: c_uint = 0x5000;
 pub const HD_CALIBRATION_NEEDS_UPDATE: c_uint = 0x5001;
@@ -280,6 +284,17 @@ impl HapticDevice for OpenHaptics {
         self.last_frames = frames;
         let ws = self.workspace;
         let get = |a: &[AtomicU64; 3], i: usize| f64::from_bits(a[i].load(Ordering::Acquire));
+        // A position the device cannot reach (a glitching encoder, a broken cable) or not
+        // a number becomes no force, not a clamped push. Checked on the device's own
+        // millimetres.
+        let reachable = (0..3)
+            .all(|i| get(&SHARED.pos, i).abs() <= REACH_MM && get(&SHARED.vel, i).is_finite());
+        if !reachable {
+            return Err(DeviceError::Device {
+                code: 0,
+                what: "the device reported a position outside its workspace (or not a number); forces are off",
+            });
+        }
         // Device millimetres -> scene metres at the workspace scale, around its centre.
         let position =
             std::array::from_fn(|i| ws.centre[i] + ws.scale * (get(&SHARED.pos, i) * 1e-3) as f32);

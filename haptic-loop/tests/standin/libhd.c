@@ -5,7 +5,9 @@
  *
  * The call record is written at hdDisableDevice to calls.log beside the library itself.
  * Environment: SAIHO_STANDIN_ERROR_AT (frame from which hdGetError reports 0x0300),
- * SAIHO_STANDIN_CALIBRATION (status hdCheckCalibration returns, default 0x5000). */
+ * SAIHO_STANDIN_CALIBRATION (status hdCheckCalibration returns, default 0x5000),
+ * SAIHO_STANDIN_GLITCH_AT (frame from which the position reads 5 m away, as a glitching
+ * encoder might, or NaN from twice that frame on). */
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <libgen.h>
@@ -25,7 +27,7 @@ static cb_t g_cb;
 static void *g_data;
 static volatile int g_running, g_in_frame, g_enabled_force;
 static pthread_t g_thread;
-static long g_frames, g_forces, g_bad_forces, g_frame_errors, g_error_at = -1;
+static long g_frames, g_forces, g_bad_forces, g_frame_errors, g_error_at = -1, g_glitch_at = -1;
 static double g_max_force;
 static char g_log[8192];
 static unsigned int g_error;
@@ -35,6 +37,8 @@ static void rec(const char *s) { strncat(g_log, s, sizeof g_log - strlen(g_log) 
 HHD hdInitDevice(const char *name) {
     const char *e = getenv("SAIHO_STANDIN_ERROR_AT");
     g_error_at = e ? atol(e) : -1;
+    const char *g = getenv("SAIHO_STANDIN_GLITCH_AT");
+    g_glitch_at = g ? atol(g) : -1;
     g_log[0] = 0;
     rec(name ? "hdInitDevice named" : "hdInitDevice default");
     return 1;
@@ -55,6 +59,8 @@ void hdGetDoublev(unsigned int p, double *v) {
     if (p == 0x2050) { v[0] = 20 * cos(w * t); v[1] = 20 * sin(w * t); v[2] = 0; }
     else if (p == 0x2051) { v[0] = -20 * w * sin(w * t); v[1] = 20 * w * cos(w * t); v[2] = 0; }
     else { v[0] = v[1] = v[2] = 0; }
+    if (p == 0x2050 && g_glitch_at >= 0 && g_frames >= g_glitch_at)
+        v[2] = g_frames >= 2 * g_glitch_at ? NAN : 5000.0;
 }
 void hdGetIntegerv(unsigned int p, int *v) { if (!g_in_frame) g_frame_errors++; *v = (p == 0x2000 && g_frames >= 300) ? 1 : 0; }
 void hdSetDoublev(unsigned int p, const double *v) {
