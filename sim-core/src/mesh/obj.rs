@@ -19,17 +19,13 @@ pub const MAX_OBJ_TRIANGLES: usize = 2 * super::cloth_mesh::MAX_VERTICES;
 
 /// Counts the vertices and the triangles of an OBJ's text (nothing kept) and refuses one
 /// over the limits before any parser allocates for it: a 10-million-triangle file is
-/// turned away holding only its text. Then checks every face's indices (position, UV and
-/// normal, counted from 1, or back from -1) name an element the file has, with the line:
-/// `tobj` takes an index far out of range as a huge number and overflows on it.
+/// turned away holding only its text.
 pub fn check_obj_counts(path: &Path, text: &str) -> Result<(), LoadError> {
-    let (mut vertices, mut triangles, mut uvs, mut normals) = (0usize, 0usize, 0usize, 0usize);
+    let (mut vertices, mut triangles) = (0usize, 0usize);
     for line in text.lines() {
         let mut words = line.split_whitespace();
         match words.next() {
             Some("v") => vertices += 1,
-            Some("vt") => uvs += 1,
-            Some("vn") => normals += 1,
             Some("f") => triangles += words.count().saturating_sub(2),
             _ => {}
         }
@@ -43,6 +39,23 @@ pub fn check_obj_counts(path: &Path, text: &str) -> Result<(), LoadError> {
                  have here ({max_v} vertices, {MAX_OBJ_TRIANGLES} triangles)"
             ),
         });
+    }
+    Ok(())
+}
+
+/// Checks every face's indices (position, UV and normal, counted from 1, or back from -1)
+/// name an element the file has, with the line: `tobj` takes an index far out of range
+/// as a huge number and overflows on it. (The body reader numbers its own.)
+fn check_face_indices(path: &Path, text: &str) -> Result<(), LoadError> {
+    let (mut vertices, mut uvs, mut normals) = (0usize, 0usize, 0usize);
+    for line in text.lines() {
+        let mut words = line.split_whitespace();
+        match words.next() {
+            Some("v") => vertices += 1,
+            Some("vt") => uvs += 1,
+            Some("vn") => normals += 1,
+            _ => {}
+        }
     }
     let counts = [vertices, uvs, normals];
     let mut seen = [0usize; 3];
@@ -132,6 +145,7 @@ pub fn load_obj(path: &Path) -> Result<ClothMesh, LoadError> {
 /// [`load_obj`] on text already read; `path` names it in errors.
 pub fn parse_obj(path: &Path, text: &str) -> Result<ClothMesh, LoadError> {
     check_obj_counts(path, text)?;
+    check_face_indices(path, text)?;
     let opts = tobj::LoadOptions {
         single_index: true,
         triangulate: true,
