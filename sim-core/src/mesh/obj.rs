@@ -287,7 +287,7 @@ pub(crate) mod tests {
     }
 
     /// Too many vertices or triangles is refused from a count of the lines, before any
-    /// parser allocates for them (as the body reader does, through the same check).
+    /// parser allocates for them.
     #[test]
     fn too_many_vertices_or_triangles_is_refused_before_parsing() {
         let max = crate::mesh::MAX_VERTICES;
@@ -306,7 +306,8 @@ pub(crate) mod tests {
         for i in 0..MAX_OBJ_TRIANGLES + 3 {
             face.push_str(if i % 2 == 0 { " 1" } else { " 1/1" });
         }
-        let e = crate::collision::body::check_body_text(Path::new("fan.obj"), &face)
+        // (The body reader calls the same check first.)
+        let e = check_obj_counts(Path::new("fan.obj"), &face)
             .unwrap_err()
             .to_string();
         assert!(

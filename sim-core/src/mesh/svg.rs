@@ -130,6 +130,54 @@ fn attr(e: &BytesStart<'_>, name: &str) -> Option<String> {
         })
 }
 
+/// Largest number a shape's geometry may hold, in user units: a km in µm, and more.
+const MAX_RAW: f64 = 1e9;
+
+/// The first number in `s` (SVG's number syntax: sign, digits, point, exponent) whose
+/// size is over [`MAX_RAW`] or that is not finite.
+fn first_huge(s: &str) -> Option<f64> {
+    let b = s.as_bytes();
+    let mut i = 0;
+    while i < b.len() {
+        let starts = b[i].is_ascii_digit()
+            || (b[i] == b'.' && b.get(i + 1).is_some_and(u8::is_ascii_digit))
+            || (matches!(b[i], b'+' | b'-')
+                && b.get(i + 1)
+                    .is_some_and(|c| c.is_ascii_digit() || *c == b'.'));
+        if !starts {
+            i += 1;
+            continue;
+        }
+        let start = i;
+        if matches!(b[i], b'+' | b'-') {
+            i += 1;
+        }
+        let mut point = false;
+        while i < b.len() && (b[i].is_ascii_digit() || (b[i] == b'.' && !point)) {
+            point |= b[i] == b'.';
+            i += 1;
+        }
+        if i < b.len() && matches!(b[i], b'e' | b'E') {
+            let mut j = i + 1;
+            if j < b.len() && matches!(b[j], b'+' | b'-') {
+                j += 1;
+            }
+            if j < b.len() && b[j].is_ascii_digit() {
+                while j < b.len() && b[j].is_ascii_digit() {
+                    j += 1;
+                }
+                i = j;
+            }
+        }
+        if let Ok(v) = s[start..i].parse::<f64>()
+            && !(v.abs() <= MAX_RAW)
+        {
+            return Some(v);
+        }
+    }
+    None
+}
+
 fn num(e: &BytesStart<'_>, name: &str) -> f64 {
     attr(e, name)
         .and_then(|v| {
@@ -236,6 +284,15 @@ fn closed_loops(p: BezPath) -> Vec<Vec<Vec2>> {
 /// The shape an element draws, as a path (`None`: not a shape).
 fn shape_of(e: &BytesStart<'_>) -> Result<Option<BezPath>, SvgError> {
     let name = e.local_name();
+    // Before any curve is made: an arc or a circle of radius 1e40 is cut into millions
+    // of Béziers (minutes, found by the svg fuzz target).
+    for a in [
+        "d", "points", "x", "y", "width", "height", "cx", "cy", "r", "rx", "ry",
+    ] {
+        if let Some(v) = attr(e, a).as_deref().and_then(first_huge) {
+            return Err(SvgError::TooFar(v));
+        }
+    }
     Ok(match name.as_ref() {
         b"path" => match attr(e, "d") {
             Some(d) => {
@@ -587,6 +644,21 @@ mod tests {
             assert!(matches!(e, SvgError::TooFar(_)), "{e}");
             assert!(e.to_string().contains("another unit"), "{e}");
         }
+        // Found by the svg fuzz target: an arc whose end lies 1e44 away (flags run into
+        // the number) and a huge circle took minutes to cut into Béziers.
+        for shape in [
+            r#"<path d="M 10 10 L 191 01 h 9a11 100 040 1000011111111111111111111111111111111111111111131 1 41 11 10 Z"/>"#,
+            r#"<circle cx="0" cy="0" r="1e40"/>"#,
+            r#"<path d="M0,0L1e10-3z"/>"#,
+        ] {
+            let svg = format!(r#"<svg width="200mm" viewBox="0 0 200 200">{shape}</svg>"#);
+            assert!(
+                matches!(read_svg(&svg), Err(SvgError::TooFar(_))),
+                "{shape}"
+            );
+        }
+        assert_eq!(first_huge("M 1e9 -2.5e+3 .5-7"), None);
+        assert_eq!(first_huge("L3-1.5e10"), Some(-1.5e10));
         // A transform that scales a small shape out of the scene, likewise.
         let svg = r#"<svg><g transform="scale(1e12)"><rect width="10" height="10"/></g></svg>"#;
         assert!(matches!(read_svg(svg), Err(SvgError::TooFar(_))));
