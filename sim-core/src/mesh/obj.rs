@@ -65,7 +65,8 @@ fn check_face_indices(path: &Path, text: &str) -> Result<(), LoadError> {
             Some("v") => seen[0] += 1,
             Some("vt") => seen[1] += 1,
             Some("vn") => seen[2] += 1,
-            Some("f") => {
+            // Lines and points too: tobj reads their indices the same way, though unused.
+            Some("f" | "l" | "p") => {
                 for w in words {
                     for (k, part) in w.split('/').enumerate().take(3) {
                         if part.is_empty() {
@@ -335,6 +336,8 @@ pub(crate) mod tests {
         assert!(e("f 1 2 0").contains("'0' names no vertex"));
         assert!(e("f 1//1 2//1 3//1").contains("names no normal (the file has 0)"));
         assert!(e("f 1 2 x").contains("'x' names no vertex"));
+        // A polyline's too (tobj overflowed on it though it is not kept).
+        assert!(e("f 1 2 3\nl 2/-45/5 1").contains("line 8: face index '-45'"));
         // In range, counted back from the last: fine.
         let ok = parse_obj(Path::new("f.obj"), &format!("{head}f -3/-3 -2/-2 -1/-1\n"));
         assert!(ok.is_ok(), "{ok:?}");

@@ -170,7 +170,7 @@ fn first_huge(s: &str) -> Option<f64> {
             }
         }
         if let Ok(v) = s[start..i].parse::<f64>()
-            && !(v.abs() <= MAX_RAW)
+            && (v.abs() > MAX_RAW || !v.is_finite())
         {
             return Some(v);
         }
