@@ -117,24 +117,34 @@ fn a_whole_session_drives_the_standin() {
     let _ = std::fs::remove_dir_all(so.parent().unwrap());
 }
 
-#[test]
-fn a_device_error_turns_forces_off_with_a_log_line() {
-    let so = standin("error");
-    let d = format!("hde{}", std::process::id());
-    let out = Command::new(env!("CARGO_BIN_EXE_haptic-loop"))
+/// Runs the haptic-loop binary on libHD `lib` for `seconds` with the stand-in's `env`.
+fn run_loop(
+    lib: &std::path::Path,
+    domain: &str,
+    seconds: &str,
+    env: &[(&str, &str)],
+) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_haptic-loop"))
         .args([
             "--device",
             "openhaptics",
             "--domain",
-            &d,
+            domain,
             "--seconds",
-            "1",
+            seconds,
             "--hd-lib",
         ])
-        .arg(&so)
-        .env("SAIHO_STANDIN_ERROR_AT", "200")
+        .arg(lib)
+        .envs(env.iter().copied())
         .output()
-        .unwrap();
+        .unwrap()
+}
+
+#[test]
+fn a_device_error_turns_forces_off_with_a_log_line() {
+    let so = standin("error");
+    let d = format!("hde{}", std::process::id());
+    let out = run_loop(&so, &d, "1", &[("SAIHO_STANDIN_ERROR_AT", "200")]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
     assert!(
@@ -142,20 +152,7 @@ fn a_device_error_turns_forces_off_with_a_log_line() {
         "{err}"
     );
     // A position the device cannot reach (5 m off, then NaN) turns forces off too.
-    let out = Command::new(env!("CARGO_BIN_EXE_haptic-loop"))
-        .args([
-            "--device",
-            "openhaptics",
-            "--domain",
-            &d,
-            "--seconds",
-            "1",
-            "--hd-lib",
-        ])
-        .arg(&so)
-        .env("SAIHO_STANDIN_GLITCH_AT", "200")
-        .output()
-        .unwrap();
+    let out = run_loop(&so, &d, "1", &[("SAIHO_STANDIN_GLITCH_AT", "200")]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
     assert!(
@@ -165,36 +162,16 @@ fn a_device_error_turns_forces_off_with_a_log_line() {
         "{err}"
     );
     // A calibration that needs an update is updated, and said.
-    let out = Command::new(env!("CARGO_BIN_EXE_haptic-loop"))
-        .args([
-            "--device",
-            "openhaptics",
-            "--domain",
-            &d,
-            "--seconds",
-            "0.2",
-            "--hd-lib",
-        ])
-        .arg(&so)
-        .env("SAIHO_STANDIN_CALIBRATION", "0x5001")
-        .output()
-        .unwrap();
+    let out = run_loop(&so, &d, "0.2", &[("SAIHO_STANDIN_CALIBRATION", "0x5001")]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("calibration was out of date"), "{err}");
     // A missing library is a clear error, not a crash.
-    let out = Command::new(env!("CARGO_BIN_EXE_haptic-loop"))
-        .args([
-            "--device",
-            "openhaptics",
-            "--domain",
-            &d,
-            "--seconds",
-            "0.1",
-            "--hd-lib",
-            "/nonexistent/libHD.so",
-        ])
-        .output()
-        .unwrap();
+    let out = run_loop(
+        std::path::Path::new("/nonexistent/libHD.so"),
+        &d,
+        "0.1",
+        &[],
+    );
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("cannot load /nonexistent/libHD.so"));
     let _ = std::fs::remove_dir_all(so.parent().unwrap());

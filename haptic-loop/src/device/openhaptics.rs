@@ -283,12 +283,16 @@ impl HapticDevice for OpenHaptics {
         }
         self.last_frames = frames;
         let ws = self.workspace;
-        let get = |a: &[AtomicU64; 3], i: usize| f64::from_bits(a[i].load(Ordering::Acquire));
+        // Each value read once: the servo thread writes them meanwhile, so what is checked
+        // must be what is used.
+        let read = |a: &[AtomicU64; 3]| -> [f64; 3] {
+            std::array::from_fn(|i| f64::from_bits(a[i].load(Ordering::Acquire)))
+        };
+        let (pos, vel) = (read(&SHARED.pos), read(&SHARED.vel));
         // A position the device cannot reach (a glitching encoder, a broken cable) or not
         // a number becomes no force, not a clamped push. Checked on the device's own
         // millimetres.
-        let reachable = (0..3)
-            .all(|i| get(&SHARED.pos, i).abs() <= REACH_MM && get(&SHARED.vel, i).is_finite());
+        let reachable = (0..3).all(|i| pos[i].abs() <= REACH_MM && vel[i].is_finite());
         if !reachable {
             return Err(DeviceError::Device {
                 code: 0,
@@ -296,9 +300,8 @@ impl HapticDevice for OpenHaptics {
             });
         }
         // Device millimetres -> scene metres at the workspace scale, around its centre.
-        let position =
-            std::array::from_fn(|i| ws.centre[i] + ws.scale * (get(&SHARED.pos, i) * 1e-3) as f32);
-        let velocity = std::array::from_fn(|i| ws.scale * (get(&SHARED.vel, i) * 1e-3) as f32);
+        let position = std::array::from_fn(|i| ws.centre[i] + ws.scale * (pos[i] * 1e-3) as f32);
+        let velocity = std::array::from_fn(|i| ws.scale * (vel[i] * 1e-3) as f32);
         Ok(DeviceState {
             position,
             velocity,
