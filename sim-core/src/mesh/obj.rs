@@ -19,17 +19,20 @@ pub const MAX_OBJ_TRIANGLES: usize = 2 * super::cloth_mesh::MAX_VERTICES;
 
 /// Counts the vertices and the triangles of an OBJ's text (nothing kept) and refuses one
 /// over the limits before any parser allocates for it: a 10-million-triangle file is
-/// turned away holding only its text.
-pub fn check_obj_counts(path: &Path, text: &str) -> Result<(), LoadError> {
-    let (mut vertices, mut triangles) = (0usize, 0usize);
+/// turned away holding only its text. Returns the counts of positions, UVs and normals.
+pub fn check_obj_counts(path: &Path, text: &str) -> Result<[usize; 3], LoadError> {
+    let (mut counts, mut triangles) = ([0usize; 3], 0usize);
     for line in text.lines() {
         let mut words = line.split_whitespace();
         match words.next() {
-            Some("v") => vertices += 1,
+            Some("v") => counts[0] += 1,
+            Some("vt") => counts[1] += 1,
+            Some("vn") => counts[2] += 1,
             Some("f") => triangles += words.count().saturating_sub(2),
             _ => {}
         }
     }
+    let vertices = counts[0];
     let max_v = super::cloth_mesh::MAX_VERTICES;
     if vertices > max_v || triangles > MAX_OBJ_TRIANGLES {
         return Err(LoadError::Parse {
@@ -40,24 +43,14 @@ pub fn check_obj_counts(path: &Path, text: &str) -> Result<(), LoadError> {
             ),
         });
     }
-    Ok(())
+    Ok(counts)
 }
 
 /// Checks every face's indices (position, UV and normal, counted from 1, or back from -1)
 /// name an element the file has, with the line: `tobj` takes an index far out of range
-/// as a huge number and overflows on it. (The body reader numbers its own.)
-fn check_face_indices(path: &Path, text: &str) -> Result<(), LoadError> {
-    let (mut vertices, mut uvs, mut normals) = (0usize, 0usize, 0usize);
-    for line in text.lines() {
-        let mut words = line.split_whitespace();
-        match words.next() {
-            Some("v") => vertices += 1,
-            Some("vt") => uvs += 1,
-            Some("vn") => normals += 1,
-            _ => {}
-        }
-    }
-    let counts = [vertices, uvs, normals];
+/// as a huge number and overflows on it. (The body reader numbers its own.) `counts` are
+/// the positions, UVs and normals [`check_obj_counts`] found.
+fn check_face_indices(path: &Path, text: &str, counts: [usize; 3]) -> Result<(), LoadError> {
     let mut seen = [0usize; 3];
     for (n, line) in text.lines().enumerate() {
         let mut words = line.split_whitespace();
@@ -145,8 +138,8 @@ pub fn load_obj(path: &Path) -> Result<ClothMesh, LoadError> {
 
 /// [`load_obj`] on text already read; `path` names it in errors.
 pub fn parse_obj(path: &Path, text: &str) -> Result<ClothMesh, LoadError> {
-    check_obj_counts(path, text)?;
-    check_face_indices(path, text)?;
+    let counts = check_obj_counts(path, text)?;
+    check_face_indices(path, text, counts)?;
     let opts = tobj::LoadOptions {
         single_index: true,
         triangulate: true,

@@ -89,14 +89,18 @@ pub fn design(data: &[u8]) {
     }
 }
 
+/// An OBJ's text as `read_obj_text` gives it to the parsers: a zero byte is refused
+/// before parsing, other bytes that are not UTF-8 are replaced.
+fn obj_text(data: &[u8]) -> Option<std::borrow::Cow<'_, str>> {
+    (!data.contains(&0)).then(|| String::from_utf8_lossy(data))
+}
+
 /// OBJ text as `cloth-sim scenario --cloth` reads it: parsed (tobj), validated, and the
 /// crossing check every loaded cloth gets.
 pub fn obj(data: &[u8]) {
-    // `read_obj_text` refuses a zero byte before parsing.
-    if data.contains(&0) {
+    let Some(text) = obj_text(data) else {
         return;
-    }
-    let text = String::from_utf8_lossy(data);
+    };
     let Ok(mesh) = sim_core::mesh::obj::parse_obj(Path::new("fuzz.obj"), &text) else {
         return;
     };
@@ -111,10 +115,9 @@ pub fn obj(data: &[u8]) {
 /// outward, enclosing a volume). Building the body from it (OBB tree, clearance grid:
 /// 0.1-0.3 s even for a tetrahedron) is left to `fuzz-run body-build`, too slow to fuzz.
 pub fn body(data: &[u8]) {
-    if data.contains(&0) {
+    let Some(text) = obj_text(data) else {
         return;
-    }
-    let text = String::from_utf8_lossy(data);
+    };
     if let Ok(b) = sim_core::collision::body::check_body_text(Path::new("fuzz.obj"), &text) {
         let n = b.vertices.len() as u32;
         assert!(b.triangles.iter().flatten().all(|&i| i < n));
@@ -125,10 +128,9 @@ pub fn body(data: &[u8]) {
 /// [`body`], then the body built from what passed (OBB tree, clearance grid); a point
 /// beyond its bounds must be outside it.
 pub fn body_build(data: &[u8]) {
-    if data.contains(&0) {
+    let Some(text) = obj_text(data) else {
         return;
-    }
-    let text = String::from_utf8_lossy(data);
+    };
     let Ok(b) = sim_core::collision::body::body_from_obj_text(Path::new("fuzz.obj"), &text) else {
         return;
     };
