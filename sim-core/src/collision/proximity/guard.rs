@@ -111,6 +111,7 @@ mod tests {
             delta: 1e-4,
             rest_exclusion: 0.01,
             floor: None,
+            threads: 1,
         };
         prox.detect(&cloth, None, &params);
         assert!(!prox.pairs.is_empty());

@@ -5,6 +5,8 @@
 //! covers.
 
 mod body_side;
+mod bvh;
+mod cloth_side;
 mod contacts;
 mod distance;
 mod grid;

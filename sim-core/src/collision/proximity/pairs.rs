@@ -33,8 +33,10 @@
 use glam::Vec3;
 
 use super::body_side::BodyGrids;
+use super::bvh::Bvh;
+use super::cloth_side::Part;
 use super::distance::{point_triangle, segment_segment};
-use super::grid::{Aabb, BoxGrid};
+use super::grid::Aabb;
 use crate::collision::body::Body;
 use crate::mesh::edge_key;
 
@@ -115,6 +117,8 @@ pub struct ProximityParams {
     /// Cloth primitives closer than this in the pattern carry no contact energy, m.
     pub rest_exclusion: f32,
     pub floor: Option<f32>,
+    /// Threads the cloth-cloth search may use (1 or more).
+    pub threads: usize,
 }
 
 /// The cloth as the search sees it.
@@ -152,8 +156,14 @@ pub struct Proximity {
     start: Vec<u32>,
     roles: Vec<u32>,
     pub counts: PairCounts,
-    tri_grid: BoxGrid,
-    edge_grid: BoxGrid,
+    /// The cloth's triangles and edges, built for the mesh when it is first searched
+    /// (and after [`Proximity::clear`]), refitted each search.
+    pub(super) tri_tree: Bvh,
+    pub(super) edge_tree: Bvh,
+    /// Scratch for the trees' walk, and for each thread of the search.
+    pub(super) pair_stack: Vec<(u32, u32)>,
+    pub(super) candidates: Vec<(u32, u32)>,
+    pub(super) parts: Vec<Part>,
     /// Scratch: features already given energy for the vertex being searched.
     seen: Vec<u64>,
     /// Scratch: (body vertex, cloth feature, pair) of the corner-face pairs.
@@ -162,7 +172,7 @@ pub struct Proximity {
 
 /// The closest feature of a triangle `t` from barycentric weights, as a key: a face, an
 /// edge (its key) or a corner.
-fn feature_key(t: [u32; 3], tri_id: u32, w: [f32; 3]) -> u64 {
+pub(super) fn feature_key(t: [u32; 3], tri_id: u32, w: [f32; 3]) -> u64 {
     let nz = [w[0] > 0.0, w[1] > 0.0, w[2] > 0.0];
     match nz.iter().filter(|&&b| b).count() {
         3 => (1 << 62) | tri_id as u64,
@@ -182,7 +192,7 @@ fn feature_key(t: [u32; 3], tri_id: u32, w: [f32; 3]) -> u64 {
 /// when it is well defined, otherwise the best of it and `alt` either way (a face normal,
 /// or the cross product of two edges). Near touching, the closest points' difference is
 /// all rounding: its direction could show a separation the primitives do not have.
-fn separating(ps: &[Vec3], qs: &[Vec3], p: Vec3, q: Vec3, alt: Vec3) -> (Vec3, f32) {
+pub(super) fn separating(ps: &[Vec3], qs: &[Vec3], p: Vec3, q: Vec3, alt: Vec3) -> (Vec3, f32) {
     let sep = |n: Vec3| {
         let lo = ps.iter().map(|x| n.dot(*x)).fold(f32::INFINITY, f32::min);
         let hi = qs
@@ -213,20 +223,20 @@ fn separating(ps: &[Vec3], qs: &[Vec3], p: Vec3, q: Vec3, alt: Vec3) -> (Vec3, f
     best
 }
 
-fn min_along(boxes: &[Aabb], vs: &[u32], n: Vec3) -> f32 {
+pub(super) fn min_along(boxes: &[Aabb], vs: &[u32], n: Vec3) -> f32 {
     vs.iter()
         .map(|&v| boxes[v as usize].min_along(n))
         .fold(f32::INFINITY, f32::min)
 }
 
-fn max_along(boxes: &[Aabb], vs: &[u32], n: Vec3) -> f32 {
+pub(super) fn max_along(boxes: &[Aabb], vs: &[u32], n: Vec3) -> f32 {
     vs.iter()
         .map(|&v| boxes[v as usize].max_along(n))
         .fold(f32::NEG_INFINITY, f32::max)
 }
 
 /// The least pattern distance between two sets of vertices.
-fn pattern_distance(pattern: &[Vec3], a: &[u32], b: &[u32]) -> f32 {
+pub(super) fn pattern_distance(pattern: &[Vec3], a: &[u32], b: &[u32]) -> f32 {
     let mut d = f32::INFINITY;
     for &i in a {
         for &j in b {
@@ -238,7 +248,7 @@ fn pattern_distance(pattern: &[Vec3], a: &[u32], b: &[u32]) -> f32 {
 
 /// The separation a pair keeps: `delta`, or what it has now when that is less (then it
 /// may not get closer; the contact energy pushes it apart).
-fn keep(delta: f32, sep0: f32) -> f32 {
+pub(super) fn keep(delta: f32, sep0: f32) -> f32 {
     delta.min(sep0)
 }
 
@@ -252,20 +262,45 @@ impl Proximity {
         }
     }
 
-    /// Forgets every pair (the cloth was edited, or there is nothing to search).
+    /// Forgets every pair and the mesh (the cloth was edited, or there is nothing to
+    /// search).
     pub fn clear(&mut self) {
+        self.clear_pairs();
+        self.tri_tree = Bvh::default();
+        self.edge_tree = Bvh::default();
+    }
+
+    fn clear_pairs(&mut self) {
         self.pairs.clear();
         self.start.clear();
         self.roles.clear();
         self.counts = PairCounts::default();
     }
 
+    /// Builds the trees for this mesh, unless they are built for it already.
+    fn trees_for(&mut self, c: &ClothView<'_>) {
+        let center = |vs: &[u32]| {
+            vs.iter()
+                .map(|&v| c.x.get(v as usize).copied().unwrap_or(Vec3::ZERO))
+                .sum::<Vec3>()
+                / vs.len() as f32
+        };
+        if self.tri_tree.len() != c.tris.len() || self.tri_tree.is_empty() {
+            let centers: Vec<Vec3> = c.tris.iter().map(|t| center(t)).collect();
+            self.tri_tree = Bvh::build(&centers);
+        }
+        if self.edge_tree.len() != c.edges.len() || self.edge_tree.is_empty() {
+            let centers: Vec<Vec3> = c.edges.iter().map(|e| center(e)).collect();
+            self.edge_tree = Bvh::build(&centers);
+        }
+    }
+
     /// Finds the frame's pairs (see the module's doc).
     pub fn detect(&mut self, cloth: &ClothView<'_>, body: Option<&Body>, p: &ProximityParams) {
-        self.clear();
+        self.clear_pairs();
+        self.trees_for(cloth);
         let reach = 0.5 * p.radius;
-        self.self_vertex_face(cloth, p, reach);
-        self.self_edge_edge(cloth, p, reach);
+        self.cloth_pairs(cloth, p, reach);
         if let Some(body) = body {
             let grids = &*body.grids;
             self.body_vertex_face(cloth, body, grids, p, reach);
@@ -277,133 +312,6 @@ impl Proximity {
         }
         self.counts.with_energy = self.pairs.iter().filter(|q| q.energy).count();
         self.index_roles(cloth.x.len());
-    }
-
-    fn self_vertex_face(&mut self, c: &ClothView<'_>, p: &ProximityParams, reach: f32) {
-        let tri_box = |t: &[u32; 3]| {
-            t.iter()
-                .fold(Aabb::EMPTY, |b, &v| b.union(c.boxes[v as usize]))
-                .grown(reach)
-        };
-        let cell = grid_cell(c.tris.iter().map(tri_box));
-        self.tri_grid.build(c.tris.iter().map(tri_box), cell);
-        let mut found: Vec<u32> = Vec::new();
-        for i in 0..c.x.len() {
-            let b = c.boxes[i];
-            if !b.is_finite() {
-                continue;
-            }
-            found.clear();
-            self.tri_grid.query(&b.grown(reach), |t| found.push(t));
-            // Nearest first, so the feature a vertex is over gets the energy.
-            let xi = c.x[i];
-            let mut near: Vec<(f32, u32, Vec3, [f32; 3])> = found
-                .iter()
-                .filter_map(|&t| {
-                    let tri = c.tris[t as usize];
-                    if tri.contains(&(i as u32))
-                        || (!c.free[i] && tri.iter().all(|&v| !c.free[v as usize]))
-                    {
-                        return None;
-                    }
-                    let [a, bb, cc] = tri.map(|v| c.x[v as usize]);
-                    let (q, w) = point_triangle(xi, a, bb, cc);
-                    Some(((xi - q).length(), t, q, w))
-                })
-                .collect();
-            near.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-            self.seen.clear();
-            for (_, t, q, w) in near {
-                let tri = c.tris[t as usize];
-                let [a, bb, cc] = tri.map(|v| c.x[v as usize]);
-                let (n, sep0) = separating(&[xi], &[a, bb, cc], xi, q, (bb - a).cross(cc - a));
-                let gap_max = b.min_along(n) - max_along(c.boxes, &tri, n);
-                let rest_near = pattern_distance(c.pattern, &[i as u32], &tri) < p.rest_exclusion;
-                let mut energy = !rest_near && gap_max < p.radius;
-                if !energy && gap_max >= p.delta {
-                    continue;
-                }
-                if energy {
-                    let key = feature_key(tri, t, w);
-                    if self.seen.contains(&key) {
-                        energy = false;
-                    } else {
-                        self.seen.push(key);
-                    }
-                }
-                self.pairs.push(Pair {
-                    v: [i as u32, tri[0], tri[1], tri[2]],
-                    w: [1.0, -w[0], -w[1], -w[2]],
-                    side: [1, -1, -1, -1],
-                    n,
-                    offset: 0.0,
-                    body_bound: f32::NEG_INFINITY,
-                    delta: keep(p.delta, sep0),
-                    energy,
-                });
-                self.counts.vertex_face += 1;
-            }
-        }
-    }
-
-    fn self_edge_edge(&mut self, c: &ClothView<'_>, p: &ProximityParams, reach: f32) {
-        let edge_box = |e: &[u32; 2]| {
-            c.boxes[e[0] as usize]
-                .union(c.boxes[e[1] as usize])
-                .grown(reach)
-        };
-        let cell = grid_cell(c.edges.iter().map(edge_box));
-        self.edge_grid.build(c.edges.iter().map(edge_box), cell);
-        let mut found: Vec<u32> = Vec::new();
-        for (a, e) in c.edges.iter().enumerate() {
-            let eb = edge_box(e);
-            if !eb.is_finite() {
-                continue;
-            }
-            found.clear();
-            self.edge_grid.query(&eb, |f| {
-                if f as usize > a {
-                    found.push(f);
-                }
-            });
-            for &f in &found {
-                let g = c.edges[f as usize];
-                if e.iter().any(|v| g.contains(v))
-                    || e.iter().chain(&g).all(|&v| !c.free[v as usize])
-                {
-                    continue;
-                }
-                let [p0, p1] = e.map(|v| c.x[v as usize]);
-                let [q0, q1] = g.map(|v| c.x[v as usize]);
-                let (s, t) = segment_segment(p0, p1, q0, q1);
-                let (n, sep0) = separating(
-                    &[p0, p1],
-                    &[q0, q1],
-                    p0.lerp(p1, s),
-                    q0.lerp(q1, t),
-                    (p1 - p0).cross(q1 - q0),
-                );
-                let gap_max = min_along(c.boxes, e, n) - max_along(c.boxes, &g, n);
-                let interior = s > 1e-4 && s < 1.0 - 1e-4 && t > 1e-4 && t < 1.0 - 1e-4;
-                let energy = interior
-                    && gap_max < p.radius
-                    && pattern_distance(c.pattern, e, &g) >= p.rest_exclusion;
-                if !energy && gap_max >= p.delta {
-                    continue;
-                }
-                self.pairs.push(Pair {
-                    v: [e[0], e[1], g[0], g[1]],
-                    w: [1.0 - s, s, -(1.0 - t), -t],
-                    side: [1, 1, -1, -1],
-                    n,
-                    offset: 0.0,
-                    body_bound: f32::NEG_INFINITY,
-                    delta: keep(p.delta, sep0),
-                    energy,
-                });
-                self.counts.edge_edge += 1;
-            }
-        }
     }
 
     /// A pair of cloth vertices `vs` (weights `w`) with the body, closest points `on_cloth`

@@ -96,3 +96,25 @@ fn converged_step_is_the_implicit_step() {
         "VBD's step potential {pa} above the implicit's {pb} ({worst} m apart)"
     );
 }
+
+/// A cloth about to move more than half an edge in a frame is searched once a substep
+/// (shorter motion boxes, fewer pairs); one at rest, once a frame.
+#[test]
+fn a_fast_cloth_is_searched_every_substep() {
+    let m = Material::default();
+    let mesh = ClothMesh::grid(0.5, 0.5, 16, 16, 1.0).expect("grid");
+    let mut cloth = Cloth::new(mesh, &m).expect("cloth");
+    let vbd = Vbd::new(&cloth, &m);
+    let env = Environment::default();
+    assert_eq!(vbd.search_groups(&cloth, &env, 2), 1, "at rest");
+    // 1 m/s: 1.7 cm in a frame, more than half of a 3.1 cm edge.
+    cloth.v[40] = Vec3::new(0.0, -1.0, 0.0);
+    assert_eq!(vbd.search_groups(&cloth, &env, 2), 2, "one vertex falling");
+    assert_eq!(vbd.search_groups(&cloth, &env, 5), 5);
+    // A pinned vertex does not move, whatever its velocity says.
+    cloth.v[40] = Vec3::ZERO;
+    cloth.pin(3);
+    let vbd = Vbd::new(&cloth, &m);
+    cloth.v[3] = Vec3::new(0.0, -1.0, 0.0);
+    assert_eq!(vbd.search_groups(&cloth, &env, 2), 1, "pinned");
+}
