@@ -10,8 +10,8 @@ use glam::Vec3;
 use super::bvh::Bvh;
 use super::distance::{point_triangle, segment_segment};
 use super::grid::Aabb;
-use super::pairs::{
-    ClothView, Pair, Proximity, ProximityParams, feature_key, keep, max_along, min_along,
+use super::pair::{
+    ClothView, Pair, PairCounts, ProximityParams, feature_key, keep, max_along, min_along,
     pattern_distance, separating,
 };
 
@@ -60,9 +60,51 @@ fn run_parts(
     });
 }
 
-impl Proximity {
-    /// The cloth-cloth pairs: vertex-face, then edge-edge.
-    pub(super) fn cloth_pairs(&mut self, c: &ClothView<'_>, p: &ProximityParams, reach: f32) {
+/// The cloth-cloth search: the trees over the cloth's triangles and edges, and scratch.
+#[derive(Clone, Debug, Default)]
+pub struct ClothSearch {
+    tri_tree: Bvh,
+    edge_tree: Bvh,
+    pair_stack: Vec<(u32, u32)>,
+    candidates: Vec<(u32, u32)>,
+    parts: Vec<Part>,
+}
+
+impl ClothSearch {
+    /// Forgets the trees (the mesh changed); the next search builds them again.
+    pub fn forget_mesh(&mut self) {
+        self.tri_tree = Bvh::default();
+        self.edge_tree = Bvh::default();
+    }
+
+    /// Builds the trees for this mesh, unless they are built for it already.
+    fn trees_for(&mut self, c: &ClothView<'_>) {
+        let center = |vs: &[u32]| {
+            vs.iter()
+                .map(|&v| c.x.get(v as usize).copied().unwrap_or(Vec3::ZERO))
+                .sum::<Vec3>()
+                / vs.len() as f32
+        };
+        if self.tri_tree.len() != c.tris.len() || self.tri_tree.is_empty() {
+            let centers: Vec<Vec3> = c.tris.iter().map(|t| center(t)).collect();
+            self.tri_tree = Bvh::build(&centers);
+        }
+        if self.edge_tree.len() != c.edges.len() || self.edge_tree.is_empty() {
+            let centers: Vec<Vec3> = c.edges.iter().map(|e| center(e)).collect();
+            self.edge_tree = Bvh::build(&centers);
+        }
+    }
+
+    /// The cloth-cloth pairs, vertex-face then edge-edge, appended to `out` and counted.
+    pub fn search(
+        &mut self,
+        c: &ClothView<'_>,
+        p: &ProximityParams,
+        reach: f32,
+        out: &mut Vec<Pair>,
+        counts: &mut PairCounts,
+    ) {
+        self.trees_for(c);
         let tri_box = |t: &[u32; 3]| {
             t.iter()
                 .fold(Aabb::EMPTY, |b, &v| b.union(c.boxes[v as usize]))
@@ -73,7 +115,7 @@ impl Proximity {
         run_parts(&mut self.parts, p.threads, c.x.len(), |part, range| {
             vertex_face(c, tree, p, reach, part, range)
         });
-        self.join_parts();
+        join_parts(&self.parts, out, counts);
 
         let edge_box = |e: &[u32; 2]| {
             c.boxes[e[0] as usize]
@@ -91,16 +133,16 @@ impl Proximity {
         run_parts(&mut self.parts, p.threads, found.len(), |part, range| {
             edge_edge(c, p, &found[range], part)
         });
-        self.join_parts();
+        join_parts(&self.parts, out, counts);
         self.candidates = candidates;
     }
+}
 
-    fn join_parts(&mut self) {
-        for part in &self.parts {
-            self.pairs.extend_from_slice(&part.pairs);
-            self.counts.vertex_face += part.vertex_face;
-            self.counts.edge_edge += part.edge_edge;
-        }
+fn join_parts(parts: &[Part], out: &mut Vec<Pair>, counts: &mut PairCounts) {
+    for part in parts {
+        out.extend_from_slice(&part.pairs);
+        counts.vertex_face += part.vertex_face;
+        counts.edge_edge += part.edge_edge;
     }
 }
 
@@ -278,7 +320,6 @@ mod tests {
             free: &free,
         };
         let search = |threads: usize| {
-            let mut prox = Proximity::default();
             let params = ProximityParams {
                 radius: 0.004,
                 delta: 1e-4,
@@ -286,22 +327,23 @@ mod tests {
                 floor: None,
                 threads,
             };
-            prox.detect(&cloth, None, &params);
-            prox
+            let (mut pairs, mut counts) = (Vec::new(), PairCounts::default());
+            ClothSearch::default().search(&cloth, &params, 0.002, &mut pairs, &mut counts);
+            (pairs, counts)
         };
-        let one = search(1);
+        let (pairs, counts) = search(1);
         assert!(
             x.len() >= 2 * PER_THREAD_MIN,
             "the test must split the work"
         );
-        assert!(one.counts.vertex_face > 1000 && one.counts.edge_edge > 1000);
-        assert!(one.counts.with_energy > 0);
+        assert!(counts.vertex_face > 1000 && counts.edge_edge > 1000);
+        assert!(pairs.iter().any(|q| q.energy));
         for threads in [2, 3] {
-            let many = search(threads);
-            assert_eq!(one.counts, many.counts, "{threads} threads");
-            assert_eq!(one.pairs, many.pairs, "{threads} threads");
+            let (many, many_counts) = search(threads);
+            assert_eq!(counts, many_counts, "{threads} threads");
+            assert_eq!(pairs, many, "{threads} threads");
         }
         // Every pair holds where the search found the cloth.
-        assert!(one.all_hold(&x, 1e-6));
+        assert!(pairs.iter().all(|q| q.holds(&x, 1e-6)));
     }
 }

@@ -89,7 +89,7 @@ pub fn constrain(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::collision::proximity::pairs::{ClothView, ProximityParams};
+    use crate::collision::proximity::pair::{ClothView, ProximityParams};
 
     #[test]
     fn a_vertex_over_a_triangle_stays_above_it() {

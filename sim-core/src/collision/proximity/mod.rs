@@ -11,6 +11,7 @@ mod contacts;
 mod distance;
 mod grid;
 mod guard;
+mod pair;
 mod pairs;
 
 pub use body_side::BodyGrids;
@@ -18,4 +19,5 @@ pub use contacts::count_self_contacts;
 pub use distance::{barycentric, point_triangle, segment_segment};
 pub use grid::{Aabb, BoxGrid, unique_edges};
 pub use guard::{Guarded, constrain};
-pub use pairs::{ClothView, NONE, Pair, PairCounts, Proximity, ProximityParams};
+pub use pair::{ClothView, NONE, Pair, PairCounts, ProximityParams};
+pub use pairs::Proximity;

@@ -33,120 +33,13 @@
 use glam::Vec3;
 
 use super::body_side::BodyGrids;
-use super::bvh::Bvh;
-use super::cloth_side::Part;
+use super::cloth_side::ClothSearch;
 use super::distance::{point_triangle, segment_segment};
 use super::grid::Aabb;
+use super::pair::{
+    ClothView, NONE, Pair, PairCounts, ProximityParams, feature_key, keep, min_along, separating,
+};
 use crate::collision::body::Body;
-use crate::mesh::edge_key;
-
-/// No vertex in this slot of a [`Pair`].
-pub const NONE: u32 = u32::MAX;
-
-/// One pair of primitives near each other.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Pair {
-    /// Cloth vertices (`NONE` for an unused slot).
-    pub v: [u32; 4],
-    /// Signed weights: the gap is `n . sum(w x) + offset`.
-    pub w: [f32; 4],
-    /// Which side each vertex is on: +1 the first primitive, -1 the second, 0 unused.
-    pub side: [i8; 4],
-    /// Unit direction from the second primitive to the first.
-    pub n: Vec3,
-    /// The body's (or floor's) part of the gap.
-    pub offset: f32,
-    /// With the body or floor: the most `n . b` over its primitive's corners (cloth
-    /// vertices keep `n . x >= body_bound + delta`); `-inf` for a cloth pair.
-    pub body_bound: f32,
-    /// The least separation along `n` this pair keeps.
-    pub delta: f32,
-    /// Whether the pair carries contact energy.
-    pub energy: bool,
-}
-
-impl Pair {
-    /// The gap along `n` between the two closest points found, as they are now.
-    #[inline]
-    pub fn gap(&self, x: &[Vec3]) -> f32 {
-        let mut p = Vec3::ZERO;
-        for k in 0..4 {
-            if self.v[k] != NONE {
-                p += x[self.v[k] as usize] * self.w[k];
-            }
-        }
-        self.n.dot(p) + self.offset
-    }
-
-    /// The half-space vertex `k` of the pair must stay in while the others stay where they
-    /// are now: `(m, h)` with `m . x >= h`.
-    #[inline]
-    pub fn bound_for(&self, k: usize, x: &[Vec3]) -> (Vec3, f32) {
-        let s = self.side[k] as f32;
-        let m = self.n * s;
-        if self.body_bound > f32::NEG_INFINITY {
-            return (m, self.body_bound + self.delta);
-        }
-        let mut h = f32::NEG_INFINITY;
-        for j in 0..4 {
-            if self.side[j] as f32 == -s && self.v[j] != NONE {
-                h = h.max(m.dot(x[self.v[j] as usize]));
-            }
-        }
-        (m, h + self.delta)
-    }
-
-    /// Whether every vertex keeps its bound (with `slack` to spare for rounding).
-    pub fn holds(&self, x: &[Vec3], slack: f32) -> bool {
-        (0..4).all(|k| {
-            self.side[k] == 0 || {
-                let (m, h) = self.bound_for(k, x);
-                m.dot(x[self.v[k] as usize]) >= h - slack
-            }
-        })
-    }
-}
-
-/// The search's settings.
-#[derive(Clone, Copy, Debug)]
-pub struct ProximityParams {
-    /// Contact distance `r`: the energy pushes primitives apart to this gap, m.
-    pub radius: f32,
-    /// The least separation every pair keeps, m.
-    pub delta: f32,
-    /// Cloth primitives closer than this in the pattern carry no contact energy, m.
-    pub rest_exclusion: f32,
-    pub floor: Option<f32>,
-    /// Threads the cloth-cloth search may use (1 or more).
-    pub threads: usize,
-}
-
-/// The cloth as the search sees it.
-#[derive(Clone, Copy, Debug)]
-pub struct ClothView<'a> {
-    pub x: &'a [Vec3],
-    /// Each vertex's motion box for the frame.
-    pub boxes: &'a [Aabb],
-    pub tris: &'a [[u32; 3]],
-    pub edges: &'a [[u32; 2]],
-    /// Each vertex's place in the pattern (for `rest_exclusion`).
-    pub pattern: &'a [Vec3],
-    /// Vertices the solver moves (others are pinned or unused).
-    pub free: &'a [bool],
-}
-
-/// How many pairs of each kind the last search kept.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
-pub struct PairCounts {
-    pub vertex_face: usize,
-    pub edge_edge: usize,
-    pub body_vertex_face: usize,
-    pub body_edge_edge: usize,
-    pub body_corner_face: usize,
-    pub floor: usize,
-    /// Of all those, the pairs carrying contact energy.
-    pub with_energy: usize,
-}
 
 /// The pairs of one frame, and each vertex's place in them.
 #[derive(Clone, Debug, Default)]
@@ -156,100 +49,13 @@ pub struct Proximity {
     start: Vec<u32>,
     roles: Vec<u32>,
     pub counts: PairCounts,
-    /// The cloth's triangles and edges, built for the mesh when it is first searched
-    /// (and after [`Proximity::clear`]), refitted each search.
-    pub(super) tri_tree: Bvh,
-    pub(super) edge_tree: Bvh,
-    /// Scratch for the trees' walk, and for each thread of the search.
-    pub(super) pair_stack: Vec<(u32, u32)>,
-    pub(super) candidates: Vec<(u32, u32)>,
-    pub(super) parts: Vec<Part>,
+    /// The cloth against itself: its trees (built for the mesh when it is first searched
+    /// and after [`Proximity::clear`]) and scratch.
+    cloth: ClothSearch,
     /// Scratch: features already given energy for the vertex being searched.
     seen: Vec<u64>,
     /// Scratch: (body vertex, cloth feature, pair) of the corner-face pairs.
     corner_keys: Vec<(u32, u64, u32)>,
-}
-
-/// The closest feature of a triangle `t` from barycentric weights, as a key: a face, an
-/// edge (its key) or a corner.
-pub(super) fn feature_key(t: [u32; 3], tri_id: u32, w: [f32; 3]) -> u64 {
-    let nz = [w[0] > 0.0, w[1] > 0.0, w[2] > 0.0];
-    match nz.iter().filter(|&&b| b).count() {
-        3 => (1 << 62) | tri_id as u64,
-        2 => {
-            let k = (0..3).find(|&k| !nz[k]).unwrap_or(0);
-            (2 << 62) | edge_key(t[(k + 1) % 3], t[(k + 2) % 3])
-        }
-        _ => {
-            let k = (0..3).find(|&k| nz[k]).unwrap_or(0);
-            (3 << 62) | t[k] as u64
-        }
-    }
-}
-
-/// The direction that separates the corners `ps` of one primitive from the corners `qs`
-/// of another, and by how much: the direction between their closest points `p` and `q`
-/// when it is well defined, otherwise the best of it and `alt` either way (a face normal,
-/// or the cross product of two edges). Near touching, the closest points' difference is
-/// all rounding: its direction could show a separation the primitives do not have.
-pub(super) fn separating(ps: &[Vec3], qs: &[Vec3], p: Vec3, q: Vec3, alt: Vec3) -> (Vec3, f32) {
-    let sep = |n: Vec3| {
-        let lo = ps.iter().map(|x| n.dot(*x)).fold(f32::INFINITY, f32::min);
-        let hi = qs
-            .iter()
-            .map(|x| n.dot(*x))
-            .fold(f32::NEG_INFINITY, f32::max);
-        lo - hi
-    };
-    let d = p - q;
-    let len = d.length();
-    let mut best = (Vec3::Y, f32::NEG_INFINITY);
-    if len > 0.0 {
-        let n = d / len;
-        let s = sep(n);
-        if len >= 1e-5 && s >= 0.9 * len {
-            return (n, s);
-        }
-        best = (n, s);
-    }
-    if let Some(a) = alt.try_normalize() {
-        for n in [a, -a] {
-            let s = sep(n);
-            if s > best.1 {
-                best = (n, s);
-            }
-        }
-    }
-    best
-}
-
-pub(super) fn min_along(boxes: &[Aabb], vs: &[u32], n: Vec3) -> f32 {
-    vs.iter()
-        .map(|&v| boxes[v as usize].min_along(n))
-        .fold(f32::INFINITY, f32::min)
-}
-
-pub(super) fn max_along(boxes: &[Aabb], vs: &[u32], n: Vec3) -> f32 {
-    vs.iter()
-        .map(|&v| boxes[v as usize].max_along(n))
-        .fold(f32::NEG_INFINITY, f32::max)
-}
-
-/// The least pattern distance between two sets of vertices.
-pub(super) fn pattern_distance(pattern: &[Vec3], a: &[u32], b: &[u32]) -> f32 {
-    let mut d = f32::INFINITY;
-    for &i in a {
-        for &j in b {
-            d = d.min((pattern[i as usize] - pattern[j as usize]).length());
-        }
-    }
-    d
-}
-
-/// The separation a pair keeps: `delta`, or what it has now when that is less (then it
-/// may not get closer; the contact energy pushes it apart).
-pub(super) fn keep(delta: f32, sep0: f32) -> f32 {
-    delta.min(sep0)
 }
 
 impl Proximity {
@@ -266,8 +72,7 @@ impl Proximity {
     /// search).
     pub fn clear(&mut self) {
         self.clear_pairs();
-        self.tri_tree = Bvh::default();
-        self.edge_tree = Bvh::default();
+        self.cloth.forget_mesh();
     }
 
     fn clear_pairs(&mut self) {
@@ -277,30 +82,12 @@ impl Proximity {
         self.counts = PairCounts::default();
     }
 
-    /// Builds the trees for this mesh, unless they are built for it already.
-    fn trees_for(&mut self, c: &ClothView<'_>) {
-        let center = |vs: &[u32]| {
-            vs.iter()
-                .map(|&v| c.x.get(v as usize).copied().unwrap_or(Vec3::ZERO))
-                .sum::<Vec3>()
-                / vs.len() as f32
-        };
-        if self.tri_tree.len() != c.tris.len() || self.tri_tree.is_empty() {
-            let centers: Vec<Vec3> = c.tris.iter().map(|t| center(t)).collect();
-            self.tri_tree = Bvh::build(&centers);
-        }
-        if self.edge_tree.len() != c.edges.len() || self.edge_tree.is_empty() {
-            let centers: Vec<Vec3> = c.edges.iter().map(|e| center(e)).collect();
-            self.edge_tree = Bvh::build(&centers);
-        }
-    }
-
     /// Finds the frame's pairs (see the module's doc).
     pub fn detect(&mut self, cloth: &ClothView<'_>, body: Option<&Body>, p: &ProximityParams) {
         self.clear_pairs();
-        self.trees_for(cloth);
         let reach = 0.5 * p.radius;
-        self.cloth_pairs(cloth, p, reach);
+        self.cloth
+            .search(cloth, p, reach, &mut self.pairs, &mut self.counts);
         if let Some(body) = body {
             let grids = &*body.grids;
             self.body_vertex_face(cloth, body, grids, p, reach);
