@@ -183,8 +183,9 @@ impl Vbd {
         }
     }
 
-    /// The frame's motion boxes: each vertex's predicted path over the frame, grown by
-    /// how far it may stray; a held vertex's also covers the pen's predicted path.
+    /// The motion boxes for the next `t` seconds (to the next search): each vertex's
+    /// predicted path, grown by how far it may stray; a held vertex's also covers the
+    /// pen's predicted path.
     fn motion_boxes(&mut self, cloth: &Cloth, env: &Environment, drive: &Drive<'_, '_>, t: f32) {
         let n = cloth.len();
         self.boxes.clear();
