@@ -27,7 +27,7 @@ use crate::solver::material::Material;
 /// A factored `L`: `P L P^T = C C^T` with `C` lower triangular, kept column by column
 /// (each column's diagonal first) so one pass solves for the three coordinates at once.
 /// (faer's supernodal solve, one coordinate a column of a dense right-hand side, spent
-/// most of its time copying blocks: a third of a 128 x 128 drape's frame.)
+/// much of its time copying blocks; this pass made a 128 x 128 drape's frame 5% faster.)
 struct Factor {
     n: usize,
     col_ptr: Vec<usize>,
