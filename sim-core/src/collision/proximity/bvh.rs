@@ -195,7 +195,7 @@ impl Bvh {
                     stack.push((a, nb.first + 1));
                 }
                 (false, false) => {
-                    if volume(&na.b) >= volume(&nb.b) {
+                    if size(&na.b) >= size(&nb.b) {
                         stack.push((na.first, b));
                         stack.push((na.first + 1, b));
                     } else {
@@ -221,9 +221,10 @@ impl Bvh {
     }
 }
 
-fn volume(b: &Aabb) -> f32 {
+/// A box's size for choosing which node to open: the sum of its sides (a flat box,
+/// as a flat cloth's, has no volume but still a size).
+fn size(b: &Aabb) -> f32 {
     let e = (b.hi - b.lo).max(Vec3::ZERO);
-    // The sum of the sides: a flat box still has a size.
     e.x + e.y + e.z
 }
 
