@@ -5,7 +5,7 @@ use glam::{Vec2, Vec3};
 use shared::command::{BodyChoice, Command, MaterialChange, PieceShape, Tearing};
 use sim_core::collision::BodyKind;
 use sim_core::design::garment::{DEFAULT_FABRIC, Landmarks, PieceSpec, Place, load_pattern, sew};
-use sim_core::design::{Design, EditError, TearMode};
+use sim_core::design::{Design, EDITED, EditError, TearMode};
 use sim_core::fabric::Library;
 use sim_core::mesh::mesher::Outline;
 use sim_core::scenario::build_design;
@@ -82,6 +82,7 @@ pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
         Command::SeamPlane { a, b, tolerance_m } => seam(design, a, b, *tolerance_m, true),
         Command::SetMaterial { material, substeps } => set_material(design, material, *substeps),
         Command::SetFabric { name } => set_fabric(design, name),
+        Command::SetPieceFabric { piece, name } => set_piece_fabric(design, *piece, name),
         Command::Undo => design.undo().map(|l| format!("Undone: {l}")).map_err(e),
         Command::Redo => design.redo().map(|l| format!("Redone: {l}")).map_err(e),
         Command::SetTearing(t) => set_tearing(design, *t),
@@ -253,30 +254,63 @@ fn set_material(
     change: &MaterialChange,
     substeps: Option<u32>,
 ) -> Result<String, String> {
-    let mut m = design.sim.material;
+    let old = design.sim.material;
+    let mut m = old;
     apply_material(&mut m, change);
-    let edited = m != design.sim.material;
+    // Mass and stiffness set by hand are the whole design's: every piece hangs as them
+    // (damping and friction are the design's whatever the pieces' fabrics).
+    let hangs_otherwise = (m.density, m.stretch, m.shear, m.bending)
+        != (old.density, old.stretch, old.shear, old.bending);
     design
         .sim
         .set_material(m, substeps.map(|n| n as usize))
         .map_err(|e| format!("Material not changed: {e}"))?;
-    if edited {
+    let mut said = String::new();
+    if hangs_otherwise {
         // The pieces no longer hang as their fabric measured: their list says so.
         for p in &mut design.pieces {
             if !p.fabric.ends_with(EDITED) {
                 p.fabric.push_str(EDITED);
             }
         }
+        said = fabric_notes(design.apply_fabrics());
     }
     Ok(format!(
         "Material: density {} kg/m², stretch {} N/m, shear {} N/m, bending {} N m, \
-         friction {}, damping {}/s; {} substeps",
+         friction {}, damping {}/s; {} substeps{said}",
         m.density, m.stretch, m.shear, m.bending, m.friction, m.damping, design.sim.substeps
     ))
 }
 
-/// What a fabric's name gains when its values are changed by hand.
-const EDITED: &str = ", edited";
+/// What applying the pieces' fabrics said, as "; note: ..." parts.
+fn fabric_notes(r: Result<Vec<String>, sim_core::error::ConfigError>) -> String {
+    match r {
+        Ok(notes) => notes.iter().map(|n| format!("; note: {n}")).collect(),
+        Err(e) => format!("; the pieces' own fabrics were not applied: {e}"),
+    }
+}
+
+/// Piece `piece` made of the library's fabric `name` (or the design's material).
+fn set_piece_fabric(design: &mut Design, piece: u32, name: &str) -> Result<String, String> {
+    let name = name.trim();
+    let piece_name = design
+        .set_piece_fabric(piece as usize, name)
+        .map_err(|e| format!("Fabric not changed: {e}; `cloth-sim fabrics` lists them"))?;
+    if name == DEFAULT_FABRIC {
+        return Ok(format!("Fabric: {piece_name} is the design's own material"));
+    }
+    let lib = Library::builtin();
+    let f = lib.get(name).map_err(|e| e.to_string())?;
+    let m = f.material();
+    Ok(format!(
+        "Fabric: {piece_name} is {} ({:.0} g/m², bending {:.1e} N m warp, {:.1e} weft); the \
+         other pieces stay as they are; undo takes it back",
+        f.name,
+        m.density * 1e3,
+        m.bending,
+        m.bending * m.bending_weft
+    ))
+}
 
 /// The library's fabric `name` for the whole design, in place: its measured values
 /// replace the material's, damping and the solver's settings stay.
@@ -293,9 +327,10 @@ fn set_fabric(design: &mut Design, name: &str) -> Result<String, String> {
     for p in &mut design.pieces {
         p.fabric.clone_from(&f.name);
     }
+    let said = fabric_notes(design.apply_fabrics());
     Ok(format!(
         "Fabric: {} ({:.0} g/m², bending {:.1e} N m warp, {:.1e} weft) for the whole design; \
-         source: {}",
+         source: {}{said}",
         f.name,
         m.density * 1e3,
         m.bending,

@@ -246,6 +246,12 @@ struct ScenarioArgs {
     /// (`crossings_self_max`, `crossings_body_max`). They are always counted at the end.
     #[arg(long, allow_negative_numbers = true, value_parser = whole_in::<u64>(1, MAX_FRAMES as i64, " frames"))]
     check_every: Option<u64>,
+    /// dress-mannequin, drape-pattern: the pattern piece PIECE made of the library's
+    /// FABRIC (its mass, stretch, shear and bending; e.g. --piece-fabric front=denim);
+    /// repeat for more pieces. The others are the design's material (--fabric or the
+    /// material flags).
+    #[arg(long, value_name = "PIECE=FABRIC", value_parser = parse_piece_fabric)]
+    piece_fabric: Vec<(String, String)>,
 }
 
 #[derive(Args)]
@@ -363,6 +369,17 @@ fn parse_scenario_choice(s: &str) -> Result<ScenarioChoice, String> {
 }
 fn parse_standard(s: &str) -> Result<Standard, String> {
     Standard::parse(s).map_err(|e| e.to_string())
+}
+fn parse_piece_fabric(s: &str) -> Result<(String, String), String> {
+    let (piece, fabric) = s
+        .split_once('=')
+        .ok_or_else(|| format!("expected PIECE=FABRIC (e.g. front=denim), got {s:?}"))?;
+    if piece.trim().is_empty() {
+        return Err(format!(
+            "expected PIECE=FABRIC with a piece's name, got {s:?}"
+        ));
+    }
+    Ok((piece.trim().to_string(), parse_fabric(fabric.trim())?))
 }
 fn parse_fabric(s: &str) -> Result<String, String> {
     Library::builtin()
@@ -523,6 +540,8 @@ fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>> {
     cfg.tear_threshold = a.tear_threshold;
     cfg.tear_mode = a.tear_mode;
     cfg.check_every = a.check_every;
+    cfg.fabric = a.material.fabric.clone();
+    cfg.piece_fabrics = a.piece_fabric;
     let r = run_scenario(&cfg, &a.out)?;
     eprintln!(
         "{}: {} model, {} vertices, {} frames x {} substeps: frame p50 {:.2} ms p99 {:.2} ms; \

@@ -157,6 +157,11 @@ pub enum Command {
     SetFabric {
         name: String,
     },
+    /// Piece `piece` (in `saiho/pieces` order) made of fabric `name`.
+    SetPieceFabric {
+        piece: u32,
+        name: String,
+    },
 }
 
 /// Why a command cannot be put on the wire.
@@ -227,6 +232,7 @@ impl Command {
             Self::SeamPlane { .. } => op::SEAM_PLANE,
             Self::RemoveSeam { .. } => op::REMOVE_SEAM,
             Self::SetFabric { .. } => op::SET_FABRIC,
+            Self::SetPieceFabric { .. } => op::SET_PIECE_FABRIC,
         }
     }
 
@@ -264,6 +270,10 @@ impl Command {
             | Self::Load { path }
             | Self::SetFabric { name: path } => {
                 set_text(&mut c, path)?;
+            }
+            Self::SetPieceFabric { piece, name } => {
+                c.a = *piece;
+                set_text(&mut c, name)?;
             }
             Self::SetTool {
                 tool,
@@ -416,6 +426,10 @@ impl Command {
             op::DELETE_PIECE => Self::DeletePiece { piece: c.a },
             op::REMOVE_SEAM => Self::RemoveSeam { seam: c.a },
             op::SET_FABRIC => Self::SetFabric { name: text(c) },
+            op::SET_PIECE_FABRIC => Self::SetPieceFabric {
+                piece: c.a,
+                name: text(c),
+            },
             op::SEAM_PLANE => Self::SeamPlane {
                 a: [[u[0], u[1]], [u[2], u[3]]],
                 b: [[u[4], u[5]], [u[6], u[7]]],
@@ -565,6 +579,10 @@ mod tests {
             Command::SetFabric {
                 name: "denim-11oz".into(),
             },
+            Command::SetPieceFabric {
+                piece: 1,
+                name: "jersey-interlock".into(),
+            },
         ]
     }
 
@@ -633,6 +651,10 @@ mod tests {
             },
             Command::PlacePiece { piece: 0, place: 9 },
             Command::SetFabric { name: "  ".into() },
+            Command::SetPieceFabric {
+                piece: 0,
+                name: String::new(),
+            },
         ] {
             let wire = bad.to_wire(Header::next(&mut seq)).unwrap();
             assert!(Command::from_wire(&wire).is_err(), "{bad:?}");

@@ -66,7 +66,11 @@ pub mod op {
     /// design, in place: its density, stretch, shear, bending (warp, weft and bias),
     /// friction and thickness; damping and substeps stay. Every piece records it.
     pub const SET_FABRIC: u32 = 22;
-    pub const LAST: u32 = SET_FABRIC;
+    /// Piece `a` (as `saiho/pieces` lists them) made of the fabric named in `text` (the
+    /// library's, or `cotton`: the design's own material), undoably; its mass, stretch,
+    /// shear and bending become the fabric's, the other pieces stay as they are.
+    pub const SET_PIECE_FABRIC: u32 = 23;
+    pub const LAST: u32 = SET_PIECE_FABRIC;
 }
 
 /// [`ToolCommand::b`] of a RESET: the body.
@@ -198,7 +202,9 @@ impl Checked for ToolCommand {
         {
             return Err("save, load and export need a UTF-8 path".into());
         }
-        if self.op == op::SET_FABRIC && self.text().is_none_or(|t| t.trim().is_empty()) {
+        if matches!(self.op, op::SET_FABRIC | op::SET_PIECE_FABRIC)
+            && self.text().is_none_or(|t| t.trim().is_empty())
+        {
             return Err("a fabric needs a UTF-8 name".into());
         }
         if self.op == op::SET_MATERIAL {

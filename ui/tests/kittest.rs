@@ -537,6 +537,14 @@ fn the_pieces_panel_lists_selects_adds_places_and_deletes() {
     press(&mut h, "Place at");
     let c = *commands(&h).last().unwrap();
     assert_eq!((c.op, c.a, c.b), (op::PLACE_PIECE, 0, place::BACK));
+    // The selected piece alone gets a fabric of its own.
+    press(&mut h, "Piece fabric");
+    press(&mut h, "jersey-interlock");
+    let c = *commands(&h).last().unwrap();
+    assert_eq!(
+        (c.op, c.a, c.text()),
+        (op::SET_PIECE_FABRIC, 0, Some("jersey-interlock"))
+    );
     press(&mut h, "Delete");
     let c = *commands(&h).last().unwrap();
     assert_eq!((c.op, c.a), (op::DELETE_PIECE, 0));

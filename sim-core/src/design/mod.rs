@@ -12,14 +12,15 @@
 //! <- `history` <- `document` (the `Design`) <- `transaction` <- the operations (`cut`,
 //! `tear`, `sew`, `seam`, `paint`, `pin`, `pinch`, `pattern`) <- `frame`; `export`,
 //! `sewing_pattern` (the pieces' outlines as SVG and AAMA DXF) and `file` read a design;
-//! `pieces` (named pieces and the list of the cloth's parts) and `garment` (a pattern's
-//! pieces placed round the body, meshed, sewn; the pattern files read in) sit beside
-//! them.
+//! `pieces` (named pieces and the list of the cloth's parts), `fabrics` (each piece's
+//! fabric handed to the solver as a material zone) and `garment` (a pattern's pieces
+//! placed round the body, meshed, sewn; the pattern files read in) sit beside them.
 
 mod cut;
 mod document;
 mod error;
 pub mod export;
+mod fabrics;
 pub mod file;
 mod frame;
 pub mod garment;
@@ -42,6 +43,7 @@ mod transaction;
 
 pub use document::{CLOTH_COLOUR, Design, TEXTURE_SIZE};
 pub use error::EditError;
+pub use fabrics::{EDITED, fabric_zones};
 pub use history::History;
 pub use parts::{STITCH_FORCE, Seam, TearMode, TearSettings, open_stitches};
 pub use piece_list::PieceInfo;

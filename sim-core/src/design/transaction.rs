@@ -2,9 +2,9 @@
 //! all (if any primitive fails, those already applied are rolled back and the error is
 //! returned with the design unchanged), then goes on the history; undo applies the
 //! inverses in reverse order. After applying, only what the primitives touched is brought
-//! up to date: the touched vertices' masses, the solver's constraints for the touched
-//! triangles and edges ([`Solver::sync`](crate::solver::Solver::sync)), and the contact
-//! cache's size.
+//! up to date: the pieces' fabrics when a piece record changed (`fabrics`), the touched
+//! vertices' masses, the solver's constraints for the touched triangles and edges
+//! ([`Solver::sync`](crate::solver::Solver::sync)), and the contact cache's size.
 
 use super::document::Design;
 use super::error::EditError;
@@ -19,6 +19,8 @@ struct Touched {
     tris: Vec<u32>,
     edges: Vec<u64>,
     verts: Vec<u32>,
+    /// A piece record changed (its fabric, or a piece came or went).
+    pieces: bool,
 }
 
 impl Touched {
@@ -106,7 +108,10 @@ impl Design {
             }
             Prim::Paint(patch) => self.texture.apply(patch, false),
             Prim::Seam { index, old, new } => self.set_seam(*index, old, new)?,
-            Prim::Piece { index, old, new } => self.set_piece(*index, old, new)?,
+            Prim::Piece { index, old, new } => {
+                self.set_piece(*index, old, new)?;
+                touched.pieces = true;
+            }
         }
         Ok(())
     }
@@ -132,6 +137,16 @@ impl Design {
     }
 
     fn sync(&mut self, touched: &mut Touched) {
+        if touched.pieces {
+            // Each piece's fabric first: the masses and elements below are its.
+            match self.apply_fabrics() {
+                Ok(notes) => self.sim.notices.extend(notes),
+                Err(e) => self
+                    .sim
+                    .notices
+                    .push(format!("the pieces' fabrics were not applied: {e}")),
+            }
+        }
         touched.verts.sort_unstable();
         touched.verts.dedup();
         touched

@@ -135,6 +135,11 @@ pub struct ScenarioConfig {
     pub tear_mode: TearMode,
     /// Count the crossings every this many frames too (the report keeps the most seen).
     pub check_every: Option<u64>,
+    /// The library fabric `material` came from, which the pattern's pieces are then
+    /// named as (`None`: the design's own material, [`garment::DEFAULT_FABRIC`]).
+    pub fabric: Option<String>,
+    /// Pieces of the pattern made of another fabric: (piece name, library fabric).
+    pub piece_fabrics: Vec<(String, String)>,
 }
 
 /// A pattern piece by its outline's shape and size, m, or the pieces of an SVG file.
@@ -287,6 +292,8 @@ impl ScenarioConfig {
             tear_threshold: TearSettings::default().threshold,
             tear_mode: TearMode::Delete,
             check_every: None,
+            fabric: None,
+            piece_fabrics: Vec::new(),
         }
     }
 }
@@ -425,6 +432,8 @@ pub fn build_scene(cfg: &ScenarioConfig) -> Result<(Design, Option<PatternSpec>)
         frame_dt: cfg.frame_dt,
         ..Environment::default()
     };
+    // Each piece its own fabric (a cloth of one fabric has no zones).
+    let (cloth, records) = piece_fabrics(cfg, cloth, records, &mut notices)?;
     let mut sim = Simulation::new(
         cloth,
         body,
@@ -438,4 +447,39 @@ pub fn build_scene(cfg: &ScenarioConfig) -> Result<(Design, Option<PatternSpec>)
     let mut design = Design::new(sim);
     design.pieces = records;
     Ok((design, spec))
+}
+
+/// The pattern's pieces named as `cfg`'s fabric and `--piece-fabric`s, and the cloth's
+/// material zones from them.
+fn piece_fabrics(
+    cfg: &ScenarioConfig,
+    mut cloth: Cloth,
+    mut records: Vec<crate::design::PieceRecord>,
+    notices: &mut Vec<String>,
+) -> Result<(Cloth, Vec<crate::design::PieceRecord>), ScenarioError> {
+    if let Some(f) = &cfg.fabric {
+        for r in &mut records {
+            r.fabric.clone_from(f);
+        }
+    }
+    for (piece, fabric) in &cfg.piece_fabrics {
+        let Some(r) = records.iter_mut().find(|r| &r.name == piece) else {
+            let names: Vec<&str> = records.iter().map(|r| r.name.as_str()).collect();
+            return Err(ConfigError::OutOfRange {
+                name: "--piece-fabric",
+                rule: if names.is_empty() {
+                    "given only for a pattern's pieces (dress-mannequin, drape-pattern)"
+                } else {
+                    "a piece of the pattern"
+                },
+                value: format!("{piece:?} (the pattern's pieces: {})", names.join(", ")),
+            }
+            .into());
+        };
+        r.fabric.clone_from(fabric);
+    }
+    let (zones, said) = crate::design::fabric_zones(&records, &cfg.material)?;
+    notices.extend(said);
+    cloth.set_zones(zones, cfg.material.density);
+    Ok((cloth, records))
 }

@@ -14,6 +14,7 @@ use glam::{Mat2, Vec2, Vec3};
 
 use crate::mesh::{ClothMesh, LiveMesh, Topology, edge_key, warp_of};
 use crate::solver::Material;
+use crate::solver::zones::MaterialZones;
 
 /// One triangle's membrane: `F_u = sum c[a] x[a]`, `F_v = sum d[a] x[a]`.
 #[derive(Clone, Copy, Debug)]
@@ -24,6 +25,10 @@ pub struct Membrane {
     pub c: [f32; 3],
     pub d: [f32; 3],
     pub area: f32,
+    /// The triangle's stretch and shear stiffness over the solver's material's (its
+    /// piece's fabric: [`MaterialZones`]); 1 in a cloth of one material.
+    pub ks: f32,
+    pub kg: f32,
 }
 
 /// One hinge's isometric bending constraint.
@@ -35,24 +40,41 @@ pub struct BendConstraint {
     pub k: [f32; 4],
     /// `sum K_a x_a` at rest (zero for a flat pattern).
     pub rest: Vec3,
-    /// `1 / (A0 + A1)`: multiply by the bending rigidity to get the stiffness.
+    /// `1 / (A0 + A1)`, times the share of the rigidity in the direction the hinge bends
+    /// and its piece's rigidity over the solver's: multiply by the solver's bending
+    /// rigidity to get the stiffness.
     pub weight: f32,
 }
 
-/// The material frame of each triangle from its rest positions and UVs.
-pub fn build_membranes(mesh: &ClothMesh) -> Vec<Membrane> {
+/// The material frame of each triangle from its rest positions and UVs, with its zone's
+/// stiffness over `material`'s (the solver's).
+pub fn build_membranes(
+    mesh: &ClothMesh,
+    zones: &MaterialZones,
+    material: &Material,
+) -> Vec<Membrane> {
     mesh.triangles
         .iter()
         .enumerate()
         .map(|(t, &v)| {
-            membrane_of(
-                v,
-                t as u32,
-                v.map(|i| mesh.positions[i as usize]),
-                v.map(|i| mesh.uvs[i as usize]),
-            )
+            let rest = v.map(|i| mesh.positions[i as usize]);
+            let m = membrane_of(v, t as u32, rest, v.map(|i| mesh.uvs[i as usize]));
+            weigh_membrane(m, zones, material, &rest)
         })
         .collect()
+}
+
+/// `m` with its zone's stiffness over `material`'s (the solver's).
+pub fn weigh_membrane(
+    mut m: Membrane,
+    zones: &MaterialZones,
+    material: &Material,
+    rest: &[Vec3; 3],
+) -> Membrane {
+    let s = zones.scales(rest, material);
+    m.ks = s.stretch;
+    m.kg = s.shear;
+    m
 }
 
 /// One triangle's membrane from its rest corners and their UVs.
@@ -80,19 +102,32 @@ pub fn membrane_of(v: [u32; 3], id: u32, rest: [Vec3; 3], uv: [Vec2; 3]) -> Memb
         c: [-(p + r), p, r],
         d: [-(q + s), q, s],
         area,
+        ks: 1.0,
+        kg: 1.0,
     }
 }
 
-/// Scales a hinge's weight by the material's rigidity in the direction it bends: across
-/// its edge `edge` (rest), at `warp` (the warp direction of one of its triangles).
-pub fn orient_bend(b: &mut BendConstraint, material: &Material, warp: Vec3, edge: Vec3) {
-    if material.isotropic_bending() {
+/// Scales a hinge's weight by its material's rigidity in the direction it bends: across
+/// its edge `edge` (rest), at `warp` (the warp direction of its first triangle, whose
+/// rest corners are `rest`), and by that triangle's zone's rigidity over `material`'s
+/// (the solver's). A hinge across a seam between two fabrics takes its first triangle's.
+pub fn orient_bend(
+    b: &mut BendConstraint,
+    material: &Material,
+    zones: &MaterialZones,
+    rest: &[Vec3; 3],
+    warp: Vec3,
+    edge: Vec3,
+) {
+    let own = zones.material_at(rest, material);
+    b.weight *= zones.scales(rest, material).bending;
+    if own.isotropic_bending() {
         return;
     }
     // The hinge bends the yarns that cross its edge: cos² of the angle between the
     // bending direction and the warp is sin² of the edge's angle to the warp.
     let along = edge.normalize_or(Vec3::X).dot(warp);
-    b.weight *= material.bending_share(1.0 - along * along);
+    b.weight *= own.bending_share(1.0 - along * along);
 }
 
 fn cot(a: Vec3, b: Vec3) -> f32 {
@@ -100,11 +135,13 @@ fn cot(a: Vec3, b: Vec3) -> f32 {
     if s < 1e-20 { 0.0 } else { a.dot(b) / s }
 }
 
-/// Bending constraints for every interior edge, weighted for `material`'s anisotropy.
+/// Bending constraints for every interior edge, weighted for their material's
+/// anisotropy and zone (`material` is the solver's).
 pub fn build_bending(
     mesh: &ClothMesh,
     topology: &Topology,
     material: &Material,
+    zones: &MaterialZones,
 ) -> Vec<BendConstraint> {
     topology
         .hinges
@@ -113,7 +150,8 @@ pub fn build_bending(
             let [x0, x1, x2, x3] = h.v.map(|i| mesh.positions[i as usize]);
             let mut b = bend_of(h.v, [x0, x1, x2], [x0, x1, x3])?;
             let uv = [h.v[0], h.v[1], h.v[2]].map(|i| mesh.uvs[i as usize]);
-            orient_bend(&mut b, material, warp_of([x0, x1, x2], uv), x1 - x0);
+            let warp = warp_of([x0, x1, x2], uv);
+            orient_bend(&mut b, material, zones, &[x0, x1, x2], warp, x1 - x0);
             Some(b)
         })
         .collect()
@@ -173,27 +211,44 @@ pub fn bending_energy(bends: &[BendConstraint], x: &[Vec3], b: f32) -> f64 {
         .sum()
 }
 
-/// The bending hinge of the live mesh's edge `key`, weighted for `material`.
-pub fn live_bend(live: &LiveMesh, key: u64, material: &Material) -> Option<BendConstraint> {
+/// The bending hinge of the live mesh's edge `key`, weighted for its material
+/// (`material` is the solver's).
+pub fn live_bend(
+    live: &LiveMesh,
+    key: u64,
+    material: &Material,
+    zones: &MaterialZones,
+) -> Option<BendConstraint> {
     let (v, r0, r1) = live.hinge(key)?;
     let mut b = bend_of(v, r0, r1)?;
-    if let Some(warp) = live.hinge_warp(key) {
-        orient_bend(&mut b, material, warp, r0[1] - r0[0]);
-    }
+    let warp = live.hinge_warp(key).unwrap_or(Vec3::X);
+    orient_bend(&mut b, material, zones, &r0, warp, r0[1] - r0[0]);
     Some(b)
 }
 
 /// The membranes and bending hinges of a live mesh, the elements every model built on
-/// this energy (xpbd, implicit, vbd) starts from.
-pub fn elements_of(live: &LiveMesh, material: &Material) -> (Vec<Membrane>, Vec<BendConstraint>) {
+/// this energy (xpbd, implicit, vbd) starts from, each weighted for its zone against
+/// `material` (the solver's).
+pub fn elements_of(
+    live: &LiveMesh,
+    material: &Material,
+    zones: &MaterialZones,
+) -> (Vec<Membrane>, Vec<BendConstraint>) {
     let membranes = live
         .iter()
-        .map(|(slot, t)| membrane_of(t.v, slot, t.rest, t.uv))
+        .map(|(slot, t)| {
+            weigh_membrane(
+                membrane_of(t.v, slot, t.rest, t.uv),
+                zones,
+                material,
+                &t.rest,
+            )
+        })
         .collect();
     let bends = live
         .hinge_keys()
         .into_iter()
-        .filter_map(|k| live_bend(live, k, material))
+        .filter_map(|k| live_bend(live, k, material, zones))
         .collect();
     (membranes, bends)
 }
@@ -205,7 +260,7 @@ mod tests {
     #[test]
     fn rest_state_satisfies_every_constraint() {
         let m = ClothMesh::grid(1.0, 0.7, 7, 5, 0.3).unwrap();
-        for mem in build_membranes(&m) {
+        for mem in build_membranes(&m, &MaterialZones::default(), &Material::default()) {
             let x = mem.v.map(|i| m.positions[i as usize]);
             let fu: Vec3 = (0..3).map(|a| x[a] * mem.c[a]).sum();
             let fv: Vec3 = (0..3).map(|a| x[a] * mem.d[a]).sum();
@@ -220,7 +275,7 @@ mod tests {
         let t = Topology::build(&m.triangles).unwrap();
         assert!(
             bending_energy(
-                &build_bending(&m, &t, &Material::default()),
+                &build_bending(&m, &t, &Material::default(), &MaterialZones::default()),
                 &m.positions,
                 1.0
             ) < 1e-9
@@ -230,7 +285,7 @@ mod tests {
     #[test]
     fn stretching_along_warp_is_measured() {
         let m = ClothMesh::grid(1.0, 1.0, 4, 4, 0.0).unwrap();
-        for mem in build_membranes(&m) {
+        for mem in build_membranes(&m, &MaterialZones::default(), &Material::default()) {
             let x = mem
                 .v
                 .map(|i| m.positions[i as usize] * Vec3::new(1.1, 1.0, 1.0));
@@ -247,7 +302,7 @@ mod tests {
         let (w, r, b) = (0.3f32, 0.5f32, 2.0e-5f32);
         let m = ClothMesh::grid(w, w, 60, 60, 0.0).unwrap();
         let t = Topology::build(&m.triangles).unwrap();
-        let bends = build_bending(&m, &t, &Material::default());
+        let bends = build_bending(&m, &t, &Material::default(), &MaterialZones::default());
         let rolled: Vec<Vec3> = m
             .positions
             .iter()
@@ -294,7 +349,11 @@ mod tests {
             ..Material::default()
         };
         let energy = |mat: &Material, along_x: bool| {
-            bending_energy(&build_bending(&m, &t, mat), &roll(along_x), 1.0)
+            bending_energy(
+                &build_bending(&m, &t, mat, &MaterialZones::default()),
+                &roll(along_x),
+                1.0,
+            )
         };
         let (iw, if_) = (energy(&iso, true), energy(&iso, false));
         assert!((iw / if_ - 1.0).abs() < 0.02, "isotropic: {iw} {if_}");

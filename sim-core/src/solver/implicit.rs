@@ -66,8 +66,8 @@ impl Implicit {
             }
         }
         Self {
-            membranes: build_membranes(&cloth.rest),
-            bends: build_bending(&cloth.rest, &cloth.topology, material),
+            membranes: build_membranes(&cloth.rest, &cloth.zones, material),
+            bends: build_bending(&cloth.rest, &cloth.topology, material, &cloth.zones),
             material: *material,
             dof,
             nfree,
@@ -99,8 +99,8 @@ impl Implicit {
             let fv = p[0] * t.d[0] as f64 + p[1] * t.d[1] as f64 + p[2] * t.d[2] as f64;
             let a = t.area as f64;
             let (su, sv, sh) = (fu.length() - 1.0, fv.length() - 1.0, fu.dot(fv));
-            e += 0.5 * m.stretch as f64 * a * (su * su + sv * sv)
-                + 0.5 * m.shear as f64 * a * sh * sh;
+            e += 0.5 * m.stretch as f64 * a * t.ks as f64 * (su * su + sv * sv)
+                + 0.5 * m.shear as f64 * a * t.kg as f64 * sh * sh;
         }
         for b in &self.bends {
             let c = (0..4)
@@ -151,7 +151,10 @@ impl Implicit {
             let fu = p[0] * c[0] + p[1] * c[1] + p[2] * c[2];
             let fv = p[0] * dd[0] + p[1] * dd[1] + p[2] * dd[2];
             let area = t.area as f64;
-            let (ks, kg) = (m.stretch as f64 * area, m.shear as f64 * area);
+            let (ks, kg) = (
+                m.stretch as f64 * area * t.ks as f64,
+                m.shear as f64 * area * t.kg as f64,
+            );
             let (lu, lv) = (fu.length().max(1e-12), fv.length().max(1e-12));
             let (uu, vv) = (fu / lu, fv / lv);
             let sh = fu.dot(fv);

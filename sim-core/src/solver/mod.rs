@@ -17,6 +17,7 @@ mod state;
 mod stitch;
 mod vbd;
 mod xpbd;
+mod zones;
 
 pub use constraints::{BendConstraint, Membrane, bending_energy, build_bending, build_membranes};
 pub use implicit::{Implicit, ImplicitError};
@@ -32,3 +33,4 @@ pub use state::Cloth;
 pub use stitch::{STITCH_STIFFNESS, Stitch};
 pub use vbd::{CONTACT_STIFFNESS, DEFAULT_ITERATIONS, Vbd};
 pub use xpbd::Xpbd;
+pub use zones::{MaterialZones, Scales, Zone};

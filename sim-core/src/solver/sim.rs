@@ -15,6 +15,7 @@ use super::state::Cloth;
 use super::stitch::Stitch;
 use super::vbd::Vbd;
 use super::xpbd::Xpbd;
+use super::zones::MaterialZones;
 use crate::collision::{Body, ContactCache};
 use crate::error::{ConfigError, GeometryError, check_range};
 
@@ -93,17 +94,19 @@ impl Simulation {
         let mut notices = Vec::new();
         let mut stable_step = None;
         let contact = material.contact_params(env.floor);
+        // The models' elements scale from this (the cloth's zones: pieces of other fabrics).
+        let reference = cloth.zones.reference(&material);
         let (solver, substeps): (Box<dyn Solver>, usize) = match model {
             ModelKind::Vbd => (
-                Box::new(Vbd::new(&cloth, &material)),
+                Box::new(Vbd::new(&cloth, &reference)),
                 substeps.unwrap_or(VBD_DEFAULT_SUBSTEPS),
             ),
             ModelKind::Xpbd => (
-                Box::new(Xpbd::new(&cloth, &material)),
+                Box::new(Xpbd::new(&cloth, &reference)),
                 substeps.unwrap_or(XPBD_DEFAULT_SUBSTEPS),
             ),
             ModelKind::Implicit => (
-                Box::new(Implicit::new(&cloth, &material)),
+                Box::new(Implicit::new(&cloth, &reference)),
                 substeps.unwrap_or(1),
             ),
             ModelKind::Seed => {
@@ -279,10 +282,35 @@ impl Simulation {
                 value: n.to_string(),
             });
         }
-        self.solver.set_material(&mut self.cloth, &material)?;
+        let zones = self.cloth.zones.clone();
+        self.cloth.zones.rebase(&material);
+        let reference = self.cloth.zones.reference(&material);
+        if let Err(e) = self.solver.set_material(&mut self.cloth, &reference) {
+            self.cloth.zones = zones;
+            return Err(e);
+        }
         self.material = material;
         if let Some(n) = substeps {
             self.substeps = n;
+        }
+        Ok(())
+    }
+
+    /// Gives the pieces of the cloth their own materials (`zones`, over this
+    /// simulation's material), in place like [`set_material`](Self::set_material):
+    /// masses follow each triangle's density and the model's elements are rebuilt. A
+    /// model that cannot change its material in place refuses, and nothing changes.
+    pub fn set_zones(&mut self, zones: MaterialZones) -> Result<(), ConfigError> {
+        if zones == self.cloth.zones {
+            return Ok(());
+        }
+        let old = self.cloth.zones.clone();
+        // Masses first: the models pack inverse masses with their elements.
+        self.cloth.set_zones(zones, self.material.density);
+        let reference = self.cloth.zones.reference(&self.material);
+        if let Err(e) = self.solver.set_material(&mut self.cloth, &reference) {
+            self.cloth.set_zones(old, self.material.density);
+            return Err(e);
         }
         Ok(())
     }

@@ -3,6 +3,7 @@
 use glam::Vec3;
 
 use super::material::Material;
+use super::zones::MaterialZones;
 use crate::error::GeometryError;
 use crate::mesh::{ClothMesh, LiveMesh, Topology};
 
@@ -19,10 +20,13 @@ pub struct Cloth {
     pub pinned: Vec<bool>,
     pub x: Vec<Vec3>,
     pub v: Vec<Vec3>,
-    /// Lumped masses from triangle areas and the density.
+    /// Lumped masses from triangle areas and their densities.
     pub mass: Vec<f32>,
     /// Inverse masses, 0 for pinned vertices.
     pub inv_mass: Vec<f32>,
+    /// Materials by region of the rest plane (pieces of other fabrics); none for a
+    /// cloth of one material. Set with [`Simulation::set_zones`](super::Simulation::set_zones).
+    pub zones: MaterialZones,
 }
 
 impl Cloth {
@@ -43,6 +47,7 @@ impl Cloth {
             mass,
             inv_mass,
             rest,
+            zones: MaterialZones::default(),
         })
     }
 
@@ -73,6 +78,7 @@ impl Cloth {
             v,
             mass: vec![0.0; n],
             inv_mass: vec![0.0; n],
+            zones: MaterialZones::default(),
         };
         for i in 0..n {
             c.update_mass(i, material.density);
@@ -105,7 +111,16 @@ impl Cloth {
         self.pinned.get(i).copied().unwrap_or(false)
     }
 
-    /// Recomputes every lumped mass for a new areal density.
+    /// Gives the cloth's regions their own materials and recomputes the masses
+    /// (`density` outside every zone). The models must be rebuilt after: see
+    /// [`Simulation::set_zones`](super::Simulation::set_zones).
+    pub fn set_zones(&mut self, zones: MaterialZones, density: f32) {
+        self.zones = zones;
+        self.set_density(density);
+    }
+
+    /// Recomputes every lumped mass for a new areal density (of the triangles outside
+    /// every zone).
     pub fn set_density(&mut self, density: f32) {
         for i in 0..self.len() {
             self.update_mass(i, density);
@@ -142,14 +157,15 @@ impl Cloth {
             .normalize_or_zero()
     }
 
-    /// Recomputes vertex `i`'s lumped mass from its live triangles.
+    /// Recomputes vertex `i`'s lumped mass from its live triangles, each with its zone's
+    /// density (`density` outside every zone).
     pub fn update_mass(&mut self, i: usize, density: f32) {
         let m: f32 = self
             .live
             .tris_of(i as u32)
             .iter()
             .filter_map(|&t| self.live.tri(t))
-            .map(|t| density * t.rest_area() / 3.0)
+            .map(|t| self.zones.density_at(&t.rest, density) * t.rest_area() / 3.0)
             .sum();
         self.mass[i] = m;
         self.update_inv_mass(i);

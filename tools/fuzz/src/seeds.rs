@@ -178,6 +178,10 @@ fn command_seeds(dir: &Path) -> std::io::Result<()> {
         Command::SetFabric {
             name: "denim".into(),
         },
+        Command::SetPieceFabric {
+            piece: 0,
+            name: "jersey-interlock".into(),
+        },
         Command::RemoveRegion {
             min: [0.2, 0.2],
             max: [0.6, 0.6],

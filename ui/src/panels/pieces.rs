@@ -1,8 +1,9 @@
 //! The pieces panel: the design's pieces as cloth-sim lists them (name, vertices,
 //! fabric), one selected (tinted in the 3D view and drawn bright in the pattern view);
 //! new pieces (a rectangle, an ellipse, or every piece of an SVG, DXF or GarmentCode
-//! file) at a place round the body; the selected piece placed elsewhere or deleted; and
-//! the pattern view: every piece flat as it is now, with the stitches still pulling.
+//! file) at a place round the body; the selected piece placed elsewhere, deleted or
+//! given a fabric of its own; and the pattern view: every piece flat as it is now, with
+//! the stitches still pulling.
 
 use shared::command::{Command, PieceShape};
 use shared::ui_to_sim::{PIECE_EDGE, PIECE_SIZE, place, shape};
@@ -26,6 +27,31 @@ pub struct PiecesPanel {
     /// under way.
     pub seam_sides: Vec<[[f32; 2]; 2]>,
     drag_from: Option<[f32; 2]>,
+    /// What a piece can be made of: the design's own material, then the library's
+    /// fabrics (name, what the chooser's hover says).
+    fabrics: Vec<(String, String)>,
+}
+
+/// The fabric chooser's entries.
+fn fabric_entries() -> Vec<(String, String)> {
+    let own = sim_core::design::garment::DEFAULT_FABRIC;
+    let mut out = vec![(
+        own.to_string(),
+        "The design's own material (the Material panel's)".to_string(),
+    )];
+    for f in &sim_core::fabric::Library::builtin().fabrics {
+        let m = f.material();
+        let about = format!(
+            "{}: {:.0} g/m², bending {:.1e} N m (weft {:.1e}); {}",
+            f.name,
+            m.density * 1e3,
+            m.bending,
+            m.bending * m.bending_weft,
+            f.source
+        );
+        out.push((f.name.clone(), about));
+    }
+    out
 }
 
 impl Default for PiecesPanel {
@@ -40,6 +66,7 @@ impl Default for PiecesPanel {
             pattern_open: false,
             seam_sides: Vec::new(),
             drag_from: None,
+            fabrics: fabric_entries(),
         }
     }
 }
@@ -54,6 +81,39 @@ fn place_combo(ui: &mut egui::Ui, id: &str, value: &mut u32) {
         })
         .response
         .on_hover_text("Where round the body the piece starts (a layer out if another is there)");
+}
+
+/// The selected piece's fabric: the design's own material or one of the library's
+/// (`fabrics`); a name picked is sent for that piece alone (undoable).
+fn fabric_combo(
+    ui: &mut egui::Ui,
+    piece: u32,
+    current: &str,
+    fabrics: &[(String, String)],
+    actions: &mut Vec<Action>,
+) {
+    egui::ComboBox::from_label("Piece fabric")
+        .selected_text(current)
+        .show_ui(ui, |ui| {
+            for (name, about) in fabrics {
+                if ui
+                    .selectable_label(current == name, name)
+                    .on_hover_text(about)
+                    .clicked()
+                {
+                    actions.push(Action::Command(Command::SetPieceFabric {
+                        piece,
+                        name: name.clone(),
+                    }));
+                }
+            }
+        })
+        .response
+        .on_hover_text(
+            "What the selected piece is made of: its weight, stretch, shear and bending. \
+             The other pieces keep theirs; damping, friction and the contact thickness are \
+             the design's. Undo takes it back.",
+        );
 }
 
 impl PiecesPanel {
@@ -106,6 +166,9 @@ impl PiecesPanel {
                     self.selected = None;
                 }
             });
+            if let Some(p) = store.pieces.get(i) {
+                fabric_combo(ui, i as u32, &p.fabric, &self.fabrics, actions);
+            }
         }
         ui.horizontal(|ui| {
             ui.label("Place");

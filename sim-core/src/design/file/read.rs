@@ -32,7 +32,20 @@ impl Design {
         let sections = Sections { header: h, data };
         let model = ModelKind::parse(&h.model).map_err(|e| corrupt(e.to_string()))?;
         h.material.validate().map_err(|e| corrupt(e.to_string()))?;
-        let cloth = read_cloth(h, &sections)?;
+        let mut cloth = read_cloth(h, &sections)?;
+        if h.pieces.len() > MAX_PIECES {
+            return Err(corrupt(format!(
+                "{} pieces (at most {MAX_PIECES})",
+                h.pieces.len()
+            )));
+        }
+        for r in &h.pieces {
+            r.check().map_err(corrupt)?;
+        }
+        // Each piece hangs as its fabric, whatever the model.
+        let (zones, fabric_notes) = crate::design::fabric_zones(&h.pieces, &h.material)
+            .map_err(|e| corrupt(e.to_string()))?;
+        cloth.set_zones(zones, h.material.density);
         let body = match &h.body {
             None => None,
             Some(name) => Some(load_body(name, h, &sections)?),
@@ -62,16 +75,8 @@ impl Design {
         let texture = decode_texture(sections.get("texture")?, h.texture_width, h.texture_height)?;
         let mut design = Design::with_texture(sim, texture);
         design.seams = read_seams(h)?;
-        if h.pieces.len() > MAX_PIECES {
-            return Err(corrupt(format!(
-                "{} pieces (at most {MAX_PIECES})",
-                h.pieces.len()
-            )));
-        }
-        for r in &h.pieces {
-            r.check().map_err(corrupt)?;
-        }
         design.pieces = h.pieces.clone();
+        design.sim.notices.extend(fabric_notes);
         design.tear = read_tear(h)?;
         let crossed = design.sim.crossings();
         if crossed.self_pairs > 0 || crossed.body_pairs > 0 {

@@ -67,7 +67,7 @@ impl Elastic {
     /// The elements of `cloth`'s live mesh.
     pub fn new(cloth: &Cloth, material: &Material) -> Self {
         let live = &cloth.live;
-        let (membranes, bends) = elements_of(live, material);
+        let (membranes, bends) = elements_of(live, material, &cloth.zones);
         let n = cloth.len();
         let mem_items: Vec<(u32, u32)> = membranes
             .iter()
@@ -119,7 +119,7 @@ impl Elastic {
                 }
                 let u = fw / len;
                 let c = len - 1.0;
-                let ks = k.stretch * m.area;
+                let ks = k.stretch * m.area * m.ks;
                 *f -= u * (ks * c * cw);
                 let uu = Mat3::from_cols(u * u.x, u * u.y, u * u.z);
                 let trans = if c > 0.0 {
@@ -135,7 +135,7 @@ impl Elastic {
                 let cs = fu.dot(fv);
                 let q = m.v.map(|v| x[v as usize] - xt[v as usize]);
                 let dcs: f32 = (0..3).map(|b| (fv * m.c[b] + fu * m.d[b]).dot(q[b])).sum();
-                let ksh = k.shear * m.area;
+                let ksh = k.shear * m.area * m.kg;
                 *f -= g * (ksh * (cs + k.shear_rate * dcs));
                 *hess += Mat3::from_cols(g * g.x, g * g.y, g * g.z) * (ksh * (1.0 + k.shear_rate));
             }
@@ -160,7 +160,7 @@ impl Elastic {
             let p = m.v.map(|v| x[v as usize]);
             let fu = p[0] * m.c[0] + p[1] * m.c[1] + p[2] * m.c[2];
             let fv = p[0] * m.d[0] + p[1] * m.d[1] + p[2] * m.d[2];
-            let ks = k.stretch * m.area;
+            let ks = k.stretch * m.area * m.ks;
             let (lu, lv) = (fu.length(), fv.length());
             let gu = if lu > 1e-12 {
                 fu * (ks * (lu - 1.0) / lu)
@@ -180,7 +180,7 @@ impl Elastic {
                         (fv * m.c[b] + fu * m.d[b]).dot(x[m.v[b] as usize] - xt[m.v[b] as usize])
                     })
                     .sum();
-                shear = k.shear * m.area * (cs + k.shear_rate * dcs);
+                shear = k.shear * m.area * m.kg * (cs + k.shear_rate * dcs);
             }
             for a in 0..3 {
                 let g = gu * m.c[a] + gv * m.d[a] + (fv * m.c[a] + fu * m.d[a]) * shear;
@@ -207,7 +207,9 @@ impl Elastic {
             let fu = p[0] * t.c[0] + p[1] * t.c[1] + p[2] * t.c[2];
             let fv = p[0] * t.d[0] + p[1] * t.d[1] + p[2] * t.d[2];
             let (su, sv, sh) = (fu.length() - 1.0, fv.length() - 1.0, fu.dot(fv));
-            e += 0.5 * (t.area * (m.stretch * (su * su + sv * sv) + m.shear * sh * sh)) as f64;
+            e += 0.5
+                * (t.area * (t.ks * m.stretch * (su * su + sv * sv) + t.kg * m.shear * sh * sh))
+                    as f64;
         }
         e + crate::solver::constraints::bending_energy(&self.bends, x, m.bending)
     }

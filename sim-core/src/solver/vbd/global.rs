@@ -143,8 +143,8 @@ fn assemble(
     };
     let rate = (m.shear_damping / h) as f64;
     for t in &elastic.membranes {
-        let ks = (m.stretch * t.area) as f64;
-        let kg = (m.shear * t.area * SHEAR_BOUND) as f64 * (1.0 + rate);
+        let ks = (m.stretch * t.area * t.ks) as f64;
+        let kg = (m.shear * t.area * t.kg * SHEAR_BOUND) as f64 * (1.0 + rate);
         let w = ks + kg;
         for a in 0..3 {
             for b in 0..3 {

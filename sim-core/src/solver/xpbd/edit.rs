@@ -12,7 +12,7 @@ use super::groups::{Group, Loc};
 use super::simd::LANES;
 use super::step::Xpbd;
 use super::tethers::tethers;
-use crate::solver::constraints::{live_bend, membrane_of};
+use crate::solver::constraints::{live_bend, membrane_of, weigh_membrane};
 use crate::solver::state::Cloth;
 
 /// Where item `item` of a coloured list is: `Ok((colour, block, lane))` when packed in a
@@ -102,13 +102,14 @@ impl Xpbd {
             self.remove_membrane(slot);
             if let Some(t) = cloth.live.tri(slot) {
                 let m = membrane_of(t.v, slot, t.rest, t.uv);
+                let m = weigh_membrane(m, &cloth.zones, &self.material, &t.rest);
                 self.membrane_loc[slot as usize] = Loc::Extra(self.extra_membranes.len() as u32);
                 self.extra_membranes.push(m);
             }
         }
         for &key in edges {
             self.remove_bend(key);
-            if let Some(b) = live_bend(&cloth.live, key, &self.material) {
+            if let Some(b) = live_bend(&cloth.live, key, &self.material, &cloth.zones) {
                 self.bend_loc
                     .insert(key, Loc::Extra(self.extra_bends.len() as u32));
                 self.extra_bends.push(b);

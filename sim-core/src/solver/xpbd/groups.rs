@@ -89,7 +89,8 @@ pub(super) enum Loc {
     Extra(u32),
 }
 
-/// One substep's XPBD compliances (already divided by h^2; per unit area for membranes,
+/// One substep's XPBD compliances (already divided by h^2; per unit area and scale for
+/// membranes,
 /// `INFINITY` for a constraint that is off) and the shear damping ratio
 /// `gamma = shear_damping / h`.
 pub(super) struct Compliance {
@@ -116,7 +117,7 @@ pub(super) fn solve_membranes(
             continue;
         }
         let mut p = [x[i0], x[i1], x[i2]];
-        let at_stretch = k.stretch / m.area;
+        let at_stretch = k.stretch / (m.area * m.ks);
         // Warp (u) then weft (v): C = |F_col| - 1, grad_a = coeff_a * F_col / |F_col|.
         for coeff in [&m.c, &m.d] {
             let f = p[0] * coeff[0] + p[1] * coeff[1] + p[2] * coeff[2];
@@ -155,7 +156,7 @@ pub(super) fn solve_membranes(
                 * (wv[0] * g[0].length_squared()
                     + wv[1] * g[1].length_squared()
                     + wv[2] * g[2].length_squared())
-                + k.shear / m.area;
+                + k.shear / (m.area * m.kg);
             if denom > 0.0 {
                 let dl = -c / denom;
                 for a in 0..3 {

@@ -17,7 +17,9 @@ pub struct MembraneBlock {
     idx: [[u32; LANES]; 3],
     c: [f32x8; 3],
     d: [f32x8; 3],
-    area: f32x8,
+    /// Area times the stretch and the shear scale (`Membrane::ks`, `kg`).
+    stretch_area: f32x8,
+    shear_area: f32x8,
     w: [f32x8; 3],
 }
 
@@ -48,7 +50,8 @@ impl MembraneBlock {
             idx: std::array::from_fn(|a| std::array::from_fn(|l| m[l].v[a])),
             c: std::array::from_fn(|a| lanes(m, |t| t.c[a])),
             d: std::array::from_fn(|a| lanes(m, |t| t.d[a])),
-            area: lanes(m, |t| t.area),
+            stretch_area: lanes(m, |t| t.area * t.ks),
+            shear_area: lanes(m, |t| t.area * t.kg),
             w: std::array::from_fn(|a| lanes(m, |t| w[t.v[a] as usize])),
         }
     }
@@ -168,7 +171,7 @@ pub fn membranes8(
     let zero = f32x8::splat(0.0);
     let tiny = f32x8::splat(1e-9);
     let one = f32x8::splat(1.0);
-    let at_stretch = f32x8::splat(a_stretch) / b.area;
+    let at_stretch = f32x8::splat(a_stretch) / b.stretch_area;
     let wv = &b.w;
     for coeff in [&b.c, &b.d] {
         let f = lin3(&p, coeff);
@@ -215,7 +218,7 @@ pub fn membranes8(
         };
         let denom = (one + gamma)
             * (wv[0] * dot(&g[0], &g[0]) + wv[1] * dot(&g[1], &g[1]) + wv[2] * dot(&g[2], &g[2]))
-            + f32x8::splat(a_shear) / b.area;
+            + f32x8::splat(a_shear) / b.shear_area;
         let ok = denom.simd_gt(zero);
         let dl = ok.select(-cs / denom.max(tiny), zero);
         for a in 0..3 {

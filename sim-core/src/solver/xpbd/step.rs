@@ -54,7 +54,7 @@ impl Xpbd {
         limits: Option<StretchLimits>,
     ) -> Self {
         let live = &cloth.live;
-        let (membranes, bends) = elements_of(live, material);
+        let (membranes, bends) = elements_of(live, material, &cloth.zones);
         let mut area = vec![0.0f32; cloth.len()];
         for m in &membranes {
             for &i in &m.v {

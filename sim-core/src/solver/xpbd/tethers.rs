@@ -10,11 +10,21 @@ use crate::solver::material::Material;
 use crate::solver::state::Cloth;
 
 /// The slack of tethers and stretch limits: the strain the material itself takes under
-/// the cloth's full weight (`density * g * extent / stretch`).
+/// the cloth's full weight (`density * g * extent / stretch`); with pieces of several
+/// fabrics (zones), the stretchiest's, so no link holds a soft piece tighter than its
+/// fabric would (a stiff piece then gets less of their help).
 pub(super) fn own_strain(cloth: &Cloth, material: &Material) -> f32 {
     let (mn, mx) = bounds(&cloth.rest.positions);
     let extent = (mx - mn).length();
-    material.density * 9.81 * extent / material.stretch
+    let (density, stretch) = cloth
+        .zones
+        .zones()
+        .iter()
+        .map(|z| (z.material.density, z.material.stretch))
+        .fold((material.density, material.stretch), |a, b| {
+            if b.0 * a.1 > a.0 * b.1 { b } else { a }
+        });
+    density * 9.81 * extent / stretch
 }
 
 /// The long-range stretch limits for `cloth` (none when they are off), with the same

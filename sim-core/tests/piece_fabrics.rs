@@ -1,0 +1,199 @@
+//! Pieces of different fabrics in one cloth: each hangs as its own fabric under every
+//! model, and a design keeps each piece's fabric through edits, undo and its file.
+
+// Test helpers: a failed unwrap is a failed test, with its location.
+#![allow(clippy::unwrap_used)]
+
+use glam::Vec3;
+use sim_core::design::Design;
+use sim_core::fabric::Library;
+use sim_core::mesh::ClothMesh;
+use sim_core::scenario::{ScenarioConfig, ScenarioName, build_design};
+use sim_core::solver::{Cloth, Environment, Material, MaterialZones, ModelKind, Simulation, Zone};
+
+const N: usize = 12;
+const SIZE: f32 = 0.5;
+
+/// A curtain, `SIZE` square and `N` x `N` cells, hanging from its whole top edge in the
+/// plane z = 0, its left half (x < 0) of `left` and the rest of `base`; settled under
+/// `model`. Returns how far its bottom-left and bottom-right corners hang below the top.
+fn curtain(model: ModelKind, base: Material, left: Option<Material>) -> (f32, f32) {
+    let mut mesh = ClothMesh::grid(SIZE, SIZE, N, N, 1.0).unwrap();
+    for p in &mut mesh.positions {
+        *p = Vec3::new(p.x, 1.0 - (p.z + SIZE / 2.0), 0.0);
+    }
+    let mut cloth = Cloth::new(mesh, &base).unwrap();
+    if let Some(m) = left {
+        let zone = Zone {
+            lo: -SIZE,
+            hi: 0.0,
+            material: m,
+        };
+        let zones = MaterialZones::new(vec![zone], &base).unwrap();
+        assert!(!zones.is_empty());
+        cloth.set_zones(zones, base.density);
+    }
+    for i in 0..=N {
+        cloth.pin(i);
+    }
+    let env = Environment {
+        floor: None,
+        ..Environment::default()
+    };
+    let mut sim = Simulation::new(cloth, None, model, base, env, None).unwrap();
+    for i in 0..=N {
+        sim.pin(i);
+    }
+    for _ in 0..240 {
+        sim.step().unwrap();
+    }
+    let bottom = N * (N + 1);
+    let drop = |i: usize| 1.0 - sim.cloth.x[i].y;
+    (drop(bottom), drop(bottom + N))
+}
+
+/// A soft base (100 N/m, so stretch shows) whose left half is 10x softer or 4x heavier.
+/// (The halves pull on each other through shear and the bottom edge, so the right half
+/// does not hang exactly as it would alone: under vbd its bottom corner rises 1-3 mm.)
+#[test]
+fn a_piece_of_a_softer_or_heavier_fabric_stretches_more_under_every_model() {
+    let base = Material {
+        stretch: 100.0,
+        ..Material::default()
+    };
+    let softer = Material {
+        stretch: 10.0,
+        ..base
+    };
+    let heavier = Material {
+        density: 4.0 * base.density,
+        ..base
+    };
+    let mut seen = Vec::new();
+    for model in [ModelKind::Xpbd, ModelKind::Vbd, ModelKind::Implicit] {
+        let (l0, r0) = curtain(model, base, None);
+        let (ls, rs) = curtain(model, base, Some(softer));
+        let (lh, rh) = curtain(model, base, Some(heavier));
+        eprintln!(
+            "{model:?}: one fabric {l0:.4} / {r0:.4}; left softer {ls:.4} / {rs:.4}; left \
+             heavier {lh:.4} / {rh:.4} m"
+        );
+        // One fabric hangs evenly; a softer or heavier left half hangs lower there. The
+        // weight over the stretch modulus gives about 18 mm at 10 N/m and 7 mm at 4x
+        // the weight, against under 2 mm at 100 N/m.
+        assert!((l0 - r0).abs() < 5e-4, "{model:?}: {l0} {r0}");
+        assert!(ls - rs > 0.008, "{model:?}: softer {ls} {rs}");
+        assert!(lh - rh > 0.003, "{model:?}: heavier {lh} {rh}");
+        seen.push([ls, rs, lh, rh]);
+    }
+    // vbd comes to the implicit reference's equilibrium with the zones too.
+    for (v, i) in seen[1].iter().zip(&seen[2]) {
+        assert!(
+            (v - i).abs() < 1e-3,
+            "vbd {:?} implicit {:?}",
+            seen[1],
+            seen[2]
+        );
+    }
+}
+
+/// The dress's pieces, each its own fabric: masses follow each piece's density, a
+/// piece's fabric changes undoably, and the design file keeps them.
+#[test]
+fn each_piece_keeps_its_fabric_through_edits_undo_and_the_file() {
+    let lib = Library::builtin();
+    let denim = lib.get("denim").unwrap().material();
+    let jersey = lib.get("jersey-interlock").unwrap().material();
+    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+    cfg.piece_edge = 0.06;
+    cfg.piece_fabrics = vec![("front".into(), "denim".into())];
+    let mut d = build_design(&cfg).unwrap();
+    assert_eq!(d.pieces[0].fabric, "denim");
+    let base = d.sim.material.density;
+    // The mass each piece should have: its rest area times its fabric's density.
+    let expected = |d: &Design, front: f32, back: f32| -> f64 {
+        d.sim
+            .cloth
+            .live
+            .iter()
+            .map(|(_, t)| {
+                let c = (t.rest[0] + t.rest[1] + t.rest[2]) / 3.0;
+                let rho = match d.record_at(glam::Vec2::new(c.x, -c.z)) {
+                    Some(0) => front,
+                    Some(1) => back,
+                    other => panic!("a triangle of no piece: {other:?}"),
+                };
+                (rho * t.rest_area()) as f64
+            })
+            .sum()
+    };
+    let total = |d: &Design| d.sim.cloth.mass.iter().map(|&m| m as f64).sum::<f64>();
+    let close = |a: f64, b: f64| (a / b - 1.0).abs() < 1e-4;
+    let with_denim = total(&d);
+    assert!(close(with_denim, expected(&d, denim.density, base)));
+    assert!(
+        denim.density > 2.0 * base,
+        "denim is heavier than the default"
+    );
+
+    // The back made of jersey: masses follow; undo and redo take it back and forth.
+    let back = d
+        .piece_list()
+        .iter()
+        .position(|p| p.name == "back")
+        .unwrap();
+    assert_eq!(
+        d.set_piece_fabric(back, "jersey-interlock").unwrap(),
+        "back"
+    );
+    assert_eq!(d.pieces[1].fabric, "jersey-interlock");
+    let with_jersey = total(&d);
+    assert!(close(
+        with_jersey,
+        expected(&d, denim.density, jersey.density)
+    ));
+    d.step().unwrap();
+    d.undo().unwrap();
+    assert_eq!(d.pieces[1].fabric, "cotton");
+    assert_eq!(total(&d), with_denim);
+    d.redo().unwrap();
+    assert_eq!(total(&d), with_jersey);
+
+    // An unknown fabric or piece changes nothing.
+    assert!(d.set_piece_fabric(back, "silk-charmeuse").is_err());
+    assert!(d.set_piece_fabric(9, "denim").is_err());
+    assert_eq!(total(&d), with_jersey);
+
+    // The file keeps every piece's fabric, and the masses with it.
+    let loaded = Design::load_design(&d.save_design().unwrap()).unwrap();
+    assert_eq!(loaded.pieces[0].fabric, "denim");
+    assert_eq!(loaded.pieces[1].fabric, "jersey-interlock");
+    assert!(close(total(&loaded), with_jersey));
+    assert!(!loaded.sim.cloth.zones.is_empty());
+}
+
+/// A piece named for a fabric the library does not have hangs as the design's material,
+/// with a notice; --piece-fabric for a piece the pattern has not is refused.
+#[test]
+fn unknown_fabrics_and_pieces_are_said() {
+    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+    cfg.piece_edge = 0.06;
+    cfg.piece_fabrics = vec![("sleeve".into(), "denim".into())];
+    let err = build_design(&cfg).err().unwrap().to_string();
+    assert!(
+        err.contains("\"sleeve\"") && err.contains("front, back"),
+        "{err}"
+    );
+
+    cfg.piece_fabrics = vec![("back".into(), "silk-charmeuse".into())];
+    let d = build_design(&cfg).unwrap();
+    assert!(
+        d.sim.cloth.zones.is_empty(),
+        "hangs as the design's material"
+    );
+    assert!(
+        d.sim.notices.iter().any(|n| n.contains("silk-charmeuse")),
+        "{:?}",
+        d.sim.notices
+    );
+}
