@@ -44,7 +44,7 @@ struct Service<'a> {
     tool_sent: Option<ToolState>,
     /// The mesh version, piece and seam counts and open stitches the last piece list was
     /// sent for.
-    pieces_sent: Option<(u64, usize, usize, usize)>,
+    pieces_sent: Option<(u64, usize, usize, usize, u64)>,
     seq_pieces: u64,
     tile_cursor: usize,
     threads: usize,
@@ -246,10 +246,15 @@ impl Service<'_> {
         }
     }
 
-    /// The piece list, when the mesh or the pieces changed (the history gives a late UI
-    /// the last one).
+    /// The piece list, when the mesh, the pieces or their fabrics changed (the history
+    /// gives a late UI the last one).
     fn publish_pieces(&mut self) {
+        use std::hash::{Hash, Hasher};
         let d = &self.design;
+        let mut fabrics = std::collections::hash_map::DefaultHasher::new();
+        for p in &d.pieces {
+            p.fabric.hash(&mut fabrics);
+        }
         let key = (
             d.sim.cloth.live.version(),
             d.pieces.len(),
@@ -258,6 +263,7 @@ impl Service<'_> {
                 .iter()
                 .map(|s| s.open_pairs().count())
                 .sum::<usize>(),
+            fabrics.finish(),
         );
         let _ = self.ports.pieces.update_connections();
         if self.pieces_sent == Some(key) {

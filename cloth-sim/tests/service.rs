@@ -905,3 +905,74 @@ fn pieces_are_added_placed_listed_and_deleted_over_the_protocol() {
     stop.store(true, Ordering::Relaxed);
     handle.join().unwrap();
 }
+
+/// A piece made of another fabric over the protocol: the list says so at once, an
+/// unknown fabric is refused, and undo takes it back.
+#[test]
+fn a_piece_gets_its_own_fabric_over_the_protocol() {
+    let d = ScratchDomain::new(&format!("svcf{}", std::process::id())).unwrap();
+    let mut cfg = ServiceConfig::new(d.0.clone());
+    cfg.autosave = std::env::temp_dir().join(format!("saiho-svcf-{}.saiho", std::process::id()));
+    cfg.seconds = Some(60.0);
+    let stop = std::sync::Arc::new(AtomicBool::new(false));
+    let stop2 = stop.clone();
+    let handle = std::thread::spawn(move || {
+        let mut scene = ScenarioConfig::new(ScenarioName::DressMannequin);
+        scene.piece_edge = 0.08;
+        let sim = build_design(&scene).unwrap();
+        run(sim, &cfg, &stop2, &mut |_| {}).unwrap()
+    });
+    let node = services::node(&d, "ui").unwrap();
+    let mut ask = asker(ports::command_client(&node).unwrap());
+    let lists: services::Sub<shared::sim_to_ui::PieceList> =
+        ports::subscriber(&node, services::pieces, None).unwrap();
+    // Waits for a list whose pieces have these fabrics.
+    let fabrics = |want: [&str; 2]| {
+        let deadline = Instant::now() + Duration::from_secs(10);
+        loop {
+            while let Some(l) = lists.receive().unwrap() {
+                let p = shared::sim_to_ui::check_pieces(&l).unwrap();
+                if p.iter().map(|p| p.fabric.as_str()).eq(want) {
+                    return;
+                }
+            }
+            assert!(Instant::now() < deadline, "no list with fabrics {want:?}");
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    };
+    fabrics(["cotton", "cotton"]);
+    let piece_fabric = |name: &str| {
+        let mut c = ToolCommand {
+            op: op::SET_PIECE_FABRIC,
+            a: 1,
+            ..Default::default()
+        };
+        assert!(c.set_text(name));
+        c
+    };
+    let r = ask(piece_fabric("silk-charmeuse"));
+    assert!(
+        r.ok == 0 && r.message().contains("no fabric named"),
+        "{}",
+        r.message()
+    );
+    let r = ask(piece_fabric("jersey-interlock"));
+    assert!(
+        r.ok == 1 && r.message().contains("back is jersey-interlock"),
+        "{}",
+        r.message()
+    );
+    fabrics(["cotton", "jersey-interlock"]);
+    let r = ask(ToolCommand {
+        op: op::UNDO,
+        ..Default::default()
+    });
+    assert!(
+        r.ok == 1 && r.message().contains("piece fabric"),
+        "{}",
+        r.message()
+    );
+    fabrics(["cotton", "cotton"]);
+    stop.store(true, Ordering::Relaxed);
+    handle.join().unwrap();
+}
