@@ -191,7 +191,7 @@ fn command_seeds(dir: &Path) -> std::io::Result<()> {
         Command::RemoveSeam { seam: 0 },
         Command::PlacePiece { piece: 0, place: 1 },
     ];
-    for (name, cmds) in [("edits", &session), ("settings", &more)] {
+    for (name, cmds) in [("edits", &session[..]), ("settings", &more[..])] {
         for model in 0u8..3 {
             let mut bytes = vec![model];
             for c in cmds.iter() {
