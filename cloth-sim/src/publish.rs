@@ -8,7 +8,7 @@ use shared::services::SlicePub;
 use shared::sim_to_haptic::{LocalModel, MAX_PLANES};
 use shared::sim_to_ui::{
     BodyMeshHeader, ClothFrameHeader, MAX_LISTED, MeshCorner, MeshHeader, PieceList, SeamEntry,
-    TextureTile, put_text,
+    SeamSegment, TextureTile, put_text,
 };
 use sim_core::design::sewing_pattern::seam_label;
 use sim_core::design::{Design, TILE, Texture};
@@ -246,5 +246,51 @@ pub(crate) fn piece_list(design: &Design, seq: &mut u64) -> PieceList {
             lengths: [a, b],
         };
     }
+    let lines = sim_core::design::sewing_pattern::seam_lines(design);
+    let listed = lines.iter().filter(|(seam, ..)| *seam < MAX_LISTED);
+    for (g, (seam, a, b)) in l.segments.iter_mut().zip(listed) {
+        *g = SeamSegment {
+            seam: *seam as u32,
+            a: a.as_vec2().to_array(),
+            b: b.as_vec2().to_array(),
+        };
+        l.segment_count += 1;
+    }
     l
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use sim_core::scenario::garment::SEAM_PULL;
+    use sim_core::scenario::{ScenarioConfig, ScenarioName, build_scene};
+
+    /// The dress's list draws each of its four seams along both its sides: the segments
+    /// of a seam are as long as its two sides together, but for an edge at each end
+    /// (the pattern's seam marks, as in pattern.svg, stop short of a corner where the
+    /// stitched vertices skip one). One side alone would be half.
+    #[test]
+    fn the_piece_list_draws_every_seam_along_both_sides() {
+        let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+        cfg.piece_edge = 0.06;
+        let (mut d, spec) = build_scene(&cfg).unwrap();
+        sim_core::design::garment::sew(&mut d, &spec.unwrap(), SEAM_PULL).unwrap();
+        let l = piece_list(&d, &mut 0);
+        let seams = shared::sim_to_ui::check_seams(&l).unwrap();
+        let segments = shared::sim_to_ui::check_seam_segments(&l).unwrap();
+        assert_eq!(seams.len(), 4);
+        for (i, s) in seams.iter().enumerate() {
+            let drawn: f32 = segments
+                .iter()
+                .filter(|g| g.seam as usize == i)
+                .map(|g| glam::Vec2::from(g.a).distance(glam::Vec2::from(g.b)))
+                .sum();
+            let sides = s.lengths[0] + s.lengths[1];
+            assert!(
+                drawn <= sides + 0.01 && drawn >= sides - 2.0 * cfg.piece_edge,
+                "seam {}: drawn {drawn} m, sides {sides} m",
+                s.label()
+            );
+        }
+    }
 }

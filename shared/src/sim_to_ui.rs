@@ -290,6 +290,23 @@ pub struct SeamEntry {
     pub lengths: [f32; 2],
 }
 
+/// Most seam segments a [`PieceList`] carries.
+pub const MAX_SEAM_SEGMENTS: usize = 2048;
+
+/// One outline edge of a listed seam, in the design's pattern plane (rest x and -z), m:
+/// how the studio's pattern view draws each seam in its own colour.
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable,
+)]
+#[repr(C)]
+#[type_name("saiho::SeamSegment")]
+pub struct SeamSegment {
+    /// The seam's place in `seams`.
+    pub seam: u32,
+    pub a: [f32; 2],
+    pub b: [f32; 2],
+}
+
 /// The design's pieces and seams now (`saiho/pieces`, history 1): sent when they
 /// change, in the order cloth-sim numbers them for PLACE_PIECE, DELETE_PIECE and
 /// REMOVE_SEAM.
@@ -309,6 +326,12 @@ pub struct PieceList {
     pub seam_total: u32,
     pub seam_count: u32,
     pub seams: [SeamEntry; MAX_LISTED],
+    /// The listed seams' outline edges (both sides of each), the first
+    /// `segment_count`; a design with more draws the first [`MAX_SEAM_SEGMENTS`].
+    pub segment_count: u32,
+    pub segments: [SeamSegment; MAX_SEAM_SEGMENTS],
+    /// Explicit padding: every byte of a message is a field.
+    pub _pad: u32,
 }
 
 impl Default for PieceList {
@@ -322,6 +345,9 @@ impl Default for PieceList {
             seam_total: 0,
             seam_count: 0,
             seams: [SeamEntry::default(); MAX_LISTED],
+            segment_count: 0,
+            segments: [SeamSegment::default(); MAX_SEAM_SEGMENTS],
+            _pad: 0,
         }
     }
 }
@@ -383,6 +409,29 @@ pub fn check_seams(l: &PieceList) -> Result<Vec<SeamEntry>, MessageError> {
         ));
     }
     Ok(seams.to_vec())
+}
+
+/// Checks a received list's seam segments and returns them: at most
+/// [`MAX_SEAM_SEGMENTS`], each of a listed seam, with finite ends.
+pub fn check_seam_segments(l: &PieceList) -> Result<Vec<SeamSegment>, MessageError> {
+    let n = l.segment_count as usize;
+    if n > MAX_SEAM_SEGMENTS {
+        return Err(malformed(
+            "piece list",
+            format!("{n} seam segments (at most {MAX_SEAM_SEGMENTS})"),
+        ));
+    }
+    let segments = &l.segments[..n];
+    if let Some(k) = segments
+        .iter()
+        .position(|g| g.seam >= l.seam_count || !g.a.iter().chain(&g.b).all(|c| c.is_finite()))
+    {
+        return Err(malformed(
+            "piece list",
+            format!("seam segment {k} names no listed seam or is not finite"),
+        ));
+    }
+    Ok(segments.to_vec())
 }
 
 /// Checks a received piece list and returns its pieces.
@@ -462,4 +511,41 @@ pub fn check_tile(t: &TextureTile, payload: &[u8]) -> Result<(), MessageError> {
         ));
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Segments of listed seams with finite ends pass; one naming a seam past the list,
+    /// one not finite, or more than fit are refused.
+    #[test]
+    fn seam_segments_are_checked() {
+        let mut l = PieceList {
+            seam_total: 2,
+            seam_count: 2,
+            segment_count: 2,
+            ..PieceList::default()
+        };
+        l.segments[0] = SeamSegment {
+            seam: 0,
+            a: [0.0, 0.1],
+            b: [0.0, 0.2],
+        };
+        l.segments[1] = SeamSegment {
+            seam: 1,
+            a: [0.5, 0.1],
+            b: [0.5, 0.2],
+        };
+        assert_eq!(check_seam_segments(&l).unwrap().len(), 2);
+        let mut bad = l;
+        bad.segments[1].seam = 2;
+        assert!(check_seam_segments(&bad).is_err());
+        let mut bad = l;
+        bad.segments[0].b[1] = f32::NAN;
+        assert!(check_seam_segments(&bad).is_err());
+        let mut bad = l;
+        bad.segment_count = MAX_SEAM_SEGMENTS as u32 + 1;
+        assert!(check_seam_segments(&bad).is_err());
+    }
 }

@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use shared::haptic_to_sim::DeviceSample;
 use shared::sim_to_haptic::LocalModel;
-use shared::sim_to_ui::{ListedPiece, MeshCorner, SeamEntry, ToolState};
+use shared::sim_to_ui::{ListedPiece, MeshCorner, SeamEntry, SeamSegment, ToolState};
 use shared::telemetry::{LoopTelemetry, SimTelemetry};
 
 /// The cloth's triangles and what the renderer derives from them.
@@ -253,6 +253,8 @@ pub struct Store {
     /// The design's seams as cloth-sim lists them (labelled A, B, ... by place).
     pub seams: Vec<SeamEntry>,
     pub seams_total: u32,
+    /// The listed seams' outline edges in the pattern plane, each with its seam's place.
+    pub seam_segments: Vec<SeamSegment>,
     /// The mesh piece (`Mesh::piece_of`) the 3D view and pattern view highlight.
     pub highlight: Option<u32>,
 }
@@ -284,6 +286,7 @@ impl Default for Store {
             pieces_total: 0,
             seams: Vec::new(),
             seams_total: 0,
+            seam_segments: Vec::new(),
             highlight: None,
         }
     }

@@ -316,6 +316,7 @@ pub fn messages(data: &[u8]) {
             if let Some((m, _)) = wire::<PieceList>(rest) {
                 let _ = shared::sim_to_ui::check_pieces(&m);
                 let _ = shared::sim_to_ui::check_seams(&m);
+                let _ = shared::sim_to_ui::check_seam_segments(&m);
             }
         }
         9 => {

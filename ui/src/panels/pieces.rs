@@ -333,6 +333,9 @@ fn seams_section(ui: &mut egui::Ui, store: &Store, actions: &mut Vec<Action>) {
         let long = a.max(b);
         let warn = long > 0.0 && (a - b).abs() > 0.2 * long;
         ui.horizontal(|ui| {
+            // The seam's colour, as the pattern view draws it.
+            let (swatch, _) = ui.allocate_exact_size(egui::vec2(10.0, 10.0), egui::Sense::hover());
+            ui.painter().rect_filled(swatch, 2.0, seam_colour(i));
             let text = format!(
                 "{} · {} pairs, {} pulling · {:.0} / {:.0} mm",
                 s.label(),
@@ -363,6 +366,21 @@ fn seams_section(ui: &mut egui::Ui, store: &Store, actions: &mut Vec<Action>) {
             store.seams_total as usize - store.seams.len()
         ));
     }
+}
+
+/// Seam `i`'s colour in the seam list and the pattern view (six, in turn), none of them
+/// near the selection's highlight (peach) or the open stitches' magenta.
+pub fn seam_colour(i: usize) -> egui::Color32 {
+    const PALETTE: [(u8, u8, u8); 6] = [
+        (230, 70, 70),
+        (60, 140, 250),
+        (80, 200, 80),
+        (50, 210, 210),
+        (120, 110, 255),
+        (170, 120, 70),
+    ];
+    let (r, g, b) = PALETTE[i % PALETTE.len()];
+    egui::Color32::from_rgb(r, g, b)
 }
 
 /// What a drawn seam side looks like.
@@ -416,7 +434,8 @@ impl PatternFrame {
         ]
     }
 
-    /// The outlines, the stitches still pulling and the scale bar.
+    /// The outlines, each seam in its colour with its label, the stitches still pulling
+    /// and the scale bar.
     fn draw(&self, painter: &egui::Painter, mesh: &crate::store::Mesh, store: &Store) {
         let bar = egui::pos2(self.rect.left() + 8.0, self.rect.bottom() - 10.0);
         let grey = egui::Color32::from_gray(140);
@@ -438,6 +457,25 @@ impl PatternFrame {
                 (1.0, egui::Color32::from_gray(190))
             };
             painter.line_segment([self.at(*a), self.at(*b)], egui::Stroke::new(w, c));
+        }
+        // Each seam's sides in its colour, its label where each run of its edges starts.
+        for (k, g) in store.seam_segments.iter().enumerate() {
+            let (a, b) = (self.at(g.a), self.at(g.b));
+            let c = seam_colour(g.seam as usize);
+            painter.line_segment([a, b], egui::Stroke::new(3.0, c));
+            let starts_run = k == 0 || {
+                let before = &store.seam_segments[k - 1];
+                before.seam != g.seam || before.b != g.a
+            };
+            if starts_run && let Some(s) = store.seams.get(g.seam as usize) {
+                painter.text(
+                    a + egui::vec2(4.0, -4.0),
+                    egui::Align2::LEFT_BOTTOM,
+                    s.label(),
+                    egui::FontId::proportional(12.0),
+                    c,
+                );
+            }
         }
         // A stitch joins two vertices; each is drawn at its first place in the pattern.
         let mut place_of: std::collections::HashMap<u32, [f32; 2]> = Default::default();

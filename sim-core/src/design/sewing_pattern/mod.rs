@@ -136,12 +136,29 @@ pub fn pattern_parts(design: &Design) -> Vec<Vec<u32>> {
 /// The pieces of the design's pattern (no allowance, not laid out), in millimetres,
 /// named as [`Design::piece_list`] names them.
 pub fn pieces(design: &Design) -> Vec<Piece> {
-    let live = &design.sim.cloth.live;
     let (origin, u, v) = plane(design);
-    let to2 = |p: Vec3| {
+    pieces_in(design, |p: Vec3| {
         let d = p.as_dvec3() - origin;
         DVec2::new(d.dot(u), d.dot(v)) * 1000.0
-    };
+    })
+}
+
+/// Every listed seam's outline edges where the studio's pattern view draws them: in the
+/// design's pattern plane (rest x and -z), metres, each with its seam's index.
+pub fn seam_lines(design: &Design) -> Vec<(usize, DVec2, DVec2)> {
+    let index: HashMap<String, usize> = (0..design.seams.len())
+        .map(|i| (seam_label(i), i))
+        .collect();
+    pieces_in(design, |p: Vec3| DVec2::new(p.x as f64, -p.z as f64))
+        .into_iter()
+        .flat_map(|piece| piece.seams)
+        .filter_map(|(label, a, b)| Some((*index.get(&label)?, a, b)))
+        .collect()
+}
+
+/// [`pieces`] with each rest position mapped into the plane by `to2`.
+fn pieces_in(design: &Design, to2: impl Fn(Vec3) -> DVec2 + Copy) -> Vec<Piece> {
+    let live = &design.sim.cloth.live;
     let parts = pattern_parts(design);
     let names = design.describe(&parts);
     let seam_of = seam_labels(design);
