@@ -16,6 +16,7 @@
 //! fabric handed to the solver as a material zone) and `garment` (a pattern's pieces
 //! placed round the body, meshed, sewn; the pattern files read in) sit beside them.
 
+mod atlas;
 mod cut;
 mod document;
 mod error;

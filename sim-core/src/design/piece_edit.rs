@@ -1,7 +1,7 @@
 //! Pieces added to, placed in and deleted from a design that exists, each one undoable
 //! edit: a new piece is meshed, given its own band of the design's pattern plane (to the
-//! right of everything there) and started at a named place round the body, a layer out
-//! at a time until it crosses nothing; placing a piece moves its vertices to where the
+//! right of everything there) and its own part of the texture (`atlas`), and started at
+//! a named place round the body, a layer out at a time until it crosses nothing; placing a piece moves its vertices to where the
 //! place puts its pattern; deleting one removes its triangles.
 
 use std::collections::HashMap;
@@ -82,15 +82,29 @@ impl Design {
         let others: Vec<[u32; 3]> = self.sim.cloth.live.iter().map(|(_, t)| t.v).collect();
         let (placement, starts) =
             self.first_clear(&name, &verts, &own, (lo, hi), base, &tris, &others)?;
-        let mut prims: Vec<Prim> = starts
+        // Its own part of the texture, the design's parts moved up to make room.
+        let uvs: Vec<[Vec2; 3]> = mesh
+            .triangles
             .iter()
-            .enumerate()
-            .map(|(i, &x)| Prim::AddVertex {
-                index: n0 + i as u32,
-                x,
-                v: Vec3::ZERO,
+            .map(|t| t.map(|v| mesh.uvs[v as usize]))
+            .collect();
+        let areas: Vec<f32> = mesh
+            .triangles
+            .iter()
+            .map(|t| {
+                let [a, b, c] = t.map(|v| own[v as usize]);
+                0.5 * (b - a).perp_dot(c - a).abs()
             })
             .collect();
+        let (room, mut prims) = match self.make_room(&uvs, &areas) {
+            Some((room, prims)) => (Some(room), prims),
+            None => (None, Vec::new()),
+        };
+        prims.extend(starts.iter().enumerate().map(|(i, &x)| Prim::AddVertex {
+            index: n0 + i as u32,
+            x,
+            v: Vec3::ZERO,
+        }));
         for (k, t) in mesh.triangles.iter().enumerate() {
             let rest = t.map(|v| {
                 let p = own[v as usize] + offset;
@@ -102,7 +116,7 @@ impl Design {
                 new: Some(Tri {
                     v: tris[k],
                     rest,
-                    uv: t.map(|v| mesh.uvs[v as usize]),
+                    uv: uvs[k].map(|uv| room.as_ref().map_or(uv, |r| r.piece(uv))),
                 }),
             });
         }

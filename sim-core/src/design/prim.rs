@@ -2,7 +2,7 @@
 //! knows its inverse; an operation's list is one [`Edit`] in the history. Applying them is
 //! `transaction`'s.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 
 use super::parts::Seam;
 use super::pieces::PieceRecord;
@@ -17,6 +17,14 @@ pub enum Prim {
         slot: u32,
         old: Option<Tri>,
         new: Option<Tri>,
+    },
+    /// Triangle slot `slot`'s texture coordinates go from `old` to `new`: moved and
+    /// scaled alike in both directions (the texture's room for a new piece), so its warp
+    /// direction, and so what the models solve, stays as it was.
+    Uv {
+        slot: u32,
+        old: [Vec2; 3],
+        new: [Vec2; 3],
     },
     /// A vertex appended at `index` (always the end) with this position and velocity.
     AddVertex {
@@ -61,6 +69,11 @@ impl Prim {
     pub fn inverse(&self) -> Prim {
         match self.clone() {
             Prim::Tri { slot, old, new } => Prim::Tri {
+                slot,
+                old: new,
+                new: old,
+            },
+            Prim::Uv { slot, old, new } => Prim::Uv {
                 slot,
                 old: new,
                 new: old,

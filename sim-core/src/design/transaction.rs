@@ -11,7 +11,7 @@ use super::error::EditError;
 use super::parts::Seam;
 use super::pieces::PieceRecord;
 use super::prim::{Edit, Prim};
-use crate::mesh::{Tri, edge_key};
+use crate::mesh::{Tri, edge_key, warp_of};
 
 /// What a batch of primitives touched, for the incremental update.
 #[derive(Default)]
@@ -66,6 +66,18 @@ impl Design {
                 cloth.live.set(*slot, *new)?;
                 touched.tri(*slot, old.as_ref());
                 touched.tri(*slot, new.as_ref());
+            }
+            Prim::Uv { slot, old, new } => {
+                let Some(t) = cloth.live.tri(*slot) else {
+                    return Err(EditError::Stale(*slot));
+                };
+                // Only a move that keeps the warp direction leaves the models as they
+                // are (they are not told of it).
+                let (w0, w1) = (warp_of(t.rest, *old), warp_of(t.rest, *new));
+                if t.uv != *old || w0.dot(w1) < 1.0 - 1e-4 {
+                    return Err(EditError::Stale(*slot));
+                }
+                cloth.live.set_uv(*slot, *new)?;
             }
             Prim::AddVertex { index, x, v } => {
                 if *index as usize != cloth.len() || !x.is_finite() || !v.is_finite() {

@@ -318,6 +318,30 @@ impl LiveMesh {
         Ok(old)
     }
 
+    /// Gives the triangle in `slot` new texture coordinates, its corners and rest shape
+    /// as they are; returns the old ones. Fails, changing nothing, without a triangle
+    /// there or with a UV outside [0, 1].
+    pub fn set_uv(&mut self, slot: u32, uv: [Vec2; 3]) -> Result<[Vec2; 3], GeometryError> {
+        let t = self
+            .tris
+            .get_mut(slot as usize)
+            .and_then(|t| t.as_mut())
+            .ok_or(GeometryError::Degenerate {
+                triangle: slot as usize,
+            })?;
+        if uv
+            .iter()
+            .any(|u| !u.is_finite() || u.min_element() < 0.0 || u.max_element() > 1.0)
+        {
+            return Err(GeometryError::BadUv {
+                vertex: t.v[0] as usize,
+            });
+        }
+        let old = std::mem::replace(&mut t.uv, uv);
+        self.version += 1;
+        Ok(old)
+    }
+
     /// Checks the invariants the solvers rely on against positions `x`: indices in range,
     /// no repeated index or zero-area triangle, every edge in at most two triangles,
     /// finite positions of live vertices, UVs finite and within [0, 1].
