@@ -182,9 +182,14 @@ impl ClothOut {
                 normals[i as usize] += nn;
             }
         }
-        let stitches: Vec<(u32, u32)> = design.seams.iter().flat_map(|s| s.open_pairs()).collect();
+        let stitches: Vec<(u32, u32, u32)> = design
+            .seams
+            .iter()
+            .enumerate()
+            .flat_map(|(k, s)| s.open_pairs().map(move |(a, b)| (a, b, k as u32)))
+            .collect();
         let mut s = frame_pub
-            .loan_slice_uninit(6 * n + 2 * stitches.len())
+            .loan_slice_uninit(6 * n + 3 * stitches.len())
             .map_err(port_error)?;
         *s.user_header_mut() = ClothFrameHeader {
             header: Header::next(&mut self.seq_frame),
@@ -203,8 +208,9 @@ impl ClothOut {
                 let j = i - 3 * n;
                 normals[j / 3].normalize_or(Vec3::Y)[j % 3]
             } else {
-                let (a, b) = stitches[(i - 6 * n) / 2];
-                (if i % 2 == 0 { a } else { b }) as f32
+                let j = i - 6 * n;
+                let (a, b, seam) = stitches[j / 3];
+                [a, b, seam][j % 3] as f32
             }
         });
         s.send().map_err(port_error)?;

@@ -28,7 +28,8 @@ pub struct ClothFrameHeader {
     pub pen_sent_ns: u64,
     pub vertices: u32,
     /// Open seam stitches (pairs still pulling together): after the positions and
-    /// normals, `2 * stitches` vertex indices as floats (exact below 2^24).
+    /// normals, `3 * stitches` floats, each stitch's two vertex indices and its seam's
+    /// place in the seam list (whole numbers, exact below 2^24).
     pub stitches: u32,
 }
 
@@ -121,7 +122,7 @@ fn malformed(what: &'static str, why: String) -> MessageError {
 pub fn check_frame(h: &ClothFrameHeader, payload: &[f32]) -> Result<(), MessageError> {
     h.header.check()?;
     let n = h.vertices as usize;
-    let expected = 6 * n + 2 * h.stitches as usize;
+    let expected = 6 * n + 3 * h.stitches as usize;
     if payload.len() != expected {
         return Err(malformed(
             "cloth frame",
@@ -135,23 +136,29 @@ pub fn check_frame(h: &ClothFrameHeader, payload: &[f32]) -> Result<(), MessageE
     if let Some(i) = payload.iter().position(|v| !v.is_finite()) {
         return Err(malformed("cloth frame", format!("value {i} is not finite")));
     }
-    if let Some(v) = payload[6 * n..]
-        .iter()
-        .find(|v| !(v.fract() == 0.0 && **v >= 0.0 && (**v as usize) < n))
-    {
-        return Err(malformed(
-            "cloth frame",
-            format!("stitch vertex {v} is not one of the {n} vertices"),
-        ));
+    let whole = |v: f32| v.fract() == 0.0 && v >= 0.0;
+    for st in payload[6 * n..].chunks_exact(3) {
+        if let Some(v) = st[..2].iter().find(|v| !(whole(**v) && (**v as usize) < n)) {
+            return Err(malformed(
+                "cloth frame",
+                format!("stitch vertex {v} is not one of the {n} vertices"),
+            ));
+        }
+        if !(whole(st[2]) && st[2] < (1 << 24) as f32) {
+            return Err(malformed(
+                "cloth frame",
+                format!("stitch seam {} is not a place in a list", st[2]),
+            ));
+        }
     }
     Ok(())
 }
 
-/// The open stitches of a checked frame's payload.
-pub fn frame_stitches(h: &ClothFrameHeader, payload: &[f32]) -> Vec<[u32; 2]> {
+/// The open stitches of a checked frame's payload: two vertices and the seam's place.
+pub fn frame_stitches(h: &ClothFrameHeader, payload: &[f32]) -> Vec<[u32; 3]> {
     payload[6 * h.vertices as usize..]
-        .chunks_exact(2)
-        .map(|p| [p[0] as u32, p[1] as u32])
+        .chunks_exact(3)
+        .map(|p| [p[0] as u32, p[1] as u32, p[2] as u32])
         .collect()
 }
 

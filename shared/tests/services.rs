@@ -123,12 +123,21 @@ fn cloth_frames_and_meshes_are_checked() {
     let mut bad = [0.0f32; 12];
     bad[5] = f32::INFINITY;
     assert!(check_frame(&h, &bad).is_err());
-    // Open stitches follow the normals, as vertex indices.
+    // Open stitches follow the normals: two vertex indices and the seam's place.
     let hs = ClothFrameHeader { stitches: 1, ..h };
-    let mut with = [0.0f32; 14];
-    with[12..].copy_from_slice(&[1.0, 0.0]);
+    let mut with = [0.0f32; 15];
+    with[12..].copy_from_slice(&[1.0, 0.0, 3.0]);
     check_frame(&hs, &with).unwrap();
-    assert_eq!(shared::sim_to_ui::frame_stitches(&hs, &with), vec![[1, 0]]);
+    assert_eq!(
+        shared::sim_to_ui::frame_stitches(&hs, &with),
+        vec![[1, 0, 3]]
+    );
+    for seam in [-1.0, 0.5, f32::MAX] {
+        let mut bad = with;
+        bad[14] = seam;
+        let e = check_frame(&hs, &bad).unwrap_err().to_string();
+        assert!(e.contains("stitch seam"), "{seam}: {e}");
+    }
     assert!(
         check_frame(&hs, &[0.0; 12])
             .unwrap_err()

@@ -237,8 +237,9 @@ pub struct Store {
     pub model: Option<LocalModel>,
     pub loop_tel: Option<Box<LoopTelemetry>>,
     pub sim_tel: Option<Box<SimTelemetry>>,
-    /// Open seam stitches of the newest frame (vertex pairs still pulling together).
-    pub stitches: Vec<[u32; 2]>,
+    /// Open seam stitches of the newest frame: vertex pairs still pulling together, each
+    /// with its seam's place in the seam list.
+    pub stitches: Vec<[u32; 3]>,
     /// The last 600 points (one per loop telemetry message, 10 Hz: a minute).
     pub history: VecDeque<Sample>,
     pub heard: Heard,

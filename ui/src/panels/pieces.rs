@@ -10,7 +10,7 @@ use shared::ui_to_sim::{PIECE_EDGE, PIECE_SIZE, place, shape};
 
 use crate::action::Action;
 use crate::store::Store;
-use crate::view3d::{HIGHLIGHT, STITCH_COLOUR};
+use crate::view3d::HIGHLIGHT;
 
 /// What the panel holds between frames: the selection and the new piece's settings.
 pub struct PiecesPanel {
@@ -368,19 +368,9 @@ fn seams_section(ui: &mut egui::Ui, store: &Store, actions: &mut Vec<Action>) {
     }
 }
 
-/// Seam `i`'s colour in the seam list and the pattern view (six, in turn), none of them
-/// near the selection's highlight (peach) or the open stitches' magenta.
+/// Seam `i`'s colour (the 3D view's, [`crate::view3d::seam_colour`]).
 pub fn seam_colour(i: usize) -> egui::Color32 {
-    const PALETTE: [(u8, u8, u8); 6] = [
-        (230, 70, 70),
-        (60, 140, 250),
-        (80, 200, 80),
-        (50, 210, 210),
-        (120, 110, 255),
-        (170, 120, 70),
-    ];
-    let (r, g, b) = PALETTE[i % PALETTE.len()];
-    egui::Color32::from_rgb(r, g, b)
+    colour(crate::view3d::seam_colour(i))
 }
 
 /// What a drawn seam side looks like.
@@ -482,9 +472,10 @@ impl PatternFrame {
         for c in &mesh.corners {
             place_of.entry(c.vertex).or_insert(c.pattern);
         }
-        let stitch = egui::Stroke::new(1.0, colour(STITCH_COLOUR).gamma_multiply(0.6));
-        for [a, b] in &store.stitches {
+        for [a, b, seam] in &store.stitches {
             if let (Some(pa), Some(pb)) = (place_of.get(a), place_of.get(b)) {
+                let stitch =
+                    egui::Stroke::new(1.0, seam_colour(*seam as usize).gamma_multiply(0.6));
                 painter.line_segment([self.at(*pa), self.at(*pb)], stitch);
             }
         }

@@ -12,4 +12,4 @@ mod scene;
 
 pub use gpu::Vertex;
 pub use renderer::View3d;
-pub use scene::{BORDER_COLOUR, HIGHLIGHT, Overlay, SEWN_COLOUR, STITCH_COLOUR};
+pub use scene::{BORDER_COLOUR, HIGHLIGHT, Overlay, SEWN_COLOUR, seam_colour};

@@ -7,10 +7,25 @@ use glam::Vec3;
 use super::gpu::Vertex;
 use crate::store::{Mesh, Store};
 
-/// Lines over the cloth: its border and cuts, sewn edges, stitches still pulling.
+/// Lines over the cloth: its border and cuts, and sewn edges. Stitches still pulling are
+/// drawn in their seam's colour ([`seam_colour`]).
 pub const BORDER_COLOUR: [f32; 4] = [0.95, 0.55, 0.1, 1.0];
 pub const SEWN_COLOUR: [f32; 4] = [0.3, 0.65, 1.0, 1.0];
-pub const STITCH_COLOUR: [f32; 4] = [0.85, 0.3, 0.95, 1.0];
+
+/// Seam `i`'s colour in the 3D view, the seam list and the pattern view (six, in turn),
+/// none of them near the border's orange, the sewn edges' blue or the selection's peach.
+pub fn seam_colour(i: usize) -> [f32; 4] {
+    const PALETTE: [[f32; 3]; 6] = [
+        [0.9, 0.24, 0.24],
+        [0.35, 0.78, 0.27],
+        [0.16, 0.78, 0.86],
+        [0.47, 0.39, 1.0],
+        [0.86, 0.31, 0.86],
+        [0.75, 0.75, 0.2],
+    ];
+    let [r, g, b] = PALETTE[i % PALETTE.len()];
+    [r, g, b, 1.0]
+}
 /// The selected piece's tint (times the texture).
 pub const HIGHLIGHT: [f32; 4] = [1.0, 0.78, 0.45, 1.0];
 
@@ -127,15 +142,16 @@ pub(super) fn lines(store: &Store, overlay: &Overlay, out: &mut Vec<Vertex>) {
         .mesh
         .as_ref()
         .map_or((&[][..], &[][..]), |m| (&m.border[..], &m.sewn[..]));
-    for (edges, colour) in [
-        (border, BORDER_COLOUR),
-        (sewn, SEWN_COLOUR),
-        (&store.stitches[..], STITCH_COLOUR),
-    ] {
-        for &[a, b] in edges {
-            if let (Some(pa), Some(pb)) = (store.x.get(a as usize), store.x.get(b as usize)) {
-                line_lifted(out, Vec3::from(*pa), Vec3::from(*pb), colour, 0.003);
-            }
+    let coloured = [(border, BORDER_COLOUR), (sewn, SEWN_COLOUR)]
+        .into_iter()
+        .flat_map(|(edges, colour)| edges.iter().map(move |&[a, b]| (a, b, colour)));
+    let stitches = store
+        .stitches
+        .iter()
+        .map(|&[a, b, seam]| (a, b, seam_colour(seam as usize)));
+    for (a, b, colour) in coloured.chain(stitches) {
+        if let (Some(pa), Some(pb)) = (store.x.get(a as usize), store.x.get(b as usize)) {
+            line_lifted(out, Vec3::from(*pa), Vec3::from(*pb), colour, 0.003);
         }
     }
     if let Some((a, b)) = overlay.spring {
