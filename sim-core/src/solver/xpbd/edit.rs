@@ -76,11 +76,12 @@ impl Xpbd {
     /// arrays) are picked up from `cloth`.
     pub fn follow_edit(&mut self, cloth: &Cloth, tris: &[u32], edges: &[u64], verts: &[u32]) {
         let n = cloth.len();
-        if self.prev.len() > n {
-            // Vertices went (an undone cut, tear or new piece). A switched-off constraint
-            // in the packed groups still names its vertices, and the groups may have been
-            // built while those existed (after a material change, say): rebuild rather
-            // than leave an index past the cloth (found by the commands fuzz target).
+        if n < self.built {
+            // Vertices went that the packed groups were built with (a material change
+            // after a cut, then its undo, say): a switched-off constraint there still
+            // names them, so rebuild rather than leave an index past the cloth (found by
+            // the commands fuzz target). Vertices added since the build live only in the
+            // edits' own constraints, which the removed triangles take with them below.
             let mut prev = std::mem::take(&mut self.prev);
             prev.truncate(n);
             let limits = std::mem::take(&mut self.limits);
@@ -90,6 +91,10 @@ impl Xpbd {
             *self = fresh;
             return;
         }
+        // Vertices added by edits and now undone.
+        self.prev.truncate(n);
+        self.normals.truncate(n);
+        self.area.truncate(n);
         for i in self.prev.len()..n {
             self.prev.push(cloth.x[i]);
             self.normals.push(Vec3::Y);

@@ -39,6 +39,9 @@ pub struct Xpbd {
     pub(super) extra_bends: Vec<BendConstraint>,
     /// Threads for the halves (1 or 2).
     pub threads: usize,
+    /// The cloth's vertex count when the groups were packed: no packed constraint names
+    /// a vertex at or past it.
+    pub(super) built: usize,
 }
 
 impl Xpbd {
@@ -95,6 +98,7 @@ impl Xpbd {
             extra_membranes: Vec::new(),
             extra_bends: Vec::new(),
             threads: 1,
+            built: cloth.len(),
         }
     }
 
