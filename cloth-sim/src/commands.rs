@@ -111,6 +111,16 @@ pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
                 .map(|n| format!("Deleted {name} ({n} triangles)"))
                 .map_err(e)
         }
+        Command::NameSeam { seam, name } => {
+            let label = sim_core::design::sewing_pattern::seam_label(*seam as usize);
+            design
+                .name_seam(*seam as usize, name)
+                .map(|_| match name.trim() {
+                    "" => format!("Seam {label} goes by its letter again"),
+                    n => format!("Seam {label} is now called \"{n}\" (undo takes it back)"),
+                })
+                .map_err(e)
+        }
         Command::RemoveSeam { seam } => {
             let label = sim_core::design::sewing_pattern::seam_label(*seam as usize);
             design

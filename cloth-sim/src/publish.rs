@@ -244,12 +244,16 @@ pub(crate) fn piece_list(design: &Design, seq: &mut u64) -> PieceList {
         let (a, b) = design.seam_lengths(s);
         let mut label = [0u8; 4];
         let label_len = put_text(&mut label, &seam_label(i));
+        let mut name = [0u8; shared::sim_to_ui::SEAM_NAME_LEN];
+        let name_len = put_text(&mut name, &s.name);
         *e = SeamEntry {
             label,
             label_len,
             pairs: s.pairs.len() as u32,
             open: s.open_pairs().count() as u32,
             lengths: [a, b],
+            name_len,
+            name,
         };
     }
     let lines = sim_core::design::sewing_pattern::seam_lines(design);
@@ -271,7 +275,8 @@ mod tests {
     use sim_core::scenario::garment::SEAM_PULL;
     use sim_core::scenario::{ScenarioConfig, ScenarioName, build_scene};
 
-    /// The dress's list draws each of its four seams along both its sides: the segments
+    /// The dress's list names its seams and draws each of its four seams along both its
+    /// sides: the segments
     /// of a seam are as long as its two sides together, but for an edge at each end
     /// (the pattern's seam marks, as in pattern.svg, stop short of a corner where the
     /// stitched vertices skip one). One side alone would be half.
@@ -281,10 +286,15 @@ mod tests {
         cfg.piece_edge = 0.06;
         let (mut d, spec) = build_scene(&cfg).unwrap();
         sim_core::design::garment::sew(&mut d, &spec.unwrap(), SEAM_PULL).unwrap();
+        d.name_seam(2, "left side, the longest name a seam could ever have")
+            .unwrap();
         let l = piece_list(&d, &mut 0);
         let seams = shared::sim_to_ui::check_seams(&l).unwrap();
         let segments = shared::sim_to_ui::check_seam_segments(&l).unwrap();
         assert_eq!(seams.len(), 4);
+        // A name is carried, cut at its array's 32 bytes.
+        assert_eq!(seams[2].name(), "left side, the longest name a se");
+        assert_eq!(seams[0].name(), "");
         for (i, s) in seams.iter().enumerate() {
             let drawn: f32 = segments
                 .iter()

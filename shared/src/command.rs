@@ -162,6 +162,11 @@ pub enum Command {
         piece: u32,
         name: String,
     },
+    /// Seam `seam` (in `saiho/pieces` order) named `name` (empty: by its letter).
+    NameSeam {
+        seam: u32,
+        name: String,
+    },
 }
 
 /// Why a command cannot be put on the wire.
@@ -233,6 +238,7 @@ impl Command {
             Self::RemoveSeam { .. } => op::REMOVE_SEAM,
             Self::SetFabric { .. } => op::SET_FABRIC,
             Self::SetPieceFabric { .. } => op::SET_PIECE_FABRIC,
+            Self::NameSeam { .. } => op::NAME_SEAM,
         }
     }
 
@@ -271,8 +277,8 @@ impl Command {
             | Self::SetFabric { name: path } => {
                 set_text(&mut c, path)?;
             }
-            Self::SetPieceFabric { piece, name } => {
-                c.a = *piece;
+            Self::SetPieceFabric { piece: a, name } | Self::NameSeam { seam: a, name } => {
+                c.a = *a;
                 set_text(&mut c, name)?;
             }
             Self::SetTool {
@@ -430,6 +436,10 @@ impl Command {
                 piece: c.a,
                 name: text(c),
             },
+            op::NAME_SEAM => Self::NameSeam {
+                seam: c.a,
+                name: text(c),
+            },
             op::SEAM_PLANE => Self::SeamPlane {
                 a: [[u[0], u[1]], [u[2], u[3]]],
                 b: [[u[4], u[5]], [u[6], u[7]]],
@@ -582,6 +592,10 @@ mod tests {
             Command::SetPieceFabric {
                 piece: 1,
                 name: "jersey-interlock".into(),
+            },
+            Command::NameSeam {
+                seam: 2,
+                name: "left side, 1 cm".into(),
             },
         ]
     }

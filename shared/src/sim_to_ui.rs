@@ -247,6 +247,8 @@ pub const MAX_LISTED: usize = 32;
 /// Bytes of a listed piece's name and fabric (longer ones are cut at a character).
 pub const PIECE_NAME_LEN: usize = 48;
 pub const FABRIC_NAME_LEN: usize = 24;
+/// Bytes of a listed seam's name (a longer one is cut at a character).
+pub const SEAM_NAME_LEN: usize = 32;
 
 /// One piece as the list carries it.
 #[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable)]
@@ -295,6 +297,9 @@ pub struct SeamEntry {
     pub open: u32,
     /// Its two sides' lengths in the pattern, m.
     pub lengths: [f32; 2],
+    /// What the designer calls it (empty: nothing but its label).
+    pub name_len: u32,
+    pub name: [u8; SEAM_NAME_LEN],
 }
 
 /// Most seam segments a [`PieceList`] carries.
@@ -387,6 +392,14 @@ impl SeamEntry {
             .and_then(|t| std::str::from_utf8(t).ok())
             .unwrap_or("?")
     }
+
+    /// The designer's name for it (checked to be UTF-8 by [`check_seams`]).
+    pub fn name(&self) -> &str {
+        self.name
+            .get(..self.name_len as usize)
+            .and_then(|t| std::str::from_utf8(t).ok())
+            .unwrap_or("")
+    }
 }
 
 /// Checks a received list's seams and returns them.
@@ -407,6 +420,10 @@ pub fn check_seams(l: &PieceList) -> Result<Vec<SeamEntry>, MessageError> {
             || !s.lengths.iter().all(|v| v.is_finite() && *v >= 0.0)
             || s.label
                 .get(..s.label_len as usize)
+                .and_then(|t| std::str::from_utf8(t).ok())
+                .is_none()
+            || s.name
+                .get(..s.name_len as usize)
                 .and_then(|t| std::str::from_utf8(t).ok())
                 .is_none()
     }) {

@@ -70,7 +70,10 @@ pub mod op {
     /// library's, or `cotton`: the design's own material), undoably; its mass, stretch,
     /// shear and bending become the fabric's, the other pieces stay as they are.
     pub const SET_PIECE_FABRIC: u32 = 23;
-    pub const LAST: u32 = SET_PIECE_FABRIC;
+    /// Seam `a` (as `saiho/pieces` lists them) named `text` (UTF-8, at most 120
+    /// characters; empty: it goes by its letter again), undoably.
+    pub const NAME_SEAM: u32 = 24;
+    pub const LAST: u32 = NAME_SEAM;
 }
 
 /// [`ToolCommand::b`] of a RESET: the body.
@@ -201,6 +204,9 @@ impl Checked for ToolCommand {
             && self.text().is_none_or(str::is_empty)
         {
             return Err("save, load and export need a UTF-8 path".into());
+        }
+        if self.op == op::NAME_SEAM && self.text().is_none() {
+            return Err("a seam's name must be UTF-8 text".into());
         }
         if matches!(self.op, op::SET_FABRIC | op::SET_PIECE_FABRIC)
             && self.text().is_none_or(|t| t.trim().is_empty())

@@ -395,3 +395,28 @@ fn pieces_are_added_placed_and_deleted_undoably() {
     assert!(err.to_string().starts_with("pocket:"), "{err}");
     assert_eq!((d.sim.cloth.len(), d.piece_list()), before);
 }
+
+/// A seam named by the designer: undoable, kept by the design file; a name too long or
+/// with control characters is refused and changes nothing.
+#[test]
+fn seams_are_named_undoably_and_the_file_keeps_their_names() {
+    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+    cfg.piece_edge = 0.08;
+    let (mut d, spec) = sim_core::scenario::build_scene(&cfg).unwrap();
+    sim_core::design::garment::sew(&mut d, &spec.unwrap(), 0.5).unwrap();
+    assert_eq!(d.seams.len(), 4);
+    d.name_seam(1, "  left side ").unwrap();
+    assert_eq!(d.seams[1].name, "left side");
+    d.undo().unwrap();
+    assert_eq!(d.seams[1].name, "");
+    d.redo().unwrap();
+    let loaded = Design::load_design(&d.save_design().unwrap()).unwrap();
+    assert_eq!(loaded.seams[1].name, "left side");
+    assert_eq!(loaded.seams[0].name, "");
+    let long = "x".repeat(121);
+    for bad in [long.as_str(), "left\nside"] {
+        assert!(d.name_seam(1, bad).is_err(), "{bad:?}");
+        assert_eq!(d.seams[1].name, "left side");
+    }
+    assert!(d.name_seam(9, "nowhere").is_err());
+}

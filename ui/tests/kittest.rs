@@ -583,12 +583,30 @@ fn seam_rows(h: &mut Harness<'static, App>) {
             pairs: 12,
             open: 3,
             lengths,
+            ..Default::default()
         }
     };
-    h.state_mut().store.seams = vec![seam(b"A", [0.24, 0.24]), seam(b"B", [0.3, 0.2])];
+    let mut named = seam(b"A", [0.24, 0.24]);
+    named.name_len = shared::sim_to_ui::put_text(&mut named.name, "left side");
+    h.state_mut().store.seams = vec![named, seam(b"B", [0.3, 0.2])];
     h.state_mut().store.seams_total = 2;
     h.run_steps(2);
-    h.get_by_label("A · 12 pairs, 3 pulling · 240 / 240 mm");
+    h.get_by_label("A (left side) · 12 pairs, 3 pulling · 240 / 240 mm");
+    // Naming B: its row's Name opens the field with its name so far; OK sends it.
+    h.get_all_by_label("Name").nth(1).unwrap().scroll_to_me();
+    h.run_steps(20);
+    h.get_all_by_label("Name").nth(1).unwrap().click();
+    h.run_steps(2);
+    assert_eq!(h.state().pieces.naming, Some((1, String::new())));
+    h.state_mut().pieces.naming = Some((1, " right side ".into()));
+    h.run_steps(1);
+    press(h, "OK");
+    let c = *commands(h).last().unwrap();
+    assert_eq!(
+        (c.op, c.a, c.text()),
+        (op::NAME_SEAM, 1, Some("right side"))
+    );
+    assert_eq!(h.state().pieces.naming, None);
     h.get_by_label("B · 12 pairs, 3 pulling · 300 / 200 mm");
     let removes = h.get_all_by_label("Remove").count();
     assert_eq!(removes, 2);

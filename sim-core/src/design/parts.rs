@@ -10,6 +10,8 @@ pub struct Seam {
     pub pairs: Vec<(u32, u32)>,
     /// Largest force one stitch pulls with, N.
     pub max_force: f32,
+    /// What the designer calls it ("left side seam"); empty: it goes by its letter.
+    pub name: String,
 }
 
 /// The seams' open stitches, as the solver pulls them.

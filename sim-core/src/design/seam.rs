@@ -106,7 +106,11 @@ impl Design {
                 .map(|(j, &t)| (a[nearest(&ta, t)], b[j]))
                 .collect()
         };
-        let seam = Seam { pairs, max_force };
+        let seam = Seam {
+            pairs,
+            max_force,
+            name: String::new(),
+        };
         let count = seam.pairs.len();
         let index = self.seams.len() as u32;
         self.commit(
@@ -118,6 +122,38 @@ impl Design {
             }],
         )?;
         Ok(count)
+    }
+
+    /// Names seam `index` (`name` trimmed; empty: it goes by its letter again). Undoable.
+    /// A name longer than [`MAX_NAME`](super::MAX_NAME) characters is refused.
+    pub fn name_seam(&mut self, index: usize, name: &str) -> Result<(), EditError> {
+        let count = self.seams.len();
+        let Some(old) = self.seams.get(index).cloned() else {
+            return Err(EditError::NoSeam { index, count });
+        };
+        let name = name.trim();
+        if name.chars().count() > super::MAX_NAME || name.chars().any(char::is_control) {
+            return Err(EditError::BadValue {
+                name: "seam name",
+                rule: "at most 120 characters, none of them control characters",
+                value: format!("{} characters", name.chars().count()),
+            });
+        }
+        if old.name == name {
+            return Ok(());
+        }
+        let new = Seam {
+            name: name.to_string(),
+            ..old.clone()
+        };
+        self.commit(
+            "name seam",
+            vec![Prim::Seam {
+                index: index as u32,
+                old: Some(old),
+                new: Some(new),
+            }],
+        )
     }
 
     /// Removes seam `index` (its open stitches stop pulling; pairs already welded stay

@@ -182,6 +182,10 @@ fn command_seeds(dir: &Path) -> std::io::Result<()> {
             piece: 0,
             name: "jersey-interlock".into(),
         },
+        Command::NameSeam {
+            seam: 0,
+            name: "left side".into(),
+        },
         Command::RemoveRegion {
             min: [0.2, 0.2],
             max: [0.6, 0.6],

@@ -30,6 +30,8 @@ pub struct PiecesPanel {
     /// What a piece can be made of: the design's own material, then the library's
     /// fabrics (name, what the chooser's hover says).
     fabrics: Vec<(String, String)>,
+    /// The seam being named and the name typed so far.
+    pub naming: Option<(usize, String)>,
 }
 
 /// The fabric chooser's entries.
@@ -67,6 +69,7 @@ impl Default for PiecesPanel {
             seam_sides: Vec::new(),
             drag_from: None,
             fabrics: fabric_entries(),
+            naming: None,
         }
     }
 }
@@ -174,7 +177,7 @@ impl PiecesPanel {
             ui.label("Place");
             place_combo(ui, "piece-place", &mut self.place);
         });
-        seams_section(ui, store, actions);
+        seams_section(ui, store, &mut self.naming, actions);
         self.add_section(ui, actions);
         ui.checkbox(&mut self.pattern_open, "Pattern view")
             .on_hover_text("The pieces flat, as they are now, with the stitches still pulling");
@@ -323,34 +326,29 @@ impl PiecesPanel {
 
 /// The seams: label, pairs (still pulling), the sides' lengths with a warning when they
 /// differ by more than a fifth, and a Remove button each.
-fn seams_section(ui: &mut egui::Ui, store: &Store, actions: &mut Vec<Action>) {
+/// The seam list: each seam's colour, label and name, pairs, both sides' lengths (a
+/// warning colour past a fifth apart), Name and Remove; and the name being typed.
+fn seams_section(
+    ui: &mut egui::Ui,
+    store: &Store,
+    naming: &mut Option<(usize, String)>,
+    actions: &mut Vec<Action>,
+) {
     if store.seams.is_empty() {
+        *naming = None;
         return;
     }
     ui.label("Seams");
     for (i, s) in store.seams.iter().enumerate() {
-        let [a, b] = s.lengths;
-        let long = a.max(b);
-        let warn = long > 0.0 && (a - b).abs() > 0.2 * long;
         ui.horizontal(|ui| {
-            // The seam's colour, as the pattern view draws it.
-            let (swatch, _) = ui.allocate_exact_size(egui::vec2(10.0, 10.0), egui::Sense::hover());
-            ui.painter().rect_filled(swatch, 2.0, seam_colour(i));
-            let text = format!(
-                "{} · {} pairs, {} pulling · {:.0} / {:.0} mm",
-                s.label(),
-                s.pairs,
-                s.open,
-                1000.0 * a,
-                1000.0 * b
-            );
-            let label = if warn {
-                ui.colored_label(egui::Color32::from_rgb(240, 170, 60), text)
-                    .on_hover_text("Its sides differ by more than a fifth: the longer will gather")
-            } else {
-                ui.label(text)
-            };
-            label.on_hover_text("Pairs already sewn stay sewn when the seam is removed");
+            seam_row(ui, i, s);
+            if ui
+                .small_button("Name")
+                .on_hover_text("Give this seam a name of your own (the pattern keeps its letter)")
+                .clicked()
+            {
+                *naming = Some((i, s.name().to_string()));
+            }
             if ui
                 .small_button("Remove")
                 .on_hover_text("Remove this seam (undo brings it back)")
@@ -366,6 +364,59 @@ fn seams_section(ui: &mut egui::Ui, store: &Store, actions: &mut Vec<Action>) {
             store.seams_total as usize - store.seams.len()
         ));
     }
+    let Some((i, name)) = naming.as_mut().filter(|(i, _)| *i < store.seams.len()) else {
+        *naming = None;
+        return;
+    };
+    let seam = *i as u32;
+    let mut done = false;
+    ui.horizontal(|ui| {
+        ui.label(format!("Seam {}", store.seams[*i].label()));
+        ui.add(egui::TextEdit::singleline(name).desired_width(120.0))
+            .on_hover_text("Empty: the seam goes by its letter again");
+        if ui.button("OK").clicked() {
+            actions.push(Action::Command(Command::NameSeam {
+                seam,
+                name: name.trim().to_string(),
+            }));
+            done = true;
+        }
+        if ui.button("Cancel").clicked() {
+            done = true;
+        }
+    });
+    if done {
+        *naming = None;
+    }
+}
+
+/// One seam's swatch and text.
+fn seam_row(ui: &mut egui::Ui, i: usize, s: &shared::sim_to_ui::SeamEntry) {
+    let [a, b] = s.lengths;
+    let long = a.max(b);
+    let warn = long > 0.0 && (a - b).abs() > 0.2 * long;
+    // The seam's colour, as the views draw it.
+    let (swatch, _) = ui.allocate_exact_size(egui::vec2(10.0, 10.0), egui::Sense::hover());
+    ui.painter().rect_filled(swatch, 2.0, seam_colour(i));
+    let named = match s.name() {
+        "" => String::new(),
+        n => format!(" ({n})"),
+    };
+    let text = format!(
+        "{}{named} · {} pairs, {} pulling · {:.0} / {:.0} mm",
+        s.label(),
+        s.pairs,
+        s.open,
+        1000.0 * a,
+        1000.0 * b
+    );
+    let label = if warn {
+        ui.colored_label(egui::Color32::from_rgb(240, 170, 60), text)
+            .on_hover_text("Its sides differ by more than a fifth: the longer will gather")
+    } else {
+        ui.label(text)
+    };
+    label.on_hover_text("Pairs already sewn stay sewn when the seam is removed");
 }
 
 /// Seam `i`'s colour (the 3D view's, [`crate::view3d::seam_colour`]).

@@ -52,6 +52,9 @@ pub struct Section {
 pub struct SeamRecord {
     pub pairs: Vec<(u32, u32)>,
     pub max_force: f32,
+    /// Files written before seams had names have none.
+    #[serde(default)]
+    pub name: String,
 }
 
 /// The JSON header.

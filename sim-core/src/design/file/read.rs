@@ -279,9 +279,13 @@ fn read_seams(h: &Header) -> Result<Vec<Seam>, DesignError> {
                     "a seam refers to a missing vertex or has a bad force",
                 ));
             }
+            if s.name.chars().count() > crate::design::MAX_NAME {
+                return Err(corrupt("a seam's name is too long"));
+            }
             Ok(Seam {
                 pairs: s.pairs.clone(),
                 max_force: s.max_force,
+                name: s.name.clone(),
             })
         })
         .collect()

@@ -87,6 +87,7 @@ impl Design {
                 .map(|s| SeamRecord {
                     pairs: s.pairs.clone(),
                     max_force: s.max_force,
+                    name: s.name.clone(),
                 })
                 .collect(),
             tear_enabled: self.tear.enabled,
