@@ -396,8 +396,8 @@ fn pieces_are_added_placed_and_deleted_undoably() {
     assert_eq!((d.sim.cloth.len(), d.piece_list()), before);
 }
 
-/// A seam named by the designer: undoable, kept by the design file; a name too long or
-/// with control characters is refused and changes nothing.
+/// A seam named by the designer: undoable, kept by the design file, written in the
+/// pattern; a name too long or with control characters is refused and changes nothing.
 #[test]
 fn seams_are_named_undoably_and_the_file_keeps_their_names() {
     let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
@@ -413,6 +413,16 @@ fn seams_are_named_undoably_and_the_file_keeps_their_names() {
     let loaded = Design::load_design(&d.save_design().unwrap()).unwrap();
     assert_eq!(loaded.seams[1].name, "left side");
     assert_eq!(loaded.seams[0].name, "");
+    // The pattern out names it beside its letter on both pieces; the marks our readers
+    // pair seams by stay as they were.
+    use sim_core::design::sewing_pattern::{dxf_string, pieces, svg_string};
+    let out = pieces(&d);
+    let svg = svg_string(&out);
+    assert_eq!(svg.matches(">B left side</text>").count(), 2, "{svg}");
+    assert!(svg.matches("data-seam=\"B\"").count() > 2);
+    let dxf = dxf_string(&out);
+    assert_eq!(dxf.matches("Seam B name: left side").count(), 2);
+    assert_eq!(dxf.matches("Seam: B").count(), 2);
     let long = "x".repeat(121);
     for bad in [long.as_str(), "left\nside"] {
         assert!(d.name_seam(1, bad).is_err(), "{bad:?}");

@@ -127,7 +127,17 @@ pub fn dxf_string(pieces: &[Piece]) -> String {
         for (label, a, b) in &p.seams {
             if !seen.contains(&label.as_str()) {
                 seen.push(label);
-                d.text("15", (*a + *b) * 0.5, 6.0, &format!("Seam: {label}"));
+                let m = (*a + *b) * 0.5;
+                d.text("15", m, 6.0, &format!("Seam: {label}"));
+                // The designer's name beside the mark (our reader pairs by "Seam: X").
+                if let Some((_, name)) = p.seam_names.iter().find(|(l, _)| l == label) {
+                    d.text(
+                        "15",
+                        m - DVec2::new(0.0, 8.0),
+                        5.0,
+                        &format!("Seam {label} name: {name}"),
+                    );
+                }
             }
         }
         let m = (p.grain.0 + p.grain.1) * 0.5 + DVec2::new(0.0, 6.0);

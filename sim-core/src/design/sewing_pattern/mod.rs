@@ -39,8 +39,20 @@ pub struct Piece {
     /// Outline segments that are sewn to another (or the same) piece, with the seam's
     /// label: the same label marks both sides of one seam.
     pub seams: Vec<(String, DVec2, DVec2)>,
+    /// The designer's names of the seams here that have one: (label, name).
+    pub seam_names: Vec<(String, String)>,
     /// The grain line (warp direction: the pattern's first axis), through the piece.
     pub grain: (DVec2, DVec2),
+}
+
+impl Piece {
+    /// What a seam's mark says: its label, and its name after it when it has one.
+    pub fn seam_text(&self, label: &str) -> String {
+        match self.seam_names.iter().find(|(l, _)| l == label) {
+            Some((_, name)) => format!("{label} {name}"),
+            None => label.to_string(),
+        }
+    }
 }
 
 impl Piece {
@@ -158,6 +170,14 @@ pub fn seam_lines(design: &Design) -> Vec<(usize, DVec2, DVec2)> {
 
 /// [`pieces`] with each rest position mapped into the plane by `to2`.
 fn pieces_in(design: &Design, to2: impl Fn(Vec3) -> DVec2 + Copy) -> Vec<Piece> {
+    // The designer's names of the seams that have one, by label.
+    let seam_names_of: HashMap<String, String> = design
+        .seams
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| !s.name.is_empty())
+        .map(|(i, s)| (seam_label(i), s.name.clone()))
+        .collect();
     let live = &design.sim.cloth.live;
     let parts = pattern_parts(design);
     let names = design.describe(&parts);
@@ -200,7 +220,7 @@ fn pieces_in(design: &Design, to2: impl Fn(Vec3) -> DVec2 + Copy) -> Vec<Piece> 
                 l.reverse();
             }
         }
-        let seams = key_loops
+        let seams: Vec<(String, DVec2, DVec2)> = key_loops
             .iter()
             .flat_map(|l| seam_segments(l, &places, &seam_of))
             .map(|(label, a, b)| (label, places[&a], places[&b]))
@@ -212,11 +232,20 @@ fn pieces_in(design: &Design, to2: impl Fn(Vec3) -> DVec2 + Copy) -> Vec<Piece> 
         let half = 0.3 * ((hi.x - lo.x) * dir.x.abs() + (hi.y - lo.y) * dir.y.abs());
         let mid = (lo + hi) * 0.5;
         let grain = (mid - dir * half, mid + dir * half);
+        let mut seam_names: Vec<(String, String)> = Vec::new();
+        for (label, _, _) in &seams {
+            if let Some(name) = seam_names_of.get(label)
+                && !seam_names.iter().any(|(l, _)| l == label)
+            {
+                seam_names.push((label.clone(), name.clone()));
+            }
+        }
         out.push(Piece {
             name: info.name,
             cut: loops.clone(),
             loops,
             seams,
+            seam_names,
             grain,
         });
     }

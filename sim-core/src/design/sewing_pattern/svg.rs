@@ -96,7 +96,7 @@ pub fn svg_string(pieces: &[Piece]) -> String {
                 "<text class=\"seam-label\" x=\"{:.3}\" y=\"{:.3}\" font-size=\"8\" fill=\"#c02030\">{}</text>",
                 m.x,
                 h - m.y,
-                xml(label)
+                xml(&p.seam_text(label))
             );
         }
         let (a, b) = p.grain;
