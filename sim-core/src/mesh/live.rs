@@ -1,7 +1,8 @@
 //! The cloth's live mesh: triangles in stable slots that cuts, tears and sews rewrite
 //! one at a time, with the adjacency those operations and the solvers need.
 //!
-//! A slot keeps its index for life (a removed triangle leaves `None`), so solvers can key
+//! A slot keeps its index for life (a removed triangle leaves `None`; only empty slots at
+//! the end are dropped, and an append takes their index again), so solvers can key
 //! their per-triangle data by slot and update only what an edit touched. Every triangle
 //! carries its own rest corners and UVs: after a sew, one vertex can sit at two places of
 //! the pattern and of the texture.
@@ -261,12 +262,13 @@ impl LiveMesh {
         Ok(())
     }
 
-    /// Puts `tri` (or nothing) in `slot` and returns what was there. `slot` may be the next
-    /// free one (`slots()`), which appends. Fails, changing nothing, when an edge would
-    /// get a third triangle or an index is bad.
+    /// Puts `tri` (or nothing) in `slot` and returns what was there. A slot past the end
+    /// (`slots()` or beyond: empty slots at the end are dropped, so an undo may put back
+    /// the last ones in any order) extends the slots. Fails, changing nothing, when an
+    /// edge would get a third triangle or an index is bad.
     pub fn set(&mut self, slot: u32, tri: Option<Tri>) -> Result<Option<Tri>, GeometryError> {
         let s = slot as usize;
-        if s > self.tris.len() {
+        if s > self.tris.len() + 2 * super::MAX_VERTICES {
             return Err(GeometryError::IndexOutOfRange {
                 triangle: s,
                 vertices: self.vert_tris.len(),
@@ -275,8 +277,11 @@ impl LiveMesh {
         if let Some(t) = &tri {
             self.can_set(slot, t)?;
         }
-        if s == self.tris.len() {
-            self.tris.push(None);
+        if s >= self.tris.len() {
+            if tri.is_none() {
+                return Ok(None);
+            }
+            self.tris.resize(s + 1, None);
         }
         let old = self.tris[s].take();
         if let Some(o) = &old {
@@ -313,6 +318,11 @@ impl LiveMesh {
             }
         }
         self.tris[s] = tri;
+        // Empty slots at the end go (an undone new piece leaves thousands): the next
+        // append reuses their indices, as a redo does.
+        while self.tris.last().is_some_and(Option::is_none) {
+            self.tris.pop();
+        }
         self.edited = true;
         self.version += 1;
         Ok(old)
@@ -446,6 +456,17 @@ mod tests {
         assert!(t0.v[1..].iter().all(|&v| live.is_boundary(v)));
         live.set(0, Some(t0)).unwrap();
         assert_eq!(live.tri_count(), 8);
+        live.validate(&m.positions).unwrap();
+        // Empty slots at the end go; the last ones come back in any order.
+        let (t6, t7) = (*live.tri(6).unwrap(), *live.tri(7).unwrap());
+        live.set(6, None).unwrap();
+        assert_eq!(live.slots(), 8);
+        live.set(7, None).unwrap();
+        assert_eq!(live.slots(), 6);
+        live.set(7, Some(t7)).unwrap();
+        assert_eq!((live.slots(), live.tri_count()), (8, 7));
+        live.set(6, Some(t6)).unwrap();
+        assert_eq!((live.slots(), live.tri_count()), (8, 8));
         live.validate(&m.positions).unwrap();
     }
 }
