@@ -792,18 +792,7 @@ fn the_pinch_pulls_the_cloth_no_harder_than_the_rendered_force() {
 #[test]
 fn pieces_are_added_placed_listed_and_deleted_over_the_protocol() {
     use shared::ui_to_sim::{place, shape};
-    let d = ScratchDomain::new(&format!("svcp{}", std::process::id())).unwrap();
-    let mut cfg = ServiceConfig::new(d.0.clone());
-    cfg.autosave = std::env::temp_dir().join(format!("saiho-svcp-{}.saiho", std::process::id()));
-    cfg.seconds = Some(60.0);
-    let stop = std::sync::Arc::new(AtomicBool::new(false));
-    let stop2 = stop.clone();
-    let handle = std::thread::spawn(move || {
-        let mut scene = ScenarioConfig::new(ScenarioName::DressMannequin);
-        scene.piece_edge = 0.08;
-        let sim = build_design(&scene).unwrap();
-        run(sim, &cfg, &stop2, &mut |_| {}).unwrap()
-    });
+    let (d, stop) = dress_service("svcp");
     let node = services::node(&d, "ui").unwrap();
     let mut ask = asker(ports::command_client(&node).unwrap());
     let lists: services::Sub<shared::sim_to_ui::PieceList> =
@@ -902,26 +891,14 @@ fn pieces_are_added_placed_listed_and_deleted_over_the_protocol() {
         r.message()
     );
     assert_eq!(seams(3), ["A", "B", "C"]);
-    stop.store(true, Ordering::Relaxed);
-    handle.join().unwrap();
+    stop.finish();
 }
 
 /// A piece made of another fabric over the protocol: the list says so at once, an
 /// unknown fabric is refused, and undo takes it back.
 #[test]
 fn a_piece_gets_its_own_fabric_over_the_protocol() {
-    let d = ScratchDomain::new(&format!("svcf{}", std::process::id())).unwrap();
-    let mut cfg = ServiceConfig::new(d.0.clone());
-    cfg.autosave = std::env::temp_dir().join(format!("saiho-svcf-{}.saiho", std::process::id()));
-    cfg.seconds = Some(60.0);
-    let stop = std::sync::Arc::new(AtomicBool::new(false));
-    let stop2 = stop.clone();
-    let handle = std::thread::spawn(move || {
-        let mut scene = ScenarioConfig::new(ScenarioName::DressMannequin);
-        scene.piece_edge = 0.08;
-        let sim = build_design(&scene).unwrap();
-        run(sim, &cfg, &stop2, &mut |_| {}).unwrap()
-    });
+    let (d, stop) = dress_service("svcf");
     let node = services::node(&d, "ui").unwrap();
     let mut ask = asker(ports::command_client(&node).unwrap());
     let lists: services::Sub<shared::sim_to_ui::PieceList> =
@@ -973,6 +950,36 @@ fn a_piece_gets_its_own_fabric_over_the_protocol() {
         r.message()
     );
     fabrics(["cotton", "cotton"]);
-    stop.store(true, Ordering::Relaxed);
-    handle.join().unwrap();
+    stop.finish();
+}
+
+/// cloth-sim's service on its own thread over the dress (0.08 m triangles), in a scratch
+/// domain named for `tag`, for at most a minute.
+struct Service {
+    stop: std::sync::Arc<AtomicBool>,
+    handle: std::thread::JoinHandle<()>,
+}
+
+impl Service {
+    fn finish(self) {
+        self.stop.store(true, Ordering::Relaxed);
+        self.handle.join().unwrap();
+    }
+}
+
+fn dress_service(tag: &str) -> (ScratchDomain, Service) {
+    let pid = std::process::id();
+    let d = ScratchDomain::new(&format!("{tag}{pid}")).unwrap();
+    let mut cfg = ServiceConfig::new(d.0.clone());
+    cfg.autosave = std::env::temp_dir().join(format!("saiho-{tag}-{pid}.saiho"));
+    cfg.seconds = Some(60.0);
+    let stop = std::sync::Arc::new(AtomicBool::new(false));
+    let stop2 = stop.clone();
+    let handle = std::thread::spawn(move || {
+        let mut scene = ScenarioConfig::new(ScenarioName::DressMannequin);
+        scene.piece_edge = 0.08;
+        let sim = build_design(&scene).unwrap();
+        run(sim, &cfg, &stop2, &mut |_| {}).unwrap();
+    });
+    (d, Service { stop, handle })
 }

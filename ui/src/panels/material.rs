@@ -62,6 +62,19 @@ struct FabricEntry {
     values: [f32; 5],
 }
 
+/// What a fabric chooser's hover says of `f`: weight, bending, source.
+pub fn fabric_about(f: &sim_core::fabric::Fabric) -> String {
+    let m = f.material();
+    format!(
+        "{}: {:.0} g/m², bending {:.1e} N m (weft {:.1e}); {}",
+        f.name,
+        m.density * 1e3,
+        m.bending,
+        m.bending * m.bending_weft,
+        f.source
+    )
+}
+
 /// The built-in fabric library as the chooser lists it.
 fn fabric_entries() -> Vec<FabricEntry> {
     sim_core::fabric::Library::builtin()
@@ -71,14 +84,7 @@ fn fabric_entries() -> Vec<FabricEntry> {
             let m = f.material();
             FabricEntry {
                 name: f.name.clone(),
-                about: format!(
-                    "{}: {:.0} g/m², bending {:.1e} N m (weft {:.1e}); {}",
-                    f.name,
-                    m.density * 1e3,
-                    m.bending,
-                    m.bending * m.bending_weft,
-                    f.source
-                ),
+                about: fabric_about(f),
                 values: [m.density, m.stretch, m.shear, m.bending, m.friction],
             }
         })

@@ -42,16 +42,7 @@ fn fabric_entries() -> Vec<(String, String)> {
         "The design's own material (the Material panel's)".to_string(),
     )];
     for f in &sim_core::fabric::Library::builtin().fabrics {
-        let m = f.material();
-        let about = format!(
-            "{}: {:.0} g/m², bending {:.1e} N m (weft {:.1e}); {}",
-            f.name,
-            m.density * 1e3,
-            m.bending,
-            m.bending * m.bending_weft,
-            f.source
-        );
-        out.push((f.name.clone(), about));
+        out.push((f.name.clone(), super::material::fabric_about(f)));
     }
     out
 }
