@@ -151,12 +151,15 @@ impl Design {
     fn sync(&mut self, touched: &mut Touched) {
         if touched.pieces {
             // Each piece's fabric first: the masses and elements below are its.
-            match self.apply_fabrics() {
-                Ok(notes) => self.sim.notices.extend(notes),
-                Err(e) => self
-                    .sim
-                    .notices
-                    .push(format!("the pieces' fabrics were not applied: {e}")),
+            let said = match self.apply_fabrics() {
+                Ok(notes) => notes,
+                Err(e) => vec![format!("the pieces' fabrics were not applied: {e}")],
+            };
+            // Every piece edit looks the fabrics up again: say each thing once.
+            for n in said {
+                if !self.sim.notices.contains(&n) {
+                    self.sim.notices.push(n);
+                }
             }
         }
         touched.verts.sort_unstable();
