@@ -127,7 +127,7 @@ pub fn orient_bend(
     // The hinge bends the yarns that cross its edge: cos² of the angle between the
     // bending direction and the warp is sin² of the edge's angle to the warp.
     let along = edge.normalize_or(Vec3::X).dot(warp);
-    b.weight *= own.bending_share(1.0 - along * along);
+    b.weight *= own.hinge_bending_share(1.0 - along * along);
 }
 
 fn cot(a: Vec3, b: Vec3) -> f32 {
