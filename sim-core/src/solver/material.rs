@@ -237,7 +237,13 @@ mod tests {
         // The hinges' share sums back to B(θ) over hinges of every direction (the
         // mesher's): the mean of f(θ) cos⁴(θ - φ) over θ is B(φ) times cos⁴'s mean, 3/8.
         for m in [m, mean] {
-            for phi in [0.0f32, 0.3, 0.785, 1.2, 1.5708] {
+            for phi in [
+                0.0f32,
+                0.3,
+                std::f32::consts::FRAC_PI_4,
+                1.2,
+                std::f32::consts::FRAC_PI_2,
+            ] {
                 let n = 3600;
                 let avg = (0..n)
                     .map(|k| {
