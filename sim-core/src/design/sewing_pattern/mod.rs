@@ -15,7 +15,7 @@
 mod dxf;
 mod svg;
 
-use std::collections::HashMap;
+use rustc_hash::{FxHashMap as HashMap, FxHashSet};
 use std::path::{Path, PathBuf};
 
 use glam::{DVec2, DVec3, Vec3};
@@ -117,7 +117,7 @@ pub fn pattern_parts(design: &Design) -> Vec<Vec<u32>> {
         .iter()
         .map(|(_, t)| [0, 1, 2].map(|k| key(t.v[k], t.rest[k])))
         .collect();
-    let mut edge_tri: HashMap<(Key, Key), usize> = HashMap::new();
+    let mut edge_tri: HashMap<(Key, Key), usize> = HashMap::default();
     for (i, t) in tris.iter().enumerate() {
         for k in 0..3 {
             edge_tri.insert((t[k], t[(k + 1) % 3]), i);
@@ -132,7 +132,7 @@ pub fn pattern_parts(design: &Design) -> Vec<Vec<u32>> {
             }
         }
     }
-    let mut part_of: HashMap<usize, usize> = HashMap::new();
+    let mut part_of: HashMap<usize, usize> = HashMap::default();
     let mut parts: Vec<Vec<u32>> = Vec::new();
     for i in 0..tris.len() {
         let root = sets.find(i);
@@ -158,6 +158,9 @@ pub fn pieces(design: &Design) -> Vec<Piece> {
 /// Every listed seam's outline edges where the studio's pattern view draws them: in the
 /// design's pattern plane (rest x and -z), metres, each with its seam's index.
 pub fn seam_lines(design: &Design) -> Vec<(usize, DVec2, DVec2)> {
+    if design.seams.is_empty() {
+        return Vec::new();
+    }
     let index: HashMap<String, usize> = (0..design.seams.len())
         .map(|i| (seam_label(i), i))
         .collect();
@@ -195,7 +198,7 @@ fn pieces_in(design: &Design, to2: impl Fn(Vec3) -> DVec2 + Copy) -> Vec<Piece> 
             .flat_map(|t| (0..3).map(move |k| (key(t.v[k], t.rest[k]), to2(t.rest[k]))))
             .collect();
         // Boundary edges: directed pattern edges without their twin in the part.
-        let directed: std::collections::HashSet<(Key, Key)> = corners
+        let directed: FxHashSet<(Key, Key)> = corners
             .iter()
             .flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3])))
             .collect();
@@ -303,7 +306,7 @@ fn seam_segments(
 
 /// The seams' labels ("A", "B", ...) of each vertex in them.
 fn seam_labels(design: &Design) -> HashMap<u32, Vec<String>> {
-    let mut m: HashMap<u32, Vec<String>> = HashMap::new();
+    let mut m: HashMap<u32, Vec<String>> = HashMap::default();
     for (i, s) in design.seams.iter().enumerate() {
         let label = label(i);
         for &(a, b) in &s.pairs {
@@ -335,7 +338,7 @@ pub(crate) fn label(i: usize) -> String {
 
 /// Chains directed boundary edges into closed loops of keys.
 fn chain(edges: &[(Key, Key)]) -> Vec<Vec<Key>> {
-    let mut next: HashMap<Key, Vec<Key>> = HashMap::new();
+    let mut next: HashMap<Key, Vec<Key>> = HashMap::default();
     for &(a, b) in edges {
         next.entry(a).or_default().push(b);
     }
@@ -622,8 +625,10 @@ mod tests {
             .zip(pts)
             .map(|(k, (x, y))| (*k, DVec2::new(x, y)))
             .collect();
-        let seam_of: HashMap<u32, Vec<String>> =
-            [0, 1, 3, 4, 6].map(|v| (v, vec!["A".to_string()])).into();
+        let seam_of: HashMap<u32, Vec<String>> = [0, 1, 3, 4, 6]
+            .map(|v| (v, vec!["A".to_string()]))
+            .into_iter()
+            .collect();
         let s = seam_segments(&l, &places, &seam_of);
         let edges: Vec<(u32, u32)> = s.iter().map(|(_, a, b)| (a.0, b.0)).collect();
         // 1-2 and 2-3 filled; 4-5-6 turns a corner: not.
@@ -631,8 +636,10 @@ mod tests {
         // The seam's last vertex follows a skipped one, and the outline turns at it (the
         // dress's back at the armhole corner, 29 mm of seam D lost before): 3-4 is the
         // seam's all the same.
-        let seam_of: HashMap<u32, Vec<String>> =
-            [0, 1, 2, 4].map(|v| (v, vec!["A".to_string()])).into();
+        let seam_of: HashMap<u32, Vec<String>> = [0, 1, 2, 4]
+            .map(|v| (v, vec!["A".to_string()]))
+            .into_iter()
+            .collect();
         let s = seam_segments(&l, &places, &seam_of);
         let edges: Vec<(u32, u32)> = s.iter().map(|(_, a, b)| (a.0, b.0)).collect();
         assert_eq!(edges, vec![(0, 1), (1, 2), (2, 3), (3, 4)]);
