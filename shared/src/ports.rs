@@ -187,7 +187,7 @@ impl SimPorts {
     pub fn open(node: &Node<ipc::Service>, sizes: SimSizes) -> Result<Self, PortError> {
         Ok(Self {
             device: subscriber(node, services::device, Some(32))?,
-            applied: subscriber(node, services::applied_force, None)?,
+            applied: subscriber(node, services::applied_force, Some(4))?,
             model: publisher(node, services::local_model)?,
             frame: slice_publisher(node, services::cloth_frame, sizes.frame_floats, true)?,
             mesh: slice_publisher(node, services::cloth_mesh, sizes.mesh_corners, true)?,
@@ -227,7 +227,7 @@ impl UiPorts {
             tools: subscriber(node, services::tool_state, None)?,
             pieces: subscriber(node, services::pieces, None)?,
             pens: subscriber(node, services::device, None)?,
-            models: subscriber(node, services::local_model, None)?,
+            models: subscriber(node, services::local_model, Some(1))?,
             loop_telemetry: subscriber(node, services::haptic_telemetry, None)?,
             sim_telemetry: subscriber(node, services::sim_telemetry, None)?,
             commands: command_client(node)?,
@@ -251,7 +251,7 @@ impl HapticPorts {
             device: publisher(node, services::device)?,
             applied: publisher(node, services::applied_force)?,
             telemetry: publisher(node, services::haptic_telemetry)?,
-            model: subscriber(node, services::local_model, None)?,
+            model: subscriber(node, services::local_model, Some(1))?,
             pointer: subscriber(node, services::pointer, None)?,
         })
     }

@@ -4,8 +4,8 @@
 //! | service | payload | direction | history | buffer |
 //! |---|---|---|---|---|
 //! | `saiho/device` | [`DeviceSample`] | haptic -> sim, ui | 1 (latest) | 1, overwrite |
-//! | `saiho/applied-force` | [`AppliedForce`] | haptic -> sim | 1 | 4, overwrite |
-//! | `saiho/local-model` | [`LocalModel`] | sim -> haptic | 1 (latest) | 1, overwrite |
+//! | `saiho/applied-force` | [`AppliedForce`] | haptic -> sim | 1 | up to 64 (sim 4), overwrite |
+//! | `saiho/local-model` | [`LocalModel`] | sim -> haptic | 1 (latest) | up to 8 (haptic, ui 1), overwrite |
 //! | `saiho/pointer` | [`PointerInput`] | ui -> haptic | 1 (latest) | 1, overwrite |
 //! | `saiho/telemetry/haptic` | [`LoopTelemetry`] | haptic -> ui, tools | 1 | 2, overwrite |
 //! | `saiho/telemetry/sim` | [`SimTelemetry`] | sim -> ui, tools | 1 | 2, overwrite |
@@ -120,12 +120,18 @@ pub fn device_echo(node: &Node<ipc::Service>) -> Result<Factory<DeviceSample>, S
     open(node, DEVICE_ECHO, 1, 32)
 }
 
+/// Subscribers may buffer up to 64 (64 ms of forces): cloth-sim takes 4, the newest, for
+/// the reaction on the cloth; an observer that checks every force (the soak, the process
+/// tests) takes them all even when it is held up for tens of milliseconds.
 pub fn applied_force(node: &Node<ipc::Service>) -> Result<Factory<AppliedForce>, ServiceError> {
-    open(node, APPLIED_FORCE, 1, 4)
+    open(node, APPLIED_FORCE, 1, 64)
 }
 
+/// Subscribers may buffer up to 8 (a 60 Hz frame's two models, for 65 ms): the haptic loop
+/// and the studio take 1, the newest; an observer that judges the gaps between models (the
+/// soak) takes 8, so that being held up itself does not look like cloth-sim stalling.
 pub fn local_model(node: &Node<ipc::Service>) -> Result<Factory<LocalModel>, ServiceError> {
-    open(node, LOCAL_MODEL, 1, 1)
+    open(node, LOCAL_MODEL, 1, 8)
 }
 
 pub fn pointer(node: &Node<ipc::Service>) -> Result<Factory<PointerInput>, ServiceError> {
