@@ -55,6 +55,71 @@ struct Service<'a> {
     seq_tel: u64,
     /// A command changed the design since the autosave last heard of it.
     edited: bool,
+    /// Where the time went since the last local model was sent.
+    laps: Laps,
+}
+
+/// Two local models further apart than this are logged with where the time went (the
+/// haptic loop lets the force fade once its model is 20 ms old).
+const SLOW_MODEL_GAP: Duration = Duration::from_millis(30);
+
+/// Where the time between two local models goes: the time since the last mark, per named
+/// part (and notes such as how late a sleep woke, which are not parts of the sum).
+struct Laps {
+    start: Instant,
+    last: Instant,
+    parts: [(&'static str, Duration); 10],
+    n: usize,
+}
+
+impl Laps {
+    fn start() -> Self {
+        let now = Instant::now();
+        Self {
+            start: now,
+            last: now,
+            parts: [("", Duration::ZERO); 10],
+            n: 0,
+        }
+    }
+
+    /// Starts counting afresh from now.
+    fn restart(&mut self) {
+        *self = Self::start();
+    }
+
+    fn mark(&mut self, what: &'static str) {
+        let now = Instant::now();
+        if self.n < self.parts.len() {
+            self.parts[self.n] = (what, now - self.last);
+            self.n += 1;
+        }
+        self.last = now;
+    }
+
+    /// A figure beside the parts (not a lap: the clock is not marked).
+    fn note(&mut self, what: &'static str, d: Duration) {
+        if self.n < self.parts.len() {
+            self.parts[self.n] = (what, d);
+            self.n += 1;
+        }
+    }
+
+    /// "62.1 ms (commands 0.0, ..., step 8.3, ...)" when more than `limit` has passed.
+    fn slow(&self, limit: Duration) -> Option<String> {
+        let total = self.start.elapsed();
+        (total > limit).then(|| {
+            let parts: Vec<String> = self.parts[..self.n]
+                .iter()
+                .map(|(w, d)| format!("{w} {:.1}", d.as_secs_f64() * 1e3))
+                .collect();
+            format!(
+                "{:.1} ms ({} ms)",
+                total.as_secs_f64() * 1e3,
+                parts.join(", ")
+            )
+        })
+    }
 }
 
 /// Runs the service until `stop` or `cfg.seconds`.
@@ -101,6 +166,7 @@ pub fn run(
         seq_tile: 0,
         seq_tel: 0,
         edited: false,
+        laps: Laps::start(),
     };
     let mut autosave = Autosave::start(&cfg.autosave, cfg.autosave_every_s)?;
     let period = Duration::from_secs_f64(1.0 / cfg.rate_hz.clamp(1.0, 1000.0));
@@ -118,9 +184,13 @@ pub fn run(
             autosave.edited();
         }
         autosave.tick(&mut s.design, &mut s.stats, log);
+        s.laps.mark("autosave");
         let now = Instant::now();
         if next > now {
             std::thread::sleep(next - now);
+            s.laps.mark("sleep");
+            // Woken late: the CPU was busy elsewhere (another process, or the host).
+            s.laps.note("woken late", next.elapsed());
             next += period;
         } else {
             next = now + period;
@@ -131,12 +201,13 @@ pub fn run(
 }
 
 impl Service<'_> {
-    /// One frame, up to the autosave.
+    /// One frame, up to the autosave; where its time went.
     fn frame(&mut self, autosave: &Autosave, log: &mut dyn FnMut(&str)) -> Result<(), String> {
         self.feed.next_frame();
         self.feed
             .drain(&self.ports.device, &self.ports.applied, &mut self.stats);
         self.serve_commands(log);
+        self.laps.mark("commands");
         if self.feed.let_go_if_gone() {
             log("the pen went silent (is haptic-loop running?): its buttons read as released");
         }
@@ -150,13 +221,17 @@ impl Service<'_> {
                 log,
             );
         }
+        self.laps.mark("pen");
         self.publish_tool_state();
+        self.laps.mark("connections");
         self.publish_pieces();
+        self.laps.mark("pieces");
         // The local model goes out before the frame too (the state now, with the newest
         // tip): a 60 Hz frame that takes 8-12 ms would otherwise leave gaps near the
         // haptic loop's 20 ms staleness limit between models.
-        self.send_local_model();
+        self.send_local_model(log);
         let fs = self.step()?;
+        self.laps.mark("step");
         self.record(&fs, autosave);
         self.stats.frames += 1;
         let (_, pen_sent_ns) = self.feed.tip();
@@ -168,11 +243,13 @@ impl Service<'_> {
         ) {
             log(&format!("publishing the cloth failed: {e}"));
         }
+        self.laps.mark("cloth out");
         self.publish_texture(log);
+        self.laps.mark("texture");
         if let Some(why) = self.feed.take_new_reject() {
             log(&format!("rejected a message from haptic-loop: {why}"));
         }
-        self.send_local_model();
+        self.send_local_model(log);
         Ok(())
     }
 
@@ -303,7 +380,16 @@ impl Service<'_> {
         }
     }
 
-    fn send_local_model(&mut self) {
+    /// Sends the local model, and logs where the time went when the last one was sent
+    /// [`SLOW_MODEL_GAP`] ago or more.
+    fn send_local_model(&mut self, log: &mut dyn FnMut(&str)) {
+        if let Some(slow) = self.laps.slow(SLOW_MODEL_GAP) {
+            log(&format!(
+                "the pen's model went out {slow} after the last: the haptic loop fades the \
+                 force once its model is 20 ms old"
+            ));
+        }
+        self.laps.restart();
         let (tip, sent_ns) = self.feed.tip();
         let m = local_model(
             &self.design,
@@ -312,7 +398,9 @@ impl Service<'_> {
             &mut self.seq_model,
             self.cfg.pinch_stiffness,
         );
-        let _ = self.ports.model.send_copy(m);
+        if let Err(e) = self.ports.model.send_copy(m) {
+            log(&format!("sending the pen's model failed: {e:?}"));
+        }
     }
 
     /// Steps one frame; while pinching, the pen is read again before each substep, so
