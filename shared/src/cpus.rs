@@ -69,9 +69,45 @@ pub fn keep_on(cpus: &[usize]) -> Result<(), String> {
         .map_err(|e| format!("cannot keep to CPUs {}: {e}", format_list(cpus)))
 }
 
+/// Lowers this thread's scheduling priority to niceness `nice` (0-19), for the threads it
+/// starts from now on too: a process that must give way on a shared CPU (cloth-ui to
+/// cloth-sim) calls it first thing. Raising priority needs privileges; lowering does not.
+pub fn lower_priority(nice: i32) -> Result<(), String> {
+    if !(0..=19).contains(&nice) {
+        return Err(format!("niceness {nice} is out of range (0 to 19)"));
+    }
+    let now = rustix::process::getpriority_process(None).unwrap_or(0);
+    if nice <= now {
+        return Ok(());
+    }
+    rustix::process::setpriority_process(None, nice)
+        .map_err(|e| format!("cannot lower the priority to niceness {nice}: {e}"))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn priority_is_only_ever_lowered() {
+        assert!(lower_priority(20).is_err() && lower_priority(-1).is_err());
+        // On a thread of its own, so the test's other threads keep their priority.
+        let seen = std::thread::spawn(|| {
+            lower_priority(7).expect("lowering needs no privilege");
+            let a = rustix::process::getpriority_process(None).expect("read");
+            // Asking for less than it has already changes nothing.
+            lower_priority(3).expect("no-op");
+            let b = rustix::process::getpriority_process(None).expect("read");
+            let child = std::thread::spawn(|| rustix::process::getpriority_process(None))
+                .join()
+                .expect("join")
+                .expect("read");
+            (a, b, child)
+        })
+        .join()
+        .expect("join");
+        assert_eq!(seen, (7, 7, 7));
+    }
 
     #[test]
     fn cpu_lists_read_and_print() {

@@ -47,6 +47,11 @@ struct Cli {
     /// loop's CPU this way.
     #[arg(long)]
     cpus: Option<String>,
+    /// Lower cloth-ui's scheduling priority to this niceness (0 to 19), so that where it
+    /// shares a CPU with cloth-sim the simulation runs first: the pen's force fades when
+    /// its model is 20 ms old, and a view can wait. 0 keeps the priority as it is.
+    #[arg(long, default_value_t = 10, value_parser = shared::cli::whole_in::<i32>(0, 19, ""))]
+    nice: i32,
     /// Most frames per second (default: 30 on a software renderer such as llvmpipe, so it
     /// leaves the CPUs to the simulation; the display's rate on a GPU).
     #[arg(long)]
@@ -56,6 +61,11 @@ struct Cli {
 fn main() -> ExitCode {
     let launched = std::time::Instant::now();
     let cli: Cli = shared::cli::parse();
+    // First, before any thread starts: every thread takes the priority it is started with.
+    if let Err(e) = shared::cpus::lower_priority(cli.nice) {
+        eprintln!("error: --nice: {e}");
+        return ExitCode::FAILURE;
+    }
     let domain = match Domain::from_arg_or_env(cli.domain.as_deref()) {
         Ok(d) => d,
         Err(e) => {
