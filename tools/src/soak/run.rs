@@ -115,7 +115,7 @@ fn haptic_kill(p: &mut Procs, w: &mut Watch, r: &mut SoakReport) -> Result<bool,
     p.spawn_haptic()?;
     // The pen's script starts over: it pinches again 2.2 s in.
     let back = pump_until(w, Duration::from_secs(10), &|w| {
-        w.recent.iter().any(|&(t, m)| t > restart && m > 0.0)
+        w.recent.iter().any(|&(t, m, _)| t > restart && m > 0.0)
     });
     // No ramp to measure here: the new loop engaged when its first model came, with the
     // pen in the air; the force rose as the pen came down (stale forces are counted
@@ -171,9 +171,11 @@ pub fn soak(cfg: &SoakConfig, progress: &mut dyn FnMut(&str)) -> Result<SoakRepo
         ui_rx,
         ui_tx,
     };
-    let during = super::floor_during(p.others.as_deref());
+    let during = super::floor_during();
     let result = course(&mut p, cfg, &mut r, progress);
-    r.floor_us = super::floor_during_end(during);
+    r.floor_by_cpu_us = super::floor_during_end(during);
+    r.floor_us = r.floor_by_cpu_us.iter().copied().max();
+    r.haptic_cpu = p.haptic_cpu;
     // Late ticks, against the floor measured meanwhile (the quiet one when cyclictest
     // could not run beside the faults; none without cyclictest at all).
     // The floor measured beside the faults judges; without it, the quiet one. The ticks
@@ -259,6 +261,8 @@ fn course(
     r.lateness = std::mem::take(&mut w.lateness_by_phase);
     r.sim_stall_max_ms = w.gap_max_ms;
     r.stalls = std::mem::take(&mut w.stalls);
+    r.gap_max_ms_by_phase = std::mem::take(&mut w.gap_max_by_phase);
+    r.sim_frame_max_ms_by_phase = std::mem::take(&mut w.frame_max_by_phase);
     r.stale_force_ticks = w.stale_force_ticks;
     r.edits_acked = w.acked;
     Ok(())
@@ -328,7 +332,7 @@ fn judge(r: &mut SoakReport) {
     }
     if r.ramp_ratio_max > 0.5 {
         f.push(format!(
-            "a force came back without its ramp (at {:.0}% of the force once ramped)",
+            "a force came back without its ramp (at {:.0}% of the force 5-20 ms later from the same model)",
             100.0 * r.ramp_ratio_max
         ));
     }

@@ -29,8 +29,8 @@ pub(super) struct Watch {
     seq: u64,
     /// Forces sent after the models were last drained: checked at the next pass.
     deferred: Vec<AppliedForce>,
-    /// (sent ns, magnitude N) of the last 12 s of forces.
-    pub recent: VecDeque<(u64, f32)>,
+    /// (sent ns, magnitude N, local model frame) of the last 12 s of forces.
+    pub recent: VecDeque<(u64, f32, u32)>,
     pub last_model_ns: u64,
     pub pinching: bool,
     pub models_seen: u64,
@@ -39,6 +39,14 @@ pub(super) struct Watch {
     pub gap_max_ms: f64,
     /// Gaps over 50 ms between models outside cloth-sim's faults: (phase, ms).
     pub stalls: Vec<(String, f64)>,
+    /// The longest gap between models in each phase, ms (outside cloth-sim's faults).
+    pub gap_max_by_phase: std::collections::BTreeMap<String, f64>,
+    /// cloth-sim's longest frame (its own compute, from its telemetry) in each phase, ms:
+    /// a gap far longer than any frame is time cloth-sim was not given, not time it took.
+    pub frame_max_by_phase: std::collections::BTreeMap<String, f64>,
+    /// cloth-sim's frame times as its last telemetry had them (they count from its start).
+    sim_frames_last: Option<Histogram>,
+    skip_frames_until: u64,
     pub stale_force_ticks: u64,
     /// The current haptic-loop lifetime's telemetry, and what the ended ones add up to.
     loop_last: Option<LoopTelemetry>,
@@ -82,6 +90,10 @@ impl Watch {
             skip_gap: true,
             gap_max_ms: 0.0,
             stalls: Vec::new(),
+            gap_max_by_phase: std::collections::BTreeMap::new(),
+            frame_max_by_phase: std::collections::BTreeMap::new(),
+            sim_frames_last: None,
+            skip_frames_until: 0,
             stale_force_ticks: 0,
             loop_last: None,
             loop_lifetimes: 0,
@@ -106,6 +118,8 @@ impl Watch {
     pub(super) fn resume_gaps(&mut self) {
         self.gaps_paused = false;
         self.skip_gap = true;
+        // The telemetry of the next 2 s holds the frame a stop froze (seconds long).
+        self.skip_frames_until = monotonic_ns() + 2_000_000_000;
     }
 
     /// Takes in everything that arrived and sends the next edit when due.
@@ -119,6 +133,8 @@ impl Watch {
             if !self.gaps_paused && !self.skip_gap && self.last_model_ns > 0 {
                 let gap = sent.saturating_sub(self.last_model_ns) as f64 * 1e-6;
                 self.gap_max_ms = self.gap_max_ms.max(gap);
+                let m = self.gap_max_by_phase.entry(self.phase.into()).or_default();
+                *m = m.max(gap);
                 if gap > 50.0 {
                     self.stalls.push((self.phase.into(), gap));
                 }
@@ -137,6 +153,18 @@ impl Watch {
         while let Ok(Some(t)) = self.sim_tel.receive() {
             if t.check().is_ok() {
                 self.sim_tel_last = Some((t.header.sent_ns, t.pinned));
+                let longest = frame_time_since(self.sim_frames_last.as_ref(), &t.frame_time);
+                if !self.gaps_paused
+                    && t.header.sent_ns > self.skip_frames_until
+                    && let Some(ms) = longest
+                {
+                    let m = self
+                        .frame_max_by_phase
+                        .entry(self.phase.into())
+                        .or_default();
+                    *m = m.max(ms);
+                }
+                self.sim_frames_last = Some(t.frame_time);
             }
         }
         self.edit();
@@ -161,12 +189,12 @@ impl Watch {
             if mag > 0.0 && sent > self.last_model_ns + STALE_NS {
                 self.stale_force_ticks += 1;
             }
-            self.recent.push_back((sent, mag));
+            self.recent.push_back((sent, mag, f.model_frame));
         }
         while self
             .recent
             .front()
-            .is_some_and(|&(t, _)| t + KEEP_NS < drained_at)
+            .is_some_and(|&(t, _, _)| t + KEEP_NS < drained_at)
         {
             self.recent.pop_front();
         }
@@ -236,11 +264,32 @@ impl Watch {
     }
 }
 
+/// The longest frame recorded in `now` since `before` (two snapshots of cloth-sim's frame
+/// times, which count from its start), ms: the new maximum when it grew, else the upper
+/// edge of the highest bucket that grew (at most the maximum). `None` when no frame was
+/// recorded in between; a count that went back is a restarted cloth-sim, counted afresh.
+pub(super) fn frame_time_since(before: Option<&Histogram>, now: &Histogram) -> Option<f64> {
+    let before = before.filter(|b| b.total <= now.total);
+    let grew = |b: usize| before.is_none_or(|h| now.counts[b] > h.counts[b]);
+    if before.is_none_or(|h| now.max_ns > h.max_ns) && now.total > 0 {
+        return Some(now.max_ns as f64 * 1e-6);
+    }
+    let b = (0..now.counts.len())
+        .rev()
+        .find(|&b| grew(b) && now.counts[b] > 0)?;
+    let edge = if b + 1 < now.counts.len() {
+        Histogram::bucket_floor_ns(b + 1).min(now.max_ns)
+    } else {
+        now.max_ns
+    };
+    Some(edge as f64 * 1e-6)
+}
+
 /// From `after` (ns), the first force at zero after which every force is zero, ms after
 /// `after`; `None` when the force never settled at zero.
-pub(super) fn zero_from(recent: &VecDeque<(u64, f32)>, after: u64) -> Option<u64> {
+pub(super) fn zero_from(recent: &VecDeque<(u64, f32, u32)>, after: u64) -> Option<u64> {
     let mut zero_at = None;
-    for &(t, mag) in recent.iter().filter(|(t, _)| *t >= after) {
+    for &(t, mag, _) in recent.iter().filter(|(t, _, _)| *t >= after) {
         if mag > 0.0 {
             zero_at = None;
         } else if zero_at.is_none() {
@@ -251,21 +300,26 @@ pub(super) fn zero_from(recent: &VecDeque<(u64, f32)>, after: u64) -> Option<u64
 }
 
 /// The force's return once the loop re-engages after `after` (ns): the first force back
-/// (within 100 ms of `after`) over the largest 100-200 ms later, when the loop's 100 ms
-/// ramp is done. With the ramp it comes back at a few percent; without, at about the
-/// whole. `None` when it did not come back so soon (a new pinch later is no
-/// re-engagement) or had let go again by then.
-pub(super) fn ramp_ratio(recent: &VecDeque<(u64, f32)>, after: u64) -> Option<f64> {
-    let &(t1, first) = recent
+/// (within 100 ms of `after`) over the largest 5-20 ms later that was rendered from the
+/// same local model. The loop's ramp takes 100 ms from zero, so with it the first force
+/// comes back at about a tenth of those; without it, at about the whole. Against the
+/// same model only the pen's millimetres change the force; a new model can change it
+/// by any amount (after a 5 s stop the first model still holds the cloth where it was
+/// while the pen moved on, and the next one lets the spring go), so forces from a later
+/// model are no reference. `None` when it did not come back so soon (a new pinch later
+/// is no re-engagement), or no force of the same model came 5-20 ms later.
+pub(super) fn ramp_ratio(recent: &VecDeque<(u64, f32, u32)>, after: u64) -> Option<f64> {
+    const MS: u64 = 1_000_000;
+    let &(t1, first, frame) = recent
         .iter()
-        .find(|(t, m)| *t >= after && *m > 0.0)
-        .filter(|(t, _)| *t <= after + 100_000_000)?;
-    let full = recent
+        .find(|(t, m, _)| *t >= after && *m > 0.0)
+        .filter(|(t, _, _)| *t <= after + 100 * MS)?;
+    let later = recent
         .iter()
-        .filter(|(t, _)| *t >= t1 + 100_000_000 && *t < t1 + 200_000_000)
-        .map(|&(_, m)| m)
+        .filter(|(t, _, f)| *f == frame && *t >= t1 + 5 * MS && *t <= t1 + 20 * MS)
+        .map(|&(_, m, _)| m)
         .fold(0.0f32, f32::max);
-    (full > 0.05).then(|| f64::from(first / full))
+    (later > 0.0).then(|| f64::from(first / later))
 }
 
 #[cfg(test)]
@@ -273,10 +327,32 @@ mod tests {
     use super::*;
 
     #[test]
+    fn the_longest_frame_between_two_snapshots() {
+        let mut h = Histogram::default();
+        assert_eq!(frame_time_since(None, &h), None);
+        h.record(30_000_000);
+        h.record(4_000_000);
+        let a = h;
+        assert_eq!(frame_time_since(None, &a), Some(30.0));
+        // Only shorter frames since: the highest bucket that grew, not the old maximum.
+        h.record(5_020_000);
+        h.record(1_000_000);
+        let ms = frame_time_since(Some(&a), &h).unwrap();
+        assert!((5.02..=5.13).contains(&ms), "{ms}");
+        // Nothing new.
+        assert_eq!(frame_time_since(Some(&h), &h), None);
+        // A restarted cloth-sim counts from zero again.
+        let mut fresh = Histogram::default();
+        fresh.record(2_000_000);
+        assert_eq!(frame_time_since(Some(&h), &fresh), Some(2.0));
+    }
+
+    #[test]
     fn the_force_settles_at_zero_and_ramps() {
         let ms = 1_000_000u64;
         let mut r = VecDeque::new();
-        // 1 N until 100 ms, zero after 115 ms; back at 300 ms, ramping over 100 ms.
+        // 1 N until 100 ms, zero after 115 ms; back at 300 ms, ramping over 100 ms, from
+        // a model that holds until 350 ms.
         for k in 0..1000u64 {
             let t = k * ms;
             let f = if k < 115 {
@@ -284,21 +360,56 @@ mod tests {
             } else if k < 300 {
                 0.0
             } else {
-                ((k - 300) as f32 / 100.0).min(1.0)
+                ((k - 300 + 1) as f32 / 100.0).min(1.0)
             };
-            r.push_back((t, f));
+            r.push_back((t, f, (k / 50) as u32));
         }
         assert_eq!(zero_from(&r, 100 * ms), None, "it came back");
-        let cut: VecDeque<_> = r.iter().copied().filter(|(t, _)| *t < 300 * ms).collect();
+        let cut: VecDeque<_> = r
+            .iter()
+            .copied()
+            .filter(|(t, _, _)| *t < 300 * ms)
+            .collect();
         assert_eq!(zero_from(&cut, 100 * ms), Some(115 * ms));
         // The loop back at 290 ms, ramping from 300 ms: its first force is 1% of the
-        // force once the ramp is done.
+        // ramp's full force, 21 ms later it is 21%.
         let ratio = ramp_ratio(&r, 290 * ms).unwrap();
-        assert!((0.005..0.02).contains(&ratio), "{ratio}");
+        assert!((0.04..0.06).contains(&ratio), "{ratio}");
         // No ramp: the full force at once.
-        let step: VecDeque<_> = (0..1000u64).map(|k| (k * ms, 1.0)).collect();
+        let step: VecDeque<_> = (0..1000u64).map(|k| (k * ms, 1.0, 0)).collect();
         assert_eq!(ramp_ratio(&step, 290 * ms), Some(1.0));
         // Back only 200 ms later: a new pinch, not measured.
         assert_eq!(ramp_ratio(&r, 190 * ms), None);
+        // Ramped, but the spring the first model stretched is let go by the next model
+        // 8 ms later (the force falls to a fifth of the ramped): the ramp is still seen,
+        // where the force 100-200 ms later (the measure before) read 1.75.
+        let letgo: VecDeque<_> = (0..1000u64)
+            .map(|k| {
+                let t = k * ms;
+                if k < 300 {
+                    (t, 0.0, 0)
+                } else if k < 308 {
+                    (t, 20.0 * (k - 300 + 1) as f32 / 100.0, 1)
+                } else {
+                    (t, 0.2 * ((k - 300 + 1) as f32 / 100.0).min(1.0) * 0.57, 2)
+                }
+            })
+            .collect();
+        let ratio = ramp_ratio(&letgo, 290 * ms).unwrap();
+        assert!(ratio < 0.2, "{ratio}");
+        // Without the ramp, the same let-go reads the whole force.
+        let unramped: VecDeque<_> = (0..1000u64)
+            .map(|k| {
+                let f = if k < 300 {
+                    0.0
+                } else if k < 308 {
+                    20.0
+                } else {
+                    0.1
+                };
+                (k * ms, f, if k < 308 { 1 } else { 2 })
+            })
+            .collect();
+        assert_eq!(ramp_ratio(&unramped, 290 * ms), Some(1.0));
     }
 }
