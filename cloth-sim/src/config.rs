@@ -100,5 +100,7 @@ pub struct ServiceStats {
     pub pinch_force_max_n: f32,
     /// Longest time an autosave held up a frame, ms.
     pub autosave_ms_max: f64,
+    /// Local models that could not be sent to the haptic loop.
+    pub model_send_failures: u64,
     pub resumed: bool,
 }

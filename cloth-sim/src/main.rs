@@ -494,6 +494,12 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
         stats.autosave_failures,
         stats.autosave_ms_max
     ));
+    if stats.model_send_failures > 0 {
+        log(&format!(
+            "{} of the pen's models could not be sent to haptic-loop",
+            stats.model_send_failures
+        ));
+    }
     Ok(())
 }
 

@@ -57,6 +57,8 @@ struct Service<'a> {
     edited: bool,
     /// Where the time went since the last local model was sent.
     laps: Laps,
+    /// When a slow gap between models was last logged, and how many came since.
+    slow_logged: (Option<Instant>, u32),
 }
 
 /// Two local models further apart than this are logged with where the time went (the
@@ -167,6 +169,7 @@ pub fn run(
         seq_tel: 0,
         edited: false,
         laps: Laps::start(),
+        slow_logged: (None, 0),
     };
     let mut autosave = Autosave::start(&cfg.autosave, cfg.autosave_every_s)?;
     let period = Duration::from_secs_f64(1.0 / cfg.rate_hz.clamp(1.0, 1000.0));
@@ -384,10 +387,23 @@ impl Service<'_> {
     /// [`SLOW_MODEL_GAP`] ago or more.
     fn send_local_model(&mut self, log: &mut dyn FnMut(&str)) {
         if let Some(slow) = self.laps.slow(SLOW_MODEL_GAP) {
-            log(&format!(
-                "the pen's model went out {slow} after the last: the haptic loop fades the \
-                 force once its model is 20 ms old"
-            ));
+            // The first, then at most one every 10 s with how many there were between:
+            // a machine too slow for its cloth would otherwise log every frame.
+            let (last, quiet) = &mut self.slow_logged;
+            *quiet += 1;
+            if last.is_none_or(|t| t.elapsed() >= Duration::from_secs(10)) {
+                let more = if *quiet > 1 {
+                    format!(" ({} such gaps since the last line)", *quiet)
+                } else {
+                    String::new()
+                };
+                log(&format!(
+                    "the pen's model went out {slow} after the last{more}: the haptic loop \
+                     fades the force once its model is 20 ms old"
+                ));
+                *last = Some(Instant::now());
+                *quiet = 0;
+            }
         }
         self.laps.restart();
         let (tip, sent_ns) = self.feed.tip();
@@ -399,7 +415,12 @@ impl Service<'_> {
             self.cfg.pinch_stiffness,
         );
         if let Err(e) = self.ports.model.send_copy(m) {
-            log(&format!("sending the pen's model failed: {e:?}"));
+            self.stats.model_send_failures += 1;
+            if self.stats.model_send_failures == 1 {
+                log(&format!(
+                    "sending the pen's model failed: {e:?} (counted from now on)"
+                ));
+            }
         }
     }
 
