@@ -398,7 +398,8 @@ pub(crate) fn small_design(model: ModelKind) -> Design {
 
 /// Commands as cloth-sim receives them: the first byte picks the model, then up to 8
 /// `ToolCommand` records, each checked and converted (`Command::from_wire`) and carried
-/// out (`cloth_sim::carry_out`) on the design, then one frame stepped. Paths in SAVE and
+/// out (`cloth_sim::carry_out`) on the design, a frame stepped after each accepted one
+/// (and after the last, if it was refused). Paths in SAVE and
 /// ADD_PIECE are replaced by a scratch file (the fuzzer must not write where it likes);
 /// LOAD, RESET, EXPORT and SET_TOOL are the service's own and not carried out here.
 pub fn commands(data: &[u8]) {
@@ -408,6 +409,8 @@ pub fn commands(data: &[u8]) {
     let model = [ModelKind::Xpbd, ModelKind::Vbd, ModelKind::Seed][pick as usize % 3];
     let mut d = small_design(model);
     let scratch = std::env::temp_dir().join(format!("saiho-fuzz-{}", std::process::id()));
+    // Whether the design has been stepped since its last change.
+    let mut stepped = false;
     for _ in 0..8 {
         let Some((wire_cmd, more)) = wire::<ToolCommand>(rest) else {
             break;
@@ -434,7 +437,14 @@ pub fn commands(data: &[u8]) {
             d.history.undo_len(),
         );
         match cloth_sim::carry_out(&mut d, &c) {
-            Ok(_) => d.validate().expect("an edit leaves a valid design"),
+            Ok(_) => {
+                d.validate().expect("an edit leaves a valid design");
+                stepped = true;
+                if d.step().is_err() {
+                    break;
+                }
+                continue;
+            }
             Err(_) => {
                 let after = (
                     d.sim.cloth.len(),
@@ -444,9 +454,12 @@ pub fn commands(data: &[u8]) {
                 assert_eq!(before, after, "a refused {c:?} changed the design");
             }
         }
-        if d.step().is_err() {
-            return;
-        }
+        stepped = false;
+    }
+    // A refused command changes nothing, so the frames after refused ones are one frame:
+    // the last (what any hidden change a refusal left would break).
+    if !stepped {
+        let _ = d.step();
     }
     let _ = std::fs::remove_dir_all(&scratch);
 }
