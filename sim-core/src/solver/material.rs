@@ -151,33 +151,6 @@ impl Material {
         share.max(0.05 * w.min(1.0))
     }
 
-    /// The share of [`bending`](Self::bending) a bending hinge takes when it bends in the
-    /// direction `θ` from the warp (given `cos²θ`), such that hinges of every direction
-    /// together give [`bending_share`](Self::bending_share) in every direction.
-    ///
-    /// A bend of curvature κ in direction φ bends a hinge whose direction is θ by
-    /// κ cos²(θ − φ), so its energy goes as cos⁴(θ − φ), and a mesh whose hinges point
-    /// every way (the mesher's) sums `f(θ)` against cos⁴: it keeps `f`'s mean, two thirds
-    /// of its cos 2θ part and a sixth of its cos 4θ part. Weighting each hinge by `B(θ)`
-    /// itself therefore mixes in the other directions' rigidity (a warp bend of a fabric
-    /// whose weft is three times stiffer came out 1.6x the warp rigidity, in Peirce's
-    /// cantilever); `f` undoes it: `B(θ)`'s mean, 3/2 of its cos 2θ part and 6 times its
-    /// cos 4θ part. Never below a twentieth of the smaller of warp and weft (a bias far
-    /// softer than warp and weft cannot be made of hinges).
-    pub fn hinge_bending_share(&self, cos2: f32) -> f32 {
-        let c2 = cos2.clamp(0.0, 1.0);
-        let (w, b) = (self.bending_weft, self.bending_bias);
-        let mixed = 2.0 * b - 0.5 * (1.0 + w);
-        // B(θ) = B0 + B2 cos 2θ + B4 cos 4θ with warp 1, weft w, mixed term `mixed`.
-        let b0 = (3.0 + 3.0 * w + 2.0 * mixed) / 8.0;
-        let b2 = (1.0 - w) / 2.0;
-        let b4 = (1.0 + w - 2.0 * mixed) / 8.0;
-        let cos2t = 2.0 * c2 - 1.0;
-        let cos4t = 2.0 * cos2t * cos2t - 1.0;
-        let share = b0 + 1.5 * b2 * cos2t + 6.0 * b4 * cos4t;
-        share.max(0.05 * w.min(1.0))
-    }
-
     /// The contact settings this material gives, over a floor at `floor` if any.
     pub fn contact_params(&self, floor: Option<f32>) -> ContactParams {
         ContactParams {
@@ -233,28 +206,6 @@ mod tests {
         };
         for c2 in [0.0f32, 0.2, 0.7, 1.0] {
             assert!((mean.bending_share(c2) - (c2 + 3.0 * (1.0 - c2))).abs() < 1e-5);
-        }
-        // The hinges' share sums back to B(θ) over hinges of every direction (the
-        // mesher's): the mean of f(θ) cos⁴(θ - φ) over θ is B(φ) times cos⁴'s mean, 3/8.
-        for m in [m, mean] {
-            for phi in [
-                0.0f32,
-                0.3,
-                std::f32::consts::FRAC_PI_4,
-                1.2,
-                std::f32::consts::FRAC_PI_2,
-            ] {
-                let n = 3600;
-                let avg = (0..n)
-                    .map(|k| {
-                        let th = k as f32 / n as f32 * std::f32::consts::TAU;
-                        m.hinge_bending_share(th.cos().powi(2)) * (th - phi).cos().powi(4)
-                    })
-                    .sum::<f32>()
-                    / n as f32;
-                let want = m.bending_share(phi.cos().powi(2)) * 3.0 / 8.0;
-                assert!((avg / want - 1.0).abs() < 1e-3, "{phi}: {avg} {want}");
-            }
         }
         assert!(Material::default().isotropic_bending());
         let bad = Material {

@@ -123,6 +123,18 @@ impl MaterialZones {
             .find(|z| x >= z.lo - BAND_SLACK && x <= z.hi + BAND_SLACK)
     }
 
+    /// The index in [`zones`](Self::zones) of the zone a triangle with these rest corners
+    /// lies in.
+    pub fn zone_index(&self, rest: &[Vec3; 3]) -> Option<usize> {
+        if self.zones.is_empty() {
+            return None;
+        }
+        let x = (rest[0].x + rest[1].x + rest[2].x) / 3.0;
+        self.zones
+            .iter()
+            .position(|z| x >= z.lo - BAND_SLACK && x <= z.hi + BAND_SLACK)
+    }
+
     /// The material of a triangle with these rest corners: its zone's, else `base`.
     pub fn material_at<'a>(&'a self, rest: &[Vec3; 3], base: &'a Material) -> &'a Material {
         self.zone_of(rest).map_or(base, |z| &z.material)

@@ -7,7 +7,7 @@
 
 use glam::{Mat3, Vec3};
 
-use crate::solver::constraints::{BendConstraint, Membrane, elements_of};
+use crate::solver::constraints::{BendConstraint, Elements, Membrane, elements_of};
 use crate::solver::material::Material;
 use crate::solver::state::Cloth;
 
@@ -67,7 +67,9 @@ impl Elastic {
     /// The elements of `cloth`'s live mesh.
     pub fn new(cloth: &Cloth, material: &Material) -> Self {
         let live = &cloth.live;
-        let (membranes, bends) = elements_of(live, material, &cloth.zones);
+        let Elements {
+            membranes, bends, ..
+        } = elements_of(live, material, &cloth.zones);
         let n = cloth.len();
         let mem_items: Vec<(u32, u32)> = membranes
             .iter()

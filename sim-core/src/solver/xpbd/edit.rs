@@ -114,7 +114,8 @@ impl Xpbd {
         }
         for &key in edges {
             self.remove_bend(key);
-            if let Some(b) = live_bend(&cloth.live, key, &self.material, &cloth.zones) {
+            if let Some(b) = live_bend(&cloth.live, key, &self.material, &cloth.zones, &self.shares)
+            {
                 self.bend_loc
                     .insert(key, Loc::Extra(self.extra_bends.len() as u32));
                 self.extra_bends.push(b);

@@ -8,7 +8,7 @@ use super::groups::{Compliance, Group, Loc, solve_bending, solve_membranes, spli
 use super::limits::StretchLimits;
 use super::tethers::{solve_tethers, stretch_limits, tethers};
 use crate::collision::ContactCache;
-use crate::solver::constraints::{BendConstraint, Membrane, elements_of};
+use crate::solver::constraints::{BendConstraint, Elements, HingeShares, Membrane, elements_of};
 use crate::solver::material::Material;
 use crate::solver::model::{Drive, Environment};
 use crate::solver::state::Cloth;
@@ -21,6 +21,9 @@ pub struct Xpbd {
     /// A third of the area of the triangles around each vertex (for air drag).
     pub(super) area: Vec<f32>,
     pub(super) material: Material,
+    /// The hinges' anisotropic shares fitted when the elements were built: hinges an
+    /// edit makes take the same.
+    pub(super) shares: HingeShares,
     /// (vertex, pin, maximum length) long-range attachments.
     pub(super) tethers: Vec<(u32, u32, f32)>,
     /// Long-range stretch limits, coarse level first (see `limits`), and the inverse
@@ -57,7 +60,11 @@ impl Xpbd {
         limits: Option<StretchLimits>,
     ) -> Self {
         let live = &cloth.live;
-        let (membranes, bends) = elements_of(live, material, &cloth.zones);
+        let Elements {
+            membranes,
+            bends,
+            shares,
+        } = elements_of(live, material, &cloth.zones);
         let mut area = vec![0.0f32; cloth.len()];
         for m in &membranes {
             for &i in &m.v {
@@ -89,6 +96,7 @@ impl Xpbd {
             normals: vec![Vec3::Y; cloth.len()],
             area,
             material: *material,
+            shares,
             tethers: tethers(cloth, material),
             limits: stretch_limits(cloth, material, limits, groups[0].end),
             link_w: Vec::new(),
