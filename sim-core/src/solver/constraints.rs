@@ -129,6 +129,7 @@ impl Default for HingeDirections {
 
 impl HingeDirections {
     /// Every direction alike (a mesh whose hinges point every way).
+    #[cfg(test)]
     pub fn uniform() -> Self {
         Self {
             bins: [1.0; DIRECTION_BINS],
