@@ -4,11 +4,15 @@
 //! - clamped to the device's peak (3.3 N for a Touch);
 //! - held to a continuous budget (0.88 N average): a 1 s running mean of the magnitude,
 //!   and when it exceeds the budget the force is scaled down so the mean comes back;
-//! - ramped up over `ramp_up_s` after (re)engaging, so a pen that grabs never kicks;
+//! - ramped up over `ramp_up_s` after (re)engaging, so a pen that grabs never kicks, and
+//!   by at most two ticks' worth in one tick, so a late tick does not kick either;
 //! - ramped to zero within `stale_ramp_s` (10 ms) once the local model is older than
 //!   `stale_after_s` (20 ms), i.e. when cloth-sim is dead or stalled, and on device errors.
 //!
 //! All state is a handful of numbers: no allocation, no lock.
+
+/// The most of the ramp up one tick may take, s (two nominal 1 kHz periods).
+const MAX_RAMP_UP_TICK_S: f32 = 0.002;
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SafetyLimits {
@@ -79,7 +83,11 @@ impl ForceSafety {
             0.0
         };
         if hold == Hold::None {
-            self.gain = (self.gain + dt / l.ramp_up_s.max(1e-6)).min(1.0);
+            // A tick that comes late (a VM's host held the CPU for 18 ms in a soak) ramps
+            // by two ticks' worth at most: the force never jumps by more than 2% of
+            // itself in one tick, whatever the clock says.
+            let step = dt.min(MAX_RAMP_UP_TICK_S);
+            self.gain = (self.gain + step / l.ramp_up_s.max(1e-6)).min(1.0);
         } else if hold == Hold::Expired {
             self.gain = 0.0;
         } else {
@@ -170,6 +178,23 @@ mod tests {
         }
         let f = s.filter([0.0, 0.5, 0.0], 0.005, Hold::Expired);
         assert_eq!(norm(f), 0.0, "expired: zero in one tick");
+    }
+
+    #[test]
+    fn a_late_tick_does_not_jump_the_ramp() {
+        let mut s = ForceSafety::new(SafetyLimits::default());
+        // The first tick after engaging comes 18 ms late: 2% of the force, not 18%.
+        let f = s.filter([1.0, 0.0, 0.0], 0.018, Hold::None);
+        assert!((f[0] - 0.02).abs() < 1e-4, "{f:?}");
+        // On time again, the ramp goes on at 1% a tick.
+        let f = s.filter([1.0, 0.0, 0.0], 0.001, Hold::None);
+        assert!((f[0] - 0.03).abs() < 1e-4, "{f:?}");
+        // Ramping down is never held back: a late stale tick takes its whole share.
+        for _ in 0..200 {
+            s.filter([0.5, 0.0, 0.0], 0.001, Hold::None);
+        }
+        let f = s.filter([0.5, 0.0, 0.0], 0.005, Hold::Stale);
+        assert!((norm(f) - 0.25).abs() < 1e-3, "{f:?}");
     }
 
     #[test]
