@@ -8,3 +8,4 @@ pub mod proxy;
 pub mod record;
 pub mod rt;
 pub mod safety;
+pub mod sim_watch;

@@ -17,6 +17,7 @@ use crate::device::{DeviceError, DeviceState, HapticDevice, PointerTarget};
 use crate::proxy::{ProxyParams, proxy_force};
 use crate::rt;
 use crate::safety::{ForceSafety, Hold, SafetyLimits};
+use crate::sim_watch::SimWatch;
 
 #[derive(Clone, Debug)]
 pub struct LoopConfig {
@@ -64,14 +65,22 @@ struct Tick {
     hold_was: Hold,
     error_logged: Option<DeviceError>,
     reject_logged: u64,
+    /// When the watcher first said cloth-sim had exited (0: it has not), ns: a model sent
+    /// after it is a new cloth-sim's, whose pid the watcher does not know yet.
+    gone_since: u64,
+    /// Read the local model's publishers again at this tick's housekeeping.
+    relist: bool,
 }
 
-/// Runs until `stop` is set or `max_ticks`; returns what it measured.
+/// Runs until `stop` is set or `max_ticks`; returns what it measured. With `sim`, the
+/// force goes to zero within 2 ms once every process publishing the local model has
+/// exited (otherwise only the model's age tells).
 pub fn run<D: HapticDevice + PointerTarget>(
     dev: &mut D,
     ports: &HapticPorts,
     cfg: &LoopConfig,
     stop: &AtomicBool,
+    sim: Option<&SimWatch>,
     mut recorder: Option<&mut crate::record::Recorder>,
     mut log: impl FnMut(&str),
 ) -> LoopStats {
@@ -86,6 +95,8 @@ pub fn run<D: HapticDevice + PointerTarget>(
         hold_was: Hold::Stale,
         error_logged: None,
         reject_logged: 0,
+        gone_since: 0,
+        relist: true,
     };
     let period = cfg.period_ns;
     let t0 = rt::now_ns();
@@ -116,7 +127,7 @@ pub fn run<D: HapticDevice + PointerTarget>(
                 state: *s,
             });
         }
-        let (hold, wanted) = k.wanted(cfg, &state, start);
+        let (hold, wanted) = k.wanted(cfg, &state, start, sim);
         force = k.safety.filter(wanted, dt, hold);
         let write = dev.write_force(force);
         k.publish(ports, tick, &state, &write, force);
@@ -128,6 +139,13 @@ pub fn run<D: HapticDevice + PointerTarget>(
         // Housekeeping, every 100 ticks, after the tick's work.
         if tick.is_multiple_of(100) {
             k.housekeeping(ports, force, hold, &state, &write, &mut log);
+        }
+        // Who publishes the local model, for the watcher: every 100 ticks, and at once
+        // when a model comes from what may be a new cloth-sim.
+        if let Some(w) = sim
+            && (tick.is_multiple_of(100) || std::mem::take(&mut k.relist))
+        {
+            w.watch(ports.model_publisher_pids());
         }
         if state.is_err() || write.is_err() {
             k.stats.device_errors += 1;
@@ -176,8 +194,28 @@ impl Tick {
         cfg: &LoopConfig,
         state: &Result<DeviceState, DeviceError>,
         start: u64,
+        sim: Option<&SimWatch>,
     ) -> (Hold, [f32; 3]) {
+        // Gone: every process publishing the model has exited, and the model is not one a
+        // new cloth-sim sent since (that one's pid is read at once, below).
+        let gone = if sim.is_some_and(SimWatch::gone) {
+            if self.gone_since == 0 {
+                self.gone_since = start;
+            }
+            let newer = self
+                .model
+                .as_ref()
+                .is_some_and(|(m, _)| m.header.sent_ns > self.gone_since);
+            if newer {
+                self.relist = true;
+            }
+            !newer
+        } else {
+            self.gone_since = 0;
+            false
+        };
         let (hold, pen) = match state {
+            Ok(s) if gone => (Hold::Gone, Some(*s)),
             Ok(s) => {
                 let age_s = self
                     .model
@@ -273,6 +311,7 @@ impl Tick {
                 Hold::None => "local model fresh: rendering force",
                 Hold::Stale => "local model stale (cloth-sim not sending): force ramped to zero",
                 Hold::Expired => "local model expired (cloth-sim gone 30 ms): force zero",
+                Hold::Gone => "cloth-sim exited: force ramped to zero within 2 ms",
                 Hold::DeviceError => "device error: force ramped to zero",
             });
             self.hold_was = hold;

@@ -141,6 +141,8 @@ fn run(a: Args) -> Result<(), String> {
         Some(p) => Some(haptic_loop::record::Recorder::create(p)?),
         None => None,
     };
+    // The watcher of cloth-sim's process too: an ordinary thread, not the loop's priority.
+    let watch = haptic_loop::sim_watch::SimWatch::start();
     real_time(&a);
     let cfg = LoopConfig {
         spin_ns: a.spin_us * 1000,
@@ -151,7 +153,15 @@ fn run(a: Args) -> Result<(), String> {
         Dev::Sim(source) => {
             let mut d = SimDevice::new(source, Workspace::default());
             log(&format!("device sim, domain '{}', 1 kHz", domain.name()));
-            looper::run(&mut d, &ports, &cfg, stop, recorder.as_mut(), log)
+            looper::run(
+                &mut d,
+                &ports,
+                &cfg,
+                stop,
+                Some(&watch),
+                recorder.as_mut(),
+                log,
+            )
         }
         Dev::Replay(mut d) => {
             if let Some(n) = d.cut_at_line {
@@ -165,7 +175,15 @@ fn run(a: Args) -> Result<(), String> {
                 d.duration(),
                 domain.name()
             ));
-            looper::run(&mut d, &ports, &cfg, stop, recorder.as_mut(), log)
+            looper::run(
+                &mut d,
+                &ports,
+                &cfg,
+                stop,
+                Some(&watch),
+                recorder.as_mut(),
+                log,
+            )
         }
         Dev::OpenHaptics => {
             let (mut d, notice) =
@@ -178,7 +196,15 @@ fn run(a: Args) -> Result<(), String> {
                 a.hd_lib,
                 domain.name()
             ));
-            let s = looper::run(&mut d, &ports, &cfg, stop, recorder.as_mut(), log);
+            let s = looper::run(
+                &mut d,
+                &ports,
+                &cfg,
+                stop,
+                Some(&watch),
+                recorder.as_mut(),
+                log,
+            );
             log(&format!("{} servo frames", d.frames()));
             s
         }

@@ -7,7 +7,10 @@
 //! - ramped up over `ramp_up_s` after (re)engaging, so a pen that grabs never kicks, and
 //!   by at most two ticks' worth in one tick, so a late tick does not kick either;
 //! - ramped to zero within `stale_ramp_s` (10 ms) once the local model is older than
-//!   `stale_after_s` (20 ms), i.e. when cloth-sim is dead or stalled, and on device errors.
+//!   `stale_after_s` (20 ms), i.e. when cloth-sim is dead or stalled, and on device errors;
+//!   within `gone_ramp_s` (2 ms) once cloth-sim's process is known to have exited (the
+//!   kernel says so 4-5 ms after a kill -9 of a 128 x 128 cloth-sim, whose memory goes
+//!   first: zero within 10 ms of the kill).
 //!
 //! All state is a handful of numbers: no allocation, no lock.
 
@@ -21,6 +24,9 @@ pub struct SafetyLimits {
     pub ramp_up_s: f32,
     pub stale_after_s: f32,
     pub stale_ramp_s: f32,
+    /// The ramp to zero once cloth-sim's process has exited (known at once, not from the
+    /// model's age), s.
+    pub gone_ramp_s: f32,
     /// Time constant of the running mean for the continuous budget, s.
     pub budget_window_s: f32,
 }
@@ -33,6 +39,7 @@ impl Default for SafetyLimits {
             ramp_up_s: 0.1,
             stale_after_s: 0.020,
             stale_ramp_s: 0.010,
+            gone_ramp_s: 0.002,
             budget_window_s: 1.0,
         }
     }
@@ -56,6 +63,9 @@ pub enum Hold {
     /// Older than the staleness limit and its ramp together (the loop itself was held up,
     /// e.g. a VM frozen mid-tick): no force at all, at once.
     Expired,
+    /// The process that sent the model has exited (`sim_watch`): ramped to zero over
+    /// `gone_ramp_s`.
+    Gone,
     DeviceError,
 }
 
@@ -91,7 +101,12 @@ impl ForceSafety {
         } else if hold == Hold::Expired {
             self.gain = 0.0;
         } else {
-            self.gain = (self.gain - dt / l.stale_ramp_s.max(1e-6)).max(0.0);
+            let ramp = if hold == Hold::Gone {
+                l.gone_ramp_s
+            } else {
+                l.stale_ramp_s
+            };
+            self.gain = (self.gain - dt / ramp.max(1e-6)).max(0.0);
             // Ten steps of a tenth can leave a rounding error above zero (and a tick a
             // hair under 1 ms a sliver): what is left of the ramp's last step is zero.
             if self.gain < 0.02 {
@@ -195,6 +210,24 @@ mod tests {
         }
         let f = s.filter([0.5, 0.0, 0.0], 0.005, Hold::Stale);
         assert!((norm(f) - 0.25).abs() < 1e-3, "{f:?}");
+    }
+
+    #[test]
+    fn a_gone_simulation_ramps_to_zero_within_2_ms() {
+        let mut s = ForceSafety::new(SafetyLimits::default());
+        for _ in 0..200 {
+            s.filter([0.0, 0.5, 0.0], 0.001, Hold::None);
+        }
+        let forces: Vec<f32> = (0..3)
+            .map(|_| norm(s.filter([0.0, 0.5, 0.0], 0.001, Hold::Gone)))
+            .collect();
+        // Half after the first tick, zero from the second on.
+        assert!((forces[0] - 0.25).abs() < 1e-4, "{forces:?}");
+        assert_eq!(
+            forces[1..],
+            [0.0, 0.0],
+            "zero by the second tick: {forces:?}"
+        );
     }
 
     #[test]

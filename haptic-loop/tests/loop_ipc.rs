@@ -27,7 +27,7 @@ fn start_loop(d: Domain, ticks: u64) -> std::thread::JoinHandle<looper::LoopStat
         };
         let mut dev = SimDevice::new(Still([0.0, 0.6, 0.0], 0), Workspace::default());
         let stop = AtomicBool::new(false);
-        looper::run(&mut dev, &ports, &cfg, &stop, None, |_| {})
+        looper::run(&mut dev, &ports, &cfg, &stop, None, None, |_| {})
     })
 }
 

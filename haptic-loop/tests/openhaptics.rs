@@ -63,6 +63,7 @@ fn a_whole_session_drives_the_standin() {
             &cfg,
             &AtomicBool::new(false),
             None,
+            None,
             |_| {},
         );
         assert_eq!(stats.device_errors, 0);

@@ -243,6 +243,8 @@ pub struct HapticPorts {
     pub telemetry: Pub<LoopTelemetry>,
     pub model: Sub<LocalModel>,
     pub pointer: Sub<PointerInput>,
+    /// The local model's service, for the processes that publish on it.
+    model_service: services::Factory<LocalModel>,
 }
 
 impl HapticPorts {
@@ -253,7 +255,27 @@ impl HapticPorts {
             telemetry: publisher(node, services::haptic_telemetry)?,
             model: subscriber(node, services::local_model, Some(1))?,
             pointer: subscriber(node, services::pointer, None)?,
+            model_service: services::local_model(node).map_err(PortError::Service)?,
         })
+    }
+
+    /// The pids of the processes whose publishers the local model's service lists (up to
+    /// two, 0 for none): cloth-sim, and a killed one until its ports are cleaned up. No
+    /// allocation (iceoryx2 walks its shared list).
+    pub fn model_publisher_pids(&self) -> [u32; 2] {
+        use iceoryx2::service::port_factory::PortFactory as _;
+        let mut out = [0u32; 2];
+        let mut n = 0;
+        self.model_service.dynamic_config().list_publishers(|p| {
+            if let Ok(pid) = p.node_id.pid::<ipc::Service>()
+                && n < out.len()
+            {
+                out[n] = pid.value() as u32;
+                n += 1;
+            }
+            iceoryx2::prelude::CallbackProgression::Continue
+        });
+        out
     }
 }
 

@@ -2,7 +2,8 @@
 //! processes (`cloth-lab soak`, docs/reliability.md). The timing requirements are judged
 //! in the suite's own report, not here (this machine is shared); this checks that every
 //! fault was recovered from, that no force was rendered from a stale model, that a killed
-//! cloth-sim resumed its design with the edits before the kill, that a killed haptic-loop
+//! cloth-sim resumed its design with the edits before the kill and was seen to exit by
+//! the haptic loop (not only from its model's age), that a killed haptic-loop
 //! let go of the pinch, and that the clean stop left nothing of the domain behind.
 
 #![allow(clippy::unwrap_used)]
@@ -57,6 +58,15 @@ fn one_fault_of_each_kind_is_survived() {
     );
     assert_eq!(r["left_behind"], serde_json::json!([]), "{text}");
     assert!(r["haptic_ticks"].as_u64().unwrap() > 5000, "{text}");
+    // The killed cloth-sim was seen to exit (its pidfd), not only its model to age: the
+    // haptic loop said so, and took the force to zero (the timing is the report's).
+    let haptic = std::fs::read_to_string(out.join("haptic-loop.log")).unwrap();
+    assert!(haptic.contains("cloth-sim exited"), "{haptic}");
+    assert_eq!(
+        r["force_zero_after_kill_ms"].as_array().map(Vec::len),
+        Some(1),
+        "{text}"
+    );
     // The summary is there too, and says the verdict.
     let summary = std::fs::read_to_string(out.join("soak-summary.txt")).unwrap();
     assert!(summary.contains("verdict: "), "{summary}");

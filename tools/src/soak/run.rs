@@ -32,16 +32,19 @@ fn pump_until(w: &mut Watch, limit: Duration, done: &dyn Fn(&Watch) -> bool) -> 
 
 /// The force after a cloth-sim fault at `t` (ns): settled at zero when, ms after the
 /// fault and after the newest model went stale (20 ms).
-fn force_zero(w: &Watch, r: &mut SoakReport, t: u64, last_model: u64) {
+fn force_zero(w: &Watch, r: &mut SoakReport, t: u64, last_model: u64) -> Option<f64> {
     if let Some(z) = zero_from(&w.recent, t) {
-        r.force_zero_ms.push(z.saturating_sub(t) as f64 * 1e-6);
+        let ms = z.saturating_sub(t) as f64 * 1e-6;
+        r.force_zero_ms.push(ms);
         let stale = last_model + 20_000_000;
         r.force_zero_after_stale_ms_max = r
             .force_zero_after_stale_ms_max
             .max(z.saturating_sub(stale) as f64 * 1e-6);
+        Some(ms)
     } else {
         r.failures
             .push("the force did not settle at zero after a cloth-sim fault".into());
+        None
     }
 }
 
@@ -78,7 +81,9 @@ fn sim_kill(p: &mut Procs, w: &mut Watch, r: &mut SoakReport) -> Result<bool, St
     kill9(&mut p.sim);
     pump_for(w, Duration::from_millis(400));
     // Every model it sent before it died has been taken in by now.
-    force_zero(w, r, t, w.last_model_ns);
+    if let Some(ms) = force_zero(w, r, t, w.last_model_ns) {
+        r.force_zero_after_kill_ms.push(ms);
+    }
     let restart = monotonic_ns();
     p.spawn_sim(false)?;
     let back = pump_until(w, Duration::from_secs(60), &|w| w.last_model_ns > restart);
@@ -224,8 +229,15 @@ fn course(
     }
     let started = Instant::now();
     let mut rng = Rng(0x9E37_79B9_7F4A_7C15 ^ u64::from(std::process::id()));
+    let interrupt = shared::signals::termination_flag();
     for i in 0..cfg.faults {
         if started.elapsed().as_secs_f64() > cfg.minutes * 60.0 {
+            break;
+        }
+        // SIGINT or SIGTERM: stop injecting; the processes still stop cleanly below.
+        if interrupt.load(std::sync::atomic::Ordering::Relaxed) {
+            r.interrupted = true;
+            progress("interrupted: stopping the processes and writing the report");
             break;
         }
         let kind = FAULTS[i % FAULTS.len()];
@@ -286,6 +298,9 @@ fn left_behind(domain: &shared::domain::Domain) -> Vec<String> {
 /// Each requirement the figures break, in words.
 fn judge(r: &mut SoakReport) {
     let mut f = Vec::new();
+    if r.interrupted {
+        f.push("interrupted (SIGINT or SIGTERM) before the faults asked for were injected".into());
+    }
     if r.haptic_ticks == 0 {
         f.push("the haptic loop never ran (see haptic-loop.log)".into());
     }
@@ -293,6 +308,16 @@ fn judge(r: &mut SoakReport) {
         f.push(format!(
             "{} ticks rendered force from a stale model",
             r.stale_force_ticks
+        ));
+    }
+    let kill_max = r
+        .force_zero_after_kill_ms
+        .iter()
+        .copied()
+        .fold(0.0, f64::max);
+    if kill_max > 10.0 {
+        f.push(format!(
+            "the force took {kill_max:.1} ms to reach zero after cloth-sim was killed (limit 10 ms)"
         ));
     }
     if r.force_zero_after_stale_ms_max > 12.0 {
