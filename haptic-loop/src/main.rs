@@ -105,15 +105,15 @@ fn real_time(a: &Args) {
     log(&rt::realtime(a.rt_priority, cpu).line());
 }
 
-fn run(a: Args) -> Result<(), String> {
-    validate(&a)?;
-    let domain = Domain::from_arg_or_env(a.domain.as_deref()).map_err(|e| e.to_string())?;
-    enum Dev {
-        Sim(Target),
-        OpenHaptics,
-        Replay(Replay),
-    }
-    let dev = match (&a.device[..], &a.script) {
+/// The device `--device` names, opened as far as it can be before the loop.
+enum Dev {
+    Sim(Target),
+    OpenHaptics,
+    Replay(Replay),
+}
+
+fn device_of(a: &Args) -> Result<Dev, String> {
+    Ok(match (&a.device[..], &a.script) {
         ("sim", None) => Dev::Sim(Target::Still(Still(Workspace::default().centre, 0))),
         ("sim", Some(p)) => {
             let text = std::fs::read_to_string(p)
@@ -131,7 +131,13 @@ fn run(a: Args) -> Result<(), String> {
                 "unknown device '{d}' (expected sim, openhaptics or replay:FILE)"
             ));
         }
-    };
+    })
+}
+
+fn run(a: Args) -> Result<(), String> {
+    validate(&a)?;
+    let domain = Domain::from_arg_or_env(a.domain.as_deref()).map_err(|e| e.to_string())?;
+    let dev = device_of(&a)?;
     let stop = rt::termination_flag();
     let _release = services::ReleaseOnDrop(domain.clone());
     let node = services::node(&domain, "haptic-loop").map_err(|e| e.to_string())?;
