@@ -119,9 +119,12 @@ impl ForceSafety {
             f = [0.0; 3];
         }
         let mag = (f[0] * f[0] + f[1] * f[1] + f[2] * f[2]).sqrt();
+        // Clamped to the peak first, then ramped: a wanted force far over the peak (a pen
+        // that moved on while cloth-sim was stopped) still comes back over the whole ramp.
+        // Ramping first let 1% of 300 N through as the whole 3.3 N in the soak.
         let mut scale = self.gain;
-        if mag * scale > l.max_force {
-            scale = l.max_force / mag;
+        if mag > l.max_force {
+            scale *= l.max_force / mag;
         }
         // Continuous budget: keep the running mean of |F| under the continuous force.
         let a = (dt / l.budget_window_s.max(1e-3)).min(1.0);
@@ -163,6 +166,23 @@ mod tests {
         let f = s.filter([f32::NAN, 1.0, 0.0], 0.001, Hold::None);
         assert_eq!(f, [0.0; 3]);
         assert_eq!(s.non_finite, 1);
+    }
+
+    #[test]
+    fn a_force_over_the_peak_still_ramps() {
+        let mut s = ForceSafety::new(SafetyLimits::default());
+        // 300 N wanted (100 times the peak): 1% of the peak on the first tick, not the
+        // whole peak, then 1% more a tick up to the peak.
+        let mags: Vec<f32> = (0..120)
+            .map(|_| norm(s.filter([0.0, 0.0, 300.0], 0.001, Hold::None)))
+            .collect();
+        assert!((mags[0] - 0.033).abs() < 1e-4, "{:?}", &mags[..3]);
+        assert!((mags[49] - 1.65).abs() < 1e-3, "{}", mags[49]);
+        assert!(
+            mags.windows(2).all(|w| w[1] - w[0] <= 0.034),
+            "steps of 1% at most"
+        );
+        assert!(mags[119] <= 3.3 + 1e-5);
     }
 
     #[test]
