@@ -2,7 +2,7 @@
 
 use std::time::{Duration, Instant};
 
-use super::watch::{Watch, ramp_ratio, zero_from};
+use super::watch::{Watch, ramp_envelope, zero_from};
 use super::{
     FAULTS, FaultCount, Procs, Rng, SoakConfig, SoakReport, floor, kill9, monotonic_ns, pen_script,
     services, signal, stop,
@@ -48,11 +48,12 @@ fn force_zero(w: &Watch, r: &mut SoakReport, t: u64, last_model: u64) -> Option<
     }
 }
 
-/// The force's return when the loop re-engages after `after` (ns) ([`ramp_ratio`]).
+/// The force's return when the loop re-engages after `after` (ns), against its ramp
+/// ([`ramp_envelope`]).
 fn ramp(w: &Watch, r: &mut SoakReport, after: u64) {
-    if let Some(x) = ramp_ratio(&w.recent, after) {
-        r.ramp_ratio_max = r.ramp_ratio_max.max(x);
-        r.ramps.push((w.phase.to_string(), x));
+    if let Some((over, most)) = ramp_envelope(&w.recent, after) {
+        r.ramp_over_limit_max = r.ramp_over_limit_max.max(over);
+        r.ramps.push((w.phase.to_string(), over, f64::from(most)));
     }
 }
 
@@ -355,10 +356,10 @@ fn judge(r: &mut SoakReport) {
     if r.pinch_released.iter().any(|b| !b) {
         f.push("cloth-sim kept the pinch (or stopped) after haptic-loop was killed".into());
     }
-    if r.ramp_ratio_max > 0.5 {
+    if r.ramp_over_limit_max > 1.0 {
         f.push(format!(
-            "a force came back without its ramp (at {:.0}% of the force 5-20 ms later from the same model)",
-            100.0 * r.ramp_ratio_max
+            "a force came back faster than its ramp ({:.1} times the most the ramp lets through at its tick)",
+            r.ramp_over_limit_max
         ));
     }
     for (kind, c) in &r.faults {

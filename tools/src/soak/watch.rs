@@ -29,8 +29,8 @@ pub(super) struct Watch {
     seq: u64,
     /// Forces sent after the models were last drained: checked at the next pass.
     deferred: Vec<AppliedForce>,
-    /// (sent ns, magnitude N, local model frame) of the last 12 s of forces.
-    pub recent: VecDeque<(u64, f32, u32)>,
+    /// (sent ns, magnitude N, the loop's tick) of the last 12 s of forces.
+    pub recent: VecDeque<(u64, f32, u64)>,
     pub last_model_ns: u64,
     pub pinching: bool,
     pub models_seen: u64,
@@ -189,7 +189,7 @@ impl Watch {
             if mag > 0.0 && sent > self.last_model_ns + STALE_NS {
                 self.stale_force_ticks += 1;
             }
-            self.recent.push_back((sent, mag, f.model_frame));
+            self.recent.push_back((sent, mag, f.tick));
         }
         while self
             .recent
@@ -266,8 +266,11 @@ impl Watch {
 
 /// The longest frame recorded in `now` since `before` (two snapshots of cloth-sim's frame
 /// times, which count from its start), ms: the new maximum when it grew, else the upper
-/// edge of the highest bucket that grew (at most the maximum). `None` when no frame was
-/// recorded in between; a count that went back is a restarted cloth-sim, counted afresh.
+/// edge of the highest bucket that grew (at most the maximum). The top bucket is open
+/// (12 ms and over): a frame there that set no new maximum reads as its floor, 12 ms, a
+/// lower bound (reading the maximum put a stop's 5 s frame in later phases). `None` when
+/// no frame was recorded in between; a count that went back is a restarted cloth-sim,
+/// counted afresh.
 pub(super) fn frame_time_since(before: Option<&Histogram>, now: &Histogram) -> Option<f64> {
     let before = before.filter(|b| b.total <= now.total);
     let grew = |b: usize| before.is_none_or(|h| now.counts[b] > h.counts[b]);
@@ -280,14 +283,14 @@ pub(super) fn frame_time_since(before: Option<&Histogram>, now: &Histogram) -> O
     let edge = if b + 1 < now.counts.len() {
         Histogram::bucket_floor_ns(b + 1).min(now.max_ns)
     } else {
-        now.max_ns
+        Histogram::bucket_floor_ns(b)
     };
     Some(edge as f64 * 1e-6)
 }
 
 /// From `after` (ns), the first force at zero after which every force is zero, ms after
 /// `after`; `None` when the force never settled at zero.
-pub(super) fn zero_from(recent: &VecDeque<(u64, f32, u32)>, after: u64) -> Option<u64> {
+pub(super) fn zero_from(recent: &VecDeque<(u64, f32, u64)>, after: u64) -> Option<u64> {
     let mut zero_at = None;
     for &(t, mag, _) in recent.iter().filter(|(t, _, _)| *t >= after) {
         if mag > 0.0 {
@@ -299,27 +302,40 @@ pub(super) fn zero_from(recent: &VecDeque<(u64, f32, u32)>, after: u64) -> Optio
     zero_at
 }
 
-/// The force's return once the loop re-engages after `after` (ns): the first force back
-/// (within 100 ms of `after`) over the largest 5-20 ms later that was rendered from the
-/// same local model. The loop's ramp takes 100 ms from zero, so with it the first force
-/// comes back at about a tenth of those; without it, at about the whole. Against the
-/// same model only the pen's millimetres change the force; a new model can change it
-/// by any amount (after a 5 s stop the first model still holds the cloth where it was
-/// while the pen moved on, and the next one lets the spring go), so forces from a later
-/// model are no reference. `None` when it did not come back so soon (a new pinch later
-/// is no re-engagement), or no force of the same model came 5-20 ms later.
-pub(super) fn ramp_ratio(recent: &VecDeque<(u64, f32, u32)>, after: u64) -> Option<f64> {
+/// The haptic loop's peak force (a Touch's 3.3 N, haptic-loop's default limit), N.
+const PEAK_N: f32 = 3.3;
+/// The most of the peak the loop's ramp up gives in one tick (1% on time, 2% for a late
+/// tick).
+const RAMP_PER_TICK: f32 = 0.02;
+
+/// The force's return once the loop re-engages after `after` (ns), against its ramp: over
+/// the first 100 ms from the first force back (within 100 ms of `after`), each force over
+/// the most the ramp lets through at its tick, `min(1, 2% x n)` of the peak at the n-th
+/// tick. At most 1 with the ramp (about 0.5 on time); a force back whole reads its size
+/// over 2% of the peak (15 for 1 N). Forces that fall (a pen that lets go, a later model
+/// that lets the stretched pinch go) cannot read high, which the first measure, a ratio
+/// of two forces, could: after 5 s stopped a let-go 5-20 ms after the return read 97%.
+/// Returns that maximum and the largest force in those 100 ms (a ramp is seen only where
+/// there was force to ramp); `None` when the force did not come back so soon (a new
+/// pinch later is no re-engagement).
+pub(super) fn ramp_envelope(recent: &VecDeque<(u64, f32, u64)>, after: u64) -> Option<(f64, f32)> {
     const MS: u64 = 1_000_000;
-    let &(t1, first, frame) = recent
+    let &(t1, _, tick1) = recent
         .iter()
         .find(|(t, m, _)| *t >= after && *m > 0.0)
         .filter(|(t, _, _)| *t <= after + 100 * MS)?;
-    let later = recent
+    let mut over = 0.0f64;
+    let mut most = 0.0f32;
+    for &(_, m, tick) in recent
         .iter()
-        .filter(|(t, _, f)| *f == frame && *t >= t1 + 5 * MS && *t <= t1 + 20 * MS)
-        .map(|&(_, m, _)| m)
-        .fold(0.0f32, f32::max);
-    (later > 0.0).then(|| f64::from(first / later))
+        .filter(|(t, _, _)| *t >= t1 && *t <= t1 + 100 * MS)
+    {
+        let n = tick.saturating_sub(tick1) + 1;
+        let allowed = (RAMP_PER_TICK * n as f32).min(1.0) * PEAK_N;
+        over = over.max(f64::from(m / allowed));
+        most = most.max(m);
+    }
+    Some((over, most))
 }
 
 #[cfg(test)]
@@ -341,6 +357,11 @@ mod tests {
         assert!((5.02..=5.13).contains(&ms), "{ms}");
         // Nothing new.
         assert_eq!(frame_time_since(Some(&h), &h), None);
+        // A stop's 5 s frame, then a 20 ms one: the open top bucket's floor, not 5 s.
+        h.record(5_000_000_000);
+        let stopped = h;
+        h.record(20_000_000);
+        assert_eq!(frame_time_since(Some(&stopped), &h), Some(12.0));
         // A restarted cloth-sim counts from zero again.
         let mut fresh = Histogram::default();
         fresh.record(2_000_000);
@@ -362,7 +383,7 @@ mod tests {
             } else {
                 ((k - 300 + 1) as f32 / 100.0).min(1.0)
             };
-            r.push_back((t, f, (k / 50) as u32));
+            r.push_back((t, f, k));
         }
         assert_eq!(zero_from(&r, 100 * ms), None, "it came back");
         let cut: VecDeque<_> = r
@@ -371,45 +392,49 @@ mod tests {
             .filter(|(t, _, _)| *t < 300 * ms)
             .collect();
         assert_eq!(zero_from(&cut, 100 * ms), Some(115 * ms));
-        // The loop back at 290 ms, ramping from 300 ms: its first force is 1% of the
-        // ramp's full force, 21 ms later it is 21%.
-        let ratio = ramp_ratio(&r, 290 * ms).unwrap();
-        assert!((0.04..0.06).contains(&ratio), "{ratio}");
-        // No ramp: the full force at once.
-        let step: VecDeque<_> = (0..1000u64).map(|k| (k * ms, 1.0, 0)).collect();
-        assert_eq!(ramp_ratio(&step, 290 * ms), Some(1.0));
+        // The loop back at 290 ms, ramping from 300 ms at 1% of 1 N a tick: well inside
+        // the ramp's limit (2% of 3.3 N a tick, the whole 3.3 N from the 50th tick on);
+        // the most is 1 N at the 100th tick.
+        let (over, most) = ramp_envelope(&r, 290 * ms).unwrap();
+        assert!((over - 1.0 / 3.3).abs() < 1e-3, "{over}");
+        assert_eq!(most, 1.0);
+        // No ramp: 1 N at once is 15 times the first tick's limit.
+        let step: VecDeque<_> = (0..1000u64).map(|k| (k * ms, 1.0, k)).collect();
+        let (over, _) = ramp_envelope(&step, 290 * ms).unwrap();
+        assert!((15.0..15.2).contains(&over), "{over}");
         // Back only 200 ms later: a new pinch, not measured.
-        assert_eq!(ramp_ratio(&r, 190 * ms), None);
-        // Ramped, but the spring the first model stretched is let go by the next model
-        // 8 ms later (the force falls to a fifth of the ramped): the ramp is still seen,
-        // where the force 100-200 ms later (the measure before) read 1.75.
+        assert_eq!(ramp_envelope(&r, 190 * ms), None);
+        // 300 N wanted, ramped at 1% of the peak a tick, then let go 8 ms later: the
+        // ratio of two forces read this as a return without its ramp; the limit does not.
         let letgo: VecDeque<_> = (0..1000u64)
-            .map(|k| {
-                let t = k * ms;
-                if k < 300 {
-                    (t, 0.0, 0)
-                } else if k < 308 {
-                    (t, 20.0 * (k - 300 + 1) as f32 / 100.0, 1)
-                } else {
-                    (t, 0.2 * ((k - 300 + 1) as f32 / 100.0).min(1.0) * 0.57, 2)
-                }
-            })
-            .collect();
-        let ratio = ramp_ratio(&letgo, 290 * ms).unwrap();
-        assert!(ratio < 0.2, "{ratio}");
-        // Without the ramp, the same let-go reads the whole force.
-        let unramped: VecDeque<_> = (0..1000u64)
             .map(|k| {
                 let f = if k < 300 {
                     0.0
                 } else if k < 308 {
-                    20.0
+                    0.033 * (k - 300 + 1) as f32
                 } else {
-                    0.1
+                    0.001
                 };
-                (k * ms, f, if k < 308 { 1 } else { 2 })
+                (k * ms, f, k)
             })
             .collect();
-        assert_eq!(ramp_ratio(&unramped, 290 * ms), Some(1.0));
+        let (over, most) = ramp_envelope(&letgo, 290 * ms).unwrap();
+        assert!(over <= 0.5 + 1e-6, "{over}");
+        assert!((most - 0.264).abs() < 1e-4, "{most}");
+        // The peak at once, then let go: caught.
+        let kick: VecDeque<_> = (0..1000u64)
+            .map(|k| (k * ms, if (300..308).contains(&k) { 3.3 } else { 0.0 }, k))
+            .collect();
+        let (over, _) = ramp_envelope(&kick, 290 * ms).unwrap();
+        assert!(over > 40.0, "{over}");
+        // A late tick (the loop held 18 ms: ticks 1 and 2 are 18 ms apart) may take 2%.
+        let late: VecDeque<_> = (0..100u64)
+            .map(|k| {
+                let t = if k == 0 { 300 * ms } else { (317 + k) * ms };
+                (t, (0.066 * (k + 1) as f32).min(3.3), k + 5000)
+            })
+            .collect();
+        let (over, _) = ramp_envelope(&late, 290 * ms).unwrap();
+        assert!((over - 1.0).abs() < 1e-5, "{over}");
     }
 }
