@@ -155,19 +155,17 @@ fn run(a: Args) -> Result<(), String> {
         max_ticks: a.seconds.map(|s| (s * 1000.0) as u64),
         ..LoopConfig::default()
     };
+    // One loop for every kind of device (each its own type).
+    macro_rules! run_on {
+        ($d:expr) => {
+            looper::run($d, &ports, &cfg, stop, Some(&watch), recorder.as_mut(), log)
+        };
+    }
     let stats = match dev {
         Dev::Sim(source) => {
             let mut d = SimDevice::new(source, Workspace::default());
             log(&format!("device sim, domain '{}', 1 kHz", domain.name()));
-            looper::run(
-                &mut d,
-                &ports,
-                &cfg,
-                stop,
-                Some(&watch),
-                recorder.as_mut(),
-                log,
-            )
+            run_on!(&mut d)
         }
         Dev::Replay(mut d) => {
             if let Some(n) = d.cut_at_line {
@@ -181,15 +179,7 @@ fn run(a: Args) -> Result<(), String> {
                 d.duration(),
                 domain.name()
             ));
-            looper::run(
-                &mut d,
-                &ports,
-                &cfg,
-                stop,
-                Some(&watch),
-                recorder.as_mut(),
-                log,
-            )
+            run_on!(&mut d)
         }
         Dev::OpenHaptics => {
             let (mut d, notice) =
@@ -202,15 +192,7 @@ fn run(a: Args) -> Result<(), String> {
                 a.hd_lib,
                 domain.name()
             ));
-            let s = looper::run(
-                &mut d,
-                &ports,
-                &cfg,
-                stop,
-                Some(&watch),
-                recorder.as_mut(),
-                log,
-            );
+            let s = run_on!(&mut d);
             log(&format!("{} servo frames", d.frames()));
             s
         }
