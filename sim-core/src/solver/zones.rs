@@ -114,13 +114,7 @@ impl MaterialZones {
 
     /// The zone a triangle with these rest corners lies in.
     fn zone_of(&self, rest: &[Vec3; 3]) -> Option<&Zone> {
-        if self.zones.is_empty() {
-            return None;
-        }
-        let x = (rest[0].x + rest[1].x + rest[2].x) / 3.0;
-        self.zones
-            .iter()
-            .find(|z| x >= z.lo - BAND_SLACK && x <= z.hi + BAND_SLACK)
+        self.zone_index(rest).map(|i| &self.zones[i])
     }
 
     /// The index in [`zones`](Self::zones) of the zone a triangle with these rest corners
