@@ -53,7 +53,8 @@ pub fn summary(r: &SoakReport) -> String {
          stale); {} stale-force ticks\n\
          cloth-ui: whole design {:.0} ms at most after a restart\n\
          edits: {} acknowledged, at most {} lost to a kill; ramp: forces back at {:.2} at most of \
-         what the ramp lets through at their tick ({} returns, {} with 0.5 N or more)\n",
+         what the ramp lets through at their tick ({} returns, {} with 0.5 N or more, {} whose first forces \
+         the watcher missed)\n",
         r.seconds,
         faults.join(", "),
         r.haptic_late_max_us,
@@ -77,6 +78,7 @@ pub fn summary(r: &SoakReport) -> String {
         r.ramp_over_limit_max,
         r.ramps.len(),
         r.ramps.iter().filter(|x| x.2 >= 0.5).count(),
+        r.ramps.iter().filter(|x| x.3 > 0).count(),
         g = r.grid,
     );
     if r.failures.is_empty() {
@@ -184,8 +186,10 @@ pub struct SoakReport {
     /// a tick): at most 1 with the ramp, 15 for 1 N back at once; the largest of all.
     pub ramp_over_limit_max: f64,
     /// Each measured return: (fault, that ratio, the largest force in its first 100 ms,
-    /// N; a ramp shows only where there was force to ramp).
-    pub ramps: Vec<(String, f64, f64)>,
+    /// N (a ramp shows only where there was force to ramp), the loop's ticks between the
+    /// last zero force and the first force back that the watcher did not see (the host
+    /// held it up longer than its 64-force buffer; the ratio counts them)).
+    pub ramps: Vec<(String, f64, f64, u64)>,
     pub edits_acked: u64,
     /// Per cloth-sim kill: edits acknowledged and not in the resumed design.
     pub edits_lost: Vec<u64>,

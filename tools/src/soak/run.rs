@@ -51,9 +51,10 @@ fn force_zero(w: &Watch, r: &mut SoakReport, t: u64, last_model: u64) -> Option<
 /// The force's return when the loop re-engages after `after` (ns), against its ramp
 /// ([`ramp_envelope`]).
 fn ramp(w: &Watch, r: &mut SoakReport, after: u64) {
-    if let Some((over, most)) = ramp_envelope(&w.recent, after) {
+    if let Some((over, most, unseen)) = ramp_envelope(&w.recent, after) {
         r.ramp_over_limit_max = r.ramp_over_limit_max.max(over);
-        r.ramps.push((w.phase.to_string(), over, f64::from(most)));
+        r.ramps
+            .push((w.phase.to_string(), over, f64::from(most), unseen));
     }
 }
 

@@ -315,27 +315,49 @@ const RAMP_PER_TICK: f32 = 0.02;
 /// over 2% of the peak (15 for 1 N). Forces that fall (a pen that lets go, a later model
 /// that lets the stretched pinch go) cannot read high, which the first measure, a ratio
 /// of two forces, could: after 5 s stopped a let-go 5-20 ms after the return read 97%.
-/// Returns that maximum and the largest force in those 100 ms (a ramp is seen only where
-/// there was force to ramp); `None` when the force did not come back so soon (a new
+///
+/// The ticks are counted from the zero force seen just before the return (of the same
+/// loop's lifetime: an earlier tick): a watcher the host held up longer than its buffer
+/// misses the first forces back, and counting from the first force it saw would read a
+/// ramp that was well under way as a force back at once (17.6 in a 400-fault run whose
+/// host held CPUs for 40-100 ms). Counted from the last zero, a reading over 1 is a
+/// force the ramp cannot have let through, whichever of the unseen ticks it began at.
+///
+/// Returns that maximum, the largest force in those 100 ms (a ramp is seen only where
+/// there was force to ramp) and the ticks between that zero and the first force seen
+/// (0 when none was missed); `None` when the force did not come back so soon (a new
 /// pinch later is no re-engagement).
-pub(super) fn ramp_envelope(recent: &VecDeque<(u64, f32, u64)>, after: u64) -> Option<(f64, f32)> {
+pub(super) fn ramp_envelope(
+    recent: &VecDeque<(u64, f32, u64)>,
+    after: u64,
+) -> Option<(f64, f32, u64)> {
     const MS: u64 = 1_000_000;
-    let &(t1, _, tick1) = recent
+    let first = recent
         .iter()
-        .find(|(t, m, _)| *t >= after && *m > 0.0)
-        .filter(|(t, _, _)| *t <= after + 100 * MS)?;
+        .position(|(t, m, _)| *t >= after && *m > 0.0)?;
+    let (t1, _, tick1) = recent[first];
+    if t1 > after + 100 * MS {
+        return None;
+    }
+    // The force seen just before it, if a zero of the same lifetime (an earlier tick);
+    // otherwise the first force seen is taken as the first back.
+    let base = match first.checked_sub(1).map(|i| recent[i]) {
+        Some((_, m, tick)) if m == 0.0 && tick < tick1 => tick,
+        _ => tick1.saturating_sub(1),
+    };
     let mut over = 0.0f64;
     let mut most = 0.0f32;
     for &(_, m, tick) in recent
         .iter()
-        .filter(|(t, _, _)| *t >= t1 && *t <= t1 + 100 * MS)
+        .skip(first)
+        .take_while(|(t, _, _)| *t <= t1 + 100 * MS)
     {
-        let n = tick.saturating_sub(tick1) + 1;
+        let n = tick.saturating_sub(base).max(1);
         let allowed = (RAMP_PER_TICK * n as f32).min(1.0) * PEAK_N;
         over = over.max(f64::from(m / allowed));
         most = most.max(m);
     }
-    Some((over, most))
+    Some((over, most, tick1 - base - 1))
 }
 
 #[cfg(test)]
@@ -395,12 +417,13 @@ mod tests {
         // The loop back at 290 ms, ramping from 300 ms at 1% of 1 N a tick: well inside
         // the ramp's limit (2% of 3.3 N a tick, the whole 3.3 N from the 50th tick on);
         // the most is 1 N at the 100th tick.
-        let (over, most) = ramp_envelope(&r, 290 * ms).unwrap();
+        let (over, most, unseen) = ramp_envelope(&r, 290 * ms).unwrap();
+        assert_eq!(unseen, 0);
         assert!((over - 1.0 / 3.3).abs() < 1e-3, "{over}");
         assert_eq!(most, 1.0);
         // No ramp: 1 N at once is 15 times the first tick's limit.
         let step: VecDeque<_> = (0..1000u64).map(|k| (k * ms, 1.0, k)).collect();
-        let (over, _) = ramp_envelope(&step, 290 * ms).unwrap();
+        let (over, _, _) = ramp_envelope(&step, 290 * ms).unwrap();
         assert!((15.0..15.2).contains(&over), "{over}");
         // Back only 200 ms later: a new pinch, not measured.
         assert_eq!(ramp_envelope(&r, 190 * ms), None);
@@ -418,14 +441,14 @@ mod tests {
                 (k * ms, f, k)
             })
             .collect();
-        let (over, most) = ramp_envelope(&letgo, 290 * ms).unwrap();
+        let (over, most, _) = ramp_envelope(&letgo, 290 * ms).unwrap();
         assert!(over <= 0.5 + 1e-6, "{over}");
         assert!((most - 0.264).abs() < 1e-4, "{most}");
         // The peak at once, then let go: caught.
         let kick: VecDeque<_> = (0..1000u64)
             .map(|k| (k * ms, if (300..308).contains(&k) { 3.3 } else { 0.0 }, k))
             .collect();
-        let (over, _) = ramp_envelope(&kick, 290 * ms).unwrap();
+        let (over, _, _) = ramp_envelope(&kick, 290 * ms).unwrap();
         assert!(over > 40.0, "{over}");
         // A late tick (the loop held 18 ms: ticks 1 and 2 are 18 ms apart) may take 2%.
         let late: VecDeque<_> = (0..100u64)
@@ -434,7 +457,32 @@ mod tests {
                 (t, (0.066 * (k + 1) as f32).min(3.3), k + 5000)
             })
             .collect();
-        let (over, _) = ramp_envelope(&late, 290 * ms).unwrap();
+        let (over, _, _) = ramp_envelope(&late, 290 * ms).unwrap();
         assert!((over - 1.0).abs() < 1e-5, "{over}");
+        // The watcher held up 20 ms as the force came back: ticks 300-319 of a ramp at
+        // 1% of the peak a tick (to 1 N) are not seen. From the zero at tick 299 the ramp holds
+        // (0.5); from the first force seen (21% of the peak) it would read 10.5.
+        let held: VecDeque<_> = (0..1000u64)
+            .filter(|k| !(300..320).contains(k))
+            .map(|k| {
+                let f = if k < 300 {
+                    0.0
+                } else {
+                    (0.033 * (k - 299) as f32).min(1.0)
+                };
+                (k * ms, f, k)
+            })
+            .collect();
+        let (over, _, unseen) = ramp_envelope(&held, 290 * ms).unwrap();
+        assert!((over - 0.5).abs() < 1e-3, "{over}");
+        assert_eq!(unseen, 20);
+        // The same forces with a force seen before them (the fade's last, before the return
+        // was looked for): counted
+        // from the first force seen, as a force back at once.
+        let mut no_zero = held.clone();
+        no_zero[299].1 = 0.5;
+        let (over, _, unseen) = ramp_envelope(&no_zero, 299 * ms + 1).unwrap();
+        assert!((over - 10.5).abs() < 1e-3, "{over}");
+        assert_eq!(unseen, 0);
     }
 }
