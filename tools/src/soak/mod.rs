@@ -81,6 +81,15 @@ pub fn summary(r: &SoakReport) -> String {
         r.ramps.iter().filter(|x| x.3 > 0).count(),
         g = r.grid,
     );
+    for st in &r.stalls {
+        s.push_str(&format!("cloth-sim stall: {:.1} ms ({})", st.ms, st.phase));
+        match (st.host_held_ms, st.host_held_cpu) {
+            (Some(ms), Some(cpu)) => s.push_str(&format!(
+                "; cyclictest saw CPU {cpu} held {ms:.1} ms of it\n"
+            )),
+            _ => s.push_str("; cyclictest saw no CPU held 5 ms or more in it\n"),
+        }
+    }
     if r.failures.is_empty() {
         s.push_str("verdict: pass\n");
     } else {
@@ -91,6 +100,7 @@ pub fn summary(r: &SoakReport) -> String {
 
 use crate::lab::sibling;
 
+mod host;
 mod run;
 mod watch;
 
@@ -127,6 +137,23 @@ pub struct FaultCount {
     pub recovered: u32,
 }
 
+/// A gap of over 50 ms between cloth-sim's models outside its own faults.
+#[derive(Debug, Default, Serialize)]
+pub struct Stall {
+    /// "start", "steady" or a fault's kind.
+    pub phase: String,
+    pub ms: f64,
+    /// The longest time one CPU was held within the gap (cyclictest's thread, one priority
+    /// above the haptic loop, woke that late), ms, and that CPU: a gap the host mostly
+    /// held is not cloth-sim's work. `None` when no CPU was held 5 ms or more in it, or
+    /// without cyclictest. Placed to within the few ms cyclictest takes to start.
+    pub host_held_ms: Option<f64>,
+    pub host_held_cpu: Option<usize>,
+    /// When the last model before the gap was sent (monotonic ns).
+    #[serde(skip)]
+    pub from_ns: u64,
+}
+
 /// The suite's findings (`soak-report.json`).
 #[derive(Debug, Default, Serialize)]
 pub struct SoakReport {
@@ -158,8 +185,8 @@ pub struct SoakReport {
     pub lateness: BTreeMap<String, Histogram>,
     /// The longest gap between cloth-sim's models outside its own faults, ms.
     pub sim_stall_max_ms: f64,
-    /// Each such gap over 50 ms: (phase, ms).
-    pub stalls: Vec<(String, f64)>,
+    /// Each such gap over 50 ms, and what cyclictest saw of the host meanwhile.
+    pub stalls: Vec<Stall>,
     /// The longest gap between models in each phase ("start", "steady" or a fault's
     /// kind), outside cloth-sim's own faults, ms.
     pub gap_max_ms_by_phase: BTreeMap<String, f64>,
@@ -446,31 +473,6 @@ fn floor(seconds: f64) -> (Option<u64>, String) {
                 ),
             }
         }
-    }
-}
-
-/// cyclictest running beside the faults, a thread on every CPU, one priority above the
-/// haptic loop (on the loop's CPU it would otherwise wait behind the loop's spinning; it
-/// takes a few microseconds a millisecond from the loop): the machine's floor under the
-/// same load, in the same run, on the CPU the loop runs on too. A VM's host can hold one
-/// CPU for milliseconds while the other runs.
-fn floor_during() -> Option<Child> {
-    let mut c = Command::new("cyclictest");
-    c.args(["-q", "-m", "-S", "-d", "0", "-p", "81", "-i", "1000"]);
-    c.stdout(Stdio::piped()).stderr(Stdio::null()).spawn().ok()
-}
-
-/// Stops [`floor_during`]'s cyclictest (SIGINT makes it print) and reads its worst per
-/// CPU, µs.
-fn floor_during_end(c: Option<Child>) -> Vec<u64> {
-    let Some(c) = c else {
-        return Vec::new();
-    };
-    let pid = rustix::process::Pid::from_child(&c);
-    let _ = rustix::process::kill_process(pid, rustix::process::Signal::INT);
-    match c.wait_with_output() {
-        Ok(out) => cyclictest_maxima(&String::from_utf8_lossy(&out.stdout)),
-        Err(_) => Vec::new(),
     }
 }
 

@@ -178,9 +178,17 @@ pub fn soak(cfg: &SoakConfig, progress: &mut dyn FnMut(&str)) -> Result<SoakRepo
         ui_rx,
         ui_tx,
     };
-    let during = super::floor_during();
+    let during = super::host::Beside::start();
     let result = course(&mut p, cfg, &mut r, progress);
-    r.floor_by_cpu_us = super::floor_during_end(during);
+    let host = during.map(super::host::Beside::end).unwrap_or_default();
+    r.floor_by_cpu_us = host.max_us.clone();
+    for s in &mut r.stalls {
+        let to = s.from_ns + (s.ms * 1e6) as u64;
+        if let Some((ms, cpu)) = host.held_within(s.from_ns, to) {
+            s.host_held_ms = Some(ms);
+            s.host_held_cpu = Some(cpu);
+        }
+    }
     r.floor_us = r.floor_by_cpu_us.iter().copied().max();
     r.haptic_cpu = p.haptic_cpu;
     // Late ticks, against the floor measured meanwhile (the quiet one when cyclictest
@@ -274,7 +282,16 @@ fn course(
     r.haptic_ticks = w.ticks;
     r.lateness = std::mem::take(&mut w.lateness_by_phase);
     r.sim_stall_max_ms = w.gap_max_ms;
-    r.stalls = std::mem::take(&mut w.stalls);
+    r.stalls = std::mem::take(&mut w.stalls)
+        .into_iter()
+        .map(|(phase, ms, from_ns)| super::Stall {
+            phase,
+            ms,
+            host_held_ms: None,
+            host_held_cpu: None,
+            from_ns,
+        })
+        .collect();
     r.gap_max_ms_by_phase = std::mem::take(&mut w.gap_max_by_phase);
     r.sim_frame_max_ms_by_phase = std::mem::take(&mut w.frame_max_by_phase);
     r.stale_force_ticks = w.stale_force_ticks;
