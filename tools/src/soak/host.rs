@@ -113,8 +113,14 @@ impl Beside {
             .spawn()
             .ok()?;
         let out = child.stdout.take()?;
+        // Read to the end whatever the bytes: a reader that stopped early would close the
+        // pipe, and cyclictest, killed by SIGPIPE, would leave its /dev/shm status file.
         let reader = std::thread::spawn(move || {
-            HostTimeline::read(BufReader::new(out).lines().map_while(Result::ok), start)
+            let lines = BufReader::new(out)
+                .split(b'\n')
+                .map_while(Result::ok)
+                .map(|l| String::from_utf8_lossy(&l).into_owned());
+            HostTimeline::read(lines, start)
         });
         Some(Self { child, reader })
     }
