@@ -51,7 +51,7 @@ fn force_zero(w: &Watch, r: &mut SoakReport, t: u64, last_model: u64) -> Option<
 /// The force's return when the loop re-engages after `after` (ns), against its ramp
 /// ([`ramp_envelope`]).
 fn ramp(w: &Watch, r: &mut SoakReport, after: u64) {
-    if let Some((over, most, unseen)) = ramp_envelope(&w.recent, after) {
+    if let Some((over, most, unseen)) = ramp_envelope(&w.recent, after, w.first_model_after) {
         r.ramp_over_limit_max = r.ramp_over_limit_max.max(over);
         r.ramps
             .push((w.phase.to_string(), over, f64::from(most), unseen));
@@ -87,6 +87,7 @@ fn sim_kill(p: &mut Procs, w: &mut Watch, r: &mut SoakReport) -> Result<bool, St
         r.force_zero_after_kill_ms.push(ms);
     }
     let restart = monotonic_ns();
+    w.watch_return(restart);
     p.spawn_sim(false)?;
     let back = pump_until(w, Duration::from_secs(60), &|w| w.last_model_ns > restart);
     r.resumed.push(back);
@@ -138,6 +139,7 @@ fn sim_stop(p: &mut Procs, w: &mut Watch, r: &mut SoakReport) -> Result<bool, St
     pump_for(w, Duration::from_secs(5));
     force_zero(w, r, t, w.last_model_ns);
     let cont = monotonic_ns();
+    w.watch_return(cont);
     signal(&p.sim, rustix::process::Signal::CONT);
     let back = pump_until(w, Duration::from_secs(10), &|w| w.last_model_ns > cont);
     if back {

@@ -32,12 +32,15 @@ pub(super) struct Watch {
     /// (sent ns, magnitude N, the loop's tick) of the last 12 s of forces.
     pub recent: VecDeque<(u64, f32, u64)>,
     pub last_model_ns: u64,
+    /// The first model sent after [`Watch::watch_return`]'s time (ns): when the loop
+    /// could re-engage at the earliest.
+    pub first_model_after: Option<u64>,
+    return_from: u64,
     pub pinching: bool,
     pub models_seen: u64,
     gaps_paused: bool,
     skip_gap: bool,
     pub gap_max_ms: f64,
-    /// Gaps over 50 ms between models outside cloth-sim's faults: (phase, ms).
     /// Each gap over 50 ms: (phase, ms, when the last model before it was sent, ns).
     pub stalls: Vec<(String, f64, u64)>,
     /// The longest gap between models in each phase, ms (outside cloth-sim's faults).
@@ -85,6 +88,8 @@ impl Watch {
             deferred: Vec::new(),
             recent: VecDeque::with_capacity(16_384),
             last_model_ns: 0,
+            first_model_after: None,
+            return_from: u64::MAX,
             pinching: false,
             models_seen: 0,
             gaps_paused: false,
@@ -116,6 +121,12 @@ impl Watch {
         self.gaps_paused = true;
     }
 
+    /// Notes the first model sent after `t` (ns) from now on ([`Watch::first_model_after`]).
+    pub(super) fn watch_return(&mut self, t: u64) {
+        self.return_from = t;
+        self.first_model_after = None;
+    }
+
     pub(super) fn resume_gaps(&mut self) {
         self.gaps_paused = false;
         self.skip_gap = true;
@@ -142,6 +153,9 @@ impl Watch {
                 }
             }
             self.skip_gap = false;
+            if sent > self.return_from && self.first_model_after.is_none_or(|f| sent < f) {
+                self.first_model_after = Some(sent);
+            }
             self.last_model_ns = self.last_model_ns.max(sent);
             self.pinching = m.pinching == 1;
             self.models_seen += 1;
@@ -318,20 +332,23 @@ const RAMP_PER_TICK: f32 = 0.02;
 /// that lets the stretched pinch go) cannot read high, which the first measure, a ratio
 /// of two forces, could: after 5 s stopped a let-go 5-20 ms after the return read 97%.
 ///
-/// The ticks are counted from the zero force seen just before the return (of the same
-/// loop's lifetime: an earlier tick): a watcher the host held up longer than its buffer
-/// misses the first forces back, and counting from the first force it saw would read a
-/// ramp that was well under way as a force back at once (17.6 in a 400-fault run whose
-/// host held CPUs for 40-100 ms). Counted from the last zero, a reading over 1 is a
-/// force the ramp cannot have let through, whichever of the unseen ticks it began at.
+/// The ticks are counted from the last force sent before `engaged`, the first model's
+/// send time after the fault (the loop cannot re-engage before it): a bound the ramp
+/// cannot beat, whatever the watcher missed. Counting from the first force seen read a
+/// ramp under way as a force back at once when the host held the watcher past its
+/// buffer (17.6 in a 400-fault run whose host held CPUs 40-100 ms); counting from the
+/// last zero force read a pen that touched the cloth 95 ms after the loop re-engaged,
+/// the gain long up, as 3.3 N five ticks into a ramp (10.0 in the next run). Without
+/// `engaged` the last zero force before the return is the start.
 ///
 /// Returns that maximum, the largest force in those 100 ms (a ramp is seen only where
-/// there was force to ramp) and the ticks between that zero and the first force seen
-/// (0 when none was missed); `None` when the force did not come back so soon (a new
-/// pinch later is no re-engagement).
+/// there was force to ramp) and the loop's ticks between that start and the first force
+/// back that the watcher did not see; `None` when the force did not come back so soon (a
+/// new pinch later is no re-engagement).
 pub(super) fn ramp_envelope(
     recent: &VecDeque<(u64, f32, u64)>,
     after: u64,
+    engaged: Option<u64>,
 ) -> Option<(f64, f32, u64)> {
     const MS: u64 = 1_000_000;
     let first = recent
@@ -341,12 +358,27 @@ pub(super) fn ramp_envelope(
     if t1 > after + 100 * MS {
         return None;
     }
-    // The force seen just before it, if a zero of the same lifetime (an earlier tick);
-    // otherwise the first force seen is taken as the first back.
-    let base = match first.checked_sub(1).map(|i| recent[i]) {
-        Some((_, m, tick)) if m == 0.0 && tick < tick1 => tick,
+    // The last tick (of the same lifetime: an earlier one) sent before the model the
+    // loop re-engaged on; without it, the zero force seen just before the return; else
+    // the first force seen is taken as the first back.
+    let before_model = engaged.and_then(|e| {
+        recent
+            .range(..first)
+            .rev()
+            .take_while(|&&(_, _, tick)| tick < tick1)
+            .find(|&&(t, _, _)| t < e)
+            .map(|&(_, _, tick)| tick)
+    });
+    let base = match (before_model, first.checked_sub(1).map(|i| recent[i])) {
+        (Some(tick), _) => tick,
+        (None, Some((_, m, tick))) if m == 0.0 && tick < tick1 => tick,
         _ => tick1.saturating_sub(1),
     };
+    let seen = recent
+        .range(..first)
+        .rev()
+        .take_while(|&&(_, _, tick)| tick > base && tick < tick1)
+        .count() as u64;
     let mut over = 0.0f64;
     let mut most = 0.0f32;
     for &(_, m, tick) in recent
@@ -359,7 +391,7 @@ pub(super) fn ramp_envelope(
         over = over.max(f64::from(m / allowed));
         most = most.max(m);
     }
-    Some((over, most, tick1 - base - 1))
+    Some((over, most, (tick1 - base - 1).saturating_sub(seen)))
 }
 
 #[cfg(test)]
@@ -419,16 +451,16 @@ mod tests {
         // The loop back at 290 ms, ramping from 300 ms at 1% of 1 N a tick: well inside
         // the ramp's limit (2% of 3.3 N a tick, the whole 3.3 N from the 50th tick on);
         // the most is 1 N at the 100th tick.
-        let (over, most, unseen) = ramp_envelope(&r, 290 * ms).unwrap();
+        let (over, most, unseen) = ramp_envelope(&r, 290 * ms, None).unwrap();
         assert_eq!(unseen, 0);
         assert!((over - 1.0 / 3.3).abs() < 1e-3, "{over}");
         assert_eq!(most, 1.0);
         // No ramp: 1 N at once is 15 times the first tick's limit.
         let step: VecDeque<_> = (0..1000u64).map(|k| (k * ms, 1.0, k)).collect();
-        let (over, _, _) = ramp_envelope(&step, 290 * ms).unwrap();
+        let (over, _, _) = ramp_envelope(&step, 290 * ms, None).unwrap();
         assert!((15.0..15.2).contains(&over), "{over}");
         // Back only 200 ms later: a new pinch, not measured.
-        assert_eq!(ramp_envelope(&r, 190 * ms), None);
+        assert_eq!(ramp_envelope(&r, 190 * ms, None), None);
         // 300 N wanted, ramped at 1% of the peak a tick, then let go 8 ms later: the
         // ratio of two forces read this as a return without its ramp; the limit does not.
         let letgo: VecDeque<_> = (0..1000u64)
@@ -443,14 +475,14 @@ mod tests {
                 (k * ms, f, k)
             })
             .collect();
-        let (over, most, _) = ramp_envelope(&letgo, 290 * ms).unwrap();
+        let (over, most, _) = ramp_envelope(&letgo, 290 * ms, None).unwrap();
         assert!(over <= 0.5 + 1e-6, "{over}");
         assert!((most - 0.264).abs() < 1e-4, "{most}");
         // The peak at once, then let go: caught.
         let kick: VecDeque<_> = (0..1000u64)
             .map(|k| (k * ms, if (300..308).contains(&k) { 3.3 } else { 0.0 }, k))
             .collect();
-        let (over, _, _) = ramp_envelope(&kick, 290 * ms).unwrap();
+        let (over, _, _) = ramp_envelope(&kick, 290 * ms, None).unwrap();
         assert!(over > 40.0, "{over}");
         // A late tick (the loop held 18 ms: ticks 1 and 2 are 18 ms apart) may take 2%.
         let late: VecDeque<_> = (0..100u64)
@@ -459,7 +491,7 @@ mod tests {
                 (t, (0.066 * (k + 1) as f32).min(3.3), k + 5000)
             })
             .collect();
-        let (over, _, _) = ramp_envelope(&late, 290 * ms).unwrap();
+        let (over, _, _) = ramp_envelope(&late, 290 * ms, None).unwrap();
         assert!((over - 1.0).abs() < 1e-5, "{over}");
         // The watcher held up 20 ms as the force came back: ticks 300-319 of a ramp at
         // 1% of the peak a tick (to 1 N) are not seen. From the zero at tick 299 the ramp holds
@@ -475,7 +507,7 @@ mod tests {
                 (k * ms, f, k)
             })
             .collect();
-        let (over, _, unseen) = ramp_envelope(&held, 290 * ms).unwrap();
+        let (over, _, unseen) = ramp_envelope(&held, 290 * ms, None).unwrap();
         assert!((over - 0.5).abs() < 1e-3, "{over}");
         assert_eq!(unseen, 20);
         // The same forces with a force seen before them (the fade's last, before the return
@@ -483,8 +515,23 @@ mod tests {
         // from the first force seen, as a force back at once.
         let mut no_zero = held.clone();
         no_zero[299].1 = 0.5;
-        let (over, _, unseen) = ramp_envelope(&no_zero, 299 * ms + 1).unwrap();
+        let (over, _, unseen) = ramp_envelope(&no_zero, 299 * ms + 1, None).unwrap();
         assert!((over - 10.5).abs() < 1e-3, "{over}");
         assert_eq!(unseen, 0);
+        // The loop re-engages on a model sent at 300 ms, with the pen in the air: no force
+        // while the gain ramps up, then the pen touches at 395 ms and the whole peak is
+        // there 95 ticks into the ramp. Counted from the last tick before that model: 1.
+        // Counted from the last zero force, as before, this read 50 (10 in a soak).
+        let touch: VecDeque<_> = (0..1000u64)
+            .map(|k| (k * ms, if k >= 395 { 3.3 } else { 0.0 }, k))
+            .collect();
+        let (over, _, unseen) = ramp_envelope(&touch, 299 * ms, Some(300 * ms)).unwrap();
+        assert!((over - 1.0).abs() < 1e-6, "{over}");
+        assert_eq!(unseen, 0);
+        let (over, _, _) = ramp_envelope(&touch, 299 * ms, None).unwrap();
+        assert!((over - 50.0).abs() < 1e-3, "{over}");
+        // A force back whole on the model's tick is still caught.
+        let (over, _, _) = ramp_envelope(&touch, 299 * ms, Some(394 * ms + 1)).unwrap();
+        assert!((over - 50.0).abs() < 1e-3, "{over}");
     }
 }
