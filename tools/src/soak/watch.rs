@@ -337,9 +337,9 @@ const RAMP_PER_TICK: f32 = 0.02;
 /// cannot beat, whatever the watcher missed. Counting from the first force seen read a
 /// ramp under way as a force back at once when the host held the watcher past its
 /// buffer (17.6 in a 400-fault run whose host held CPUs 40-100 ms); counting from the
-/// last zero force read a pen that touched the cloth 95 ms after the loop re-engaged,
-/// the gain long up, as 3.3 N five ticks into a ramp (10.0 in the next run). Without
-/// `engaged` the last zero force before the return is the start.
+/// last zero force reads a pen that touches the cloth long after the loop re-engaged,
+/// the gain up, as the peak a few ticks into a ramp (the likely reading of 10.0 in the
+/// next run). Without `engaged` the last zero force before the return is the start.
 ///
 /// Returns that maximum, the largest force in those 100 ms (a ramp is seen only where
 /// there was force to ramp) and the loop's ticks between that start and the first force
