@@ -214,8 +214,9 @@ pub struct SoakReport {
     pub ramp_over_limit_max: f64,
     /// Each measured return: (fault, that ratio, the largest force in its first 100 ms,
     /// N (a ramp shows only where there was force to ramp), the loop's ticks between the
-    /// last zero force and the first force back that the watcher did not see (the host
-    /// held it up longer than its 64-force buffer; the ratio counts them)).
+    /// ramp's start (the last force sent before the first model after the fault) and the
+    /// first force back that the watcher did not see (the host held it up longer than its
+    /// 64-force buffer; the ratio counts them)).
     pub ramps: Vec<(String, f64, f64, u64)>,
     pub edits_acked: u64,
     /// Per cloth-sim kill: edits acknowledged and not in the resumed design.

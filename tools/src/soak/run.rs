@@ -284,16 +284,7 @@ fn course(
     r.haptic_ticks = w.ticks;
     r.lateness = std::mem::take(&mut w.lateness_by_phase);
     r.sim_stall_max_ms = w.gap_max_ms;
-    r.stalls = std::mem::take(&mut w.stalls)
-        .into_iter()
-        .map(|(phase, ms, from_ns)| super::Stall {
-            phase,
-            ms,
-            host_held_ms: None,
-            host_held_cpu: None,
-            from_ns,
-        })
-        .collect();
+    r.stalls = std::mem::take(&mut w.stalls);
     r.gap_max_ms_by_phase = std::mem::take(&mut w.gap_max_by_phase);
     r.sim_frame_max_ms_by_phase = std::mem::take(&mut w.frame_max_by_phase);
     r.stale_force_ticks = w.stale_force_ticks;

@@ -41,8 +41,8 @@ pub(super) struct Watch {
     gaps_paused: bool,
     skip_gap: bool,
     pub gap_max_ms: f64,
-    /// Each gap over 50 ms: (phase, ms, when the last model before it was sent, ns).
-    pub stalls: Vec<(String, f64, u64)>,
+    /// Each gap over 50 ms (what the host did meanwhile is added at the end).
+    pub stalls: Vec<super::Stall>,
     /// The longest gap between models in each phase, ms (outside cloth-sim's faults).
     pub gap_max_by_phase: std::collections::BTreeMap<String, f64>,
     /// cloth-sim's longest frame (its own compute, from its telemetry) in each phase, ms:
@@ -148,8 +148,12 @@ impl Watch {
                 let m = self.gap_max_by_phase.entry(self.phase.into()).or_default();
                 *m = m.max(gap);
                 if gap > 50.0 {
-                    self.stalls
-                        .push((self.phase.into(), gap, self.last_model_ns));
+                    self.stalls.push(super::Stall {
+                        phase: self.phase.into(),
+                        ms: gap,
+                        from_ns: self.last_model_ns,
+                        ..Default::default()
+                    });
                 }
             }
             self.skip_gap = false;
