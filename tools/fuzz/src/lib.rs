@@ -396,22 +396,24 @@ pub(crate) fn small_design(model: ModelKind) -> Design {
     Design::with_texture(sim, Texture::new(16, 16, CLOTH_COLOUR))
 }
 
-/// Commands as cloth-sim receives them: the first byte picks the model, then up to 8
-/// `ToolCommand` records, each checked and converted (`Command::from_wire`) and carried
-/// out (`cloth_sim::carry_out`) on the design, a frame stepped after each accepted one
-/// (and after the last, if it was refused). Paths in SAVE and
+/// Commands as cloth-sim receives them: the first byte picks the model, the second which
+/// commands a frame is stepped after (bit k for the k-th; cloth-sim takes every command
+/// that arrived between two frames), then up to 8 `ToolCommand` records, each checked and
+/// converted (`Command::from_wire`) and carried out (`cloth_sim::carry_out`) on the
+/// design. A frame is always stepped after the last change. Paths in SAVE and
 /// ADD_PIECE are replaced by a scratch file (the fuzzer must not write where it likes);
 /// LOAD, RESET, EXPORT and SET_TOOL are the service's own and not carried out here.
 pub fn commands(data: &[u8]) {
-    let Some((&pick, mut rest)) = data.split_first() else {
+    let [pick, steps, ref records @ ..] = *data else {
         return;
     };
+    let mut rest = records;
     let model = [ModelKind::Xpbd, ModelKind::Vbd, ModelKind::Seed][pick as usize % 3];
     let mut d = small_design(model);
     let scratch = std::env::temp_dir().join(format!("saiho-fuzz-{}", std::process::id()));
     // Whether the design has been stepped since its last change.
     let mut stepped = false;
-    for _ in 0..8 {
+    for k in 0..8 {
         let Some((wire_cmd, more)) = wire::<ToolCommand>(rest) else {
             break;
         };
@@ -439,8 +441,8 @@ pub fn commands(data: &[u8]) {
         match cloth_sim::carry_out(&mut d, &c) {
             Ok(_) => {
                 d.validate().expect("an edit leaves a valid design");
-                stepped = true;
-                if d.step().is_err() {
+                stepped = steps & (1 << k) != 0;
+                if stepped && d.step().is_err() {
                     break;
                 }
                 continue;
@@ -456,8 +458,9 @@ pub fn commands(data: &[u8]) {
         }
         stepped = false;
     }
-    // A refused command changes nothing, so the frames after refused ones are one frame:
-    // the last (what any hidden change a refusal left would break).
+    // A refused command changes nothing, so the frames after refused ones, and after
+    // accepted ones the step mask skipped, are one frame: the last (what any hidden change
+    // a refusal left would break).
     if !stepped {
         let _ = d.step();
     }

@@ -197,7 +197,8 @@ fn command_seeds(dir: &Path) -> std::io::Result<()> {
     ];
     for (name, cmds) in [("edits", &session[..]), ("settings", &more[..])] {
         for model in 0u8..3 {
-            let mut bytes = vec![model];
+            // A frame after every command, as when each arrives in its own frame.
+            let mut bytes = vec![model, 0xff];
             for c in cmds.iter() {
                 bytes.extend_from_slice(&wire(c));
             }
@@ -254,7 +255,7 @@ pub fn seed_reads(target: &str, bytes: &[u8]) -> Result<(), String> {
             &sim_core::design::garment::Landmarks::of(None),
         )
         .map(|_| ()),
-        "commands" => bytes[1..]
+        "commands" => bytes[2..]
             .chunks_exact(std::mem::size_of::<ToolCommand>())
             .try_for_each(|c| {
                 Command::from_wire(&bytemuck::pod_read_unaligned(c))
