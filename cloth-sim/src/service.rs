@@ -132,6 +132,16 @@ pub fn run(
     log: &mut dyn FnMut(&str),
 ) -> Result<ServiceStats, String> {
     let _release = services::ReleaseOnDrop(cfg.domain.clone());
+    // Held until this function returns (dropped before `_release`, which clears the
+    // domain's directory): the haptic loop learns of a kill from it before the kernel
+    // has torn this process down (`shared::life`).
+    let _life = shared::life::LifeLock::hold(&cfg.domain)
+        .inspect_err(|e| {
+            log(&format!(
+                "{e}; the haptic loop will see this process exit from the kernel's notice, a few ms later"
+            ))
+        })
+        .ok();
     let node = services::node(&cfg.domain, "cloth-sim").map_err(|e| e.to_string())?;
     let body_floats = design
         .sim

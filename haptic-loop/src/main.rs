@@ -147,8 +147,18 @@ fn run(a: Args) -> Result<(), String> {
         Some(p) => Some(haptic_loop::record::Recorder::create(p)?),
         None => None,
     };
-    // The watcher of cloth-sim's process too: an ordinary thread, not the loop's priority.
-    let watch = haptic_loop::sim_watch::SimWatch::start();
+    // The watchers of cloth-sim's process and life lock too: ordinary threads, not the
+    // loop's priority.
+    let life = match shared::life::LifeWatch::new(&domain) {
+        Ok(l) => Some(l),
+        Err(e) => {
+            log(&format!(
+                "cloth-sim's life lock cannot be watched ({e}); its exit is seen from the kernel's notice, a few ms later"
+            ));
+            None
+        }
+    };
+    let watch = haptic_loop::sim_watch::SimWatch::start(life);
     real_time(&a);
     let cfg = LoopConfig {
         spin_ns: a.spin_us * 1000,

@@ -14,12 +14,15 @@
 //! - [`domain`] turns `--domain NAME` (or `SAIHO_DOMAIN`) into an iceoryx2 configuration of
 //!   its own, so two systems, or tests running in parallel, never see each other;
 //!   [`paths`] keeps each user's files private (0700 directories, 0600 shared memory).
+//! - [`life`]: cloth-sim's life lock, which tells the haptic loop of its death before the
+//!   kernel has torn the process down.
 
 pub mod cli;
 pub mod command;
 pub mod cpus;
 pub mod domain;
 pub mod haptic_to_sim;
+pub mod life;
 pub mod paths;
 pub mod ports;
 pub mod services;
