@@ -400,7 +400,8 @@ pub(crate) fn small_design(model: ModelKind) -> Design {
 /// commands a frame is stepped after (bit k for the k-th; cloth-sim takes every command
 /// that arrived between two frames), then up to 8 `ToolCommand` records, each checked and
 /// converted (`Command::from_wire`) and carried out (`cloth_sim::carry_out`) on the
-/// design. A frame is always stepped after the last change. Paths in SAVE and
+/// design. A frame is always stepped after the last change (`FUZZ_TRACE=1` prints each
+/// command and the cloth's size after it). Paths in SAVE and
 /// ADD_PIECE are replaced by a scratch file (the fuzzer must not write where it likes);
 /// LOAD, RESET, EXPORT and SET_TOOL are the service's own and not carried out here.
 pub fn commands(data: &[u8]) {
@@ -438,7 +439,16 @@ pub fn commands(data: &[u8]) {
             d.sim.cloth.live.tri_count(),
             d.history.undo_len(),
         );
-        match cloth_sim::carry_out(&mut d, &c) {
+        let result = cloth_sim::carry_out(&mut d, &c);
+        if std::env::var_os("FUZZ_TRACE").is_some() {
+            eprintln!(
+                "{c:?}: {} ({} vertices, {} triangles)",
+                if result.is_ok() { "done" } else { "refused" },
+                d.sim.cloth.len(),
+                d.sim.cloth.live.tri_count()
+            );
+        }
+        match result {
             Ok(_) => {
                 d.validate().expect("an edit leaves a valid design");
                 stepped = steps & (1 << k) != 0;
