@@ -81,6 +81,13 @@ pub fn summary(r: &SoakReport) -> String {
         r.ramps.iter().filter(|x| x.3 > 0).count(),
         g = r.grid,
     );
+    if !r.stop_models_after_ms.is_empty() {
+        s.push_str(&format!(
+            "cloth-sim stops: the last model at most {:.1} ms after a SIGSTOP ({} stops)\n",
+            max(&r.stop_models_after_ms),
+            r.stop_models_after_ms.len()
+        ));
+    }
     for st in &r.stalls {
         s.push_str(&format!("cloth-sim stall: {:.1} ms ({})", st.ms, st.phase));
         match (st.host_held_ms, st.host_held_cpu) {
@@ -197,13 +204,19 @@ pub struct SoakReport {
     /// Forces rendered from a model older than 31 ms (must be 0).
     pub stale_force_ticks: u64,
     /// Per cloth-sim kill: from the kill to the force at zero, ms (haptic-loop sees the
-    /// process exit when the kernel reports it and ramps over 2 ms; limit 10 ms).
+    /// process exit by its life lock, or when the kernel reports it, and ramps over 2 ms;
+    /// limit 10 ms).
     pub force_zero_after_kill_ms: Vec<f64>,
     /// Per cloth-sim kill or stop: from the fault to the force at zero, ms.
     pub force_zero_ms: Vec<f64>,
     /// The same, from the newest model's send time plus the 20 ms staleness limit: the
     /// loop's own ramp, ms.
     pub force_zero_after_stale_ms_max: f64,
+    /// Per cloth-sim stop: from the SIGSTOP to the last model cloth-sim sent before its
+    /// SIGCONT, ms (0 if none). A stopped process sends nothing, so more than a frame or
+    /// two means it ran on (one stop read its force at zero 4.78 s after the SIGSTOP, its
+    /// log a 4.78 s gap between models for a 5 s stop).
+    pub stop_models_after_ms: Vec<f64>,
     /// Per restarted cloth-ui: from its start to the whole design on screen, ms.
     pub ui_design_ms: Vec<f64>,
     /// Per haptic-loop kill: whether cloth-sim let go of the pinch and kept stepping.

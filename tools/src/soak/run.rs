@@ -138,6 +138,8 @@ fn sim_stop(p: &mut Procs, w: &mut Watch, r: &mut SoakReport) -> Result<bool, St
     signal(&p.sim, rustix::process::Signal::STOP);
     pump_for(w, Duration::from_secs(5));
     force_zero(w, r, t, w.last_model_ns);
+    r.stop_models_after_ms
+        .push(w.last_model_ns.saturating_sub(t) as f64 * 1e-6);
     let cont = monotonic_ns();
     w.watch_return(cont);
     signal(&p.sim, rustix::process::Signal::CONT);
