@@ -396,6 +396,9 @@ pub(crate) fn small_design(model: ModelKind) -> Design {
     Design::with_texture(sim, Texture::new(16, 16, CLOTH_COLOUR))
 }
 
+/// `FUZZ_TRACE` set: [`commands`] prints what it carries out (read once).
+static TRACE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
+
 /// Commands as cloth-sim receives them: the first byte picks the model, the second which
 /// commands a frame is stepped after (bit k for the k-th; cloth-sim takes every command
 /// that arrived between two frames), then up to 8 `ToolCommand` records, each checked and
@@ -440,7 +443,7 @@ pub fn commands(data: &[u8]) {
             d.history.undo_len(),
         );
         let result = cloth_sim::carry_out(&mut d, &c);
-        if std::env::var_os("FUZZ_TRACE").is_some() {
+        if *TRACE.get_or_init(|| std::env::var_os("FUZZ_TRACE").is_some()) {
             eprintln!(
                 "{c:?}: {} ({} vertices, {} triangles)",
                 if result.is_ok() { "done" } else { "refused" },

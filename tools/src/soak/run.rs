@@ -309,12 +309,12 @@ fn left_behind(domain: &shared::domain::Domain) -> Vec<String> {
     left
 }
 
-/// Each requirement the figures break, in words.
 /// How far over its ramp a force may read from rounding alone: a force clamped to the
 /// peak at the tick the ramp reaches it read 1.0000001 (3.3 N in `f32` over the peak
 /// computed in `f32`), which is the ramp, not a force past it.
 const RAMP_ROUNDING: f64 = 1e-5;
 
+/// Each requirement the figures break, in words.
 fn judge(r: &mut SoakReport) {
     let mut f = Vec::new();
     if r.interrupted {
