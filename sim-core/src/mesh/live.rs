@@ -7,7 +7,7 @@
 //! carries its own rest corners and UVs: after a sew, one vertex can sit at two places of
 //! the pattern and of the texture.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 use glam::{Vec2, Vec3};
 
@@ -360,7 +360,8 @@ impl LiveMesh {
             return Err(GeometryError::Empty);
         }
         let n = x.len().min(self.vert_tris.len());
-        let mut count: HashMap<u64, usize> = HashMap::with_capacity(self.alive * 2);
+        let mut count: HashMap<u64, usize> =
+            HashMap::with_capacity_and_hasher(self.alive * 2, Default::default());
         for (slot, t) in self.iter() {
             let triangle = slot as usize;
             if t.v.iter().any(|&i| i as usize >= n) {

@@ -1,6 +1,6 @@
 //! The XPBD solver: its state, one frame of substeps, and the order of its passes.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 use glam::Vec3;
 
@@ -73,7 +73,7 @@ impl Xpbd {
         }
         let groups = split_groups(cloth.len(), &membranes, &bends, &cloth.inv_mass);
         let mut membrane_loc = vec![Loc::None; live.slots()];
-        let mut bend_loc = HashMap::with_capacity(bends.len());
+        let mut bend_loc = HashMap::with_capacity_and_hasher(bends.len(), Default::default());
         for (g, group) in groups.iter().enumerate() {
             for (item, m) in group.membranes.iter().enumerate() {
                 membrane_loc[m.id as usize] = Loc::Group {
