@@ -396,6 +396,58 @@ fn pieces_are_added_placed_and_deleted_undoably() {
     assert_eq!((d.sim.cloth.len(), d.piece_list()), before);
 }
 
+/// A piece too large to mesh at its edge (a 1 m square at 2 mm: some 290,000
+/// vertices) or wider than the body is refused before meshing, saying what to change.
+#[test]
+fn pieces_too_large_or_too_wide_are_refused() {
+    use sim_core::design::garment::{PieceSpec, Place};
+    use sim_core::mesh::mesher::Outline;
+    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+    cfg.piece_edge = 0.06;
+    let mut d = build_design(&cfg).unwrap();
+    let before = (d.sim.cloth.len(), d.piece_list());
+    let sheet = PieceSpec {
+        name: "sheet".into(),
+        outline: Outline::rectangle(1.0, 1.0),
+        fabric: "cotton".into(),
+        grain: 0.0,
+        placement: None,
+    };
+    let err = d.add_piece(&sheet, Place::Front, 0.002).unwrap_err();
+    assert!(err.to_string().contains("choose a longer edge"), "{err}");
+    let wide = PieceSpec {
+        outline: Outline::rectangle(2.0, 2.0),
+        ..sheet
+    };
+    let err = d.add_piece(&wide, Place::Front, 0.0125).unwrap_err();
+    assert!(err.to_string().contains("2.00 m wide"), "{err}");
+    assert_eq!((d.sim.cloth.len(), d.piece_list()), before);
+}
+
+/// The vertex estimate made before meshing is close to what the mesher makes, so the
+/// size limit refuses what it should and not much less.
+#[test]
+fn the_size_estimate_is_near_the_mesh() {
+    use sim_core::mesh::mesher::{Outline, estimate_vertices, mesh_outline};
+    for (w, h, edge) in [
+        (0.3, 0.2, 0.01),
+        (1.0, 0.5, 0.02),
+        (0.05, 0.8, 0.005),
+        (0.6, 0.6, 0.003),
+    ] {
+        let o = Outline::rectangle(w, h);
+        let (est, real) = (
+            estimate_vertices(&o, edge),
+            mesh_outline(&o, edge).unwrap().positions.len(),
+        );
+        let r = est as f32 / real as f32;
+        assert!(
+            (0.85..1.15).contains(&r),
+            "{w} x {h} at {edge}: {est} estimated, {real} made"
+        );
+    }
+}
+
 /// A seam named by the designer: undoable, kept by the design file, written in the
 /// pattern; a name too long or with control characters is refused and changes nothing.
 #[test]

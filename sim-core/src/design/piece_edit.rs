@@ -14,10 +14,16 @@ use super::garment::{LAYER, Landmarks, PATTERN_GAP, PieceSpec, Place, Placement,
 use super::pieces::PieceRecord;
 use super::prim::Prim;
 use crate::collision::crossings::fan_crossings;
-use crate::mesh::{Tri, bounds2, mesher};
+use crate::mesh::{MAX_VERTICES, Tri, bounds2, mesher};
 
 /// How many layers out (each `LAYER`, as a pattern's pieces use) a new piece may try.
 const LAYERS: usize = 8;
+
+/// Most vertices one piece added to a design may have: a 0.87 m² piece at 5 mm, or
+/// 2.2 m² at 8 mm. Adding it takes about half a second here (meshed, placed, checked
+/// for crossings, the solver told), which holds cloth-sim's frames; larger pieces are
+/// refused before meshing.
+pub const MAX_PIECE_VERTICES: usize = 60_000;
 
 impl Design {
     /// The triangle slots of piece `index` of [`Design::piece_list`].
@@ -42,9 +48,22 @@ impl Design {
         self.check_editable()?;
         let bad = |e: String| EditError::Piece(format!("{}: {e}", spec.name));
         mesher::check(&spec.outline).map_err(|e| bad(e.to_string()))?;
+        if !(mesher::EDGE_RANGE.0..=mesher::EDGE_RANGE.1).contains(&edge) {
+            return Err(bad(mesher::MeshError::EdgeLength(edge).to_string()));
+        }
         let outline = mesher::simplify(&spec.outline, SIMPLIFY * edge, &[]);
-        let mesh = mesher::mesh_outline(&outline, edge).map_err(|e| bad(e.to_string()))?;
         let (lo, hi) = bounds2(&outline.loops[0]);
+        let marks = Landmarks::of(self.sim.body.as_ref());
+        let base = spec
+            .placement
+            .unwrap_or_else(|| at.at(start_height(at, &marks)));
+        // What can be known before meshing is checked first: meshing a large piece takes
+        // long, and the command would be refused after it all the same.
+        place(&spec.name, &[], (lo, hi), &base, &marks)
+            .map_err(|e| EditError::Piece(e.to_string()))?;
+        self.check_piece_size(&spec.name, mesher::estimate_vertices(&outline, edge), edge)?;
+        let mesh = mesher::mesh_outline(&outline, edge).map_err(|e| bad(e.to_string()))?;
+        self.check_piece_size(&spec.name, mesh.positions.len(), edge)?;
         let right = self
             .sim
             .cloth
@@ -71,10 +90,6 @@ impl Design {
             .iter()
             .map(|p| Vec2::new(p.x, -p.z))
             .collect();
-        let marks = Landmarks::of(self.sim.body.as_ref());
-        let base = spec
-            .placement
-            .unwrap_or_else(|| at.at(start_height(at, &marks)));
         let n0 = self.sim.cloth.len() as u32;
         let slot0 = self.sim.cloth.live.slots() as u32;
         let tris: Vec<[u32; 3]> = mesh.triangles.iter().map(|t| t.map(|v| v + n0)).collect();
@@ -134,6 +149,23 @@ impl Design {
         });
         self.commit("add piece", prims)?;
         Ok(starts.len())
+    }
+
+    /// Refuses a piece of `vertices` (meshed at `edge` m, or estimated before meshing)
+    /// that is larger than [`MAX_PIECE_VERTICES`] or would take the design over
+    /// [`MAX_VERTICES`] (a design file larger than that is not read back).
+    fn check_piece_size(&self, name: &str, vertices: usize, edge: f32) -> Result<(), EditError> {
+        let total = self.sim.cloth.len().saturating_add(vertices);
+        if vertices > MAX_PIECE_VERTICES || total > MAX_VERTICES {
+            return Err(EditError::Piece(format!(
+                "{name}: meshed at {:.1} mm it would have about {vertices} vertices \
+                 (a piece may have {MAX_PIECE_VERTICES}, the design {MAX_VERTICES} in all, \
+                 {} now): choose a longer edge or a smaller piece",
+                edge * 1e3,
+                self.sim.cloth.len()
+            )));
+        }
+        Ok(())
     }
 
     /// Where a piece starts under `base`: the first of `base` and up to [`LAYERS`]

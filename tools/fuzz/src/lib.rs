@@ -442,11 +442,16 @@ pub fn commands(data: &[u8]) {
             d.sim.cloth.live.tri_count(),
             d.history.undo_len(),
         );
+        let started = std::time::Instant::now();
         let result = cloth_sim::carry_out(&mut d, &c);
         if *TRACE.get_or_init(|| std::env::var_os("FUZZ_TRACE").is_some()) {
             eprintln!(
-                "{c:?}: {} ({} vertices, {} triangles)",
-                if result.is_ok() { "done" } else { "refused" },
+                "{c:?}: {} in {:.1} ms ({} vertices, {} triangles)",
+                match &result {
+                    Ok(_) => "done".to_string(),
+                    Err(e) => format!("refused ({e})"),
+                },
+                started.elapsed().as_secs_f64() * 1e3,
                 d.sim.cloth.len(),
                 d.sim.cloth.live.tri_count()
             );
