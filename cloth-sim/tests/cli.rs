@@ -776,6 +776,11 @@ fn dress_mannequin_sews_two_panels_round_the_torso_without_crossing() {
     assert_eq!(r["pieces"], 2, "{r}");
     assert_eq!(r["seams"], 4, "{r}");
     assert!(r["sews"].as_u64().unwrap() > 0, "no stitch welded: {r}");
+    let welded = r["seam_pairs_welded"].as_u64().unwrap();
+    assert!(
+        welded >= r["sews"].as_u64().unwrap() && welded <= r["seam_pairs"].as_u64().unwrap(),
+        "{r}"
+    );
     assert!(r["torso_coverage"].as_f64().unwrap() >= 0.9, "{r}");
     assert!(r["seam_length_mismatch_m"].as_f64().unwrap() < 1e-3, "{r}");
     assert_eq!(

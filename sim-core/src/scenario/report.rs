@@ -41,6 +41,10 @@ pub struct OpsReport {
     /// fit-cube: stitched pairs welded (each weld is a sew of two vertices).
     #[serde(rename = "sews", skip_serializing_if = "Option::is_none")]
     pub welds: Option<usize>,
+    /// Stitched pairs welded at the end (a weld that joins a vertex paired twice closes
+    /// both its pairs, so this can exceed `sews`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub seam_pairs_welded: Option<usize>,
     /// drape-cube and fit-cube: distance from the side panels to the cube's side faces
     /// beyond the contact thickness, m.
     #[serde(skip_serializing_if = "Option::is_none")]

@@ -117,6 +117,13 @@ fn run_frames(
         }
         if ops.seams.is_some() {
             *ops.welds.get_or_insert(0) += stats.welded;
+            ops.seam_pairs_welded = Some(
+                design
+                    .seams
+                    .iter()
+                    .map(|s| s.pairs.len() - s.open_pairs().count())
+                    .sum(),
+            );
         }
         if let Some(force) = design
             .sim
