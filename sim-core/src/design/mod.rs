@@ -47,6 +47,7 @@ pub use error::EditError;
 pub use fabrics::{EDITED, fabric_zones};
 pub use history::History;
 pub use parts::{STITCH_FORCE, Seam, TearMode, TearSettings, open_stitches};
+pub use piece_edit::MAX_PIECE_VERTICES;
 pub use piece_list::PieceInfo;
 pub use pieces::{MAX_NAME, PieceRecord};
 pub use prim::{Edit, Prim};

@@ -396,6 +396,16 @@ pub(crate) fn small_design(model: ModelKind) -> Design {
     Design::with_texture(sim, Texture::new(16, 16, CLOTH_COLOUR))
 }
 
+/// Whether a new piece of about `area` m² at `edge` m would be valid and large (3,000
+/// to [`sim_core::design::MAX_PIECE_VERTICES`] vertices): such a piece is carried out
+/// as any other, only its frames take the vbd model long (up to seconds, the cloth
+/// issue's speed), and inputs that add one held the fuzzer at under 100 executions a
+/// second. Larger ones stay in: they are refused before meshing.
+fn is_slow_piece(area: f32, edge: f32) -> bool {
+    let estimate = area / (0.58 * edge * edge);
+    estimate > 3000.0 && estimate <= sim_core::design::MAX_PIECE_VERTICES as f32
+}
+
 /// `FUZZ_TRACE` set: [`commands`] prints what it carries out (read once).
 static TRACE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
 
@@ -406,7 +416,8 @@ static TRACE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
 /// design. A frame is always stepped after the last change (`FUZZ_TRACE=1` prints each
 /// command and the cloth's size after it). Paths in SAVE and
 /// ADD_PIECE are replaced by a scratch file (the fuzzer must not write where it likes);
-/// LOAD, RESET, EXPORT and SET_TOOL are the service's own and not carried out here.
+/// LOAD, RESET, EXPORT and SET_TOOL are the service's own and not carried out here, nor
+/// ADD_PIECE of a valid piece of over 3,000 vertices ([`is_slow_piece`]).
 pub fn commands(data: &[u8]) {
     let [pick, steps, ref records @ ..] = *data else {
         return;
@@ -426,6 +437,13 @@ pub fn commands(data: &[u8]) {
             continue;
         };
         match &mut c {
+            Command::AddPiece {
+                shape:
+                    shared::command::PieceShape::Rectangle { w, h }
+                    | shared::command::PieceShape::Ellipse { w, h },
+                edge_m,
+                ..
+            } if is_slow_piece(*w * *h, *edge_m) => continue,
             Command::Save { path } => *path = scratch.join("d.saiho").display().to_string(),
             Command::AddPiece {
                 shape: shared::command::PieceShape::File { path },
