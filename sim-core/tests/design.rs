@@ -278,23 +278,32 @@ fn cutting_a_piece_in_two_lists_two_pieces() {
     assert_eq!(names, ["front", "front 2", "back"], "{names:?}");
 }
 
+/// The dress at 6 cm triangles and a `w` x `h` m rectangle named `name` to add to it.
+fn dress_and_rectangle(
+    name: &str,
+    w: f32,
+    h: f32,
+) -> (Design, sim_core::design::garment::PieceSpec) {
+    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+    cfg.piece_edge = 0.06;
+    let spec = sim_core::design::garment::PieceSpec {
+        name: name.into(),
+        outline: sim_core::mesh::mesher::Outline::rectangle(w, h),
+        fabric: "cotton".into(),
+        grain: 0.0,
+        placement: None,
+    };
+    (build_design(&cfg).unwrap(), spec)
+}
+
 /// A pocket added to the dress starts a layer out from the front, crossing nothing;
 /// placed at the back it goes there; deleted, it leaves the list; undo takes each back.
 #[test]
 fn pieces_are_added_placed_and_deleted_undoably() {
     use sim_core::design::garment::{PieceSpec, Place, Placement};
     use sim_core::mesh::mesher::Outline;
-    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
-    cfg.piece_edge = 0.06;
-    let mut d = build_design(&cfg).unwrap();
+    let (mut d, pocket) = dress_and_rectangle("pocket", 0.3, 0.2);
     let before = (d.sim.cloth.len(), d.piece_list());
-    let pocket = PieceSpec {
-        name: "pocket".into(),
-        outline: Outline::rectangle(0.3, 0.2),
-        fabric: "cotton".into(),
-        grain: 0.0,
-        placement: None,
-    };
     let n = d.add_piece(&pocket, Place::Front, 0.05).unwrap();
     assert!(n > 10);
     assert_eq!(d.sim.cloth.len(), before.0 + n);
@@ -402,17 +411,8 @@ fn pieces_are_added_placed_and_deleted_undoably() {
 fn pieces_too_large_or_too_wide_are_refused() {
     use sim_core::design::garment::{PieceSpec, Place};
     use sim_core::mesh::mesher::Outline;
-    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
-    cfg.piece_edge = 0.06;
-    let mut d = build_design(&cfg).unwrap();
+    let (mut d, sheet) = dress_and_rectangle("sheet", 1.0, 1.0);
     let before = (d.sim.cloth.len(), d.piece_list());
-    let sheet = PieceSpec {
-        name: "sheet".into(),
-        outline: Outline::rectangle(1.0, 1.0),
-        fabric: "cotton".into(),
-        grain: 0.0,
-        placement: None,
-    };
     let err = d.add_piece(&sheet, Place::Front, 0.002).unwrap_err();
     assert!(err.to_string().contains("choose a longer edge"), "{err}");
     let wide = PieceSpec {
