@@ -429,13 +429,23 @@ fn pieces_too_large_or_too_wide_are_refused() {
 #[test]
 fn the_size_estimate_is_near_the_mesh() {
     use sim_core::mesh::mesher::{Outline, estimate_vertices, mesh_outline};
-    for (w, h, edge) in [
-        (0.3, 0.2, 0.01),
-        (1.0, 0.5, 0.02),
-        (0.05, 0.8, 0.005),
-        (0.6, 0.6, 0.003),
+    for (w, h, edge, hole) in [
+        (0.3, 0.2, 0.01, false),
+        (1.0, 0.5, 0.02, false),
+        (0.05, 0.8, 0.005, false),
+        (0.6, 0.6, 0.003, false),
+        (0.6, 0.6, 0.01, true),
     ] {
-        let o = Outline::rectangle(w, h);
+        let mut o = Outline::rectangle(w, h);
+        if hole {
+            // A square hole of half the side in the middle: a quarter of the area.
+            let (a, b) = (0.25 * w, 0.75 * w);
+            o.loops.push(
+                [(a, a), (a, b), (b, b), (b, a)]
+                    .map(|(x, y)| glam::Vec2::new(x, y))
+                    .to_vec(),
+            );
+        }
         let (est, real) = (
             estimate_vertices(&o, edge),
             mesh_outline(&o, edge).unwrap().positions.len(),
@@ -443,7 +453,7 @@ fn the_size_estimate_is_near_the_mesh() {
         let r = est as f32 / real as f32;
         assert!(
             (0.85..1.15).contains(&r),
-            "{w} x {h} at {edge}: {est} estimated, {real} made"
+            "{w} x {h} at {edge} (hole {hole}): {est} estimated, {real} made"
         );
     }
 }

@@ -302,10 +302,16 @@ fn inside(outline: &Outline, p: Vec2) -> bool {
 /// About how many vertices meshing `outline` at `edge` m makes, before any work: the
 /// refinement leaves triangles of about two thirds of an equilateral triangle's area
 /// (measured: the estimate is within 4% on rectangles), twice as many as the vertices
-/// inside; every boundary side split into parts of `edge` adds its points.
+/// inside; every boundary side split into parts of `edge` adds its points. Loops after
+/// the first are holes in it.
 pub fn estimate_vertices(outline: &Outline, edge: f32) -> usize {
     let e = f64::from(edge.max(EDGE_RANGE.0));
-    let area = signed_area2(&outline.loops[0]).abs() * 0.5;
+    let areas = outline.loops.iter().map(|l| signed_area2(l).abs() * 0.5);
+    let area = areas
+        .enumerate()
+        .map(|(k, a)| if k == 0 { a } else { -a })
+        .sum::<f64>()
+        .max(0.0);
     let inside = area / (2.0 * 0.433 * 0.67 * e * e);
     let boundary: f64 = outline
         .loops

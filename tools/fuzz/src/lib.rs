@@ -414,7 +414,7 @@ static TRACE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
 /// that arrived between two frames), then up to 8 `ToolCommand` records, each checked and
 /// converted (`Command::from_wire`) and carried out (`cloth_sim::carry_out`) on the
 /// design. A frame is always stepped after the last change (`FUZZ_TRACE=1` prints each
-/// command and the cloth's size after it). Paths in SAVE and
+/// command, how long it took, why it was refused, and the cloth's size after it). Paths in SAVE and
 /// ADD_PIECE are replaced by a scratch file (the fuzzer must not write where it likes);
 /// LOAD, RESET, EXPORT and SET_TOOL are the service's own and not carried out here, nor
 /// ADD_PIECE of a valid piece of over 3,000 vertices ([`is_slow_piece`]).
