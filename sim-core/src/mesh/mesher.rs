@@ -331,9 +331,8 @@ pub fn mesh_outline(outline: &Outline, edge: f32) -> Result<ClothMesh, MeshError
         return Err(MeshError::EdgeLength(edge));
     }
     check(outline)?;
-    // Rough size check before any work: area over an equilateral triangle's.
-    let area: f64 = signed_area2(&outline.loops[0]).abs() * 0.5;
-    let estimate = (2.0 * area / (0.433 * (edge as f64).powi(2))) as usize;
+    // Size check before any work.
+    let estimate = estimate_vertices(outline, edge);
     if estimate > MAX_VERTICES {
         return Err(MeshError::TooLarge {
             vertices: estimate,

@@ -396,14 +396,22 @@ pub(crate) fn small_design(model: ModelKind) -> Design {
     Design::with_texture(sim, Texture::new(16, 16, CLOTH_COLOUR))
 }
 
-/// Whether a new piece of about `area` m² at `edge` m would be valid and large (3,000
+/// Whether a new piece of `shape` at `edge` m would be valid and large (3,000
 /// to [`sim_core::design::MAX_PIECE_VERTICES`] vertices): such a piece is carried out
 /// as any other, only its frames take the vbd model long (up to seconds, the cloth
 /// issue's speed), and inputs that add one held the fuzzer at under 100 executions a
 /// second. Larger ones stay in: they are refused before meshing.
-fn is_slow_piece(area: f32, edge: f32) -> bool {
-    let estimate = area / (0.58 * edge * edge);
-    estimate > 3000.0 && estimate <= sim_core::design::MAX_PIECE_VERTICES as f32
+fn is_slow_piece(shape: &shared::command::PieceShape, edge: f32) -> bool {
+    use shared::command::PieceShape;
+    use sim_core::mesh::mesher::{Outline, estimate_vertices};
+    let outline = match *shape {
+        // As cloth-sim makes them (`add_piece`); sizes and edge are checked by now.
+        PieceShape::Rectangle { w, h } => Outline::rectangle(w, h),
+        PieceShape::Ellipse { w, h } => Outline::ellipse(0.5 * w, 0.5 * h, edge),
+        PieceShape::File { .. } => return false,
+    };
+    let n = estimate_vertices(&outline, edge);
+    n > 3000 && n <= sim_core::design::MAX_PIECE_VERTICES
 }
 
 /// `FUZZ_TRACE` set: [`commands`] prints what it carries out (read once).
@@ -437,13 +445,7 @@ pub fn commands(data: &[u8]) {
             continue;
         };
         match &mut c {
-            Command::AddPiece {
-                shape:
-                    shared::command::PieceShape::Rectangle { w, h }
-                    | shared::command::PieceShape::Ellipse { w, h },
-                edge_m,
-                ..
-            } if is_slow_piece(*w * *h, *edge_m) => continue,
+            Command::AddPiece { shape, edge_m, .. } if is_slow_piece(shape, *edge_m) => continue,
             Command::Save { path } => *path = scratch.join("d.saiho").display().to_string(),
             Command::AddPiece {
                 shape: shared::command::PieceShape::File { path },
