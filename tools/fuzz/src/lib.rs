@@ -396,11 +396,12 @@ pub(crate) fn small_design(model: ModelKind) -> Design {
     Design::with_texture(sim, Texture::new(16, 16, CLOTH_COLOUR))
 }
 
-/// Whether a new piece of `shape` at `edge` m would be valid and large (3,000
+/// Whether a new piece of `shape` at `edge` m would be valid and large (500
 /// to [`sim_core::design::MAX_PIECE_VERTICES`] vertices): such a piece is carried out
-/// as any other, only its frames take the vbd model long (up to seconds, the cloth
-/// issue's speed), and inputs that add one held the fuzzer at under 100 executions a
-/// second. Larger ones stay in: they are refused before meshing.
+/// by the same code as a small one, only its meshing and frames take long (a 3,000-vertex
+/// one about 20 ms, up to seconds under vbd), and inputs that add one held the fuzzer
+/// at a few hundred executions a second (under 100 at 12,000 vertices). Larger ones stay
+/// in: they are refused before meshing.
 fn is_slow_piece(shape: &shared::command::PieceShape, edge: f32) -> bool {
     use shared::command::PieceShape;
     use sim_core::mesh::mesher::{Outline, estimate_vertices};
@@ -411,7 +412,7 @@ fn is_slow_piece(shape: &shared::command::PieceShape, edge: f32) -> bool {
         PieceShape::File { .. } => return false,
     };
     let n = estimate_vertices(&outline, edge);
-    n > 3000 && n <= sim_core::design::MAX_PIECE_VERTICES
+    n > 500 && n <= sim_core::design::MAX_PIECE_VERTICES
 }
 
 /// `FUZZ_TRACE` set: [`commands`] prints what it carries out (read once).
@@ -425,7 +426,7 @@ static TRACE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
 /// command, how long it took, why it was refused, and the cloth's size after it). Paths in SAVE and
 /// ADD_PIECE are replaced by a scratch file (the fuzzer must not write where it likes);
 /// LOAD, RESET, EXPORT and SET_TOOL are the service's own and not carried out here, nor
-/// ADD_PIECE of a valid piece of over 3,000 vertices ([`is_slow_piece`]).
+/// ADD_PIECE of a valid piece of over 500 vertices ([`is_slow_piece`]).
 pub fn commands(data: &[u8]) {
     let [pick, steps, ref records @ ..] = *data else {
         return;
