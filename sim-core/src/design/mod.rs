@@ -41,6 +41,7 @@ pub mod sewing_pattern;
 mod tear;
 mod texture;
 mod transaction;
+mod zip;
 
 pub use document::{CLOTH_COLOUR, Design, TEXTURE_SIZE};
 pub use error::EditError;

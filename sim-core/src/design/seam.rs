@@ -268,7 +268,7 @@ impl Design {
                 }
             }
         }
-        welded
+        welded + self.zip_seam_slits(reach)
     }
 }
 

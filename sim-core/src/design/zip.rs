@@ -1,0 +1,252 @@
+//! Closing the slit a seam leaves where its two sides have different vertex counts.
+//!
+//! A seam pairs the longer side's vertices each with the nearest (by arc length) of the
+//! shorter side's, so some vertex of the shorter side is paired twice. Once it has
+//! welded to one partner, the other partner `p` lies on the border between the welded
+//! vertex `q` and the next welded vertex `r`, and the three border edges `q-p`, `p-r`
+//! (one piece's) and `q-r` (the other's) bound a triangular slit that no weld can close:
+//! `p` and `q` are neighbours. Zipping puts `p` into the edge `q-r`: the triangle on
+//! that edge is split in two at `p`, its new corner's rest place and texture coordinate
+//! taken along the edge where `p` lies. No vertex is added or removed; the longer side
+//! is eased into the shorter, as a tailor eases a sleeve cap into its armhole.
+
+use glam::Vec3;
+
+use super::document::Design;
+use super::prim::Prim;
+use crate::mesh::{NONE, Tri};
+
+/// Where along the edge `p` may sit: not at either end (a sliver triangle).
+const END_MARGIN: f32 = 0.1;
+
+impl Design {
+    /// The edit that zips `p` into the slit beside its border neighbour `q` (see the
+    /// module), or `None` when `p`, `q` do not bound such a slit, or `p` lies farther than
+    /// `reach` from the edge across it.
+    pub(super) fn zip_prims(&self, p: u32, q: u32, reach: f32) -> Option<Vec<Prim>> {
+        let live = &self.sim.cloth.live;
+        let border = |a: u32, b: u32| {
+            let [s0, s1] = live.edge(a, b);
+            (s0 != NONE && s1 == NONE).then_some(s0)
+        };
+        border(p, q)?;
+        // `p`'s other border edge.
+        let mut others = live
+            .neighbours(p)
+            .into_iter()
+            .filter(|&u| u != q && border(p, u).is_some());
+        let r = others.next()?;
+        if others.next().is_some() {
+            return None;
+        }
+        let slot = border(q, r)?;
+        let tri = *live.tri(slot)?;
+        if tri.corner(p).is_some() {
+            return None;
+        }
+        let x = &self.sim.cloth.x;
+        let (xp, xq, xr) = (x[p as usize], x[q as usize], x[r as usize]);
+        let qr = xr - xq;
+        let t = (xp - xq).dot(qr) / qr.length_squared();
+        if !(END_MARGIN..=1.0 - END_MARGIN).contains(&t) {
+            return None;
+        }
+        let on_edge = xq + qr * t;
+        if (xp - on_edge).length() > reach {
+            return None;
+        }
+        let (cq, cr) = (tri.corner(q)?, tri.corner(r)?);
+        let rest = tri.rest[cq].lerp(tri.rest[cr], t);
+        let uv = tri.uv[cq].lerp(tri.uv[cr], t);
+        let with_p = |corner: usize| {
+            let mut n: Tri = tri;
+            n.v[corner] = p;
+            n.rest[corner] = rest;
+            n.uv[corner] = uv;
+            n
+        };
+        let v = self.sim.cloth.v[p as usize];
+        Some(vec![
+            Prim::Move {
+                vertex: p,
+                old: (xp, v),
+                new: (on_edge, v),
+            },
+            Prim::Tri {
+                slot,
+                old: Some(tri),
+                new: Some(with_p(cr)),
+            },
+            Prim::Tri {
+                slot: live.slots() as u32,
+                old: None,
+                new: Some(with_p(cq)),
+            },
+        ])
+    }
+
+    /// Whether the zip `prims` (from [`Design::zip_prims`] for `p`) would leave its
+    /// triangles crossing the rest of the cloth or the body more than they do now.
+    pub(super) fn zip_would_cross(&self, prims: &[Prim], p: u32) -> bool {
+        let Some(&Prim::Move { new: (to, _), .. }) = prims.first() else {
+            return true;
+        };
+        let live = &self.sim.cloth.live;
+        let split = prims.iter().find_map(|q| match q {
+            Prim::Tri {
+                slot, old: Some(t), ..
+            } => Some((*slot, t.v)),
+            _ => None,
+        });
+        let Some((slot, old)) = split else {
+            return true;
+        };
+        let of_p: Vec<[u32; 3]> = live
+            .tris_of(p)
+            .iter()
+            .filter_map(|&t| live.tri(t).map(|t| t.v))
+            .collect();
+        let mut now = of_p.clone();
+        now.push(old);
+        let mut then = of_p;
+        then.extend(prims.iter().filter_map(|q| match q {
+            Prim::Tri { new: Some(t), .. } => Some(t.v),
+            _ => None,
+        }));
+        let others: Vec<[u32; 3]> = live
+            .iter()
+            .filter(|&(s, t)| s != slot && !t.v.contains(&p))
+            .map(|(_, t)| t.v)
+            .collect();
+        let (x, body) = (&self.sim.cloth.x, self.sim.body.as_ref());
+        let now_at = |v: u32| x.get(v as usize).copied();
+        let then_at = |v: u32| -> Option<Vec3> { if v == p { Some(to) } else { now_at(v) } };
+        use crate::collision::crossings::fan_crossings;
+        fan_crossings(then_at, &then, &others, body) > fan_crossings(now_at, &now, &others, body)
+    }
+
+    /// Zips every open pair of a seam whose ends are border neighbours bounding a slit
+    /// (see the module) and lie within `reach` of closing; each zip is an undoable edit
+    /// that marks the pair sewn. Returns how many.
+    pub(super) fn zip_seam_slits(&mut self, reach: f32) -> usize {
+        let mut zipped = 0;
+        for si in 0..self.seams.len() {
+            for k in 0..self.seams[si].pairs.len() {
+                let (a, b) = self.seams[si].pairs[k];
+                if a == b {
+                    continue;
+                }
+                let found = [(a, b), (b, a)].into_iter().find_map(|(p, q)| {
+                    let prims = self.zip_prims(p, q, reach)?;
+                    (!self.zip_would_cross(&prims, p)).then_some((p, prims))
+                });
+                let Some((p, mut prims)) = found else {
+                    continue;
+                };
+                let old = self.seams[si].clone();
+                let mut new = old.clone();
+                new.pairs[k] = (p, p);
+                prims.push(Prim::Seam {
+                    index: si as u32,
+                    old: Some(old),
+                    new: Some(new),
+                });
+                if self.commit("weld", prims).is_ok() {
+                    zipped += 1;
+                }
+            }
+        }
+        zipped
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use crate::design::Design;
+    use crate::mesh::ClothMesh;
+    use crate::solver::{Cloth, Environment, Material, ModelKind, Simulation};
+
+    /// Two 0.2 m strips meeting along z = 0, the far one 5 mm higher (within the weld's
+    /// reach): the near one with 5 vertices on that edge, the far one with 3, sewn there
+    /// (so the far side's middle vertex is paired twice). Returns the design and the
+    /// near side's 5 vertices.
+    fn uneven_seam(model: ModelKind) -> (Design, Vec<u32>) {
+        let near = ClothMesh::grid(0.2, 0.1, 4, 2, 1.0).unwrap();
+        let far = ClothMesh::grid(0.2, 0.1, 2, 2, 1.005).unwrap();
+        let n0 = near.positions.len() as u32;
+        let mut mesh = near.clone();
+        for p in &mut mesh.positions {
+            p.z -= 0.05;
+        }
+        mesh.positions
+            .extend(far.positions.iter().map(|p| *p + Vec3::new(0.0, 0.0, 0.05)));
+        mesh.uvs.extend(&far.uvs);
+        mesh.triangles
+            .extend(far.triangles.iter().map(|t| t.map(|i| i + n0)));
+        let m = Material::default();
+        let cloth = Cloth::new(mesh, &m).unwrap();
+        let env = Environment {
+            floor: None,
+            gravity: Vec3::ZERO,
+            ..Environment::default()
+        };
+        let sim = Simulation::new(cloth, None, model, m, env, None).unwrap();
+        let mut d = Design::new(sim);
+        let a: Vec<u32> = (10..15).collect();
+        let b: Vec<u32> = (n0..n0 + 3).collect();
+        assert_eq!(d.add_seam(&a, &b, 0.5).unwrap(), 5);
+        (d, a)
+    }
+
+    /// The near side's two vertices paired with an already welded far vertex are zipped
+    /// into the far side's edges: every pair sewn, no border left along the seam, the
+    /// cloth's rest area unchanged, the design valid and stepping; undo takes it all back.
+    #[test]
+    fn a_seam_with_fewer_vertices_on_one_side_closes() {
+        for model in [ModelKind::Xpbd, ModelKind::Vbd] {
+            let (mut d, a) = uneven_seam(model);
+            let live = &d.sim.cloth.live;
+            let (tris, edits) = (live.tri_count(), d.history.undo_len());
+            let area =
+                |d: &Design| -> f32 { d.sim.cloth.live.iter().map(|(_, t)| t.rest_area()).sum() };
+            let area0 = area(&d);
+            assert_eq!(d.weld_close_stitches(), 5, "{model:?}");
+            assert!(
+                d.seams[0].pairs.iter().all(|(p, q)| p == q),
+                "{:?}",
+                d.seams[0]
+            );
+            let live = &d.sim.cloth.live;
+            assert_eq!(live.tri_count(), tris + 2, "one triangle split at each zip");
+            for &v in &a[1..4] {
+                assert!(
+                    !live.is_boundary(v),
+                    "{model:?}: vertex {v} still on a border"
+                );
+            }
+            assert!((area(&d) - area0).abs() < 1e-6 * area0);
+            d.validate().unwrap();
+            for _ in 0..5 {
+                d.step().unwrap();
+            }
+            for _ in 0..5 {
+                d.undo().unwrap();
+            }
+            assert_eq!(d.history.undo_len(), edits);
+            assert_eq!(d.sim.cloth.live.tri_count(), tris);
+            assert!(d.seams[0].pairs.iter().all(|(p, q)| p != q));
+        }
+    }
+
+    /// A vertex farther than the reach from the edge across the slit waits.
+    #[test]
+    fn a_slit_wider_than_the_reach_waits() {
+        let (mut d, a) = uneven_seam(ModelKind::Xpbd);
+        d.sim.cloth.x[a[1] as usize].y -= 0.01;
+        assert_eq!(d.weld_close_stitches(), 4);
+        assert_eq!(d.seams[0].pairs.iter().filter(|(p, q)| p != q).count(), 1);
+        assert!(d.sim.cloth.live.is_boundary(a[1]));
+    }
+}
