@@ -27,6 +27,17 @@ impl Percentiles {
     }
 }
 
+/// A stitched pair left open: its seam's label (the letter the pattern marks it by), its
+/// place in the seam (0 at the seam's start), the gap between its two ends (m) and where
+/// its first end lies (m).
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct OpenPair {
+    pub seam: String,
+    pub pair: usize,
+    pub gap_m: f32,
+    pub at: [f32; 3],
+}
+
 /// The operation scenarios' part of the report.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct OpsReport {
@@ -45,6 +56,9 @@ pub struct OpsReport {
     /// both its pairs, so this can exceed `sews`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub seam_pairs_welded: Option<usize>,
+    /// Stitched pairs still open at the end: where a seam did not close, and by how much.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub seam_pairs_open: Option<Vec<OpenPair>>,
     /// drape-cube and fit-cube: distance from the side panels to the cube's side faces
     /// beyond the contact thickness, m.
     #[serde(skip_serializing_if = "Option::is_none")]

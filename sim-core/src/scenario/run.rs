@@ -168,7 +168,29 @@ fn run_frames(
             );
         }
     }
+    if ops.seams.is_some() {
+        ops.seam_pairs_open = Some(open_pairs(design));
+    }
     Ok(frames)
+}
+
+/// The design's stitched pairs still open, seam by seam.
+fn open_pairs(design: &Design) -> Vec<super::report::OpenPair> {
+    let x = &design.sim.cloth.x;
+    let mut open = Vec::new();
+    for (i, seam) in design.seams.iter().enumerate() {
+        for (k, &(a, b)) in seam.pairs.iter().enumerate() {
+            if let (true, Some(&xa), Some(&xb)) = (a != b, x.get(a as usize), x.get(b as usize)) {
+                open.push(super::report::OpenPair {
+                    seam: crate::design::sewing_pattern::seam_label(i),
+                    pair: k,
+                    gap_m: (xa - xb).length(),
+                    at: xa.to_array(),
+                });
+            }
+        }
+    }
+    open
 }
 
 /// The scenario's script at frame `f`, the end of the drape. For the tear, returns the
