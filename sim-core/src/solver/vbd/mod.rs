@@ -1,13 +1,12 @@
 //! Vertex Block Descent with a global step and penetration-free contact (`--model vbd`).
 //! `elastic.rs` (the energy at one vertex) and `contact.rs` (penalty and friction at one
 //! vertex) ← `global.rs` (the global step's factored matrix and filtered PCG) ←
-//! `sewing.rs` (the vertices a seam still pulls) ← `step.rs` (`Vbd`: a frame of steps, every move through the proximity guard) ←
+//! `step.rs` (`Vbd`: a frame of steps, every move through the proximity guard) ←
 //! `solver.rs` (`impl Solver`); `tests.rs`.
 
 mod contact;
 mod elastic;
 mod global;
-mod sewing;
 mod solver;
 mod step;
 

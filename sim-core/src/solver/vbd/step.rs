@@ -62,9 +62,6 @@ pub struct Vbd {
     /// Index of each vertex in the pinch's held list (`u32::MAX`: not held).
     held: Vec<u32>,
     has_stitch: Vec<bool>,
-    /// Vertices a seam is still pulling together (`sewing.rs`): friction does not hold
-    /// them in the global step.
-    sewing: Vec<bool>,
     /// The pinch's target at the end of the last frame.
     pen_last: Option<Vec3>,
     /// The mean rest length of the live mesh's edges, m.
@@ -119,7 +116,6 @@ impl Vbd {
             area: Vec::new(),
             held: Vec::new(),
             has_stitch: Vec::new(),
-            sewing: Vec::new(),
             pen_last: None,
             mean_edge: 0.0,
             iterations: DEFAULT_ITERATIONS,
@@ -328,7 +324,6 @@ impl Vbd {
                 &params,
             );
         }
-        super::sewing::mark(cloth.len(), &self.tris, drive.stitches, &mut self.sewing);
         self.stats.pairs = self.prox.counts;
         self.stats.detect_us += t0.elapsed().as_micros() as u64;
         self.frame_start.clone_from(&cloth.x);
@@ -533,7 +528,7 @@ impl Vbd {
     /// included) lies, along the surface, within the friction cone of the contact's push
     /// (Baraff and Witkin 1998 filter sticking contacts whole). Otherwise the global step,
     /// which knows no friction, would slide it freely, and a cloth pulled at one corner
-    /// would skate over the floor. Not while a seam pulls its piece (`sewing.rs`).
+    /// would skate over the floor.
     fn contact_filter(&mut self, x: &[Vec3], mass: &[f32], contact: &ContactTerms) {
         let r = self.material.thickness;
         self.filter.clear();
@@ -584,7 +579,7 @@ impl Vbd {
                 *s = None;
                 continue;
             }
-            if contact.friction <= 0.0 || self.sewing.get(i) == Some(&true) {
+            if contact.friction <= 0.0 {
                 continue;
             }
             let along = hold - n * n.dot(hold);
