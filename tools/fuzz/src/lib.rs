@@ -415,6 +415,11 @@ fn is_slow_piece(shape: &shared::command::PieceShape, edge: f32) -> bool {
     n > 500 && n <= sim_core::design::MAX_PIECE_VERTICES
 }
 
+/// Most substeps a SET_MATERIAL may ask for and be carried out: a frame's cost grows
+/// with them (100 substeps of a 400-vertex piece under vbd took a second instrumented,
+/// the eighth sitting's one hang), and more of them runs the same code.
+const MAX_SUBSTEPS: u32 = 20;
+
 /// `FUZZ_TRACE` set: [`commands`] prints what it carries out (read once).
 static TRACE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
 
@@ -426,7 +431,8 @@ static TRACE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
 /// command, how long it took, why it was refused, and the cloth's size after it). Paths in SAVE and
 /// ADD_PIECE are replaced by a scratch file (the fuzzer must not write where it likes);
 /// LOAD, RESET, EXPORT and SET_TOOL are the service's own and not carried out here, nor
-/// ADD_PIECE of a valid piece of over 500 vertices ([`is_slow_piece`]).
+/// ADD_PIECE of a valid piece of over 500 vertices ([`is_slow_piece`]), nor SET_MATERIAL
+/// of over [`MAX_SUBSTEPS`] substeps.
 pub fn commands(data: &[u8]) {
     let [pick, steps, ref records @ ..] = *data else {
         return;
@@ -447,6 +453,9 @@ pub fn commands(data: &[u8]) {
         };
         match &mut c {
             Command::AddPiece { shape, edge_m, .. } if is_slow_piece(shape, *edge_m) => continue,
+            Command::SetMaterial {
+                substeps: Some(s), ..
+            } if *s > MAX_SUBSTEPS => continue,
             Command::Save { path } => *path = scratch.join("d.saiho").display().to_string(),
             Command::AddPiece {
                 shape: shared::command::PieceShape::File { path },
