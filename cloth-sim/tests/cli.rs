@@ -777,10 +777,22 @@ fn dress_mannequin_sews_two_panels_round_the_torso_without_crossing() {
     assert_eq!(r["seams"], 4, "{r}");
     assert!(r["sews"].as_u64().unwrap() > 0, "no stitch welded: {r}");
     let welded = r["seam_pairs_welded"].as_u64().unwrap();
+    let pairs = r["seam_pairs"].as_u64().unwrap();
     assert!(
-        welded >= r["sews"].as_u64().unwrap() && welded <= r["seam_pairs"].as_u64().unwrap(),
+        welded >= r["sews"].as_u64().unwrap() && welded <= pairs,
         "{r}"
     );
+    // 28-29 of 36 in three runs (2026-11-26); the pairs left open are listed.
+    assert!(10 * welded >= 7 * pairs, "{welded} of {pairs} welded: {r}");
+    let open = r["seam_pairs_open"].as_array().unwrap();
+    assert_eq!(open.len() as u64, pairs - welded, "{r}");
+    for o in open {
+        assert!(o["gap_m"].as_f64().unwrap() > 0.0, "{o}");
+        assert!(
+            ["A", "B", "C", "D"].contains(&o["seam"].as_str().unwrap()),
+            "{o}"
+        );
+    }
     assert!(r["torso_coverage"].as_f64().unwrap() >= 0.9, "{r}");
     assert!(r["seam_length_mismatch_m"].as_f64().unwrap() < 1e-3, "{r}");
     assert_eq!(
