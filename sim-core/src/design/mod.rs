@@ -54,3 +54,18 @@ pub use pieces::{MAX_NAME, PieceRecord};
 pub use prim::{Edit, Prim};
 pub use seam::SEAM_MISMATCH;
 pub use texture::{PaintPatch, TILE, Texture};
+
+/// A design of `mesh` under `model` with no gravity and no floor: the cloth stays where
+/// it is put, so a test sees only what an edit does.
+#[cfg(test)]
+pub(crate) fn floating(mesh: crate::mesh::ClothMesh, model: crate::solver::ModelKind) -> Design {
+    use crate::solver::{Cloth, Environment, Material, Simulation};
+    let m = Material::default();
+    let cloth = Cloth::new(mesh, &m).unwrap();
+    let env = Environment {
+        floor: None,
+        gravity: glam::Vec3::ZERO,
+        ..Environment::default()
+    };
+    Design::new(Simulation::new(cloth, None, model, m, env, None).unwrap())
+}

@@ -279,22 +279,14 @@ mod tests {
     use crate::collision::Body;
     use crate::design::Design;
     use crate::mesh::ClothMesh;
-    use crate::solver::{Cloth, Environment, Material, ModelKind, Simulation};
+    use crate::solver::ModelKind;
 
     /// A 0.5 m cloth at y = 1 cut in two along x, the far half raised 5 mm (within the
     /// weld's reach of 6 mm), a seam joining the cut's two sides.
     fn cut_and_sewn() -> Design {
         let n = 8;
         let mesh = ClothMesh::grid(0.5, 0.5, n, n, 1.0).unwrap();
-        let m = Material::default();
-        let cloth = Cloth::new(mesh, &m).unwrap();
-        let env = Environment {
-            floor: None,
-            gravity: Vec3::ZERO,
-            ..Environment::default()
-        };
-        let sim = Simulation::new(cloth, None, ModelKind::Xpbd, m, env, None).unwrap();
-        let mut d = Design::new(sim);
+        let mut d = crate::design::floating(mesh, ModelKind::Xpbd);
         let z = 0.0021;
         d.cut_stroke(&[Vec3::new(-0.3, 1.0, z), Vec3::new(0.3, 1.0, z)], 0.015)
             .unwrap();

@@ -166,7 +166,7 @@ mod tests {
 
     use crate::design::Design;
     use crate::mesh::ClothMesh;
-    use crate::solver::{Cloth, Environment, Material, ModelKind, Simulation};
+    use crate::solver::ModelKind;
 
     /// Two 0.2 m strips meeting along z = 0, the far one 5 mm higher (within the weld's
     /// reach): the near one with 5 vertices on that edge, the far one with 3, sewn there
@@ -185,15 +185,7 @@ mod tests {
         mesh.uvs.extend(&far.uvs);
         mesh.triangles
             .extend(far.triangles.iter().map(|t| t.map(|i| i + n0)));
-        let m = Material::default();
-        let cloth = Cloth::new(mesh, &m).unwrap();
-        let env = Environment {
-            floor: None,
-            gravity: Vec3::ZERO,
-            ..Environment::default()
-        };
-        let sim = Simulation::new(cloth, None, model, m, env, None).unwrap();
-        let mut d = Design::new(sim);
+        let mut d = crate::design::floating(mesh, model);
         let a: Vec<u32> = (10..15).collect();
         let b: Vec<u32> = (n0..n0 + 3).collect();
         assert_eq!(d.add_seam(&a, &b, 0.5).unwrap(), 5);
