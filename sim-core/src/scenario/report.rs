@@ -49,7 +49,7 @@ pub struct OpsReport {
     pub seams: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub seam_pairs: Option<usize>,
-    /// fit-cube: stitched pairs welded (each weld is a sew of two vertices).
+    /// Welds made (each a sew of two vertices, or a zip of a seam's slit).
     #[serde(rename = "sews", skip_serializing_if = "Option::is_none")]
     pub welds: Option<usize>,
     /// Stitched pairs welded at the end (a weld that joins a vertex paired twice closes
