@@ -186,39 +186,47 @@ impl Design {
         (side(|p| p.0), side(|p| p.1))
     }
 
-    /// Whether the weld `prims` (from [`Design::sew_prims`], which moves `a` and gives it
-    /// `b`'s triangles) would leave `a`'s triangles crossing the rest of the cloth or the
-    /// body more than `a`'s and `b`'s triangles do now. Such a weld waits: the stitch
-    /// keeps pulling, and the pair welds once it can without a new crossing. (A cloth
-    /// under the vbd model crosses nothing, so there any crossing is new.)
-    fn weld_would_cross(&self, prims: &[Prim], a: u32, b: u32) -> bool {
-        let Some(&Prim::Move { new: (to, _), .. }) = prims.first() else {
+    /// Whether the edit `prims` (a weld from [`Design::sew_prims`] or a zip from
+    /// `Design::zip_prims`: a first `Move` of one vertex, then triangles replaced or
+    /// added) would leave the moved vertex's triangles and the new ones crossing the rest
+    /// of the cloth or the body more than the moved vertex's and the replaced ones do
+    /// now. Such an edit waits: the stitch keeps pulling, and the pair closes once it can
+    /// without a new crossing. (A cloth under the vbd model crosses nothing, so there any
+    /// crossing is new.)
+    pub(super) fn edit_would_cross(&self, prims: &[Prim]) -> bool {
+        let Some(&Prim::Move {
+            vertex: moved,
+            new: (to, _),
+            ..
+        }) = prims.first()
+        else {
             return false;
         };
         let live = &self.sim.cloth.live;
-        let tris_of = |v: u32| {
-            live.tris_of(v)
-                .iter()
-                .filter_map(|&t| live.tri(t).map(|t| t.v))
-                .collect::<Vec<_>>()
-        };
-        let mut now = tris_of(a);
-        now.extend(tris_of(b));
-        let mut fan = tris_of(a);
-        fan.extend(prims.iter().filter_map(|p| match p {
-            Prim::Tri { new: Some(t), .. } => Some(t.v),
-            _ => None,
-        }));
+        let of_moved: Vec<[u32; 3]> = live
+            .tris_of(moved)
+            .iter()
+            .filter_map(|&t| live.tri(t).map(|t| t.v))
+            .collect();
+        let (mut now, mut then) = (of_moved.clone(), of_moved);
+        let mut changed = Vec::new();
+        for prim in prims {
+            if let Prim::Tri { slot, old, new } = prim {
+                changed.push(*slot);
+                now.extend(old.map(|t| t.v));
+                then.extend(new.map(|t| t.v));
+            }
+        }
         let others: Vec<[u32; 3]> = live
             .iter()
+            .filter(|(s, t)| !changed.contains(s) && !t.v.contains(&moved))
             .map(|(_, t)| t.v)
-            .filter(|t| !t.contains(&a) && !t.contains(&b))
             .collect();
         let (x, body) = (&self.sim.cloth.x, self.sim.body.as_ref());
         let now_at = |v: u32| x.get(v as usize).copied();
-        let then_at = |v: u32| if v == a { Some(to) } else { now_at(v) };
+        let then_at = |v: u32| if v == moved { Some(to) } else { now_at(v) };
         use crate::collision::crossings::fan_crossings;
-        fan_crossings(then_at, &fan, &others, body) > fan_crossings(now_at, &now, &others, body)
+        fan_crossings(then_at, &then, &others, body) > fan_crossings(now_at, &now, &others, body)
     }
 
     /// Welds stitched pairs that came within 1.5 x the cloth's thickness (after a frame);
@@ -243,7 +251,7 @@ impl Design {
                 let Ok(mut prims) = self.sew_prims(a, b) else {
                     continue;
                 };
-                if self.weld_would_cross(&prims, a, b) {
+                if self.edit_would_cross(&prims) {
                     continue;
                 }
                 // Every seam now refers to `a` where it referred to `b`.

@@ -10,8 +10,6 @@
 //! taken along the edge where `p` lies. No vertex is added or removed; the longer side
 //! is eased into the shorter, as a tailor eases a sleeve cap into its armhole.
 
-use glam::Vec3;
-
 use super::document::Design;
 use super::prim::Prim;
 use crate::mesh::{NONE, Tri};
@@ -85,46 +83,6 @@ impl Design {
         ])
     }
 
-    /// Whether the zip `prims` (from [`Design::zip_prims`] for `p`) would leave its
-    /// triangles crossing the rest of the cloth or the body more than they do now.
-    pub(super) fn zip_would_cross(&self, prims: &[Prim], p: u32) -> bool {
-        let Some(&Prim::Move { new: (to, _), .. }) = prims.first() else {
-            return true;
-        };
-        let live = &self.sim.cloth.live;
-        let split = prims.iter().find_map(|q| match q {
-            Prim::Tri {
-                slot, old: Some(t), ..
-            } => Some((*slot, t.v)),
-            _ => None,
-        });
-        let Some((slot, old)) = split else {
-            return true;
-        };
-        let of_p: Vec<[u32; 3]> = live
-            .tris_of(p)
-            .iter()
-            .filter_map(|&t| live.tri(t).map(|t| t.v))
-            .collect();
-        let mut now = of_p.clone();
-        now.push(old);
-        let mut then = of_p;
-        then.extend(prims.iter().filter_map(|q| match q {
-            Prim::Tri { new: Some(t), .. } => Some(t.v),
-            _ => None,
-        }));
-        let others: Vec<[u32; 3]> = live
-            .iter()
-            .filter(|&(s, t)| s != slot && !t.v.contains(&p))
-            .map(|(_, t)| t.v)
-            .collect();
-        let (x, body) = (&self.sim.cloth.x, self.sim.body.as_ref());
-        let now_at = |v: u32| x.get(v as usize).copied();
-        let then_at = |v: u32| -> Option<Vec3> { if v == p { Some(to) } else { now_at(v) } };
-        use crate::collision::crossings::fan_crossings;
-        fan_crossings(then_at, &then, &others, body) > fan_crossings(now_at, &now, &others, body)
-    }
-
     /// Zips every open pair of a seam whose ends are border neighbours bounding a slit
     /// (see the module) and lie within `reach` of closing; each zip is an undoable edit
     /// that marks the pair sewn. Returns how many.
@@ -138,7 +96,7 @@ impl Design {
                 }
                 let found = [(a, b), (b, a)].into_iter().find_map(|(p, q)| {
                     let prims = self.zip_prims(p, q, reach)?;
-                    (!self.zip_would_cross(&prims, p)).then_some((p, prims))
+                    (!self.edit_would_cross(&prims)).then_some((p, prims))
                 });
                 let Some((p, mut prims)) = found else {
                     continue;
