@@ -396,13 +396,14 @@ pub(crate) fn small_design(model: ModelKind) -> Design {
     Design::with_texture(sim, Texture::new(16, 16, CLOTH_COLOUR))
 }
 
-/// Whether a new piece of `shape` at `edge` m would be valid and large (500
-/// to [`sim_core::design::MAX_PIECE_VERTICES`] vertices): such a piece is carried out
-/// by the same code as a small one, only its meshing and frames take long (a 3,000-vertex
-/// one about 20 ms, up to seconds under vbd), and inputs that add one held the fuzzer
-/// at a few hundred executions a second (under 100 at 12,000 vertices). Larger ones stay
-/// in: they are refused before meshing.
-fn is_slow_piece(shape: &shared::command::PieceShape, edge: f32) -> bool {
+/// Whether a new piece of `shape` at `edge` m would be valid and make the design large
+/// (its estimated vertices and the design's `had` over [`SLOW_DESIGN`], the piece within
+/// [`sim_core::design::MAX_PIECE_VERTICES`]): such a piece is carried out by the same code
+/// as a small one, only its meshing and frames take long (a 3,000-vertex one about 20 ms,
+/// up to seconds under vbd; a design of 600 vertices 20-30 ms an input, which was 60% of
+/// the fuzzer's time in the ninth sitting). Larger pieces stay in: they are refused
+/// before meshing.
+fn is_slow_piece(shape: &shared::command::PieceShape, edge: f32, had: usize) -> bool {
     use shared::command::PieceShape;
     use sim_core::mesh::mesher::{Outline, estimate_vertices};
     let outline = match *shape {
@@ -412,8 +413,11 @@ fn is_slow_piece(shape: &shared::command::PieceShape, edge: f32) -> bool {
         PieceShape::File { .. } => return false,
     };
     let n = estimate_vertices(&outline, edge);
-    n > 500 && n <= sim_core::design::MAX_PIECE_VERTICES
+    n + had > SLOW_DESIGN && n <= sim_core::design::MAX_PIECE_VERTICES
 }
+
+/// Most vertices a design may grow to by the input's ADD_PIECE commands ([`is_slow_piece`]).
+const SLOW_DESIGN: usize = 250;
 
 /// Most substeps a SET_MATERIAL may ask for and be carried out: a frame's cost grows
 /// with them (100 substeps of a 400-vertex piece under vbd took a second instrumented,
@@ -431,7 +435,7 @@ static TRACE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
 /// command, how long it took, why it was refused, and the cloth's size after it). Paths in SAVE and
 /// ADD_PIECE are replaced by a scratch file (the fuzzer must not write where it likes);
 /// LOAD, RESET, EXPORT and SET_TOOL are the service's own and not carried out here, nor
-/// ADD_PIECE of a valid piece of over 500 vertices ([`is_slow_piece`]), nor SET_MATERIAL
+/// ADD_PIECE of a valid piece that would take the design past 250 vertices ([`is_slow_piece`]), nor SET_MATERIAL
 /// of over [`MAX_SUBSTEPS`] substeps.
 pub fn commands(data: &[u8]) {
     let [pick, steps, ref records @ ..] = *data else {
@@ -452,7 +456,11 @@ pub fn commands(data: &[u8]) {
             continue;
         };
         match &mut c {
-            Command::AddPiece { shape, edge_m, .. } if is_slow_piece(shape, *edge_m) => continue,
+            Command::AddPiece { shape, edge_m, .. }
+                if is_slow_piece(shape, *edge_m, d.sim.cloth.len()) =>
+            {
+                continue;
+            }
             Command::SetMaterial {
                 substeps: Some(s), ..
             } if *s > MAX_SUBSTEPS => continue,
