@@ -126,9 +126,12 @@ struct RunArgs {
     /// Cells per side of the square cloth.
     #[arg(long, default_value_t = 64, allow_negative_numbers = true, value_parser = whole_in::<usize>(1, MAX_GRID as i64, " cells a side"))]
     grid: usize,
-    /// Cloth model (operations need xpbd).
-    #[arg(long, value_parser = parse_model, default_value = "xpbd")]
-    model: ModelKind,
+    /// Cloth model of a new design: xpbd (the default: real time, but the cloth can cross
+    /// itself and the body), vbd (never crosses; several times slower, see
+    /// docs/models.md), seed (the paper's mass-spring) or implicit (the reference; slow).
+    /// A resumed design keeps the model it was made with (--fresh for a new one).
+    #[arg(long, value_parser = parse_model)]
+    model: Option<ModelKind>,
     /// Substeps per frame (default: the model's).
     #[arg(long, allow_negative_numbers = true, value_parser = whole_in::<usize>(1, MAX_FRAME_SUBSTEPS as i64, " per frame"))]
     substeps: Option<usize>,
@@ -435,7 +438,7 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
     let mut scene = ScenarioConfig::new(ScenarioName::DrapeCube);
     scene.body = Some(a.body);
     scene.grid = a.grid;
-    scene.model = a.model;
+    scene.model = a.model.unwrap_or(ModelKind::Xpbd);
     scene.substeps = a.substeps;
     scene.material = a.material.material();
     scene.threads = a.threads;
@@ -470,9 +473,18 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
     for n in &design.sim.notices {
         log(&format!("note: {n}"));
     }
+    if let Some(m) = a.model.filter(|&m| resumed && m != design.sim.model) {
+        log(&format!(
+            "note: the resumed design runs the {} model, not --model {}: a design keeps \
+             the model it was made with (--fresh starts a new one)",
+            design.sim.model.name(),
+            m.name()
+        ));
+    }
     log(&format!(
-        "{} vertices, domain '{}', {} Hz, autosave {}{}",
+        "{} vertices, {} model, domain '{}', {} Hz, autosave {}{}",
         design.sim.cloth.len(),
+        design.sim.model.name(),
         cfg.domain.name(),
         cfg.rate_hz,
         cfg.autosave.display(),

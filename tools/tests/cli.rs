@@ -63,6 +63,11 @@ fn bad_flags_are_refused_with_their_range() {
     refused(lab, &["--cpu", "1023"], "is not a CPU this process may use");
     refused(lab, &["--seconds", "nan"], "--seconds must be between");
     refused(lab, &["--no-such-flag"], "unexpected argument");
+    refused(
+        lab,
+        &["--model", "blender"],
+        "[possible values: xpbd, vbd, seed, implicit]",
+    );
     let latency = env!("CARGO_BIN_EXE_cloth-latency");
     refused(
         latency,

@@ -42,6 +42,15 @@ struct Cli {
     /// Body: cube, sphere, mannequin or FILE.obj.
     #[arg(long, default_value = "cube")]
     body: String,
+    /// Cloth model of a new design (cloth-sim's --model): xpbd (the default: real time,
+    /// but the cloth can cross itself and the body), vbd (never crosses; several times
+    /// slower, see docs/models.md), seed (the paper's mass-spring) or implicit. A resumed
+    /// design keeps its own (with --fresh for a new one).
+    #[arg(long, value_parser = ["xpbd", "vbd", "seed", "implicit"])]
+    model: Option<String>,
+    /// The cloth's fabric, from the library (`cloth-sim fabrics` lists them).
+    #[arg(long)]
+    fabric: Option<String>,
     /// Simulated pen script (timed positions and buttons) for haptic-loop.
     #[arg(long)]
     script: Option<PathBuf>,
@@ -260,6 +269,12 @@ fn sim_args(cli: &Cli, domain: &Domain, fresh: bool, autosave: Option<&PathBuf>)
     if fresh {
         a.push("--fresh".into());
     }
+    if let Some(m) = &cli.model {
+        a.extend(["--model".into(), m.clone()]);
+    }
+    if let Some(f) = &cli.fabric {
+        a.extend(["--fabric".into(), f.clone()]);
+    }
     if let Some(p) = autosave {
         a.extend(["--autosave".into(), p.display().to_string()]);
     }
@@ -349,11 +364,12 @@ fn run_headless(cli: &Cli) -> Result<(), String> {
     sup.add(Role::Sim, sim_args(cli, &domain, true, Some(&autosave)));
     sup.start_all()?;
     eprintln!(
-        "cloth-lab: headless {} in domain '{}': haptic-loop ({}), cloth-sim (grid {}), a scripted designer in place of cloth-ui",
+        "cloth-lab: headless {} in domain '{}': haptic-loop ({}), cloth-sim (grid {}, {} model), a scripted designer in place of cloth-ui",
         cli.scenario,
         domain.name(),
         cli.device,
-        cli.grid
+        cli.grid,
+        cli.model.as_deref().unwrap_or("xpbd")
     );
     let done = Arc::new(AtomicBool::new(false));
     // Set when the lab stops (Ctrl-C, or a process failed): the designer gives up at once.
@@ -446,5 +462,34 @@ fn main() -> ExitCode {
             eprintln!("error: {e}");
             ExitCode::FAILURE
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The model and fabric asked of the lab reach cloth-sim; without them cloth-sim's
+    /// own defaults hold (no flag passed).
+    #[test]
+    fn model_and_fabric_go_to_cloth_sim() {
+        let domain = Domain::new("labargs").unwrap();
+        let cli =
+            Cli::try_parse_from(["cloth-lab", "--model", "vbd", "--fabric", "denim"]).unwrap();
+        let a = sim_args(&cli, &domain, false, None);
+        let at = |flag: &str| a.iter().position(|s| s == flag).map(|i| a[i + 1].as_str());
+        assert_eq!(at("--model"), Some("vbd"), "{a:?}");
+        assert_eq!(at("--fabric"), Some("denim"), "{a:?}");
+        let plain = sim_args(
+            &Cli::try_parse_from(["cloth-lab"]).unwrap(),
+            &domain,
+            false,
+            None,
+        );
+        assert!(
+            !plain.iter().any(|s| s == "--model" || s == "--fabric"),
+            "{plain:?}"
+        );
+        assert!(Cli::try_parse_from(["cloth-lab", "--model", "blender"]).is_err());
     }
 }
