@@ -55,7 +55,7 @@ struct Strict {
 impl Strict {
     /// Column `j` (as a row of `C^T`) times `y`, summed in four parts: one sum is a
     /// chain of dependent additions, and a column's 30-40 entries would wait on each
-    /// other (the backward solve took a third less time with four).
+    /// other (with four, a 64 x 64 fit-cube's frame went from 51 to 44 ms, one run each).
     #[inline]
     fn dot(&self, j: usize, y: &[Vec3A]) -> Vec3A {
         let (a, b) = (self.ptr[j], self.ptr[j + 1]);
