@@ -17,6 +17,12 @@ pub enum EditError {
     SewInterior(u32),
     #[error("vertices {0} and {1} already share a triangle")]
     SewNeighbours(u32, u32),
+    #[error(
+        "sewing vertices {a} and {b} now ({gap_mm:.0} mm apart) would pass the cloth through \
+         itself or the body; bring them together first, or make a seam between the two \
+         edges, which pulls them together and joins them once it can"
+    )]
+    SewWouldCross { a: u32, b: u32, gap_mm: f32 },
     #[error("nothing to cut at vertex {0}: all its triangles lie on one side of the cut")]
     NothingToCut(u32),
     #[error("the cut direction is zero or not finite")]

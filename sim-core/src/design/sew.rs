@@ -6,8 +6,21 @@ use super::prim::Prim;
 
 impl Design {
     /// The paper's sew: merges border vertices `a` and `b` into `a`, placed halfway.
+    /// Under the vbd model, whose cloth never crosses, it is refused when that would make
+    /// the cloth cross itself or the body (the same exact check as a seam's welds: moving
+    /// `a` halfway swings its triangles, and `b`'s, through whatever lies between, and two
+    /// corners of one flat edge sewn lay their triangles over the cloth). The other
+    /// models keep the paper's sew as it was.
     pub fn sew(&mut self, a: u32, b: u32) -> Result<(), EditError> {
         let prims = self.sew_prims(a, b)?;
+        if self.sim.model == crate::solver::ModelKind::Vbd && self.edit_would_cross(&prims) {
+            let x = &self.sim.cloth.x;
+            return Err(EditError::SewWouldCross {
+                a,
+                b,
+                gap_mm: (x[a as usize] - x[b as usize]).length() * 1e3,
+            });
+        }
         self.commit("sew", prims)
     }
 
@@ -56,5 +69,78 @@ impl Design {
             });
         }
         Ok(prims)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use crate::design::EditError;
+    use crate::mesh::ClothMesh;
+    use crate::solver::ModelKind;
+
+    /// Two 0.2 m squares side by side, 0.1 m apart at y = 1, and, with `wall`, a third
+    /// standing between them (the plane x = 0). Returns the mesh and the two border
+    /// vertices facing each other across the gap, at z = 0.
+    fn across_a_gap(wall: bool) -> (ClothMesh, u32, u32) {
+        let sq = ClothMesh::grid(0.2, 0.2, 2, 2, 1.0).unwrap();
+        let mut mesh = sq.clone();
+        for p in &mut mesh.positions {
+            p.x -= 0.25;
+        }
+        let mut add = |m: &ClothMesh, f: &dyn Fn(Vec3) -> Vec3| {
+            let n0 = mesh.positions.len() as u32;
+            mesh.positions.extend(m.positions.iter().map(|&p| f(p)));
+            mesh.uvs.extend(&m.uvs);
+            mesh.triangles
+                .extend(m.triangles.iter().map(|t| t.map(|i| i + n0)));
+        };
+        // The right square a little nearer, so the halfway point is not on the wall.
+        add(&sq, &|p| p + Vec3::new(0.27, 0.0, 0.0));
+        if wall {
+            let w = ClothMesh::grid(0.3, 0.3, 2, 2, 0.0).unwrap();
+            add(&w, &|p| Vec3::new(0.0, 1.0 + p.x, p.z));
+        }
+        let at = |x: f32| {
+            mesh.positions
+                .iter()
+                .position(|p| (p.x - x).abs() < 1e-5 && p.z.abs() < 1e-5)
+                .unwrap() as u32
+        };
+        let (a, b) = (at(-0.15), at(0.17));
+        (mesh, a, b)
+    }
+
+    /// Under vbd, a sew whose halfway point lies beyond a wall of cloth is refused, and
+    /// changes nothing; without the wall the same sew is done. Under xpbd (the paper's
+    /// sew) it is done through the wall.
+    #[test]
+    fn a_sew_that_would_cross_is_refused_under_vbd() {
+        let (mesh, a, b) = across_a_gap(true);
+        let mut d = crate::design::floating(mesh, ModelKind::Xpbd);
+        d.sew(a, b).unwrap();
+        let model = ModelKind::Vbd;
+        let (mesh, a, b) = across_a_gap(true);
+        let mut d = crate::design::floating(mesh, model);
+        let (x, tris, edits) = (
+            d.sim.cloth.x.clone(),
+            d.sim.cloth.live.tri_count(),
+            d.history.undo_len(),
+        );
+        match d.sew(a, b) {
+            Err(EditError::SewWouldCross { gap_mm, .. }) => {
+                assert!((gap_mm - 320.0).abs() < 1.0, "{gap_mm}")
+            }
+            other => panic!("{model:?}: {other:?}"),
+        }
+        assert_eq!(d.sim.cloth.x, x);
+        assert_eq!(d.sim.cloth.live.tri_count(), tris);
+        assert_eq!(d.history.undo_len(), edits);
+
+        let (mesh, a, b) = across_a_gap(false);
+        let mut d = crate::design::floating(mesh, model);
+        d.sew(a, b).unwrap();
+        assert!((d.sim.cloth.x[a as usize].x - 0.01).abs() < 1e-5);
     }
 }
