@@ -80,7 +80,7 @@ mod tests {
     use crate::mesh::ClothMesh;
     use crate::solver::ModelKind;
 
-    /// Two 0.2 m squares side by side, 0.1 m apart at y = 1, and, with `wall`, a third
+    /// Two 0.2 m squares side by side, 0.32 m apart at y = 1, and, with `wall`, a third
     /// standing between them (the plane x = 0). Returns the mesh and the two border
     /// vertices facing each other across the gap, at z = 0.
     fn across_a_gap(wall: bool) -> (ClothMesh, u32, u32) {
