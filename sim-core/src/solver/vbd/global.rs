@@ -233,28 +233,25 @@ fn factor(n: usize, trip: Vec<Triplet<usize, usize, f64>>) -> Option<Factor> {
         return None;
     };
     let c = simplicial.factor();
-    let col_ptr: Vec<usize> = c.col_ptr().to_vec();
-    let row: Vec<u32> = c.row_idx().iter().map(|&i| i as u32).collect();
+    let (col_ptr, row) = (c.col_ptr(), c.row_idx());
     let fwd: Vec<u32> = match sym.perm() {
         Some(p) => p.arrays().0.iter().map(|&i| i as u32).collect(),
         None => (0..n as u32).collect(),
     };
-    // Each column's diagonal first, positive.
-    for j in 0..n {
-        let k = col_ptr[j];
-        let positive = val.get(k).is_some_and(|&d| d > 0.0);
-        if k >= col_ptr[j + 1] || row[k] as usize != j || !positive {
-            return None;
-        }
-    }
-    let inv_diag: Vec<f32> = (0..n).map(|j| (1.0 / val[col_ptr[j]]) as f32).collect();
+    // Each column: its diagonal first, positive (kept as its reciprocal), then the rest.
+    let mut inv_diag = Vec::with_capacity(n);
     let mut by_col = Strict {
         ptr: vec![0],
         ..Strict::default()
     };
     for j in 0..n {
-        for k in col_ptr[j] + 1..col_ptr[j + 1] {
-            by_col.idx.push(row[k]);
+        let (k, end) = (col_ptr[j], col_ptr[j + 1]);
+        if k >= end || row[k] != j || !val.get(k).is_some_and(|&d| d > 0.0) {
+            return None;
+        }
+        inv_diag.push((1.0 / val[k]) as f32);
+        for k in k + 1..end {
+            by_col.idx.push(row[k] as u32);
             by_col.val.push(val[k] as f32);
         }
         by_col.ptr.push(by_col.idx.len());
