@@ -23,6 +23,17 @@ pub enum EditError {
          edges, which pulls them together and joins them once it can"
     )]
     SewWouldCross { a: u32, b: u32, gap_mm: f32 },
+    #[error(
+        "{doing} \"{label}\" now would pass the cloth through itself or the body ({crossings} \
+         new crossing pairs: the cloth has moved since); move it clear and try again. It \
+         stays on the list to {again}"
+    )]
+    HistoryWouldCross {
+        doing: &'static str,
+        label: &'static str,
+        crossings: usize,
+        again: &'static str,
+    },
     #[error("nothing to cut at vertex {0}: all its triangles lie on one side of the cut")]
     NothingToCut(u32),
     #[error("the cut direction is zero or not finite")]

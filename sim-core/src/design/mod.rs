@@ -26,6 +26,7 @@ pub mod file;
 mod frame;
 pub mod garment;
 mod history;
+mod no_cross;
 mod paint;
 mod parts;
 mod pattern;

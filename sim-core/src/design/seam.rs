@@ -186,49 +186,6 @@ impl Design {
         (side(|p| p.0), side(|p| p.1))
     }
 
-    /// Whether the edit `prims` (a weld from [`Design::sew_prims`] or a zip from
-    /// `Design::zip_prims`: a first `Move` of one vertex, then triangles replaced or
-    /// added) would leave the moved vertex's triangles and the new ones crossing the rest
-    /// of the cloth or the body more than the moved vertex's and the replaced ones do
-    /// now. Such an edit waits: the stitch keeps pulling, and the pair closes once it can
-    /// without a new crossing. (A cloth under the vbd model crosses nothing, so there any
-    /// crossing is new.)
-    pub(super) fn edit_would_cross(&self, prims: &[Prim]) -> bool {
-        let Some(&Prim::Move {
-            vertex: moved,
-            new: (to, _),
-            ..
-        }) = prims.first()
-        else {
-            return false;
-        };
-        let live = &self.sim.cloth.live;
-        let of_moved: Vec<[u32; 3]> = live
-            .tris_of(moved)
-            .iter()
-            .filter_map(|&t| live.tri(t).map(|t| t.v))
-            .collect();
-        let (mut now, mut then) = (of_moved.clone(), of_moved);
-        let mut changed = Vec::new();
-        for prim in prims {
-            if let Prim::Tri { slot, old, new } = prim {
-                changed.push(*slot);
-                now.extend(old.map(|t| t.v));
-                then.extend(new.map(|t| t.v));
-            }
-        }
-        let others: Vec<[u32; 3]> = live
-            .iter()
-            .filter(|(s, t)| !changed.contains(s) && !t.v.contains(&moved))
-            .map(|(_, t)| t.v)
-            .collect();
-        let (x, body) = (&self.sim.cloth.x, self.sim.body.as_ref());
-        let now_at = |v: u32| x.get(v as usize).copied();
-        let then_at = |v: u32| if v == moved { Some(to) } else { now_at(v) };
-        use crate::collision::crossings::fan_crossings;
-        fan_crossings(then_at, &then, &others, body) > fan_crossings(now_at, &now, &others, body)
-    }
-
     /// Welds stitched pairs that came within 1.5 x the cloth's thickness (after a frame);
     /// each weld is an undoable sew. Returns how many welded. (Not within the thickness:
     /// under penetration-free contact two pieces' edges meet at the contact distance,

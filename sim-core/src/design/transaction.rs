@@ -193,10 +193,21 @@ impl Design {
         Ok(())
     }
 
-    /// Undoes the last operation; returns its label.
+    /// Undoes the last operation; returns its label. Refused, the operation kept for a
+    /// later undo, when that would make a vbd cloth cross itself or the body.
     pub fn undo(&mut self) -> Result<&'static str, EditError> {
         let edit = self.history.pop_undo().ok_or(EditError::NothingToUndo)?;
         let inverse: Vec<Prim> = edit.prims.iter().rev().map(Prim::inverse).collect();
+        if let Some(crossings) = self.history_would_cross(&inverse) {
+            let label = edit.label;
+            self.history.push_after_redo(edit);
+            return Err(EditError::HistoryWouldCross {
+                doing: "undoing",
+                label,
+                crossings,
+                again: "undo",
+            });
+        }
         if let Err(e) = self.apply_prims(&inverse) {
             self.history.clear();
             return Err(e);
@@ -206,9 +217,29 @@ impl Design {
         Ok(label)
     }
 
+    /// Under the vbd model, whose cloth never crosses, the new crossings applying `prims`
+    /// (an undo's or a redo's) would make, if any (`no_cross`); the other models' undo and
+    /// redo restore what was, crossed or not.
+    fn history_would_cross(&self, prims: &[Prim]) -> Option<usize> {
+        if self.sim.model != crate::solver::ModelKind::Vbd {
+            return None;
+        }
+        Some(self.new_crossings(prims)).filter(|&n| n > 0)
+    }
+
     /// Redoes the last undone operation; returns its label.
     pub fn redo(&mut self) -> Result<&'static str, EditError> {
         let edit = self.history.pop_redo().ok_or(EditError::NothingToRedo)?;
+        if let Some(crossings) = self.history_would_cross(&edit.prims) {
+            let label = edit.label;
+            self.history.push_redo(edit);
+            return Err(EditError::HistoryWouldCross {
+                doing: "redoing",
+                label,
+                crossings,
+                again: "redo",
+            });
+        }
         if let Err(e) = self.apply_prims(&edit.prims) {
             self.history.clear();
             return Err(e);

@@ -1,0 +1,201 @@
+//! Whether an edit would make the cloth cross itself or the body: the check that keeps
+//! the vbd model's guarantee (its cloth never crosses) through the edits that move
+//! vertices or put triangles back, which the solver's guard does not see: a sew or a
+//! seam's weld (a vertex moved onto another), and undo and redo (a cut's triangles put
+//! back across a gap that has since opened, a deleted piece back where another now lies,
+//! a weld's vertex moved back where it was).
+
+use std::collections::{HashMap, HashSet};
+
+use glam::Vec3;
+
+use super::document::Design;
+use super::prim::Prim;
+use crate::collision::crossings::fan_crossings;
+
+impl Design {
+    /// Whether applying `prims` would leave the triangles they touch (those they put in
+    /// place, and those of the vertices they move) crossing the rest of the cloth, each
+    /// other or the body in more pairs than the same triangles do now. Such an edit is
+    /// refused or waits (a seam's stitch keeps pulling, and the pair closes once it can
+    /// without a new crossing). Under the vbd model, whose cloth crosses nothing, any
+    /// crossing is new.
+    pub(super) fn edit_would_cross(&self, prims: &[Prim]) -> bool {
+        self.new_crossings(prims) > 0
+    }
+
+    /// How many more crossing pairs the triangles `prims` touch would have after it than
+    /// now (0 when fewer or as many).
+    pub(super) fn new_crossings(&self, prims: &[Prim]) -> usize {
+        let live = &self.sim.cloth.live;
+        let mut to: HashMap<u32, Vec3> = HashMap::new();
+        let mut changed: HashSet<u32> = HashSet::new();
+        let (mut now, mut then) = (Vec::new(), Vec::new());
+        for prim in prims {
+            match prim {
+                Prim::Move { vertex, new, .. } => {
+                    to.insert(*vertex, new.0);
+                }
+                Prim::AddVertex { index, x, .. } => {
+                    to.insert(*index, *x);
+                }
+                Prim::Tri { slot, old, new } => {
+                    // A slot changed twice counts once, as it was and as it ends.
+                    if changed.insert(*slot) {
+                        now.extend(old.map(|t| t.v));
+                    }
+                    then.retain(|t: &([u32; 3], u32)| t.1 != *slot);
+                    then.extend(new.map(|t| (t.v, *slot)));
+                }
+                _ => {}
+            }
+        }
+        let mut then: Vec<[u32; 3]> = then.into_iter().map(|t| t.0).collect();
+        if to.is_empty() && then.is_empty() {
+            return 0;
+        }
+        // The moved vertices' triangles that stay.
+        let mut moved_slots = HashSet::new();
+        for &v in to.keys() {
+            for &s in live.tris_of(v) {
+                if !changed.contains(&s)
+                    && moved_slots.insert(s)
+                    && let Some(t) = live.tri(s)
+                {
+                    now.push(t.v);
+                    then.push(t.v);
+                }
+            }
+        }
+        let others: Vec<[u32; 3]> = live
+            .iter()
+            .filter(|(s, _)| !changed.contains(s) && !moved_slots.contains(s))
+            .map(|(_, t)| t.v)
+            .collect();
+        let (x, body) = (&self.sim.cloth.x, self.sim.body.as_ref());
+        let now_at = |v: u32| x.get(v as usize).copied();
+        let then_at = |v: u32| to.get(&v).copied().or_else(|| now_at(v));
+        // Each touched triangle against the rest and against the other touched ones (a
+        // pair among them is counted twice, alike before and after).
+        let count = |at: &dyn Fn(u32) -> Option<Vec3>, fan: &[[u32; 3]]| {
+            let mut all = others.clone();
+            all.extend_from_slice(fan);
+            fan_crossings(at, fan, &all, body)
+        };
+        count(&then_at, &then).saturating_sub(count(&now_at, &now))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use crate::design::{EditError, floating};
+    use crate::mesh::ClothMesh;
+    use crate::solver::ModelKind;
+
+    /// A 0.4 m cloth at y = 1 with its right half (x > 0) cut away, then its left half
+    /// stood up as a wall at x = 0.1, through where the right half lay.
+    fn cut_then_moved(model: ModelKind) -> crate::design::Design {
+        let mut d = floating(ClothMesh::grid(0.4, 0.4, 8, 8, 1.0).unwrap(), model);
+        let right: Vec<u32> = d
+            .sim
+            .cloth
+            .live
+            .iter()
+            .filter(|(_, t)| {
+                t.v.iter()
+                    .map(|&v| d.sim.cloth.x[v as usize].x)
+                    .sum::<f32>()
+                    > 0.0
+            })
+            .map(|(s, _)| s)
+            .collect();
+        d.remove_triangles(&right).unwrap();
+        for i in 0..d.sim.cloth.len() {
+            let p = d.sim.cloth.x[i];
+            if d.sim.cloth.live.vertex_alive(i as u32) {
+                d.sim.cloth.x[i] = Vec3::new(0.1, 0.9 - p.x, p.z);
+            }
+        }
+        d
+    }
+
+    #[test]
+    fn an_undo_that_would_cross_is_refused_under_vbd_and_kept() {
+        let mut d = cut_then_moved(ModelKind::Vbd);
+        let tris = d.sim.cloth.live.tri_count();
+        match d.undo() {
+            Err(EditError::HistoryWouldCross {
+                label, crossings, ..
+            }) => {
+                assert_eq!(label, "cut away");
+                assert!(crossings > 0);
+            }
+            other => panic!("{other:?}"),
+        }
+        assert_eq!(d.sim.cloth.live.tri_count(), tris, "nothing changed");
+        assert_eq!(d.history.undo_len(), 1, "the cut can still be undone");
+        // Laid flat again, where it was: the cut's triangles go back.
+        for i in 0..d.sim.cloth.len() {
+            let p = d.sim.cloth.x[i];
+            if d.sim.cloth.live.vertex_alive(i as u32) {
+                d.sim.cloth.x[i] = Vec3::new(0.9 - p.y, 1.0, p.z);
+            }
+        }
+        assert_eq!(d.undo(), Ok("cut away"));
+        assert!(d.sim.cloth.live.tri_count() > tris);
+        // The other models' undo restores what was, crossed or not.
+        let mut x = cut_then_moved(ModelKind::Xpbd);
+        assert_eq!(x.undo(), Ok("cut away"));
+    }
+
+    #[test]
+    fn a_redo_that_would_cross_is_refused_under_vbd_and_kept() {
+        let mut d = floating(
+            ClothMesh::grid(0.4, 0.4, 8, 8, 1.0).unwrap(),
+            ModelKind::Vbd,
+        );
+        // Cells as (column, row) from the -x, -z corner, 5 cm each; vertex (i, j) is
+        // `9 j + i`. Away: the column between x = 0 and 5 cm, and the three cells round the
+        // first, which is left on its own.
+        let away: Vec<u32> = d
+            .sim
+            .cloth
+            .live
+            .iter()
+            .filter(|(_, t)| {
+                let c = t.v.iter().map(|&v| d.sim.cloth.x[v as usize]).sum::<Vec3>() / 3.0;
+                let cell = ((c.x / 0.4 + 0.5) * 8.0).floor() as i32;
+                let row = ((c.z / 0.4 + 0.5) * 8.0).floor() as i32;
+                cell == 4 || (cell <= 1 && row <= 1 && (cell, row) != (0, 0))
+            })
+            .map(|(s, _)| s)
+            .collect();
+        d.remove_triangles(&away).unwrap();
+        // Across the gap, 5 cm: the sew joins them halfway, and is undone.
+        let (a, b) = (4 + 9 * 4, 5 + 9 * 4);
+        d.sew(a, b).unwrap();
+        d.undo().unwrap();
+        // The lone cell stood up in the gap, across where the sew puts `a`.
+        let m = Vec3::new(0.025, 1.0, 0.0);
+        for (v, at) in [
+            (0, (-0.03, -0.03)),
+            (1, (-0.03, 0.03)),
+            (9, (0.03, -0.03)),
+            (10, (0.03, 0.03)),
+        ] {
+            d.sim.cloth.x[v] = m + Vec3::new(0.0, at.1, at.0);
+        }
+        assert!(matches!(
+            d.redo(),
+            Err(EditError::HistoryWouldCross { label: "sew", .. })
+        ));
+        assert_eq!(d.history.redo_len(), 1, "the sew can still be redone");
+        // The cell laid back: it goes through.
+        for v in [0usize, 1, 9, 10] {
+            d.sim.cloth.x[v].x -= 0.5;
+        }
+        assert_eq!(d.redo(), Ok("sew"));
+    }
+}
