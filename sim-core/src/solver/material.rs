@@ -1,7 +1,7 @@
 //! Material parameters in SI units, and the model choice.
 
 use crate::collision::ContactParams;
-use crate::error::{ConfigError, check_range};
+use crate::error::{ConfigError, check_range, check_range_or_zero};
 
 /// Which cloth model steps the cloth.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default, serde::Serialize)]
@@ -165,14 +165,14 @@ impl Material {
     pub fn validate(&self) -> Result<(), ConfigError> {
         check_range("density", self.density, 0.001, 10.0, " kg/m²")?;
         check_range("stretch", self.stretch, 1.0, 1.0e7, " N/m")?;
-        check_range("shear", self.shear, 0.0, 1.0e7, " N/m")?;
-        check_range("shear damping", self.shear_damping, 0.0, 1.0, " s")?;
-        check_range("bending", self.bending, 0.0, 1.0, " N m")?;
+        check_range_or_zero("shear", self.shear, 1.0e-3, 1.0e7, " N/m")?;
+        check_range_or_zero("shear damping", self.shear_damping, 1.0e-6, 1.0, " s")?;
+        check_range_or_zero("bending", self.bending, 1.0e-9, 1.0, " N m")?;
         check_range("weft bending", self.bending_weft, 0.05, 20.0, " x warp")?;
         check_range("bias bending", self.bending_bias, 0.05, 20.0, " x warp")?;
-        check_range("damping", self.damping, 0.0, 1000.0, " /s")?;
-        check_range("drag", self.drag, 0.0, 1000.0, " kg/(m² s)")?;
-        check_range("friction", self.friction, 0.0, 10.0, "")?;
+        check_range_or_zero("damping", self.damping, 1.0e-6, 1000.0, " /s")?;
+        check_range_or_zero("drag", self.drag, 1.0e-6, 1000.0, " kg/(m² s)")?;
+        check_range_or_zero("friction", self.friction, 1.0e-4, 10.0, "")?;
         check_range("thickness", self.thickness, 1.0e-4, 0.05, " m")?;
         check_range(
             "seed stiffness",
@@ -213,5 +213,35 @@ mod tests {
             ..Material::default()
         };
         assert!(bad.validate().is_err());
+    }
+
+    /// Found by the commands fuzzer: a shear of 3.6e-43 N/m (subnormal) was in range and
+    /// made every frame take hundreds of milliseconds. Off (0) or a real value passes.
+    #[test]
+    fn a_property_is_off_or_real_never_subnormal() {
+        let tiny = 3.59e-43f32;
+        assert!(!tiny.is_normal());
+        let with = |f: fn(&mut Material, f32), v: f32| {
+            let mut m = Material::default();
+            f(&mut m, v);
+            m.validate()
+        };
+        let fields: [(&str, fn(&mut Material, f32)); 6] = [
+            ("shear", |m, v| m.shear = v),
+            ("shear damping", |m, v| m.shear_damping = v),
+            ("bending", |m, v| m.bending = v),
+            ("damping", |m, v| m.damping = v),
+            ("drag", |m, v| m.drag = v),
+            ("friction", |m, v| m.friction = v),
+        ];
+        for (name, set) in fields {
+            let e = with(set, tiny).expect_err(name).to_string();
+            assert!(
+                e.starts_with(&format!("{name} must be 0 or between")),
+                "{e}"
+            );
+            assert!(with(set, 0.0).is_ok(), "{name} off");
+            assert!(with(set, -1.0).is_err(), "{name} negative");
+        }
     }
 }
