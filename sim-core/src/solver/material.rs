@@ -226,7 +226,8 @@ mod tests {
             f(&mut m, v);
             m.validate()
         };
-        let fields: [(&str, fn(&mut Material, f32)); 6] = [
+        type Set = fn(&mut Material, f32);
+        let fields: [(&str, Set); 6] = [
             ("shear", |m, v| m.shear = v),
             ("shear damping", |m, v| m.shear_damping = v),
             ("bending", |m, v| m.bending = v),
