@@ -32,6 +32,9 @@ pub struct Design {
     pub pieces: Vec<PieceRecord>,
     /// The texture as PNG for design files, with the texture version it encodes.
     pub(super) png_cache: Option<(u64, Vec<u8>)>,
+    /// Frames since each seam (by index) last welded a pair: a seam stalled that long
+    /// may zip (`seam.rs`).
+    pub(super) seam_idle: Vec<u32>,
 }
 
 impl Design {
@@ -50,6 +53,7 @@ impl Design {
             seams: Vec::new(),
             pieces: Vec::new(),
             png_cache: None,
+            seam_idle: Vec::new(),
         }
     }
 

@@ -171,6 +171,12 @@ impl LiveMesh {
         })
     }
 
+    /// Whether `a` and `b` are neighbours or share one.
+    pub fn meet(&self, a: u32, b: u32) -> bool {
+        let nb = self.neighbours(b);
+        nb.contains(&a) || self.neighbours(a).iter().any(|u| nb.contains(u))
+    }
+
     /// Vertices joined to `v` by an edge.
     pub fn neighbours(&self, v: u32) -> Vec<u32> {
         let mut out: Vec<u32> = Vec::new();
