@@ -133,10 +133,19 @@ pub fn check_range_or_zero(
     } else {
         Err(ConfigError::RangeOrZero {
             name,
-            least: least.to_string(),
-            max: max.to_string(),
+            least: readable(least),
+            max: readable(max),
             unit,
-            value: value.to_string(),
+            value: readable(value),
         })
+    }
+}
+
+/// `v` as a person reads it: `1e-9` and `1e7` rather than their 9 or 45 digits.
+fn readable(v: f32) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-3..1e6).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        v.to_string()
     }
 }

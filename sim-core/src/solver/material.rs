@@ -241,6 +241,7 @@ mod tests {
                 e.starts_with(&format!("{name} must be 0 or between")),
                 "{e}"
             );
+            assert!(e.ends_with("got 3.59e-43"), "{e}");
             assert!(with(set, 0.0).is_ok(), "{name} off");
             assert!(with(set, -1.0).is_err(), "{name} negative");
         }
