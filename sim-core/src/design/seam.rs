@@ -25,9 +25,9 @@ pub const ZIP_REACH: f32 = 2.0;
 pub const ZIP_STRAIN: f32 = 1.0;
 
 /// Frames a seam must go without a weld before it zips a pair: a seam still closing by
-/// its stitches is left to them. Zipping at once, a pair a frame, or a seam at a time,
-/// stretched GarmentCode's garments more (pencil dress strain max 0.55-0.69 against
-/// 0.22-0.24 unzipped) and welded fewer of their pairs.
+/// its stitches is left to them. Zipping without waiting (a whole seam in one frame, or
+/// a pair every frame) stretched GarmentCode's garments more (pencil dress strain max
+/// 0.55-0.69 against 0.22-0.24 unzipped) and welded fewer of their pairs.
 pub const ZIP_AFTER: u32 = 10;
 
 use super::error::EditError;
