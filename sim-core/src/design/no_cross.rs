@@ -3,7 +3,8 @@
 //! vertices or put triangles back, which the solver's guard does not see: a sew or a
 //! seam's weld (a vertex moved onto another), and undo and redo (a cut's triangles put
 //! back across a gap that has since opened, a deleted piece back where another now lies,
-//! a weld's vertex moved back where it was).
+//! a weld's vertex moved back where it was); and how far an edit would stretch the
+//! triangles it moves (a zipped weld's bound).
 
 use std::collections::{HashMap, HashSet};
 
@@ -12,8 +13,71 @@ use glam::Vec3;
 use super::document::Design;
 use super::prim::Prim;
 use crate::collision::crossings::fan_crossings;
+use crate::mesh::Tri;
+
+/// What an edit's primitives touch, and where they put it.
+struct Touched {
+    /// Moved and added vertices, where they go.
+    to: HashMap<u32, Vec3>,
+    /// Slots the edit changes, with the triangles there before it and after it (a slot
+    /// changed twice counts once, as it was and as it ends).
+    changed: HashSet<u32>,
+    old: Vec<[u32; 3]>,
+    new: Vec<Tri>,
+    /// The moved vertices' triangles the edit leaves in place, and their slots.
+    kept: Vec<Tri>,
+    kept_slots: HashSet<u32>,
+}
 
 impl Design {
+    fn touched(&self, prims: &[Prim]) -> Touched {
+        let live = &self.sim.cloth.live;
+        let mut to = HashMap::new();
+        let mut changed = HashSet::new();
+        let (mut old, mut new) = (Vec::new(), Vec::<(Tri, u32)>::new());
+        for prim in prims {
+            match prim {
+                Prim::Move { vertex, new: n, .. } => {
+                    to.insert(*vertex, n.0);
+                }
+                Prim::AddVertex { index, x, .. } => {
+                    to.insert(*index, *x);
+                }
+                Prim::Tri {
+                    slot,
+                    old: o,
+                    new: n,
+                } => {
+                    if changed.insert(*slot) {
+                        old.extend(o.map(|t| t.v));
+                    }
+                    new.retain(|t| t.1 != *slot);
+                    new.extend(n.map(|t| (t, *slot)));
+                }
+                _ => {}
+            }
+        }
+        let (mut kept, mut kept_slots) = (Vec::new(), HashSet::new());
+        for &v in to.keys() {
+            for &s in live.tris_of(v) {
+                if !changed.contains(&s)
+                    && kept_slots.insert(s)
+                    && let Some(t) = live.tri(s)
+                {
+                    kept.push(*t);
+                }
+            }
+        }
+        Touched {
+            to,
+            changed,
+            old,
+            new: new.into_iter().map(|t| t.0).collect(),
+            kept,
+            kept_slots,
+        }
+    }
+
     /// Whether applying `prims` would leave the triangles they touch (those they put in
     /// place, and those of the vertices they move) crossing the rest of the cloth, each
     /// other or the body in more pairs than the same triangles do now. Such an edit is
@@ -27,62 +91,49 @@ impl Design {
     /// How many more crossing pairs the triangles `prims` touch would have after it than
     /// now (0 when fewer or as many).
     pub(super) fn new_crossings(&self, prims: &[Prim]) -> usize {
-        let live = &self.sim.cloth.live;
-        let mut to: HashMap<u32, Vec3> = HashMap::new();
-        let mut changed: HashSet<u32> = HashSet::new();
-        let (mut now, mut then) = (Vec::new(), Vec::new());
-        for prim in prims {
-            match prim {
-                Prim::Move { vertex, new, .. } => {
-                    to.insert(*vertex, new.0);
-                }
-                Prim::AddVertex { index, x, .. } => {
-                    to.insert(*index, *x);
-                }
-                Prim::Tri { slot, old, new } => {
-                    // A slot changed twice counts once, as it was and as it ends.
-                    if changed.insert(*slot) {
-                        now.extend(old.map(|t| t.v));
-                    }
-                    then.retain(|t: &([u32; 3], u32)| t.1 != *slot);
-                    then.extend(new.map(|t| (t.v, *slot)));
-                }
-                _ => {}
-            }
-        }
-        let mut then: Vec<[u32; 3]> = then.into_iter().map(|t| t.0).collect();
-        if to.is_empty() && then.is_empty() {
+        let t = self.touched(prims);
+        if t.to.is_empty() && t.new.is_empty() {
             return 0;
         }
-        // The moved vertices' triangles that stay.
-        let mut moved_slots = HashSet::new();
-        for &v in to.keys() {
-            for &s in live.tris_of(v) {
-                if !changed.contains(&s)
-                    && moved_slots.insert(s)
-                    && let Some(t) = live.tri(s)
-                {
-                    now.push(t.v);
-                    then.push(t.v);
-                }
-            }
-        }
-        let others: Vec<[u32; 3]> = live
+        let kept = t.kept.iter().map(|k| k.v);
+        let now: Vec<[u32; 3]> = t.old.iter().copied().chain(kept.clone()).collect();
+        let then: Vec<[u32; 3]> = t.new.iter().map(|n| n.v).chain(kept).collect();
+        let others: Vec<[u32; 3]> = self
+            .sim
+            .cloth
+            .live
             .iter()
-            .filter(|(s, _)| !changed.contains(s) && !moved_slots.contains(s))
+            .filter(|(s, _)| !t.changed.contains(s) && !t.kept_slots.contains(s))
             .map(|(_, t)| t.v)
             .collect();
         let (x, body) = (&self.sim.cloth.x, self.sim.body.as_ref());
         let now_at = |v: u32| x.get(v as usize).copied();
-        let then_at = |v: u32| to.get(&v).copied().or_else(|| now_at(v));
-        // Each touched triangle against the rest and against the other touched ones (a
-        // pair among them is counted twice, alike before and after).
+        let then_at = |v: u32| t.to.get(&v).copied().or_else(|| now_at(v));
+        // Each touched triangle against the rest and the body, and against the other
+        // touched ones (a pair among them counted twice, alike before and after).
         let count = |at: &dyn Fn(u32) -> Option<Vec3>, fan: &[[u32; 3]]| {
-            let mut all = others.clone();
-            all.extend_from_slice(fan);
-            fan_crossings(at, fan, &all, body)
+            fan_crossings(at, fan, &others, body) + fan_crossings(at, fan, fan, None)
         };
         count(&then_at, &then).saturating_sub(count(&now_at, &now))
+    }
+
+    /// The most any edge of the triangles `prims` touch would be stretched after it, as a
+    /// share of its rest length.
+    pub(super) fn stretch_after(&self, prims: &[Prim]) -> f32 {
+        let t = self.touched(prims);
+        let x = &self.sim.cloth.x;
+        let at = |v: u32| t.to.get(&v).copied().or_else(|| x.get(v as usize).copied());
+        t.new
+            .iter()
+            .chain(&t.kept)
+            .flat_map(|tri| {
+                (0..3).filter_map(move |k| {
+                    let (a, b) = (at(tri.v[k])?, at(tri.v[(k + 1) % 3])?);
+                    let rest = (tri.rest[k] - tri.rest[(k + 1) % 3]).length();
+                    Some((a - b).length() / rest.max(1e-9) - 1.0)
+                })
+            })
+            .fold(0.0, f32::max)
     }
 }
 

@@ -210,46 +210,6 @@ impl Design {
         (side(|p| p.0), side(|p| p.1))
     }
 
-    /// The most any edge of the triangles `prims` (a weld's) touch would be stretched
-    /// after it, as a share of its rest length.
-    fn stretch_after(&self, prims: &[Prim]) -> f32 {
-        let x = &self.sim.cloth.x;
-        let mut to = std::collections::HashMap::new();
-        let mut tris = Vec::new();
-        let mut changed = std::collections::HashSet::new();
-        for p in prims {
-            match p {
-                Prim::Move { vertex, new, .. } => {
-                    to.insert(*vertex, new.0);
-                }
-                Prim::Tri { slot, new, .. } => {
-                    changed.insert(*slot);
-                    tris.extend(*new);
-                }
-                _ => {}
-            }
-        }
-        let live = &self.sim.cloth.live;
-        for v in to.keys() {
-            for &s in live.tris_of(*v) {
-                if !changed.contains(&s)
-                    && let Some(t) = live.tri(s)
-                {
-                    tris.push(*t);
-                }
-            }
-        }
-        let at = |v: u32| to.get(&v).copied().unwrap_or(x[v as usize]);
-        tris.iter()
-            .flat_map(|t| {
-                (0..3).map(move |k| {
-                    let rest = (t.rest[k] - t.rest[(k + 1) % 3]).length();
-                    (at(t.v[k]) - at(t.v[(k + 1) % 3])).length() / rest.max(1e-9) - 1.0
-                })
-            })
-            .fold(0.0, f32::max)
-    }
-
     /// Welds stitched pairs that came within reach (after a frame); each weld is an
     /// undoable sew. Returns how many welded. The reach is 1.5 x the cloth's thickness
     /// (not the thickness: under penetration-free contact two pieces' edges meet at the
@@ -261,7 +221,8 @@ impl Design {
     /// would leave it open (see there).
     pub(super) fn weld_close_stitches(&mut self) -> usize {
         let near = 1.5 * self.sim.material.thickness;
-        let zip_reach = near.max(ZIP_REACH * self.sim.cloth.live.mean_rest_side());
+        // Worked out when a seam first may zip (a pass over the mesh).
+        let mut zip_reach = None;
         let mut welded = 0;
 
         self.seam_idle.resize(self.seams.len(), 0);
@@ -281,7 +242,9 @@ impl Design {
                         || shut(Some(k + 1))
                         || (at_end && a != b && self.sim.cloth.live.meet(a, b)))
                 {
-                    zip_reach
+                    *zip_reach.get_or_insert_with(|| {
+                        near.max(ZIP_REACH * self.sim.cloth.live.mean_rest_side())
+                    })
                 } else {
                     near
                 };

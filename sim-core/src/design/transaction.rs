@@ -198,15 +198,9 @@ impl Design {
     pub fn undo(&mut self) -> Result<&'static str, EditError> {
         let edit = self.history.pop_undo().ok_or(EditError::NothingToUndo)?;
         let inverse: Vec<Prim> = edit.prims.iter().rev().map(Prim::inverse).collect();
-        if let Some(crossings) = self.history_would_cross(&inverse) {
-            let label = edit.label;
+        if let Err(e) = self.history_check(&inverse, ["undoing", "undo"], edit.label) {
             self.history.push_after_redo(edit);
-            return Err(EditError::HistoryWouldCross {
-                doing: "undoing",
-                label,
-                crossings,
-                again: "undo",
-            });
+            return Err(e);
         }
         if let Err(e) = self.apply_prims(&inverse) {
             self.history.clear();
@@ -217,28 +211,35 @@ impl Design {
         Ok(label)
     }
 
-    /// Under the vbd model, whose cloth never crosses, the new crossings applying `prims`
-    /// (an undo's or a redo's) would make, if any (`no_cross`); the other models' undo and
-    /// redo restore what was, crossed or not.
-    fn history_would_cross(&self, prims: &[Prim]) -> Option<usize> {
+    /// Under the vbd model, whose cloth never crosses, refuses applying `prims` (undoing or
+    /// redoing `label`, `[doing, again]` naming which) when that would make new crossings
+    /// (`no_cross`); the other models' undo and redo restore what was, crossed or not.
+    fn history_check(
+        &self,
+        prims: &[Prim],
+        [doing, again]: [&'static str; 2],
+        label: &'static str,
+    ) -> Result<(), EditError> {
         if self.sim.model != crate::solver::ModelKind::Vbd {
-            return None;
+            return Ok(());
         }
-        Some(self.new_crossings(prims)).filter(|&n| n > 0)
+        match self.new_crossings(prims) {
+            0 => Ok(()),
+            crossings => Err(EditError::HistoryWouldCross {
+                doing,
+                label,
+                crossings,
+                again,
+            }),
+        }
     }
 
     /// Redoes the last undone operation; returns its label.
     pub fn redo(&mut self) -> Result<&'static str, EditError> {
         let edit = self.history.pop_redo().ok_or(EditError::NothingToRedo)?;
-        if let Some(crossings) = self.history_would_cross(&edit.prims) {
-            let label = edit.label;
+        if let Err(e) = self.history_check(&edit.prims, ["redoing", "redo"], edit.label) {
             self.history.push_redo(edit);
-            return Err(EditError::HistoryWouldCross {
-                doing: "redoing",
-                label,
-                crossings,
-                again: "redo",
-            });
+            return Err(e);
         }
         if let Err(e) = self.apply_prims(&edit.prims) {
             self.history.clear();
