@@ -27,13 +27,11 @@ use crate::solver::state::Cloth;
 
 /// Default iterations per step (each a global step and a Gauss-Seidel sweep).
 pub const DEFAULT_ITERATIONS: usize = 4;
-/// Default conjugate-gradient iterations per global step (`global.rs`). Every iterate
-/// of the conjugate gradient from zero lowers the step's quadratic model further, and
-/// `L` majorizes the potential, so any count gives a step that lowers the potential;
-/// more only go further down the same valley, and the sweeps that follow do much of
-/// that anyway. With 4 instead of 8 a frame took 0.73-0.91x as long over five scenarios
-/// (three runs each) with the same strain, welds and crossings (docs/models.md).
-pub const DEFAULT_CG_ITERATIONS: usize = 4;
+/// Default conjugate-gradient iterations per global step (`global.rs`). Fewer make a
+/// frame cheaper (4: 0.73-0.91x), but the preconditioned residual grows over the first
+/// steps before it falls (it is back under its start only after 5-6), and GarmentCode's
+/// jumpsuit then slid off the mannequin (docs/models.md, Speed).
+pub const DEFAULT_CG_ITERATIONS: usize = 8;
 
 /// How far a vertex may stray from its predicted path in a frame at least, m.
 const STRAY_MIN: f32 = 0.0005;
