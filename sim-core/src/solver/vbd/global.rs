@@ -55,8 +55,6 @@ struct Numeric {
     sym: SymbolicCholesky<usize>,
     /// `L` (lower triangle), its values as they are factored.
     a: SparseColMat<usize, f64>,
-    /// `L`'s own values.
-    base: Vec<f64>,
     /// Where column `j`'s diagonal is in `a`'s values.
     diag_at: Vec<usize>,
     /// The factor's values, and scratch for computing them.
@@ -302,7 +300,6 @@ fn factor(n: usize, trip: Vec<Triplet<usize, usize, f64>>) -> Option<Factor> {
     if diag_at.contains(&usize::MAX) {
         return None;
     }
-    let base = a.val().to_vec();
     let mut f = Factor {
         n,
         inv_diag: vec![0.0; n],
@@ -313,7 +310,6 @@ fn factor(n: usize, trip: Vec<Triplet<usize, usize, f64>>) -> Option<Factor> {
         numeric: Numeric {
             sym,
             a,
-            base,
             diag_at,
             val,
             mem,
@@ -330,11 +326,14 @@ impl Factor {
         self.stiff.clear();
         self.stiff.extend_from_slice(stiff);
         let nm = &mut self.numeric;
+        // `lower` lists `L`'s values in the order `a` keeps them.
         let vals = nm.a.val_mut();
-        vals.copy_from_slice(&nm.base);
+        for (v, l) in vals.iter_mut().zip(&self.lower) {
+            *v = l.2;
+        }
         for (j, _) in stiff.iter().enumerate().take(self.n).filter(|(_, s)| **s) {
             let d = nm.diag_at[j];
-            vals[d] += STIFFEN * nm.base[d];
+            vals[d] += STIFFEN * self.lower[d].2;
         }
         let ok = nm
             .sym
@@ -431,7 +430,9 @@ impl GlobalStep {
         self.since += 1;
         if self.since >= STIFFEN_EVERY {
             if f.stiff != self.seen && !f.refactor(&self.seen) && !f.refactor(&[]) {
+                // Factored afresh at the next `prepare`.
                 self.factor = None;
+                self.key = None;
                 return false;
             }
             self.seen.iter_mut().for_each(|s| *s = false);
@@ -547,14 +548,7 @@ mod tests {
             .collect();
         let mut z = vec![DVec3::ZERO; n];
         f.solve(&r, &mut Vec::new(), &mut z);
-        let mut lz = vec![DVec3::ZERO; n];
-        for &(i, j, v) in &f.lower {
-            let (i, j) = (i as usize, j as usize);
-            lz[i] += z[j] * v;
-            if i != j {
-                lz[j] += z[i] * v;
-            }
-        }
+        let lz = product(&f, &z);
         for i in 0..n {
             assert!(
                 (lz[i] - r[i]).length() < 1e-5 * (1.0 + r[i].length()),
