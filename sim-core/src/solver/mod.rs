@@ -20,7 +20,7 @@ mod xpbd;
 mod zones;
 
 pub use constraints::{BendConstraint, Membrane, bending_energy, build_bending, build_membranes};
-pub use implicit::{Implicit, ImplicitError};
+pub use implicit::{EarlyStop, Implicit, ImplicitError};
 pub use material::{DEFAULT_SHEAR_DAMPING, Material, ModelKind};
 pub use model::{ContactStats, Drive, Environment, FrameInput, Solver, StepError};
 pub use pinch::{Grip, PenInput, PenPath, Pinch};
