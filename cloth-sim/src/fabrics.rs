@@ -3,7 +3,7 @@
 
 use std::path::{Path, PathBuf};
 
-use sim_core::fabric::cusick::{self, CusickConfig, CusickResult, Standard};
+use sim_core::fabric::cusick::{self, CusickConfig, SPECIMENS, Specimens, Standard};
 use sim_core::fabric::shadow;
 use sim_core::fabric::{Fabric, Library};
 use sim_core::solver::{Material, ModelKind};
@@ -77,27 +77,41 @@ fn config(a: &CusickArgs, edge: f32) -> CusickConfig {
     cfg
 }
 
-fn run_one(a: &CusickArgs, edge: f32, label: &str) -> Res<CusickResult> {
+/// The drape test's specimens on a mesh of `edge`.
+fn run_specimens(a: &CusickArgs, edge: f32, label: &str) -> Res<Specimens> {
     let quiet = a.quiet;
-    let mut progress = |t: f32, ke: f64| {
+    let mut progress = |k: usize, t: f32, ke: f64| {
         if !quiet {
-            eprintln!("cusick {label}: {t:.0} s simulated, kinetic energy {ke:.2e} J");
+            eprintln!(
+                "cusick {label}, specimen {} of {SPECIMENS}: {t:.0} s simulated, kinetic energy {ke:.2e} J",
+                k + 1
+            );
         }
     };
-    Ok(cusick::run(&config(a, edge), &mut progress)?)
+    Ok(cusick::run_specimens(
+        &config(a, edge),
+        SPECIMENS,
+        &mut progress,
+    )?)
 }
 
 /// `cloth-sim scenario cusick`: the drape test, its mesh-convergence check, and
 /// DIR/report.json, DIR/shadow.png (top view) and DIR/cloth.obj.
 pub fn scenario(a: CusickArgs) -> Res<()> {
     let name = a.fabric.clone().unwrap_or_else(|| "custom".into());
-    let r = run_one(&a, a.edge, &format!("{name}, {:.1} mm mesh", a.edge * 1e3))?;
+    let all = run_specimens(&a, a.edge, &format!("{name}, {:.1} mm mesh", a.edge * 1e3))?;
     let fine = if a.refine {
         let e = a.edge / std::f32::consts::SQRT_2;
-        Some(run_one(&a, e, &format!("{name}, {:.1} mm mesh", e * 1e3))?)
+        Some(run_specimens(
+            &a,
+            e,
+            &format!("{name}, {:.1} mm mesh", e * 1e3),
+        )?)
     } else {
         None
     };
+    // The pictures and the mesh are the first specimen's.
+    let r = &all.runs[0];
     std::fs::create_dir_all(&a.out).map_err(|e| format!("{}: {e}", a.out.display()))?;
     let (big, disc) = a.standard.radii();
     let picture = shadow::top_view(&r.radii, disc, big, 600, big * 1.1);
@@ -115,37 +129,45 @@ pub fn scenario(a: CusickArgs) -> Res<()> {
         "fabric": name,
         "model": a.model.name(),
         "material": a.material,
-        "drape_coefficient": r.drape_coefficient,
-        "drape_coefficient_refined": fine.as_ref().map(|f| f.drape_coefficient),
-        "converged": fine.as_ref().map(|f| (f.drape_coefficient - r.drape_coefficient).abs() < 0.01),
-        "nodes": r.nodes,
-        "nodes_refined": fine.as_ref().map(|f| f.nodes),
+        "specimens": all.runs.len(),
+        "drape_coefficient": all.drape_coefficient(),
+        "drape_coefficients": all.runs.iter().map(|r| r.drape_coefficient).collect::<Vec<_>>(),
+        "drape_coefficient_spread": all.spread(),
+        "drape_coefficient_refined": fine.as_ref().map(Specimens::drape_coefficient),
+        "converged": fine.as_ref().map(|f| (f.drape_coefficient() - all.drape_coefficient()).abs() < 0.01),
+        "nodes": all.nodes(),
+        "nodes_each": all.runs.iter().map(|r| r.nodes).collect::<Vec<_>>(),
+        "nodes_refined": fine.as_ref().map(Specimens::nodes),
         "node_depths_m": r.node_depths_m,
+        "settled": all.settled(),
         "dc_measured": measured.as_ref().and_then(|f| f.dc_measured),
         "nodes_measured": measured.as_ref().and_then(|f| f.nodes_measured),
-        "run": r,
-        "run_refined": fine,
+        "runs": all.runs,
+        "runs_refined": fine.as_ref().map(|f| &f.runs),
     });
     write(
         &a.out.join("report.json"),
         (serde_json::to_string_pretty(&report)? + "\n").as_bytes(),
     )?;
+    let each: Vec<String> = all
+        .runs
+        .iter()
+        .map(|r| format!("{:.1}", r.drape_coefficient * 100.0))
+        .collect();
     eprintln!(
-        "cusick {name}: DC {:.1}%{} , {} nodes (mean depth {:.1} mm), settled {} after {:.1} s simulated in {:.1} s ({} vertices, frame p50 {:.2} ms), {} crossing pairs",
-        r.drape_coefficient * 100.0,
+        "cusick {name}: DC {:.1}% (specimens {}){}, {} nodes, settled {}, each specimen in {:.1} s at most ({} vertices), {} crossing pairs",
+        all.drape_coefficient() * 100.0,
+        each.join(", "),
         fine.as_ref().map_or(String::new(), |f| format!(
-            " ({:.1}% on the {:.1} mm mesh)",
-            f.drape_coefficient * 100.0,
-            f.edge_m * 1e3
+            "; {:.1}% on the {:.1} mm mesh",
+            f.drape_coefficient() * 100.0,
+            f.runs[0].edge_m * 1e3
         )),
-        r.nodes,
-        r.node_depth_mean_m * 1e3,
-        r.settled,
-        r.simulated_s,
-        r.wall_s,
+        all.nodes(),
+        all.settled(),
+        all.slowest_s(),
         r.vertices,
-        r.frame_ms_p50,
-        r.crossings_self
+        all.runs.iter().map(|r| r.crossings_self).sum::<usize>()
     );
     eprintln!("wrote {}", a.out.join("report.json").display());
     Ok(())
@@ -160,7 +182,9 @@ fn write(path: &Path, bytes: &[u8]) -> Res<()> {
 struct Row {
     name: String,
     dc_measured: f64,
+    /// The mean over the specimens, and their highest minus lowest.
     dc_sim: f64,
+    dc_sim_spread: f64,
     nodes_measured: Option<u32>,
     nodes_sim: usize,
     dc_source_sim: Option<f64>,
@@ -190,16 +214,17 @@ pub fn validate(model: ModelKind, edge: f32, json: Option<PathBuf>, quiet: bool)
         let mut cfg = CusickConfig::new(f.material());
         cfg.edge = edge;
         cfg.model = model;
-        let r = cusick::run(&cfg, &mut |_, _| {})?;
+        let r = cusick::run_specimens(&cfg, SPECIMENS, &mut |_, _, _| {})?;
         rows.push(Row {
             name: f.name.clone(),
             dc_measured: f.dc_measured.unwrap_or(0.0),
-            dc_sim: r.drape_coefficient,
+            dc_sim: r.drape_coefficient(),
+            dc_sim_spread: r.spread(),
             nodes_measured: f.nodes_measured,
-            nodes_sim: r.nodes,
+            nodes_sim: r.nodes(),
             dc_source_sim: f.dc_source_sim,
-            settled: r.settled,
-            wall_s: r.wall_s,
+            settled: r.settled(),
+            wall_s: r.slowest_s(),
         });
     }
     let mae = |pick: &dyn Fn(&Row) -> Option<f64>| -> Option<f64> {
@@ -212,15 +237,16 @@ pub fn validate(model: ModelKind, edge: f32, json: Option<PathBuf>, quiet: bool)
     let mae_dc = mae(&|r| Some(r.dc_sim));
     let mae_source = mae(&|r| r.dc_source_sim);
     println!(
-        "| fabric | DC measured | DC ours | error | DC source's simulator | nodes measured | nodes ours | settled | time |"
+        "| fabric | DC measured | DC ours (spread) | error | DC source's simulator | nodes measured | nodes ours | settled | time a specimen |"
     );
     println!("|---|---|---|---|---|---|---|---|---|");
     for r in &rows {
         println!(
-            "| {} | {:.1} | {:.1} | {:+.1} | {} | {} | {} | {} | {:.1} s |",
+            "| {} | {:.1} | {:.1} ({:.1}) | {:+.1} | {} | {} | {} | {} | {:.1} s |",
             r.name,
             r.dc_measured * 100.0,
             r.dc_sim * 100.0,
+            r.dc_sim_spread * 100.0,
             (r.dc_sim - r.dc_measured) * 100.0,
             r.dc_source_sim
                 .map_or("-".into(), |d| format!("{:.1}", d * 100.0)),
@@ -240,6 +266,7 @@ pub fn validate(model: ModelKind, edge: f32, json: Option<PathBuf>, quiet: bool)
         let doc = serde_json::json!({
             "model": model.name(),
             "edge_m": edge,
+            "specimens": SPECIMENS,
             "fabrics": rows,
             "mae_dc": mae_dc,
             "mae_dc_source_sim": mae_source,

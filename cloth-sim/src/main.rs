@@ -177,8 +177,8 @@ struct ScenarioArgs {
     /// panel arranged round the mannequin, sewn, draped, the neckline cut) or
     /// drape-pattern FILE (any pattern placed, sewn and draped the same way).
     /// cusick: the textile drape test (BS 5058: a 30 cm specimen clamped on an 18 cm
-    /// disc) on --fabric NAME; writes report.json (drape_coefficient, nodes, converged),
-    /// shadow.png and cloth.obj.
+    /// disc) on --fabric NAME, three specimens averaged; writes report.json
+    /// (drape_coefficient, nodes, converged), shadow.png and cloth.obj.
     #[arg(value_parser = parse_scenario_choice)]
     name: ScenarioChoice,
     /// drape-pattern: the pattern, an .svg or .dxf (pieces arranged by name: front,

@@ -867,3 +867,31 @@ fn dress_mannequin_sews_two_panels_round_the_torso_without_crossing() {
     );
     std::fs::remove_dir_all(dir).ok();
 }
+
+/// The drape test from the command line: three specimens averaged, the same on a finer
+/// mesh to check convergence, the shadow and the first specimen's mesh.
+#[test]
+fn cusick_averages_three_specimens_and_checks_a_finer_mesh() {
+    let d = tmp("cusick");
+    let r = scenario_report(&d, &["cusick", "--fabric", "denim", "--piece-edge", "0.02"]);
+    assert_eq!(r["specimens"], 3);
+    let each: Vec<f64> = r["drape_coefficients"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    assert_eq!(each.len(), 3);
+    let dc = r["drape_coefficient"].as_f64().unwrap();
+    assert!((dc - each.iter().sum::<f64>() / 3.0).abs() < 1e-12, "{r}");
+    assert!(dc > 0.2 && dc < 1.0, "denim stands stiff: {dc}");
+    assert_eq!(r["runs"].as_array().unwrap().len(), 3);
+    assert_eq!(r["runs_refined"].as_array().unwrap().len(), 3);
+    let fine = r["drape_coefficient_refined"].as_f64().unwrap();
+    assert_eq!(r["converged"], (fine - dc).abs() < 0.01);
+    assert_eq!(r["settled"], true);
+    assert!(r["dc_measured"].is_null(), "denim's drape was not measured");
+    for f in ["shadow.png", "cloth.obj"] {
+        assert!(d.join(f).metadata().unwrap().len() > 100, "{f}");
+    }
+}

@@ -53,6 +53,36 @@ fn drape_coefficient_rises_with_bending_rigidity() {
     }
 }
 
+/// A drape test averages specimens meshed apart (each a little coarser), which buckle
+/// their own ways.
+#[test]
+fn specimens_are_meshed_apart_and_averaged() {
+    let mut cfg = CusickConfig::new(Material {
+        density: 0.15,
+        bending: 2e-6,
+        ..Material::default()
+    });
+    cfg.edge = 0.015;
+    cfg.max_seconds = 20.0;
+    let mut heard = [false; 3];
+    let s = cusick::run_specimens(&cfg, 3, &mut |k, _, _| heard[k] = true).expect("drape tests");
+    assert_eq!(s.runs.len(), 3);
+    assert_eq!(heard, [true; 3], "progress names each specimen");
+    assert!(s.runs.windows(2).all(|w| w[1].edge_m > w[0].edge_m));
+    assert!(s.runs.windows(2).any(|w| w[1].vertices != w[0].vertices));
+    let dc: Vec<f64> = s.runs.iter().map(|r| r.drape_coefficient).collect();
+    assert!((s.drape_coefficient() - dc.iter().sum::<f64>() / 3.0).abs() < 1e-12);
+    let (lo, hi) = (
+        dc.iter().copied().fold(1.0, f64::min),
+        dc.iter().copied().fold(0.0, f64::max),
+    );
+    assert!((s.spread() - (hi - lo)).abs() < 1e-12);
+    let mut nodes: Vec<usize> = s.runs.iter().map(|r| r.nodes).collect();
+    nodes.sort_unstable();
+    assert_eq!(s.nodes(), nodes[1]);
+    assert!(s.settled());
+}
+
 /// Peirce's cantilever (the bending-length test, ASTM D1388): a strip of length `l`
 /// clamped flat at one end hangs so that its chord from the clamp to the tip dips `θ`
 /// below the horizontal, with `l³ cos(θ/2) / (8 tan θ) = B / w` (`w` its weight per area;

@@ -10,7 +10,9 @@ use super::shadow::{self, Node};
 use crate::collision::crossings;
 use crate::error::{ConfigError, check_range};
 use crate::mesh::mesher::{self, MeshError, Outline};
-use crate::solver::{Cloth, Environment, Material, ModelKind, Simulation, StepError};
+use crate::solver::{
+    Cloth, EarlyStop, Environment, Implicit, Material, ModelKind, Simulation, StepError,
+};
 
 /// Which standard's sizes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -61,6 +63,9 @@ pub struct CusickConfig {
     /// Simulated time the drape gets to settle at most, s.
     pub max_seconds: f32,
     pub frame_dt: f32,
+    /// The implicit model's Newton iterations while the specimen falls (`None`: every
+    /// step solved to the tolerance, 4x slower for the same drape; docs/fabrics.md).
+    pub early_stop: Option<EarlyStop>,
 }
 
 /// The model the drape test runs unless told: the implicit reference, which alone
@@ -72,6 +77,15 @@ pub const DEFAULT_MODEL: ModelKind = ModelKind::Implicit;
 /// Euler at this step gives the same drape coefficient as at 1/60 s, within 0.1 point).
 pub const DEFAULT_STEP: f32 = 0.1;
 
+/// Newton iterations a step of the falling specimen gets under the implicit model, until
+/// it moves slower than the settled speed (1 cm/s): the drape coefficients of a fall
+/// solved to the tolerance at every step and of this one differ by what a different
+/// mesh of the same size changes, at a quarter of the time (docs/fabrics.md).
+pub const EARLY_STOP: EarlyStop = EarlyStop {
+    iterations: 4,
+    calm_speed: SETTLED_SPEED,
+};
+
 impl CusickConfig {
     pub fn new(material: Material) -> Self {
         Self {
@@ -82,6 +96,7 @@ impl CusickConfig {
             substeps: None,
             max_seconds: 60.0,
             frame_dt: DEFAULT_STEP,
+            early_stop: Some(EARLY_STOP),
         }
     }
 
@@ -145,6 +160,9 @@ const TABLE: f32 = 0.5;
 /// A crest must stand this far out beyond its troughs to count as a node, m.
 pub const MIN_NODE_DEPTH: f32 = 0.004;
 
+/// The speed the cloth is settled under (mass-weighted RMS), m/s.
+const SETTLED_SPEED: f64 = 0.01;
+
 /// How long the cloth must stay below the settled energy, s.
 const SETTLED_FOR: f32 = 0.5;
 
@@ -174,11 +192,17 @@ pub fn run(
         ..Environment::default()
     };
     let mut sim = Simulation::new(cloth, None, cfg.model, cfg.material, env, cfg.substeps)?;
+    if cfg.model == ModelKind::Implicit {
+        // The same model, told it may stop Newton early while the specimen falls.
+        let mut implicit = Implicit::new(&sim.cloth, &sim.cloth.zones.reference(&cfg.material));
+        implicit.early_stop = cfg.early_stop;
+        sim.solver = Box::new(implicit);
+    }
     let mass: f64 = (0..sim.cloth.len())
         .filter(|&i| !sim.cloth.is_pinned(i))
         .map(|i| sim.cloth.mass[i] as f64)
         .sum();
-    let calm = 0.5 * mass * 0.01f64.powi(2);
+    let calm = 0.5 * mass * SETTLED_SPEED.powi(2);
     let needed = (SETTLED_FOR / cfg.frame_dt).ceil() as u64;
     let limit = (cfg.max_seconds / cfg.frame_dt).ceil() as u64;
     let started = Instant::now();
@@ -230,4 +254,65 @@ pub fn run(
         uvs: sim.cloth.rest.uvs.clone(),
         tris,
     })
+}
+
+/// Specimens a drape test averages. A specimen's drape depends on how it buckles as it
+/// falls (its node count), and a mesh 0.2% finer buckles differently: the drape
+/// coefficient moves by up to 2.6 points between such meshes (docs/fabrics.md), as it
+/// does between specimens cut from one fabric, which is why the standards average
+/// several specimens.
+pub const SPECIMENS: usize = 3;
+
+/// Each specimen's mesh has its triangles' side this much longer than the one before.
+const SPECIMEN_EDGE_STEP: f32 = 0.002;
+
+/// The drape tests of several specimens of one fabric.
+#[derive(Clone, Debug)]
+pub struct Specimens {
+    pub runs: Vec<CusickResult>,
+}
+
+impl Specimens {
+    /// The mean drape coefficient, 0-1.
+    pub fn drape_coefficient(&self) -> f64 {
+        self.runs.iter().map(|r| r.drape_coefficient).sum::<f64>() / self.runs.len().max(1) as f64
+    }
+
+    /// Highest minus lowest drape coefficient.
+    pub fn spread(&self) -> f64 {
+        let dc = self.runs.iter().map(|r| r.drape_coefficient);
+        dc.clone().fold(f64::MIN, f64::max) - dc.fold(f64::MAX, f64::min)
+    }
+
+    /// The median node count.
+    pub fn nodes(&self) -> usize {
+        let mut n: Vec<usize> = self.runs.iter().map(|r| r.nodes).collect();
+        n.sort_unstable();
+        n.get(n.len() / 2).copied().unwrap_or(0)
+    }
+
+    pub fn settled(&self) -> bool {
+        self.runs.iter().all(|r| r.settled)
+    }
+
+    /// Wall time of the slowest specimen, s.
+    pub fn slowest_s(&self) -> f64 {
+        self.runs.iter().map(|r| r.wall_s).fold(0.0, f64::max)
+    }
+}
+
+/// Runs the drape test on `count` specimens (at least one), meshed `cfg.edge`, then
+/// 0.2%, 0.4%, ... longer; `progress` hears the specimen's index with [`run`]'s.
+pub fn run_specimens(
+    cfg: &CusickConfig,
+    count: usize,
+    progress: &mut dyn FnMut(usize, f32, f64),
+) -> Result<Specimens, CusickError> {
+    let mut runs = Vec::with_capacity(count.max(1));
+    for k in 0..count.max(1) {
+        let mut one = cfg.clone();
+        one.edge = cfg.edge * (1.0 + SPECIMEN_EDGE_STEP * k as f32);
+        runs.push(run(&one, &mut |t, ke| progress(k, t, ke))?);
+    }
+    Ok(Specimens { runs })
 }
