@@ -64,7 +64,7 @@ pub struct CusickConfig {
     pub max_seconds: f32,
     pub frame_dt: f32,
     /// The implicit model's Newton iterations while the specimen falls (`None`: every
-    /// step solved to the tolerance, 4x slower for the same drape; docs/fabrics.md).
+    /// step solved to the tolerance, slower for the same drape; docs/fabrics.md).
     pub early_stop: Option<EarlyStop>,
 }
 
@@ -80,7 +80,7 @@ pub const DEFAULT_STEP: f32 = 0.1;
 /// Newton iterations a step of the falling specimen gets under the implicit model, until
 /// it moves slower than the settled speed (1 cm/s): the drape coefficients of a fall
 /// solved to the tolerance at every step and of this one differ by what a different
-/// mesh of the same size changes, at a quarter of the time (docs/fabrics.md).
+/// mesh of the same size changes, in less time (docs/fabrics.md).
 pub const EARLY_STOP: EarlyStop = EarlyStop {
     iterations: 4,
     calm_speed: SETTLED_SPEED,
