@@ -70,11 +70,11 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Run the Cusick drape test on every fabric whose source measured its drape, and
-    /// print ours beside theirs (a Markdown table) with the mean absolute error.
+    /// Run the Cusick drape test (three specimens) on every fabric whose source measured
+    /// its drape, and print ours beside theirs (a Markdown table) with the mean absolute error.
     ValidateFabrics {
-        /// Also write the table as JSON (fields per fabric: name, dc_measured, dc_sim,
-        /// nodes_measured, nodes_sim; and mae_dc, in points).
+        /// Also write the table as JSON (per fabric: name, dc_measured, dc_sim (the mean),
+        /// dc_sim_spread, nodes_measured, nodes_sim; and mae_dc, in points).
         #[arg(long)]
         json: Option<PathBuf>,
         /// Cloth model (default: the implicit reference; see docs/fabrics.md).
