@@ -278,11 +278,13 @@ fn set_material(
     let mut said = String::new();
     if hangs_otherwise {
         // The pieces no longer hang as their fabric measured: their list says so.
-        for p in &mut design.pieces {
-            if !p.fabric.ends_with(EDITED) {
-                p.fabric.push_str(EDITED);
+        design.rename_fabrics(|f| {
+            if f.ends_with(EDITED) {
+                f.to_string()
+            } else {
+                format!("{f}{EDITED}")
             }
-        }
+        });
         said = fabric_notes(design.apply_fabrics());
     }
     Ok(format!(
@@ -334,9 +336,7 @@ fn set_fabric(design: &mut Design, name: &str) -> Result<String, String> {
         .sim
         .set_material(m, None)
         .map_err(|e| format!("Fabric not changed: {e}"))?;
-    for p in &mut design.pieces {
-        p.fabric.clone_from(&f.name);
-    }
+    design.rename_fabrics(|_| f.name.clone());
     let said = fabric_notes(design.apply_fabrics());
     Ok(format!(
         "Fabric: {} ({:.0} g/m², bending {:.1e} N m warp, {:.1e} weft) for the whole design; \
@@ -524,6 +524,51 @@ mod tests {
         assert!(d.pieces.iter().all(|p| p.fabric == "denim, edited"));
         carry_out(&mut d, &stiffer).unwrap();
         assert_eq!(d.pieces[0].fabric, "denim, edited", "marked once");
+    }
+
+    /// Found by the `commands` fuzz target (its seventeenth sitting): a piece added, the
+    /// design's shear set by hand (which marks every piece's fabric edited), then undo:
+    /// the added piece's record in the history no longer matched the piece, the undo was
+    /// refused as stale and the whole history cleared. The history's records now follow
+    /// the pieces' new fabric names, for values set by hand and for a fabric by name.
+    #[test]
+    fn undo_after_a_whole_design_material_change_keeps_the_history() {
+        let mut scene = ScenarioConfig::new(ScenarioName::DrapeCube);
+        scene.grid = 4;
+        for change in [
+            Command::SetMaterial {
+                material: MaterialChange {
+                    shear: Some(1.0),
+                    damping: Some(1.0),
+                    ..MaterialChange::default()
+                },
+                substeps: None,
+            },
+            Command::SetFabric {
+                name: "denim".into(),
+            },
+        ] {
+            let mut d = build_design(&scene).unwrap();
+            let shape = PieceShape::Rectangle { w: 0.23, h: 0.44 };
+            add_piece(&mut d, &shape, shared::ui_to_sim::place::FRONT, 0.039).unwrap();
+            let (pieces, vertices) = (d.pieces.len(), d.sim.cloth.len());
+            let undo = d.history.undo_len();
+            carry_out(&mut d, &change).unwrap();
+            let renamed = d.pieces[pieces - 1].fabric.clone();
+            assert!(renamed == "denim" || renamed.ends_with(EDITED), "{renamed}");
+            carry_out(&mut d, &Command::Undo).unwrap();
+            assert_eq!(d.pieces.len(), pieces - 1, "{change:?}: the piece undone");
+            assert!(d.sim.cloth.len() < vertices);
+            assert_eq!(
+                (d.history.undo_len(), d.history.redo_len()),
+                (undo - 1, 1),
+                "{change:?}: the history kept"
+            );
+            carry_out(&mut d, &Command::Redo).unwrap();
+            assert_eq!(d.pieces.len(), pieces);
+            assert_eq!(d.pieces[pieces - 1].fabric, renamed, "{change:?}");
+            d.validate().unwrap();
+        }
     }
 
     #[test]

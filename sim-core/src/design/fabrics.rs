@@ -69,6 +69,18 @@ impl Design {
         Ok(notes)
     }
 
+    /// Every piece's fabric named anew by `rename` (a whole-design fabric, or values
+    /// set by hand: `", edited"`), in the undo history's piece records too. Not an
+    /// operation of its own (the design's material is not undone either), but the
+    /// records the history holds must match the pieces, or undoing the piece that came
+    /// before the change would find its record stale and lose the whole history.
+    /// The fabrics are not applied here ([`Design::apply_fabrics`]).
+    pub fn rename_fabrics(&mut self, mut rename: impl FnMut(&str) -> String) {
+        let mut relabel = |r: &mut PieceRecord| r.fabric = rename(&r.fabric);
+        self.pieces.iter_mut().for_each(&mut relabel);
+        self.history.relabel_pieces(relabel);
+    }
+
     /// Piece `index` (in [`Design::piece_list`] order) made of the library's fabric
     /// `name`, or of the design's material with [`DEFAULT_FABRIC`]; undoable. The parts
     /// of one pattern piece (a piece cut in two) share its fabric. Returns the piece's

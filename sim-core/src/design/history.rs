@@ -2,7 +2,8 @@
 
 use std::collections::VecDeque;
 
-use super::prim::Edit;
+use super::pieces::PieceRecord;
+use super::prim::{Edit, Prim};
 
 #[derive(Debug)]
 pub struct History {
@@ -85,6 +86,21 @@ impl History {
 
     pub fn bytes(&self) -> usize {
         self.bytes
+    }
+
+    /// Applies `f` to every piece record the operations hold, on both stacks: what the
+    /// design's pieces went through outside the history (a whole-design material or
+    /// fabric, which relabels every piece) their records must follow, or undoing an
+    /// earlier piece edit finds its record stale and the history is lost. A piece
+    /// record's size does not count toward the memory bound, so the bound holds.
+    pub fn relabel_pieces(&mut self, mut f: impl FnMut(&mut PieceRecord)) {
+        for e in self.undo.iter_mut().chain(self.redo.iter_mut()) {
+            for p in &mut e.prims {
+                if let Prim::Piece { old, new, .. } = p {
+                    old.iter_mut().chain(new.iter_mut()).for_each(&mut f);
+                }
+            }
+        }
     }
 }
 
