@@ -582,6 +582,7 @@ fn vbd_rest_shape_matches_the_implicit_equilibrium_at_any_step_count() {
 /// XZ plane, centred on the origin) is placed by `place` and thrown at `velocity` onto
 /// `body`: it must stay 0 however fast the cloth comes.
 fn thrown_at(
+    model: ModelKind,
     body: sim_core::collision::Body,
     place: impl Fn(Vec3) -> Vec3,
     velocity: Vec3,
@@ -602,7 +603,7 @@ fn thrown_at(
         floor: None,
         ..Environment::default()
     };
-    let mut sim = Simulation::new(cloth, Some(body), ModelKind::Vbd, material, env, None).unwrap();
+    let mut sim = Simulation::new(cloth, Some(body), model, material, env, None).unwrap();
     assert_eq!(
         sim.crossings().body_triangles,
         0,
@@ -622,6 +623,16 @@ fn thrown_at(
 
 #[test]
 fn vbd_cloth_thrown_onto_a_thin_plate_edge_does_not_pass_through() {
+    thrown_onto_a_thin_plate_edge(ModelKind::Vbd);
+}
+
+/// XPBD with its guard (`solver/xpbd/guard.rs`): the same search and guard as vbd.
+#[test]
+fn xpbd_cloth_thrown_onto_a_thin_plate_edge_does_not_pass_through() {
+    thrown_onto_a_thin_plate_edge(ModelKind::Xpbd);
+}
+
+fn thrown_onto_a_thin_plate_edge(model: ModelKind) {
     // A 2 mm plate, 30 cm square, its edge at x = 0 under the cloth's last fifth.
     let unit = sim_core::collision::body::cube(Vec3::ZERO, 1.0, 1).unwrap();
     let vertices = unit
@@ -633,6 +644,7 @@ fn vbd_cloth_thrown_onto_a_thin_plate_edge_does_not_pass_through() {
         sim_core::collision::Body::new("plate", vertices, unit.triangles.clone(), None).unwrap();
     let down = Vec3::new(0.0, -5.0, 0.0);
     let sim = thrown_at(
+        model,
         plate,
         |p| p + Vec3::new(-0.06, 0.56, 0.0),
         down,
@@ -655,11 +667,20 @@ fn vbd_cloth_thrown_onto_a_thin_plate_edge_does_not_pass_through() {
 
 #[test]
 fn vbd_cloth_thrown_onto_the_mannequins_hand_does_not_pass_through() {
+    thrown_onto_the_mannequins_hand(ModelKind::Vbd);
+}
+
+#[test]
+fn xpbd_cloth_thrown_onto_the_mannequins_hand_does_not_pass_through() {
+    thrown_onto_the_mannequins_hand(ModelKind::Xpbd);
+}
+
+fn thrown_onto_the_mannequins_hand(model: ModelKind) {
     let body = sim_core::collision::body::mannequin().unwrap();
     // Upright beside the right hand (the forearm ends at 0.34, 0.86, 0.04), thrown
     // sideways at it.
     let place = |p: Vec3| Vec3::new(0.45, 0.86 + p.z, 0.04 + p.x);
-    let sim = thrown_at(body, place, Vec3::new(-5.0, 0.0, 0.0), 0.12, 12, 4);
+    let sim = thrown_at(model, body, place, Vec3::new(-5.0, 0.0, 0.0), 0.12, 12, 4);
     // 67 ms later (33 cm of flight): stopped at the hand, its sides wrapped past it.
     let centre = sim.cloth.x[6 * 13 + 6];
     let reach = sim
@@ -697,6 +718,24 @@ fn vbd_drape_cube_never_crosses_and_stays_cloth_stiff() {
         r.strain_mean,
         r.strain_max
     );
+}
+
+#[test]
+fn xpbd_drape_cube_never_crosses() {
+    let mut cfg = ScenarioConfig::new(ScenarioName::DrapeCube);
+    cfg.grid = 24;
+    cfg.frames = 150;
+    cfg.model = ModelKind::Xpbd;
+    cfg.check_every = Some(5);
+    let dir = std::env::temp_dir().join(format!("saiho-xpbd-drape-{}", std::process::id()));
+    let r = sim_core::scenario::run_scenario(&cfg, &dir).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(r.mesh_valid);
+    assert_eq!(
+        (r.crossings_self_max, r.crossings_body_max),
+        (Some(0), Some(0))
+    );
+    assert_eq!((r.crossings_self, r.crossings_body), (0, 0));
 }
 
 /// Where a 0.3 m cloth lying on a floor tilted `deg` degrees (gravity turned instead) has

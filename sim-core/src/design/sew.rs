@@ -13,7 +13,7 @@ impl Design {
     /// models keep the paper's sew as it was.
     pub fn sew(&mut self, a: u32, b: u32) -> Result<(), EditError> {
         let prims = self.sew_prims(a, b)?;
-        if self.sim.model == crate::solver::ModelKind::Vbd && self.edit_would_cross(&prims) {
+        if self.sim.never_crosses() && self.edit_would_cross(&prims) {
             let x = &self.sim.cloth.x;
             return Err(EditError::SewWouldCross {
                 a,

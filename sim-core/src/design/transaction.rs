@@ -220,7 +220,7 @@ impl Design {
         [doing, again]: [&'static str; 2],
         label: &'static str,
     ) -> Result<(), EditError> {
-        if self.sim.model != crate::solver::ModelKind::Vbd {
+        if !self.sim.never_crosses() {
             return Ok(());
         }
         match self.new_crossings(prims) {

@@ -71,6 +71,9 @@ pub struct ContactStats {
     pub shortened: usize,
     /// Time the proximity search took, µs.
     pub detect_us: u64,
+    /// Searches run, and frames (or substeps) that kept the last search's pairs.
+    pub searches: usize,
+    pub reused: usize,
 }
 
 /// A cloth model. [`Simulation`](super::Simulation) holds one and calls it once a frame,
@@ -122,6 +125,13 @@ pub trait Solver: std::fmt::Debug + Send {
     /// Whether the model searches its own contacts with the body (then the simulation's
     /// per-particle planes are not needed).
     fn own_contact(&self) -> bool {
+        false
+    }
+
+    /// Whether the model's contact is never crossed (the proximity guard): then an edit
+    /// that would make a crossing (a sew, an undo or redo) is refused, and the frame-end
+    /// rescue of vertices inside the body, which moves them outside the guard, is off.
+    fn never_crosses(&self) -> bool {
         false
     }
 

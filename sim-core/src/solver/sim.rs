@@ -174,6 +174,11 @@ impl Simulation {
         self.step_with(&mut |_, _| None)
     }
 
+    /// Whether the model's contact is never crossed (vbd, and xpbd with its guard).
+    pub fn never_crosses(&self) -> bool {
+        self.solver.never_crosses()
+    }
+
     /// Whether the model follows edits and the pen (see [`Solver::editable`]).
     pub fn editable(&self) -> bool {
         self.solver.editable()
@@ -222,7 +227,11 @@ impl Simulation {
                 + c.pairs.body_corner_face;
             stats.collision_ms += c.detect_us as f64 * 1e-3;
         }
-        if let Some(body) = self.body.as_ref().filter(|_| !own_contact) {
+        if let Some(body) = self
+            .body
+            .as_ref()
+            .filter(|_| !own_contact && !self.solver.never_crosses())
+        {
             let t1 = Instant::now();
             stats.rescued = self.contacts.resolve_penetrations(
                 body,

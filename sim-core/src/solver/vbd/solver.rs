@@ -60,4 +60,8 @@ impl Solver for Vbd {
     fn own_contact(&self) -> bool {
         true
     }
+
+    fn never_crosses(&self) -> bool {
+        self.contact
+    }
 }

@@ -23,6 +23,7 @@
 mod coloring;
 mod edit;
 mod groups;
+mod guard;
 mod limits;
 mod simd;
 mod solver;

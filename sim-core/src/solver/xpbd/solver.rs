@@ -16,12 +16,12 @@ impl Solver for Xpbd {
     fn step(&mut self, frame: FrameInput<'_>, drive: &mut Drive<'_, '_>) -> Result<(), StepError> {
         let FrameInput {
             cloth,
+            body,
             contacts,
             env,
             substeps,
-            ..
         } = frame;
-        self.frame(cloth, contacts, env, substeps, drive);
+        self.frame(cloth, body, contacts, env, substeps, drive);
         Ok(())
     }
 
@@ -40,10 +40,16 @@ impl Solver for Xpbd {
 
     fn sync(&mut self, cloth: &Cloth, tris: &[u32], edges: &[u64], verts: &[u32]) {
         self.follow_edit(cloth, tris, edges, verts);
+        if let Some(g) = &mut self.guard {
+            g.rebuild(cloth);
+        }
     }
 
     fn pinned(&mut self, cloth: &Cloth, vertex: u32) {
         self.follow_edit(cloth, &[], &[], &[vertex]);
+        if let Some(g) = &mut self.guard {
+            g.refresh_free(cloth);
+        }
     }
 
     /// Rebuilds the constraints from the live mesh with the new stiffness, keeping the
@@ -62,5 +68,13 @@ impl Solver for Xpbd {
 
     fn set_threads(&mut self, threads: usize) {
         self.threads = threads;
+    }
+
+    fn contact_stats(&self) -> Option<crate::solver::model::ContactStats> {
+        self.guard.as_ref().map(|g| g.stats)
+    }
+
+    fn never_crosses(&self) -> bool {
+        self.guard.is_some()
     }
 }

@@ -5,9 +5,10 @@ use rustc_hash::FxHashMap as HashMap;
 use glam::Vec3;
 
 use super::groups::{Compliance, Group, Loc, solve_bending, solve_membranes, split_groups};
+use super::guard::Guard;
 use super::limits::StretchLimits;
 use super::tethers::{solve_tethers, stretch_limits, tethers};
-use crate::collision::ContactCache;
+use crate::collision::{Body, ContactCache};
 use crate::solver::constraints::{BendConstraint, Elements, HingeShares, Membrane, elements_of};
 use crate::solver::material::Material;
 use crate::solver::model::{Drive, Environment};
@@ -45,6 +46,8 @@ pub struct Xpbd {
     /// The cloth's vertex count when the groups were packed: no packed constraint names
     /// a vertex at or past it.
     pub(super) built: usize,
+    /// Contact that is never crossed (`guard`); `None`: the body's contact planes only.
+    pub(super) guard: Option<Guard>,
 }
 
 impl Xpbd {
@@ -107,6 +110,7 @@ impl Xpbd {
             extra_bends: Vec::new(),
             threads: 1,
             built: cloth.len(),
+            guard: Some(Guard::new(cloth)),
         }
     }
 
@@ -160,6 +164,7 @@ impl Xpbd {
     pub(super) fn frame(
         &mut self,
         cloth: &mut Cloth,
+        body: Option<&Body>,
         contacts: &ContactCache,
         env: &Environment,
         substeps: usize,
@@ -193,8 +198,26 @@ impl Xpbd {
             self.material.thickness,
             &mut self.link_w,
         );
+        let searches = self
+            .guard
+            .as_ref()
+            .map_or(1, |g| g.searches(cloth, env, substeps));
+        if let Some(g) = &mut self.guard {
+            g.begin_frame();
+        }
         for k in 0..substeps {
+            // The substeps this search covers start here.
+            let group = k * searches / substeps;
+            if let Some(g) = &mut self.guard
+                && k == group * substeps / searches
+            {
+                let span = ((group + 1) * substeps / searches - k) as f32 * h;
+                g.search(cloth, body, env, drive, span, m.thickness, self.threads);
+            }
             drive.grip.follow(k, substeps, &mut *drive.pen);
+            if let Some(g) = &mut self.guard {
+                g.begin_substep(&cloth.x);
+            }
             let g = env.gravity * h;
             for i in 0..cloth.len() {
                 self.prev[i] = cloth.x[i];
@@ -215,6 +238,16 @@ impl Xpbd {
             }
             drive.grip.pull(&mut cloth.x, &cloth.inv_mass, inv_h2);
             contacts.project(&mut cloth.x, &mut self.prev, &cloth.inv_mass, &cp);
+            if let Some(g) = &mut self.guard {
+                g.respond(
+                    &mut cloth.x,
+                    &mut self.prev,
+                    &cloth.inv_mass,
+                    m.thickness,
+                    m.friction,
+                );
+                g.enforce(&mut cloth.x, &mut self.prev);
+            }
             let inv_h = 1.0 / h;
             for i in 0..cloth.len() {
                 if cloth.inv_mass[i] == 0.0 {
@@ -229,6 +262,15 @@ impl Xpbd {
                 v -= n * (vn * k / (1.0 + k));
                 cloth.v[i] = v;
             }
+            if let Some(g) = &mut self.guard
+                && (k + 1) * searches % substeps < searches
+            {
+                // The last substep of this search's span.
+                g.note_stray(cloth);
+            }
+        }
+        if let Some(g) = &mut self.guard {
+            g.end_frame(drive);
         }
     }
 

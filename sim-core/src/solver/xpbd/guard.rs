@@ -1,0 +1,342 @@
+//! The XPBD model's contact that is never crossed: the vbd model's proximity search and
+//! guard (`collision::proximity`) around XPBD's substeps.
+//!
+//! Once per frame (once per substep while the cloth moves fast) each vertex gets a motion
+//! box and the search lists the pairs of primitives that can meet in it: cloth against
+//! cloth, against the body's triangles, edges and corners, and against the floor. Every
+//! substep, after XPBD's constraints and the body's contact planes, the pairs within the
+//! contact distance are pushed apart to it (a position-based contact constraint with
+//! Coulomb friction, one Gauss-Seidel pass), and then every vertex's move over the
+//! substep passes the guard, which keeps it in its box and on its side of each pair, the
+//! vertices before it having moved already. Each move keeps every pair apart (the guard's
+//! set is convex and holds where the vertex was), so nothing crosses, at any speed.
+//! A move the guard shortens loses the velocity it lost (an inelastic contact).
+
+use glam::Vec3;
+
+use crate::collision::Body;
+use crate::collision::proximity::{
+    Aabb, ClothView, Guarded, NONE, Proximity, ProximityParams, constrain, unique_edges,
+};
+use crate::solver::model::{ContactStats, Drive, Environment};
+use crate::solver::state::Cloth;
+
+/// How far a vertex may stray from its predicted path in a frame at least, m.
+const STRAY_MIN: f32 = 0.0005;
+/// ... and at most (a vertex that strayed more last frame gets up to this), m.
+const STRAY_MAX: f32 = 0.02;
+/// Held vertices may stray this far from the pen's predicted path, m.
+const STRAY_HELD: f32 = 0.02;
+/// The least separation every pair keeps, m.
+const SEPARATION: f32 = 1e-4;
+/// A search's boxes are the motion boxes grown by this much, m, and its pairs serve the
+/// frames after it while every vertex's motion box stays inside its searched box: a cloth
+/// at rest is searched once in many frames.
+const REUSE_MARGIN: f32 = 0.002;
+
+#[derive(Clone, Debug, Default)]
+pub struct Guard {
+    tris: Vec<[u32; 3]>,
+    edges: Vec<[u32; 2]>,
+    /// Each vertex's place in the pattern.
+    pattern: Vec<Vec3>,
+    free: Vec<bool>,
+    mean_edge: f32,
+    prox: Proximity,
+    /// The boxes the pairs were searched in: the guard keeps each vertex in its box.
+    boxes: Vec<Aabb>,
+    /// This frame's (or search span's) motion boxes.
+    need: Vec<Aabb>,
+    /// How far each vertex may stray from its predicted path, m.
+    stray: Vec<f32>,
+    predicted: Vec<Vec3>,
+    /// Where the vertices were when the motion boxes were last made.
+    span_start: Vec<Vec3>,
+    /// Where the vertices are as the guard lets them move, during a pass.
+    committed: Vec<Vec3>,
+    /// The pinch's target at the end of the last frame.
+    pen_last: Option<Vec3>,
+    pub stats: ContactStats,
+}
+
+impl Guard {
+    pub fn new(cloth: &Cloth) -> Self {
+        let mut g = Self::default();
+        g.rebuild(cloth);
+        g
+    }
+
+    /// Follows the live mesh (after an edit): its triangles, edges and pattern; the pairs
+    /// referred to the old mesh and are forgotten.
+    pub fn rebuild(&mut self, cloth: &Cloth) {
+        let n = cloth.len();
+        self.tris = cloth.live.triangles();
+        self.edges = unique_edges(&self.tris);
+        self.mean_edge = cloth.live.mean_rest_side();
+        self.pattern = cloth.live.pattern_places(n);
+        self.refresh_free(cloth);
+        self.stray.resize(n, STRAY_MIN);
+        self.prox.clear();
+        self.boxes.clear();
+    }
+
+    pub fn refresh_free(&mut self, cloth: &Cloth) {
+        self.free = (0..cloth.len())
+            .map(|i| cloth.inv_mass[i] > 0.0 && cloth.live.vertex_alive(i as u32))
+            .collect();
+    }
+
+    /// Searches this frame takes: one, or one per substep while some vertex is about to
+    /// move more than half a mean edge (as the vbd model: long motion boxes of pattern
+    /// neighbours overlap and each such pair is a bound to keep).
+    pub fn searches(&self, cloth: &Cloth, env: &Environment, substeps: usize) -> usize {
+        let t = env.frame_dt;
+        let far = (0.5 * self.mean_edge).max(1e-4);
+        let fast = (0..cloth.len()).any(|i| {
+            self.free.get(i) == Some(&true)
+                && (cloth.v[i] * t + env.gravity * (0.5 * t * t)).length() > far
+        });
+        if fast { substeps.max(1) } else { 1 }
+    }
+
+    /// The pairs for the next `span` seconds: motion boxes, then a search unless the
+    /// last one's boxes hold them all.
+    #[allow(clippy::too_many_arguments)]
+    pub fn search(
+        &mut self,
+        cloth: &Cloth,
+        body: Option<&Body>,
+        env: &Environment,
+        drive: &Drive<'_, '_>,
+        span: f32,
+        thickness: f32,
+        threads: usize,
+    ) {
+        if self.free.len() != cloth.len() {
+            self.rebuild(cloth);
+        }
+        self.motion_boxes(cloth, env, drive, span);
+        self.span_start.clone_from(&cloth.x);
+        let inside = |a: &Aabb, b: &Aabb| b.lo.cmple(a.lo).all() && a.hi.cmple(b.hi).all();
+        if self.boxes.len() == self.need.len()
+            && self.need.iter().zip(&self.boxes).all(|(a, b)| inside(a, b))
+        {
+            self.stats.reused += 1;
+            return;
+        }
+        self.boxes.clear();
+        self.boxes.extend(
+            self.need
+                .iter()
+                .zip(&self.free)
+                .map(|(b, &f)| if f { b.grown(REUSE_MARGIN) } else { *b }),
+        );
+        let params = ProximityParams {
+            radius: thickness,
+            delta: SEPARATION,
+            rest_exclusion: 2.0 * thickness + 2.0 * self.mean_edge,
+            floor: env.floor,
+            threads,
+        };
+        let t0 = std::time::Instant::now();
+        self.prox.detect(
+            &ClothView {
+                x: &cloth.x,
+                boxes: &self.boxes,
+                tris: &self.tris,
+                edges: &self.edges,
+                pattern: &self.pattern,
+                free: &self.free,
+            },
+            body,
+            &params,
+        );
+        self.stats.searches += 1;
+        self.stats.pairs = self.prox.counts;
+        self.stats.detect_us += t0.elapsed().as_micros() as u64;
+    }
+
+    /// Each vertex's predicted path over `t` seconds grown by how far it may stray; a held
+    /// vertex's box also covers the pen's path, a stitched one's a tenth of its stitch.
+    fn motion_boxes(&mut self, cloth: &Cloth, env: &Environment, drive: &Drive<'_, '_>, t: f32) {
+        let n = cloth.len();
+        self.need.clear();
+        self.predicted.clear();
+        for i in 0..n {
+            let x = cloth.x[i];
+            if !self.free[i] {
+                self.need.push(Aabb::point(x));
+                self.predicted.push(Vec3::ZERO);
+                continue;
+            }
+            let p = cloth.v[i] * t + env.gravity * (0.5 * t * t);
+            self.predicted.push(p);
+            self.need
+                .push(Aabb::point(x).with(x + p).grown(self.stray[i]));
+        }
+        if let Some(pinch) = &drive.grip.pinch {
+            let pen_move = self.pen_last.map_or(Vec3::ZERO, |last| pinch.target - last);
+            for &(v, offset) in &pinch.held {
+                let v = v as usize;
+                if v < n && self.free[v] {
+                    let goal = pinch.target + offset;
+                    self.need[v] = self.need[v]
+                        .union(Aabb::point(goal).with(goal + pen_move).grown(STRAY_HELD));
+                }
+            }
+        }
+        for s in drive.stitches {
+            for (a, b) in [(s.a, s.b), (s.b, s.a)] {
+                if let (Some(&xa), Some(&xb)) = (cloth.x.get(a as usize), cloth.x.get(b as usize)) {
+                    let reach = 0.1 * (xb - xa).length();
+                    self.need[a as usize] = self.need[a as usize].grown(reach.min(STRAY_MAX));
+                }
+            }
+        }
+    }
+
+    /// Starts a frame's counts (the pairs' counts stay those of the last search).
+    pub fn begin_frame(&mut self) {
+        self.stats = ContactStats {
+            pairs: self.prox.counts,
+            ..ContactStats::default()
+        };
+    }
+
+    /// At the end of a search's span: how far each vertex strayed from its predicted path
+    /// over it, the room it gets next time.
+    pub fn note_stray(&mut self, cloth: &Cloth) {
+        for i in 0..cloth.len().min(self.span_start.len()) {
+            if !self.free[i] {
+                continue;
+            }
+            let (a, p) = (self.span_start[i], self.predicted[i]);
+            let d = cloth.x[i] - a;
+            let s = if p.length_squared() > 0.0 {
+                (d.dot(p) / p.length_squared()).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            self.stray[i] = (1.5 * (d - p * s).length() + STRAY_MIN).min(STRAY_MAX);
+        }
+    }
+
+    /// At the frame's end: where the pen was.
+    pub fn end_frame(&mut self, drive: &Drive<'_, '_>) {
+        self.pen_last = drive.grip.pinch.as_ref().map(|p| p.target);
+    }
+
+    /// One Gauss-Seidel pass of cloth-cloth contact over the pairs that carry energy: each closer than
+    /// `radius` is pushed apart to it along its direction, and its sliding over the
+    /// substep (from `prev`) is held back by Coulomb friction on that push.
+    pub fn respond(
+        &self,
+        x: &mut [Vec3],
+        prev: &mut [Vec3],
+        inv_mass: &[f32],
+        radius: f32,
+        friction: f32,
+    ) {
+        for pair in &self.prox.pairs {
+            // The body's pairs are left to its contact planes: pushed by both along
+            // different normals at the cube's rims, resting cloth jittered (2 cm/s).
+            if !pair.energy || pair.body_bound > f32::NEG_INFINITY {
+                continue;
+            }
+            let c = pair.gap(x) - radius;
+            if c >= 0.0 {
+                continue;
+            }
+            let mut wsum = 0.0;
+            for k in 0..4 {
+                if pair.v[k] != NONE {
+                    wsum += inv_mass[pair.v[k] as usize] * pair.w[k] * pair.w[k];
+                }
+            }
+            if wsum <= 0.0 {
+                continue;
+            }
+            let lambda = -c / wsum;
+            // What was already closer than `radius` at the substep's start is pushed out
+            // without becoming velocity (as the body's contact planes do): resting layers
+            // must not be thrown apart.
+            let c_prev = pair.gap(prev) - radius;
+            let lambda_prev = if c_prev < 0.0 {
+                -c_prev.max(c) / wsum
+            } else {
+                0.0
+            };
+            let mut u = Vec3::ZERO;
+            for k in 0..4 {
+                if pair.v[k] != NONE {
+                    let v = pair.v[k] as usize;
+                    let dir = pair.n * (inv_mass[v] * pair.w[k]);
+                    x[v] += dir * lambda;
+                    prev[v] += dir * lambda_prev;
+                    u += (x[v] - prev[v]) * pair.w[k];
+                }
+            }
+            if friction <= 0.0 {
+                continue;
+            }
+            let ut = u - pair.n * pair.n.dot(u);
+            let len = ut.length();
+            if len <= 0.0 {
+                continue;
+            }
+            // Static within the cone (the whole slide undone), kinetic beyond it.
+            let share = (friction * -c / len).min(1.0) / wsum;
+            for k in 0..4 {
+                if pair.v[k] != NONE {
+                    let v = pair.v[k] as usize;
+                    x[v] -= ut * (inv_mass[v] * pair.w[k] * share);
+                }
+            }
+        }
+    }
+
+    /// Notes where the substep starts: every pair holds there.
+    pub fn begin_substep(&mut self, x: &[Vec3]) {
+        self.committed.clear();
+        self.committed.extend_from_slice(x);
+    }
+
+    /// Passes every vertex's move of the substep (from where [`Guard::begin_substep`]
+    /// saw it to `x`) through the guard, in vertex order, each against the others as they
+    /// stand. A vertex the guard moved elsewhere takes its velocity from the move it made:
+    /// contact shifted its `prev` by the push it gave (so the push does not become
+    /// velocity), and of that shift only as much as the vertex really moved that way is
+    /// kept, or a vertex held still would keep a speed it never had.
+    pub fn enforce(&mut self, x: &mut [Vec3], prev: &mut [Vec3]) {
+        if self.boxes.len() != x.len() || self.committed.len() != x.len() {
+            return;
+        }
+        for i in 0..x.len() {
+            if !self.free[i] {
+                self.committed[i] = x[i];
+                continue;
+            }
+            let (p, how) = constrain(i, x[i], &self.committed, &self.boxes[i], &self.prox);
+            match how {
+                Guarded::Free => {}
+                Guarded::Projected => self.stats.projected += 1,
+                Guarded::Shortened => self.stats.shortened += 1,
+            }
+            if how != Guarded::Free {
+                // Contact shifted `prev` by the push it gave (so the push is no velocity);
+                // credit no more of it than the vertex moved that way.
+                let start = self.committed[i];
+                let shift = prev[i] - start;
+                let len = shift.length();
+                prev[i] = if len > 0.0 {
+                    let dir = shift / len;
+                    start + dir * (p - start).dot(dir).clamp(0.0, len)
+                } else {
+                    start
+                };
+            }
+            self.committed[i] = p;
+        }
+        x.copy_from_slice(&self.committed);
+    }
+}
