@@ -135,6 +135,13 @@ pub trait Solver: std::fmt::Debug + Send {
         false
     }
 
+    /// Turns the model's no-crossing guard on or off (models that have one: xpbd);
+    /// returns whether the model has it. Off, the cloth is as fast as its solver alone
+    /// and can cross itself and the body.
+    fn set_guard(&mut self, _cloth: &Cloth, _on: bool) -> bool {
+        false
+    }
+
     /// Total energy, for models that define one for tests (the seed model).
     fn energy(&self, _cloth: &Cloth, _gravity: Vec3) -> Option<f64> {
         None

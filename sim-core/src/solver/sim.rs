@@ -179,6 +179,11 @@ impl Simulation {
         self.solver.never_crosses()
     }
 
+    /// Turns the model's no-crossing guard on or off (xpbd); whether it has one.
+    pub fn set_guard(&mut self, on: bool) -> bool {
+        self.solver.set_guard(&self.cloth, on)
+    }
+
     /// Whether the model follows edits and the pen (see [`Solver::editable`]).
     pub fn editable(&self) -> bool {
         self.solver.editable()

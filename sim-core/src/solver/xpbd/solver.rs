@@ -77,4 +77,11 @@ impl Solver for Xpbd {
     fn never_crosses(&self) -> bool {
         self.guard.is_some()
     }
+
+    fn set_guard(&mut self, cloth: &Cloth, on: bool) -> bool {
+        if on != self.guard.is_some() {
+            self.guard = on.then(|| super::guard::Guard::new(cloth));
+        }
+        true
+    }
 }
