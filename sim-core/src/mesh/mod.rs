@@ -7,6 +7,7 @@
 //! them all.
 
 mod bounds;
+mod bridges;
 mod cloth_mesh;
 pub mod dxf;
 mod edge;

@@ -10,6 +10,7 @@ mod constraints;
 mod implicit;
 mod material;
 mod model;
+mod motion;
 mod pinch;
 mod seed;
 mod sim;

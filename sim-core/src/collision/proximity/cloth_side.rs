@@ -12,7 +12,7 @@ use super::distance::{point_triangle, segment_segment};
 use super::grid::Aabb;
 use super::pair::{
     ClothView, Pair, PairCounts, ProximityParams, feature_key, keep, max_along, min_along,
-    pattern_distance, separating,
+    separating,
 };
 
 /// Below this many items a search runs on one thread (starting one costs more).
@@ -186,7 +186,7 @@ fn vertex_face(
             let [a, bb, cc] = tri.map(|v| c.x[v as usize]);
             let (n, sep0) = separating(&[xi], &[a, bb, cc], xi, q, (bb - a).cross(cc - a));
             let gap_max = b.min_along(n) - max_along(c.boxes, &tri, n);
-            let rest_near = pattern_distance(c.pattern, &[i as u32], &tri) < p.rest_exclusion;
+            let rest_near = c.rest_near(&[i as u32], &tri, p.rest_exclusion);
             let mut energy = !rest_near && gap_max < p.radius;
             if !energy && gap_max >= p.delta {
                 continue;
@@ -234,9 +234,7 @@ fn edge_edge(c: &ClothView<'_>, p: &ProximityParams, found: &[(u32, u32)], part:
         );
         let gap_max = min_along(c.boxes, &e, n) - max_along(c.boxes, &g, n);
         let interior = s > 1e-4 && s < 1.0 - 1e-4 && t > 1e-4 && t < 1.0 - 1e-4;
-        let energy = interior
-            && gap_max < p.radius
-            && pattern_distance(c.pattern, &e, &g) >= p.rest_exclusion;
+        let energy = interior && gap_max < p.radius && !c.rest_near(&e, &g, p.rest_exclusion);
         if !energy && gap_max >= p.delta {
             continue;
         }
@@ -317,6 +315,7 @@ mod tests {
             tris: &tris,
             edges: &edges,
             pattern: &pattern,
+            bridged: &[],
             free: &free,
         };
         let search = |threads: usize| {

@@ -108,6 +108,7 @@ mod tests {
             tris: &[[0, 1, 2]],
             edges: &[[0, 1], [1, 2], [0, 2]],
             pattern: &pattern,
+            bridged: &[],
             free: &[true; 4],
         };
         let mut prox = Proximity::default();

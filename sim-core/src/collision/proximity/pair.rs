@@ -99,8 +99,25 @@ pub struct ClothView<'a> {
     pub edges: &'a [[u32; 2]],
     /// Each vertex's place in the pattern (for `rest_exclusion`).
     pub pattern: &'a [Vec3],
+    /// Each vertex's neighbours over a seam's weld that the pattern places apart
+    /// (`LiveMesh::bridged_neighbours`, sorted; an empty slice: none).
+    pub bridged: &'a [Vec<u32>],
     /// Vertices the solver moves (others are pinned or unused).
     pub free: &'a [bool],
+}
+
+impl ClothView<'_> {
+    /// Whether primitives `a` and `b` (their vertices) are neighbours in the cloth at
+    /// rest, nearer than `exclusion`: in the pattern, or over a weld. Such pairs carry no
+    /// contact energy.
+    pub(super) fn rest_near(&self, a: &[u32], b: &[u32], exclusion: f32) -> bool {
+        pattern_distance(self.pattern, a, b) < exclusion
+            || a.iter().any(|&i| {
+                self.bridged
+                    .get(i as usize)
+                    .is_some_and(|near| b.iter().any(|j| near.binary_search(j).is_ok()))
+            })
+    }
 }
 
 /// How many pairs of each kind the last search kept.

@@ -23,6 +23,7 @@ use crate::collision::proximity::{
 };
 use crate::solver::material::Material;
 use crate::solver::model::{ContactStats, Drive, Environment};
+use crate::solver::motion::Motion;
 use crate::solver::state::Cloth;
 
 /// Default iterations per step (each a global step and a Gauss-Seidel sweep).
@@ -33,13 +34,6 @@ pub const DEFAULT_ITERATIONS: usize = 4;
 /// before). With 4, GarmentCode's jumpsuit slid off the mannequin in each of three runs
 /// (docs/models.md, Speed).
 pub const DEFAULT_CG_ITERATIONS: usize = 5;
-
-/// How far a vertex may stray from its predicted path in a frame at least, m.
-const STRAY_MIN: f32 = 0.0005;
-/// ... and at most (a vertex that strayed more last frame gets up to this), m.
-const STRAY_MAX: f32 = 0.02;
-/// Held vertices may stray this far from the pen's predicted path, m.
-const STRAY_HELD: f32 = 0.02;
 
 /// The least separation every pair keeps, m.
 const SEPARATION: f32 = 1e-4;
@@ -52,22 +46,18 @@ pub struct Vbd {
     edges: Vec<[u32; 2]>,
     /// Each vertex's place in the pattern.
     pattern: Vec<Vec3>,
+    /// Neighbours over a weld that the pattern places apart (contact leaves them out).
+    bridged: Vec<Vec<u32>>,
     free: Vec<bool>,
     pub(super) prox: Proximity,
     boxes: Vec<Aabb>,
-    /// How far each vertex may stray from its predicted path this frame, m.
-    stray: Vec<f32>,
-    frame_start: Vec<Vec3>,
-    predicted: Vec<Vec3>,
+    /// The motion boxes' strays, and who is held.
+    motion: Motion,
     xt: Vec<Vec3>,
     y: Vec<Vec3>,
     normals: Vec<Vec3>,
     area: Vec<f32>,
-    /// Index of each vertex in the pinch's held list (`u32::MAX`: not held).
-    held: Vec<u32>,
     has_stitch: Vec<bool>,
-    /// The pinch's target at the end of the last frame.
-    pen_last: Option<Vec3>,
     /// The mean rest length of the live mesh's edges, m.
     mean_edge: f32,
     /// Iterations per step: each a global step (when on) and `sweeps` Gauss-Seidel sweeps.
@@ -101,26 +91,22 @@ pub struct Vbd {
 
 impl Vbd {
     pub fn new(cloth: &Cloth, material: &Material) -> Self {
-        let n = cloth.len();
         let mut v = Self {
             material: *material,
             elastic: Elastic::default(),
             tris: Vec::new(),
             edges: Vec::new(),
             pattern: Vec::new(),
+            bridged: Vec::new(),
             free: Vec::new(),
             prox: Proximity::default(),
             boxes: Vec::new(),
-            stray: vec![STRAY_MIN; n],
-            frame_start: Vec::new(),
-            predicted: Vec::new(),
+            motion: Motion::default(),
             xt: Vec::new(),
             y: Vec::new(),
             normals: Vec::new(),
             area: Vec::new(),
-            held: Vec::new(),
             has_stitch: Vec::new(),
-            pen_last: None,
             mean_edge: 0.0,
             iterations: DEFAULT_ITERATIONS,
             sweeps: 1,
@@ -151,6 +137,8 @@ impl Vbd {
         self.edges = unique_edges(&self.tris);
         self.mean_edge = cloth.live.mean_rest_side();
         self.pattern = cloth.live.pattern_places(n);
+        let exclusion = 2.0 * self.material.thickness + 2.0 * self.mean_edge;
+        self.bridged = cloth.live.bridged_neighbours(n, &self.pattern, exclusion);
         self.area = vec![0.0; n];
         for (_, t) in cloth.live.iter() {
             let a = t.rest_area() / 3.0;
@@ -159,9 +147,7 @@ impl Vbd {
             }
         }
         self.refresh_free(cloth);
-        self.stray.resize(n, STRAY_MIN);
-        self.held.clear();
-        self.held.resize(n, u32::MAX);
+        self.motion.resize(n);
         self.has_stitch.resize(n, false);
         self.normals.resize(n, Vec3::Y);
         // The pairs referred to the old mesh.
@@ -181,54 +167,10 @@ impl Vbd {
         ProximityParams {
             radius: r,
             delta: SEPARATION,
+            // As `rebuild`'s `bridged`.
             rest_exclusion: 2.0 * r + 2.0 * self.mean_edge,
             floor: env.floor,
             threads: self.threads,
-        }
-    }
-
-    /// The motion boxes for the next `t` seconds (to the next search): each vertex's
-    /// predicted path, grown by how far it may stray; a held vertex's also covers the
-    /// pen's predicted path.
-    fn motion_boxes(&mut self, cloth: &Cloth, env: &Environment, drive: &Drive<'_, '_>, t: f32) {
-        let n = cloth.len();
-        self.boxes.clear();
-        self.predicted.clear();
-        for i in 0..n {
-            let x = cloth.x[i];
-            if !self.free[i] {
-                self.boxes.push(Aabb::point(x));
-                self.predicted.push(Vec3::ZERO);
-                continue;
-            }
-            let p = cloth.v[i] * t + env.gravity * (0.5 * t * t);
-            self.predicted.push(p);
-            self.boxes
-                .push(Aabb::point(x).with(x + p).grown(self.stray[i]));
-        }
-        for h in &mut self.held {
-            *h = u32::MAX;
-        }
-        if let Some(pinch) = &drive.grip.pinch {
-            let pen_move = self.pen_last.map_or(Vec3::ZERO, |last| pinch.target - last);
-            for (k, &(v, offset)) in pinch.held.iter().enumerate() {
-                let v = v as usize;
-                if v < n && self.free[v] {
-                    self.held[v] = k as u32;
-                    let goal = pinch.target + offset;
-                    self.boxes[v] = self.boxes[v]
-                        .union(Aabb::point(goal).with(goal + pen_move).grown(STRAY_HELD));
-                }
-            }
-        }
-        for s in drive.stitches {
-            for (a, b) in [(s.a, s.b), (s.b, s.a)] {
-                if let (Some(&xa), Some(&xb)) = (cloth.x.get(a as usize), cloth.x.get(b as usize)) {
-                    // A stitch pulls its ends toward each other: room for a tenth of the way.
-                    let reach = 0.1 * (xb - xa).length();
-                    self.boxes[a as usize] = self.boxes[a as usize].grown(reach.min(STRAY_MAX));
-                }
-            }
         }
     }
 
@@ -278,23 +220,14 @@ impl Vbd {
                 self.substep(cloth, env, h, drive);
                 k += 1;
             }
-            self.note_stray(cloth);
+            self.motion.note_stray(cloth, &self.free);
         }
-        self.pen_last = drive.grip.pinch.as_ref().map(|p| p.target);
+        self.motion.end_frame(drive);
     }
 
-    /// How many searches this frame takes: one, or one per substep when some vertex is
-    /// about to move more than half a mean edge. The motion boxes of a fast cloth are
-    /// long, the boxes of neighbours in the pattern then overlap along the way, and each
-    /// such pair becomes a no-crossing bound the guard must keep (a 128 x 128 cloth landing
-    /// on the mannequin listed a million pairs a frame with one search, a tenth of that
-    /// with one per substep); a cloth at rest needs only one.
+    /// How many searches this frame takes ([`Motion::searches`]).
     pub(super) fn search_groups(&self, cloth: &Cloth, env: &Environment, substeps: usize) -> usize {
-        let t = env.frame_dt;
-        let far = (0.5 * self.mean_edge).max(1e-4);
-        let fast = (0..cloth.len())
-            .any(|i| self.free[i] && (cloth.v[i] * t + env.gravity * (0.5 * t * t)).length() > far);
-        if fast { substeps.max(1) } else { 1 }
+        Motion::searches(cloth, &self.free, self.mean_edge, env, substeps)
     }
 
     /// The proximity search for the next `span` seconds: motion boxes, then pairs.
@@ -306,7 +239,8 @@ impl Vbd {
         drive: &Drive<'_, '_>,
         span: f32,
     ) {
-        self.motion_boxes(cloth, env, drive, span);
+        self.motion
+            .boxes(&mut self.boxes, cloth, &self.free, env, drive, span);
         let params = self.params(env);
         let t0 = std::time::Instant::now();
         if !self.contact {
@@ -322,6 +256,7 @@ impl Vbd {
                     tris: &self.tris,
                     edges: &self.edges,
                     pattern: &self.pattern,
+                    bridged: &self.bridged,
                     free: &self.free,
                 },
                 body,
@@ -330,27 +265,7 @@ impl Vbd {
         }
         self.stats.pairs = self.prox.counts;
         self.stats.detect_us += t0.elapsed().as_micros() as u64;
-        self.frame_start.clone_from(&cloth.x);
         self.update_normals(cloth);
-    }
-
-    /// How far each vertex strayed from its predicted path since the search: the room
-    /// it gets next time.
-    fn note_stray(&mut self, cloth: &Cloth) {
-        for i in 0..cloth.len() {
-            if !self.free[i] {
-                continue;
-            }
-            let (a, p) = (self.frame_start[i], self.predicted[i]);
-            let d = cloth.x[i] - a;
-            let s = if p.length_squared() > 0.0 {
-                (d.dot(p) / p.length_squared()).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let off = (d - p * s).length();
-            self.stray[i] = (1.5 * off + STRAY_MIN).min(STRAY_MAX);
-        }
     }
 
     fn substep(&mut self, cloth: &mut Cloth, env: &Environment, h: f32, drive: &mut Drive<'_, '_>) {
@@ -449,9 +364,9 @@ impl Vbd {
                 .add_vertex(i, x, &self.xt, stiffness, &mut f, &mut hess);
             contact.add_vertex(i, &self.prox, x, &self.xt, &mut f, &mut hess);
             if let (Some(k), Some(p)) = (grip_k, &drive.grip.pinch)
-                && self.held[i] != u32::MAX
+                && self.motion.held[i] != u32::MAX
             {
-                let off = p.held[self.held[i] as usize].1;
+                let off = p.held[self.motion.held[i] as usize].1;
                 f += (p.target + off - x[i]) * k;
                 hess += Mat3::from_diagonal(Vec3::splat(k));
             }

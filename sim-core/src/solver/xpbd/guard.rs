@@ -19,14 +19,9 @@ use crate::collision::proximity::{
     Aabb, ClothView, Guarded, NONE, Proximity, ProximityParams, constrain, unique_edges,
 };
 use crate::solver::model::{ContactStats, Drive, Environment};
+use crate::solver::motion::Motion;
 use crate::solver::state::Cloth;
 
-/// How far a vertex may stray from its predicted path in a frame at least, m.
-const STRAY_MIN: f32 = 0.0005;
-/// ... and at most (a vertex that strayed more last frame gets up to this), m.
-const STRAY_MAX: f32 = 0.02;
-/// Held vertices may stray this far from the pen's predicted path, m.
-const STRAY_HELD: f32 = 0.02;
 /// The least separation every pair keeps, m.
 const SEPARATION: f32 = 1e-4;
 /// A search's boxes are the motion boxes grown by this much, m, and its pairs serve the
@@ -40,6 +35,10 @@ pub struct Guard {
     edges: Vec<[u32; 2]>,
     /// Each vertex's place in the pattern.
     pattern: Vec<Vec3>,
+    /// Neighbours over a weld that the pattern places apart, for the exclusion distance
+    /// `bridged_for` (NaN: to be worked out at the next search).
+    bridged: Vec<Vec<u32>>,
+    bridged_for: f32,
     free: Vec<bool>,
     mean_edge: f32,
     prox: Proximity,
@@ -47,15 +46,9 @@ pub struct Guard {
     boxes: Vec<Aabb>,
     /// This frame's (or search span's) motion boxes.
     need: Vec<Aabb>,
-    /// How far each vertex may stray from its predicted path, m.
-    stray: Vec<f32>,
-    predicted: Vec<Vec3>,
-    /// Where the vertices were when the motion boxes were last made.
-    span_start: Vec<Vec3>,
+    motion: Motion,
     /// Where the vertices are as the guard lets them move, during a pass.
     committed: Vec<Vec3>,
-    /// The pinch's target at the end of the last frame.
-    pen_last: Option<Vec3>,
     pub stats: ContactStats,
 }
 
@@ -74,8 +67,9 @@ impl Guard {
         self.edges = unique_edges(&self.tris);
         self.mean_edge = cloth.live.mean_rest_side();
         self.pattern = cloth.live.pattern_places(n);
+        self.bridged_for = f32::NAN;
         self.refresh_free(cloth);
-        self.stray.resize(n, STRAY_MIN);
+        self.motion.resize(n);
         self.prox.clear();
         self.boxes.clear();
     }
@@ -86,17 +80,9 @@ impl Guard {
             .collect();
     }
 
-    /// Searches this frame takes: one, or one per substep while some vertex is about to
-    /// move more than half a mean edge (as the vbd model: long motion boxes of pattern
-    /// neighbours overlap and each such pair is a bound to keep).
+    /// Searches this frame takes ([`Motion::searches`]).
     pub fn searches(&self, cloth: &Cloth, env: &Environment, substeps: usize) -> usize {
-        let t = env.frame_dt;
-        let far = (0.5 * self.mean_edge).max(1e-4);
-        let fast = (0..cloth.len()).any(|i| {
-            self.free.get(i) == Some(&true)
-                && (cloth.v[i] * t + env.gravity * (0.5 * t * t)).length() > far
-        });
-        if fast { substeps.max(1) } else { 1 }
+        Motion::searches(cloth, &self.free, self.mean_edge, env, substeps)
     }
 
     /// The pairs for the next `span` seconds: motion boxes, then a search unless the
@@ -115,8 +101,8 @@ impl Guard {
         if self.free.len() != cloth.len() {
             self.rebuild(cloth);
         }
-        self.motion_boxes(cloth, env, drive, span);
-        self.span_start.clone_from(&cloth.x);
+        self.motion
+            .boxes(&mut self.need, cloth, &self.free, env, drive, span);
         let inside = |a: &Aabb, b: &Aabb| b.lo.cmple(a.lo).all() && a.hi.cmple(b.hi).all();
         if self.boxes.len() == self.need.len()
             && self.need.iter().zip(&self.boxes).all(|(a, b)| inside(a, b))
@@ -131,10 +117,17 @@ impl Guard {
                 .zip(&self.free)
                 .map(|(b, &f)| if f { b.grown(REUSE_MARGIN) } else { *b }),
         );
+        let exclusion = 2.0 * thickness + 2.0 * self.mean_edge;
+        if self.bridged_for != exclusion {
+            self.bridged = cloth
+                .live
+                .bridged_neighbours(cloth.len(), &self.pattern, exclusion);
+            self.bridged_for = exclusion;
+        }
         let params = ProximityParams {
             radius: thickness,
             delta: SEPARATION,
-            rest_exclusion: 2.0 * thickness + 2.0 * self.mean_edge,
+            rest_exclusion: exclusion,
             floor: env.floor,
             threads,
         };
@@ -146,6 +139,7 @@ impl Guard {
                 tris: &self.tris,
                 edges: &self.edges,
                 pattern: &self.pattern,
+                bridged: &self.bridged,
                 free: &self.free,
             },
             body,
@@ -156,45 +150,6 @@ impl Guard {
         self.stats.detect_us += t0.elapsed().as_micros() as u64;
     }
 
-    /// Each vertex's predicted path over `t` seconds grown by how far it may stray; a held
-    /// vertex's box also covers the pen's path, a stitched one's a tenth of its stitch.
-    fn motion_boxes(&mut self, cloth: &Cloth, env: &Environment, drive: &Drive<'_, '_>, t: f32) {
-        let n = cloth.len();
-        self.need.clear();
-        self.predicted.clear();
-        for i in 0..n {
-            let x = cloth.x[i];
-            if !self.free[i] {
-                self.need.push(Aabb::point(x));
-                self.predicted.push(Vec3::ZERO);
-                continue;
-            }
-            let p = cloth.v[i] * t + env.gravity * (0.5 * t * t);
-            self.predicted.push(p);
-            self.need
-                .push(Aabb::point(x).with(x + p).grown(self.stray[i]));
-        }
-        if let Some(pinch) = &drive.grip.pinch {
-            let pen_move = self.pen_last.map_or(Vec3::ZERO, |last| pinch.target - last);
-            for &(v, offset) in &pinch.held {
-                let v = v as usize;
-                if v < n && self.free[v] {
-                    let goal = pinch.target + offset;
-                    self.need[v] = self.need[v]
-                        .union(Aabb::point(goal).with(goal + pen_move).grown(STRAY_HELD));
-                }
-            }
-        }
-        for s in drive.stitches {
-            for (a, b) in [(s.a, s.b), (s.b, s.a)] {
-                if let (Some(&xa), Some(&xb)) = (cloth.x.get(a as usize), cloth.x.get(b as usize)) {
-                    let reach = 0.1 * (xb - xa).length();
-                    self.need[a as usize] = self.need[a as usize].grown(reach.min(STRAY_MAX));
-                }
-            }
-        }
-    }
-
     /// Starts a frame's counts (the pairs' counts stay those of the last search).
     pub fn begin_frame(&mut self) {
         self.stats = ContactStats {
@@ -203,27 +158,15 @@ impl Guard {
         };
     }
 
-    /// At the end of a search's span: how far each vertex strayed from its predicted path
-    /// over it, the room it gets next time.
+    /// At the end of a search's span: how far each vertex strayed, the room it gets
+    /// next time.
     pub fn note_stray(&mut self, cloth: &Cloth) {
-        for i in 0..cloth.len().min(self.span_start.len()) {
-            if !self.free[i] {
-                continue;
-            }
-            let (a, p) = (self.span_start[i], self.predicted[i]);
-            let d = cloth.x[i] - a;
-            let s = if p.length_squared() > 0.0 {
-                (d.dot(p) / p.length_squared()).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            self.stray[i] = (1.5 * (d - p * s).length() + STRAY_MIN).min(STRAY_MAX);
-        }
+        self.motion.note_stray(cloth, &self.free);
     }
 
     /// At the frame's end: where the pen was.
     pub fn end_frame(&mut self, drive: &Drive<'_, '_>) {
-        self.pen_last = drive.grip.pinch.as_ref().map(|p| p.target);
+        self.motion.end_frame(drive);
     }
 
     /// One Gauss-Seidel pass of cloth-cloth contact over the pairs that carry energy: each closer than
