@@ -132,6 +132,10 @@ struct RunArgs {
     /// A resumed design keeps the model it was made with (--fresh for a new one).
     #[arg(long, value_parser = parse_model)]
     model: Option<ModelKind>,
+    /// XPBD with its guard: the cloth never crosses itself or the body (2-10x the frame
+    /// time; see docs/collision.md). Applies to a resumed xpbd design too.
+    #[arg(long)]
+    guard: bool,
     /// Substeps per frame (default: the model's).
     #[arg(long, allow_negative_numbers = true, value_parser = whole_in::<usize>(1, MAX_FRAME_SUBSTEPS as i64, " per frame"))]
     substeps: Option<usize>,
@@ -210,6 +214,12 @@ struct ScenarioArgs {
     /// paper's mass-spring) or implicit (reference; cusick's default).
     #[arg(long, value_parser = parse_model)]
     model: Option<ModelKind>,
+    /// XPBD with its guard: the vbd model's proximity search and guard around each
+    /// substep, so the cloth never crosses itself or the body (2-10x the frame time; see
+    /// docs/collision.md). Off by default: the paper's fit-cube does not yet take the
+    /// cube's shape with it.
+    #[arg(long)]
+    guard: bool,
     /// Frames of 1/60 s to simulate (the operation scenarios act at frame 240).
     #[arg(long, default_value_t = 600, allow_negative_numbers = true, value_parser = whole_in::<u64>(1, MAX_FRAMES as i64, ""))]
     frames: u64,
@@ -439,6 +449,7 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
     scene.body = Some(a.body);
     scene.grid = a.grid;
     scene.model = a.model.unwrap_or(ModelKind::Xpbd);
+    scene.guard = a.guard;
     scene.substeps = a.substeps;
     scene.material = a.material.material();
     scene.threads = a.threads;
@@ -465,13 +476,19 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
             kept.display()
         ));
     }
-    let (design, resumed) = resume_or(
+    let (mut design, resumed) = resume_or(
         &cfg,
         || build_design(&scene).map_err(|e| e.to_string()),
         &mut log,
     )?;
     for n in &design.sim.notices {
         log(&format!("note: {n}"));
+    }
+    if a.guard && !design.sim.set_guard(true) {
+        log(&format!(
+            "note: --guard is the xpbd model's; the resumed design runs the {} model",
+            design.sim.model.name()
+        ));
     }
     if let Some(m) = a.model.filter(|&m| resumed && m != design.sim.model) {
         log(&format!(
@@ -482,9 +499,14 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
         ));
     }
     log(&format!(
-        "{} vertices, {} model, domain '{}', {} Hz, autosave {}{}",
+        "{} vertices, {} model{}, domain '{}', {} Hz, autosave {}{}",
         design.sim.cloth.len(),
         design.sim.model.name(),
+        if design.sim.model == ModelKind::Xpbd && design.sim.never_crosses() {
+            " with its guard"
+        } else {
+            ""
+        },
         cfg.domain.name(),
         cfg.rate_hz,
         cfg.autosave.display(),
@@ -540,6 +562,7 @@ fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>> {
     let mut cfg = ScenarioConfig::new(name);
     cfg.grid = a.grid;
     cfg.model = a.model.unwrap_or(ModelKind::Xpbd);
+    cfg.guard = a.guard;
     cfg.frames = a.frames;
     if let Some(b) = a.body {
         cfg.body = b.0;
@@ -562,12 +585,13 @@ fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>> {
     cfg.piece_fabrics = a.piece_fabric;
     let r = run_scenario(&cfg, &a.out)?;
     eprintln!(
-        "{}: {} model, {} vertices, {} frames x {} substeps: frame p50 {:.2} ms p99 {:.2} ms; \
+        "{}: {} model{}, {} vertices, {} frames x {} substeps: frame p50 {:.2} ms p99 {:.2} ms; \
          max penetration {:.2e} m; final kinetic energy {:.2e} J; settled {}; \
          strain mean {:.1}% max {:.0}%; mesh valid {}; crossing pairs: {} cloth-cloth, {} \
          cloth-body",
         r.scenario,
         r.model,
+        if r.guard { " with its guard" } else { "" },
         r.vertices,
         r.frames,
         r.substeps,

@@ -313,6 +313,9 @@ impl Service<'_> {
                 let (next, m) = replacement(&mut self.design, c, self.cfg)?;
                 self.design = next;
                 self.design.sim.set_threads(self.threads);
+                if self.cfg.scene.guard {
+                    self.design.sim.set_guard(true);
+                }
                 // The new design counts its own frames (a loaded one may be behind): the
                 // rate starts over with it.
                 self.tel_at = (Instant::now(), self.design.sim.frame);

@@ -26,12 +26,7 @@ fn flat(n: usize, gravity: bool) -> Design {
         },
         ..Environment::default()
     };
-    let mut sim = Simulation::new(cloth, None, ModelKind::Xpbd, m, env, None).unwrap();
-    // The paper's operations as they are: a sew that folds a flat cloth over itself, or
-    // a cut redone onto its own seam, is refused with the guard on (as under vbd; those
-    // refusals have tests of their own).
-    assert!(sim.set_guard(false));
-    Design::new(sim)
+    Design::new(Simulation::new(cloth, None, ModelKind::Xpbd, m, env, None).unwrap())
 }
 
 /// Everything an edit changes, to compare designs.

@@ -604,6 +604,8 @@ fn thrown_at(
         ..Environment::default()
     };
     let mut sim = Simulation::new(cloth, Some(body), model, material, env, None).unwrap();
+    // XPBD's guard (vbd's contact has none to switch: it is always on).
+    assert_eq!(sim.set_guard(true), model == ModelKind::Xpbd);
     assert_eq!(
         sim.crossings().body_triangles,
         0,
@@ -626,7 +628,7 @@ fn vbd_cloth_thrown_onto_a_thin_plate_edge_does_not_pass_through() {
     thrown_onto_a_thin_plate_edge(ModelKind::Vbd);
 }
 
-/// XPBD with its guard (`solver/xpbd/guard.rs`): the same search and guard as vbd.
+/// XPBD with its guard on (`solver/xpbd/guard.rs`): the same search and guard as vbd.
 #[test]
 fn xpbd_cloth_thrown_onto_a_thin_plate_edge_does_not_pass_through() {
     thrown_onto_a_thin_plate_edge(ModelKind::Xpbd);
@@ -726,6 +728,7 @@ fn xpbd_drape_cube_never_crosses() {
     cfg.grid = 24;
     cfg.frames = 150;
     cfg.model = ModelKind::Xpbd;
+    cfg.guard = true;
     cfg.check_every = Some(5);
     let dir = std::env::temp_dir().join(format!("saiho-xpbd-drape-{}", std::process::id()));
     let r = sim_core::scenario::run_scenario(&cfg, &dir).unwrap();

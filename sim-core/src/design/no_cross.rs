@@ -196,8 +196,12 @@ mod tests {
         }
         assert_eq!(d.undo(), Ok("cut away"));
         assert!(d.sim.cloth.live.tri_count() > tris);
-        // XPBD's contact is guarded as vbd's: its undo is refused too.
+        // XPBD restores what was, crossed or not; with its guard on, its contact is
+        // never crossed as vbd's, and its undo is refused too.
         let mut x = cut_then_moved(ModelKind::Xpbd);
+        assert_eq!(x.undo(), Ok("cut away"));
+        let mut x = cut_then_moved(ModelKind::Xpbd);
+        assert!(x.sim.set_guard(true));
         assert!(matches!(x.undo(), Err(EditError::HistoryWouldCross { .. })));
     }
 

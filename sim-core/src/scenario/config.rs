@@ -140,6 +140,8 @@ pub struct ScenarioConfig {
     pub fabric: Option<String>,
     /// Pieces of the pattern made of another fabric: (piece name, library fabric).
     pub piece_fabrics: Vec<(String, String)>,
+    /// XPBD with its guard: contact that is never crossed (`solver/xpbd/guard.rs`).
+    pub guard: bool,
 }
 
 /// A pattern piece by its outline's shape and size, m, or the pieces of an SVG file.
@@ -245,6 +247,13 @@ impl ScenarioConfig {
         if let Some(n) = self.check_every {
             check_range("check every", n, 1, MAX_FRAMES, " frames")?;
         }
+        if self.guard && self.model != ModelKind::Xpbd {
+            return Err(ConfigError::OutOfRange {
+                name: "guard",
+                rule: "used with --model xpbd (vbd's contact is always guarded; seed and implicit have none)",
+                value: self.model.name().into(),
+            });
+        }
         if (self.scenario == ScenarioName::DrapePattern) != self.pattern.is_some() {
             return Err(ConfigError::OutOfRange {
                 name: "pattern",
@@ -294,6 +303,7 @@ impl ScenarioConfig {
             check_every: None,
             fabric: None,
             piece_fabrics: Vec::new(),
+            guard: false,
         }
     }
 }
@@ -443,6 +453,7 @@ pub fn build_scene(cfg: &ScenarioConfig) -> Result<(Design, Option<PatternSpec>)
         cfg.substeps.or(cfg.scenario.default_substeps(cfg.model)),
     )?;
     sim.set_threads(cfg.threads);
+    sim.set_guard(cfg.guard);
     sim.notices.extend(notices);
     let mut design = Design::new(sim);
     design.pieces = records;

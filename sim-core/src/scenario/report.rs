@@ -106,6 +106,8 @@ pub struct OpsReport {
 pub struct Report {
     pub scenario: String,
     pub model: String,
+    /// Whether the xpbd model ran with its guard (contact that is never crossed).
+    pub guard: bool,
     pub body: String,
     pub grid: usize,
     pub vertices: usize,

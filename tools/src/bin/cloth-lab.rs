@@ -48,6 +48,10 @@ struct Cli {
     /// design keeps its own (with --fresh for a new one).
     #[arg(long, value_parser = ["xpbd", "vbd", "seed", "implicit"])]
     model: Option<String>,
+    /// XPBD with its guard (cloth-sim's --guard): the cloth never crosses itself or the
+    /// body, at 2-10x the frame time (docs/collision.md).
+    #[arg(long)]
+    guard: bool,
     /// The cloth's fabric, from the library (`cloth-sim fabrics` lists them).
     #[arg(long)]
     fabric: Option<String>,
@@ -272,6 +276,9 @@ fn sim_args(cli: &Cli, domain: &Domain, fresh: bool, autosave: Option<&PathBuf>)
     if let Some(m) = &cli.model {
         a.extend(["--model".into(), m.clone()]);
     }
+    if cli.guard {
+        a.push("--guard".into());
+    }
     if let Some(f) = &cli.fabric {
         a.extend(["--fabric".into(), f.clone()]);
     }
@@ -480,6 +487,14 @@ mod tests {
         let at = |flag: &str| a.iter().position(|s| s == flag).map(|i| a[i + 1].as_str());
         assert_eq!(at("--model"), Some("vbd"), "{a:?}");
         assert_eq!(at("--fabric"), Some("denim"), "{a:?}");
+        assert!(!a.iter().any(|s| s == "--guard"), "{a:?}");
+        let guarded = sim_args(
+            &Cli::try_parse_from(["cloth-lab", "--guard"]).unwrap(),
+            &domain,
+            false,
+            None,
+        );
+        assert!(guarded.iter().any(|s| s == "--guard"), "{guarded:?}");
         let plain = sim_args(
             &Cli::try_parse_from(["cloth-lab"]).unwrap(),
             &domain,

@@ -46,7 +46,8 @@ pub struct Xpbd {
     /// The cloth's vertex count when the groups were packed: no packed constraint names
     /// a vertex at or past it.
     pub(super) built: usize,
-    /// Contact that is never crossed (`guard`); `None`: the body's contact planes only.
+    /// Contact that is never crossed (`guard`, switched on by `Solver::set_guard`);
+    /// `None` (the default): the body's contact planes only.
     pub(super) guard: Option<Guard>,
 }
 
@@ -110,7 +111,7 @@ impl Xpbd {
             extra_bends: Vec::new(),
             threads: 1,
             built: cloth.len(),
-            guard: Some(Guard::new(cloth)),
+            guard: None,
         }
     }
 
