@@ -214,3 +214,41 @@ pub(super) fn pattern_distance(pattern: &[Vec3], a: &[u32], b: &[u32]) -> f32 {
 pub(super) fn keep(delta: f32, sep0: f32) -> f32 {
     delta.min(sep0)
 }
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::ClothView;
+
+    /// Vertices 0 and 3 are 3 m apart in the pattern but neighbours over a weld; 1 is
+    /// near 0 in the pattern only.
+    #[test]
+    fn neighbours_over_a_weld_are_near_at_rest_as_pattern_neighbours_are() {
+        let pattern = [
+            Vec3::ZERO,
+            Vec3::X,
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(3.0, 0.0, 0.0),
+        ];
+        let bridged = [vec![3], vec![], vec![], vec![0]];
+        let view = ClothView {
+            x: &[],
+            boxes: &[],
+            tris: &[],
+            edges: &[],
+            pattern: &pattern,
+            bridged: &bridged,
+            free: &[],
+        };
+        assert!(view.rest_near(&[0], &[2, 3], 0.5), "over the weld");
+        assert!(view.rest_near(&[2, 3], &[0], 0.5), "either way round");
+        assert!(!view.rest_near(&[1], &[2, 3], 0.5), "1 is 1 m from 2");
+        assert!(view.rest_near(&[1], &[2], 1.5), "in the pattern");
+        let none = ClothView {
+            bridged: &[],
+            ..view
+        };
+        assert!(!none.rest_near(&[0], &[3], 0.5), "without the weld");
+    }
+}
