@@ -49,7 +49,7 @@ struct Cli {
     #[arg(long, value_parser = ["xpbd", "vbd", "seed", "implicit"])]
     model: Option<String>,
     /// XPBD with its guard (cloth-sim's --guard): the cloth never crosses itself or the
-    /// body, at 2-10x the frame time (docs/collision.md).
+    /// body, at 2-20x the frame time (docs/collision.md).
     #[arg(long)]
     guard: bool,
     /// The cloth's fabric, from the library (`cloth-sim fabrics` lists them).
