@@ -9,9 +9,17 @@
 //! above a plane stays above it), so a cube's faces, however finely triangulated, give
 //! their twelve rims and eight corners and nothing else.
 
+use std::ops::Range;
+
 use glam::Vec3;
 
+use super::cloth_side::Part;
+use super::distance::{point_triangle, segment_segment};
 use super::grid::{Aabb, BoxGrid, unique_edges};
+use super::pair::{
+    ClothView, NONE, Pair, ProximityParams, feature_key, keep, min_along, separating,
+};
+use crate::collision::body::Body;
 
 /// The angle between two faces' normals under which their edge is flat, rad: a cloth
 /// edge of length `L` lying over such an edge dips at most `L * FLAT / 4` toward it, under
@@ -82,5 +90,241 @@ impl BodyGrids {
         g.vertices
             .build(g.corners.iter().map(|&i| Aabb::point(at(i))), cell);
         g
+    }
+}
+
+/// A pair of cloth vertices `vs` (weights `w`) with the body, closest points `on_cloth`
+/// and `on_body`; `corners` are the body primitive's corners. Listed in `out` unless the
+/// boxes cannot bring them within the contact distance.
+#[allow(clippy::too_many_arguments)]
+fn push(
+    out: &mut Vec<Pair>,
+    c: &ClothView<'_>,
+    vs: &[u32],
+    w: &[f32],
+    on_cloth: Vec3,
+    on_body: Vec3,
+    corners: &[Vec3],
+    fallback: Vec3,
+    energy: bool,
+    p: &ProximityParams,
+) -> bool {
+    let mut cloth_pts = [Vec3::ZERO; 3];
+    for (k, &v) in vs.iter().enumerate().take(3) {
+        cloth_pts[k] = c.x[v as usize];
+    }
+    let (n, sep0) = separating(
+        &cloth_pts[..vs.len().min(3)],
+        corners,
+        on_cloth,
+        on_body,
+        fallback,
+    );
+    let body_bound = corners
+        .iter()
+        .map(|b| n.dot(*b))
+        .fold(f32::NEG_INFINITY, f32::max);
+    let gap_max = min_along(c.boxes, vs, n) - body_bound;
+    if gap_max >= p.radius {
+        return false;
+    }
+    let mut pair = Pair {
+        v: [NONE; 4],
+        w: [0.0; 4],
+        side: [0; 4],
+        n,
+        offset: -n.dot(on_body),
+        body_bound,
+        delta: keep(p.delta, sep0),
+        energy,
+    };
+    for (k, (&v, &wk)) in vs.iter().zip(w).enumerate() {
+        pair.v[k] = v;
+        pair.w[k] = wk;
+        pair.side[k] = 1;
+    }
+    out.push(pair);
+    true
+}
+
+/// Cloth vertices `range` against the body's triangles near them, nearest first, so the
+/// feature a vertex is over gets the energy.
+pub(super) fn vertex_face(
+    c: &ClothView<'_>,
+    body: &Body,
+    p: &ProximityParams,
+    reach: f32,
+    part: &mut Part,
+    range: Range<usize>,
+) {
+    let at = |i: u32| body.vertices[i as usize];
+    let grids = &*body.grids;
+    for i in range {
+        let b = c.boxes[i];
+        if !c.free[i] || !b.is_finite() {
+            continue;
+        }
+        let Part {
+            pairs,
+            body: listed,
+            found,
+            near,
+            seen,
+            ..
+        } = &mut *part;
+        found.clear();
+        grids.triangles.query(&b.grown(reach), |t| found.push(t));
+        let xi = c.x[i];
+        near.clear();
+        near.extend(found.iter().map(|&t| {
+            let [a, bb, cc] = body.triangles[t as usize].map(at);
+            let (q, w) = point_triangle(xi, a, bb, cc);
+            ((xi - q).length(), t, q, w)
+        }));
+        near.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        seen.clear();
+        for &(_, t, q, w) in near.iter() {
+            let tri = body.triangles[t as usize];
+            let key = feature_key(tri, t, w);
+            let energy = !seen.contains(&key);
+            let corners = tri.map(at);
+            let normal = body.face_normal(t);
+            if push(
+                pairs,
+                c,
+                &[i as u32],
+                &[1.0],
+                xi,
+                q,
+                &corners,
+                normal,
+                energy,
+                p,
+            ) {
+                *listed += 1;
+                if energy {
+                    seen.push(key);
+                }
+            }
+        }
+    }
+}
+
+/// Cloth edges `range` against the body's creases near them.
+pub(super) fn edge_edge(
+    c: &ClothView<'_>,
+    body: &Body,
+    p: &ProximityParams,
+    reach: f32,
+    part: &mut Part,
+    range: Range<usize>,
+) {
+    let at = |i: u32| body.vertices[i as usize];
+    let grids = &*body.grids;
+    for e in &c.edges[range] {
+        if !c.free[e[0] as usize] && !c.free[e[1] as usize] {
+            continue;
+        }
+        let eb = c.boxes[e[0] as usize].union(c.boxes[e[1] as usize]);
+        if !eb.is_finite() {
+            continue;
+        }
+        part.found.clear();
+        grids
+            .edge_grid
+            .query(&eb.grown(reach), |f| part.found.push(f));
+        for &f in &part.found {
+            let [q0, q1] = grids.edges[f as usize].map(at);
+            let [p0, p1] = e.map(|v| c.x[v as usize]);
+            let (s, t) = segment_segment(p0, p1, q0, q1);
+            let interior = s > 1e-4 && s < 1.0 - 1e-4 && t > 1e-4 && t < 1.0 - 1e-4;
+            let fallback = (p1 - p0).cross(q1 - q0);
+            let (on_cloth, on_body) = (p0.lerp(p1, s), q0.lerp(q1, t));
+            let w = [1.0 - s, s];
+            if push(
+                &mut part.pairs,
+                c,
+                e,
+                &w,
+                on_cloth,
+                on_body,
+                &[q0, q1],
+                fallback,
+                interior,
+                p,
+            ) {
+                part.body += 1;
+            }
+        }
+    }
+}
+
+/// Cloth triangles `range` against the body's corners near them. Each pair that may carry
+/// energy is noted in `part.corner_keys` as (body vertex, cloth feature, pair in
+/// `part.pairs`), for [`one_energy_per_corner`].
+pub(super) fn corner_face(
+    c: &ClothView<'_>,
+    body: &Body,
+    p: &ProximityParams,
+    reach: f32,
+    part: &mut Part,
+    range: Range<usize>,
+) {
+    let grids = &*body.grids;
+    for ti in range {
+        let t = &c.tris[ti];
+        if t.iter().all(|&v| !c.free[v as usize]) {
+            continue;
+        }
+        let tb = t
+            .iter()
+            .fold(Aabb::EMPTY, |b, &v| b.union(c.boxes[v as usize]));
+        if !tb.is_finite() {
+            continue;
+        }
+        part.found.clear();
+        grids
+            .vertices
+            .query(&tb.grown(reach), |b| part.found.push(b));
+        for &slot in &part.found {
+            let bv = grids.corners[slot as usize];
+            let b = body.vertices[bv as usize];
+            let [x0, x1, x2] = t.map(|v| c.x[v as usize]);
+            let (q, w) = point_triangle(b, x0, x1, x2);
+            let key = feature_key(*t, ti as u32, w);
+            // A body corner against a cloth corner is the cloth vertex's contact.
+            let corner_of_cloth = key >> 62 == 3;
+            let fallback = (x1 - x0).cross(x2 - x0);
+            let before = part.pairs.len() as u32;
+            if push(
+                &mut part.pairs,
+                c,
+                t,
+                &w,
+                q,
+                b,
+                &[b],
+                fallback,
+                !corner_of_cloth,
+                p,
+            ) {
+                part.body += 1;
+                if !corner_of_cloth {
+                    part.corner_keys.push((bv, key, before));
+                }
+            }
+        }
+    }
+}
+
+/// One energy per (body corner, cloth feature) among `pairs`: an edge is found from both
+/// its triangles. `keys` are (body vertex, feature, pair), the pair indices into `pairs`.
+pub(super) fn one_energy_per_corner(keys: &mut [(u32, u64, u32)], pairs: &mut [Pair]) {
+    keys.sort_unstable();
+    for k in 1..keys.len() {
+        let (a, b) = (keys[k - 1], keys[k]);
+        if (a.0, a.1) == (b.0, b.1) {
+            pairs[b.2 as usize].energy = false;
+        }
     }
 }

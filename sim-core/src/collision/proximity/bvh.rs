@@ -166,42 +166,87 @@ impl Bvh {
     }
 
     /// Calls `f(a, b)`, `a < b`, once for every two items whose boxes overlap.
-    pub fn self_pairs(&self, stack: &mut Vec<(u32, u32)>, mut f: impl FnMut(u32, u32)) {
+    pub fn self_pairs(&self, stack: &mut Vec<(u32, u32)>, f: impl FnMut(u32, u32)) {
+        if !self.order.is_empty() {
+            self.self_pairs_from(&[(0, 0)], stack, f);
+        }
+    }
+
+    /// Pairs of nodes to start [`Bvh::self_pairs_from`] at, at least `want` of them where
+    /// the tree has that many overlapping ones: together they give every pair once, so
+    /// threads can share them.
+    pub fn self_pair_tasks(&self, want: usize, out: &mut Vec<(u32, u32)>) {
+        out.clear();
         if self.order.is_empty() {
             return;
         }
+        let mut open = std::collections::VecDeque::from([(0u32, 0u32)]);
+        while out.len() + open.len() < want {
+            let Some((a, b)) = open.pop_front() else {
+                break;
+            };
+            let (na, nb) = (&self.nodes[a as usize], &self.nodes[b as usize]);
+            if !na.b.overlaps(&nb.b) {
+                continue;
+            }
+            if na.count > 0 && nb.count > 0 {
+                out.push((a, b));
+            } else {
+                self.children(a, b, |t| open.push_back(t));
+            }
+        }
+        out.extend(open);
+    }
+
+    /// Calls `f(a, b)`, `a < b`, once for every two items under the node pairs `tasks`
+    /// whose boxes overlap.
+    pub fn self_pairs_from(
+        &self,
+        tasks: &[(u32, u32)],
+        stack: &mut Vec<(u32, u32)>,
+        mut f: impl FnMut(u32, u32),
+    ) {
         stack.clear();
-        stack.push((0, 0));
+        stack.extend_from_slice(tasks);
         while let Some((a, b)) = stack.pop() {
             let (na, nb) = (&self.nodes[a as usize], &self.nodes[b as usize]);
             if !na.b.overlaps(&nb.b) {
                 continue;
             }
-            match (na.count > 0, nb.count > 0) {
-                (true, true) => self.leaf_pairs(na, nb, a == b, &mut f),
-                _ if a == b => {
-                    let (l, r) = (na.first, na.first + 1);
-                    stack.push((l, l));
-                    stack.push((r, r));
-                    stack.push((l, r));
-                }
-                // Open the inner node, or the larger of two inner nodes.
-                (false, true) => {
-                    stack.push((na.first, b));
-                    stack.push((na.first + 1, b));
-                }
-                (true, false) => {
-                    stack.push((a, nb.first));
-                    stack.push((a, nb.first + 1));
-                }
-                (false, false) => {
-                    if size(&na.b) >= size(&nb.b) {
-                        stack.push((na.first, b));
-                        stack.push((na.first + 1, b));
-                    } else {
-                        stack.push((a, nb.first));
-                        stack.push((a, nb.first + 1));
-                    }
+            if na.count > 0 && nb.count > 0 {
+                self.leaf_pairs(na, nb, a == b, &mut f);
+            } else {
+                self.children(a, b, |t| stack.push(t));
+            }
+        }
+    }
+
+    /// The node pairs that node pair `(a, b)`, not both leaves, opens into.
+    fn children(&self, a: u32, b: u32, mut push: impl FnMut((u32, u32))) {
+        let (na, nb) = (&self.nodes[a as usize], &self.nodes[b as usize]);
+        match (na.count > 0, nb.count > 0) {
+            _ if a == b => {
+                let (l, r) = (na.first, na.first + 1);
+                push((l, l));
+                push((r, r));
+                push((l, r));
+            }
+            // Open the inner node, or the larger of two inner nodes.
+            (false, true) => {
+                push((na.first, b));
+                push((na.first + 1, b));
+            }
+            (true, false) => {
+                push((a, nb.first));
+                push((a, nb.first + 1));
+            }
+            _ => {
+                if size(&na.b) >= size(&nb.b) {
+                    push((na.first, b));
+                    push((na.first + 1, b));
+                } else {
+                    push((a, nb.first));
+                    push((a, nb.first + 1));
                 }
             }
         }
@@ -280,6 +325,21 @@ mod tests {
                 }
             }
             assert_eq!(got, want, "{n} boxes");
+            // Split into node pairs for threads, dealt out in turn: the same pairs.
+            for want_tasks in [1, 4, 32] {
+                let mut tasks = Vec::new();
+                t.self_pair_tasks(want_tasks, &mut tasks);
+                if n > 30 {
+                    assert!(tasks.len() >= want_tasks, "{n} boxes, {want_tasks} tasks");
+                }
+                let mut split = Vec::new();
+                for k in 0..3 {
+                    let mine: Vec<_> = tasks.iter().skip(k).step_by(3).copied().collect();
+                    t.self_pairs_from(&mine, &mut Vec::new(), |a, b| split.push((a, b)));
+                }
+                split.sort_unstable();
+                assert_eq!(split, want, "{n} boxes in {} tasks", tasks.len());
+            }
             if n > 30 {
                 assert!(!want.is_empty(), "the test must see overlaps");
             }

@@ -18,21 +18,28 @@ use super::pair::{
 /// Below this many items a search runs on one thread (starting one costs more).
 const PER_THREAD_MIN: usize = 2048;
 
+/// Pairs of edges (or of tree nodes), by index.
+type EdgePairs = Vec<(u32, u32)>;
+
 /// One thread's share of a search, and its scratch.
 #[derive(Clone, Debug, Default)]
-pub struct Part {
-    pairs: Vec<Pair>,
+pub(super) struct Part {
+    pub(super) pairs: Vec<Pair>,
     vertex_face: usize,
     edge_edge: usize,
-    seen: Vec<u64>,
-    found: Vec<u32>,
-    near: Vec<(f32, u32, Vec3, [f32; 3])>,
+    /// Pairs with the body listed.
+    pub(super) body: usize,
+    /// (body vertex, cloth feature, pair in `pairs`) of the body's corner-face pairs.
+    pub(super) corner_keys: Vec<(u32, u64, u32)>,
+    pub(super) seen: Vec<u64>,
+    pub(super) found: Vec<u32>,
+    pub(super) near: Vec<(f32, u32, Vec3, [f32; 3])>,
     stack: Vec<u32>,
 }
 
 /// Runs `work` over `0..len` in up to `threads` parts (in order) and gives each part's
 /// range to it.
-fn run_parts(
+pub(super) fn run_parts(
     parts: &mut Vec<Part>,
     threads: usize,
     len: usize,
@@ -46,6 +53,8 @@ fn run_parts(
         part.pairs.clear();
         part.vertex_face = 0;
         part.edge_edge = 0;
+        part.body = 0;
+        part.corner_keys.clear();
     }
     let range = |k: usize| k * len / t..(k + 1) * len / t;
     if t == 1 {
@@ -65,8 +74,13 @@ fn run_parts(
 pub struct ClothSearch {
     tri_tree: Bvh,
     edge_tree: Bvh,
-    pair_stack: Vec<(u32, u32)>,
     candidates: Vec<(u32, u32)>,
+    /// Scratch for finding the candidates: the tree's node pairs shared between the
+    /// threads, each thread's stack and the candidates it found, and each edge's first
+    /// candidate for putting them in order.
+    tasks: Vec<(u32, u32)>,
+    found: Vec<(EdgePairs, EdgePairs)>,
+    bucket: Vec<u32>,
     parts: Vec<Part>,
 }
 
@@ -123,18 +137,86 @@ impl ClothSearch {
                 .grown(reach)
         };
         self.edge_tree.refit(c.edges.iter().map(edge_box));
+        let threads = p
+            .threads
+            .clamp(1, 16)
+            .min(c.edges.len() / PER_THREAD_MIN)
+            .max(1);
+        self.overlapping_edges(threads);
+        // In edge order, whatever the tree's shape and the threads.
         let mut candidates = std::mem::take(&mut self.candidates);
-        candidates.clear();
-        self.edge_tree
-            .self_pairs(&mut self.pair_stack, |a, b| candidates.push((a, b)));
-        // In edge order, whatever the tree's shape.
-        candidates.sort_unstable();
+        let lists = self.found[..threads]
+            .iter()
+            .map(|(list, _)| list.as_slice());
+        in_order(lists, c.edges.len(), &mut self.bucket, &mut candidates);
         let found = &candidates;
         run_parts(&mut self.parts, p.threads, found.len(), |part, range| {
             edge_edge(c, p, &found[range], part)
         });
         join_parts(&self.parts, out, counts);
         self.candidates = candidates;
+    }
+}
+
+/// The pairs of `lists` (each `(a, b)` with `a < b < n`) sorted into `out`: counted into
+/// buckets by `a`, then each bucket (a few pairs) sorted by `b`. A comparison sort of the
+/// 100,000-180,000 candidates of a 64 x 64 cloth on the mannequin took 2-4 ms, as long
+/// as finding them.
+fn in_order<'a>(
+    lists: impl Iterator<Item = &'a [(u32, u32)]> + Clone,
+    n: usize,
+    bucket: &mut Vec<u32>,
+    out: &mut Vec<(u32, u32)>,
+) {
+    bucket.clear();
+    bucket.resize(n + 1, 0);
+    for &(a, _) in lists.clone().flatten() {
+        bucket[a as usize + 1] += 1;
+    }
+    for k in 0..n {
+        bucket[k + 1] += bucket[k];
+    }
+    out.clear();
+    out.resize(bucket[n] as usize, (0, 0));
+    for &(a, b) in lists.flatten() {
+        let slot = &mut bucket[a as usize];
+        out[*slot as usize] = (a, b);
+        *slot += 1;
+    }
+    // `bucket[a]` is now where `a`'s pairs end, and so where `a + 1`'s begin.
+    let mut begin = 0;
+    for &end in &bucket[..n] {
+        out[begin..end as usize].sort_unstable();
+        begin = end as usize;
+    }
+}
+
+impl ClothSearch {
+    /// The edge pairs whose (refitted) boxes overlap, into `found[..threads]`'s lists:
+    /// the tree's node pairs dealt out to the threads in turn.
+    fn overlapping_edges(&mut self, threads: usize) {
+        if self.found.len() < threads {
+            self.found.resize_with(threads, Default::default);
+        }
+        let tree = &self.edge_tree;
+        if threads == 1 {
+            let (list, stack) = &mut self.found[0];
+            list.clear();
+            tree.self_pairs(stack, |a, b| list.push((a, b)));
+            return;
+        }
+        tree.self_pair_tasks(16 * threads, &mut self.tasks);
+        let tasks = &self.tasks;
+        std::thread::scope(|s| {
+            for (k, (list, stack)) in self.found.iter_mut().take(threads).enumerate() {
+                s.spawn(move || {
+                    let mine: Vec<(u32, u32)> =
+                        tasks.iter().skip(k).step_by(threads).copied().collect();
+                    list.clear();
+                    tree.self_pairs_from(&mine, stack, |a, b| list.push((a, b)));
+                });
+            }
+        });
     }
 }
 
@@ -302,6 +384,26 @@ mod tests {
             })
             .collect();
         (x, boxes, tris, pattern)
+    }
+
+    #[test]
+    fn candidates_come_out_in_edge_order() {
+        // A scrambled list, as a tree gives it: every (a, b), a < b < 40, that a hash keeps.
+        let n = 40u32;
+        let mut pairs: Vec<(u32, u32)> = (0..n)
+            .flat_map(|a| (a + 1..n).map(move |b| (a, b)))
+            .filter(|&(a, b)| (a * 7919 + b * 104_729) % 5 < 3)
+            .collect();
+        pairs.sort_by_key(|&(a, b)| (a * 31 + b * 17) % 97);
+        let (mut bucket, mut out) = (Vec::new(), vec![(9, 9)]);
+        let (one, two) = pairs.split_at(pairs.len() / 3);
+        in_order([one, two].into_iter(), n as usize, &mut bucket, &mut out);
+        let mut expected = pairs.clone();
+        expected.sort_unstable();
+        assert!(expected.len() > 300);
+        assert_eq!(out, expected);
+        in_order(std::iter::empty(), n as usize, &mut bucket, &mut out);
+        assert!(out.is_empty());
     }
 
     #[test]

@@ -32,13 +32,10 @@
 
 use glam::Vec3;
 
-use super::body_side::BodyGrids;
-use super::cloth_side::ClothSearch;
-use super::distance::{point_triangle, segment_segment};
+use super::body_side;
+use super::cloth_side::{ClothSearch, Part, run_parts};
 use super::grid::Aabb;
-use super::pair::{
-    ClothView, NONE, Pair, PairCounts, ProximityParams, feature_key, keep, min_along, separating,
-};
+use super::pair::{ClothView, NONE, Pair, PairCounts, ProximityParams, keep};
 use crate::collision::body::Body;
 
 /// The pairs of one frame, and each vertex's place in them.
@@ -52,9 +49,10 @@ pub struct Proximity {
     /// The cloth against itself: its trees (built for the mesh when it is first searched
     /// and after [`Proximity::clear`]) and scratch.
     cloth: ClothSearch,
-    /// Scratch: features already given energy for the vertex being searched.
-    seen: Vec<u64>,
-    /// Scratch: (body vertex, cloth feature, pair) of the corner-face pairs.
+    /// The body side's threads' shares and scratch.
+    body_parts: Vec<Part>,
+    /// Scratch: (body vertex, cloth feature, pair among the corner-face pairs) of the
+    /// corner-face pairs.
     corner_keys: Vec<(u32, u64, u32)>,
 }
 
@@ -89,10 +87,7 @@ impl Proximity {
         self.cloth
             .search(cloth, p, reach, &mut self.pairs, &mut self.counts);
         if let Some(body) = body {
-            let grids = &*body.grids;
-            self.body_vertex_face(cloth, body, grids, p, reach);
-            self.body_edge_edge(cloth, body, grids, p, reach);
-            self.body_corner_face(cloth, body, grids, p, reach);
+            self.body(cloth, body, p, reach);
         }
         if let Some(floor) = p.floor {
             self.floor(cloth, floor, p);
@@ -101,186 +96,26 @@ impl Proximity {
         self.index_roles(cloth.x.len());
     }
 
-    /// A pair of cloth vertices `vs` (weights `w`) with the body, closest points `on_cloth`
-    /// and `on_body`; `corners` are the body primitive's corners.
-    #[allow(clippy::too_many_arguments)]
-    fn push_body(
-        &mut self,
-        c: &ClothView<'_>,
-        vs: &[u32],
-        w: &[f32],
-        on_cloth: Vec3,
-        on_body: Vec3,
-        corners: &[Vec3],
-        fallback: Vec3,
-        energy: bool,
-        p: &ProximityParams,
-    ) -> bool {
-        let cloth_pts: Vec<Vec3> = vs.iter().map(|&v| c.x[v as usize]).collect();
-        let (n, sep0) = separating(&cloth_pts, corners, on_cloth, on_body, fallback);
-        let body_bound = corners
-            .iter()
-            .map(|b| n.dot(*b))
-            .fold(f32::NEG_INFINITY, f32::max);
-        let gap_max = min_along(c.boxes, vs, n) - body_bound;
-        if gap_max >= p.radius {
-            return false;
-        }
-        let mut pair = Pair {
-            v: [NONE; 4],
-            w: [0.0; 4],
-            side: [0; 4],
-            n,
-            offset: -n.dot(on_body),
-            body_bound,
-            delta: keep(p.delta, sep0),
-            energy,
-        };
-        for (k, (&v, &wk)) in vs.iter().zip(w).enumerate() {
-            pair.v[k] = v;
-            pair.w[k] = wk;
-            pair.side[k] = 1;
-        }
-        self.pairs.push(pair);
-        true
-    }
-
-    fn body_vertex_face(
-        &mut self,
-        c: &ClothView<'_>,
-        body: &Body,
-        grids: &BodyGrids,
-        p: &ProximityParams,
-        reach: f32,
-    ) {
-        let at = |i: u32| body.vertices[i as usize];
-        let mut found: Vec<u32> = Vec::new();
-        for i in 0..c.x.len() {
-            let b = c.boxes[i];
-            if !c.free[i] || !b.is_finite() {
-                continue;
-            }
-            found.clear();
-            grids.triangles.query(&b.grown(reach), |t| found.push(t));
-            let xi = c.x[i];
-            let mut near: Vec<(f32, u32, Vec3, [f32; 3])> = found
-                .iter()
-                .map(|&t| {
-                    let [a, bb, cc] = body.triangles[t as usize].map(at);
-                    let (q, w) = point_triangle(xi, a, bb, cc);
-                    ((xi - q).length(), t, q, w)
-                })
-                .collect();
-            near.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-            self.seen.clear();
-            for (_, t, q, w) in near {
-                let tri = body.triangles[t as usize];
-                let key = feature_key(tri, t, w);
-                let energy = !self.seen.contains(&key);
-                let corners = tri.map(at);
-                let normal = body.face_normal(t);
-                if self.push_body(c, &[i as u32], &[1.0], xi, q, &corners, normal, energy, p) {
-                    self.counts.body_vertex_face += 1;
-                    if energy {
-                        self.seen.push(key);
-                    }
-                }
-            }
-        }
-    }
-
-    fn body_edge_edge(
-        &mut self,
-        c: &ClothView<'_>,
-        body: &Body,
-        grids: &BodyGrids,
-        p: &ProximityParams,
-        reach: f32,
-    ) {
-        let at = |i: u32| body.vertices[i as usize];
-        let mut found: Vec<u32> = Vec::new();
-        for e in c.edges {
-            if !c.free[e[0] as usize] && !c.free[e[1] as usize] {
-                continue;
-            }
-            let eb = c.boxes[e[0] as usize].union(c.boxes[e[1] as usize]);
-            if !eb.is_finite() {
-                continue;
-            }
-            found.clear();
-            grids.edge_grid.query(&eb.grown(reach), |f| found.push(f));
-            for &f in &found {
-                let [q0, q1] = grids.edges[f as usize].map(at);
-                let [p0, p1] = e.map(|v| c.x[v as usize]);
-                let (s, t) = segment_segment(p0, p1, q0, q1);
-                let interior = s > 1e-4 && s < 1.0 - 1e-4 && t > 1e-4 && t < 1.0 - 1e-4;
-                let fallback = (p1 - p0).cross(q1 - q0);
-                if self.push_body(
-                    c,
-                    e,
-                    &[1.0 - s, s],
-                    p0.lerp(p1, s),
-                    q0.lerp(q1, t),
-                    &[q0, q1],
-                    fallback,
-                    interior,
-                    p,
-                ) {
-                    self.counts.body_edge_edge += 1;
-                }
-            }
-        }
-    }
-
-    fn body_corner_face(
-        &mut self,
-        c: &ClothView<'_>,
-        body: &Body,
-        grids: &BodyGrids,
-        p: &ProximityParams,
-        reach: f32,
-    ) {
-        let mut found: Vec<u32> = Vec::new();
+    /// The cloth's vertices, edges and triangles against the body's triangles, creases
+    /// and corners, each kind split over the threads and joined in order.
+    fn body(&mut self, c: &ClothView<'_>, body: &Body, p: &ProximityParams, reach: f32) {
+        let parts = &mut self.body_parts;
+        run_parts(parts, p.threads, c.x.len(), |part, range| {
+            body_side::vertex_face(c, body, p, reach, part, range)
+        });
+        self.counts.body_vertex_face += join_body(parts, &mut self.pairs, None);
+        run_parts(parts, p.threads, c.edges.len(), |part, range| {
+            body_side::edge_edge(c, body, p, reach, part, range)
+        });
+        self.counts.body_edge_edge += join_body(parts, &mut self.pairs, None);
+        run_parts(parts, p.threads, c.tris.len(), |part, range| {
+            body_side::corner_face(c, body, p, reach, part, range)
+        });
+        let first = self.pairs.len();
         self.corner_keys.clear();
-        for (ti, t) in c.tris.iter().enumerate() {
-            if t.iter().all(|&v| !c.free[v as usize]) {
-                continue;
-            }
-            let tb = t
-                .iter()
-                .fold(Aabb::EMPTY, |b, &v| b.union(c.boxes[v as usize]));
-            if !tb.is_finite() {
-                continue;
-            }
-            found.clear();
-            grids.vertices.query(&tb.grown(reach), |b| found.push(b));
-            for &slot in &found {
-                let bv = grids.corners[slot as usize];
-                let b = body.vertices[bv as usize];
-                let [x0, x1, x2] = t.map(|v| c.x[v as usize]);
-                let (q, w) = point_triangle(b, x0, x1, x2);
-                let key = feature_key(*t, ti as u32, w);
-                // A body corner against a cloth corner is the cloth vertex's contact.
-                let corner_of_cloth = key >> 62 == 3;
-                let fallback = (x1 - x0).cross(x2 - x0);
-                let before = self.pairs.len() as u32;
-                if self.push_body(c, t, &w, q, b, &[b], fallback, !corner_of_cloth, p) {
-                    self.counts.body_corner_face += 1;
-                    if !corner_of_cloth {
-                        self.corner_keys.push((bv, key, before));
-                    }
-                }
-            }
-        }
-        // One energy per (body corner, cloth feature): an edge is found from both its
-        // triangles.
-        self.corner_keys.sort_unstable();
-        for k in 1..self.corner_keys.len() {
-            let (a, b) = (self.corner_keys[k - 1], self.corner_keys[k]);
-            if (a.0, a.1) == (b.0, b.1) {
-                self.pairs[b.2 as usize].energy = false;
-            }
-        }
+        self.counts.body_corner_face +=
+            join_body(parts, &mut self.pairs, Some(&mut self.corner_keys));
+        body_side::one_energy_per_corner(&mut self.corner_keys, &mut self.pairs[first..]);
     }
 
     fn floor(&mut self, c: &ClothView<'_>, floor: f32, p: &ProximityParams) {
@@ -338,6 +173,25 @@ impl Proximity {
     }
 }
 
+/// The parts' body pairs appended to `out` in order, and how many; with `keys`, their
+/// corner keys too, renumbered to count from the first pair appended.
+fn join_body(
+    parts: &[Part],
+    out: &mut Vec<Pair>,
+    mut keys: Option<&mut Vec<(u32, u64, u32)>>,
+) -> usize {
+    let (first, mut n) = (out.len(), 0);
+    for part in parts {
+        let offset = (out.len() - first) as u32;
+        if let Some(keys) = keys.as_deref_mut() {
+            keys.extend(part.corner_keys.iter().map(|&(b, f, q)| (b, f, q + offset)));
+        }
+        out.extend_from_slice(&part.pairs);
+        n += part.body;
+    }
+    n
+}
+
 /// A hash cell for a set of boxes: about their mean size, at least 2 mm.
 pub(super) fn grid_cell(boxes: impl Iterator<Item = Aabb>) -> f32 {
     let (mut sum, mut n) = (0.0f32, 0usize);
@@ -351,5 +205,87 @@ pub(super) fn grid_cell(boxes: impl Iterator<Item = Aabb>) -> f32 {
         0.01
     } else {
         (sum / n as f32).max(0.002)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::collision::body::sphere;
+    use crate::collision::proximity::unique_edges;
+
+    /// A 70 x 70 sheet (1 cm cells) lying 1-3 mm over the top of a 30 cm sphere, falling
+    /// 2 mm onto it.
+    fn sheet_on_a_sphere() -> (Vec<Vec3>, Vec<Aabb>, Vec<[u32; 3]>, Vec<Vec3>) {
+        let (side, h, r) = (70usize, 0.01f32, 0.3f32);
+        let (mut x, mut pattern, mut tris) = (Vec::new(), Vec::new(), Vec::new());
+        for j in 0..side {
+            for i in 0..side {
+                let (px, pz) = ((i as f32 - 35.0) * h, (j as f32 - 35.0) * h);
+                let top = (r * r - px * px - pz * pz).max(0.0).sqrt();
+                let lift = 0.001 + 0.001 * ((i * 7 + j * 3) % 3) as f32;
+                x.push(Vec3::new(px, top + lift, pz));
+                pattern.push(Vec3::new(px, 0.0, pz));
+            }
+        }
+        let at = |i: usize, j: usize| (j * side + i) as u32;
+        for j in 0..side - 1 {
+            for i in 0..side - 1 {
+                tris.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+                tris.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+            }
+        }
+        let boxes = x
+            .iter()
+            .map(|&p| Aabb::point(p).with(p - Vec3::Y * 0.002).grown(0.0005))
+            .collect();
+        (x, boxes, tris, pattern)
+    }
+
+    #[test]
+    fn the_body_search_is_the_same_on_any_number_of_threads() {
+        let body = sphere(Vec3::ZERO, 0.3, 3).expect("a sphere");
+        let (x, boxes, tris, pattern) = sheet_on_a_sphere();
+        let edges = unique_edges(&tris);
+        let free = vec![true; x.len()];
+        let cloth = ClothView {
+            x: &x,
+            boxes: &boxes,
+            tris: &tris,
+            edges: &edges,
+            pattern: &pattern,
+            bridged: &[],
+            free: &free,
+        };
+        let search = |threads: usize| {
+            let params = ProximityParams {
+                radius: 0.004,
+                delta: 1e-4,
+                rest_exclusion: 0.03,
+                floor: None,
+                threads,
+            };
+            let mut prox = Proximity::default();
+            prox.detect(&cloth, Some(&body), &params);
+            (prox.pairs, prox.counts)
+        };
+        let (pairs, counts) = search(1);
+        assert!(
+            counts.body_vertex_face > 100
+                && counts.body_edge_edge > 100
+                && counts.body_corner_face > 100,
+            "{counts:?}"
+        );
+        // The same corner of the sphere against one cloth edge, found from both its
+        // triangles, carries one energy.
+        let corner_pairs = pairs.iter().filter(|q| q.side == [1, 1, 1, 0]);
+        assert!(corner_pairs.clone().any(|q| q.energy));
+        assert!(corner_pairs.clone().any(|q| !q.energy));
+        for threads in [2, 3] {
+            let (many, many_counts) = search(threads);
+            assert_eq!(counts, many_counts, "{threads} threads");
+            assert_eq!(pairs, many, "{threads} threads");
+        }
+        assert!(pairs.iter().all(|q| q.holds(&x, 1e-6)));
     }
 }
