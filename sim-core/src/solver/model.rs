@@ -71,8 +71,10 @@ pub struct ContactStats {
     pub shortened: usize,
     /// Time the proximity search took, µs.
     pub detect_us: u64,
-    /// Searches run, and frames (or substeps) that kept the last search's pairs.
+    /// Searches run, searches that looked again only where vertices left their boxes,
+    /// and frames (or substeps) that kept the last search's pairs.
     pub searches: usize,
+    pub updates: usize,
     pub reused: usize,
 }
 

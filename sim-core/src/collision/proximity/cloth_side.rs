@@ -1,7 +1,9 @@
 //! The cloth against itself: every cloth vertex against the cloth's triangles, every cloth
 //! edge against its edges, through the trees of `bvh.rs`. The work is split over threads
 //! by vertex and by candidate edge pair; each thread lists its own pairs and the lists are
-//! joined in order, so the result is the same whatever the thread count.
+//! joined in order, so the result is the same whatever the thread count. An update looks
+//! from the moved vertices and edges only, and finds the unmoved vertices near a moved
+//! triangle through a tree over the vertices.
 
 use std::ops::Range;
 
@@ -11,7 +13,7 @@ use super::bvh::Bvh;
 use super::distance::{point_triangle, segment_segment};
 use super::grid::Aabb;
 use super::pair::{
-    ClothView, Pair, PairCounts, ProximityParams, feature_key, keep, max_along, min_along,
+    ClothView, NONE, Pair, PairKind, ProximityParams, feature_key, keep, max_along, min_along,
     separating,
 };
 
@@ -25,16 +27,35 @@ type EdgePairs = Vec<(u32, u32)>;
 #[derive(Clone, Debug, Default)]
 pub(super) struct Part {
     pub(super) pairs: Vec<Pair>,
-    vertex_face: usize,
-    edge_edge: usize,
-    /// Pairs with the body listed.
-    pub(super) body: usize,
-    /// (body vertex, cloth feature, pair in `pairs`) of the body's corner-face pairs.
-    pub(super) corner_keys: Vec<(u32, u64, u32)>,
     pub(super) seen: Vec<u64>,
     pub(super) found: Vec<u32>,
     pub(super) near: Vec<(f32, u32, Vec3, [f32; 3])>,
     stack: Vec<u32>,
+}
+
+/// The primitives (vertices, edges or triangles) a search looks from: all `0..n`, or
+/// those listed.
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Items<'a> {
+    All(usize),
+    Only(&'a [u32]),
+}
+
+impl Items<'_> {
+    pub(super) fn len(&self) -> usize {
+        match self {
+            Items::All(n) => *n,
+            Items::Only(list) => list.len(),
+        }
+    }
+
+    /// Calls `f` on the items `range` of the list.
+    pub(super) fn each(&self, range: Range<usize>, f: impl FnMut(usize)) {
+        match self {
+            Items::All(_) => range.for_each(f),
+            Items::Only(list) => list[range].iter().map(|&i| i as usize).for_each(f),
+        }
+    }
 }
 
 /// Runs `work` over `0..len` in up to `threads` parts (in order) and gives each part's
@@ -51,10 +72,6 @@ pub(super) fn run_parts(
     }
     for part in parts.iter_mut() {
         part.pairs.clear();
-        part.vertex_face = 0;
-        part.edge_edge = 0;
-        part.body = 0;
-        part.corner_keys.clear();
     }
     let range = |k: usize| k * len / t..(k + 1) * len / t;
     if t == 1 {
@@ -74,6 +91,8 @@ pub(super) fn run_parts(
 pub struct ClothSearch {
     tri_tree: Bvh,
     edge_tree: Bvh,
+    /// Over the vertices, for updates only (built at the first).
+    vertex_tree: Bvh,
     candidates: Vec<(u32, u32)>,
     /// Scratch for finding the candidates: the tree's node pairs shared between the
     /// threads, each thread's stack and the candidates it found, and each edge's first
@@ -81,6 +100,7 @@ pub struct ClothSearch {
     tasks: Vec<(u32, u32)>,
     found: Vec<(EdgePairs, EdgePairs)>,
     bucket: Vec<u32>,
+    stack: Vec<u32>,
     parts: Vec<Part>,
 }
 
@@ -89,6 +109,7 @@ impl ClothSearch {
     pub fn forget_mesh(&mut self) {
         self.tri_tree = Bvh::default();
         self.edge_tree = Bvh::default();
+        self.vertex_tree = Bvh::default();
     }
 
     /// Builds the trees for this mesh, unless they are built for it already.
@@ -109,34 +130,33 @@ impl ClothSearch {
         }
     }
 
-    /// The cloth-cloth pairs, vertex-face then edge-edge, appended to `out` and counted.
+    /// Refits the trees to the boxes of `c` (grown by `reach`); with `vertices`, the
+    /// vertex tree too (built if need be).
+    fn refit(&mut self, c: &ClothView<'_>, reach: f32, vertices: bool) {
+        self.trees_for(c);
+        self.tri_tree
+            .refit(c.tris.iter().map(|t| tri_box(c, t, reach)));
+        self.edge_tree
+            .refit(c.edges.iter().map(|e| edge_box(c, e, reach)));
+        if vertices {
+            if self.vertex_tree.len() != c.x.len() || self.vertex_tree.is_empty() {
+                self.vertex_tree = Bvh::build(c.x);
+            }
+            self.vertex_tree
+                .refit(c.boxes.iter().map(|b| b.grown(reach)));
+        }
+    }
+
+    /// The cloth-cloth pairs, vertex-face then edge-edge, appended to `out`.
     pub fn search(
         &mut self,
         c: &ClothView<'_>,
         p: &ProximityParams,
         reach: f32,
         out: &mut Vec<Pair>,
-        counts: &mut PairCounts,
     ) {
-        self.trees_for(c);
-        let tri_box = |t: &[u32; 3]| {
-            t.iter()
-                .fold(Aabb::EMPTY, |b, &v| b.union(c.boxes[v as usize]))
-                .grown(reach)
-        };
-        self.tri_tree.refit(c.tris.iter().map(tri_box));
-        let tree = &self.tri_tree;
-        run_parts(&mut self.parts, p.threads, c.x.len(), |part, range| {
-            vertex_face(c, tree, p, reach, part, range)
-        });
-        join_parts(&self.parts, out, counts);
-
-        let edge_box = |e: &[u32; 2]| {
-            c.boxes[e[0] as usize]
-                .union(c.boxes[e[1] as usize])
-                .grown(reach)
-        };
-        self.edge_tree.refit(c.edges.iter().map(edge_box));
+        self.refit(c, reach, false);
+        self.vertex_face(c, p, reach, Items::All(c.x.len()), out);
         let threads = p
             .threads
             .clamp(1, 16)
@@ -149,13 +169,118 @@ impl ClothSearch {
             .iter()
             .map(|(list, _)| list.as_slice());
         in_order(lists, c.edges.len(), &mut self.bucket, &mut candidates);
-        let found = &candidates;
+        self.edge_edge(c, p, &candidates, out);
+        self.candidates = candidates;
+    }
+
+    /// Before an update ([`ClothSearch::update`]): refits the trees to the boxes of `c`,
+    /// and lists in `near` each vertex that did not move against each triangle of `dirty`
+    /// (those with a moved corner) whose boxes meet, in order.
+    pub fn prepare_update(
+        &mut self,
+        c: &ClothView<'_>,
+        reach: f32,
+        dirty: &[u32],
+        moved: &[bool],
+        near: &mut Vec<(u32, u32)>,
+    ) {
+        self.refit(c, reach, true);
+        near.clear();
+        let stack = &mut self.stack;
+        for &t in dirty {
+            let tri = c.tris[t as usize];
+            let b = tri_box(c, &tri, reach);
+            self.vertex_tree.query(&b, stack, |i| {
+                if !moved[i as usize] && !tri.contains(&i) {
+                    near.push((i, t));
+                }
+            });
+        }
+        near.sort_unstable();
+    }
+
+    /// The cloth pairs of the primitives that moved, appended to `out`: every
+    /// vertex-face pair of vertices `moved`, those of the vertices and triangles `near`
+    /// (their energy: whether they may carry it; [`nearest_feature_energy`] chooses), and
+    /// every edge-edge pair of edges `dirty` (`is_dirty` of an edge says whether it is
+    /// listed; a pair of two listed edges comes once).
+    #[allow(clippy::too_many_arguments)]
+    pub fn update(
+        &mut self,
+        c: &ClothView<'_>,
+        p: &ProximityParams,
+        reach: f32,
+        moved: &[u32],
+        near: &[(u32, u32)],
+        dirty: &[u32],
+        is_dirty: impl Fn(u32) -> bool,
+        out: &mut Vec<Pair>,
+    ) {
+        self.vertex_face(c, p, reach, Items::Only(moved), out);
+        for &(i, t) in near {
+            let [a, b, cc] = c.tris[t as usize].map(|v| c.x[v as usize]);
+            let found = point_triangle(c.x[i as usize], a, b, cc);
+            out.extend(vertex_tri(c, p, i, t, found));
+        }
+        let mut candidates = std::mem::take(&mut self.candidates);
+        candidates.clear();
+        let stack = &mut self.stack;
+        for &a in dirty {
+            let b = edge_box(c, &c.edges[a as usize], reach);
+            self.edge_tree.query(&b, stack, |f| {
+                if f != a && !(f < a && is_dirty(f)) {
+                    candidates.push((a.min(f), a.max(f)));
+                }
+            });
+        }
+        candidates.sort_unstable();
+        self.edge_edge(c, p, &candidates, out);
+        self.candidates = candidates;
+    }
+
+    /// Vertices `items` against the cloth's triangles (the tree refitted).
+    fn vertex_face(
+        &mut self,
+        c: &ClothView<'_>,
+        p: &ProximityParams,
+        reach: f32,
+        items: Items<'_>,
+        out: &mut Vec<Pair>,
+    ) {
+        let tree = &self.tri_tree;
+        run_parts(&mut self.parts, p.threads, items.len(), |part, range| {
+            items.each(range, |i| vertex_face(c, tree, p, reach, part, i))
+        });
+        join_parts(&self.parts, out);
+    }
+
+    /// Edge pairs `found` (their boxes overlap) tested.
+    fn edge_edge(
+        &mut self,
+        c: &ClothView<'_>,
+        p: &ProximityParams,
+        found: &[(u32, u32)],
+        out: &mut Vec<Pair>,
+    ) {
         run_parts(&mut self.parts, p.threads, found.len(), |part, range| {
             edge_edge(c, p, &found[range], part)
         });
-        join_parts(&self.parts, out, counts);
-        self.candidates = candidates;
+        join_parts(&self.parts, out);
     }
+}
+
+/// A cloth triangle's box for the trees: its corners' boxes, grown by `reach`.
+fn tri_box(c: &ClothView<'_>, t: &[u32; 3], reach: f32) -> Aabb {
+    t.iter()
+        .fold(Aabb::EMPTY, |b, &v| b.union(c.boxes[v as usize]))
+        .grown(reach)
+}
+
+/// A cloth edge's box for the trees.
+fn edge_box(c: &ClothView<'_>, e: &[u32; 2], reach: f32) -> Aabb {
+    c.boxes[e[0] as usize]
+        .union(c.boxes[e[1] as usize])
+        .grown(reach)
 }
 
 /// The pairs of `lists` (each `(a, b)` with `a < b < n`) sorted into `out`: counted into
@@ -220,80 +345,148 @@ impl ClothSearch {
     }
 }
 
-fn join_parts(parts: &[Part], out: &mut Vec<Pair>, counts: &mut PairCounts) {
-    for part in parts {
-        out.extend_from_slice(&part.pairs);
-        counts.vertex_face += part.vertex_face;
-        counts.edge_edge += part.edge_edge;
+/// Gives out the energy of the vertex-face pairs of vertices `affected` in `pairs` again,
+/// as a search does: for each vertex, to its nearest pair per feature of the cloth (face,
+/// edge or corner) among those that may carry energy. `scratch`: (vertex, distance,
+/// feature, pair).
+pub(super) fn nearest_feature_energy(
+    c: &ClothView<'_>,
+    p: &ProximityParams,
+    pairs: &mut [Pair],
+    affected: &[bool],
+    scratch: &mut Vec<(u32, f32, [u32; 3], u32)>,
+) {
+    scratch.clear();
+    for (k, q) in pairs.iter_mut().enumerate() {
+        let i = q.v[0];
+        if q.kind != PairKind::VertexFace || !affected[i as usize] {
+            continue;
+        }
+        let tri = [q.v[1], q.v[2], q.v[3]];
+        let gap_max = c.boxes[i as usize].min_along(q.n) - max_along(c.boxes, &tri, q.n);
+        q.energy = gap_max < p.radius && !c.rest_near(&[i], &tri, p.rest_exclusion);
+        if q.energy {
+            let xi = c.x[i as usize];
+            let [a, b, cc] = tri.map(|v| c.x[v as usize]);
+            let (at, w) = point_triangle(xi, a, b, cc);
+            // The feature by its corners, in order (unused places last).
+            let mut f = tri;
+            for j in 0..3 {
+                if w[j] <= 0.0 {
+                    f[j] = NONE;
+                }
+            }
+            f.sort_unstable();
+            scratch.push((i, (xi - at).length(), f, k as u32));
+        }
+    }
+    scratch.sort_unstable_by(|a, b| {
+        (a.0.cmp(&b.0))
+            .then(a.1.total_cmp(&b.1))
+            .then(a.3.cmp(&b.3))
+    });
+    let mut start = 0;
+    while start < scratch.len() {
+        let end = start
+            + scratch[start..]
+                .iter()
+                .take_while(|e| e.0 == scratch[start].0)
+                .count();
+        for k in start..end {
+            let first = !scratch[start..k].iter().any(|e| e.2 == scratch[k].2);
+            pairs[scratch[k].3 as usize].energy = first;
+        }
+        start = end;
     }
 }
 
-/// Vertices `range` against the cloth's triangles (`tree`, refitted).
+/// The parts' pairs appended to `out` in order.
+pub(super) fn join_parts(parts: &[Part], out: &mut Vec<Pair>) {
+    for part in parts {
+        out.extend_from_slice(&part.pairs);
+    }
+}
+
+/// Vertex `i` against the cloth's triangles (`tree`, refitted), nearest first, so the
+/// feature of the cloth it is over gets the energy (once per feature).
 fn vertex_face(
     c: &ClothView<'_>,
     tree: &Bvh,
     p: &ProximityParams,
     reach: f32,
     part: &mut Part,
-    range: Range<usize>,
+    i: usize,
 ) {
-    for i in range {
-        let b = c.boxes[i];
-        if !b.is_finite() {
-            continue;
-        }
-        let Part {
-            found, near, stack, ..
-        } = part;
-        found.clear();
-        tree.query(&b.grown(reach), stack, |t| found.push(t));
-        // Nearest first, so the feature a vertex is over gets the energy.
-        let xi = c.x[i];
-        near.clear();
-        near.extend(found.iter().filter_map(|&t| {
-            let tri = c.tris[t as usize];
-            if tri.contains(&(i as u32)) || (!c.free[i] && tri.iter().all(|&v| !c.free[v as usize]))
-            {
-                return None;
-            }
-            let [a, bb, cc] = tri.map(|v| c.x[v as usize]);
-            let (q, w) = point_triangle(xi, a, bb, cc);
-            Some(((xi - q).length(), t, q, w))
-        }));
-        near.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        part.seen.clear();
-        for k in 0..part.near.len() {
-            let (_, t, q, w) = part.near[k];
-            let tri = c.tris[t as usize];
-            let [a, bb, cc] = tri.map(|v| c.x[v as usize]);
-            let (n, sep0) = separating(&[xi], &[a, bb, cc], xi, q, (bb - a).cross(cc - a));
-            let gap_max = b.min_along(n) - max_along(c.boxes, &tri, n);
-            let rest_near = c.rest_near(&[i as u32], &tri, p.rest_exclusion);
-            let mut energy = !rest_near && gap_max < p.radius;
-            if !energy && gap_max >= p.delta {
-                continue;
-            }
-            if energy {
-                let key = feature_key(tri, t, w);
-                if part.seen.contains(&key) {
-                    energy = false;
-                } else {
-                    part.seen.push(key);
-                }
-            }
-            part.pairs.push(Pair {
-                v: [i as u32, tri[0], tri[1], tri[2]],
-                w: [1.0, -w[0], -w[1], -w[2]],
-                side: [1, -1, -1, -1],
-                n,
-                offset: 0.0,
-                body_bound: f32::NEG_INFINITY,
-                delta: keep(p.delta, sep0),
-                energy,
-            });
-            part.vertex_face += 1;
-        }
+    let b = c.boxes[i];
+    if !b.is_finite() {
+        return;
     }
+    let Part {
+        found, near, stack, ..
+    } = part;
+    found.clear();
+    tree.query(&b.grown(reach), stack, |t| found.push(t));
+    let xi = c.x[i];
+    near.clear();
+    near.extend(found.iter().map(|&t| {
+        let [a, bb, cc] = c.tris[t as usize].map(|v| c.x[v as usize]);
+        let (q, w) = point_triangle(xi, a, bb, cc);
+        ((xi - q).length(), t, q, w)
+    }));
+    near.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    part.seen.clear();
+    for k in 0..part.near.len() {
+        let (_, t, q, w) = part.near[k];
+        let Some(mut pair) = vertex_tri(c, p, i as u32, t, (q, w)) else {
+            continue;
+        };
+        if pair.energy {
+            let key = feature_key(c.tris[t as usize], t, w);
+            if part.seen.contains(&key) {
+                pair.energy = false;
+            } else {
+                part.seen.push(key);
+            }
+        }
+        part.pairs.push(pair);
+    }
+}
+
+/// Vertex `i` against triangle `t`, `(q, w)` the triangle's point nearest the vertex and
+/// its weights: the pair (its energy: whether it may carry energy), unless their boxes can
+/// neither bring them within the contact distance nor make them cross.
+fn vertex_tri(
+    c: &ClothView<'_>,
+    p: &ProximityParams,
+    i: u32,
+    t: u32,
+    (q, w): (Vec3, [f32; 3]),
+) -> Option<Pair> {
+    let tri = c.tris[t as usize];
+    let free = |v: u32| c.free[v as usize];
+    if tri.contains(&i) || (!free(i) && tri.iter().all(|&v| !free(v))) {
+        return None;
+    }
+    let xi = c.x[i as usize];
+    let [a, bb, cc] = tri.map(|v| c.x[v as usize]);
+    let (n, sep0) = separating(&[xi], &[a, bb, cc], xi, q, (bb - a).cross(cc - a));
+    let gap_max = c.boxes[i as usize].min_along(n) - max_along(c.boxes, &tri, n);
+    let energy = gap_max < p.radius && !c.rest_near(&[i], &tri, p.rest_exclusion);
+    if !energy && gap_max >= p.delta {
+        return None;
+    }
+    Some(Pair {
+        v: [i, tri[0], tri[1], tri[2]],
+        w: [1.0, -w[0], -w[1], -w[2]],
+        side: [1, -1, -1, -1],
+        n,
+        offset: 0.0,
+        body_bound: f32::NEG_INFINITY,
+        delta: keep(p.delta, sep0),
+        energy,
+        kind: PairKind::VertexFace,
+        body_vertex: NONE,
+    })
 }
 
 /// Edge pairs `found` (their boxes overlap) tested and listed.
@@ -329,8 +522,9 @@ fn edge_edge(c: &ClothView<'_>, p: &ProximityParams, found: &[(u32, u32)], part:
             body_bound: f32::NEG_INFINITY,
             delta: keep(p.delta, sep0),
             energy,
+            kind: PairKind::EdgeEdge,
+            body_vertex: NONE,
         });
-        part.edge_edge += 1;
     }
 }
 
@@ -428,8 +622,9 @@ mod tests {
                 floor: None,
                 threads,
             };
-            let (mut pairs, mut counts) = (Vec::new(), PairCounts::default());
-            ClothSearch::default().search(&cloth, &params, 0.002, &mut pairs, &mut counts);
+            let mut pairs = Vec::new();
+            ClothSearch::default().search(&cloth, &params, 0.002, &mut pairs);
+            let counts = crate::collision::proximity::PairCounts::of(&pairs);
             (pairs, counts)
         };
         let (pairs, counts) = search(1);

@@ -19,5 +19,5 @@ pub use contacts::count_self_contacts;
 pub use distance::{barycentric, point_triangle, segment_segment};
 pub use grid::{Aabb, BoxGrid, unique_edges};
 pub use guard::{Guarded, constrain};
-pub use pair::{ClothView, NONE, Pair, PairCounts, ProximityParams};
+pub use pair::{ClothView, NONE, Pair, PairCounts, PairKind, ProximityParams};
 pub use pairs::Proximity;

@@ -31,6 +31,26 @@ pub struct Pair {
     pub delta: f32,
     /// Whether the pair carries contact energy.
     pub energy: bool,
+    pub kind: PairKind,
+    /// A body corner-face pair's body vertex (`NONE` for the other kinds).
+    pub body_vertex: u32,
+}
+
+/// What a [`Pair`] pairs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PairKind {
+    /// A cloth vertex (slot 0) against a cloth triangle.
+    VertexFace,
+    /// A cloth edge (slots 0, 1) against a cloth edge.
+    EdgeEdge,
+    /// A cloth vertex against a body triangle.
+    BodyVertexFace,
+    /// A cloth edge against a body crease.
+    BodyEdgeEdge,
+    /// A cloth triangle against a body corner.
+    BodyCornerFace,
+    /// A cloth vertex against the floor.
+    Floor,
 }
 
 impl Pair {
@@ -117,6 +137,25 @@ impl ClothView<'_> {
                     .get(i as usize)
                     .is_some_and(|near| b.iter().any(|j| near.binary_search(j).is_ok()))
             })
+    }
+}
+
+impl PairCounts {
+    /// The counts of `pairs`.
+    pub fn of(pairs: &[Pair]) -> Self {
+        let mut c = Self::default();
+        for q in pairs {
+            *match q.kind {
+                PairKind::VertexFace => &mut c.vertex_face,
+                PairKind::EdgeEdge => &mut c.edge_edge,
+                PairKind::BodyVertexFace => &mut c.body_vertex_face,
+                PairKind::BodyEdgeEdge => &mut c.body_edge_edge,
+                PairKind::BodyCornerFace => &mut c.body_corner_face,
+                PairKind::Floor => &mut c.floor,
+            } += 1;
+            c.with_energy += q.energy as usize;
+        }
+        c
     }
 }
 

@@ -22,6 +22,14 @@
 //! along it). Listed pairs whose boxes cannot bring them within `r` along `n` are dropped:
 //! they can neither touch nor push.
 //!
+//! An update ([`Proximity::update`], after some vertices' boxes changed and the others'
+//! stayed) keeps the pairs whose vertices all kept their boxes: what those boxes let the
+//! primitives reach is as it was, and the guard has kept each such pair's bound since it
+//! was found. It searches again every pair of a primitive with a moved corner (cloth
+//! vertices, edges and triangles against the cloth and the body), and the vertex-face
+//! pairs of unmoved vertices against moved triangles; so it lists what a full search of
+//! the same boxes would.
+//!
 //! The contact energy (a penalty on `r - gap`) is carried by a subset that counts each
 //! contact once, as in Offset Geometric Contact (Chen et al. 2025): a vertex against the
 //! nearest feature of the other surface it is over (face, edge or corner, once per
@@ -30,12 +38,14 @@
 //! `rest_exclusion` there) carry no energy: the membrane holds them, and a fresh cut's
 //! two sides would push each other apart; they keep only the no-crossing bound.
 
+use std::sync::Arc;
+
 use glam::Vec3;
 
-use super::body_side;
-use super::cloth_side::{ClothSearch, Part, run_parts};
+use super::body_side::{self, BodyGrids};
+use super::cloth_side::{self, ClothSearch, Items, Part, join_parts, run_parts};
 use super::grid::Aabb;
-use super::pair::{ClothView, NONE, Pair, PairCounts, ProximityParams, keep};
+use super::pair::{ClothView, NONE, Pair, PairCounts, PairKind, ProximityParams, keep};
 use crate::collision::body::Body;
 
 /// The pairs of one frame, and each vertex's place in them.
@@ -51,9 +61,48 @@ pub struct Proximity {
     cloth: ClothSearch,
     /// The body side's threads' shares and scratch.
     body_parts: Vec<Part>,
-    /// Scratch: (body vertex, cloth feature, pair among the corner-face pairs) of the
-    /// corner-face pairs.
-    corner_keys: Vec<(u32, u64, u32)>,
+    /// Scratch for updates: vertices against moved triangles, and
+    /// [`cloth_side::nearest_feature_energy`]'s.
+    near: Vec<(u32, u32)>,
+    nearest: Vec<(u32, f32, [u32; 3], u32)>,
+    /// Scratch for [`body_side::one_energy_per_corner`].
+    corner_keys: Vec<(u32, u64, [u32; 3], u32)>,
+    /// What the last search was of (`None`: nothing yet, or forgotten).
+    searched: Option<Searched>,
+}
+
+/// What a search was of: the mesh's size, which vertices were free, the settings and the
+/// body (its hashes, held so that no other body's can take their place). An update needs
+/// the same.
+#[derive(Clone, Debug)]
+struct Searched {
+    sizes: [usize; 3],
+    free: Vec<bool>,
+    settings: (f32, f32, f32, Option<f32>),
+    body: Option<Arc<BodyGrids>>,
+}
+
+impl Searched {
+    fn of(c: &ClothView<'_>, p: &ProximityParams, body: Option<&Body>) -> Self {
+        Self {
+            sizes: [c.x.len(), c.tris.len(), c.edges.len()],
+            free: c.free.to_vec(),
+            settings: (p.radius, p.delta, p.rest_exclusion, p.floor),
+            body: body.map(|b| b.grids.clone()),
+        }
+    }
+
+    fn matches(&self, c: &ClothView<'_>, p: &ProximityParams, body: Option<&Body>) -> bool {
+        let other = Self::of(c, p, body);
+        self.sizes == other.sizes
+            && self.free == other.free
+            && self.settings == other.settings
+            && match (&self.body, &other.body) {
+                (None, None) => true,
+                (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+                _ => false,
+            }
+    }
 }
 
 impl Proximity {
@@ -74,6 +123,7 @@ impl Proximity {
     }
 
     fn clear_pairs(&mut self) {
+        self.searched = None;
         self.pairs.clear();
         self.start.clear();
         self.roles.clear();
@@ -84,45 +134,140 @@ impl Proximity {
     pub fn detect(&mut self, cloth: &ClothView<'_>, body: Option<&Body>, p: &ProximityParams) {
         self.clear_pairs();
         let reach = 0.5 * p.radius;
-        self.cloth
-            .search(cloth, p, reach, &mut self.pairs, &mut self.counts);
+        self.cloth.search(cloth, p, reach, &mut self.pairs);
+        let n = cloth.x.len();
         if let Some(body) = body {
-            self.body(cloth, body, p, reach);
+            let tris = Items::All(cloth.tris.len());
+            self.body(
+                cloth,
+                body,
+                p,
+                Items::All(n),
+                Items::All(cloth.edges.len()),
+                tris,
+            );
         }
         if let Some(floor) = p.floor {
-            self.floor(cloth, floor, p);
+            self.floor(cloth, floor, p, Items::All(n));
         }
-        self.counts.with_energy = self.pairs.iter().filter(|q| q.energy).count();
-        self.index_roles(cloth.x.len());
+        self.finish(n);
+        self.searched = Some(Searched::of(cloth, p, body));
     }
 
-    /// The cloth's vertices, edges and triangles against the body's triangles, creases
-    /// and corners, each kind split over the threads and joined in order.
-    fn body(&mut self, c: &ClothView<'_>, body: &Body, p: &ProximityParams, reach: f32) {
+    /// Updates the pairs after the boxes of the vertices `moved` changed, the others'
+    /// boxes being those of the last search, which was of this mesh with these settings
+    /// (else this is [`Proximity::detect`]). The pairs of every primitive with a moved
+    /// corner are searched again, and so are the cloth vertex-face pairs of the vertices
+    /// near a moved triangle (each vertex's nearest feature gets the energy); the others
+    /// are kept, their primitives' boxes and so what they can reach being as they were.
+    /// The pairs come out as a full search's, in another order.
+    pub fn update(
+        &mut self,
+        cloth: &ClothView<'_>,
+        body: Option<&Body>,
+        p: &ProximityParams,
+        moved: &[bool],
+    ) {
+        let n = cloth.x.len();
+        let same = self
+            .searched
+            .as_ref()
+            .is_some_and(|s| s.matches(cloth, p, body));
+        if !same || moved.len() != n {
+            return self.detect(cloth, body, p);
+        }
+        let reach = 0.5 * p.radius;
+        let is_moved = |v: u32| moved.get(v as usize) == Some(&true);
+        let moved_list: Vec<u32> = (0..n as u32).filter(|&v| is_moved(v)).collect();
+        let dirty_tris: Vec<u32> = (0..cloth.tris.len() as u32)
+            .filter(|&t| cloth.tris[t as usize].iter().any(|&v| is_moved(v)))
+            .collect();
+        let dirty_edges: Vec<u32> = (0..cloth.edges.len() as u32)
+            .filter(|&e| cloth.edges[e as usize].iter().any(|&v| is_moved(v)))
+            .collect();
+        // The vertices that did not move whose vertex-face pairs change: over a moved
+        // triangle before, or near one now. Their nearest features are chosen again.
+        let mut affected = vec![false; n];
+        for q in self.pairs.iter().filter(|q| q.kind == PairKind::VertexFace) {
+            if q.v[1..].iter().any(|&v| is_moved(v)) {
+                affected[q.v[0] as usize] = true;
+            }
+        }
+        let mut near = std::mem::take(&mut self.near);
+        self.cloth
+            .prepare_update(cloth, reach, &dirty_tris, moved, &mut near);
+        for &(i, _) in &near {
+            affected[i as usize] = true;
+        }
+        self.pairs
+            .retain(|q| !(0..4).any(|k| q.side[k] != 0 && is_moved(q.v[k])));
+        let is_dirty = |e: u32| cloth.edges[e as usize].iter().any(|&v| is_moved(v));
+        self.cloth.update(
+            cloth,
+            p,
+            reach,
+            &moved_list,
+            &near,
+            &dirty_edges,
+            is_dirty,
+            &mut self.pairs,
+        );
+        self.near = near;
+        cloth_side::nearest_feature_energy(cloth, p, &mut self.pairs, &affected, &mut self.nearest);
+        if let Some(body) = body {
+            let (vs, es) = (Items::Only(&moved_list), Items::Only(&dirty_edges));
+            self.body(cloth, body, p, vs, es, Items::Only(&dirty_tris));
+        }
+        if let Some(floor) = p.floor {
+            self.floor(cloth, floor, p, Items::Only(&moved_list));
+        }
+        self.finish(n);
+    }
+
+    /// After a search: one energy per body corner and cloth edge, the counts, and each
+    /// vertex's pairs.
+    fn finish(&mut self, n: usize) {
+        body_side::one_energy_per_corner(&mut self.pairs, &mut self.corner_keys);
+        self.counts = PairCounts::of(&self.pairs);
+        self.index_roles(n);
+    }
+
+    /// Cloth vertices `vs`, edges `es` and triangles `ts` against the body's triangles,
+    /// creases and corners, each kind split over the threads and joined in order.
+    fn body(
+        &mut self,
+        c: &ClothView<'_>,
+        body: &Body,
+        p: &ProximityParams,
+        vs: Items<'_>,
+        es: Items<'_>,
+        ts: Items<'_>,
+    ) {
+        let reach = 0.5 * p.radius;
         let parts = &mut self.body_parts;
-        run_parts(parts, p.threads, c.x.len(), |part, range| {
-            body_side::vertex_face(c, body, p, reach, part, range)
+        run_parts(parts, p.threads, vs.len(), |part, range| {
+            vs.each(range, |i| {
+                body_side::vertex_face(c, body, p, reach, part, i)
+            })
         });
-        self.counts.body_vertex_face += join_body(parts, &mut self.pairs, None);
-        run_parts(parts, p.threads, c.edges.len(), |part, range| {
-            body_side::edge_edge(c, body, p, reach, part, range)
+        join_parts(parts, &mut self.pairs);
+        run_parts(parts, p.threads, es.len(), |part, range| {
+            es.each(range, |e| body_side::edge_edge(c, body, p, reach, part, e))
         });
-        self.counts.body_edge_edge += join_body(parts, &mut self.pairs, None);
-        run_parts(parts, p.threads, c.tris.len(), |part, range| {
-            body_side::corner_face(c, body, p, reach, part, range)
+        join_parts(parts, &mut self.pairs);
+        run_parts(parts, p.threads, ts.len(), |part, range| {
+            ts.each(range, |t| {
+                body_side::corner_face(c, body, p, reach, part, t)
+            })
         });
-        let first = self.pairs.len();
-        self.corner_keys.clear();
-        self.counts.body_corner_face +=
-            join_body(parts, &mut self.pairs, Some(&mut self.corner_keys));
-        body_side::one_energy_per_corner(&mut self.corner_keys, &mut self.pairs[first..]);
+        join_parts(parts, &mut self.pairs);
     }
 
-    fn floor(&mut self, c: &ClothView<'_>, floor: f32, p: &ProximityParams) {
-        for i in 0..c.x.len() {
+    fn floor(&mut self, c: &ClothView<'_>, floor: f32, p: &ProximityParams, vs: Items<'_>) {
+        vs.each(0..vs.len(), |i| {
             let b = c.boxes[i];
             if !c.free[i] || !b.is_finite() || b.lo.y - floor >= p.radius {
-                continue;
+                return;
             }
             let sep0 = c.x[i].y - floor;
             self.pairs.push(Pair {
@@ -134,9 +279,10 @@ impl Proximity {
                 body_bound: floor,
                 delta: keep(p.delta, sep0),
                 energy: true,
+                kind: PairKind::Floor,
+                body_vertex: NONE,
             });
-            self.counts.floor += 1;
-        }
+        });
     }
 
     /// Each vertex's pairs, by counting sort.
@@ -171,25 +317,6 @@ impl Proximity {
     pub fn all_hold(&self, x: &[Vec3], slack: f32) -> bool {
         self.pairs.iter().all(|q| q.holds(x, slack))
     }
-}
-
-/// The parts' body pairs appended to `out` in order, and how many; with `keys`, their
-/// corner keys too, renumbered to count from the first pair appended.
-fn join_body(
-    parts: &[Part],
-    out: &mut Vec<Pair>,
-    mut keys: Option<&mut Vec<(u32, u64, u32)>>,
-) -> usize {
-    let (first, mut n) = (out.len(), 0);
-    for part in parts {
-        let offset = (out.len() - first) as u32;
-        if let Some(keys) = keys.as_deref_mut() {
-            keys.extend(part.corner_keys.iter().map(|&(b, f, q)| (b, f, q + offset)));
-        }
-        out.extend_from_slice(&part.pairs);
-        n += part.body;
-    }
-    n
 }
 
 /// A hash cell for a set of boxes: about their mean size, at least 2 mm.
@@ -240,6 +367,93 @@ mod tests {
             .map(|&p| Aabb::point(p).with(p - Vec3::Y * 0.002).grown(0.0005))
             .collect();
         (x, boxes, tris, pattern)
+    }
+
+    /// A pair without its energy, comparable: kind, vertices, and the rest to 1e-6.
+    fn key(q: &Pair) -> (u8, [u32; 4], [i64; 4]) {
+        let r = |f: f32| (f as f64 * 1e6).round() as i64;
+        (
+            q.kind as u8,
+            q.v,
+            [r(q.n.x), r(q.n.y), r(q.n.z), r(q.delta + q.offset + q.w[1])],
+        )
+    }
+
+    #[test]
+    fn an_update_finds_what_a_full_search_would() {
+        let body = sphere(Vec3::ZERO, 0.3, 3).expect("a sphere");
+        let (mut x, mut boxes, tris, pattern) = sheet_on_a_sphere();
+        // A second layer over part of the sheet, so that cloth pairs come too: the first
+        // rows folded back 3 mm over the rows under them.
+        for j in 0..10 {
+            for i in 0..70 {
+                let k = j * 70 + i;
+                let under = x[(19 - j) * 70 + i];
+                x[k] = under + Vec3::Y * 0.003;
+                boxes[k] = Aabb::point(x[k]).with(x[k] - Vec3::Y * 0.002).grown(0.0005);
+            }
+        }
+        let edges = unique_edges(&tris);
+        let free = vec![true; x.len()];
+        let params = ProximityParams {
+            radius: 0.004,
+            delta: 1e-4,
+            rest_exclusion: 0.03,
+            floor: Some(-0.5),
+            threads: 2,
+        };
+        let mut prox = Proximity::default();
+        let (x0, b0) = (x.clone(), boxes.clone());
+        prox.detect(
+            &ClothView {
+                x: &x0,
+                boxes: &b0,
+                tris: &tris,
+                edges: &edges,
+                pattern: &pattern,
+                bridged: &[],
+                free: &free,
+            },
+            Some(&body),
+            &params,
+        );
+        // Some vertices move (in the layer and on the sphere) and get new boxes.
+        let mut moved = vec![false; x.len()];
+        for k in (0..x.len()).filter(|k| k % 37 == 0 || (k / 70 == 15 && k % 70 < 30)) {
+            moved[k] = true;
+            x[k] += Vec3::new(0.001, -0.0015, 0.0005);
+            boxes[k] = Aabb::point(x[k]).with(x[k] - Vec3::Y * 0.004).grown(0.001);
+        }
+        let now = ClothView {
+            x: &x,
+            boxes: &boxes,
+            tris: &tris,
+            edges: &edges,
+            pattern: &pattern,
+            bridged: &[],
+            free: &free,
+        };
+        prox.update(&now, Some(&body), &params, &moved);
+        let mut full = Proximity::default();
+        full.detect(&now, Some(&body), &params);
+        let sorted = |p: &Proximity| {
+            let mut k: Vec<_> = p.pairs.iter().map(key).collect();
+            k.sort_unstable();
+            k
+        };
+        assert!(full.counts.vertex_face > 100 && full.counts.edge_edge > 100);
+        assert!(full.counts.body_corner_face > 100 && full.counts.floor == 0);
+        assert_eq!(sorted(&prox), sorted(&full));
+        // The energy is given out alike: once per vertex and feature, once per corner and
+        // edge.
+        assert_eq!(prox.counts, full.counts);
+        for i in [0, 15 * 70 + 3, 2000, x.len() - 1] {
+            assert_eq!(prox.roles(i).len(), full.roles(i).len(), "vertex {i}");
+        }
+        // Another body, or none: a full search.
+        prox.update(&now, None, &params, &moved);
+        full.detect(&now, None, &params);
+        assert_eq!(sorted(&prox), sorted(&full));
     }
 
     #[test]

@@ -28,6 +28,8 @@ const SEPARATION: f32 = 1e-4;
 /// frames after it while every vertex's motion box stays inside its searched box: a cloth
 /// at rest is searched once in many frames.
 const REUSE_MARGIN: f32 = 0.002;
+/// Searches that only look again where vertices left their boxes, between two full ones.
+const MAX_UPDATES: usize = 16;
 
 #[derive(Clone, Debug, Default)]
 pub struct Guard {
@@ -46,6 +48,10 @@ pub struct Guard {
     boxes: Vec<Aabb>,
     /// This frame's (or search span's) motion boxes.
     need: Vec<Aabb>,
+    /// Which vertices' motion boxes left their searched boxes, and how many searches
+    /// since the last full one only looked again where they did.
+    moved: Vec<bool>,
+    updates: usize,
     motion: Motion,
     /// Where the vertices are as the guard lets them move, during a pass.
     committed: Vec<Vec3>,
@@ -85,8 +91,8 @@ impl Guard {
         Motion::searches(cloth, &self.free, self.mean_edge, env, substeps)
     }
 
-    /// The pairs for the next `span` seconds: motion boxes, then a search unless the
-    /// last one's boxes hold them all.
+    /// The pairs for the next `span` seconds: motion boxes, then a search (or an update
+    /// where vertices left their boxes) unless the last one's boxes hold them all.
     #[allow(clippy::too_many_arguments)]
     pub fn search(
         &mut self,
@@ -104,19 +110,42 @@ impl Guard {
         self.motion
             .boxes(&mut self.need, cloth, &self.free, env, drive, span);
         let inside = |a: &Aabb, b: &Aabb| b.lo.cmple(a.lo).all() && a.hi.cmple(b.hi).all();
-        if self.boxes.len() == self.need.len()
-            && self.need.iter().zip(&self.boxes).all(|(a, b)| inside(a, b))
-        {
+        let searched = self.boxes.len() == self.need.len();
+        self.moved.clear();
+        if searched {
+            let boxes = self.need.iter().zip(&self.boxes);
+            self.moved.extend(boxes.map(|(a, b)| !inside(a, b)));
+        }
+        if searched && !self.moved.contains(&true) {
             self.stats.reused += 1;
             return;
         }
-        self.boxes.clear();
-        self.boxes.extend(
-            self.need
-                .iter()
-                .zip(&self.free)
-                .map(|(b, &f)| if f { b.grown(REUSE_MARGIN) } else { *b }),
-        );
+        // Some vertices left their boxes: they get new ones, and so do those whose boxes
+        // have grown loose around their motion (a box from when they moved fast), and only
+        // their pairs are searched again (`Proximity::update`). When many do, or after
+        // many such updates, a full search gives every vertex a box as tight as its
+        // motion. (Renewing the vertices about to leave their boxes too, to update less
+        // often, renewed ten times as many and cost as much as a full search.)
+        for (i, m) in self.moved.iter_mut().enumerate() {
+            let (need, had) = (&self.need[i], &self.boxes[i]);
+            *m = *m || !inside(had, &need.grown(4.0 * REUSE_MARGIN));
+        }
+        let renewed = self.moved.iter().filter(|&&m| m).count();
+        let partial = searched && renewed * 4 <= self.need.len() && self.updates < MAX_UPDATES;
+        let grow = |(b, &f): (&Aabb, &bool)| if f { b.grown(REUSE_MARGIN) } else { *b };
+        if partial {
+            for i in 0..self.need.len() {
+                if self.moved[i] {
+                    self.boxes[i] = grow((&self.need[i], &self.free[i]));
+                }
+            }
+            self.updates += 1;
+        } else {
+            self.boxes.clear();
+            self.boxes
+                .extend(self.need.iter().zip(&self.free).map(grow));
+            self.updates = 0;
+        }
         let exclusion = 2.0 * thickness + 2.0 * self.mean_edge;
         if self.bridged_for != exclusion {
             self.bridged = cloth
@@ -132,20 +161,22 @@ impl Guard {
             threads,
         };
         let t0 = std::time::Instant::now();
-        self.prox.detect(
-            &ClothView {
-                x: &cloth.x,
-                boxes: &self.boxes,
-                tris: &self.tris,
-                edges: &self.edges,
-                pattern: &self.pattern,
-                bridged: &self.bridged,
-                free: &self.free,
-            },
-            body,
-            &params,
-        );
-        self.stats.searches += 1;
+        let view = ClothView {
+            x: &cloth.x,
+            boxes: &self.boxes,
+            tris: &self.tris,
+            edges: &self.edges,
+            pattern: &self.pattern,
+            bridged: &self.bridged,
+            free: &self.free,
+        };
+        if partial {
+            self.prox.update(&view, body, &params, &self.moved);
+            self.stats.updates += 1;
+        } else {
+            self.prox.detect(&view, body, &params);
+            self.stats.searches += 1;
+        }
         self.stats.pairs = self.prox.counts;
         self.stats.detect_us += t0.elapsed().as_micros() as u64;
     }
