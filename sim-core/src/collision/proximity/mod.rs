@@ -4,6 +4,7 @@
 //! penetration-free: see `pairs.rs` for the argument and ARCHITECTURE.md for what it
 //! covers.
 
+mod body_pairs;
 mod body_side;
 mod bvh;
 mod cloth_side;

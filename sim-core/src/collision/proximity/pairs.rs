@@ -42,7 +42,8 @@ use std::sync::Arc;
 
 use glam::Vec3;
 
-use super::body_side::{self, BodyGrids};
+use super::body_pairs;
+use super::body_side::BodyGrids;
 use super::cloth_side::{self, ClothSearch, Items, Part, join_parts, run_parts};
 use super::grid::Aabb;
 use super::pair::{ClothView, NONE, Pair, PairCounts, PairKind, ProximityParams, keep};
@@ -65,7 +66,7 @@ pub struct Proximity {
     /// [`cloth_side::nearest_feature_energy`]'s.
     near: Vec<(u32, u32)>,
     nearest: Vec<(u32, f32, [u32; 3], u32)>,
-    /// Scratch for [`body_side::one_energy_per_corner`].
+    /// Scratch for [`body_pairs::one_energy_per_corner`].
     corner_keys: Vec<(u32, u64, [u32; 3], u32)>,
     /// What the last search was of (`None`: nothing yet, or forgotten).
     searched: Option<Searched>,
@@ -227,7 +228,7 @@ impl Proximity {
     /// After a search: one energy per body corner and cloth edge, the counts, and each
     /// vertex's pairs.
     fn finish(&mut self, n: usize) {
-        body_side::one_energy_per_corner(&mut self.pairs, &mut self.corner_keys);
+        body_pairs::one_energy_per_corner(&mut self.pairs, &mut self.corner_keys);
         self.counts = PairCounts::of(&self.pairs);
         self.index_roles(n);
     }
@@ -247,17 +248,17 @@ impl Proximity {
         let parts = &mut self.body_parts;
         run_parts(parts, p.threads, vs.len(), |part, range| {
             vs.each(range, |i| {
-                body_side::vertex_face(c, body, p, reach, part, i)
+                body_pairs::vertex_face(c, body, p, reach, part, i)
             })
         });
         join_parts(parts, &mut self.pairs);
         run_parts(parts, p.threads, es.len(), |part, range| {
-            es.each(range, |e| body_side::edge_edge(c, body, p, reach, part, e))
+            es.each(range, |e| body_pairs::edge_edge(c, body, p, reach, part, e))
         });
         join_parts(parts, &mut self.pairs);
         run_parts(parts, p.threads, ts.len(), |part, range| {
             ts.each(range, |t| {
-                body_side::corner_face(c, body, p, reach, part, t)
+                body_pairs::corner_face(c, body, p, reach, part, t)
             })
         });
         join_parts(parts, &mut self.pairs);
