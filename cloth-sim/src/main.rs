@@ -132,7 +132,7 @@ struct RunArgs {
     /// A resumed design keeps the model it was made with (--fresh for a new one).
     #[arg(long, value_parser = parse_model)]
     model: Option<ModelKind>,
-    /// XPBD with its guard: the cloth never crosses itself or the body (2-20x the frame
+    /// XPBD with its guard: the cloth never crosses itself or the body (2-12x the frame
     /// time; see docs/collision.md). Applies to a resumed xpbd design too.
     #[arg(long)]
     guard: bool,
@@ -215,7 +215,7 @@ struct ScenarioArgs {
     #[arg(long, value_parser = parse_model)]
     model: Option<ModelKind>,
     /// XPBD with its guard: the vbd model's proximity search and guard around each
-    /// substep, so the cloth never crosses itself or the body (2-20x the frame time; see
+    /// substep, so the cloth never crosses itself or the body (2-12x the frame time; see
     /// docs/collision.md). Off by default: the paper's fit-cube does not yet take the
     /// cube's shape with it.
     #[arg(long)]
