@@ -442,8 +442,17 @@ pub fn commands(data: &[u8]) {
         return;
     };
     let mut rest = records;
-    let model = [ModelKind::Xpbd, ModelKind::Vbd, ModelKind::Seed][pick as usize % 3];
+    // The models, and xpbd with its guard (the proximity search's updates under edits).
+    let model = [
+        ModelKind::Xpbd,
+        ModelKind::Vbd,
+        ModelKind::Seed,
+        ModelKind::Xpbd,
+    ][pick as usize % 4];
     let mut d = small_design(model);
+    if pick % 4 == 3 {
+        assert!(d.sim.set_guard(true), "xpbd takes its guard");
+    }
     let scratch = std::env::temp_dir().join(format!("saiho-fuzz-{}", std::process::id()));
     // Whether the design has been stepped since its last change.
     let mut stepped = false;
