@@ -605,23 +605,9 @@ mod tests {
         let (x, boxes, tris, pattern) = two_sheets(46);
         let edges = unique_edges(&tris);
         let free = vec![true; x.len()];
-        let cloth = ClothView {
-            x: &x,
-            boxes: &boxes,
-            tris: &tris,
-            edges: &edges,
-            pattern: &pattern,
-            bridged: &[],
-            free: &free,
-        };
+        let cloth = ClothView::unwelded((&x, &boxes), (&tris, &edges), &pattern, &free);
         let search = |threads: usize| {
-            let params = ProximityParams {
-                radius: 0.004,
-                delta: 1e-4,
-                rest_exclusion: 0.03,
-                floor: None,
-                threads,
-            };
+            let params = ProximityParams::for_tests(threads, None);
             let mut pairs = Vec::new();
             ClothSearch::default().search(&cloth, &params, 0.002, &mut pairs);
             let counts = crate::collision::proximity::PairCounts::of(&pairs);

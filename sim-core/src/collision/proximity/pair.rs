@@ -159,6 +159,41 @@ impl PairCounts {
     }
 }
 
+#[cfg(test)]
+impl ProximityParams {
+    /// The tests' settings: 4 mm contact, 0.1 mm separation, a 3 cm rest exclusion.
+    pub(super) fn for_tests(threads: usize, floor: Option<f32>) -> Self {
+        Self {
+            radius: 0.004,
+            delta: 1e-4,
+            rest_exclusion: 0.03,
+            floor,
+            threads,
+        }
+    }
+}
+
+#[cfg(test)]
+impl<'a> ClothView<'a> {
+    /// A cloth with no welds, every vertex free (`free`: as many `true`s as vertices).
+    pub(super) fn unwelded(
+        (x, boxes): (&'a [Vec3], &'a [Aabb]),
+        (tris, edges): (&'a [[u32; 3]], &'a [[u32; 2]]),
+        pattern: &'a [Vec3],
+        free: &'a [bool],
+    ) -> Self {
+        Self {
+            x,
+            boxes,
+            tris,
+            edges,
+            pattern,
+            bridged: &[],
+            free,
+        }
+    }
+}
+
 /// How many pairs of each kind the last search kept.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct PairCounts {

@@ -396,28 +396,12 @@ mod tests {
         }
         let edges = unique_edges(&tris);
         let free = vec![true; x.len()];
-        let params = ProximityParams {
-            radius: 0.004,
-            delta: 1e-4,
-            rest_exclusion: 0.03,
-            floor: Some(-0.5),
-            threads: 2,
-        };
+        let params = ProximityParams::for_tests(2, Some(-0.5));
         let mut prox = Proximity::default();
         let (x0, b0) = (x.clone(), boxes.clone());
-        prox.detect(
-            &ClothView {
-                x: &x0,
-                boxes: &b0,
-                tris: &tris,
-                edges: &edges,
-                pattern: &pattern,
-                bridged: &[],
-                free: &free,
-            },
-            Some(&body),
-            &params,
-        );
+        let mesh = (tris.as_slice(), edges.as_slice());
+        let before = ClothView::unwelded((&x0, &b0), mesh, &pattern, &free);
+        prox.detect(&before, Some(&body), &params);
         // Some vertices move (in the layer and on the sphere) and get new boxes.
         let mut moved = vec![false; x.len()];
         for k in (0..x.len()).filter(|k| k % 37 == 0 || (k / 70 == 15 && k % 70 < 30)) {
@@ -425,15 +409,7 @@ mod tests {
             x[k] += Vec3::new(0.001, -0.0015, 0.0005);
             boxes[k] = Aabb::point(x[k]).with(x[k] - Vec3::Y * 0.004).grown(0.001);
         }
-        let now = ClothView {
-            x: &x,
-            boxes: &boxes,
-            tris: &tris,
-            edges: &edges,
-            pattern: &pattern,
-            bridged: &[],
-            free: &free,
-        };
+        let now = ClothView::unwelded((&x, &boxes), mesh, &pattern, &free);
         prox.update(&now, Some(&body), &params, &moved);
         let mut full = Proximity::default();
         full.detect(&now, Some(&body), &params);
@@ -463,23 +439,9 @@ mod tests {
         let (x, boxes, tris, pattern) = sheet_on_a_sphere();
         let edges = unique_edges(&tris);
         let free = vec![true; x.len()];
-        let cloth = ClothView {
-            x: &x,
-            boxes: &boxes,
-            tris: &tris,
-            edges: &edges,
-            pattern: &pattern,
-            bridged: &[],
-            free: &free,
-        };
+        let cloth = ClothView::unwelded((&x, &boxes), (&tris, &edges), &pattern, &free);
         let search = |threads: usize| {
-            let params = ProximityParams {
-                radius: 0.004,
-                delta: 1e-4,
-                rest_exclusion: 0.03,
-                floor: None,
-                threads,
-            };
+            let params = ProximityParams::for_tests(threads, None);
             let mut prox = Proximity::default();
             prox.detect(&cloth, Some(&body), &params);
             (prox.pairs, prox.counts)
