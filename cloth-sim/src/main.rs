@@ -133,7 +133,8 @@ struct RunArgs {
     #[arg(long, value_parser = parse_model)]
     model: Option<ModelKind>,
     /// XPBD with its guard: the cloth never crosses itself or the body (2-12x the frame
-    /// time; see docs/collision.md). Applies to a resumed xpbd design too.
+    /// time, more for large sewn pieces; see docs/collision.md). Applies to a resumed
+    /// xpbd design too.
     #[arg(long)]
     guard: bool,
     /// Substeps per frame (default: the model's).
@@ -215,9 +216,9 @@ struct ScenarioArgs {
     #[arg(long, value_parser = parse_model)]
     model: Option<ModelKind>,
     /// XPBD with its guard: the vbd model's proximity search and guard around each
-    /// substep, so the cloth never crosses itself or the body (2-12x the frame time; see
-    /// docs/collision.md). Off by default: the paper's fit-cube does not yet take the
-    /// cube's shape with it.
+    /// substep, so the cloth never crosses itself or the body (2-12x the frame time, more
+    /// for large sewn pieces: two 8k-vertex dress panels 55x; see docs/collision.md). Off
+    /// by default: the paper's fit-cube does not yet take the cube's shape with it.
     #[arg(long)]
     guard: bool,
     /// Frames of 1/60 s to simulate (the operation scenarios act at frame 240).
