@@ -50,7 +50,9 @@ fn commands_are_carried_out_and_answered() {
     assert_eq!(stats.commands, 16);
     assert_eq!(stats.rejected, 5);
     let _ = std::fs::remove_file(&path);
-    for f in [autosave.clone(), cloth_sim::backup_of(&autosave)] {
+    // The autosave, its previous good version, and the design the load replaced.
+    let replaced = autosave.with_extension("before-reset.saiho");
+    for f in [autosave.clone(), cloth_sim::backup_of(&autosave), replaced] {
         let _ = std::fs::remove_file(f);
     }
 }
@@ -578,9 +580,11 @@ fn the_pens_button_acts_with_every_tool() {
     assert!(stats.pen_substeps >= 5, "{} substeps", stats.pen_substeps);
     assert_eq!(stats.coupled_substeps, 0, "no haptic loop: no limit");
     assert_eq!(stats.rejected, 0);
-    let _ = std::fs::remove_file(
-        std::env::temp_dir().join(format!("saiho-pen-{}.saiho", std::process::id())),
-    );
+    // The autosave and the previous good one it keeps beside it.
+    for f in ["saiho", "previous.saiho"] {
+        let name = format!("saiho-pen-{}.{f}", std::process::id());
+        let _ = std::fs::remove_file(std::env::temp_dir().join(name));
+    }
 }
 
 fn paint_by_pen(rig: &mut PenRig, ask: Ask<'_>) {
@@ -958,12 +962,17 @@ fn a_piece_gets_its_own_fabric_over_the_protocol() {
 struct Service {
     stop: std::sync::Arc<AtomicBool>,
     handle: std::thread::JoinHandle<()>,
+    /// Its autosave, and the previous good one beside it: removed when it finishes.
+    files: [std::path::PathBuf; 2],
 }
 
 impl Service {
     fn finish(self) {
         self.stop.store(true, Ordering::Relaxed);
         self.handle.join().unwrap();
+        for f in &self.files {
+            let _ = std::fs::remove_file(f);
+        }
     }
 }
 
@@ -973,6 +982,10 @@ fn dress_service(tag: &str) -> (ScratchDomain, Service) {
     let mut cfg = ServiceConfig::new(d.0.clone());
     cfg.autosave = std::env::temp_dir().join(format!("saiho-{tag}-{pid}.saiho"));
     cfg.seconds = Some(60.0);
+    let files = [
+        cfg.autosave.clone(),
+        std::env::temp_dir().join(format!("saiho-{tag}-{pid}.previous.saiho")),
+    ];
     let stop = std::sync::Arc::new(AtomicBool::new(false));
     let stop2 = stop.clone();
     let handle = std::thread::spawn(move || {
@@ -981,5 +994,12 @@ fn dress_service(tag: &str) -> (ScratchDomain, Service) {
         let sim = build_design(&scene).unwrap();
         run(sim, &cfg, &stop2, &mut |_| {}).unwrap();
     });
-    (d, Service { stop, handle })
+    (
+        d,
+        Service {
+            stop,
+            handle,
+            files,
+        },
+    )
 }

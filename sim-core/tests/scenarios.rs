@@ -36,7 +36,8 @@ fn fit_cube_takes_the_cubes_shape() {
         fit.ops.fit_gap_max_m.unwrap(),
     );
     assert!(mean < 0.005 && max < 0.03, "fit gap mean {mean} max {max}");
-    let (drape, _) = run(ScenarioName::DrapeCube, 40, 600);
+    let (drape, drape_out) = run(ScenarioName::DrapeCube, 40, 600);
+    let _ = std::fs::remove_dir_all(drape_out);
     let drape_mean = drape.ops.fit_gap_mean_m.unwrap();
     assert!(mean < 0.5 * drape_mean, "fit {mean} vs drape {drape_mean}");
     // The export and the design file are there and the design loads.
