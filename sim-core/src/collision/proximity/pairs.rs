@@ -94,13 +94,12 @@ impl Searched {
     }
 
     fn matches(&self, c: &ClothView<'_>, p: &ProximityParams, body: Option<&Body>) -> bool {
-        let other = Self::of(c, p, body);
-        self.sizes == other.sizes
-            && self.free == other.free
-            && self.settings == other.settings
-            && match (&self.body, &other.body) {
+        self.sizes == [c.x.len(), c.tris.len(), c.edges.len()]
+            && self.free == c.free
+            && self.settings == (p.radius, p.delta, p.rest_exclusion, p.floor)
+            && match (&self.body, body) {
                 (None, None) => true,
-                (Some(a), Some(b)) => Arc::ptr_eq(a, b),
+                (Some(a), Some(b)) => Arc::ptr_eq(a, &b.grids),
                 _ => false,
             }
     }
