@@ -254,6 +254,7 @@ fn pieces_round_trip_and_format_1_files_still_load() {
     const { assert!(FORMAT >= 2) };
     let old = Design::load_design(bytes).unwrap();
     assert!(old.pieces.is_empty());
+    assert!(!old.guarded(), "a file without the field has no guard");
     assert_eq!(old.sim.cloth.len(), 81);
     let list = old.piece_list();
     assert_eq!(list.len(), 1);
@@ -491,4 +492,29 @@ fn seams_are_named_undoably_and_the_file_keeps_their_names() {
         assert_eq!(d.seams[1].name, "left side");
     }
     assert!(d.name_seam(9, "nowhere").is_err());
+}
+
+/// The file keeps xpbd's guard (format 2 unchanged: a file without the field has it off,
+/// as the format 1 fixture above shows), and a file claiming one for a model that has
+/// none is refused.
+#[test]
+fn the_guard_is_kept_and_a_false_claim_refused() {
+    let mut d = edited();
+    d.set_guard(true).unwrap();
+    let back = Design::load_design(&d.save_design().unwrap()).unwrap();
+    assert!(back.guarded() && back.sim.never_crosses());
+    let mut cfg = ScenarioConfig::new(ScenarioName::DrapeCube);
+    cfg.grid = 6;
+    cfg.model = sim_core::solver::ModelKind::Seed;
+    let seed = build_design(&cfg).unwrap().save_design().unwrap();
+    let text = String::from_utf8_lossy(&seed).into_owned();
+    let at = text.find("\"guard\":false").expect("the field is written");
+    let mut claimed = seed.clone();
+    // Same length, so the header's size and the sections' offsets stay right.
+    claimed[at..at + 13].copy_from_slice(b"\"guard\":true ");
+    let e = Design::load_design(&reseal(claimed)).unwrap_err();
+    assert!(
+        e.to_string().contains("the seed model, which has none"),
+        "{e}"
+    );
 }

@@ -76,6 +76,16 @@ pub enum EditError {
         "the edit would remove all of the cloth; a design keeps at least one piece (start a new design instead)"
     )]
     LastCloth,
+    #[error(
+        "the {0} model has no guard against crossing (xpbd has one; vbd's contact never crosses \
+         on its own)"
+    )]
+    NoGuard(&'static str),
+    #[error(
+        "the vbd model's contact is never crossed and cannot be turned off (the xpbd model \
+         without its guard is the one that may cross)"
+    )]
+    GuardBuiltIn,
     #[error("nothing to undo")]
     NothingToUndo,
     #[error("nothing to redo")]

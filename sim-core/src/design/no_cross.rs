@@ -11,9 +11,11 @@ use std::collections::{HashMap, HashSet};
 use glam::Vec3;
 
 use super::document::Design;
+use super::error::EditError;
 use super::prim::Prim;
 use crate::collision::crossings::fan_crossings;
 use crate::mesh::Tri;
+use crate::solver::ModelKind;
 
 /// What an edit's primitives touch, and where they put it.
 struct Touched {
@@ -76,6 +78,52 @@ impl Design {
             kept,
             kept_slots,
         }
+    }
+
+    /// Whether the design's contact is never crossed by choice: the xpbd model with its
+    /// guard on (what the design file keeps; vbd's contact is never crossed whatever).
+    pub fn guarded(&self) -> bool {
+        self.sim.model == ModelKind::Xpbd && self.sim.never_crosses()
+    }
+
+    /// Turns the xpbd model's guard against crossing on or off, in place (positions,
+    /// edits and history stay); the sentence says what the contact is now. Under vbd it
+    /// is always on; the paper's model and the implicit reference have none. A cloth
+    /// that already crosses keeps those crossings when the guard comes on (it keeps each
+    /// pair from crossing further, it does not untangle), and the sentence counts them.
+    pub fn set_guard(&mut self, on: bool) -> Result<String, EditError> {
+        match self.sim.model {
+            ModelKind::Xpbd => {}
+            ModelKind::Vbd if on => {
+                return Ok("The vbd model's contact is never crossed already".into());
+            }
+            ModelKind::Vbd => return Err(EditError::GuardBuiltIn),
+            m => return Err(EditError::NoGuard(m.name())),
+        }
+        if !on {
+            self.sim.set_guard(false);
+            return Ok(
+                "The cloth may cross itself and the body's edges again (the guard is \
+                       off: frames are faster)"
+                    .into(),
+            );
+        }
+        if self.guarded() {
+            return Ok(
+                "The guard is on already: the cloth never crosses itself or the body".into(),
+            );
+        }
+        let crossed = self.sim.crossings();
+        self.sim.set_guard(true);
+        Ok(if crossed.self_pairs + crossed.body_pairs == 0 {
+            "The guard is on: from now the cloth never crosses itself or the body".into()
+        } else {
+            format!(
+                "The guard is on, but the cloth already crosses itself in {} triangle pairs \
+                 and the body in {}: those stay (undo to before, or make a new scene)",
+                crossed.self_pairs, crossed.body_pairs
+            )
+        })
     }
 
     /// Whether applying `prims` would leave the triangles they touch (those they put in
@@ -252,5 +300,76 @@ mod tests {
             d.sim.cloth.x[v].x -= 0.5;
         }
         assert_eq!(d.redo(), Ok("sew"));
+    }
+}
+
+#[cfg(test)]
+mod guard_tests {
+    use glam::Vec3;
+
+    use crate::design::{Design, EditError, floating};
+    use crate::mesh::ClothMesh;
+    use crate::solver::ModelKind;
+
+    fn sheet(model: ModelKind) -> Design {
+        floating(ClothMesh::grid(0.4, 0.4, 8, 8, 1.0).unwrap(), model)
+    }
+
+    #[test]
+    fn the_guard_is_switched_in_place_and_the_design_file_keeps_it() {
+        let mut d = sheet(ModelKind::Xpbd);
+        assert!(!d.guarded());
+        let bytes = d.save_design().unwrap();
+        assert!(!Design::load_design(&bytes).unwrap().guarded());
+        let m = d.set_guard(true).unwrap();
+        assert!(m.contains("never crosses"), "{m}");
+        assert!(d.guarded() && d.sim.never_crosses());
+        let again = Design::load_design(&d.save_design().unwrap()).unwrap();
+        assert!(again.guarded(), "the file keeps the guard");
+        assert!(d.set_guard(false).is_ok());
+        assert!(!d.guarded() && !d.sim.never_crosses());
+        assert!(
+            !Design::load_design(&d.save_design().unwrap())
+                .unwrap()
+                .guarded()
+        );
+    }
+
+    #[test]
+    fn the_models_without_a_switch_say_why() {
+        for model in [ModelKind::Seed, ModelKind::Implicit] {
+            let mut d = sheet(model);
+            assert_eq!(d.set_guard(true), Err(EditError::NoGuard(model.name())));
+            assert!(!d.sim.never_crosses());
+        }
+        let mut v = sheet(ModelKind::Vbd);
+        assert!(v.set_guard(true).is_ok());
+        assert_eq!(v.set_guard(false), Err(EditError::GuardBuiltIn));
+        assert!(v.sim.never_crosses());
+    }
+
+    #[test]
+    fn a_cloth_that_already_crosses_keeps_its_crossings_and_is_told_so() {
+        let mut d = sheet(ModelKind::Xpbd);
+        // One corner pushed down through the sheet's middle.
+        let mid = 4 + 9 * 4;
+        let under = d.sim.cloth.x[mid] - Vec3::Y * 0.05;
+        for (v, off) in [
+            (0usize, Vec3::ZERO),
+            (1, Vec3::X * 0.05),
+            (9, Vec3::Z * 0.05),
+        ] {
+            d.sim.cloth.x[v] = under + off;
+        }
+        let lifted = d.sim.cloth.x[0] + Vec3::Y * 0.1;
+        d.sim.cloth.x[10] = lifted;
+        let crossed = d.sim.crossings().self_pairs;
+        assert!(crossed > 0);
+        let m = d.set_guard(true).unwrap();
+        assert!(
+            m.contains(&format!("itself in {crossed} triangle pairs")),
+            "{m}"
+        );
+        assert!(d.guarded());
     }
 }

@@ -78,6 +78,10 @@ pub struct Header {
     pub tear_enabled: bool,
     pub tear_threshold: f32,
     pub tear_split: bool,
+    /// The xpbd model's guard against crossing is on (files from before it was saved
+    /// have none: off).
+    #[serde(default)]
+    pub guard: bool,
     pub texture_width: usize,
     pub texture_height: usize,
     pub sections: Vec<Section>,

@@ -56,6 +56,13 @@ impl Design {
         }
         let mut sim = Simulation::new(cloth, body, model, h.material, env, Some(h.substeps))
             .map_err(|e| corrupt(e.to_string()))?;
+        if h.guard && model != ModelKind::Xpbd {
+            return Err(corrupt(format!(
+                "the guard against crossing is on for the {} model, which has none",
+                model.name()
+            )));
+        }
+        sim.set_guard(h.guard);
         // A cloth that blew up was saved moving faster than any cloth does; it loads (a
         // design this build wrote must), slowed to MAX_SPEED, and says so.
         let mut slowed = 0;
@@ -83,7 +90,8 @@ impl Design {
             design.sim.notices.push(format!(
                 "the design's cloth crosses itself in {} pairs of triangles and the body in {} \
                  (it was saved so, as the xpbd model leaves it); it loads as it is: the vbd \
-                 model keeps every pair from crossing further but does not untangle these",
+                 model and xpbd's guard keep every pair from crossing further but do not \
+                 untangle these",
                 crossed.self_pairs, crossed.body_pairs
             ));
         }

@@ -93,6 +93,7 @@ impl Design {
             tear_enabled: self.tear.enabled,
             tear_threshold: self.tear.threshold,
             tear_split: self.tear.mode == TearMode::Split,
+            guard: self.guarded(),
             texture_width: self.texture.width,
             texture_height: self.texture.height,
             sections: table,
