@@ -86,6 +86,7 @@ pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
         Command::Undo => design.undo().map(|l| format!("Undone: {l}")).map_err(e),
         Command::Redo => design.redo().map(|l| format!("Redone: {l}")).map_err(e),
         Command::SetTearing(t) => set_tearing(design, *t),
+        Command::SetGuard { on } => design.set_guard(*on).map_err(e),
         Command::Save { path } => design
             .refresh_png_cache()
             .and_then(|_| design.save_design_file(std::path::Path::new(path)))

@@ -16,11 +16,11 @@ use iceoryx2::port::update_connections::UpdateConnections;
 use shared::command::Command;
 use shared::ports::{SimPorts, SimSizes};
 use shared::sim_to_ui::ToolState;
-use shared::telemetry::SimTelemetry;
+use shared::telemetry::{SimTelemetry, scene_model};
 use shared::ui_to_sim::CommandReply;
 use shared::{Header, services};
 use sim_core::design::{Design, TILE};
-use sim_core::solver::FrameStats;
+use sim_core::solver::{FrameStats, ModelKind};
 
 use crate::autosave::Autosave;
 use crate::commands::{carry_out, replacement};
@@ -310,10 +310,14 @@ impl Service<'_> {
                 Ok(shared::sim_to_ui::tool::sentence(*tool).to_string())
             }
             Command::Reset { .. } | Command::Load { .. } => {
+                // A new scene keeps the guard the designer chose; a loaded design has its
+                // own (the file keeps it), unless cloth-sim was started with `--guard`.
+                let guard = self.cfg.scene.guard
+                    || (matches!(c, Command::Reset { .. }) && self.design.guarded());
                 let (next, m) = replacement(&mut self.design, c, self.cfg)?;
                 self.design = next;
                 self.design.sim.set_threads(self.threads);
-                if self.cfg.scene.guard {
+                if guard {
                     self.design.sim.set_guard(true);
                 }
                 // The new design counts its own frames (a loaded one may be behind): the
@@ -486,6 +490,13 @@ impl Service<'_> {
                 m.density, m.stretch, m.shear, m.bending, m.friction, m.damping,
             ];
             (tel.body, tel.grid) = scene_of(&self.design);
+            tel.model = match sim.model {
+                ModelKind::Xpbd => scene_model::XPBD,
+                ModelKind::Vbd => scene_model::VBD,
+                ModelKind::Seed => scene_model::SEED,
+                ModelKind::Implicit => scene_model::IMPLICIT,
+            };
+            tel.never_crosses = u32::from(sim.never_crosses());
             let _ = self.ports.telemetry.send_copy(**tel);
             self.tel_at = (Instant::now(), sim.frame);
         }

@@ -44,10 +44,11 @@ fn commands_are_carried_out_and_answered() {
     let meshes = paint_reaches_a_late_viewer(&node, &mut ask, &frames);
     reset_and_load(&mut ask, &meshes, &path);
     material_in_place(&node, &mut ask);
+    guard_in_place(&node, &mut ask);
     drop(states);
     STOP.store(true, Ordering::Relaxed);
     let stats = handle.join().unwrap();
-    assert_eq!(stats.commands, 16);
+    assert_eq!(stats.commands, 19);
     assert_eq!(stats.rejected, 5);
     let _ = std::fs::remove_file(&path);
     // The autosave, its previous good version, and the design the load replaced.
@@ -427,6 +428,54 @@ fn material_in_place(node: &Node, ask: Ask<'_>) {
         "{}",
         r.message()
     );
+}
+
+/// xpbd's guard goes on in place and the telemetry says so; a new scene keeps it; it
+/// goes off again.
+fn guard_in_place(node: &Node, ask: Ask<'_>) {
+    let telemetry = ports::subscriber(node, services::sim_telemetry, None).unwrap();
+    let wait_for = |what: &str, want: &dyn Fn(&shared::telemetry::SimTelemetry) -> bool| {
+        let deadline = Instant::now() + Duration::from_secs(5);
+        loop {
+            if let Some(t) = telemetry.receive().unwrap()
+                && want(&t)
+            {
+                return;
+            }
+            assert!(Instant::now() < deadline, "no telemetry of {what}");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    };
+    let guard = |on| ToolCommand {
+        op: op::SET_GUARD,
+        mode: on,
+        ..Default::default()
+    };
+    // The loaded drape crosses the cube (plain xpbd made it): those crossings are named.
+    let r = ask(guard(1));
+    assert!(
+        r.ok == 1
+            && r.message()
+                .contains("The guard is on, but the cloth already crosses"),
+        "{}",
+        r.message()
+    );
+    use shared::telemetry::scene_model;
+    wait_for("the guard on", &|t| {
+        t.model == scene_model::XPBD && t.never_crosses == 1
+    });
+    let r = ask(ToolCommand {
+        op: op::RESET,
+        a: 6,
+        b: shared::ui_to_sim::body::CUBE,
+        ..Default::default()
+    });
+    assert_eq!(r.ok, 1, "{}", r.message());
+    wait_for("a new scene with the guard", &|t| {
+        t.grid == 6 && t.never_crosses == 1
+    });
+    assert_eq!(ask(guard(0)).ok, 1);
+    wait_for("the guard off", &|t| t.never_crosses == 0);
 }
 
 /// A client of the command service that waits for the reply to each request (the server

@@ -167,6 +167,10 @@ pub enum Command {
         seam: u32,
         name: String,
     },
+    /// The xpbd model's guard against crossing on or off.
+    SetGuard {
+        on: bool,
+    },
 }
 
 /// Why a command cannot be put on the wire.
@@ -239,6 +243,7 @@ impl Command {
             Self::SetFabric { .. } => op::SET_FABRIC,
             Self::SetPieceFabric { .. } => op::SET_PIECE_FABRIC,
             Self::NameSeam { .. } => op::NAME_SEAM,
+            Self::SetGuard { .. } => op::SET_GUARD,
         }
     }
 
@@ -261,6 +266,7 @@ impl Command {
             Self::Sew { a, b } => (c.a, c.b) = (*a, *b),
             Self::Tear { a, b, split } => (c.a, c.b, c.mode) = (*a, *b, u32::from(*split)),
             Self::Pin { vertex, pinned } => (c.a, c.mode) = (*vertex, u32::from(*pinned)),
+            Self::SetGuard { on } => c.mode = u32::from(*on),
             Self::Paint {
                 point,
                 radius_m,
@@ -440,6 +446,7 @@ impl Command {
                 seam: c.a,
                 name: text(c),
             },
+            op::SET_GUARD => Self::SetGuard { on: c.mode == 1 },
             op::SEAM_PLANE => Self::SeamPlane {
                 a: [[u[0], u[1]], [u[2], u[3]]],
                 b: [[u[4], u[5]], [u[6], u[7]]],
@@ -597,6 +604,8 @@ mod tests {
                 seam: 2,
                 name: "left side, 1 cm".into(),
             },
+            Command::SetGuard { on: true },
+            Command::SetGuard { on: false },
         ]
     }
 
@@ -625,6 +634,11 @@ mod tests {
         let mut wire = Command::Undo.to_wire(Header::next(&mut seq)).unwrap();
         wire.op = op::LAST + 1;
         assert!(Command::from_wire(&wire).is_err());
+        let mut wire = Command::SetGuard { on: true }
+            .to_wire(Header::next(&mut seq))
+            .unwrap();
+        wire.mode = 2;
+        assert!(Command::from_wire(&wire).is_err(), "guard 2");
         let mut wire = Command::Undo.to_wire(Header::next(&mut seq)).unwrap();
         wire.header.protocol += 1;
         assert!(matches!(

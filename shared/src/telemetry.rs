@@ -174,6 +174,21 @@ pub struct SimTelemetry {
     pub grid: u32,
     /// Pinned vertices of the design (what a test of lost edits counts after a restart).
     pub pinned: u32,
+    /// The design's cloth model ([`scene_model`]).
+    pub model: u32,
+    /// 1 when its contact is never crossed (vbd, or xpbd with its guard on), else 0.
+    pub never_crosses: u32,
+}
+
+/// [`SimTelemetry::model`] values.
+pub mod scene_model {
+    pub const XPBD: u32 = 0;
+    pub const VBD: u32 = 1;
+    pub const SEED: u32 = 2;
+    pub const IMPLICIT: u32 = 3;
+    pub const LAST: u32 = IMPLICIT;
+    /// Each model's name, by code (as `--model` spells them).
+    pub const NAMES: [&str; 4] = ["xpbd", "vbd", "seed", "implicit"];
 }
 
 /// [`SimTelemetry::body`] values.
@@ -201,6 +216,12 @@ impl Checked for SimTelemetry {
         }
         if self.body > scene_body::LAST {
             return Err(format!("unknown body {}", self.body));
+        }
+        if self.model > scene_model::LAST || self.never_crosses > 1 {
+            return Err(format!(
+                "unknown model {} or contact {}",
+                self.model, self.never_crosses
+            ));
         }
         Ok(())
     }

@@ -73,7 +73,11 @@ pub mod op {
     /// Seam `a` (as `saiho/pieces` lists them) named `text` (UTF-8, at most 120
     /// characters; empty: it goes by its letter again), undoably.
     pub const NAME_SEAM: u32 = 24;
-    pub const LAST: u32 = NAME_SEAM;
+    /// The xpbd model's guard against crossing on (`mode` 1) or off (0), in place: with
+    /// it on, the cloth never crosses itself or the body (frames cost several times
+    /// more). Refused for the models without one; vbd's contact is never crossed whatever.
+    pub const SET_GUARD: u32 = 25;
+    pub const LAST: u32 = SET_GUARD;
 }
 
 /// [`ToolCommand::b`] of a RESET: the body.
@@ -204,6 +208,9 @@ impl Checked for ToolCommand {
             && self.text().is_none_or(str::is_empty)
         {
             return Err("save, load and export need a UTF-8 path".into());
+        }
+        if self.op == op::SET_GUARD && self.mode > 1 {
+            return Err(format!("guard {} (0 off, 1 on)", self.mode));
         }
         if self.op == op::NAME_SEAM && self.text().is_none() {
             return Err("a seam's name must be UTF-8 text".into());

@@ -186,6 +186,7 @@ fn command_seeds(dir: &Path) -> std::io::Result<()> {
             seam: 0,
             name: "left side".into(),
         },
+        Command::SetGuard { on: true },
         Command::RemoveRegion {
             min: [0.2, 0.2],
             max: [0.6, 0.6],
