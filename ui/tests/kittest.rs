@@ -653,3 +653,42 @@ fn seam_by_two_drags(h: &mut Harness<'static, App>) {
     assert!(s.value > 0.0 && s.value <= 0.05, "{}", s.value);
     assert!(h.state().pieces.seam_sides.is_empty());
 }
+
+/// The scene panel's switch for xpbd's guard shows what cloth-sim reports and sends the
+/// change; under vbd there is no switch (its contact is never crossed), only a note.
+#[test]
+fn the_guard_is_switched_from_the_scene_panel() {
+    use shared::telemetry::{SimTelemetry, scene_model};
+    let mut h = harness();
+    let label = "Never cross (guard)";
+    assert!(
+        h.query_by_label(label).is_none(),
+        "nothing heard: no switch"
+    );
+    let tel = |model, never_crosses| {
+        Some(Box::new(SimTelemetry {
+            model,
+            never_crosses,
+            ..Default::default()
+        }))
+    };
+    h.state_mut().store.sim_tel = tel(scene_model::XPBD, 0);
+    h.run_steps(2);
+    assert!(h.query_by_label("Model: xpbd").is_some());
+    press(&mut h, label);
+    let c = *commands(&h).last().unwrap();
+    assert_eq!((c.op, c.mode), (op::SET_GUARD, 1));
+    // cloth-sim reports it on: pressed again, it goes off.
+    h.state_mut().store.sim_tel = tel(scene_model::XPBD, 1);
+    h.run_steps(2);
+    press(&mut h, label);
+    let c = *commands(&h).last().unwrap();
+    assert_eq!((c.op, c.mode), (op::SET_GUARD, 0));
+    h.state_mut().store.sim_tel = tel(scene_model::VBD, 1);
+    h.run_steps(2);
+    assert!(h.query_by_label(label).is_none());
+    assert!(
+        h.query_by_label("Contact: never crossed (the vbd model)")
+            .is_some()
+    );
+}

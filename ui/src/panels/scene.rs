@@ -1,10 +1,11 @@
-//! The scene panel: body and grid of a new scene (with the material panel's values), and
+//! The scene panel: the running design's model and whether its cloth may cross (the
+//! guard's switch), body and grid of a new scene (with the material panel's values), and
 //! the reset that builds it.
 
 use std::time::{Duration, Instant};
 
 use shared::command::{BodyChoice, Command};
-use shared::telemetry::{SimTelemetry, scene_body};
+use shared::telemetry::{SimTelemetry, scene_body, scene_model};
 
 use super::material::MaterialChoice;
 use crate::action::Action;
@@ -17,6 +18,9 @@ pub struct ScenePanel {
     reset_armed: Option<Instant>,
     /// The running design's body and grid, as cloth-sim last reported them.
     running: Option<(u32, u32)>,
+    /// The guard last asked for, shown until cloth-sim's telemetry (once a second)
+    /// reports it or a few seconds pass.
+    guard_asked: Option<(bool, Instant)>,
 }
 
 impl Default for ScenePanel {
@@ -26,6 +30,7 @@ impl Default for ScenePanel {
             grid: 64,
             reset_armed: None,
             running: None,
+            guard_asked: None,
         }
     }
 }
@@ -61,6 +66,56 @@ impl ScenePanel {
         }
     }
 
+    /// The running model and its contact: a switch for xpbd's guard, a note for the
+    /// others.
+    fn contact(
+        &mut self,
+        ui: &mut egui::Ui,
+        tel: Option<&SimTelemetry>,
+        actions: &mut Vec<Action>,
+    ) {
+        let Some(t) = tel else { return };
+        let reported = t.never_crosses == 1;
+        if let Some((asked, at)) = self.guard_asked
+            && (asked == reported || at.elapsed() > Duration::from_secs(4))
+        {
+            self.guard_asked = None;
+        }
+        let model = scene_model::NAMES
+            .get(t.model as usize)
+            .copied()
+            .unwrap_or("?");
+        match t.model {
+            scene_model::XPBD => {
+                let mut on = self.guard_asked.map_or(reported, |(asked, _)| asked);
+                let hint = "On: the cloth never passes through itself or the body's edges \
+                     (contact checked between every pair of nearby triangles; frames cost \
+                     several times more). Off: faster, and the cloth may cross. Crossings \
+                     already there stay.";
+                if ui
+                    .checkbox(&mut on, "Never cross (guard)")
+                    .on_hover_text(hint)
+                    .changed()
+                {
+                    self.guard_asked = Some((on, Instant::now()));
+                    actions.push(Action::Command(Command::SetGuard { on }));
+                }
+            }
+            scene_model::VBD => {
+                ui.label("Contact: never crossed (the vbd model)")
+                    .on_hover_text("The vbd model's contact cannot be crossed; it has no switch");
+            }
+            _ => {
+                ui.label(format!("Contact: the body only ({model} model)"))
+                    .on_hover_text(
+                        "This model has no guard against crossing; run xpbd or vbd for one",
+                    );
+            }
+        }
+        ui.label(format!("Model: {model}"))
+            .on_hover_text("The cloth model cloth-sim runs (chosen with cloth-sim run --model)");
+    }
+
     pub fn ui(
         &mut self,
         ui: &mut egui::Ui,
@@ -87,6 +142,7 @@ impl ScenePanel {
             ))
             .on_hover_text("The running design, as cloth-sim reports it");
         }
+        self.contact(ui, tel, actions);
         ui.horizontal(|ui| {
             ui.label("Body");
             egui::ComboBox::from_id_salt("body")
