@@ -50,6 +50,7 @@ fn histogram_ms(h: &Histogram) -> Percentiles {
         p50: h.quantile_ns(0.5) as f64 * 1e-6,
         p99: h.quantile_ns(0.99) as f64 * 1e-6,
         max: h.max_ns as f64 * 1e-6,
+        mean: h.mean_ns() * 1e-6,
     }
 }
 

@@ -59,6 +59,27 @@ impl Histogram {
         self.max_ns = self.max_ns.max(ns);
     }
 
+    /// The mean of the records, each taken at its bucket's middle (at most the maximum),
+    /// ns; 0 with none.
+    pub fn mean_ns(&self) -> f64 {
+        if self.total == 0 {
+            return 0.0;
+        }
+        let sum: f64 = (0..BUCKETS)
+            .filter(|&b| self.counts[b] > 0)
+            .map(|b| {
+                let lo = Self::bucket_floor_ns(b) as f64;
+                let hi = if b + 1 < BUCKETS {
+                    Self::bucket_floor_ns(b + 1) as f64
+                } else {
+                    self.max_ns as f64
+                };
+                self.counts[b] as f64 * (0.5 * (lo + hi)).min(self.max_ns as f64)
+            })
+            .sum();
+        sum / self.total as f64
+    }
+
     /// The value under which a fraction `q` of the records fall (the bucket's upper edge,
     /// or the maximum for the last bucket), ns.
     pub fn quantile_ns(&self, q: f64) -> u64 {
@@ -141,6 +162,11 @@ mod tests {
         assert_eq!(Histogram::bucket_of(1_000_700), 1000);
         assert_eq!(Histogram::bucket_of(2_150_000), FINE_BUCKETS + 1);
         assert_eq!(Histogram::bucket_floor_ns(FINE_BUCKETS + 1), 2_100_000);
+        // The mean: the 1000 records lie at their buckets' middles, and
+        // the 5 ms one at most its own value.
+        let want = (1000.0 * 501_000.0 + 5_000_000.0) / 1001.0;
+        assert!((h.mean_ns() - want).abs() < 1_000.0, "{}", h.mean_ns());
+        assert_eq!(Histogram::default().mean_ns(), 0.0);
     }
 }
 
