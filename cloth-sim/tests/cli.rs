@@ -84,7 +84,10 @@ fn drape_cube_writes_report_and_meshes() {
         assert!(report["step_ms"][key].as_f64().unwrap() > 0.0);
     }
     let ms = |k: &str| report["step_ms"][k].as_f64().unwrap();
-    assert!(ms("mean") <= ms("max"), "the mean frame is no longer than the longest");
+    assert!(
+        ms("mean") <= ms("max"),
+        "the mean frame is no longer than the longest"
+    );
     let (strain, strain_max) = (
         report["strain_mean"].as_f64().unwrap(),
         report["strain_max"].as_f64().unwrap(),
