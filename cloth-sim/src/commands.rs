@@ -402,6 +402,19 @@ fn apply_material(m: &mut Material, c: &MaterialChange) {
 
 /// The design that replaces the current one for a RESET or LOAD command (the current one
 /// is saved first, next to the autosave, so a reset loses nothing).
+/// The model a [`scene_model`](shared::telemetry::scene_model) code names.
+fn model_of(code: u32) -> Result<sim_core::solver::ModelKind, String> {
+    use shared::telemetry::scene_model as m;
+    use sim_core::solver::ModelKind;
+    Ok(match code {
+        m::XPBD => ModelKind::Xpbd,
+        m::VBD => ModelKind::Vbd,
+        m::SEED => ModelKind::Seed,
+        m::IMPLICIT => ModelKind::Implicit,
+        other => return Err(format!("unknown model {other}")),
+    })
+}
+
 pub(crate) fn replacement(
     design: &mut Design,
     c: &Command,
@@ -422,8 +435,12 @@ pub(crate) fn replacement(
             grid,
             material,
             substeps,
+            model,
         } => {
             let mut scene = cfg.scene.clone();
+            if let Some(m) = model {
+                scene.model = model_of(*m)?;
+            }
             let kind = match body {
                 BodyChoice::Sphere => BodyKind::Sphere,
                 BodyChoice::Mannequin => BodyKind::Mannequin,
@@ -440,8 +457,11 @@ pub(crate) fn replacement(
             }
             let d = build_design(&scene).map_err(|e| e.to_string())?;
             let msg = format!(
-                "New design: a {}x{} cloth over the {}",
-                scene.grid, scene.grid, name
+                "New design: a {}x{} cloth over the {} ({} model)",
+                scene.grid,
+                scene.grid,
+                name,
+                scene.model.name()
             );
             (d, msg)
         }

@@ -48,7 +48,7 @@ fn commands_are_carried_out_and_answered() {
     drop(states);
     STOP.store(true, Ordering::Relaxed);
     let stats = handle.join().unwrap();
-    assert_eq!(stats.commands, 19);
+    assert_eq!(stats.commands, 21);
     assert_eq!(stats.rejected, 5);
     let _ = std::fs::remove_file(&path);
     // The autosave, its previous good version, and the design the load replaced.
@@ -476,6 +476,26 @@ fn guard_in_place(node: &Node, ask: Ask<'_>) {
     });
     assert_eq!(ask(guard(0)).ok, 1);
     wait_for("the guard off", &|t| t.never_crosses == 0);
+    // A new scene under another model.
+    let mut vbd = ToolCommand {
+        op: op::RESET,
+        a: 6,
+        b: shared::ui_to_sim::body::CUBE,
+        ..Default::default()
+    };
+    vbd.rgba[0] = 1 + scene_model::VBD as u8;
+    let r = ask(vbd);
+    assert!(
+        r.ok == 1 && r.message().contains("(vbd model)"),
+        "{}",
+        r.message()
+    );
+    wait_for("the vbd scene", &|t| {
+        t.model == scene_model::VBD && t.never_crosses == 1
+    });
+    // Under vbd there is no guard to switch off.
+    let r = ask(guard(0));
+    assert!(r.ok == 0 && r.message().contains("vbd"), "{}", r.message());
 }
 
 /// A client of the command service that waits for the reply to each request (the server

@@ -118,6 +118,9 @@ pub enum Command {
         grid: Option<u32>,
         material: MaterialChange,
         substeps: Option<u32>,
+        /// The cloth model, a [`scene_model`](crate::telemetry::scene_model) code (`None`:
+        /// cloth-sim's own, its `--model`).
+        model: Option<u32>,
     },
     /// Load the design file at `path` in place of the current design.
     Load {
@@ -311,7 +314,9 @@ impl Command {
                 grid,
                 material,
                 substeps,
+                model,
             } => {
+                c.rgba[0] = model.map_or(0, |m| (m + 1).min(255) as u8);
                 c.b = match which {
                     BodyChoice::Cube => body::CUBE,
                     BodyChoice::Sphere => body::SPHERE,
@@ -410,6 +415,7 @@ impl Command {
                 grid: some_nonzero(c.a),
                 material: MaterialChange::from_wire(u),
                 substeps: some_nonzero(c.mode),
+                model: u32::from(c.rgba[0]).checked_sub(1),
             },
             op::LOAD => Self::Load { path: text(c) },
             op::SET_MATERIAL => Self::SetMaterial {
@@ -541,12 +547,14 @@ mod tests {
                 grid: Some(96),
                 material,
                 substeps: Some(9),
+                model: Some(crate::telemetry::scene_model::VBD),
             },
             Command::Reset {
                 body: BodyChoice::Sphere,
                 grid: None,
                 material: MaterialChange::default(),
                 substeps: None,
+                model: None,
             },
             Command::Load {
                 path: "design.saiho".into(),
@@ -639,6 +647,17 @@ mod tests {
             .unwrap();
         wire.mode = 2;
         assert!(Command::from_wire(&wire).is_err(), "guard 2");
+        let mut wire = Command::Reset {
+            body: BodyChoice::Cube,
+            grid: None,
+            material: MaterialChange::default(),
+            substeps: None,
+            model: None,
+        }
+        .to_wire(Header::next(&mut seq))
+        .unwrap();
+        wire.rgba[0] = 5;
+        assert!(Command::from_wire(&wire).is_err(), "model 5");
         let mut wire = Command::Undo.to_wire(Header::next(&mut seq)).unwrap();
         wire.header.protocol += 1;
         assert!(matches!(

@@ -39,7 +39,9 @@ pub mod op {
     /// Start a new design: the scene rebuilt over body `b` (see [`body`]) with grid `a`
     /// (0 keeps the current one) and material `uv[0..6]` = (density kg/m^2, stretch N/m,
     /// shear N/m, bending N m, friction, damping 1/s), 0 keeping the current value, and
-    /// `mode` substeps per frame (0: cloth-sim's setting). The
+    /// `mode` substeps per frame (0: cloth-sim's setting), and since version 8 the cloth
+    /// model `rgba[0]` (0: cloth-sim's own, its `--model`; else 1 + a
+    /// [`scene_model`](crate::telemetry::scene_model) code). The
     /// design being replaced is saved first, next to the autosave (`*.before-reset.saiho`).
     pub const RESET: u32 = 14;
     /// Load the design file at the path in `text` in place of the current design (which
@@ -240,6 +242,12 @@ impl Checked for ToolCommand {
             }
             if self.a != 0 && !(2..=256).contains(&self.a) {
                 return Err(format!("grid {} (2 to 256 cells a side)", self.a));
+            }
+            if u32::from(self.rgba[0]) > crate::telemetry::scene_model::LAST + 1 {
+                return Err(format!(
+                    "unknown model {} (0 cloth-sim's own, 1 xpbd, 2 vbd, 3 seed, 4 implicit)",
+                    self.rgba[0]
+                ));
             }
             if self.uv.iter().any(|v| *v < 0.0) {
                 return Err("material values must not be negative".into());

@@ -674,7 +674,10 @@ fn the_guard_is_switched_from_the_scene_panel() {
     };
     h.state_mut().store.sim_tel = tel(scene_model::XPBD, 0);
     h.run_steps(2);
-    assert!(h.query_by_label("Model: xpbd").is_some());
+    assert!(
+        h.query_by_label("Now: an edited cloth over the cube, xpbd model")
+            .is_some()
+    );
     press(&mut h, label);
     let c = *commands(&h).last().unwrap();
     assert_eq!((c.op, c.mode), (op::SET_GUARD, 1));
@@ -691,4 +694,27 @@ fn the_guard_is_switched_from_the_scene_panel() {
         h.query_by_label("Contact: never crossed (the vbd model)")
             .is_some()
     );
+}
+
+/// A new scene can run another cloth model: the chooser starts at the running one, and
+/// New scene sends the one chosen.
+#[test]
+fn a_new_scene_takes_the_model_chosen() {
+    use shared::telemetry::{SimTelemetry, scene_model};
+    let mut h = harness();
+    h.state_mut().store.sim_tel = Some(Box::new(SimTelemetry {
+        model: scene_model::XPBD,
+        ..Default::default()
+    }));
+    h.run_steps(2);
+    press(&mut h, "New scene");
+    press(&mut h, "Click again to reset");
+    let c = *commands(&h).last().unwrap();
+    assert_eq!((c.op, c.rgba[0]), (op::RESET, 1 + scene_model::XPBD as u8));
+    press(&mut h, "Model");
+    press(&mut h, "vbd");
+    press(&mut h, "New scene");
+    press(&mut h, "Click again to reset");
+    let c = *commands(&h).last().unwrap();
+    assert_eq!((c.op, c.rgba[0]), (op::RESET, 1 + scene_model::VBD as u8));
 }

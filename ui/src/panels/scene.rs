@@ -10,14 +10,17 @@ use shared::telemetry::{SimTelemetry, scene_body, scene_model};
 use super::material::MaterialChoice;
 use crate::action::Action;
 
-/// What a reset builds: body and grid (the default is cloth-sim's cloth on the cube).
+/// What a reset builds: body, grid and cloth model (the default is cloth-sim's cloth on
+/// the cube, under cloth-sim's own model).
 pub struct ScenePanel {
     pub body: BodyChoice,
     pub grid: u32,
+    /// A [`scene_model`] code; `None` until cloth-sim reports one (then its own).
+    pub model: Option<u32>,
     /// A reset waits for a second click within a few seconds.
     reset_armed: Option<Instant>,
-    /// The running design's body and grid, as cloth-sim last reported them.
-    running: Option<(u32, u32)>,
+    /// The running design's body, grid and model, as cloth-sim last reported them.
+    running: Option<(u32, u32, u32)>,
     /// The guard last asked for, shown until cloth-sim's telemetry (once a second)
     /// reports it or a few seconds pass.
     guard_asked: Option<(bool, Instant)>,
@@ -28,12 +31,29 @@ impl Default for ScenePanel {
         Self {
             body: BodyChoice::Cube,
             grid: 64,
+            model: None,
             reset_armed: None,
             running: None,
             guard_asked: None,
         }
     }
 }
+
+/// A model's name as `--model` spells it.
+fn model_name(code: u32) -> &'static str {
+    scene_model::NAMES
+        .get(code as usize)
+        .copied()
+        .unwrap_or("?")
+}
+
+/// What each model is for, as the Scene panel's chooser says.
+const MODEL_HINTS: [&str; 4] = [
+    "xpbd: the one to design with; fast, and with the guard switched on it never crosses",
+    "vbd: never crosses and holds the fabric's stiffness; several times slower",
+    "seed: the 2005 paper's mass-spring model, as it was",
+    "implicit: the reference (backward Euler); slow, for checking a drape's rest shape",
+];
 
 /// A body's name as the Scene panel shows it.
 fn body_name(code: u32) -> &'static str {
@@ -51,10 +71,11 @@ impl ScenePanel {
     /// a load, a restart), the next scene starts from it.
     fn follow(&mut self, tel: Option<&SimTelemetry>) {
         let Some(t) = tel else { return };
-        if self.running == Some((t.body, t.grid)) {
+        if self.running == Some((t.body, t.grid, t.model)) {
             return;
         }
-        self.running = Some((t.body, t.grid));
+        self.running = Some((t.body, t.grid, t.model));
+        self.model = Some(t.model);
         match t.body {
             scene_body::CUBE => self.body = BodyChoice::Cube,
             scene_body::SPHERE => self.body = BodyChoice::Sphere,
@@ -81,10 +102,7 @@ impl ScenePanel {
         {
             self.guard_asked = None;
         }
-        let model = scene_model::NAMES
-            .get(t.model as usize)
-            .copied()
-            .unwrap_or("?");
+        let model = model_name(t.model);
         match t.model {
             scene_model::XPBD => {
                 let mut on = self.guard_asked.map_or(reported, |(asked, _)| asked);
@@ -108,12 +126,11 @@ impl ScenePanel {
             _ => {
                 ui.label(format!("Contact: the body only ({model} model)"))
                     .on_hover_text(
-                        "This model has no guard against crossing; run xpbd or vbd for one",
+                        "This model has no guard against crossing; choose xpbd or vbd below \
+                         for a new scene that has one",
                     );
             }
         }
-        ui.label(format!("Model: {model}"))
-            .on_hover_text("The cloth model cloth-sim runs (chosen with cloth-sim run --model)");
     }
 
     pub fn ui(
@@ -125,20 +142,21 @@ impl ScenePanel {
     ) {
         self.follow(tel);
         ui.label("Scene");
-        if let Some((body, grid)) = self.running {
+        if let Some((body, grid, model)) = self.running {
             let cloth = if grid > 0 {
                 format!("a {grid} x {grid} cloth")
             } else {
                 "an edited cloth".to_string()
             };
             ui.label(format!(
-                "Now: {cloth} over {}",
+                "Now: {cloth} over {}, {} model",
                 match body {
                     scene_body::CUBE | scene_body::SPHERE | scene_body::MANNEQUIN => {
                         format!("the {}", body_name(body))
                     }
                     other => body_name(other).to_string(),
-                }
+                },
+                model_name(model)
             ))
             .on_hover_text("The running design, as cloth-sim reports it");
         }
@@ -159,6 +177,20 @@ impl ScenePanel {
                 .response
                 .on_hover_text("What the next scene drapes over");
         });
+        if let Some(current) = self.model {
+            let mut m = current;
+            egui::ComboBox::from_label("Model")
+                .selected_text(model_name(m))
+                .show_ui(ui, |ui| {
+                    for (code, hint) in MODEL_HINTS.iter().enumerate() {
+                        ui.selectable_value(&mut m, code as u32, model_name(code as u32))
+                            .on_hover_text(*hint);
+                    }
+                })
+                .response
+                .on_hover_text("The cloth model of the next scene");
+            self.model = Some(m);
+        }
         ui.add(egui::Slider::new(&mut self.grid, 8..=128).text("Grid"))
             .on_hover_text("Cells per side of the next cloth ((N+1)^2 vertices)");
         let armed = self
@@ -181,6 +213,7 @@ impl ScenePanel {
                     grid: Some(self.grid).filter(|&g| g != 0),
                     material: material.change(),
                     substeps: Some(material.substeps).filter(|&n| n != 0),
+                    model: self.model,
                 }));
             } else {
                 self.reset_armed = Some(Instant::now());
