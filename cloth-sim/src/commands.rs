@@ -400,8 +400,6 @@ fn apply_material(m: &mut Material, c: &MaterialChange) {
     set(&mut m.damping, c.damping);
 }
 
-/// The design that replaces the current one for a RESET or LOAD command (the current one
-/// is saved first, next to the autosave, so a reset loses nothing).
 /// The model a [`scene_model`](shared::telemetry::scene_model) code names.
 fn model_of(code: u32) -> Result<sim_core::solver::ModelKind, String> {
     use shared::telemetry::scene_model as m;
@@ -415,6 +413,8 @@ fn model_of(code: u32) -> Result<sim_core::solver::ModelKind, String> {
     })
 }
 
+/// The design that replaces the current one for a RESET or LOAD command (the current one
+/// is saved first, next to the autosave, so a reset loses nothing).
 pub(crate) fn replacement(
     design: &mut Design,
     c: &Command,

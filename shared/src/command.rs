@@ -316,7 +316,8 @@ impl Command {
                 substeps,
                 model,
             } => {
-                c.rgba[0] = model.map_or(0, |m| (m + 1).min(255) as u8);
+                // 0: cloth-sim's own; a code past the byte's range stays out of range.
+                c.rgba[0] = model.map_or(0, |m| m.saturating_add(1).min(255) as u8);
                 c.b = match which {
                     BodyChoice::Cube => body::CUBE,
                     BodyChoice::Sphere => body::SPHERE,

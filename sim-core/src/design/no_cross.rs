@@ -120,7 +120,7 @@ impl Design {
         } else {
             format!(
                 "The guard is on, but the cloth already crosses itself in {} triangle pairs \
-                 and the body in {}: those stay (undo to before, or make a new scene)",
+                 and the body in {}: those stay (a new scene with the guard on has none)",
                 crossed.self_pairs, crossed.body_pairs
             )
         })
