@@ -1,6 +1,6 @@
 //! The scene panel: the running design's model and whether its cloth may cross (the
-//! guard's switch), body and grid of a new scene (with the material panel's values), and
-//! the reset that builds it.
+//! guard's switch), body, model and grid of a new scene (with the material panel's
+//! values), and the reset that builds it.
 
 use std::time::{Duration, Instant};
 
