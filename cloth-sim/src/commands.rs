@@ -3,6 +3,7 @@
 
 use glam::{Vec2, Vec3};
 use shared::command::{BodyChoice, Command, MaterialChange, PieceShape, Tearing};
+use shared::telemetry::scene_model;
 use sim_core::collision::BodyKind;
 use sim_core::design::garment::{DEFAULT_FABRIC, Landmarks, PieceSpec, Place, load_pattern, sew};
 use sim_core::design::{Design, EDITED, EditError, TearMode};
@@ -10,7 +11,7 @@ use sim_core::fabric::Library;
 use sim_core::mesh::mesher::Outline;
 use sim_core::scenario::build_design;
 use sim_core::scenario::garment::SEAM_PULL;
-use sim_core::solver::Material;
+use sim_core::solver::{Material, ModelKind};
 
 use crate::config::ServiceConfig;
 
@@ -400,17 +401,22 @@ fn apply_material(m: &mut Material, c: &MaterialChange) {
     set(&mut m.damping, c.damping);
 }
 
-/// The model a [`scene_model`](shared::telemetry::scene_model) code names.
-fn model_of(code: u32) -> Result<sim_core::solver::ModelKind, String> {
-    use shared::telemetry::scene_model as m;
-    use sim_core::solver::ModelKind;
-    Ok(match code {
-        m::XPBD => ModelKind::Xpbd,
-        m::VBD => ModelKind::Vbd,
-        m::SEED => ModelKind::Seed,
-        m::IMPLICIT => ModelKind::Implicit,
-        other => return Err(format!("unknown model {other}")),
-    })
+/// The model a [`scene_model`](shared::telemetry::scene_model) code names: the code is
+/// the place of the model's `--model` name in `scene_model::NAMES`.
+pub(crate) fn model_of(code: u32) -> Result<ModelKind, String> {
+    let name = scene_model::NAMES
+        .get(code as usize)
+        .ok_or_else(|| format!("unknown model {code}"))?;
+    ModelKind::parse(name).map_err(|e| e.to_string())
+}
+
+/// The [`scene_model`](shared::telemetry::scene_model) code of `kind` (the inverse of
+/// [`model_of`]).
+pub(crate) fn model_code(kind: ModelKind) -> u32 {
+    scene_model::NAMES
+        .iter()
+        .position(|n| *n == kind.name())
+        .unwrap_or(scene_model::NAMES.len()) as u32
 }
 
 /// The design that replaces the current one for a RESET or LOAD command (the current one
@@ -493,6 +499,25 @@ pub(crate) fn replacement(
 mod tests {
     use super::*;
     use sim_core::scenario::{ScenarioConfig, ScenarioName};
+
+    /// Every model goes to the wire and back by its code; a code past the table is an
+    /// error.
+    #[test]
+    fn each_model_has_a_code() {
+        for kind in [
+            ModelKind::Xpbd,
+            ModelKind::Vbd,
+            ModelKind::Seed,
+            ModelKind::Implicit,
+        ] {
+            let code = model_code(kind);
+            assert!(code <= scene_model::LAST, "{kind:?}");
+            assert_eq!(model_of(code), Ok(kind));
+        }
+        assert_eq!(model_code(ModelKind::Xpbd), scene_model::XPBD);
+        assert_eq!(model_code(ModelKind::Vbd), scene_model::VBD);
+        assert!(model_of(scene_model::LAST + 1).is_err());
+    }
 
     /// A fabric by name replaces the measured values for the whole design and names
     /// every piece; an unknown one changes nothing; values edited by hand mark the pieces.

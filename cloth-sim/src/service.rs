@@ -16,14 +16,14 @@ use iceoryx2::port::update_connections::UpdateConnections;
 use shared::command::Command;
 use shared::ports::{SimPorts, SimSizes};
 use shared::sim_to_ui::ToolState;
-use shared::telemetry::{SimTelemetry, scene_model};
+use shared::telemetry::SimTelemetry;
 use shared::ui_to_sim::CommandReply;
 use shared::{Header, services};
 use sim_core::design::{Design, TILE};
-use sim_core::solver::{FrameStats, ModelKind};
+use sim_core::solver::FrameStats;
 
 use crate::autosave::Autosave;
-use crate::commands::{carry_out, replacement};
+use crate::commands::{carry_out, model_code, replacement};
 use crate::config::{ServiceConfig, ServiceStats};
 use crate::export::export;
 use crate::pen::{PenFeed, Tools, pen_acts};
@@ -490,12 +490,7 @@ impl Service<'_> {
                 m.density, m.stretch, m.shear, m.bending, m.friction, m.damping,
             ];
             (tel.body, tel.grid) = scene_of(&self.design);
-            tel.model = match sim.model {
-                ModelKind::Xpbd => scene_model::XPBD,
-                ModelKind::Vbd => scene_model::VBD,
-                ModelKind::Seed => scene_model::SEED,
-                ModelKind::Implicit => scene_model::IMPLICIT,
-            };
+            tel.model = model_code(sim.model);
             tel.never_crosses = u32::from(sim.never_crosses());
             let _ = self.ports.telemetry.send_copy(**tel);
             self.tel_at = (Instant::now(), sim.frame);
