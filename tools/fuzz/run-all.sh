@@ -18,6 +18,11 @@ targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
     targets=(messages replay obj body svg dxf garmentcode outline design commands)
 fi
+# LLVM's coverage pass instruments every basic block for cargo-afl (`prune-blocks=0`);
+# pruning the blocks whose coverage others imply (libFuzzer's default) still tells which
+# blocks ran (not how often the pruned ones did) and runs the commands target 1.5x
+# faster (docs/reliability.md#fuzzing).
+export RUSTFLAGS="${RUSTFLAGS:-} -C llvm-args=-sanitizer-coverage-prune-blocks=1"
 cargo afl build --release
 rm -rf seeds
 ./target/release/fuzz-seeds seeds >/dev/null
