@@ -227,11 +227,12 @@ impl Xpbd {
                     cloth.x[i] += cloth.v[i] * h;
                 }
             }
-            // Stitches before the cloth's constraints, so the cloth round a stitched vertex
-            // follows it within the substep. After them, a stitch had the last word: its
-            // 0.5 N moved a light border vertex (a few hundredths of a gram) up to 25 cm in a
-            // substep with its neighbours left behind, and garments ended with sides at
-            // 12-17x their rest length (docs/garments.md).
+            // Stitches before the cloth's constraints, which have the last word, so no side
+            // is left stretched at the substep's end. After them, a stitch had the last
+            // word: its 0.5 N moved a light border vertex (a few hundredths of a gram) up
+            // to 25 cm in a substep with its neighbours left behind, and garments ended
+            // with sides at 12-17x their rest length. Where the cloth resists, one pass
+            // now undoes most of a stitch's pull (docs/garments.md).
             for st in drive.stitches {
                 stitch(&mut cloth.x, &cloth.inv_mass, st, inv_h2);
             }
