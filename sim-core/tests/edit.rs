@@ -369,13 +369,12 @@ fn border_path(s: &Design, v: u32, len: usize) -> Option<Vec<u32>> {
     Some(path)
 }
 
-#[test]
-fn a_seam_pulls_two_cut_pieces_together_and_welds_them() {
-    let n = 12;
+/// A flat `n` x `n` cloth cut across the middle (a stroke of `radius`), the far half
+/// moved `gap` m away: the design, and the two cut edges' vertices, pair by pair.
+fn cut_in_two(n: usize, radius: f32, gap: f32) -> (Design, Vec<u32>, Vec<u32>) {
     let mut s = flat(n, false);
-    // Cut across the middle, then pull the two halves 3 cm apart.
     let z = 0.0021;
-    s.cut_stroke(&[Vec3::new(-0.3, 1.0, z), Vec3::new(0.3, 1.0, z)], 0.015)
+    s.cut_stroke(&[Vec3::new(-0.3, 1.0, z), Vec3::new(0.3, 1.0, z)], radius)
         .unwrap();
     assert_eq!(pieces(&s), 2);
     let row = (n / 2 * (n + 1)) as u32;
@@ -391,9 +390,17 @@ fn a_seam_pulls_two_cut_pieces_together_and_welds_them() {
         .collect();
     for i in 0..s.sim.cloth.len() {
         if s.sim.cloth.x[i].z > 0.0 || b.contains(&(i as u32)) {
-            s.sim.cloth.x[i].z += 0.03;
+            s.sim.cloth.x[i].z += gap;
         }
     }
+    (s, a, b)
+}
+
+#[test]
+fn a_seam_pulls_two_cut_pieces_together_and_welds_them() {
+    let n = 12;
+    // Cut across the middle, then pull the two halves 3 cm apart.
+    let (mut s, a, b) = cut_in_two(n, 0.015, 0.03);
     let before = snapshot(&s);
     // Bad seams change nothing.
     assert_eq!(s.add_seam(&a, &a, 0.05), Err(EditError::SeamOverlap(a[0])));
@@ -780,27 +787,7 @@ fn a_seam_held_open_pulls_without_stretching_the_sides_beside_it() {
     // equilibrium would close about 8 mm (one pass of Gauss-Seidel; vbd has its stitches
     // in its energy), which is why tension holds more seams open than it should.
     let n = 32;
-    let mut s = flat(n, false);
-    let z = 0.0021;
-    s.cut_stroke(&[Vec3::new(-0.3, 1.0, z), Vec3::new(0.3, 1.0, z)], 0.01)
-        .unwrap();
-    assert_eq!(pieces(&s), 2);
-    let row = (n / 2 * (n + 1)) as u32;
-    let a: Vec<u32> = (row..row + n as u32 + 1).collect();
-    let b: Vec<u32> = a
-        .iter()
-        .map(|&v| {
-            (0..s.sim.cloth.len() as u32)
-                .rev()
-                .find(|&u| u != v && s.sim.cloth.x[u as usize] == s.sim.cloth.x[v as usize])
-                .unwrap()
-        })
-        .collect();
-    for i in 0..s.sim.cloth.len() {
-        if s.sim.cloth.x[i].z > 0.0 || b.contains(&(i as u32)) {
-            s.sim.cloth.x[i].z += 0.1;
-        }
-    }
+    let (mut s, a, b) = cut_in_two(n, 0.01, 0.1);
     for v in (0..=n).chain(n * (n + 1)..(n + 1) * (n + 1)) {
         s.set_pin(v as u32, true).unwrap();
     }
