@@ -13,8 +13,8 @@ use super::bvh::Bvh;
 use super::distance::{point_triangle, segment_segment};
 use super::grid::Aabb;
 use super::pair::{
-    ClothView, NONE, Pair, PairKind, ProximityParams, feature_key, keep, max_along, min_along,
-    separating,
+    ClothView, NONE, Pair, PairKind, ProximityParams, boxes_apart, feature_key, keep, max_along,
+    min_along, separating,
 };
 
 /// Below this many items a search runs on one thread (starting one costs more).
@@ -428,6 +428,14 @@ fn vertex_face(
     tree.query(&b.grown(reach), stack, |t| found.push(t));
     let xi = c.x[i];
     near.clear();
+    // Neighbours in the pattern carry no energy, so they are pairs only where their boxes
+    // meet: most of the candidates in a smooth stretch of cloth, dropped before the
+    // distances are worked out.
+    found.retain(|&t| {
+        let tri = &c.tris[t as usize];
+        !(boxes_apart(c.boxes, &[i as u32], tri, p.delta)
+            && c.rest_near(&[i as u32], tri, p.rest_exclusion))
+    });
     near.extend(found.iter().map(|&t| {
         let [a, bb, cc] = c.tris[t as usize].map(|v| c.x[v as usize]);
         let (q, w) = point_triangle(xi, a, bb, cc);
@@ -467,11 +475,16 @@ fn vertex_tri(
     if tri.contains(&i) || (!free(i) && tri.iter().all(|&v| !free(v))) {
         return None;
     }
+    // Neighbours in the pattern carry no energy: a pair only where their boxes meet.
+    let near = c.rest_near(&[i], &tri, p.rest_exclusion);
+    if near && boxes_apart(c.boxes, &[i], &tri, p.delta) {
+        return None;
+    }
     let xi = c.x[i as usize];
     let [a, bb, cc] = tri.map(|v| c.x[v as usize]);
     let (n, sep0) = separating(&[xi], &[a, bb, cc], xi, q, (bb - a).cross(cc - a));
     let gap_max = c.boxes[i as usize].min_along(n) - max_along(c.boxes, &tri, n);
-    let energy = gap_max < p.radius && !c.rest_near(&[i], &tri, p.rest_exclusion);
+    let energy = gap_max < p.radius && !near;
     if !energy && gap_max >= p.delta {
         return None;
     }
@@ -497,6 +510,10 @@ fn edge_edge(c: &ClothView<'_>, p: &ProximityParams, found: &[(u32, u32)], part:
         if e.iter().any(|v| g.contains(v)) || e.iter().chain(&g).all(|&v| !c.free[v as usize]) {
             continue;
         }
+        let near = c.rest_near(&e, &g, p.rest_exclusion);
+        if near && boxes_apart(c.boxes, &e, &g, p.delta) {
+            continue;
+        }
         let [p0, p1] = e.map(|v| c.x[v as usize]);
         let [q0, q1] = g.map(|v| c.x[v as usize]);
         let (s, t) = segment_segment(p0, p1, q0, q1);
@@ -509,7 +526,7 @@ fn edge_edge(c: &ClothView<'_>, p: &ProximityParams, found: &[(u32, u32)], part:
         );
         let gap_max = min_along(c.boxes, &e, n) - max_along(c.boxes, &g, n);
         let interior = s > 1e-4 && s < 1.0 - 1e-4 && t > 1e-4 && t < 1.0 - 1e-4;
-        let energy = interior && gap_max < p.radius && !c.rest_near(&e, &g, p.rest_exclusion);
+        let energy = interior && gap_max < p.radius && !near;
         if !energy && gap_max >= p.delta {
             continue;
         }
@@ -627,5 +644,42 @@ mod tests {
         }
         // Every pair holds where the search found the cloth.
         assert!(pairs.iter().all(|q| q.holds(&x, 1e-6)));
+    }
+
+    #[test]
+    fn neighbours_in_the_pattern_are_pairs_only_where_their_boxes_meet() {
+        // A vertex falling 2 cm beside a triangle 4 mm to its side and 2 mm below, both
+        // near each other in the pattern (no energy between them). Their boxes lie 3 mm
+        // apart across x, so they cannot meet; but the direction between their closest
+        // points leans down, and along it the vertex's tall box overlaps the triangle's:
+        // that test alone listed the pair as a bound.
+        let x = vec![
+            Vec3::new(0.004, -0.002, -0.005),
+            Vec3::new(0.004, -0.002, 0.005),
+            Vec3::new(0.014, -0.002, 0.0),
+            Vec3::ZERO,
+        ];
+        let tris = [[0, 1, 2]];
+        let edges = unique_edges(&tris);
+        let free = vec![true; 4];
+        let params = ProximityParams::for_tests(1, None);
+        let pattern: Vec<Vec3> = x.iter().map(|p| Vec3::new(p.x, 0.0, p.z)).collect();
+        let search = |boxes: &[Aabb]| {
+            let cloth = ClothView::unwelded((&x, boxes), (&tris, &edges), &pattern, &free);
+            let mut pairs = Vec::new();
+            ClothSearch::default().search(&cloth, &params, 0.5 * params.radius, &mut pairs);
+            pairs
+        };
+        let mut boxes: Vec<Aabb> = x.iter().map(|&p| Aabb::point(p).grown(0.0005)).collect();
+        boxes[3] = boxes[3].with(Vec3::new(0.0, -0.02, 0.0));
+        assert!(boxes_apart(&boxes, &[3], &[0, 1, 2], 0.002));
+        assert!(search(&boxes).is_empty());
+        // Free to move 4 mm sideways too, it can reach the triangle: the pair is listed,
+        // as a bound without energy.
+        boxes[3] = boxes[3].with(Vec3::new(0.004, 0.0, 0.0));
+        let pairs = search(&boxes);
+        assert_eq!(pairs.len(), 1);
+        assert_eq!(pairs[0].v, [3, 0, 1, 2]);
+        assert!(!pairs[0].energy);
     }
 }

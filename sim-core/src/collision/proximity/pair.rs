@@ -131,12 +131,16 @@ impl ClothView<'_> {
     /// rest, nearer than `exclusion`: in the pattern, or over a weld. Such pairs carry no
     /// contact energy.
     pub(super) fn rest_near(&self, a: &[u32], b: &[u32], exclusion: f32) -> bool {
-        pattern_distance(self.pattern, a, b) < exclusion
-            || a.iter().any(|&i| {
-                self.bridged
-                    .get(i as usize)
-                    .is_some_and(|near| b.iter().any(|j| near.binary_search(j).is_ok()))
-            })
+        let pattern = self.pattern;
+        a.iter().any(|&i| {
+            let pi = pattern[i as usize];
+            b.iter()
+                .any(|&j| (pi - pattern[j as usize]).length() < exclusion)
+        }) || a.iter().any(|&i| {
+            self.bridged
+                .get(i as usize)
+                .is_some_and(|near| b.iter().any(|j| near.binary_search(j).is_ok()))
+        })
     }
 }
 
@@ -260,6 +264,17 @@ pub(super) fn separating(ps: &[Vec3], qs: &[Vec3], p: Vec3, q: Vec3, alt: Vec3) 
     best
 }
 
+/// Whether the boxes of vertices `a` and those of `b` stay more than `gap` apart along
+/// an axis: primitives kept in them can then never come within `gap` of each other.
+#[inline]
+pub(super) fn boxes_apart(boxes: &[Aabb], a: &[u32], b: &[u32], gap: f32) -> bool {
+    let of = |vs: &[u32]| {
+        vs.iter()
+            .fold(Aabb::EMPTY, |acc, &v| acc.union(boxes[v as usize]))
+    };
+    !of(a).grown(gap).overlaps(&of(b))
+}
+
 pub(super) fn min_along(boxes: &[Aabb], vs: &[u32], n: Vec3) -> f32 {
     vs.iter()
         .map(|&v| boxes[v as usize].min_along(n))
@@ -270,17 +285,6 @@ pub(super) fn max_along(boxes: &[Aabb], vs: &[u32], n: Vec3) -> f32 {
     vs.iter()
         .map(|&v| boxes[v as usize].max_along(n))
         .fold(f32::NEG_INFINITY, f32::max)
-}
-
-/// The least pattern distance between two sets of vertices.
-pub(super) fn pattern_distance(pattern: &[Vec3], a: &[u32], b: &[u32]) -> f32 {
-    let mut d = f32::INFINITY;
-    for &i in a {
-        for &j in b {
-            d = d.min((pattern[i as usize] - pattern[j as usize]).length());
-        }
-    }
-    d
 }
 
 /// The separation a pair keeps: `delta`, or what it has now when that is less (then it

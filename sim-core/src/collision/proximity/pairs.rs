@@ -20,7 +20,9 @@
 //! ([`Pair::bound_for`]): both are convex hulls of their corners, and the straight path
 //! between two such states keeps it too (the difference of the projections is linear
 //! along it). Listed pairs whose boxes cannot bring them within `r` along `n` are dropped:
-//! they can neither touch nor push.
+//! they can neither touch nor push. So are pairs of neighbours in the pattern (which carry
+//! no energy, below) whose boxes lie more than `delta` apart across an axis, before their
+//! distances are worked out: most candidates in a smooth stretch of a fine cloth.
 //!
 //! An update ([`Proximity::update`], after some vertices' boxes changed and the others'
 //! stayed) keeps the pairs whose vertices all kept their boxes: what those boxes let the
