@@ -776,3 +776,31 @@ fn vbd_friction_holds_below_the_friction_angle_and_slides_above_it() {
         "slid {slid} m down a 35-degree slope (xpbd {xpbd} m)"
     );
 }
+
+/// The guard's search boxes fit a fine mesh: on a cloth lying still, a vertex's box
+/// (its rest, the least stray and the search's margin) must not reach the triangles one
+/// edge away, or every such neighbour becomes a bound the guard checks each substep. With
+/// a 2 mm margin on 7.5 mm edges, a 40 x 40 cloth at rest on the floor listed 9,440 pairs
+/// of neighbours every frame; with the margin a seventh of the mean edge, none.
+#[test]
+fn xpbd_guard_lists_no_pairs_of_neighbours_on_a_fine_cloth_at_rest() {
+    let m = Material::default();
+    let mesh = ClothMesh::grid(0.3, 0.3, 40, 40, m.thickness).unwrap();
+    let cloth = Cloth::new(mesh, &m).unwrap();
+    let env = Environment {
+        floor: Some(0.0),
+        ..Environment::default()
+    };
+    let mut sim = Simulation::new(cloth, None, ModelKind::Xpbd, m, env, None).unwrap();
+    assert!(sim.set_guard(true));
+    let mut stats = Vec::new();
+    for _ in 0..30 {
+        stats.push(sim.step().unwrap());
+    }
+    let pairs: Vec<usize> = stats.iter().map(|s| s.queries).collect();
+    assert!(
+        pairs.iter().all(|&p| p == 0),
+        "cloth pairs each frame: {pairs:?}"
+    );
+    assert_eq!(sim.crossings().self_pairs, 0);
+}
