@@ -217,7 +217,7 @@ struct ScenarioArgs {
     model: Option<ModelKind>,
     /// XPBD with its guard: the vbd model's proximity search and guard around each
     /// substep, so the cloth never crosses itself or the body (2-12x the frame time, more
-    /// for large sewn pieces: two 8k-vertex dress panels 55x; see docs/collision.md). Off
+    /// for large sewn pieces: two 8k-vertex dress panels 44x; see docs/collision.md). Off
     /// by default: the paper's fit-cube does not yet take the cube's shape with it.
     #[arg(long)]
     guard: bool,
