@@ -248,6 +248,7 @@ fn every_model_and_body_runs() {
         assert_eq!(r["model"], model);
         std::fs::remove_dir_all(dir).ok();
     }
+    std::fs::remove_dir_all(tmp("body")).ok();
 }
 
 /// `cloth-sim scenario drape-cube --out DIR` and `extra`.
@@ -899,4 +900,5 @@ fn cusick_averages_three_specimens_and_checks_a_finer_mesh() {
     for f in ["shadow.png", "cloth.obj"] {
         assert!(d.join(f).metadata().unwrap().len() > 100, "{f}");
     }
+    std::fs::remove_dir_all(d).ok();
 }

@@ -274,10 +274,18 @@ pub fn write_obj(
 pub(crate) mod tests {
     use super::*;
 
+    /// A scratch path `name` in a directory of its own ([`forget`] removes both).
     fn tmp(name: &str) -> std::path::PathBuf {
         let dir = std::env::temp_dir().join(format!("saiho-obj-{}-{name}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         dir.join(name)
+    }
+
+    /// Removes a scratch path of [`tmp`] and its directory.
+    pub(crate) fn forget(p: &Path) {
+        if let Some(dir) = p.parent() {
+            let _ = std::fs::remove_dir_all(dir);
+        }
     }
 
     /// Too many vertices or triangles is refused from a count of the lines, before any
@@ -351,18 +359,23 @@ pub(crate) mod tests {
                 assert!((back.uvs[a] - m.uvs[b]).length() < 1e-6);
             }
         }
+        forget(&p);
     }
 
     #[test]
     fn bad_files_give_clear_errors() {
+        let mut made = Vec::new();
         let p = tmp("nan.obj");
+        made.push(p.clone());
         std::fs::write(&p, "v 0 0 0\nv 1 0 0\nv nan 1 0\nf 1 2 3\n").unwrap();
         let e = load_obj(&p).unwrap_err();
         assert!(e.to_string().contains("non-finite"), "{e}");
         let p = tmp("degen.obj");
+        made.push(p.clone());
         std::fs::write(&p, "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n").unwrap();
         assert!(load_obj(&p).unwrap_err().to_string().contains("degenerate"));
         let p = tmp("nonmanifold.obj");
+        made.push(p.clone());
         std::fs::write(
             &p,
             "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nf 1 2 3\nf 2 1 4\nf 1 2 5\n",
@@ -375,12 +388,14 @@ pub(crate) mod tests {
                 .contains("shared by 3")
         );
         let p = tmp("range.obj");
+        made.push(p.clone());
         std::fs::write(&p, "v 0 0 0\nv 1 0 0\nf 1 2 7\n").unwrap();
         assert!(load_obj(&p).is_err());
         assert!(matches!(
             load_obj(Path::new("/nonexistent/x.obj")),
             Err(LoadError::Io { .. })
         ));
+        made.iter().for_each(|p| forget(p));
     }
 
     /// Files `read_obj_text` and the readers must refuse saying why: a directory, binary
@@ -420,6 +435,8 @@ pub(crate) mod tests {
         std::fs::set_permissions(&locked, std::fs::Permissions::from_mode(0o000)).unwrap();
         if std::fs::read(&locked).is_err() {
             out.push((locked, "ermission denied"));
+        } else {
+            forget(&locked);
         }
         out
     }
@@ -431,6 +448,7 @@ pub(crate) mod tests {
         for (p, why) in unreadable("cloth") {
             let e = load_obj(&p).unwrap_err().to_string();
             assert!(e.contains(why), "{}: {e}", p.display());
+            forget(&p);
         }
     }
 }

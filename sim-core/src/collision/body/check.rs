@@ -354,12 +354,16 @@ mod tests {
     use super::*;
     use crate::collision::BodyKind;
 
-    fn tmp(name: &str, text: &str) -> std::path::PathBuf {
-        let dir = std::env::temp_dir().join(format!("saiho-body-{}", std::process::id()));
+    /// `text` read as the body file `name` (written to a scratch directory of its own,
+    /// removed after).
+    fn read_text(name: &str, text: &str) -> Result<CheckedBody, LoadError> {
+        let dir = std::env::temp_dir().join(format!("saiho-body-{}-{name}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let p = dir.join(name);
         std::fs::write(&p, text).unwrap();
-        p
+        let read = read_body_obj(&p);
+        let _ = std::fs::remove_dir_all(&dir);
+        read
     }
 
     const CUBE_V: &str = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n";
@@ -398,12 +402,12 @@ mod tests {
     }
 
     fn refusal(name: &str, text: &str) -> String {
-        read_body_obj(&tmp(name, text)).unwrap_err().to_string()
+        read_text(name, text).unwrap_err().to_string()
     }
 
     #[test]
     fn a_closed_outward_cube_is_taken_as_it_is() {
-        let b = read_body_obj(&tmp("cube.obj", &cube(CUBE_F.into_iter()))).unwrap();
+        let b = read_text("cube.obj", &cube(CUBE_F.into_iter())).unwrap();
         assert_eq!((b.vertices.len(), b.triangles.len()), (8, 12));
         assert!(b.repairs.is_empty(), "{:?}", b.repairs);
         assert!((volume(&b) - 1.0).abs() < 1e-6);
@@ -412,7 +416,7 @@ mod tests {
     #[test]
     fn an_inside_out_surface_is_turned_outward_and_said() {
         let inside_out = cube(CUBE_F.into_iter().map(|[a, b, c]| [a, c, b]));
-        let b = read_body_obj(&tmp("inside-out.obj", &inside_out)).unwrap();
+        let b = read_text("inside-out.obj", &inside_out).unwrap();
         assert!((volume(&b) - 1.0).abs() < 1e-6);
         assert_eq!(b.repairs.len(), 1);
         assert!(b.repairs[0].contains("inside out"), "{:?}", b.repairs);
@@ -424,7 +428,7 @@ mod tests {
                 .enumerate()
                 .map(|(i, [a, b, c])| if i == 5 { [a, c, b] } else { [a, b, c] }),
         );
-        let b = read_body_obj(&tmp("one-flipped.obj", &one)).unwrap();
+        let b = read_text("one-flipped.obj", &one).unwrap();
         assert!((volume(&b) - 1.0).abs() < 1e-6);
         assert!(
             b.repairs[0].contains("1 of its 12 faces"),
@@ -447,7 +451,7 @@ mod tests {
              v 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\n\
              f -4 -3 -2 -1\n"
         );
-        let b = read_body_obj(&tmp("quads.obj", &text)).unwrap();
+        let b = read_text("quads.obj", &text).unwrap();
         assert_eq!((b.vertices.len(), b.triangles.len()), (8, 12));
         assert!((volume(&b) - 1.0).abs() < 1e-6);
         assert!(b.repairs.is_empty(), "{:?}", b.repairs);
@@ -506,6 +510,7 @@ mod tests {
             crate::mesh::obj::write_obj(&p, name, &body.vertices, None, &body.triangles, None)
                 .unwrap();
             let back = read_body_obj(&p).unwrap_or_else(|e| panic!("{name}: {e}"));
+            let _ = std::fs::remove_dir_all(&dir);
             assert!(back.repairs.is_empty(), "{name}: {:?}", back.repairs);
             assert_eq!(back.triangles.len(), body.triangles.len(), "{name}");
         }
@@ -517,6 +522,7 @@ mod tests {
         for (p, why) in crate::mesh::obj::tests::unreadable("body") {
             let e = read_body_obj(&p).err().unwrap().to_string();
             assert!(e.contains(why), "{}: {e}", p.display());
+            crate::mesh::obj::tests::forget(&p);
         }
     }
 }
