@@ -2,11 +2,13 @@
 //! screenshot after a few seconds, and the cloth is drawn in it (the cloth's off-white
 //! against the dark background, in the middle of the window). Then the UI is killed and
 //! started again while cloth-sim and haptic-loop keep going: the new one shows the
-//! design too.
+//! design too. And when its display goes away under it, cloth-ui says so and exits 1.
 
 #![allow(clippy::unwrap_used)]
 
-use std::process::Stdio;
+use std::io::{BufRead, BufReader};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
 
 use shared::domain::ScratchDomain;
 use tests::{Proc, bin, under_xvfb};
@@ -96,4 +98,77 @@ fn cloth_ui_draws_the_cloth_under_xvfb_and_survives_a_restart() {
         "the restarted UI did not get the whole design: {log2}"
     );
     let _ = std::fs::remove_dir_all(&tmp);
+}
+
+/// An X server killed under a running cloth-ui: winit panics inside the event loop; the
+/// studio reports a lost display in one line and exits 1 (not 101 with a backtrace).
+#[test]
+fn cloth_ui_says_when_its_display_goes_away() {
+    let d = ScratchDomain::new(&format!("uilost{}", std::process::id())).unwrap();
+    // A display of its own: Xvfb writes the number it took to the descriptor given.
+    let mut x = Proc(
+        Command::new("Xvfb")
+            .args([
+                "-displayfd",
+                "1",
+                "-screen",
+                "0",
+                "1280x1024x24",
+                "-nolisten",
+                "tcp",
+            ])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .expect("Xvfb is missing: install xvfb (.ci/run does)"),
+    );
+    let mut number = String::new();
+    BufReader::new(x.0.stdout.take().unwrap())
+        .read_line(&mut number)
+        .unwrap();
+    let display = format!(":{}", number.trim());
+    let mut ui = Proc(
+        Command::new(bin("cloth-ui"))
+            .args(["--domain", d.name(), "--exit-after", "120", "--log-fps"])
+            .env("DISPLAY", &display)
+            .env_remove("WAYLAND_DISPLAY")
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap(),
+    );
+    // Up when it reports its first second of frames.
+    let mut err = BufReader::new(ui.0.stderr.take().unwrap());
+    let mut log = String::new();
+    let mut line = String::new();
+    while !line.contains(" fps") {
+        line.clear();
+        assert!(
+            err.read_line(&mut line).unwrap() > 0,
+            "cloth-ui ended before drawing: {log}"
+        );
+        log.push_str(&line);
+    }
+    x.0.kill().unwrap();
+    x.0.wait().unwrap();
+    let t = Instant::now();
+    let rest = std::thread::spawn(move || {
+        let mut rest = String::new();
+        let _ = std::io::Read::read_to_string(&mut err, &mut rest);
+        rest
+    });
+    let status = loop {
+        if let Some(s) = ui.0.try_wait().unwrap() {
+            break s;
+        }
+        assert!(
+            t.elapsed() < Duration::from_secs(30),
+            "cloth-ui still running 30 s after its display went away"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    log.push_str(&rest.join().unwrap());
+    assert_eq!(status.code(), Some(1), "{log}");
+    assert!(log.contains("error: cloth-ui lost its display"), "{log}");
+    assert!(!log.contains("panicked"), "{log}");
 }

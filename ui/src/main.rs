@@ -1,7 +1,9 @@
 //! cloth-ui: the design studio window.
 
+use std::panic::AssertUnwindSafe;
 use std::path::PathBuf;
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use clap::Parser;
@@ -126,15 +128,77 @@ fn main() -> ExitCode {
     if cli.no_vsync {
         native.wgpu_options.surface.present_mode = egui_wgpu::wgpu::PresentMode::AutoNoVsync;
     }
-    match eframe::run_native(
-        "Saiho",
-        native,
-        Box::new(move |_cc| Ok(Box::new(App::new(opts)))),
-    ) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
+    report_a_lost_display();
+    let run = std::panic::catch_unwind(AssertUnwindSafe(|| {
+        eframe::run_native(
+            "Saiho",
+            native,
+            Box::new(move |_cc| {
+                OPENED.store(true, Ordering::SeqCst);
+                Ok(Box::new(App::new(opts)))
+            }),
+        )
+    }));
+    match run {
+        Ok(Ok(())) => ExitCode::SUCCESS,
+        Ok(Err(e)) if OPENED.load(Ordering::SeqCst) => {
+            eprintln!("error: cloth-ui's window failed: {e}; {SAFE}");
+            ExitCode::FAILURE
+        }
+        Ok(Err(e)) => {
             eprintln!("error: cloth-ui could not open its window: {e}");
             ExitCode::FAILURE
         }
+        // Reported by the hook; the app (and its iceoryx2 node) was dropped on the way.
+        Err(_) if DISPLAY_LOST.load(Ordering::SeqCst) => ExitCode::FAILURE,
+        Err(panic) => std::panic::resume_unwind(panic),
+    }
+}
+
+/// The window opened (the app was made).
+static OPENED: AtomicBool = AtomicBool::new(false);
+/// A panic came from the window system: the display went away.
+static DISPLAY_LOST: AtomicBool = AtomicBool::new(false);
+const SAFE: &str = "the design is safe in cloth-sim: start cloth-ui again";
+
+/// An X server that exits takes the window system down inside the event loop: winit
+/// unwraps its connection's error there. That is not a bug of the studio's, so it is said
+/// in one line (with winit's words) instead of a panic's backtrace, and cloth-ui exits 1
+/// after its app and its node are dropped. Every other panic is reported as before.
+fn report_a_lost_display() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let file = info.location().map_or("", |l| l.file());
+        if !from_window_system(file) {
+            return default(info);
+        }
+        DISPLAY_LOST.store(true, Ordering::SeqCst);
+        let p = info.payload();
+        let what = p
+            .downcast_ref::<&str>()
+            .copied()
+            .or_else(|| p.downcast_ref::<String>().map(String::as_str))
+            .unwrap_or("no message");
+        eprintln!("error: cloth-ui lost its display (the window system failed: {what}); {SAFE}");
+    }));
+}
+
+/// Whether a panic at source `file` is the window system's (winit's) own.
+fn from_window_system(file: &str) -> bool {
+    file.replace('\\', "/")
+        .split('/')
+        .any(|part| part.starts_with("winit-"))
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn a_panic_inside_winit_is_the_window_systems() {
+        let x11 = "/root/.cargo/registry/src/index.crates.io-1949cf8c6b5b557f/winit-0.30.13/src/platform_impl/linux/x11/window.rs";
+        assert!(super::from_window_system(x11));
+        assert!(super::from_window_system(
+            r"C:\cargo\registry\src\x\winit-0.30.13\src\lib.rs"
+        ));
+        assert!(!super::from_window_system("ui/src/app.rs"));
     }
 }
