@@ -24,6 +24,9 @@ pub struct ServiceConfig {
     pub couple_applied_force: bool,
     /// The scene a RESET command rebuilds (with its body, grid and material changes).
     pub scene: ScenarioConfig,
+    /// `--guard` or `--no-guard` as given at start (`None`: neither): a loaded design
+    /// takes it; otherwise it keeps the switch its file has.
+    pub guard_forced: Option<bool>,
 }
 
 impl ServiceConfig {
@@ -42,6 +45,7 @@ impl ServiceConfig {
             pinch_stiffness: 100.0,
             couple_applied_force: true,
             scene: ScenarioConfig::new(ScenarioName::DrapeCube),
+            guard_forced: None,
         }
     }
 }

@@ -126,17 +126,22 @@ struct RunArgs {
     /// Cells per side of the square cloth.
     #[arg(long, default_value_t = 64, allow_negative_numbers = true, value_parser = whole_in::<usize>(1, MAX_GRID as i64, " cells a side"))]
     grid: usize,
-    /// Cloth model of a new design: xpbd (the default: real time, but the cloth can cross
-    /// itself and the body), vbd (never crosses; several times slower, see
-    /// docs/models.md), seed (the paper's mass-spring) or implicit (the reference; slow).
-    /// A resumed design keeps the model it was made with (--fresh for a new one).
+    /// Cloth model of a new design: xpbd (the default: real time, with its guard the
+    /// cloth never crosses itself or the body), vbd (never crosses, strain under 1%;
+    /// several times slower, see docs/models.md), seed (the paper's mass-spring) or
+    /// implicit (the reference; slow). A resumed design keeps the model it was made with
+    /// (--fresh for a new one).
     #[arg(long, value_parser = parse_model)]
     model: Option<ModelKind>,
-    /// XPBD with its guard: the cloth never crosses itself or the body (2-12x the frame
-    /// time, more for large sewn pieces; see docs/collision.md). Applies to a resumed
-    /// xpbd design too.
-    #[arg(long)]
+    /// XPBD with its guard (the default for a new design): the cloth never crosses itself
+    /// or the body. Given, it applies to a resumed xpbd design too, whatever its file says.
+    #[arg(long, conflicts_with = "no_guard")]
     guard: bool,
+    /// Plain XPBD: no guard, so the cloth can cross itself and the body's edges, at a
+    /// fraction of the frame time (docs/collision.md). Applies to a resumed xpbd design
+    /// too. The studio's "Never cross (guard)" switch turns it back on.
+    #[arg(long)]
+    no_guard: bool,
     /// Substeps per frame (default: the model's).
     #[arg(long, allow_negative_numbers = true, value_parser = whole_in::<usize>(1, MAX_FRAME_SUBSTEPS as i64, " per frame"))]
     substeps: Option<usize>,
@@ -177,8 +182,8 @@ struct ScenarioArgs {
     /// Scenario: drape-cube (the paper's drape), drape-mannequin, fit-cube (the paper's
     /// experiment end to end: drape, cut the corners away, sew the flaps), tear (pull a
     /// gripped corner until the cloth tears), paint (paint a pattern, export the texture) or
-    /// fold (a cloth on the floor folded corner to corner, then across: four layers; use
-    /// --model vbd for layers that do not cross), dress-mannequin (a front and a back
+    /// fold (a cloth on the floor folded corner to corner, then across: four layers, which
+    /// cross each other only with --no-guard), dress-mannequin (a front and a back
     /// panel arranged round the mannequin, sewn, draped, the neckline cut) or
     /// drape-pattern FILE (any pattern placed, sewn and draped the same way).
     /// cusick: the textile drape test (BS 5058: a 30 cm specimen clamped on an 18 cm
@@ -215,12 +220,16 @@ struct ScenarioArgs {
     /// paper's mass-spring) or implicit (reference; cusick's default).
     #[arg(long, value_parser = parse_model)]
     model: Option<ModelKind>,
-    /// XPBD with its guard: the vbd model's proximity search and guard around each
-    /// substep, so the cloth never crosses itself or the body (2-12x the frame time, more
-    /// for large sewn pieces: two 8k-vertex dress panels 44x; see docs/collision.md). Off
-    /// by default: the paper's fit-cube does not yet take the cube's shape with it.
-    #[arg(long)]
+    /// XPBD with its guard, the default: the vbd model's proximity search and guard around
+    /// each substep, so the cloth never crosses itself or the body (2-12x plain xpbd's
+    /// frame time, more for large sewn pieces: two 8k-vertex dress panels 44x; see
+    /// docs/collision.md). Only with --model xpbd.
+    #[arg(long, conflicts_with = "no_guard")]
     guard: bool,
+    /// Plain XPBD, without its guard: the cloth can cross itself and the body's edges (the
+    /// behaviour before 2026-11-28), at a fraction of the frame time.
+    #[arg(long)]
+    no_guard: bool,
     /// Frames of 1/60 s to simulate (the operation scenarios act at frame 240).
     #[arg(long, default_value_t = 600, allow_negative_numbers = true, value_parser = whole_in::<u64>(1, MAX_FRAMES as i64, ""))]
     frames: u64,
@@ -450,7 +459,9 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
     scene.body = Some(a.body);
     scene.grid = a.grid;
     scene.model = a.model.unwrap_or(ModelKind::Xpbd);
-    scene.guard = a.guard;
+    let forced = guard_choice(a.guard, a.no_guard, scene.model)?;
+    scene.guard = forced.unwrap_or(true);
+    cfg.guard_forced = forced;
     scene.substeps = a.substeps;
     scene.material = a.material.material();
     scene.threads = a.threads;
@@ -485,9 +496,12 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
     for n in &design.sim.notices {
         log(&format!("note: {n}"));
     }
-    if a.guard && !design.sim.set_guard(true) {
+    if let Some(on) = forced
+        && !design.sim.set_guard(on)
+    {
         log(&format!(
-            "note: --guard is the xpbd model's; the resumed design runs the {} model",
+            "note: --{}guard is the xpbd model's; the resumed design runs the {} model",
+            if on { "" } else { "no-" },
             design.sim.model.name()
         ));
     }
@@ -538,6 +552,21 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
     Ok(())
 }
 
+/// `--guard` or `--no-guard` as asked (`None`: neither), refused with a model other than
+/// xpbd, whose contact it is.
+fn guard_choice(guard: bool, no_guard: bool, model: ModelKind) -> Result<Option<bool>, String> {
+    let asked = (guard || no_guard).then_some(guard);
+    if asked.is_some() && model != ModelKind::Xpbd {
+        return Err(format!(
+            "--{}guard is the xpbd model's, not --model {}'s (vbd's contact is always \
+             guarded; seed and implicit have none)",
+            if guard { "" } else { "no-" },
+            model.name()
+        ));
+    }
+    Ok(asked)
+}
+
 fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>> {
     let name = match a.name {
         ScenarioChoice::Cusick => {
@@ -563,7 +592,7 @@ fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>> {
     let mut cfg = ScenarioConfig::new(name);
     cfg.grid = a.grid;
     cfg.model = a.model.unwrap_or(ModelKind::Xpbd);
-    cfg.guard = a.guard;
+    cfg.guard = guard_choice(a.guard, a.no_guard, cfg.model)?.unwrap_or(true);
     cfg.frames = a.frames;
     if let Some(b) = a.body {
         cfg.body = b.0;

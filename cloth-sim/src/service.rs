@@ -20,7 +20,7 @@ use shared::telemetry::SimTelemetry;
 use shared::ui_to_sim::CommandReply;
 use shared::{Header, services};
 use sim_core::design::{Design, TILE};
-use sim_core::solver::FrameStats;
+use sim_core::solver::{FrameStats, ModelKind};
 
 use crate::autosave::Autosave;
 use crate::commands::{carry_out, model_code, replacement};
@@ -310,15 +310,21 @@ impl Service<'_> {
                 Ok(shared::sim_to_ui::tool::sentence(*tool).to_string())
             }
             Command::Reset { .. } | Command::Load { .. } => {
-                // A new scene keeps the guard the designer chose; a loaded design has its
-                // own (the file keeps it), unless cloth-sim was started with `--guard`.
-                let guard = self.cfg.scene.guard
-                    || (matches!(c, Command::Reset { .. }) && self.design.guarded());
+                // A new xpbd scene keeps the guard as the designer left it (on, unless
+                // switched off); a loaded design has its own (the file keeps it), unless
+                // cloth-sim was started with `--guard` or `--no-guard`.
+                let guard = match c {
+                    Command::Reset { .. } if self.design.sim.model == ModelKind::Xpbd => {
+                        Some(self.design.guarded())
+                    }
+                    Command::Reset { .. } => Some(self.cfg.scene.guard),
+                    _ => self.cfg.guard_forced,
+                };
                 let (next, m) = replacement(&mut self.design, c, self.cfg)?;
                 self.design = next;
                 self.design.sim.set_threads(self.threads);
-                if guard {
-                    self.design.sim.set_guard(true);
+                if let Some(on) = guard {
+                    self.design.sim.set_guard(on);
                 }
                 // The new design counts its own frames (a loaded one may be behind): the
                 // rate starts over with it.

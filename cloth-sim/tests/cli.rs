@@ -386,6 +386,11 @@ fn bad_run_flags_are_a_clear_error_before_any_work() {
         (&["--substeps", "-1"], "whole number between 1 and 10000"),
         (&["--pinch-stiffness", "-3"], "pinch stiffness"),
         (&["--cpus", "0-"], "not a CPU list"),
+        (
+            &["--no-guard", "--model", "vbd"],
+            "--no-guard is the xpbd model's",
+        ),
+        (&["--guard", "--no-guard"], "cannot be used with"),
     ] {
         let mut all = vec!["run", "--domain", "clibad", "--autosave", a];
         all.extend_from_slice(args);

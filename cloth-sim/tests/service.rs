@@ -48,7 +48,7 @@ fn commands_are_carried_out_and_answered() {
     drop(states);
     STOP.store(true, Ordering::Relaxed);
     let stats = handle.join().unwrap();
-    assert_eq!(stats.commands, 21);
+    assert_eq!(stats.commands, 22);
     assert_eq!(stats.rejected, 5);
     let _ = std::fs::remove_file(&path);
     // The autosave, its previous good version, and the design the load replaced.
@@ -431,7 +431,7 @@ fn material_in_place(node: &Node, ask: Ask<'_>) {
 }
 
 /// xpbd's guard goes on in place and the telemetry says so; a new scene keeps it; it
-/// goes off again.
+/// goes off again, and a new scene keeps it off.
 fn guard_in_place(node: &Node, ask: Ask<'_>) {
     let telemetry = ports::subscriber(node, services::sim_telemetry, None).unwrap();
     let wait_for = |what: &str, want: &dyn Fn(&shared::telemetry::SimTelemetry) -> bool| {
@@ -476,6 +476,17 @@ fn guard_in_place(node: &Node, ask: Ask<'_>) {
     });
     assert_eq!(ask(guard(0)).ok, 1);
     wait_for("the guard off", &|t| t.never_crosses == 0);
+    // A new scene keeps it as the designer left it: off (a new design has it on).
+    let r = ask(ToolCommand {
+        op: op::RESET,
+        a: 7,
+        b: shared::ui_to_sim::body::CUBE,
+        ..Default::default()
+    });
+    assert_eq!(r.ok, 1, "{}", r.message());
+    wait_for("a new scene still without the guard", &|t| {
+        t.grid == 7 && t.model == scene_model::XPBD && t.never_crosses == 0
+    });
     // A new scene under another model.
     let mut vbd = ToolCommand {
         op: op::RESET,

@@ -67,7 +67,13 @@ fn a_design_round_trips() {
     );
     fresh.seams = s.seams.clone();
     fresh.tear = s.tear;
+    // The file keeps the guard's switch (on: the scenario's xpbd default). The steps are
+    // compared without it: its pairs depend on distances in the pattern, which the loaded
+    // pattern has to rounding only, and a pair listed or not moves a vertex by up to the
+    // search's margin, far above the rounding this compares to.
+    assert!(s.guarded() && t.guarded());
     let mut loaded = t;
+    loaded.sim.set_guard(false);
     for _ in 0..5 {
         fresh.step().unwrap();
         loaded.step().unwrap();

@@ -218,10 +218,14 @@ impl Layout {
         }
         let vs = uv.iter().map(|p| p[1]).filter(|v| v.is_finite());
         let v_range = vs.fold((f32::MAX, f32::MIN), |(a, b), v| (a.min(v), b.max(v)));
-        // Cut one grid line outside the top face on every side.
+        // Cut on the top face's outermost grid lines: those resting at the top's height
+        // lie on the cube's edges or just past them, so the flaps below are as wide as
+        // the faces they hang against (to a grid step). A grid line further out (as here
+        // until 2026-11-28) left each flap a step too wide, which the seams took up only
+        // by pulling the cloth through the cube's edges, where nothing stopped it.
         Ok(Self {
             top_face: [u0, v0, u1, v1],
-            cut_lines: [u0 - cell, v0 - cell, u1 + cell, v1 + cell],
+            cut_lines: [u0, v0, u1, v1],
             cell,
             u_range: (us[0], us[us.len() - 1]),
             v_range,

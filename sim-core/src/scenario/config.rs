@@ -140,7 +140,9 @@ pub struct ScenarioConfig {
     pub fabric: Option<String>,
     /// Pieces of the pattern made of another fabric: (piece name, library fabric).
     pub piece_fabrics: Vec<(String, String)>,
-    /// XPBD with its guard: contact that is never crossed (`solver/xpbd/guard.rs`).
+    /// XPBD with its guard: contact that is never crossed (`solver/xpbd/guard.rs`). On
+    /// by default; the other models ignore it (vbd's contact is always guarded, the
+    /// paper's model and the implicit reference have none).
     pub guard: bool,
 }
 
@@ -247,13 +249,6 @@ impl ScenarioConfig {
         if let Some(n) = self.check_every {
             check_range("check every", n, 1, MAX_FRAMES, " frames")?;
         }
-        if self.guard && self.model != ModelKind::Xpbd {
-            return Err(ConfigError::OutOfRange {
-                name: "guard",
-                rule: "used with --model xpbd (vbd's contact is always guarded; seed and implicit have none)",
-                value: self.model.name().into(),
-            });
-        }
         if (self.scenario == ScenarioName::DrapePattern) != self.pattern.is_some() {
             return Err(ConfigError::OutOfRange {
                 name: "pattern",
@@ -303,7 +298,7 @@ impl ScenarioConfig {
             check_every: None,
             fabric: None,
             piece_fabrics: Vec::new(),
-            guard: false,
+            guard: true,
         }
     }
 }
@@ -453,7 +448,9 @@ pub fn build_scene(cfg: &ScenarioConfig) -> Result<(Design, Option<PatternSpec>)
         cfg.substeps.or(cfg.scenario.default_substeps(cfg.model)),
     )?;
     sim.set_threads(cfg.threads);
-    sim.set_guard(cfg.guard);
+    if cfg.model == ModelKind::Xpbd {
+        sim.set_guard(cfg.guard);
+    }
     sim.notices.extend(notices);
     let mut design = Design::new(sim);
     design.pieces = records;

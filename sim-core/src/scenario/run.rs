@@ -358,7 +358,7 @@ fn report(
     Report {
         scenario: cfg.scenario.name().into(),
         model: cfg.model.name().into(),
-        guard: cfg.guard,
+        guard: cfg.guard && cfg.model == crate::solver::ModelKind::Xpbd,
         body: cfg.body.as_ref().map_or("floor".into(), BodyKind::name),
         grid: cfg.grid,
         vertices: sim.cloth.len(),

@@ -62,6 +62,14 @@ fn default_shear_damping() -> f32 {
     DEFAULT_SHEAR_DAMPING
 }
 
+/// Default [`Material::thickness`], m: the library's fabrics' floor. Contact that covers
+/// the body's faces, edges and corners and the cloth's own (the xpbd model's guard, on by
+/// default, and vbd) needs no more; at the 4 mm this was until 2026-11-28 (for the per-vertex
+/// body planes of plain xpbd, whose triangles sag between their vertices), the sewn
+/// layers of the paper's fit-cube, held 4 mm apart round the cube's edges, stacked into
+/// pleats that never settled under the guard (docs/collision.md).
+pub const DEFAULT_THICKNESS: f32 = 0.001;
+
 /// Cloth material. Membrane moduli are 2D (force per unit width), so they do not depend on
 /// the mesh resolution; bending rigidity is force x length.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -123,7 +131,7 @@ impl Default for Material {
             damping: 0.6,
             drag: 0.5,
             friction: 0.4,
-            thickness: 0.004,
+            thickness: DEFAULT_THICKNESS,
             seed_stiffness: 2.0e4,
             tethers: true,
             stretch_limits: true,

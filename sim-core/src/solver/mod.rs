@@ -22,7 +22,7 @@ mod zones;
 
 pub use constraints::{BendConstraint, Membrane, bending_energy, build_bending, build_membranes};
 pub use implicit::{EarlyStop, Implicit, ImplicitError};
-pub use material::{DEFAULT_SHEAR_DAMPING, Material, ModelKind};
+pub use material::{DEFAULT_SHEAR_DAMPING, DEFAULT_THICKNESS, Material, ModelKind};
 pub use model::{ContactStats, Drive, Environment, FrameInput, Solver, StepError};
 pub use pinch::{Grip, PenInput, PenPath, Pinch};
 pub use seed::{Seed, seed_safe_step, seed_stable_step};

@@ -43,15 +43,20 @@ struct Cli {
     #[arg(long, default_value = "cube")]
     body: String,
     /// Cloth model of a new design (cloth-sim's --model): xpbd (the default: real time,
-    /// but the cloth can cross itself and the body), vbd (never crosses; several times
-    /// slower, see docs/models.md), seed (the paper's mass-spring) or implicit. A resumed
-    /// design keeps its own (with --fresh for a new one).
+    /// with its guard the cloth never crosses itself or the body), vbd (never crosses,
+    /// strain under 1%; several times slower, see docs/models.md), seed (the paper's
+    /// mass-spring) or implicit. A resumed design keeps its own (with --fresh for a new
+    /// one).
     #[arg(long, value_parser = ["xpbd", "vbd", "seed", "implicit"])]
     model: Option<String>,
-    /// XPBD with its guard (cloth-sim's --guard): the cloth never crosses itself or the
-    /// body, at 2-20x the frame time (docs/collision.md).
-    #[arg(long)]
+    /// XPBD with its guard (cloth-sim's --guard, the default for a new design): given, a
+    /// resumed design takes it too, whatever its file says.
+    #[arg(long, conflicts_with = "no_guard")]
     guard: bool,
+    /// Plain XPBD (cloth-sim's --no-guard): the cloth can cross itself and the body's
+    /// edges, at a fraction of the guard's frame time (docs/collision.md).
+    #[arg(long)]
+    no_guard: bool,
     /// The cloth's fabric, from the library (`cloth-sim fabrics` lists them).
     #[arg(long)]
     fabric: Option<String>,
@@ -279,6 +284,9 @@ fn sim_args(cli: &Cli, domain: &Domain, fresh: bool, autosave: Option<&PathBuf>)
     if cli.guard {
         a.push("--guard".into());
     }
+    if cli.no_guard {
+        a.push("--no-guard".into());
+    }
     if let Some(f) = &cli.fabric {
         a.extend(["--fabric".into(), f.clone()]);
     }
@@ -495,6 +503,14 @@ mod tests {
             None,
         );
         assert!(guarded.iter().any(|s| s == "--guard"), "{guarded:?}");
+        let unguarded = sim_args(
+            &Cli::try_parse_from(["cloth-lab", "--no-guard"]).unwrap(),
+            &domain,
+            false,
+            None,
+        );
+        assert!(unguarded.iter().any(|s| s == "--no-guard"), "{unguarded:?}");
+        assert!(Cli::try_parse_from(["cloth-lab", "--guard", "--no-guard"]).is_err());
         let plain = sim_args(
             &Cli::try_parse_from(["cloth-lab"]).unwrap(),
             &domain,

@@ -49,7 +49,7 @@ fn model_name(code: u32) -> &'static str {
 
 /// What each model is for, as the Scene panel's chooser says.
 const MODEL_HINTS: [&str; 4] = [
-    "xpbd: the one to design with; fast, and with the guard switched on it never crosses",
+    "xpbd: the one to design with; fast, and with its guard (on unless switched off) it never crosses",
     "vbd: never crosses and holds the fabric's stiffness; several times slower",
     "seed: the 2005 paper's mass-spring model, as it was",
     "implicit: the reference (backward Euler); slow, for checking a drape's rest shape",
@@ -108,8 +108,8 @@ impl ScenePanel {
                 let mut on = self.guard_asked.map_or(reported, |(asked, _)| asked);
                 let hint = "On: the cloth never passes through itself or the body's edges \
                      (contact checked between every pair of nearby triangles; frames cost \
-                     several times more). Off: faster, and the cloth may cross. Crossings \
-                     already there stay.";
+                     several times more); on for a new design. Off: faster, and the cloth \
+                     may cross. Crossings already there stay.";
                 if ui
                     .checkbox(&mut on, "Never cross (guard)")
                     .on_hover_text(hint)
