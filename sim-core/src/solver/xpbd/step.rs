@@ -252,6 +252,7 @@ impl Xpbd {
                     &cloth.inv_mass,
                     m.thickness,
                     m.friction,
+                    env.floor,
                 );
                 g.enforce(&mut cloth.x, &mut self.prev);
             }
