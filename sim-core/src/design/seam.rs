@@ -1,7 +1,7 @@
 //! Seams: two border paths paired vertex to vertex and pulled together by stitches of
 //! bounded force, each pair welded (sewn) once within reach: 1.5 x the cloth's
-//! thickness and at least [`WELD_REACH_MIN`], or [`ZIP_REACH`] edges beside a welded pair or where the seam's two sides
-//! meet (a zip).
+//! thickness and at least [`WELD_REACH_MIN`], or [`ZIP_REACH`] edges beside a welded
+//! pair or where the seam's two sides meet (a zip).
 
 use super::document::Design;
 
@@ -220,9 +220,9 @@ impl Design {
 
     /// Welds stitched pairs that came within reach (after a frame); each weld is an
     /// undoable sew. Returns how many welded. The reach is 1.5 x the cloth's thickness,
-    /// at least [`WELD_REACH_MIN`]
-    /// (not the thickness: under penetration-free contact two pieces' edges meet at the
-    /// contact distance, which is the thickness, and would never weld), and
+    /// at least [`WELD_REACH_MIN`] (not the thickness: under penetration-free contact two
+    /// pieces' edges meet at the contact distance, which is the thickness, and would
+    /// never weld), and
     /// [`ZIP_REACH`] mean edges for a pair beside a welded one, or at the end of its seam
     /// where its two sides already meet (the corner a cut-away leaves, a dart's point: the
     /// pair's vertices are neighbours or share one), so that a seam closes from there like
