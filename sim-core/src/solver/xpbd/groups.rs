@@ -100,6 +100,20 @@ pub(super) struct Compliance {
     pub shear_gamma: f32,
 }
 
+impl Compliance {
+    /// The compliances of `m` for a substep of `h` seconds.
+    pub(super) fn of(m: &crate::solver::material::Material, h: f32) -> Self {
+        let inv_h2 = 1.0 / (h * h);
+        let or_off = |k: f32| if k > 0.0 { inv_h2 / k } else { f32::INFINITY };
+        Self {
+            stretch: inv_h2 / m.stretch,
+            shear: or_off(m.shear),
+            bend: or_off(m.bending),
+            shear_gamma: m.shear_damping / h,
+        }
+    }
+}
+
 /// One pass over every triangle: warp stretch, weft stretch, then shear. Shear is damped
 /// (XPBD constraint damping, Macklin et al. 2016 eq. 26): its rate since the substep
 /// began, `grad C . (x - x_prev)`, is part of the correction, weighted by `k.shear_gamma`.

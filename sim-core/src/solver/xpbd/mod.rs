@@ -20,8 +20,10 @@
 //! (stretch limits) <- `tethers` <- `step` (the solver's state and its frame) <- `edit`
 //! (keeping it in step with an edited cloth) <- `solver` (the `Solver` trait's methods).
 
+mod coarse;
 mod coloring;
 mod edit;
+mod graph;
 mod groups;
 mod guard;
 mod limits;

@@ -4,7 +4,8 @@
 
 use glam::Vec3;
 
-use super::limits::{Bounded, RestGraph, StretchLimits};
+use super::graph::{Bounded, RestGraph};
+use super::limits::StretchLimits;
 use crate::mesh::bounds;
 use crate::solver::material::Material;
 use crate::solver::state::Cloth;
@@ -33,7 +34,6 @@ pub(super) fn stretch_limits(
     cloth: &Cloth,
     material: &Material,
     keep: Option<StretchLimits>,
-    mid: usize,
 ) -> StretchLimits {
     if !material.stretch_limits {
         return StretchLimits::default();
@@ -42,10 +42,9 @@ pub(super) fn stretch_limits(
     match keep {
         Some(mut limits) if !limits.is_empty() => {
             limits.set_strain(strain);
-            limits.split(mid);
             limits
         }
-        _ => StretchLimits::build(cloth, strain, mid),
+        _ => StretchLimits::build(cloth, strain),
     }
 }
 
