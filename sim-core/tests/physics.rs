@@ -438,8 +438,17 @@ fn no_tunnelling_at_two_metres_per_second() {
                 .map(|&p| b.penetration(p))
                 .fold(worst, f32::max);
         }
+        // Depth is measured against the mannequin's exact capsules and ellipsoids, while
+        // contact holds the cloth off its triangles, which lie up to about a millimetre
+        // inside them between vertices (docs/collision.md, the 1 mm contact): 1.005 mm
+        // was seen with the 1 mm thickness. A particle that tunnelled would be centimetres in.
+        let faceting = if matches!(body, BodyKind::Mannequin) {
+            1e-3
+        } else {
+            0.0
+        };
         assert!(
-            worst <= sim.material.thickness,
+            worst <= sim.material.thickness + faceting,
             "{}: a particle went {worst} m into the body",
             b.name
         );
