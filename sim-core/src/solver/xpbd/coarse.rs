@@ -24,7 +24,7 @@ pub(super) type Limit = (u32, u32, f32);
 
 /// One level's blend: node slot `s` stands for vertex `nodes[s]` and blends its
 /// correction into `patches[s]`, (vertex, tent weight) pairs; a vertex takes a weight
-/// times its `inv_sum` (one over the weights that reach it).
+/// times its `inv_sum` (one over `sum`, the weights that reach it).
 #[derive(Clone, Debug, Default)]
 pub(super) struct Blend {
     spacing: f32,
@@ -32,6 +32,7 @@ pub(super) struct Blend {
     nodes: Vec<u32>,
     slot: Vec<u32>,
     patches: Vec<Vec<(u32, f32)>>,
+    sum: Vec<f32>,
     inv_sum: Vec<f32>,
     /// The links in node slots.
     links: Vec<Limit>,
@@ -63,7 +64,12 @@ impl Blend {
             patches,
             ..Self::default()
         };
-        b.finish(links);
+        b.sum = vec![0.0; n];
+        for &(u, w) in b.patches.iter().flatten() {
+            b.sum[u as usize] += w;
+        }
+        b.inv_sum = b.sum.iter().map(|&t| inverse(t)).collect();
+        b.relink(links);
         b
     }
 
@@ -84,12 +90,21 @@ impl Blend {
             for (s, v) in self.nodes.iter_mut().enumerate() {
                 if *v != u32::MAX && *v as usize >= n {
                     *v = u32::MAX;
+                    for &(u, w) in &self.patches[s] {
+                        if let Some(t) = self.sum.get_mut(u as usize) {
+                            *t -= w;
+                        }
+                    }
                     self.patches[s].clear();
                 }
                 self.patches[s].retain(|&(u, _)| (u as usize) < n);
             }
+            self.sum.truncate(n);
+            self.inv_sum = self.sum.iter().map(|&t| inverse(t)).collect();
         }
         self.slot.resize(n, u32::MAX);
+        self.sum.resize(n, 0.0);
+        self.inv_sum.resize(n, 0.0);
         let mut redo = vec![false; self.nodes.len()];
         for &(u, d) in near {
             if d <= self.spacing
@@ -99,25 +114,31 @@ impl Blend {
                 redo[s as usize] = true;
             }
         }
+        // Only the sums of the vertices in a patch found again change: a patch's weights
+        // come off them and the new ones go on.
+        let mut changed = Vec::new();
         for (s, r) in redo.into_iter().enumerate() {
             if r && self.nodes[s] != u32::MAX {
-                self.patches[s] = patch(g, self.nodes[s], self.spacing, n, search);
+                let new = patch(g, self.nodes[s], self.spacing, n, search);
+                for &(u, w) in &self.patches[s] {
+                    self.sum[u as usize] -= w;
+                    changed.push(u);
+                }
+                for &(u, w) in &new {
+                    self.sum[u as usize] += w;
+                    changed.push(u);
+                }
+                self.patches[s] = new;
             }
         }
-        self.finish(links);
+        for u in changed {
+            self.inv_sum[u as usize] = inverse(self.sum[u as usize]);
+        }
+        self.relink(links);
     }
 
-    /// The weights' sums and the links in slots.
-    fn finish(&mut self, links: &[Limit]) {
-        let n = self.slot.len();
-        self.inv_sum.clear();
-        self.inv_sum.resize(n, 0.0);
-        for &(u, w) in self.patches.iter().flatten() {
-            self.inv_sum[u as usize] += w;
-        }
-        for s in &mut self.inv_sum {
-            *s = if *s > 0.0 { 1.0 / *s } else { 0.0 };
-        }
+    /// The links in node slots.
+    fn relink(&mut self, links: &[Limit]) {
         let slot = &self.slot;
         self.links = links
             .iter()
@@ -200,6 +221,12 @@ impl Blend {
             }
         }
     }
+}
+
+/// One over a vertex's sum of weights, 0 where none reaches it (a sum kept up to date by
+/// subtraction can end a rounding error above 0 when its last patch goes).
+fn inverse(sum: f32) -> f32 {
+    if sum > 1e-6 { 1.0 / sum } else { 0.0 }
 }
 
 /// The tent weights `1 - d / spacing` of the vertices (below `n`) within `spacing` of `v`.
