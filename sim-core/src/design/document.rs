@@ -35,6 +35,11 @@ pub struct Design {
     /// Frames since each seam (by index) last welded a pair: a seam stalled that long
     /// may zip (`seam.rs`).
     pub(super) seam_idle: Vec<u32>,
+    /// Stitched pairs whose weld the mesh refused (it would not stay manifold) since the
+    /// cloth last changed: not tried again until it does. Each try applied the weld,
+    /// rolled it back and brought the solver and its contact search up to date, every
+    /// frame: the resting dress took 60-90 ms a frame instead of 15 (`seam.rs`).
+    pub(super) weld_refused: Vec<(u32, u32)>,
 }
 
 impl Design {
@@ -54,6 +59,7 @@ impl Design {
             pieces: Vec::new(),
             png_cache: None,
             seam_idle: Vec::new(),
+            weld_refused: Vec::new(),
         }
     }
 

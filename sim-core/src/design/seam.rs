@@ -259,7 +259,7 @@ impl Design {
                 };
                 k += 1;
                 let gap = (self.sim.cloth.x[a as usize] - self.sim.cloth.x[b as usize]).length();
-                if a == b || gap > reach {
+                if a == b || gap > reach || self.weld_refused.contains(&(a, b)) {
                     continue;
                 }
                 let Ok(mut prims) = self.sew_prims(a, b) else {
@@ -288,6 +288,8 @@ impl Design {
                 if self.commit("weld", prims).is_ok() {
                     welded += 1;
                     zipped |= gap > near;
+                } else {
+                    self.weld_refused.push((a, b));
                 }
             }
             self.seam_idle[si] = if welded > before {

@@ -145,6 +145,8 @@ impl Design {
             }
         }
         self.sync(&mut touched);
+        // The cloth changed: a weld refused before may go now.
+        self.weld_refused.clear();
         Ok(())
     }
 
