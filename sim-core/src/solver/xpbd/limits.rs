@@ -41,6 +41,9 @@ use crate::solver::state::Cloth;
 /// Each level costs about 3 links per node. On the 128 x 128 mannequin drape, before
 /// the support weighting below: mean strain 6.3% with these, 10.2% with 3 alone, 5.9%
 /// with 24, 6 and 3 (whose coarsest level makes an edit's update several times dearer).
+/// Solved on patches (64 x 64 mannequin, mean / largest strain): 0.73% / 0.42 with these,
+/// 0.56% / 0.39 with 12, 6 and 3, 0.30% / 0.40 with 6, 3 and 1.5, the last two at 1.25x
+/// and 1.4x this pair's frame without the guard.
 const LEVELS: [f32; 2] = [6.0, 3.0];
 
 /// A link allows at least this strain over its rest path, even where the material's own
@@ -109,7 +112,7 @@ pub(super) struct CoarseScratch {
 pub(crate) struct StretchLimits {
     levels: Vec<Level>,
     /// A link may be `1 + strain` times its rest path: the material's own stretch under
-    /// the cloth's weight.
+    /// the cloth's weight, at least `MIN_SLACK`.
     strain: f32,
 }
 

@@ -151,8 +151,9 @@ impl Xpbd {
             solve_bending(&self.extra_bends, x, w, k.bend);
         }
         // The stretch limits once more after the membranes, which undo part of the
-        // first pass (on the mannequin drape, measured with a 24-6-3 lattice: mean
-        // strain 9.7% with one pass, 5.9% with two).
+        // first pass (on the 64 x 64 mannequin drape with patches, mean / largest strain
+        // 0.81% / 0.53 after the membranes only, 0.73% / 0.42 before and after; with
+        // node vertices alone and a 24-6-3 lattice, 9.7% and 5.9% mean).
         self.limits.solve_coarse(x, lw, coarse);
     }
 
