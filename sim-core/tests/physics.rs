@@ -867,3 +867,84 @@ fn xpbd_guard_does_not_press_a_layer_into_the_floor() {
     assert!(up > 1.9 * t, "the upper layer at {up} m");
     assert_eq!(sim.crossings().self_pairs, 0);
 }
+
+/// A vertex left in no triangle (what a weld or the paper's sew merges away, what a tear
+/// leaves of a corner) is not cloth: a sheet falls past where it stands. The contact
+/// search kept such vertices as points the cloth must not cross, and the dress's sewn
+/// shoulder hung on the vertex its weld had merged away, 1.5 cm up, its sides at 4.6x
+/// their rest length for the rest of the drape.
+#[test]
+fn a_vertex_in_no_triangle_is_no_obstacle() {
+    use sim_core::mesh::edge_key;
+    for (model, guard) in [(ModelKind::Xpbd, true), (ModelKind::Vbd, false)] {
+        let m = Material::default();
+        let sheet = ClothMesh::grid(0.2, 0.2, 10, 10, m.thickness).unwrap();
+        let n = sheet.positions.len() as u32;
+        // A small triangle apart in the pattern, which is then removed.
+        let tri = [
+            Vec3::new(0.5, 0.0, 0.0),
+            Vec3::new(0.52, 0.0, 0.0),
+            Vec3::new(0.5, 0.0, 0.02),
+        ];
+        let mesh = ClothMesh {
+            positions: sheet.positions.iter().copied().chain(tri).collect(),
+            uvs: [sheet.uvs.clone(), vec![glam::Vec2::ZERO; 3]].concat(),
+            triangles: sheet
+                .triangles
+                .iter()
+                .copied()
+                .chain([[n, n + 2, n + 1]])
+                .collect(),
+        };
+        let mut cloth = Cloth::new(mesh, &m).unwrap();
+        let centre = cloth.x[..n as usize].iter().fold(Vec3::ZERO, |s, p| s + *p) / n as f32;
+        // The sheet 5 cm above the floor; the triangle's corners 2 cm above it, right
+        // under the sheet's middle.
+        for p in &mut cloth.x[..n as usize] {
+            p.y = 0.05;
+        }
+        for (k, p) in cloth.x[n as usize..].iter_mut().enumerate() {
+            *p = Vec3::new(
+                centre.x + 0.01 * k as f32,
+                0.02,
+                centre.z + 0.005 * k as f32,
+            );
+        }
+        let env = Environment {
+            floor: Some(0.0),
+            ..Environment::default()
+        };
+        let mut sim = Simulation::new(cloth, None, model, m, env, None).unwrap();
+        if guard {
+            assert!(sim.set_guard(true));
+        }
+        let slot = sim
+            .cloth
+            .live
+            .iter()
+            .find(|(_, t)| t.v.contains(&n))
+            .map(|(s, _)| s)
+            .unwrap();
+        sim.cloth.live.set(slot, None).unwrap();
+        let mut edges = vec![
+            edge_key(n, n + 1),
+            edge_key(n + 1, n + 2),
+            edge_key(n, n + 2),
+        ];
+        edges.sort_unstable();
+        sim.cloth_edited(&[slot], &edges, &[n, n + 1, n + 2]);
+        assert!((n..n + 3).all(|v| !sim.cloth.live.vertex_alive(v)));
+        for _ in 0..60 {
+            sim.step().unwrap();
+        }
+        let highest = sim.cloth.x[..n as usize]
+            .iter()
+            .map(|p| p.y)
+            .fold(f32::MIN, f32::max);
+        assert!(
+            highest < 0.01,
+            "{model:?}: the sheet caught {highest} m up, on the removed triangle's corners"
+        );
+        assert_eq!(sim.crossings().self_pairs, 0);
+    }
+}

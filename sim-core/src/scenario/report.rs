@@ -133,6 +133,8 @@ pub struct Report {
     /// and the largest. Cotton barely stretches; more is the solver's lag.
     pub strain_mean: f64,
     pub strain_max: f64,
+    /// Where the most stretched side is (its midpoint, m), for a look at it.
+    pub strain_max_at: Option<[f32; 3]>,
     /// Exact counts at the end (`collision::crossings`): pairs of cloth triangles that
     /// intersect (sharing no vertex); pairs of a cloth and a body triangle that
     /// intersect, and the cloth triangles among them.

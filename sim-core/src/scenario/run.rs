@@ -377,6 +377,10 @@ fn report(
         mesh_valid: design.validate().is_ok(),
         strain_mean,
         strain_max,
+        strain_max_at: sim
+            .cloth
+            .worst_side()
+            .map(|(a, b, _)| ((sim.cloth.x[a as usize] + sim.cloth.x[b as usize]) / 2.0).into()),
         crossings_self: crossings.self_pairs,
         crossings_body: crossings.body_pairs,
         self_contacts: sim.self_contacts(),

@@ -62,7 +62,8 @@ impl Motion {
     }
 
     /// The motion boxes for the next `t` seconds into `boxes` (one per vertex; a vertex
-    /// that is not `free` gets the point where it is), and who is held.
+    /// that is not `free` gets the point where it is, and one in no triangle gets
+    /// [`Aabb::EMPTY`], so the search leaves it out), and who is held.
     pub fn boxes(
         &mut self,
         boxes: &mut Vec<Aabb>,
@@ -81,7 +82,17 @@ impl Motion {
         for i in 0..n {
             let x = cloth.x[i];
             if free.get(i) != Some(&true) {
-                boxes.push(Aabb::point(x));
+                // A pinned vertex is cloth the others must not cross; a vertex in no
+                // triangle (the one a weld or the paper's sew merged away, what a tear
+                // left of a corner) is not cloth at all. Kept as a point, it stood where
+                // it was left as an obstacle: the dress's sewn shoulder lay draped over
+                // the vertex its weld had merged away, the seam vertex held 1.5 cm up,
+                // its sides at 4.6x their rest length for the rest of the drape.
+                boxes.push(if cloth.live.vertex_alive(i as u32) {
+                    Aabb::point(x)
+                } else {
+                    Aabb::EMPTY
+                });
                 self.predicted.push(Vec3::ZERO);
                 continue;
             }

@@ -180,26 +180,44 @@ impl Cloth {
         };
     }
 
+    /// Each live triangle's sides with their stretch, `length / rest length - 1` (an
+    /// interior edge once per triangle; sides of no rest length left out).
+    fn side_strains(&self) -> impl Iterator<Item = (u32, u32, f64)> + '_ {
+        self.live.iter().flat_map(move |(_, t)| {
+            (0..3).filter_map(move |k| {
+                let (a, b) = (t.v[k], t.v[(k + 1) % 3]);
+                let rest = (t.rest[k] - t.rest[(k + 1) % 3]).length();
+                (rest > 0.0).then(|| {
+                    let len = (self.x[a as usize] - self.x[b as usize]).length();
+                    (a, b, (len / rest - 1.0) as f64)
+                })
+            })
+        })
+    }
+
     /// Stretch of the live triangles' sides, `length / rest length - 1`: the mean and the
     /// largest (each interior edge counts once per triangle). Zero for no triangles.
     pub fn strain(&self) -> (f64, f64) {
         let (mut sum, mut max, mut n) = (0.0f64, f64::NEG_INFINITY, 0usize);
-        for (_, t) in self.live.iter() {
-            for k in 0..3 {
-                let (a, b) = (t.v[k] as usize, t.v[(k + 1) % 3] as usize);
-                let rest = (t.rest[k] - t.rest[(k + 1) % 3]).length();
-                if rest > 0.0 {
-                    let e = ((self.x[a] - self.x[b]).length() / rest - 1.0) as f64;
-                    sum += e;
-                    max = max.max(e);
-                    n += 1;
-                }
-            }
+        for (_, _, e) in self.side_strains() {
+            sum += e;
+            max = max.max(e);
+            n += 1;
         }
         if n == 0 {
             return (0.0, 0.0);
         }
         (sum / n as f64, max)
+    }
+
+    /// The most stretched live triangle side (where [`Self::strain`]'s largest is): its
+    /// two vertices and its stretch. None for no triangles.
+    pub fn worst_side(&self) -> Option<(u32, u32, f64)> {
+        self.side_strains()
+            .fold(None, |w: Option<(u32, u32, f64)>, s| match w {
+                Some(w) if w.2 >= s.2 => Some(w),
+                _ => Some(s),
+            })
     }
 
     /// Kinetic energy with the lumped masses, J.
