@@ -48,7 +48,7 @@ pub use document::{CLOTH_COLOUR, Design, TEXTURE_SIZE};
 pub use error::EditError;
 pub use fabrics::{EDITED, fabric_zones};
 pub use history::History;
-pub use parts::{STITCH_FORCE, Seam, TearMode, TearSettings, open_stitches};
+pub use parts::{STITCH_PULL, Seam, TearMode, TearSettings, open_stitches};
 pub use piece_edit::MAX_PIECE_VERTICES;
 pub use piece_list::PieceInfo;
 pub use pieces::{MAX_NAME, PieceRecord};

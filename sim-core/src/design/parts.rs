@@ -31,9 +31,11 @@ impl Seam {
     }
 }
 
-/// Default stitch force, N: enough to pull cotton flaps together against gravity and
-/// friction, small next to what tears it.
-pub const STITCH_FORCE: f32 = 0.05;
+/// Default pull of a seam, N per metre of seam (each stitched pair its share,
+/// [`Design::pair_pull`](super::Design::pair_pull)): enough to pull cotton flaps together
+/// against gravity and friction, small next to what tears it. 0.05 N a pair at
+/// fit-cube's 15.6 mm grid, the force per pair it replaced.
+pub const STITCH_PULL: f32 = 3.2;
 
 /// What an overstretched edge does.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

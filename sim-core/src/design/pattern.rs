@@ -6,7 +6,7 @@ use glam::Vec2;
 
 use super::document::Design;
 use super::error::EditError;
-use super::parts::STITCH_FORCE;
+use super::parts::STITCH_PULL;
 
 impl Design {
     /// Where live vertex `v` sits on the pattern (the UV of its first triangle's corner).
@@ -117,7 +117,8 @@ impl Design {
                 what: "border path of two or more vertices",
             });
         }
-        self.add_seam(&pa, &pb, STITCH_FORCE)
+        let pull = self.pair_pull(&pa, &pb, STITCH_PULL);
+        self.add_seam(&pa, &pb, pull)
     }
 }
 

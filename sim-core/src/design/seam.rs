@@ -67,6 +67,18 @@ impl Design {
         Ok(())
     }
 
+    /// The force each stitched pair of a seam between paths `a` and `b` may pull with,
+    /// N, for a seam that pulls `pull_per_m` newtons per metre: each of the pairs (as
+    /// many as the longer path has vertices) takes its share of the longer side's length
+    /// in the pattern. So a finer mesh, with more pairs, does not sew harder: at a force
+    /// per pair, the 9 mm dress was pulled with 95 N in all against 30 N at 3 cm, on a
+    /// dress that weighs 1 N. Zero for a path of no length (which `add_seam` refuses).
+    pub fn pair_pull(&self, a: &[u32], b: &[u32], pull_per_m: f32) -> f32 {
+        let pairs = a.len().max(b.len()).max(1) as f32;
+        let len = self.pattern_length(a).max(self.pattern_length(b));
+        pull_per_m * len / pairs
+    }
+
     /// The length of a vertex path in the pattern (the rest length of each of its edges,
     /// as the triangle holding the edge has it; the present distance where no triangle
     /// holds both ends), m. Two sides to be sewn should match: a designer is told when
@@ -496,5 +508,31 @@ mod tests {
         let c = d.sim.crossings();
         assert_eq!((c.self_pairs, c.body_pairs), (0, 0));
         d.validate().unwrap();
+    }
+
+    /// A seam's pull per metre is shared among its pairs: the same sides sewn on a mesh
+    /// twice as fine pull with half as much a pair, the same in all.
+    #[test]
+    fn a_finer_mesh_sews_no_harder() {
+        let total = |n: usize| {
+            let mesh = ClothMesh::grid(0.4, 0.4, n, n, 1.0).unwrap();
+            let d = crate::design::floating(mesh, ModelKind::Xpbd);
+            let x = &d.sim.cloth.x;
+            let side = |at: f32| -> Vec<u32> {
+                (0..x.len() as u32)
+                    .filter(|&v| (x[v as usize].x - at).abs() < 1e-5)
+                    .collect()
+            };
+            let (a, b) = (side(-0.2), side(0.2));
+            assert_eq!(a.len(), n + 1);
+            let pull = d.pair_pull(&a, &b, 3.0);
+            (pull, pull * a.len() as f32)
+        };
+        let (coarse, fine) = (total(8), total(16));
+        // 9 and 17 pairs: about half a pair's pull, and 3 N/m over 0.4 m in all.
+        assert!(fine.0 < 0.55 * coarse.0, "{coarse:?} {fine:?}");
+        for (_, all) in [coarse, fine] {
+            assert!((all - 1.2).abs() < 1e-4, "{all} N in all");
+        }
     }
 }

@@ -6,7 +6,7 @@
 use glam::Vec3;
 
 use crate::collision::Body;
-use crate::design::{Design, EditError, STITCH_FORCE, TearMode};
+use crate::design::{Design, EditError, STITCH_PULL, TearMode};
 
 /// Frames of plain draping before the operations start.
 pub const DRAPE_FRAMES: u64 = 240;
@@ -74,7 +74,8 @@ pub fn fit_cube(design: &mut Design, body: &Body, grid: usize) -> Result<FitOps,
             v.into_iter().map(|(_, i)| i).collect()
         };
         let (a, b) = (line(true), line(false));
-        ops.pairs += design.add_seam(&a, &b, STITCH_FORCE)?;
+        let pull = design.pair_pull(&a, &b, STITCH_PULL);
+        ops.pairs += design.add_seam(&a, &b, pull)?;
         ops.seams += 1;
     }
     Ok(ops)

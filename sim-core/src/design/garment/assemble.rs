@@ -245,8 +245,9 @@ fn stretch(design: &Design, side: &EdgeRef) -> (Vec<u32>, f32) {
     (on.into_iter().map(|(_, v)| v).collect(), span)
 }
 
-/// Sews every seam of `spec` (whose pieces are `design.pieces`, in order), each stitch
-/// pulling up to `pull` N; each seam's ends meet the way its sides start closer.
+/// Sews every seam of `spec` (whose pieces are `design.pieces`, in order), each pulling
+/// `pull` N per metre of seam ([`Design::pair_pull`]); each seam's ends meet the way
+/// its sides start closer.
 pub fn sew(design: &mut Design, spec: &PatternSpec, pull: f32) -> Result<Sewn, GarmentError> {
     let mut sewn = Sewn::default();
     let edge = design.sim.cloth.live.mean_rest_side();
@@ -294,8 +295,9 @@ pub fn sew(design: &mut Design, spec: &PatternSpec, pull: f32) -> Result<Sewn, G
         }
         let m = (design.pattern_length(&a) - design.pattern_length(&b)).abs();
         sewn.mismatch_m = sewn.mismatch_m.max(m);
+        let pair_pull = design.pair_pull(&a, &b, pull);
         sewn.pairs += design
-            .add_seam(&a, &b, pull)
+            .add_seam(&a, &b, pair_pull)
             .map_err(|source| GarmentError::Seam {
                 label: s.label.clone(),
                 source,
