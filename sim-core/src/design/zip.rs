@@ -46,13 +46,24 @@ impl Design {
         let (xp, xq, xr) = (x[p as usize], x[q as usize], x[r as usize]);
         let qr = xr - xq;
         let t = (xp - xq).dot(qr) / qr.length_squared();
-        if !(END_MARGIN..=1.0 - END_MARGIN).contains(&t) {
+        if !(END_MARGIN..=1.0 - END_MARGIN).contains(&t) || (xp - (xq + qr * t)).length() > reach {
+            return None;
+        }
+        // Where `p` goes along the edge: as far as its own side puts it between `q` and
+        // `r` in the pattern, so the split triangle's new sides keep the proportions of
+        // the sides they are sewn to. Taken from where `p` happened to lie, a zip near an
+        // end made a side of 1.2 mm sewn to one of 8 mm (the dress's hem, 2.8x its rest
+        // length at the end).
+        let rest_len = |a: u32, b: u32| {
+            let t = live.tri(border(a, b)?)?;
+            Some((t.rest[t.corner(a)?] - t.rest[t.corner(b)?]).length())
+        };
+        let (pq, pr) = (rest_len(p, q)?, rest_len(p, r)?);
+        let t = (pq / (pq + pr)).clamp(END_MARGIN, 1.0 - END_MARGIN);
+        if !t.is_finite() {
             return None;
         }
         let on_edge = xq + qr * t;
-        if (xp - on_edge).length() > reach {
-            return None;
-        }
         let (cq, cr) = (tri.corner(q)?, tri.corner(r)?);
         let rest = tri.rest[cq].lerp(tri.rest[cr], t);
         let uv = tri.uv[cq].lerp(tri.uv[cr], t);
@@ -198,5 +209,29 @@ mod tests {
         assert_eq!(d.weld_close_stitches(), 4);
         assert_eq!(d.seams[0].pairs.iter().filter(|(p, q)| p != q).count(), 1);
         assert!(d.sim.cloth.live.is_boundary(a[1]));
+    }
+
+    /// A vertex is zipped in where its own side puts it in the pattern (halfway between
+    /// its welded neighbours here), not where it happens to lie: moved 3 cm toward one
+    /// end, it made the split triangle's side 2 cm long at rest, sewn to a side of 5.
+    #[test]
+    fn a_zip_keeps_the_proportions_of_the_side_it_eases_in() {
+        let (mut d, a) = uneven_seam(ModelKind::Xpbd);
+        d.sim.cloth.x[a[1] as usize].x -= 0.03;
+        d.weld_close_stitches();
+        assert!(!d.sim.cloth.live.is_boundary(a[1]), "not zipped");
+        let q = d.seams[0].pairs[0].0;
+        let live = &d.sim.cloth.live;
+        let sides: Vec<f32> = live
+            .tris_of(a[1])
+            .iter()
+            .filter_map(|&t| live.tri(t))
+            .filter_map(|t| Some((t.rest[t.corner(a[1])?] - t.rest[t.corner(q)?]).length()))
+            .collect();
+        assert!(sides.len() >= 2, "{sides:?}");
+        assert!(
+            sides.iter().all(|&l| (l - 0.05).abs() < 1e-4),
+            "rest lengths of the side to the welded end: {sides:?}"
+        );
     }
 }
