@@ -55,8 +55,8 @@ impl Design {
         // end made a side of 1.2 mm sewn to one of 8 mm (the dress's hem, 2.8x its rest
         // length at the end).
         let rest_len = |a: u32, b: u32| {
-            let t = live.tri(border(a, b)?)?;
-            Some((t.rest[t.corner(a)?] - t.rest[t.corner(b)?]).length())
+            let side = live.tri(border(a, b)?)?;
+            Some((side.rest[side.corner(a)?] - side.rest[side.corner(b)?]).length())
         };
         let (pq, pr) = (rest_len(p, q)?, rest_len(p, r)?);
         let t = (pq / (pq + pr)).clamp(END_MARGIN, 1.0 - END_MARGIN);
