@@ -329,10 +329,10 @@ fn report(
 ) -> Report {
     let sim = &design.sim;
     let max_pen = sim.body.as_ref().map_or(0.0, |body| {
-        sim.cloth
-            .x
-            .iter()
-            .map(|&p| body.penetration(p) as f64)
+        // Vertices in no triangle (what welds merged away) are no cloth.
+        (0..sim.cloth.len())
+            .filter(|&i| sim.cloth.live.vertex_alive(i as u32))
+            .map(|i| body.penetration(sim.cloth.x[i]) as f64)
             .fold(0.0, f64::max)
     });
     let (strain_mean, strain_max) = sim.cloth.strain();
