@@ -151,3 +151,105 @@ fn a_garmentcode_seam_shorter_than_the_mesh_is_left_unsewn_with_a_notice() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A GarmentCode top on thin straps, as their pencil dress's bodice: its straps come level
+/// with their body's shoulders, and the panels are raised to start above ours (as our own
+/// tops do), so the strap seams close over the shoulders while the panels fall. Started
+/// level with our shoulders instead, the straps slid off before they were sewn and the
+/// top fell to the floor within half a second (coverage 0, its highest point at the hips).
+#[test]
+fn a_garmentcode_top_on_straps_stays_on_the_mannequins_shoulders() {
+    // Front and back as one panel each (cm): the bodice, the armholes, two 4.4 cm straps
+    // and a V neck, as GarmentCode's dress_pencil's torso halves put side by side.
+    let panel = |name: &str, z: f32, turn: f32, neck: f32| {
+        format!(
+            r#""{name}": {{
+              "translation": [0, 83.5, {z}], "rotation": [0, {turn}, 0],
+              "vertices": [[-28.7, 0], [28.7, 0], [28.7, 33.8], [17.2, 55.3], [12.8, 57.05],
+                           [0, {neck}], [-12.8, 57.05], [-17.2, 55.3], [-28.7, 33.8]],
+              "edges": [{{"endpoints": [0, 1]}}, {{"endpoints": [1, 2]}}, {{"endpoints": [2, 3]}},
+                        {{"endpoints": [3, 4]}}, {{"endpoints": [4, 5]}}, {{"endpoints": [5, 6]}},
+                        {{"endpoints": [6, 7]}}, {{"endpoints": [7, 8]}}, {{"endpoints": [8, 0]}}]
+            }}"#
+        )
+    };
+    // The back is turned round: its edge 1 (x = 28.7) lies on the body's right, beside
+    // the front's edge 8, and its straps' tops (edges 3 and 6) above the front's 6 and 3.
+    let json = format!(
+        r#"{{"pattern": {{"panels": {{{}, {}}},
+          "stitches": [
+            [{{"panel": "front", "edge": 1}}, {{"panel": "back", "edge": 8}}],
+            [{{"panel": "front", "edge": 8}}, {{"panel": "back", "edge": 1}}],
+            [{{"panel": "front", "edge": 3}}, {{"panel": "back", "edge": 6}}],
+            [{{"panel": "front", "edge": 6}}, {{"panel": "back", "edge": 3}}]
+          ]}},
+          "properties": {{"units_in_meter": 100}}}}"#,
+        panel("front", 30.0, 0.0, 42.8),
+        panel("back", -25.0, 180.0, 51.6)
+    );
+    let dir = std::env::temp_dir().join(format!("saiho-gc-straps-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("straps_specification.json");
+    std::fs::write(&file, json).unwrap();
+    let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
+    cfg.pattern = Some(file);
+    cfg.piece_edge = 0.03;
+    cfg.frames = 90;
+    let r = run_scenario(&cfg, &dir.join("out")).unwrap();
+    assert_eq!(r.ops.seams, Some(4), "{:?}", r.notices);
+    let top = sim_core::mesh::obj::load_obj(&dir.join("out/cloth.obj"))
+        .unwrap()
+        .positions
+        .iter()
+        .map(|p| p.y)
+        .fold(f32::MIN, f32::max);
+    let coverage = r.ops.torso_coverage.unwrap();
+    assert!(
+        top > 1.40 && coverage > 0.8,
+        "the top hangs from {top} m, coverage {coverage}"
+    );
+    assert_eq!((r.crossings_self, r.crossings_body), (0, 0));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A GarmentCode top whose sides reach up to where our arms leave the torso: lifted the
+/// full 8 cm its armpits would start through the arms, so it starts lower, and says so.
+#[test]
+fn a_garmentcode_top_that_would_start_through_the_arms_starts_lower() {
+    let panel = |name: &str, z: f32, turn: f32| {
+        format!(
+            r#""{name}": {{
+              "translation": [0, 94.6, {z}], "rotation": [0, {turn}, 0],
+              "vertices": [[-28.7, 0], [28.7, 0], [28.7, 25], [17, 46], [-17, 46], [-28.7, 25]],
+              "edges": [{{"endpoints": [0, 1]}}, {{"endpoints": [1, 2]}}, {{"endpoints": [2, 3]}},
+                        {{"endpoints": [3, 4]}}, {{"endpoints": [4, 5]}}, {{"endpoints": [5, 0]}}]
+            }}"#
+        )
+    };
+    let json = format!(
+        r#"{{"pattern": {{"panels": {{{}, {}}},
+          "stitches": [
+            [{{"panel": "front", "edge": 1}}, {{"panel": "back", "edge": 5}}],
+            [{{"panel": "front", "edge": 5}}, {{"panel": "back", "edge": 1}}]
+          ]}},
+          "properties": {{"units_in_meter": 100}}}}"#,
+        panel("front", 30.0, 0.0),
+        panel("back", -25.0, 180.0)
+    );
+    let dir = std::env::temp_dir().join(format!("saiho-gc-armpits-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("armpits_specification.json");
+    std::fs::write(&file, json).unwrap();
+    let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
+    cfg.pattern = Some(file);
+    cfg.piece_edge = 0.03;
+    cfg.frames = 1;
+    let r = run_scenario(&cfg, &dir.join("out")).unwrap();
+    let said = r
+        .notices
+        .iter()
+        .find(|n| n.contains("above the shoulders rather than 8"));
+    assert!(said.is_some(), "{:?}", r.notices);
+    assert_eq!((r.crossings_self, r.crossings_body), (0, 0));
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use glam::Vec3;
 
-use crate::collision::{BodyKind, crossings};
+use crate::collision::{Body, BodyKind, crossings};
 use crate::design::export::ExportError;
 use crate::design::file::DesignError;
 use crate::design::garment::{self, Landmarks, PatternSpec};
@@ -303,6 +303,59 @@ impl ScenarioConfig {
     }
 }
 
+/// How many lifts a pattern is tried at, highest first, before it starts unlifted.
+const LIFT_TRIES: usize = 4;
+
+/// The garment scenarios' pattern (the file, or the shipped dress), its pieces placed
+/// round the body. A GarmentCode pattern starts `Landmarks::lift` above where its file
+/// puts it, so that its tops start above the shoulders as ours do; where that would
+/// start a piece through the body or another piece, it starts lower, a quarter of the
+/// lift at a time (a shirt lifted 8 cm met our arms at its armpits).
+fn placed_garment(
+    cfg: &ScenarioConfig,
+    body: Option<&Body>,
+    notices: &mut Vec<String>,
+) -> Result<(PatternSpec, garment::Assembled), ScenarioError> {
+    let full = Landmarks::of(body);
+    let place = |lift: f32| -> Result<_, ScenarioError> {
+        let marks = Landmarks { lift, ..full };
+        let (spec, said) = match &cfg.pattern {
+            Some(path) => garment::load_pattern(path, &marks)?,
+            None => {
+                let spec = super::garment::dress(&marks).map_err(|e| ScenarioError::PieceFile {
+                    path: "assets/dress.svg".into(),
+                    reason: e.to_string(),
+                })?;
+                (spec, Vec::new())
+            }
+        };
+        let made = garment::assemble(&spec, &marks, cfg.piece_edge)?;
+        let crossed = crossings::count(&made.starts, &made.mesh.triangles, body);
+        let clear = crossed.self_pairs == 0 && crossed.body_pairs == 0;
+        Ok((spec, said, made, clear))
+    };
+    // The full lift, lower by a quarter of it each time, and last none.
+    let tries = if full.lift > 0.0 { LIFT_TRIES } else { 0 };
+    let mut k = 0;
+    loop {
+        let lift = full.lift * (tries - k) as f32 / tries.max(1) as f32;
+        let (spec, said, made, clear) = place(lift)?;
+        if clear || k == tries {
+            notices.extend(said);
+            if clear && k > 0 {
+                notices.push(format!(
+                    "the pattern starts {:.0} cm above the shoulders rather than {:.0}: higher, a piece would start through the body or another piece",
+                    100.0 * lift,
+                    100.0 * full.lift
+                ));
+            }
+            // A start still crossed is refused next, with its counts.
+            return Ok((spec, made));
+        }
+        k += 1;
+    }
+}
+
 #[derive(Debug, thiserror::Error)]
 pub enum ScenarioError {
     #[error(transparent)]
@@ -376,19 +429,7 @@ pub fn build_scene(cfg: &ScenarioConfig) -> Result<(Design, Option<PatternSpec>)
     }
     let mut notices = repairs;
     let (cloth, spec, records) = if garment {
-        let marks = Landmarks::of(body.as_ref());
-        let spec = match &cfg.pattern {
-            Some(path) => {
-                let (spec, said) = garment::load_pattern(path, &marks)?;
-                notices.extend(said);
-                spec
-            }
-            None => super::garment::dress(&marks).map_err(|e| ScenarioError::PieceFile {
-                path: "assets/dress.svg".into(),
-                reason: e.to_string(),
-            })?,
-        };
-        let made = garment::assemble(&spec, &marks, cfg.piece_edge)?;
+        let (spec, made) = placed_garment(cfg, body.as_ref(), &mut notices)?;
         let mut cloth = Cloth::new(made.mesh, &cfg.material)?;
         // The pieces start round the body; their rest shape stays the flat pattern.
         cloth.x = made.starts;

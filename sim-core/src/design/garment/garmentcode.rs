@@ -19,7 +19,10 @@ use super::spec::{DEFAULT_FABRIC, EdgeRef, PatternSpec, PieceSpec, SeamSpec, shi
 use crate::mesh::mesher::{Outline, signed_area2};
 
 /// GarmentCode's average body stands lower than ours (shoulders at about 1.40 m against
-/// 1.50 m): its panels are raised by this much, m.
+/// 1.50 m): its panels are raised by this much, m, and by the body's `Landmarks::lift`
+/// on top, so that a top starts above the shoulders as ours do (a pencil dress's straps
+/// started level with our shoulders, slid off them while the stitches pulled, and the
+/// dress fell to the floor; docs/garments.md).
 pub const GC_RAISE: f32 = 0.10;
 
 /// Most points one curved edge is flattened into.
@@ -161,13 +164,15 @@ fn euler(d: Vec3) -> Mat3 {
 /// Where a panel starts on our body, from where GarmentCode put it on theirs.
 fn placement(outline: &[Vec2], rot: Mat3, trans: Vec3, marks: &Landmarks) -> Placement {
     let (lo, hi) = crate::mesh::bounds2(outline);
-    let to_ours = Vec3::new(marks.axis.x, GC_RAISE, marks.axis.y);
+    let to_ours = Vec3::new(marks.axis.x, GC_RAISE + marks.lift, marks.axis.y);
     let world = |p: Vec2| rot * p.extend(0.0) + trans + to_ours;
     let centre = world((lo + hi) * 0.5);
     let top = outline.iter().map(|&p| world(p).y).fold(f32::MIN, f32::max);
+    // A panel kept in their transform is not lifted: nothing bends it clear of our body,
+    // and lifted, a shirt's sleeves held out at 50 degrees started through our shoulders.
     let fixed = Placement::Transform {
         rotation: rot,
-        translation: trans + to_ours,
+        translation: trans + to_ours - Vec3::Y * marks.lift,
     };
     let (xdir, up, normal) = (rot * Vec3::X, rot * Vec3::Y, rot * Vec3::Z);
     if up.y < 0.7 {
@@ -364,6 +369,7 @@ mod tests {
             axis: Vec2::ZERO,
             torso: Vec2::new(0.215, 0.175),
             shoulders: 1.53,
+            lift: 0.03,
             arms: None,
         };
         let spec = read_garmentcode(TWO_PANELS, &marks).unwrap();
@@ -385,7 +391,7 @@ mod tests {
         assert!((top - 0.6).abs() < 1e-5, "{top}");
         assert!((dip - 0.55).abs() < 2e-3, "{dip}");
         // The front goes in front, the back (turned round) at the back, both reading
-        // the right way out; the tops 10 cm higher on our body.
+        // the right way out; the tops 10 cm higher on our body, and the lift above.
         match (front.placement, spec.pieces[bi].placement) {
             (
                 Some(Placement::Around {
@@ -405,7 +411,7 @@ mod tests {
                     (b.rem_euclid(std::f32::consts::TAU) - std::f32::consts::PI).abs() < 0.05,
                     "{b}"
                 );
-                assert!((t - (0.9 + 0.6 + GC_RAISE)).abs() < 2e-3, "{t}");
+                assert!((t - (0.9 + 0.6 + GC_RAISE + 0.03)).abs() < 2e-3, "{t}");
             }
             other => panic!("{other:?}"),
         }

@@ -123,16 +123,22 @@ pub struct Landmarks {
     pub torso: Vec2,
     /// Where a top's pieces start, m: above the shoulders.
     pub shoulders: f32,
+    /// How far above the body's own shoulders that is, m: the mannequin's 8 cm; 0 for a
+    /// body known only by its bounds (its top stands for its shoulders).
+    pub lift: f32,
     /// Left then right: shoulder, wrist and the radius pieces start at.
     pub arms: Option<[(Vec3, Vec3, f32); 2]>,
 }
 
-/// Where a top's pieces start on the mannequin, m: 8 cm above its shoulders (1.50 m),
+/// The top of the mannequin's shoulders, m.
+pub const MANNEQUIN_SHOULDERS: f32 = 1.50;
+
+/// Where a top's pieces start on the mannequin, m: 8 cm above its shoulders,
 /// so that the stitches close a shoulder seam while the pieces fall onto it. From 3 cm
 /// above (1.53) the dress's front and back landed on the shoulders 23-36 mm short of
 /// each other and friction held them there (43-45 of its 61 pairs welded in three runs,
 /// 51-54 from here; docs/garments.md).
-pub const MANNEQUIN_TOPS: f32 = 1.58;
+pub const MANNEQUIN_TOPS: f32 = MANNEQUIN_SHOULDERS + 0.08;
 
 /// How far from the body a piece starts where the body's shape is known only by its
 /// bounds, m.
@@ -160,6 +166,7 @@ impl Landmarks {
                     // the arms (see dress-mannequin).
                     torso: Vec2::new(0.215, 0.175),
                     shoulders: MANNEQUIN_TOPS,
+                    lift: MANNEQUIN_TOPS - MANNEQUIN_SHOULDERS,
                     arms: Some([arm(1.0), arm(-1.0)]),
                 }
             }
@@ -171,6 +178,7 @@ impl Landmarks {
                     // The ellipse through the box's corners, and room.
                     torso: half * std::f32::consts::SQRT_2 + Vec2::splat(CLEARANCE),
                     shoulders: mx.y + CLEARANCE,
+                    lift: 0.0,
                     arms: None,
                 }
             }
@@ -178,6 +186,7 @@ impl Landmarks {
                 axis: Vec2::ZERO,
                 torso: Vec2::new(0.2, 0.15),
                 shoulders: 1.5,
+                lift: 0.0,
                 arms: None,
             },
         }
@@ -350,6 +359,7 @@ mod tests {
             axis: Vec2::new(0.1, -0.2),
             torso: Vec2::new(0.2, 0.15),
             shoulders: 1.5,
+            lift: 0.0,
             arms: Some([
                 (Vec3::new(0.25, 1.4, 0.0), Vec3::new(0.3, 0.9, 0.0), 0.07),
                 (Vec3::new(-0.25, 1.4, 0.0), Vec3::new(-0.3, 0.9, 0.0), 0.07),

@@ -286,6 +286,7 @@ mod tests {
             axis: Vec2::ZERO,
             torso: Vec2::new(0.2, 0.15),
             shoulders: 1.5,
+            lift: 0.0,
             arms: None,
         };
         let mut s = PatternSpec {
