@@ -253,3 +253,35 @@ fn a_garmentcode_top_that_would_start_through_the_arms_starts_lower() {
     assert_eq!((r.crossings_self, r.crossings_body), (0, 0));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// A pattern whose piece would start through the body is refused before anything runs,
+/// and the refusal names the piece.
+#[test]
+fn a_pattern_that_starts_through_the_body_is_refused_naming_the_piece() {
+    // A front panel, and a "belt" lying flat through the torso at 1.2 m (kept in its
+    // own transform: it lies flat).
+    let json = r#"{"pattern": {"panels": {
+        "front": {"translation": [-20, 70, 30], "rotation": [0, 0, 0],
+                  "vertices": [[0, 0], [40, 0], [40, 40], [0, 40]],
+                  "edges": [{"endpoints": [0, 1]}, {"endpoints": [1, 2]},
+                            {"endpoints": [2, 3]}, {"endpoints": [3, 0]}]},
+        "belt": {"translation": [-25, 110, -25], "rotation": [90, 0, 0],
+                 "vertices": [[0, 0], [50, 0], [50, 50], [0, 50]],
+                 "edges": [{"endpoints": [0, 1]}, {"endpoints": [1, 2]},
+                           {"endpoints": [2, 3]}, {"endpoints": [3, 0]}]}
+      }, "stitches": []}, "properties": {"units_in_meter": 100}}"#;
+    let dir = std::env::temp_dir().join(format!("saiho-gc-belt-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("belt_specification.json");
+    std::fs::write(&file, json).unwrap();
+    let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
+    cfg.pattern = Some(file);
+    cfg.piece_edge = 0.05;
+    cfg.frames = 1;
+    let out = dir.join("out");
+    let e = run_scenario(&cfg, &out).unwrap_err().to_string();
+    assert!(e.contains("(belt through the body in "), "{e}");
+    assert!(!e.contains("front"), "{e}");
+    assert!(!out.join("report.json").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -331,25 +331,34 @@ fn placed_garment(
         };
         let made = garment::assemble(&spec, &marks, cfg.piece_edge)?;
         let crossed = crossings::count(&made.starts, &made.mesh.triangles, body);
-        let clear = crossed.self_pairs == 0 && crossed.body_pairs == 0;
-        Ok((spec, said, made, clear))
+        Ok((spec, said, made, crossed))
     };
     // The full lift, lower by a quarter of it each time, and last none.
     let tries = if full.lift > 0.0 { LIFT_TRIES } else { 0 };
     let mut k = 0;
     loop {
         let lift = full.lift * (tries - k) as f32 / tries.max(1) as f32;
-        let (spec, said, made, clear) = place(lift)?;
-        if clear || k == tries {
+        let (spec, said, made, crossed) = place(lift)?;
+        let clear = crossed.self_pairs == 0 && crossed.body_pairs == 0;
+        if !clear && k == tries {
+            return Err(ScenarioError::StartsCrossed {
+                self_pairs: crossed.self_pairs,
+                body_pairs: crossed.body_pairs,
+                which: match super::garment::crossed_pieces(&made, body) {
+                    w if w.is_empty() => w,
+                    w => format!(" ({w})"),
+                },
+            });
+        }
+        if clear {
             notices.extend(said);
-            if clear && k > 0 {
+            if k > 0 {
                 notices.push(format!(
                     "the pattern starts {:.0} cm above the shoulders rather than {:.0}: higher, a piece would start through the body or another piece",
                     100.0 * lift,
                     100.0 * full.lift
                 ));
             }
-            // A start still crossed is refused next, with its counts.
             return Ok((spec, made));
         }
         k += 1;
@@ -375,11 +384,13 @@ pub enum ScenarioError {
     #[error("garment: {0}")]
     Garment(#[from] crate::design::garment::GarmentError),
     #[error(
-        "the cloth starts crossing itself in {self_pairs} pairs of triangles and the body in {body_pairs}; nothing untangles that, so nothing was run"
+        "the cloth starts crossing itself in {self_pairs} pairs of triangles and the body in {body_pairs}{which}; nothing untangles that, so nothing was run"
     )]
     StartsCrossed {
         self_pairs: usize,
         body_pairs: usize,
+        /// Which pieces of a pattern, and how many pairs each (empty for a cloth).
+        which: String,
     },
     #[error(transparent)]
     Step(#[from] StepError),
@@ -472,6 +483,7 @@ pub fn build_scene(cfg: &ScenarioConfig) -> Result<(Design, Option<PatternSpec>)
         return Err(ScenarioError::StartsCrossed {
             self_pairs: crossed.self_pairs,
             body_pairs: crossed.body_pairs,
+            which: String::new(),
         });
     }
     let env = Environment {

@@ -5,7 +5,8 @@
 
 use glam::Vec2;
 
-use crate::design::garment::{Landmarks, PatternSpec, pattern_from_outlines};
+use crate::collision::{Body, crossings};
+use crate::design::garment::{Assembled, Landmarks, PatternSpec, pattern_from_outlines};
 use crate::design::{Design, EditError};
 use crate::mesh::svg::{SvgError, read_svg};
 
@@ -43,6 +44,56 @@ pub fn cut_neckline(design: &mut Design) -> Result<usize, EditError> {
         (own.x - mid).abs() < NECKLINE.x && own.y > hi.y - NECKLINE.y
     });
     design.remove_triangles(&slots)
+}
+
+/// Which pieces of an assembled pattern start crossed, for the refusal's message: each
+/// piece through the body, through itself, or through another, with its pairs of
+/// triangles ("front through the body in 2 pairs; left_sleeve_f and right_ftorso in 51").
+pub fn crossed_pieces(made: &Assembled, body: Option<&Body>) -> String {
+    let x = &made.starts;
+    let tris: Vec<Vec<[u32; 3]>> = made
+        .ranges
+        .iter()
+        .map(|r| {
+            made.mesh
+                .triangles
+                .iter()
+                .copied()
+                .filter(|t| r.contains(&(t[0] as usize)))
+                .collect()
+        })
+        .collect();
+    let boxes: Vec<(glam::Vec3, glam::Vec3)> = made
+        .ranges
+        .iter()
+        .map(|r| crate::mesh::bounds(&x[r.clone()]))
+        .collect();
+    let own: Vec<usize> = tris.iter().map(|t| crossings::count_self(x, t)).collect();
+    let name = |i: usize| made.records.get(i).map_or("?", |r| r.name.as_str());
+    let mut said = Vec::new();
+    for (i, t) in tris.iter().enumerate() {
+        if let Some(b) = body {
+            let (_, pairs) = crossings::count_against_body(x, t, b);
+            if pairs > 0 {
+                said.push(format!("{} through the body in {pairs}", name(i)));
+            }
+        }
+        if own[i] > 0 {
+            said.push(format!("{} through itself in {}", name(i), own[i]));
+        }
+        for j in i + 1..tris.len() {
+            let ((alo, ahi), (blo, bhi)) = (boxes[i], boxes[j]);
+            if alo.cmpgt(bhi).any() || blo.cmpgt(ahi).any() {
+                continue;
+            }
+            let both: Vec<[u32; 3]> = t.iter().chain(&tris[j]).copied().collect();
+            let n = crossings::count_self(x, &both).saturating_sub(own[i] + own[j]);
+            if n > 0 {
+                said.push(format!("{} and {} in {n}", name(i), name(j)));
+            }
+        }
+    }
+    said.join("; ")
 }
 
 /// Share of 36 directions round the torso at chest height (1.25-1.35 m) in which some

@@ -39,6 +39,8 @@ pub struct Assembled {
     /// Where each vertex starts.
     pub starts: Vec<Vec3>,
     pub records: Vec<PieceRecord>,
+    /// Each piece's vertices, in the records' order.
+    pub ranges: Vec<std::ops::Range<usize>>,
 }
 
 /// Lays out, meshes (triangles of about `edge` m) and places every piece of `spec`
@@ -96,7 +98,7 @@ pub fn assemble(
         .pieces
         .iter()
         .zip(&mut records)
-        .zip(ranges)
+        .zip(ranges.iter().cloned())
         .zip(placements)
     {
         r.placement = Some(placement);
@@ -117,6 +119,7 @@ pub fn assemble(
         mesh,
         starts,
         records,
+        ranges,
     })
 }
 
