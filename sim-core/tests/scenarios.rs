@@ -112,36 +112,31 @@ fn paint_scenario_paints_and_exports_the_texture() {
 /// seam along that edge is left unsewn with a notice, and the rest is sewn.
 #[test]
 fn a_garmentcode_seam_shorter_than_the_mesh_is_left_unsewn_with_a_notice() {
-    let panel = |name: &str, x: f32, turn: f32| {
-        format!(
-            r#""{name}": {{
-              "translation": [{x}, 90, 0], "rotation": [0, {turn}, 0],
-              "vertices": [[0, 0], [40, 0], [40, 50], [39.999, 50], [0, 50]],
-              "edges": [{{"endpoints": [0, 1]}}, {{"endpoints": [1, 2]}}, {{"endpoints": [2, 3]}},
-                        {{"endpoints": [3, 4]}}, {{"endpoints": [4, 0]}}]
-            }}"#
+    let panel = |x: f32, turn: f32| {
+        gc_panel(
+            [x, 90.0, 0.0],
+            [0.0, turn, 0.0],
+            &[
+                [0.0, 0.0],
+                [40.0, 0.0],
+                [40.0, 50.0],
+                [39.999, 50.0],
+                [0.0, 50.0],
+            ],
         )
     };
-    let json = format!(
-        r#"{{"pattern": {{"panels": {{{}, {}}},
-          "stitches": [
-            [{{"panel": "front", "edge": 1}}, {{"panel": "back", "edge": 4}}],
-            [{{"panel": "front", "edge": 2}}, {{"panel": "back", "edge": 2}}],
-            [{{"panel": "front", "edge": 4}}, {{"panel": "back", "edge": 1}}]
-          ]}},
-          "properties": {{"units_in_meter": 100}}}}"#,
-        panel("front", -20.0, 0.0),
-        panel("back", 20.0, 180.0)
+    let (r, dir) = drape_gc(
+        "tiny",
+        &[("front", panel(-20.0, 0.0)), ("back", panel(20.0, 180.0))],
+        &[
+            (("front", 1), ("back", 4)),
+            (("front", 2), ("back", 2)),
+            (("front", 4), ("back", 1)),
+        ],
+        0.05,
+        2,
     );
-    let dir = std::env::temp_dir().join(format!("saiho-gc-tiny-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("tiny_specification.json");
-    std::fs::write(&file, json).unwrap();
-    let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
-    cfg.pattern = Some(file);
-    cfg.piece_edge = 0.05;
-    cfg.frames = 2;
-    let r = run_scenario(&cfg, &dir.join("out")).unwrap();
+    let r = r.unwrap();
     assert_eq!(r.ops.pieces, Some(2));
     assert_eq!(r.ops.seams, Some(2), "{:?}", r.notices);
     assert!(
@@ -150,6 +145,53 @@ fn a_garmentcode_seam_shorter_than_the_mesh_is_left_unsewn_with_a_notice() {
         r.notices
     );
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A GarmentCode panel: its points (cm) joined in order by straight edges, at their
+/// translation (cm) and rotation (XYZ degrees).
+fn gc_panel(t: [f32; 3], r: [f32; 3], points: &[[f32; 2]]) -> serde_json::Value {
+    let n = points.len();
+    let edges: Vec<_> = (0..n)
+        .map(|k| serde_json::json!({"endpoints": [k, (k + 1) % n]}))
+        .collect();
+    serde_json::json!({"translation": t, "rotation": r, "vertices": points, "edges": edges})
+}
+
+/// drape-pattern on a GarmentCode specification of `panels` and `stitches` (each a pair of
+/// (panel, edge)), written to a file in a fresh directory; the directory is returned for
+/// the outputs (under `out/`) and to be removed.
+fn drape_gc(
+    tag: &str,
+    panels: &[(&str, serde_json::Value)],
+    stitches: &[((&str, usize), (&str, usize))],
+    edge: f32,
+    frames: u64,
+) -> (
+    Result<Report, sim_core::scenario::ScenarioError>,
+    std::path::PathBuf,
+) {
+    let panels: serde_json::Map<String, serde_json::Value> = panels
+        .iter()
+        .map(|(n, p)| ((*n).to_string(), p.clone()))
+        .collect();
+    let side = |(panel, edge): (&str, usize)| serde_json::json!({"panel": panel, "edge": edge});
+    let stitches: Vec<_> = stitches
+        .iter()
+        .map(|&(a, b)| serde_json::json!([side(a), side(b)]))
+        .collect();
+    let spec = serde_json::json!({
+        "pattern": {"panels": panels, "stitches": stitches},
+        "properties": {"units_in_meter": 100}
+    });
+    let dir = std::env::temp_dir().join(format!("saiho-gc-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join(format!("{tag}_specification.json"));
+    std::fs::write(&file, spec.to_string()).unwrap();
+    let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
+    cfg.pattern = Some(file);
+    cfg.piece_edge = edge;
+    cfg.frames = frames;
+    (run_scenario(&cfg, &dir.join("out")), dir)
 }
 
 /// A GarmentCode top on thin straps, as their pencil dress's bodice: its straps come level
@@ -161,41 +203,41 @@ fn a_garmentcode_seam_shorter_than_the_mesh_is_left_unsewn_with_a_notice() {
 fn a_garmentcode_top_on_straps_stays_on_the_mannequins_shoulders() {
     // Front and back as one panel each (cm): the bodice, the armholes, two 4.4 cm straps
     // and a V neck, as GarmentCode's dress_pencil's torso halves put side by side.
-    let panel = |name: &str, z: f32, turn: f32, neck: f32| {
-        format!(
-            r#""{name}": {{
-              "translation": [0, 83.5, {z}], "rotation": [0, {turn}, 0],
-              "vertices": [[-28.7, 0], [28.7, 0], [28.7, 33.8], [17.2, 55.3], [12.8, 57.05],
-                           [0, {neck}], [-12.8, 57.05], [-17.2, 55.3], [-28.7, 33.8]],
-              "edges": [{{"endpoints": [0, 1]}}, {{"endpoints": [1, 2]}}, {{"endpoints": [2, 3]}},
-                        {{"endpoints": [3, 4]}}, {{"endpoints": [4, 5]}}, {{"endpoints": [5, 6]}},
-                        {{"endpoints": [6, 7]}}, {{"endpoints": [7, 8]}}, {{"endpoints": [8, 0]}}]
-            }}"#
+    let bodice = |z: f32, turn: f32, neck: f32| {
+        gc_panel(
+            [0.0, 83.5, z],
+            [0.0, turn, 0.0],
+            &[
+                [-28.7, 0.0],
+                [28.7, 0.0],
+                [28.7, 33.8],
+                [17.2, 55.3],
+                [12.8, 57.05],
+                [0.0, neck],
+                [-12.8, 57.05],
+                [-17.2, 55.3],
+                [-28.7, 33.8],
+            ],
         )
     };
     // The back is turned round: its edge 1 (x = 28.7) lies on the body's right, beside
     // the front's edge 8, and its straps' tops (edges 3 and 6) above the front's 6 and 3.
-    let json = format!(
-        r#"{{"pattern": {{"panels": {{{}, {}}},
-          "stitches": [
-            [{{"panel": "front", "edge": 1}}, {{"panel": "back", "edge": 8}}],
-            [{{"panel": "front", "edge": 8}}, {{"panel": "back", "edge": 1}}],
-            [{{"panel": "front", "edge": 3}}, {{"panel": "back", "edge": 6}}],
-            [{{"panel": "front", "edge": 6}}, {{"panel": "back", "edge": 3}}]
-          ]}},
-          "properties": {{"units_in_meter": 100}}}}"#,
-        panel("front", 30.0, 0.0, 42.8),
-        panel("back", -25.0, 180.0, 51.6)
+    let (r, dir) = drape_gc(
+        "straps",
+        &[
+            ("front", bodice(30.0, 0.0, 42.8)),
+            ("back", bodice(-25.0, 180.0, 51.6)),
+        ],
+        &[
+            (("front", 1), ("back", 8)),
+            (("front", 8), ("back", 1)),
+            (("front", 3), ("back", 6)),
+            (("front", 6), ("back", 3)),
+        ],
+        0.03,
+        90,
     );
-    let dir = std::env::temp_dir().join(format!("saiho-gc-straps-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("straps_specification.json");
-    std::fs::write(&file, json).unwrap();
-    let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
-    cfg.pattern = Some(file);
-    cfg.piece_edge = 0.03;
-    cfg.frames = 90;
-    let r = run_scenario(&cfg, &dir.join("out")).unwrap();
+    let r = r.unwrap();
     assert_eq!(r.ops.seams, Some(4), "{:?}", r.notices);
     let top = sim_core::mesh::obj::load_obj(&dir.join("out/cloth.obj"))
         .unwrap()
@@ -216,35 +258,28 @@ fn a_garmentcode_top_on_straps_stays_on_the_mannequins_shoulders() {
 /// full 8 cm its armpits would start through the arms, so it starts lower, and says so.
 #[test]
 fn a_garmentcode_top_that_would_start_through_the_arms_starts_lower() {
-    let panel = |name: &str, z: f32, turn: f32| {
-        format!(
-            r#""{name}": {{
-              "translation": [0, 94.6, {z}], "rotation": [0, {turn}, 0],
-              "vertices": [[-28.7, 0], [28.7, 0], [28.7, 25], [17, 46], [-17, 46], [-28.7, 25]],
-              "edges": [{{"endpoints": [0, 1]}}, {{"endpoints": [1, 2]}}, {{"endpoints": [2, 3]}},
-                        {{"endpoints": [3, 4]}}, {{"endpoints": [4, 5]}}, {{"endpoints": [5, 0]}}]
-            }}"#
+    let top = |z: f32, turn: f32| {
+        gc_panel(
+            [0.0, 94.6, z],
+            [0.0, turn, 0.0],
+            &[
+                [-28.7, 0.0],
+                [28.7, 0.0],
+                [28.7, 25.0],
+                [17.0, 46.0],
+                [-17.0, 46.0],
+                [-28.7, 25.0],
+            ],
         )
     };
-    let json = format!(
-        r#"{{"pattern": {{"panels": {{{}, {}}},
-          "stitches": [
-            [{{"panel": "front", "edge": 1}}, {{"panel": "back", "edge": 5}}],
-            [{{"panel": "front", "edge": 5}}, {{"panel": "back", "edge": 1}}]
-          ]}},
-          "properties": {{"units_in_meter": 100}}}}"#,
-        panel("front", 30.0, 0.0),
-        panel("back", -25.0, 180.0)
+    let (r, dir) = drape_gc(
+        "armpits",
+        &[("front", top(30.0, 0.0)), ("back", top(-25.0, 180.0))],
+        &[(("front", 1), ("back", 5)), (("front", 5), ("back", 1))],
+        0.03,
+        1,
     );
-    let dir = std::env::temp_dir().join(format!("saiho-gc-armpits-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("armpits_specification.json");
-    std::fs::write(&file, json).unwrap();
-    let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
-    cfg.pattern = Some(file);
-    cfg.piece_edge = 0.03;
-    cfg.frames = 1;
-    let r = run_scenario(&cfg, &dir.join("out")).unwrap();
+    let r = r.unwrap();
     let said = r
         .notices
         .iter()
@@ -260,28 +295,26 @@ fn a_garmentcode_top_that_would_start_through_the_arms_starts_lower() {
 fn a_pattern_that_starts_through_the_body_is_refused_naming_the_piece() {
     // A front panel, and a "belt" lying flat through the torso at 1.2 m (kept in its
     // own transform: it lies flat).
-    let json = r#"{"pattern": {"panels": {
-        "front": {"translation": [-20, 70, 30], "rotation": [0, 0, 0],
-                  "vertices": [[0, 0], [40, 0], [40, 40], [0, 40]],
-                  "edges": [{"endpoints": [0, 1]}, {"endpoints": [1, 2]},
-                            {"endpoints": [2, 3]}, {"endpoints": [3, 0]}]},
-        "belt": {"translation": [-25, 110, -25], "rotation": [90, 0, 0],
-                 "vertices": [[0, 0], [50, 0], [50, 50], [0, 50]],
-                 "edges": [{"endpoints": [0, 1]}, {"endpoints": [1, 2]},
-                           {"endpoints": [2, 3]}, {"endpoints": [3, 0]}]}
-      }, "stitches": []}, "properties": {"units_in_meter": 100}}"#;
-    let dir = std::env::temp_dir().join(format!("saiho-gc-belt-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let file = dir.join("belt_specification.json");
-    std::fs::write(&file, json).unwrap();
-    let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
-    cfg.pattern = Some(file);
-    cfg.piece_edge = 0.05;
-    cfg.frames = 1;
-    let out = dir.join("out");
-    let e = run_scenario(&cfg, &out).unwrap_err().to_string();
+    let square = |side: f32| [[0.0, 0.0], [side, 0.0], [side, side], [0.0, side]];
+    let (r, dir) = drape_gc(
+        "belt",
+        &[
+            (
+                "front",
+                gc_panel([-20.0, 70.0, 30.0], [0.0; 3], &square(40.0)),
+            ),
+            (
+                "belt",
+                gc_panel([-25.0, 110.0, -25.0], [90.0, 0.0, 0.0], &square(50.0)),
+            ),
+        ],
+        &[],
+        0.05,
+        1,
+    );
+    let e = r.unwrap_err().to_string();
     assert!(e.contains("(belt through the body in "), "{e}");
     assert!(!e.contains("front"), "{e}");
-    assert!(!out.join("report.json").exists());
+    assert!(!dir.join("out/report.json").exists());
     std::fs::remove_dir_all(&dir).ok();
 }
