@@ -157,13 +157,16 @@ fn gc_panel(t: [f32; 3], r: [f32; 3], points: &[[f32; 2]]) -> serde_json::Value 
     serde_json::json!({"translation": t, "rotation": r, "vertices": points, "edges": edges})
 }
 
+/// One side of a GarmentCode stitch: a panel's name and one of its edges.
+type Side<'a> = (&'a str, usize);
+
 /// drape-pattern on a GarmentCode specification of `panels` and `stitches` (each a pair of
 /// (panel, edge)), written to a file in a fresh directory; the directory is returned for
 /// the outputs (under `out/`) and to be removed.
 fn drape_gc(
     tag: &str,
     panels: &[(&str, serde_json::Value)],
-    stitches: &[((&str, usize), (&str, usize))],
+    stitches: &[(Side, Side)],
     edge: f32,
     frames: u64,
 ) -> (
@@ -174,7 +177,7 @@ fn drape_gc(
         .iter()
         .map(|(n, p)| ((*n).to_string(), p.clone()))
         .collect();
-    let side = |(panel, edge): (&str, usize)| serde_json::json!({"panel": panel, "edge": edge});
+    let side = |(panel, edge): Side| serde_json::json!({"panel": panel, "edge": edge});
     let stitches: Vec<_> = stitches
         .iter()
         .map(|&(a, b)| serde_json::json!([side(a), side(b)]))
