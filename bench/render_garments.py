@@ -3,8 +3,8 @@
     blender -b -P bench/render_garments.py -- OUT.png DIR [DIR...]
 
 Each DIR is a scenario's output (its cloth.obj and body.obj, metres, Y up, facing +Z);
-the figures stand 0.95 m apart, seen from the front (orthographic). Cycles on the CPU,
-32 samples, 250 pixels wide per figure. Needs Debian's `blender` package; not part of `cargo test`.
+the figures stand side by side, seen from the front (orthographic), the floor to 1.9 m.
+Cycles on the CPU, 32 samples, 250 pixels for every 0.95 m. Needs Debian's `blender` package; not part of `cargo test`.
 """
 
 import math
@@ -46,7 +46,13 @@ def load(path, mat, dx):
             p.use_smooth = True
 
 
-spacing = 0.95
+def x_extent(path):
+    xs = [float(l.split()[1]) for l in open(path) if l.startswith("v ")]
+    return max(xs) - min(xs)
+
+
+# Figures 15 cm apart at their widest (arms held out reach further).
+spacing = max(0.95, max(x_extent(f"{d}/body.obj") for d in dirs) + 0.15)
 for i, d in enumerate(dirs):
     load(f"{d}/body.obj", body_mat, i * spacing)
     load(f"{d}/cloth.obj", cloth_mat, i * spacing)
@@ -54,8 +60,9 @@ for i, d in enumerate(dirs):
 mid = 0.5 * (len(dirs) - 1) * spacing
 cam = bpy.data.objects.new("camera", bpy.data.cameras.new("camera"))
 cam.data.type = "ORTHO"
-# The picture is twice as wide as it is high: 4 figures show the floor to 1.9 m.
-cam.data.ortho_scale = max(len(dirs), 4) * spacing
+# The floor to 1.9 m, every figure across; 250 pixels for every 0.95 m.
+width, height = max(len(dirs), 2) * spacing, 1.9
+cam.data.ortho_scale = max(width, height)
 cam.location = Vector((mid, -6.0, 0.95))
 cam.rotation_euler = (math.radians(90), 0, 0)
 scene.collection.objects.link(cam)
@@ -73,7 +80,7 @@ scene.render.engine = "CYCLES"
 scene.cycles.samples = 32
 scene.cycles.device = "CPU"
 scene.cycles.use_denoising = False
-scene.render.resolution_x = 250 * max(len(dirs), 4)
-scene.render.resolution_y = 125 * max(len(dirs), 4)
+scene.render.resolution_x = round(250 * width / 0.95)
+scene.render.resolution_y = round(250 * height / 0.95)
 scene.render.filepath = out
 bpy.ops.render.render(write_still=True)

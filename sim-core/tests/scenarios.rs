@@ -4,6 +4,7 @@
 #![allow(clippy::unwrap_used)]
 
 use sim_core::design::Design;
+use sim_core::design::garment::Placement;
 use sim_core::scenario::{Report, ScenarioConfig, ScenarioName, run_scenario};
 
 fn run(name: ScenarioName, grid: usize, frames: u64) -> (Report, std::path::PathBuf) {
@@ -319,5 +320,54 @@ fn a_pattern_that_starts_through_the_body_is_refused_naming_the_piece() {
     assert!(e.contains("(belt through the body in "), "{e}");
     assert!(!e.contains("front"), "{e}");
     assert!(!dir.join("out/report.json").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// GarmentCode's sleeves, cut and placed for arms held out, go round the A-posed
+/// mannequin's arms (turned so the arm runs down their pattern), and keep their own
+/// transform beside arms that hang, where bent round the arm they would start through
+/// the torso's panels.
+#[test]
+fn garmentcode_sleeves_go_round_the_arms_of_the_a_posed_mannequin() {
+    // GarmentCode's shirt's left sleeve: the arm along -x from the cuff at the origin,
+    // turned 50.5 degrees down, in front of the arm and behind it.
+    let sleeve = |z: f32| {
+        gc_panel(
+            [53.6, 111.1, z],
+            [0.0, 0.0, -50.5],
+            &[[0.0, 0.0], [-54.0, 0.0], [-54.0, -18.7], [0.0, -18.7]],
+        )
+    };
+    let json = serde_json::json!({
+        "pattern": {"panels": {"sleeve_f": sleeve(17.5), "sleeve_b": sleeve(-12.5)}, "stitches": []},
+        "properties": {"units_in_meter": 100}
+    });
+    let dir = std::env::temp_dir().join(format!("saiho-gc-sleeves-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("sleeves_specification.json");
+    std::fs::write(&file, json.to_string()).unwrap();
+    for (body, round) in [("mannequin-apose", true), ("mannequin", false)] {
+        let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
+        cfg.pattern = Some(file.clone());
+        cfg.piece_edge = 0.04;
+        cfg.body = Some(sim_core::collision::BodyKind::parse(body).unwrap());
+        let (design, _) = sim_core::scenario::build_scene(&cfg).unwrap();
+        for r in &design.pieces {
+            let placed = r.placement.unwrap();
+            match placed {
+                Placement::Arm {
+                    left: true,
+                    angle,
+                    turn: 3,
+                    ..
+                } if round => {
+                    let behind = r.name == "sleeve_b";
+                    assert_eq!(angle > 1.0, behind, "{body} {}: {placed:?}", r.name);
+                }
+                Placement::Transform { .. } if !round => {}
+                other => panic!("{body} {}: {other:?}", r.name),
+            }
+        }
+    }
     std::fs::remove_dir_all(&dir).ok();
 }

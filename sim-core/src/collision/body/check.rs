@@ -502,7 +502,7 @@ mod tests {
 
     #[test]
     fn the_built_in_bodies_exported_as_obj_read_back_as_solids() {
-        for name in ["cube", "sphere", "mannequin"] {
+        for name in ["cube", "sphere", "mannequin", "mannequin-apose"] {
             let body = BodyKind::parse(name).unwrap().build().unwrap();
             let dir = std::env::temp_dir().join(format!("saiho-body-{}", std::process::id()));
             std::fs::create_dir_all(&dir).unwrap();

@@ -19,8 +19,52 @@ pub const ARM: [Vec3; 3] = [
 /// The upper arm's radius, m (the forearm's is smaller).
 pub const ARM_RADIUS: f32 = 0.045;
 
+/// How the mannequin holds its arms.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Pose {
+    /// Hanging, slightly out (`ARM`).
+    Hanging,
+    /// Held out, the upper arm `A_POSE_DEG` below the horizontal, as GarmentCode's and
+    /// CLO's avatars stand to be dressed: their sleeves are cut and placed for it.
+    A,
+}
+
+/// The A-pose's upper arm, degrees below the horizontal (GarmentCode's sleeves run at
+/// 50.5 degrees).
+pub const A_POSE_DEG: f32 = 50.0;
+
+impl Pose {
+    /// The body's name for the mannequin in this pose.
+    pub fn body_name(self) -> &'static str {
+        match self {
+            Self::Hanging => "mannequin",
+            Self::A => "mannequin-apose",
+        }
+    }
+
+    /// The left arm's shoulder, elbow and wrist in this pose (the right is its mirror):
+    /// `ARM` turned about the shoulder, in the body's plane.
+    pub fn arm(self) -> [Vec3; 3] {
+        match self {
+            Self::Hanging => ARM,
+            Self::A => {
+                let upper = ARM[1] - ARM[0];
+                let now = (-upper.y).atan2(upper.x);
+                let turn = glam::Quat::from_rotation_z(now - A_POSE_DEG.to_radians());
+                ARM.map(|p| ARM[0] + turn * (p - ARM[0]))
+            }
+        }
+    }
+}
+
 /// The mannequin's parts, metres, feet on the floor, facing +Z, arms slightly out.
 pub fn mannequin_parts() -> Vec<Primitive> {
+    posed_parts(Pose::Hanging)
+}
+
+/// The mannequin's parts with its arms in `pose`.
+pub fn posed_parts(pose: Pose) -> Vec<Primitive> {
+    let arm = pose.arm();
     let mut parts = vec![
         Primitive::Ellipsoid {
             center: Vec3::new(0.0, 1.30, 0.0),
@@ -48,13 +92,13 @@ pub fn mannequin_parts() -> Vec<Primitive> {
         });
         let side = Vec3::new(s, 1.0, 1.0);
         parts.push(Primitive::Capsule {
-            a: ARM[0] * side,
-            b: ARM[1] * side,
+            a: arm[0] * side,
+            b: arm[1] * side,
             radius: ARM_RADIUS,
         });
         parts.push(Primitive::Capsule {
-            a: ARM[1] * side,
-            b: ARM[2] * side,
+            a: arm[1] * side,
+            b: arm[2] * side,
             radius: 0.038,
         });
         parts.push(Primitive::Capsule {
@@ -78,11 +122,16 @@ pub fn mannequin_parts() -> Vec<Primitive> {
 /// but for two edges where the right arm meets the torso: surface nets let two sheets
 /// touch there, four triangles on each edge.
 pub fn mannequin() -> Result<Body, GeometryError> {
+    posed_mannequin(Pose::Hanging)
+}
+
+/// The mannequin with its arms in `pose`, named for it ([`Pose::body_name`]).
+pub fn posed_mannequin(pose: Pose) -> Result<Body, GeometryError> {
     let analytic = Analytic {
-        parts: mannequin_parts(),
+        parts: posed_parts(pose),
     };
     let (v, t) = surface_nets(|p| analytic.signed_distance(p), MANNEQUIN_CELL);
-    Body::new("mannequin", v, t, Some(analytic))
+    Body::new(pose.body_name(), v, t, Some(analytic))
 }
 
 /// Grid spacing for the mannequin's surface, m (about 10k triangles).
@@ -325,3 +374,24 @@ const CUBE_EDGES: [([usize; 3], [usize; 3]); 12] = [
     ([0, 1, 0], [0, 1, 1]),
     ([1, 1, 0], [1, 1, 1]),
 ];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The A-pose turns the arm about the shoulder: the same shoulder and lengths, the
+    /// upper arm 50 degrees below the horizontal, the hand out from the hips.
+    #[test]
+    fn the_a_pose_holds_the_arm_out_at_its_angle() {
+        let (hang, a) = (Pose::Hanging.arm(), Pose::A.arm());
+        assert_eq!(a[0], hang[0]);
+        for k in 1..3 {
+            let (l0, l1) = ((hang[k] - hang[0]).length(), (a[k] - a[0]).length());
+            assert!((l0 - l1).abs() < 1e-5, "{l0} {l1}");
+        }
+        let upper = a[1] - a[0];
+        let below = (-upper.y).atan2(upper.x).to_degrees();
+        assert!((below - A_POSE_DEG).abs() < 0.01, "{below}");
+        assert!(a[2].x > 0.55 && a[2].y > 0.95, "{}", a[2]);
+    }
+}

@@ -14,7 +14,10 @@ mod surface;
 
 pub use analytic::{Analytic, Primitive};
 pub use check::{CheckedBody, check_body_text};
-pub use mannequin::{ARM, ARM_RADIUS, MANNEQUIN_CELL, mannequin, mannequin_parts};
+pub use mannequin::{
+    A_POSE_DEG, ARM, ARM_RADIUS, MANNEQUIN_CELL, Pose, mannequin, mannequin_parts, posed_mannequin,
+    posed_parts,
+};
 #[cfg(test)]
 pub(crate) use shapes::icosphere;
 pub use shapes::{BodyKind, body_from_obj_text, cube, sphere};

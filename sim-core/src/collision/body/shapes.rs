@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use glam::Vec3;
 
 use super::analytic::{Analytic, Primitive};
-use super::mannequin::mannequin;
+use super::mannequin::{Pose, mannequin, posed_mannequin};
 use super::surface::Body;
 use crate::error::{ConfigError, GeometryError, LoadError};
 
@@ -20,22 +20,26 @@ pub enum BodyKind {
     Sphere,
     /// A standing figure about 1.75 m tall, feet on the floor.
     Mannequin,
+    /// The same figure with its arms held out (an A-pose), as GarmentCode's patterns
+    /// are placed for.
+    MannequinAPose,
     /// A closed, outward-wound OBJ surface in metres, Y up.
     Obj(PathBuf),
 }
 
 impl BodyKind {
-    /// Parses `cube`, `sphere`, `mannequin` or a path ending in `.obj`.
+    /// Parses `cube`, `sphere`, `mannequin`, `mannequin-apose` or a path ending in `.obj`.
     pub fn parse(s: &str) -> Result<Self, ConfigError> {
         match s {
             "cube" => Ok(Self::Cube),
             "sphere" => Ok(Self::Sphere),
             "mannequin" => Ok(Self::Mannequin),
+            "mannequin-apose" => Ok(Self::MannequinAPose),
             p if p.to_ascii_lowercase().ends_with(".obj") => Ok(Self::Obj(PathBuf::from(p))),
             other => Err(ConfigError::Unknown {
                 what: "body",
                 name: other.to_string(),
-                expected: "cube, sphere, mannequin or a path to an .obj file",
+                expected: "cube, sphere, mannequin, mannequin-apose or a path to an .obj file",
             }),
         }
     }
@@ -44,7 +48,8 @@ impl BodyKind {
         match self {
             Self::Cube => "cube".into(),
             Self::Sphere => "sphere".into(),
-            Self::Mannequin => "mannequin".into(),
+            Self::Mannequin => Pose::Hanging.body_name().into(),
+            Self::MannequinAPose => Pose::A.body_name().into(),
             Self::Obj(p) => p.display().to_string(),
         }
     }
@@ -58,6 +63,7 @@ impl BodyKind {
             Self::Cube => cube(Vec3::new(0.0, 0.2, 0.0), 0.2, 8).map_err(internal),
             Self::Sphere => sphere(Vec3::new(0.0, 0.3, 0.0), 0.3, 4).map_err(internal),
             Self::Mannequin => mannequin().map_err(internal),
+            Self::MannequinAPose => posed_mannequin(Pose::A).map_err(internal),
             Self::Obj(path) => obj_body(path),
         }
     }

@@ -175,26 +175,15 @@ fn placement(outline: &[Vec2], rot: Mat3, trans: Vec3, marks: &Landmarks) -> Pla
         translation: trans + to_ours - Vec3::Y * marks.lift,
     };
     let (xdir, up, normal) = (rot * Vec3::X, rot * Vec3::Y, rot * Vec3::Z);
-    if up.y < 0.7 {
-        return fixed;
-    }
     let radial = Vec2::new(centre.x - marks.axis.x, centre.z - marks.axis.y);
-    let width = hi.x - lo.x;
     if let Some(arms) = marks.arms
         && radial.x.abs() > marks.torso.x + 0.05
+        && normal.y.abs() < 0.7
     {
-        let left = radial.x > 0.0;
-        let r = arms[usize::from(!left)].2;
-        if width >= std::f32::consts::TAU * r * 0.95 {
-            return fixed;
-        }
-        let front = normal.z * radial.y.signum() >= 0.0 || normal.z > 0.0;
-        return Placement::Arm {
-            left,
-            angle: if front { 0.0 } else { std::f32::consts::PI },
-            down: (arms[usize::from(!left)].0.y - top).max(0.0),
-            mirrored: xdir.x * if front { 1.0 } else { -1.0 } < 0.0,
-        };
+        return sleeve(radial, top, rot, arms, (lo, hi)).unwrap_or(fixed);
+    }
+    if up.y < 0.7 {
+        return fixed;
     }
     let mut out = Vec2::new(normal.x, normal.z);
     if out.dot(radial) < 0.0 {
@@ -213,6 +202,71 @@ fn placement(outline: &[Vec2], rot: Mat3, trans: Vec3, marks: &Landmarks) -> Pla
         out: 0.0,
     }
 }
+
+/// How far (degrees) our arm may run from a sleeve's way down its pattern for the sleeve
+/// to be bent round it: their sleeves held out 50 degrees below the horizontal go round
+/// the A-posed mannequin's arms, but not round arms that hang, where they would start
+/// through the torso's panels.
+const SLEEVE_ALIGN_DEG: f32 = 20.0;
+
+/// A panel beside the torso, standing, as a sleeve round our arm on its side: turned so
+/// that the arm runs down its pattern (their sleeves run along x, held out from a body
+/// in an A-pose), in front of the arm or behind it. None (their transform is kept) if
+/// our arm does not run the way the sleeve does, or the sleeve is too wide for it.
+fn sleeve(
+    radial: Vec2,
+    top: f32,
+    rot: Mat3,
+    arms: [(Vec3, Vec3, f32); 2],
+    (lo, hi): (Vec2, Vec2),
+) -> Option<Placement> {
+    let left = radial.x > 0.0;
+    let (shoulder, wrist, r) = arms[usize::from(!left)];
+    // The pattern's way down the arm: its axis (+-x, +-y) that runs most as our arm
+    // does, from the shoulder to the wrist; `turn` quarter turns take it to -y.
+    let along = (wrist - shoulder).normalize_or(Vec3::NEG_Y);
+    let (turn, down_dir) = [Vec2::NEG_Y, Vec2::NEG_X, Vec2::Y, Vec2::X]
+        .into_iter()
+        .enumerate()
+        .map(|(k, a)| (k as u8, rot * a.extend(0.0)))
+        .max_by(|a, b| a.1.dot(along).total_cmp(&b.1.dot(along)))?;
+    if down_dir.dot(along) < SLEEVE_ALIGN_DEG.to_radians().cos() {
+        return None;
+    }
+    // Round the arm runs the turned pattern's x.
+    let round = rot * super::place::quarter(Vec2::X, 4 - turn).extend(0.0);
+    let width = if turn % 2 == 0 {
+        hi.x - lo.x
+    } else {
+        hi.y - lo.y
+    };
+    if width >= std::f32::consts::TAU * r * 0.95 {
+        return None;
+    }
+    let normal = rot * Vec3::Z;
+    let front = if turn == 0 {
+        // As hanging sleeves always were.
+        normal.z * radial.y.signum() >= 0.0 || normal.z > 0.0
+    } else {
+        radial.y >= 0.0
+    };
+    Some(Placement::Arm {
+        left,
+        angle: if front { 0.0 } else { std::f32::consts::PI },
+        // A hanging sleeve where it hangs on their body; a turned one from just below
+        // the shoulder, clear of the shoulder's round.
+        down: if turn == 0 {
+            (shoulder.y - top).max(0.0)
+        } else {
+            TURNED_SLEEVE_DOWN
+        },
+        mirrored: round.x * if front { 1.0 } else { -1.0 } < 0.0,
+        turn,
+    })
+}
+
+/// How far down our arm a turned sleeve's top starts, m.
+const TURNED_SLEEVE_DOWN: f32 = 0.03;
 
 /// A GarmentCode pattern specification as a pattern to drape on a body with `marks`.
 pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, String> {

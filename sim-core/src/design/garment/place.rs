@@ -13,7 +13,7 @@ use std::f32::consts::{FRAC_PI_2, PI, TAU};
 use glam::{Mat3, Vec2, Vec3};
 
 use crate::collision::Body;
-use crate::collision::body::{ARM, ARM_RADIUS};
+use crate::collision::body::{ARM_RADIUS, Pose};
 
 /// The named places of a dress form, as a designer says them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -78,6 +78,7 @@ impl Place {
                 angle: 0.0,
                 down: top,
                 mirrored: false,
+                turn: 0,
             },
         }
     }
@@ -101,12 +102,16 @@ pub enum Placement {
         out: f32,
     },
     /// Round an arm (the body's left or right), the piece's middle facing `angle` round
-    /// it (0 to the front), its top `down` m below the shoulder along the arm.
+    /// it (0 to the front), its top `down` m below the shoulder along the arm. `turn`:
+    /// quarter turns (counter-clockwise) the pattern is turned by first, for a sleeve
+    /// drawn with the arm along its x (GarmentCode's are); 0: its y runs up the arm.
     Arm {
         left: bool,
         angle: f32,
         down: f32,
         mirrored: bool,
+        #[serde(default)]
+        turn: u8,
     },
     /// The pattern plane (x, y, 0), in the piece's own coordinates, turned by `rotation`
     /// and moved by `translation` (m).
@@ -149,15 +154,32 @@ impl Landmarks {
     /// bounds (an ellipse round its box, no arms), or the floor's (a 1 m wide axis).
     pub fn of(body: Option<&Body>) -> Self {
         match body {
-            Some(b) if b.name == "mannequin" => {
+            Some(b)
+                if [Pose::Hanging, Pose::A]
+                    .iter()
+                    .any(|p| p.body_name() == b.name) =>
+            {
+                let pose = if b.name == Pose::A.body_name() {
+                    Pose::A
+                } else {
+                    Pose::Hanging
+                };
                 let (mn, mx) = b.bounds();
                 let axis = Vec2::new(0.5 * (mn.x + mx.x), 0.5 * (mn.z + mx.z));
+                let arms = pose.arm();
+                // Room round the arm for a sleeve to start in. Held out, the arm is bent
+                // forward at the elbow across the line a sleeve is bent round; 2.5 cm
+                // started GarmentCode's back sleeves through it.
+                let room = match pose {
+                    Pose::Hanging => 0.025,
+                    Pose::A => 0.035,
+                };
                 let arm = |s: f32| {
                     let m = Vec3::new(s, 1.0, 1.0);
                     (
-                        ARM[0] * m + Vec3::new(axis.x, 0.0, axis.y),
-                        ARM[2] * m + Vec3::new(axis.x, 0.0, axis.y),
-                        ARM_RADIUS + 0.025,
+                        arms[0] * m + Vec3::new(axis.x, 0.0, axis.y),
+                        arms[2] * m + Vec3::new(axis.x, 0.0, axis.y),
+                        ARM_RADIUS + room,
                     )
                 };
                 Self {
@@ -248,6 +270,16 @@ impl Ellipse {
     }
 }
 
+/// `p` turned by `turn` quarter turns counter-clockwise.
+pub(super) fn quarter(p: Vec2, turn: u8) -> Vec2 {
+    match turn % 4 {
+        0 => p,
+        1 => Vec2::new(-p.y, p.x),
+        2 => -p,
+        _ => Vec2::new(p.y, -p.x),
+    }
+}
+
 /// Why a piece cannot start where it was asked to.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum PlaceError {
@@ -310,11 +342,21 @@ pub fn place(
             angle,
             down,
             mirrored,
+            turn,
         } => {
             let Some(arms) = marks.arms else {
                 return Err(PlaceError::NoArms { piece: name.into() });
             };
             let (shoulder, wrist, r) = arms[usize::from(!left)];
+            // The pattern turned, and measured from its turned bounds' top middle.
+            let (a, b) = (quarter(lo, turn), quarter(hi, turn));
+            let (lo, hi) = (a.min(b), a.max(b));
+            let top_mid = Vec2::new(0.5 * (lo.x + hi.x), hi.y);
+            let width = hi.x - lo.x;
+            let local = |p: Vec2, mirrored: bool| {
+                let d = quarter(p, turn) - top_mid;
+                Vec2::new(if mirrored { -d.x } else { d.x }, d.y)
+            };
             if width >= TAU * r {
                 return Err(PlaceError::TooWide {
                     piece: name.into(),
