@@ -475,17 +475,19 @@ pub fn build_scene(cfg: &ScenarioConfig) -> Result<(Design, Option<PatternSpec>)
         for p in &mut mesh.positions {
             *p += shift;
         }
-        (Cloth::new(mesh, &cfg.material)?, None, Vec::new())
+        let cloth = Cloth::new(mesh, &cfg.material)?;
+        // Nothing starts crossed: a cloth through itself or the body stays so (a
+        // garment's start was counted where it was placed).
+        let crossed = crossings::count(&cloth.x, &cloth.live.triangles(), body.as_ref());
+        if crossed.self_pairs > 0 || crossed.body_pairs > 0 {
+            return Err(ScenarioError::StartsCrossed {
+                self_pairs: crossed.self_pairs,
+                body_pairs: crossed.body_pairs,
+                which: String::new(),
+            });
+        }
+        (cloth, None, Vec::new())
     };
-    // Nothing starts crossed: a cloth through itself or the body stays so.
-    let crossed = crossings::count(&cloth.x, &cloth.live.triangles(), body.as_ref());
-    if crossed.self_pairs > 0 || crossed.body_pairs > 0 {
-        return Err(ScenarioError::StartsCrossed {
-            self_pairs: crossed.self_pairs,
-            body_pairs: crossed.body_pairs,
-            which: String::new(),
-        });
-    }
     let env = Environment {
         frame_dt: cfg.frame_dt,
         ..Environment::default()

@@ -42,6 +42,13 @@ impl Pose {
         }
     }
 
+    /// The pose of the mannequin body named `name`, if it is one.
+    pub fn of_body(name: &str) -> Option<Self> {
+        [Self::Hanging, Self::A]
+            .into_iter()
+            .find(|p| p.body_name() == name)
+    }
+
     /// The left arm's shoulder, elbow and wrist in this pose (the right is its mirror):
     /// `ARM` turned about the shoulder, in the body's plane.
     pub fn arm(self) -> [Vec3; 3] {

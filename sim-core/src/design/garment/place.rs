@@ -153,17 +153,8 @@ impl Landmarks {
     /// The mannequin's (its torso between its arms, its arms), or any body's from its
     /// bounds (an ellipse round its box, no arms), or the floor's (a 1 m wide axis).
     pub fn of(body: Option<&Body>) -> Self {
-        match body {
-            Some(b)
-                if [Pose::Hanging, Pose::A]
-                    .iter()
-                    .any(|p| p.body_name() == b.name) =>
-            {
-                let pose = if b.name == Pose::A.body_name() {
-                    Pose::A
-                } else {
-                    Pose::Hanging
-                };
+        match body.map(|b| (b, Pose::of_body(&b.name))) {
+            Some((b, Some(pose))) => {
                 let (mn, mx) = b.bounds();
                 let axis = Vec2::new(0.5 * (mn.x + mx.x), 0.5 * (mn.z + mx.z));
                 let arms = pose.arm();
@@ -192,7 +183,7 @@ impl Landmarks {
                     arms: Some([arm(1.0), arm(-1.0)]),
                 }
             }
-            Some(b) => {
+            Some((b, None)) => {
                 let (mn, mx) = b.bounds();
                 let half = Vec2::new(0.5 * (mx.x - mn.x), 0.5 * (mx.z - mn.z));
                 Self {
