@@ -69,6 +69,8 @@ pub struct ContactStats {
     /// Moves the guard projected onto a bound, and moves it had to shorten.
     pub projected: usize,
     pub shortened: usize,
+    /// Moves inside their vertex's reach, whose pairs the guard did not need to check.
+    pub skipped: usize,
     /// Time the proximity search took, µs.
     pub detect_us: u64,
     /// Searches run, searches that looked again only where vertices left their boxes,

@@ -14,6 +14,7 @@ mod grid;
 mod guard;
 mod pair;
 mod pairs;
+mod reach;
 
 pub use body_side::BodyGrids;
 pub use contacts::count_self_contacts;
@@ -22,3 +23,4 @@ pub use grid::{Aabb, BoxGrid, unique_edges};
 pub use guard::{Guarded, constrain};
 pub use pair::{ClothView, NONE, Pair, PairCounts, PairKind, ProximityParams};
 pub use pairs::Proximity;
+pub use reach::Reach;

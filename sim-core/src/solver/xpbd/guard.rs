@@ -16,7 +16,7 @@ use glam::Vec3;
 
 use crate::collision::Body;
 use crate::collision::proximity::{
-    Aabb, ClothView, Guarded, NONE, Proximity, ProximityParams, constrain, unique_edges,
+    Aabb, ClothView, Guarded, NONE, Proximity, ProximityParams, Reach, constrain, unique_edges,
 };
 use crate::solver::model::{ContactStats, Drive, Environment};
 use crate::solver::motion::Motion;
@@ -52,6 +52,11 @@ pub struct Guard {
     free: Vec<bool>,
     mean_edge: f32,
     prox: Proximity,
+    /// How far each vertex may move before its pairs need checking.
+    reach: Reach,
+    /// The cloth pairs that carry energy, which [`Guard::respond`] pushes apart (the
+    /// body's are its contact planes').
+    pushed: Vec<u32>,
     /// The boxes the pairs were searched in: the guard keeps each vertex in its box.
     boxes: Vec<Aabb>,
     /// This frame's (or search span's) motion boxes.
@@ -85,6 +90,8 @@ impl Guard {
         self.refresh_free(cloth);
         self.motion.resize(n);
         self.prox.clear();
+        self.reach.clear();
+        self.pushed.clear();
         self.boxes.clear();
     }
 
@@ -190,6 +197,14 @@ impl Guard {
             self.prox.detect(&view, body, &params);
             self.stats.searches += 1;
         }
+        self.reach.compute(&self.prox, &cloth.x);
+        self.pushed.clear();
+        let pushed = self.prox.pairs.iter().enumerate();
+        self.pushed.extend(pushed.filter_map(|(k, q)| {
+            // The body's pairs are left to its contact planes: pushed by both along
+            // different normals at the cube's rims, resting cloth jittered (2 cm/s).
+            (q.energy && q.body_bound == f32::NEG_INFINITY).then_some(k as u32)
+        }));
         self.stats.pairs = self.prox.counts;
         self.stats.detect_us += t0.elapsed().as_micros() as u64;
     }
@@ -226,12 +241,8 @@ impl Guard {
         friction: f32,
         floor: Option<f32>,
     ) {
-        for pair in &self.prox.pairs {
-            // The body's pairs are left to its contact planes: pushed by both along
-            // different normals at the cube's rims, resting cloth jittered (2 cm/s).
-            if !pair.energy || pair.body_bound > f32::NEG_INFINITY {
-                continue;
-            }
+        for &k in &self.pushed {
+            let pair = &self.prox.pairs[k as usize];
             let c = pair.gap(x) - radius;
             if c >= 0.0 {
                 continue;
@@ -299,6 +310,11 @@ impl Guard {
     pub fn begin_substep(&mut self, x: &[Vec3]) {
         self.committed.clear();
         self.committed.extend_from_slice(x);
+        // What moved since the last pass outside the guard (the pen's grip, a pinned
+        // vertex) may have left its reach.
+        for (i, &p) in x.iter().enumerate() {
+            self.reach.note(i, p, &self.prox);
+        }
     }
 
     /// Passes every vertex's move of the substep (from where [`Guard::begin_substep`]
@@ -314,9 +330,23 @@ impl Guard {
         for i in 0..x.len() {
             if !self.free[i] {
                 self.committed[i] = x[i];
+                self.reach.note(i, x[i], &self.prox);
                 continue;
             }
-            let (p, how) = constrain(i, x[i], &self.committed, &self.boxes[i], &self.prox);
+            let bx = &self.boxes[i];
+            let inside = x[i].clamp(bx.lo, bx.hi);
+            let (p, how) = if self.reach.within(i, inside) {
+                self.stats.skipped += 1;
+                let how = if inside == x[i] {
+                    Guarded::Free
+                } else {
+                    Guarded::Projected
+                };
+                (inside, how)
+            } else {
+                constrain(i, x[i], &self.committed, bx, &self.prox)
+            };
+            self.reach.note(i, p, &self.prox);
             match how {
                 Guarded::Free => {}
                 Guarded::Projected => self.stats.projected += 1,
