@@ -451,6 +451,7 @@ pub(crate) fn replacement(
                 BodyChoice::Sphere => BodyKind::Sphere,
                 BodyChoice::Mannequin => BodyKind::Mannequin,
                 BodyChoice::Cube => BodyKind::Cube,
+                BodyChoice::MannequinAPose => BodyKind::MannequinAPose,
             };
             let name = kind.name();
             scene.body = Some(kind);
@@ -517,6 +518,33 @@ mod tests {
         assert_eq!(model_code(ModelKind::Xpbd), scene_model::XPBD);
         assert_eq!(model_code(ModelKind::Vbd), scene_model::VBD);
         assert!(model_of(scene_model::LAST + 1).is_err());
+    }
+
+    /// The studio's reset can build the scene on the A-posed mannequin, saving the design
+    /// it replaces first.
+    #[test]
+    fn a_reset_takes_the_a_posed_mannequin() {
+        let dir = std::env::temp_dir().join(format!("saiho-reset-apose-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut cfg = ServiceConfig::new(shared::domain::Domain::new("apose").unwrap());
+        cfg.autosave = dir.join("autosave.saiho");
+        cfg.scene.grid = 4;
+        let mut d = build_design(&cfg.scene).unwrap();
+        let reset = Command::Reset {
+            body: BodyChoice::MannequinAPose,
+            grid: Some(6),
+            material: shared::command::MaterialChange::default(),
+            substeps: None,
+            model: None,
+        };
+        let (next, said) = replacement(&mut d, &reset, &cfg).unwrap();
+        let _ = std::fs::remove_dir_all(&dir);
+        assert_eq!(
+            next.sim.body.as_ref().map(|b| b.name.as_str()),
+            Some("mannequin-apose")
+        );
+        assert!(said.contains("over the mannequin-apose"), "{said}");
+        assert_eq!(next.sim.cloth.len(), 7 * 7);
     }
 
     /// A fabric by name replaces the measured values for the whole design and names

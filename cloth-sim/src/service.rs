@@ -530,6 +530,7 @@ fn scene_of(design: &Design) -> (u32, u32) {
         Some("cube") => scene_body::CUBE,
         Some("sphere") => scene_body::SPHERE,
         Some("mannequin") => scene_body::MANNEQUIN,
+        Some("mannequin-apose") => scene_body::MANNEQUIN_APOSE,
         Some(_) => scene_body::FILE,
     };
     let rest = &design.sim.cloth.rest;

@@ -12,6 +12,9 @@ pub enum BodyChoice {
     Cube,
     Sphere,
     Mannequin,
+    /// The mannequin with its arms held out 50 degrees below the horizontal, as
+    /// GarmentCode's patterns place their sleeves (since protocol 9).
+    MannequinAPose,
 }
 
 /// A change of material: each value given replaces the design's, each `None` keeps it.
@@ -322,6 +325,7 @@ impl Command {
                     BodyChoice::Cube => body::CUBE,
                     BodyChoice::Sphere => body::SPHERE,
                     BodyChoice::Mannequin => body::MANNEQUIN,
+                    BodyChoice::MannequinAPose => body::MANNEQUIN_APOSE,
                 };
                 c.a = grid.unwrap_or(0);
                 c.mode = substeps.unwrap_or(0);
@@ -411,6 +415,7 @@ impl Command {
                 body: match c.b {
                     body::SPHERE => BodyChoice::Sphere,
                     body::MANNEQUIN => BodyChoice::Mannequin,
+                    body::MANNEQUIN_APOSE => BodyChoice::MannequinAPose,
                     _ => BodyChoice::Cube,
                 },
                 grid: some_nonzero(c.a),
@@ -557,6 +562,13 @@ mod tests {
                 substeps: None,
                 model: None,
             },
+            Command::Reset {
+                body: BodyChoice::MannequinAPose,
+                grid: Some(64),
+                material: MaterialChange::default(),
+                substeps: None,
+                model: None,
+            },
             Command::Load {
                 path: "design.saiho".into(),
             },
@@ -659,6 +671,9 @@ mod tests {
         .unwrap();
         wire.rgba[0] = 5;
         assert!(Command::from_wire(&wire).is_err(), "model 5");
+        wire.rgba[0] = 0;
+        wire.b = body::LAST + 1;
+        assert!(Command::from_wire(&wire).is_err(), "body past the last");
         let mut wire = Command::Undo.to_wire(Header::next(&mut seq)).unwrap();
         wire.header.protocol += 1;
         assert!(matches!(

@@ -225,7 +225,9 @@ pub mod scene_body {
     /// A body from an OBJ file.
     pub const FILE: u32 = 3;
     pub const NONE: u32 = 4;
-    pub const LAST: u32 = NONE;
+    /// The A-posed mannequin (since protocol 9).
+    pub const MANNEQUIN_APOSE: u32 = 5;
+    pub const LAST: u32 = MANNEQUIN_APOSE;
 }
 
 impl Checked for SimTelemetry {

@@ -87,7 +87,9 @@ pub mod body {
     pub const CUBE: u32 = 0;
     pub const SPHERE: u32 = 1;
     pub const MANNEQUIN: u32 = 2;
-    pub const LAST: u32 = MANNEQUIN;
+    /// Since protocol 9.
+    pub const MANNEQUIN_APOSE: u32 = 3;
+    pub const LAST: u32 = MANNEQUIN_APOSE;
 }
 
 /// The named places round the body a piece can start at.

@@ -61,6 +61,7 @@ fn body_name(code: u32) -> &'static str {
         scene_body::CUBE => "cube",
         scene_body::SPHERE => "sphere",
         scene_body::MANNEQUIN => "mannequin",
+        scene_body::MANNEQUIN_APOSE => "mannequin, arms out (A-pose)",
         scene_body::FILE => "a body from a file",
         _ => "no body",
     }
@@ -80,6 +81,7 @@ impl ScenePanel {
             scene_body::CUBE => self.body = BodyChoice::Cube,
             scene_body::SPHERE => self.body = BodyChoice::Sphere,
             scene_body::MANNEQUIN => self.body = BodyChoice::Mannequin,
+            scene_body::MANNEQUIN_APOSE => self.body = BodyChoice::MannequinAPose,
             _ => {}
         }
         if t.grid > 0 {
@@ -151,7 +153,10 @@ impl ScenePanel {
             ui.label(format!(
                 "Now: {cloth} over {}, {} model",
                 match body {
-                    scene_body::CUBE | scene_body::SPHERE | scene_body::MANNEQUIN => {
+                    scene_body::CUBE
+                    | scene_body::SPHERE
+                    | scene_body::MANNEQUIN
+                    | scene_body::MANNEQUIN_APOSE => {
                         format!("the {}", body_name(body))
                     }
                     other => body_name(other).to_string(),
@@ -168,11 +173,21 @@ impl ScenePanel {
                     BodyChoice::Sphere => "sphere",
                     BodyChoice::Mannequin => "mannequin",
                     BodyChoice::Cube => "cube",
+                    BodyChoice::MannequinAPose => "mannequin, A-pose",
                 })
                 .show_ui(ui, |ui| {
                     ui.selectable_value(&mut self.body, BodyChoice::Cube, "cube");
                     ui.selectable_value(&mut self.body, BodyChoice::Sphere, "sphere");
                     ui.selectable_value(&mut self.body, BodyChoice::Mannequin, "mannequin");
+                    ui.selectable_value(
+                        &mut self.body,
+                        BodyChoice::MannequinAPose,
+                        "mannequin, A-pose",
+                    )
+                    .on_hover_text(
+                        "Its arms held out 50 degrees below the horizontal, as GarmentCode's \
+                         patterns place their sleeves: they go round its arms",
+                    );
                 })
                 .response
                 .on_hover_text("What the next scene drapes over");
