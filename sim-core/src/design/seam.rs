@@ -274,7 +274,7 @@ impl Design {
                 if a == b || gap > reach || self.weld_refused.contains(&(a, b)) {
                     continue;
                 }
-                let Ok(mut prims) = self.sew_prims(a, b) else {
+                let Ok(mut prims) = self.weld_prims(a, b) else {
                     continue;
                 };
                 if !self.place_weld(&mut prims, a, b, gap > near) {
@@ -313,7 +313,7 @@ impl Design {
         welded + self.zip_seam_slits(near)
     }
 
-    /// Where the weld of `a` and `b` puts them (`prims` from [`Design::sew_prims`]: `a`
+    /// Where the weld of `a` and `b` puts them (`prims` from [`Design::weld_prims`]: `a`
     /// moved to the pair's midpoint): the midpoint, else `a`'s place, else `b`'s, the first
     /// at which the edit crosses nothing it does not cross now (and, for a pair welded from
     /// beyond the thickness, `zip`, stretches no edge past [`ZIP_STRAIN`]). Two sides that

@@ -3,6 +3,7 @@
 use super::document::Design;
 use super::error::EditError;
 use super::prim::Prim;
+use crate::mesh::NONE;
 
 impl Design {
     /// The paper's sew: merges border vertices `a` and `b` into `a`, placed halfway.
@@ -25,6 +26,47 @@ impl Design {
     }
 
     pub(super) fn sew_prims(&self, a: u32, b: u32) -> Result<Vec<Prim>, EditError> {
+        self.check_sewable(a, b)?;
+        let live = &self.sim.cloth.live;
+        if live
+            .tris_of(b)
+            .iter()
+            .any(|&t| live.tri(t).is_some_and(|t| t.corner(a).is_some()))
+        {
+            return Err(EditError::SewNeighbours(a, b));
+        }
+        Ok(self.merge_prims(a, b, NONE))
+    }
+
+    /// A seam's weld of `a` and `b`: [`Design::sew_prims`], or, where the two are the
+    /// ends of a border side, that side collapsed. A zip eases a vertex into the edge
+    /// across its slit by splitting that edge's triangle, and a pair of the seam can then
+    /// be joined by a side of one of the halves; welding it removes that half, and the
+    /// other half, `b` taken to `a`, becomes the triangle it was split from. Only a
+    /// border side with one triangle `(a, b, c)` whose two ends have no neighbour but
+    /// `c` in common: anything else would pinch the cloth (`SewNeighbours`, as before).
+    pub(super) fn weld_prims(&self, a: u32, b: u32) -> Result<Vec<Prim>, EditError> {
+        let live = &self.sim.cloth.live;
+        let [slot, other] = live.edge(a, b);
+        if slot == NONE {
+            return self.sew_prims(a, b);
+        }
+        self.check_sewable(a, b)?;
+        let third = live
+            .tri(slot)
+            .and_then(|t| t.v.iter().copied().find(|&v| v != a && v != b));
+        let Some(c) = third.filter(|_| other == NONE) else {
+            return Err(EditError::SewNeighbours(a, b));
+        };
+        let na = live.neighbours(a);
+        if live.neighbours(b).iter().any(|u| *u != c && na.contains(u)) {
+            return Err(EditError::SewNeighbours(a, b));
+        }
+        Ok(self.merge_prims(a, b, slot))
+    }
+
+    /// Both vertices alive, two of them, on the border.
+    fn check_sewable(&self, a: u32, b: u32) -> Result<(), EditError> {
         self.check_vertex(a)?;
         self.check_vertex(b)?;
         if a == b {
@@ -35,14 +77,12 @@ impl Design {
                 return Err(EditError::SewInterior(v));
             }
         }
+        Ok(())
+    }
+
+    /// `b` merged into `a` halfway between them, triangle slot `gone` (if any) removed.
+    fn merge_prims(&self, a: u32, b: u32, gone: u32) -> Vec<Prim> {
         let live = &self.sim.cloth.live;
-        if live
-            .tris_of(b)
-            .iter()
-            .any(|&t| live.tri(t).is_some_and(|t| t.corner(a).is_some()))
-        {
-            return Err(EditError::SewNeighbours(a, b));
-        }
         let c = &self.sim.cloth;
         let (ia, ib) = (a as usize, b as usize);
         let mut prims = vec![Prim::Move {
@@ -50,7 +90,15 @@ impl Design {
             old: (c.x[ia], c.v[ia]),
             new: ((c.x[ia] + c.x[ib]) * 0.5, (c.v[ia] + c.v[ib]) * 0.5),
         }];
-        for &slot in live.tris_of(b) {
+        // The collapsed side's triangle goes first, so that no edge has three on the way.
+        if let Some(t) = live.tri(gone) {
+            prims.push(Prim::Tri {
+                slot: gone,
+                old: Some(*t),
+                new: None,
+            });
+        }
+        for &slot in live.tris_of(b).iter().filter(|&&s| s != gone) {
             if let Some(t) = live.tri(slot) {
                 let mut n = *t;
                 n.v = n.v.map(|i| if i == b { a } else { i });
@@ -68,7 +116,7 @@ impl Design {
                 new: true,
             });
         }
-        Ok(prims)
+        prims
     }
 }
 
@@ -79,6 +127,41 @@ mod tests {
     use crate::design::EditError;
     use crate::mesh::ClothMesh;
     use crate::solver::ModelKind;
+
+    /// A seam's pair joined by one border side (as the half of a triangle a zip split
+    /// leaves one) welds by collapsing that side, its triangle going with it; the paper's
+    /// sew still refuses it, and a side inside the cloth stays refused. Undo restores it.
+    #[test]
+    fn a_pair_on_one_border_side_welds_by_collapsing_it() {
+        for model in [ModelKind::Xpbd, ModelKind::Vbd] {
+            // 2 x 1 cells of 0.1 m: vertices 0-2 along one border, 3-5 along the other;
+            // triangles (0 3 1), (1 3 4), (1 4 5), (1 5 2).
+            let mesh = ClothMesh::grid(0.2, 0.1, 2, 1, 1.0).unwrap();
+            let mut d = crate::design::floating(mesh, model);
+            assert!(matches!(d.sew(0, 1), Err(EditError::SewNeighbours(0, 1))));
+            assert!(matches!(
+                d.weld_prims(1, 3),
+                Err(EditError::SewNeighbours(1, 3))
+            ));
+            // The side 0-1 drawn in to 4 mm, within a weld's reach, and sewn by a seam.
+            d.sim.cloth.x[1] = d.sim.cloth.x[0] + Vec3::X * 0.004;
+            // (The seam's other pair, 3 with 2, stays 0.2 m apart.)
+            assert_eq!(d.add_seam(&[0, 3], &[1, 2], 0.5).unwrap(), 2);
+            let (tris, edits) = (d.sim.cloth.live.tri_count(), d.history.undo_len());
+            assert_eq!(d.weld_close_stitches(), 1, "{model:?}");
+            assert_eq!(d.seams[0].pairs, vec![(0, 0), (3, 2)]);
+            let live = &d.sim.cloth.live;
+            assert_eq!(live.tri_count(), tris - 1, "the side's triangle goes");
+            assert!(!live.vertex_alive(1));
+            assert_eq!(live.tris_of(0).len(), 3);
+            d.validate().unwrap();
+            d.step().unwrap();
+            d.undo().unwrap();
+            assert_eq!(d.history.undo_len(), edits);
+            assert_eq!(d.sim.cloth.live.tri_count(), tris);
+            assert_eq!(d.seams[0].pairs, vec![(0, 1), (3, 2)]);
+        }
+    }
 
     /// Two 0.2 m squares side by side, 0.32 m apart at y = 1, and, with `wall`, a third
     /// standing between them (the plane x = 0). Returns the mesh and the two border
