@@ -88,6 +88,20 @@ fn drape_cube_writes_report_and_meshes() {
         ms("mean") <= ms("max"),
         "the mean frame is no longer than the longest"
     );
+    // Each frame's time, in order: as many as frames, the longest the max.
+    let each: Vec<f64> = report["frame_ms"]
+        .as_array()
+        .expect("frame_ms")
+        .iter()
+        .map(|t| t.as_f64().unwrap())
+        .collect();
+    assert_eq!(each.len(), 30);
+    let longest = each.iter().copied().fold(0.0, f64::max);
+    assert!(
+        (longest - ms("max")).abs() <= 0.006,
+        "{longest} against {}",
+        ms("max")
+    );
     let (strain, strain_max) = (
         report["strain_mean"].as_f64().unwrap(),
         report["strain_max"].as_f64().unwrap(),

@@ -123,6 +123,9 @@ pub struct Report {
     pub step_ms: Percentiles,
     /// The frame's collision broad phase alone, ms.
     pub collision_ms: Percentiles,
+    /// Each frame's wall time in order, ms to 0.01: where a run spent its time (a drape's
+    /// landing frames against its resting ones), which the percentiles do not say.
+    pub frame_ms: Vec<f64>,
     pub threads: usize,
     pub max_penetration_m: f64,
     pub thickness_m: f64,

@@ -369,6 +369,11 @@ fn report(
         substeps: sim.substeps,
         step_ms: Percentiles::of(&frames.step_ms),
         collision_ms: Percentiles::of(&frames.collision_ms),
+        frame_ms: frames
+            .step_ms
+            .iter()
+            .map(|t| (t * 100.0).round() / 100.0)
+            .collect(),
         threads: sim.threads(),
         max_penetration_m: max_pen,
         thickness_m: sim.material.thickness as f64,
