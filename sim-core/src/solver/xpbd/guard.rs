@@ -25,14 +25,14 @@ use crate::solver::state::Cloth;
 /// The least separation every pair keeps, m.
 const SEPARATION: f32 = 1e-4;
 /// A search's boxes are the motion boxes grown by this much, m (or by a seventh of the
-/// mean edge on a finer mesh while no seam is being sewn), and its pairs serve the frames
-/// after it while every vertex's motion box stays inside its searched box: a cloth at
-/// rest is searched once in many frames. On a fine mesh 2 mm is a large part of an edge,
-/// so the boxes of neighbours a few edges apart overlap and become pairs: a 128 x 128
-/// cloth (7.8 mm edges) at rest on the mannequin listed 700,000 cloth pairs with 2 mm,
-/// 65,000 with 1 mm. While stitches pull, the cloth strays from its predicted path more,
-/// and the guard holding it in tighter boxes stretched the sewn 9 mm dress's worst side
-/// from 9x to 21-23x (docs/collision.md), so it keeps 2 mm then.
+/// mean edge on a finer mesh), and its pairs serve the frames after it while every
+/// vertex's motion box stays inside its searched box: a cloth at rest is searched once in
+/// many frames. On a fine mesh 2 mm is a large part of an edge, so the boxes of
+/// neighbours a few edges apart overlap and become pairs: a 128 x 128 cloth (7.8 mm
+/// edges) at rest on the mannequin listed 700,000 cloth pairs with 2 mm, 65,000 with 1 mm.
+/// (Sewn cloth kept 2 mm until the welds' leftover vertices stopped being obstacles: the
+/// tighter boxes had stretched the 9 mm dress's worst side from 9x to 21-23x; since, they
+/// do not, docs/collision.md.)
 const REUSE_MARGIN: f32 = 0.002;
 /// ... the part of the mean edge it is at most.
 const REUSE_MARGIN_PER_EDGE: f32 = 1.0 / 7.0;
@@ -125,11 +125,7 @@ impl Guard {
         self.motion
             .boxes(&mut self.need, cloth, &self.free, env, drive, span);
         let inside = |a: &Aabb, b: &Aabb| b.lo.cmple(a.lo).all() && a.hi.cmple(b.hi).all();
-        let margin = if drive.stitches.is_empty() {
-            REUSE_MARGIN.min(REUSE_MARGIN_PER_EDGE * self.mean_edge)
-        } else {
-            REUSE_MARGIN
-        };
+        let margin = REUSE_MARGIN.min(REUSE_MARGIN_PER_EDGE * self.mean_edge);
         let searched = self.boxes.len() == self.need.len();
         self.moved.clear();
         if searched {
