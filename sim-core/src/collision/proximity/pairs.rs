@@ -337,6 +337,31 @@ pub(super) fn grid_cell(boxes: impl Iterator<Item = Aabb>) -> f32 {
     }
 }
 
+/// A `side` x `side` sheet of 1 cm cells lying 1-3 mm over the top of a 30 cm sphere at
+/// the origin: positions, triangles and places in the pattern (for tests).
+#[cfg(test)]
+pub(super) fn sheet_over_a_sphere(side: usize) -> (Vec<Vec3>, Vec<[u32; 3]>, Vec<Vec3>) {
+    let (h, r, half) = (0.01f32, 0.3f32, (side / 2) as f32);
+    let (mut x, mut pattern, mut tris) = (Vec::new(), Vec::new(), Vec::new());
+    for j in 0..side {
+        for i in 0..side {
+            let (px, pz) = ((i as f32 - half) * h, (j as f32 - half) * h);
+            let top = (r * r - px * px - pz * pz).max(0.0).sqrt();
+            let lift = 0.001 + 0.001 * ((i * 7 + j * 3) % 3) as f32;
+            x.push(Vec3::new(px, top + lift, pz));
+            pattern.push(Vec3::new(px, 0.0, pz));
+        }
+    }
+    let at = |i: usize, j: usize| (j * side + i) as u32;
+    for j in 0..side - 1 {
+        for i in 0..side - 1 {
+            tris.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
+            tris.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
+        }
+    }
+    (x, tris, pattern)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -346,24 +371,7 @@ mod tests {
     /// A 70 x 70 sheet (1 cm cells) lying 1-3 mm over the top of a 30 cm sphere, falling
     /// 2 mm onto it.
     fn sheet_on_a_sphere() -> (Vec<Vec3>, Vec<Aabb>, Vec<[u32; 3]>, Vec<Vec3>) {
-        let (side, h, r) = (70usize, 0.01f32, 0.3f32);
-        let (mut x, mut pattern, mut tris) = (Vec::new(), Vec::new(), Vec::new());
-        for j in 0..side {
-            for i in 0..side {
-                let (px, pz) = ((i as f32 - 35.0) * h, (j as f32 - 35.0) * h);
-                let top = (r * r - px * px - pz * pz).max(0.0).sqrt();
-                let lift = 0.001 + 0.001 * ((i * 7 + j * 3) % 3) as f32;
-                x.push(Vec3::new(px, top + lift, pz));
-                pattern.push(Vec3::new(px, 0.0, pz));
-            }
-        }
-        let at = |i: usize, j: usize| (j * side + i) as u32;
-        for j in 0..side - 1 {
-            for i in 0..side - 1 {
-                tris.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-                tris.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
-            }
-        }
+        let (x, tris, pattern) = sheet_over_a_sphere(70);
         let boxes = x
             .iter()
             .map(|&p| Aabb::point(p).with(p - Vec3::Y * 0.002).grown(0.0005))

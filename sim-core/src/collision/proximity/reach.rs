@@ -128,32 +128,17 @@ mod tests {
     use crate::collision::proximity::grid::{Aabb, unique_edges};
     use crate::collision::proximity::guard::{Guarded, constrain};
     use crate::collision::proximity::pair::{ClothView, Pair, ProximityParams};
+    use crate::collision::proximity::pairs::sheet_over_a_sphere;
 
     /// A 24 x 24 sheet (1 cm cells) lying 1-3 mm over a 30 cm sphere with its first six
     /// rows folded back 3 mm over the rows under them: cloth pairs and body pairs, some
     /// with little room. Its pairs, searched in boxes 2 mm round each vertex.
     fn folded_sheet() -> (Vec<Vec3>, Proximity) {
-        let (side, h, r) = (24usize, 0.01f32, 0.3f32);
-        let (mut x, mut pattern, mut tris) = (Vec::new(), Vec::new(), Vec::new());
-        for j in 0..side {
-            for i in 0..side {
-                let (px, pz) = ((i as f32 - 12.0) * h, (j as f32 - 12.0) * h);
-                let top = (r * r - px * px - pz * pz).max(0.0).sqrt();
-                let lift = 0.001 + 0.001 * ((i * 7 + j * 3) % 3) as f32;
-                x.push(Vec3::new(px, top + lift, pz));
-                pattern.push(Vec3::new(px, 0.0, pz));
-            }
-        }
+        let side = 24;
+        let (mut x, tris, pattern) = sheet_over_a_sphere(side);
         for j in 0..6 {
             for i in 0..side {
                 x[j * side + i] = x[(11 - j) * side + i] + Vec3::Y * 0.003;
-            }
-        }
-        let at = |i: usize, j: usize| (j * side + i) as u32;
-        for j in 0..side - 1 {
-            for i in 0..side - 1 {
-                tris.push([at(i, j), at(i + 1, j), at(i + 1, j + 1)]);
-                tris.push([at(i, j), at(i + 1, j + 1), at(i, j + 1)]);
             }
         }
         let boxes: Vec<Aabb> = x.iter().map(|&p| Aabb::point(p).grown(0.002)).collect();
