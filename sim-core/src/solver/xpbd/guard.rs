@@ -331,7 +331,7 @@ impl Guard {
             }
             let bx = &self.boxes[i];
             let inside = x[i].clamp(bx.lo, bx.hi);
-            let (p, how) = if self.reach.within(i, inside) {
+            let (p, how) = if self.reach.within(i, inside, &self.committed, &self.prox) {
                 self.stats.skipped += 1;
                 let how = if inside == x[i] {
                     Guarded::Free
