@@ -114,7 +114,8 @@ impl Reach {
             self.broken.get(k) != Some(&true) || {
                 let (m, h) = prox.pairs[k].bound_for((r % 4) as usize, x);
                 // As `constrain` tests it (a NaN bound is no violation there either).
-                !(m.dot(t) - h < 0.0)
+                let d = m.dot(t) - h;
+                d >= 0.0 || d.is_nan()
             }
         })
     }
