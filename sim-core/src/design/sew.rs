@@ -41,8 +41,9 @@ impl Design {
     /// A seam's weld of `a` and `b`: [`Design::sew_prims`], or, where the two are the
     /// ends of a border side, that side collapsed. A zip eases a vertex into the edge
     /// across its slit by splitting that edge's triangle, and a pair of the seam can then
-    /// be joined by a side of one of the halves; welding it removes that half, and the
-    /// other half, `b` taken to `a`, becomes the triangle it was split from. Only a
+    /// be joined by a side of one of the halves; welding it removes that half (its rest
+    /// area goes with it: small where the zip eased the vertex in beside its partner), the
+    /// other triangles keeping their own rest shapes, `b` taken to `a`. Only a
     /// border side with one triangle `(a, b, c)` whose two ends have no neighbour but
     /// `c` in common: anything else would pinch the cloth (`SewNeighbours`, as before).
     pub(super) fn weld_prims(&self, a: u32, b: u32) -> Result<Vec<Prim>, EditError> {
