@@ -17,7 +17,8 @@
 //! membranes.
 //!
 //! Inside: `coloring` and `simd` <- `groups` (the packed constraint groups) and `limits`
-//! (stretch limits) <- `tethers` <- `step` (the solver's state and its frame) <- `edit`
+//! (stretch limits) <- `tethers`, and `strain_limit` (the optional hard limit per
+//! triangle) <- `step` (the solver's state and its frame) <- `edit`
 //! (keeping it in step with an edited cloth) <- `solver` (the `Solver` trait's methods).
 
 mod coarse;
@@ -30,6 +31,7 @@ mod limits;
 mod simd;
 mod solver;
 mod step;
+mod strain_limit;
 mod tethers;
 
 pub use step::Xpbd;

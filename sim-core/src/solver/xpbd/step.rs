@@ -7,6 +7,7 @@ use glam::Vec3;
 use super::groups::{Compliance, Group, Loc, solve_bending, solve_membranes, split_groups};
 use super::guard::Guard;
 use super::limits::{CoarseScratch, StretchLimits};
+use super::strain_limit::limit_membranes;
 use super::tethers::{solve_tethers, stretch_limits, tethers};
 use crate::collision::{Body, ContactCache};
 use crate::solver::constraints::{BendConstraint, Elements, HingeShares, Membrane, elements_of};
@@ -32,6 +33,8 @@ pub struct Xpbd {
     pub(super) limits: StretchLimits,
     link_w: Vec<f32>,
     coarse: CoarseScratch,
+    /// The vertices the strain limit moved after the guard's pass (scratch).
+    limited: Vec<u32>,
     /// The vertex range split in two halves, solved side by side, then the constraints
     /// that straddle the split (the third, boundary group). The halves share no vertex, so
     /// the result is the same whether they run on one thread or two.
@@ -106,6 +109,7 @@ impl Xpbd {
             limits: stretch_limits(cloth, material, limits),
             link_w: Vec::new(),
             coarse: CoarseScratch::default(),
+            limited: Vec::new(),
             groups,
             membrane_loc,
             bend_loc,
@@ -155,6 +159,26 @@ impl Xpbd {
         // 0.81% / 0.53 after the membranes only, 0.73% / 0.42 before and after; with
         // node vertices alone and a 24-6-3 lattice, 9.7% and 5.9% mean).
         self.limits.solve_coarse(x, lw, coarse);
+    }
+
+    /// The strain limit's pass over every membrane (`strain_limit`): the two halves, the
+    /// boundary, then the edits' membranes; the vertices it moves are added to `moved`.
+    /// One thread: the pass moves only the few overloaded triangles, and checking the
+    /// rest costs less than starting a thread.
+    fn limit_strain(&self, x: &mut [Vec3], w: &[f32], moved: &mut Vec<u32>) {
+        let s_max = 1.0 + self.material.strain_limit;
+        let [ga, gb, gc] = &self.groups;
+        let mid = ga.end;
+        limit_membranes(&ga.membranes, &mut x[..mid], &w[..mid], s_max, (0, moved));
+        limit_membranes(
+            &gb.membranes,
+            &mut x[mid..],
+            &w[mid..],
+            s_max,
+            (gb.off, moved),
+        );
+        limit_membranes(&gc.membranes, x, w, s_max, (0, moved));
+        limit_membranes(&self.extra_membranes, x, w, s_max, (0, moved));
     }
 
     /// Advances one frame of `env.frame_dt` in `substeps` substeps.
@@ -252,8 +276,33 @@ impl Xpbd {
                     m.friction,
                     env.floor,
                 );
+            }
+            // The strain limit, once before the guard, and where the guard did not let a
+            // vertex go (pressed into the body, the solver's lag pushes a vertex on the
+            // crown of the head several mm into it every substep, and the guard's
+            // projection of that leaves little of the limit's move along the surface),
+            // once more from where the guard put it, which it then checks again. Limited
+            // before the guard only, the mannequin drape's most stretched sides were
+            // 1.27-1.28x their rest length, 1.25x with both (docs/models.md).
+            let limit = m.strain_limit > 0.0;
+            let mut limited = std::mem::take(&mut self.limited);
+            limited.clear();
+            if limit {
+                self.limit_strain(&mut cloth.x, &cloth.inv_mass, &mut limited);
+            }
+            if let Some(g) = &mut self.guard {
                 g.enforce(&mut cloth.x, &mut self.prev);
             }
+            if limit && self.guard.is_some() {
+                limited.clear();
+                self.limit_strain(&mut cloth.x, &cloth.inv_mass, &mut limited);
+                limited.sort_unstable();
+                limited.dedup();
+                if let Some(g) = &mut self.guard {
+                    g.enforce_only(&mut cloth.x, &limited);
+                }
+            }
+            self.limited = limited;
             let inv_h = 1.0 / h;
             for i in 0..cloth.len() {
                 if cloth.inv_mass[i] == 0.0 {
