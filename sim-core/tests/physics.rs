@@ -546,7 +546,18 @@ fn stretch_limits_keep_a_cloth_draped_on_the_mannequin_near_its_rest_length() {
     eprintln!("mean strain {s:.4} with stretch limits, {s0:.4} without; {ke:.2e} J");
     assert!(s < 0.6 * s0, "stretch limits: {s} vs {s0} without");
     assert!(s < 0.05, "mean strain {s}");
-    assert!(ke < 1e-6, "kinetic energy {ke:.2e} J");
+    // At rest as the scenarios' `settled` means it: a mean speed under 1 cm/s (here
+    // 7.5e-6 J). What contact leaves moving at rest is near 1e-6 J, and where in that it
+    // ends moves with the density's fifth digit: 0.75, 1.8 and 1.8e-6 J at frame 360 over
+    // densities 0.15, 0.15001, 0.15002 before the guard went to the nearest allowed
+    // point, 1.3, 0.81 and 0.90e-6 after; the same at frame 480. A bound of 1e-6 J held
+    // for one of them by chance.
+    let mass: f64 = with.cloth.mass.iter().map(|&m| m as f64).sum();
+    let calm = 0.5 * mass * 0.01f64.powi(2);
+    assert!(
+        ke < calm,
+        "kinetic energy {ke:.2e} J, at rest under {calm:.2e}"
+    );
 }
 
 /// The VBD model's hanging cloth rests where the implicit reference's does, as close
