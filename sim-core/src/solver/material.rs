@@ -62,8 +62,9 @@ fn default_one() -> f32 {
 /// stress-strain curve turns steeply up within a few per cent and its shear locks at
 /// 30-40°, where a grid triangle's diagonal is 1.2-1.25x its rest length) the mannequin
 /// drape's most stretched side falls from 1.43x to 1.25x and the dress's from 2.5x to
-/// 1.7x, with all its seams closed; but the sewn dress then takes 31 ms a frame at rest
-/// against 8, so it is the designer's choice for now (docs/models.md).
+/// 1.7x, with all its seams closed; but the dress then no longer comes to rest, and a
+/// fit-cube run left 6 of its 76 seam pairs open, so it is an option for now:
+/// `--strain-limit`, or `strain_limit` in a design file's material (docs/models.md).
 pub const DEFAULT_STRAIN_LIMIT: f32 = 0.0;
 
 fn default_strain_limit() -> f32 {

@@ -181,6 +181,37 @@ impl Xpbd {
         limit_membranes(&self.extra_membranes, x, w, s_max, (0, moved));
     }
 
+    /// The end of a substep's positions: the strain limit (when on) and the guard's pass.
+    ///
+    /// The limit runs once before the guard, and where the guard did not let a vertex go
+    /// (pressed into the body, the solver's lag pushes a vertex on the crown of the head
+    /// several mm into it every substep, and the guard's projection of that leaves little
+    /// of the limit's move along the surface), once more from where the guard put it,
+    /// which it then checks again for the vertices moved. Limited before the guard only,
+    /// the mannequin drape's most stretched sides were 1.27-1.28x their rest length, 1.25x
+    /// with both (docs/models.md).
+    fn limit_and_guard(&mut self, cloth: &mut Cloth) {
+        let limit = self.material.strain_limit > 0.0;
+        let mut limited = std::mem::take(&mut self.limited);
+        limited.clear();
+        if limit {
+            self.limit_strain(&mut cloth.x, &cloth.inv_mass, &mut limited);
+        }
+        if let Some(g) = &mut self.guard {
+            g.enforce(&mut cloth.x, &mut self.prev);
+        }
+        if limit && self.guard.is_some() {
+            limited.clear();
+            self.limit_strain(&mut cloth.x, &cloth.inv_mass, &mut limited);
+            limited.sort_unstable();
+            limited.dedup();
+            if let Some(g) = &mut self.guard {
+                g.enforce_only(&mut cloth.x, &limited);
+            }
+        }
+        self.limited = limited;
+    }
+
     /// Advances one frame of `env.frame_dt` in `substeps` substeps.
     ///
     /// Out of line, with the cloth as its own argument: a `&mut` parameter tells LLVM
@@ -277,32 +308,7 @@ impl Xpbd {
                     env.floor,
                 );
             }
-            // The strain limit, once before the guard, and where the guard did not let a
-            // vertex go (pressed into the body, the solver's lag pushes a vertex on the
-            // crown of the head several mm into it every substep, and the guard's
-            // projection of that leaves little of the limit's move along the surface),
-            // once more from where the guard put it, which it then checks again. Limited
-            // before the guard only, the mannequin drape's most stretched sides were
-            // 1.27-1.28x their rest length, 1.25x with both (docs/models.md).
-            let limit = m.strain_limit > 0.0;
-            let mut limited = std::mem::take(&mut self.limited);
-            limited.clear();
-            if limit {
-                self.limit_strain(&mut cloth.x, &cloth.inv_mass, &mut limited);
-            }
-            if let Some(g) = &mut self.guard {
-                g.enforce(&mut cloth.x, &mut self.prev);
-            }
-            if limit && self.guard.is_some() {
-                limited.clear();
-                self.limit_strain(&mut cloth.x, &cloth.inv_mass, &mut limited);
-                limited.sort_unstable();
-                limited.dedup();
-                if let Some(g) = &mut self.guard {
-                    g.enforce_only(&mut cloth.x, &limited);
-                }
-            }
-            self.limited = limited;
+            self.limit_and_guard(cloth);
             let inv_h = 1.0 / h;
             for i in 0..cloth.len() {
                 if cloth.inv_mass[i] == 0.0 {
