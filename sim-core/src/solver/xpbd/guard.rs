@@ -68,6 +68,7 @@ pub struct Guard {
     motion: Motion,
     /// Where the vertices are as the guard lets them move, during a pass.
     committed: Vec<Vec3>,
+
     pub stats: ContactStats,
 }
 
@@ -328,15 +329,7 @@ impl Guard {
             if how != Guarded::Free {
                 // Contact shifted `prev` by the push it gave (so the push is no velocity);
                 // credit no more of it than the vertex moved that way.
-                let start = self.committed[i];
-                let shift = prev[i] - start;
-                let len = shift.length();
-                prev[i] = if len > 0.0 {
-                    let dir = shift / len;
-                    start + dir * (p - start).dot(dir).clamp(0.0, len)
-                } else {
-                    start
-                };
+                prev[i] = credited(prev[i], self.committed[i], p);
             }
             self.committed[i] = p;
         }
@@ -386,5 +379,21 @@ impl Guard {
             Guarded::Shortened => self.stats.shortened += 1,
         }
         (p, how)
+    }
+}
+
+/// Where `prev` goes for a vertex that began the substep at `start` and ended it at `p`:
+/// contact moved `prev` out with the vertex by the push it gave to a penetration that was
+/// already there (`prev - start`), so that the push is no velocity; of that shift only as
+/// much is kept as the vertex really moved that way, or a vertex held still would keep a
+/// speed it never had.
+pub(super) fn credited(prev: Vec3, start: Vec3, p: Vec3) -> Vec3 {
+    let shift = prev - start;
+    let len = shift.length();
+    if len > 0.0 {
+        let dir = shift / len;
+        start + dir * (p - start).dot(dir).clamp(0.0, len)
+    } else {
+        start
     }
 }

@@ -7,7 +7,7 @@ use glam::Vec3;
 use super::groups::{Compliance, Group, Loc, solve_bending, solve_membranes, split_groups};
 use super::guard::Guard;
 use super::limits::{CoarseScratch, StretchLimits};
-use super::strain_limit::limit_membranes;
+use super::strain_limit::{credit_moves, limit_membranes};
 use super::tethers::{solve_tethers, stretch_limits, tethers};
 use crate::collision::{Body, ContactCache};
 use crate::solver::constraints::{BendConstraint, Elements, HingeShares, Membrane, elements_of};
@@ -33,8 +33,10 @@ pub struct Xpbd {
     pub(super) limits: StretchLimits,
     link_w: Vec<f32>,
     coarse: CoarseScratch,
-    /// The vertices the strain limit moved after the guard's pass (scratch).
-    limited: Vec<u32>,
+    /// The vertices the strain limit moved before and after the guard's pass, and where
+    /// every vertex began the substep (scratch, kept only while the limit is on).
+    limited: [Vec<u32>; 2],
+    start: Vec<Vec3>,
     /// The vertex range split in two halves, solved side by side, then the constraints
     /// that straddle the split (the third, boundary group). The halves share no vertex, so
     /// the result is the same whether they run on one thread or two.
@@ -109,7 +111,8 @@ impl Xpbd {
             limits: stretch_limits(cloth, material, limits),
             link_w: Vec::new(),
             coarse: CoarseScratch::default(),
-            limited: Vec::new(),
+            limited: [Vec::new(), Vec::new()],
+            start: Vec::new(),
             groups,
             membrane_loc,
             bend_loc,
@@ -189,27 +192,34 @@ impl Xpbd {
     /// of the limit's move along the surface), once more from where the guard put it,
     /// which it then checks again for the vertices moved. Limited before the guard only,
     /// the mannequin drape's most stretched sides were 1.27-1.28x their rest length, 1.25x
-    /// with both (docs/models.md).
+    /// with both (docs/models.md). A vertex the limit moved keeps as velocity only what
+    /// it really moved (`credit_moves`).
     fn limit_and_guard(&mut self, cloth: &mut Cloth) {
         let limit = self.material.strain_limit > 0.0;
-        let mut limited = std::mem::take(&mut self.limited);
-        limited.clear();
+        let [mut before, mut after] = std::mem::take(&mut self.limited);
+        before.clear();
+        after.clear();
+        let w = &cloth.inv_mass[..];
         if limit {
-            self.limit_strain(&mut cloth.x, &cloth.inv_mass, &mut limited);
+            self.limit_strain(&mut cloth.x, w, &mut before);
         }
         if let Some(g) = &mut self.guard {
             g.enforce(&mut cloth.x, &mut self.prev);
         }
         if limit && self.guard.is_some() {
-            limited.clear();
-            self.limit_strain(&mut cloth.x, &cloth.inv_mass, &mut limited);
-            limited.sort_unstable();
-            limited.dedup();
+            self.limit_strain(&mut cloth.x, w, &mut after);
+            after.sort_unstable();
+            after.dedup();
             if let Some(g) = &mut self.guard {
-                g.enforce_only(&mut cloth.x, &limited);
+                g.enforce_only(&mut cloth.x, &after);
             }
         }
-        self.limited = limited;
+        if limit {
+            for verts in [&before, &after] {
+                credit_moves(&mut self.prev, &self.start, &cloth.x, verts);
+            }
+        }
+        self.limited = [before, after];
     }
 
     /// Advances one frame of `env.frame_dt` in `substeps` substeps.
@@ -265,6 +275,10 @@ impl Xpbd {
             drive.grip.follow(k, substeps, &mut *drive.pen);
             if let Some(g) = &mut self.guard {
                 g.begin_substep(&cloth.x);
+            }
+            if m.strain_limit > 0.0 {
+                self.start.clear();
+                self.start.extend_from_slice(&cloth.x);
             }
             let g = env.gravity * h;
             for i in 0..cloth.len() {
