@@ -26,14 +26,15 @@ use super::guard::credited;
 use crate::solver::constraints::Membrane;
 
 /// Projects every membrane of `membranes` (vertex indices into `x` and `w`) whose largest
-/// principal stretch exceeds `s_max` onto it, in order, and adds the corners it moves
-/// (plus `off`: where `x` starts in the cloth) to `moved`.
+/// principal stretch exceeds `s_max` onto it, in order, adds the corners it moves (plus
+/// `off`: where `x` starts in the cloth) to `moved` and the membranes it projected (their
+/// vertices plus `off`) to `active`.
 pub(super) fn limit_membranes(
     membranes: &[Membrane],
     x: &mut [Vec3],
     w: &[f32],
     s_max: f32,
-    (off, moved): (u32, &mut Vec<u32>),
+    (off, moved, active): (u32, &mut Vec<u32>, &mut Vec<Membrane>),
 ) {
     // A triangle within rounding of the limit (as the projection leaves it) is at it:
     // moved again by rounding alone, each vertex so moved would be checked by the guard
@@ -59,6 +60,10 @@ pub(super) fn limit_membranes(
                     moved.push(i as u32 + off);
                 }
             }
+            active.push(Membrane {
+                v: m.v.map(|i| i + off),
+                ..*m
+            });
         }
     }
 }
@@ -174,7 +179,7 @@ mod tests {
             let before = principal(&m, &x).0;
             assert!(before > 1.3, "{before}");
             let centroid = (x[0] + x[1] + x[2]) / 3.0;
-            limit_membranes(&[m], &mut x, &w, 1.2, (0, &mut Vec::new()));
+            limit_membranes(&[m], &mut x, &w, 1.2, (0, &mut Vec::new(), &mut Vec::new()));
             let (s1, _) = principal(&m, &x);
             assert!((s1 - 1.2).abs() < 1e-4, "largest stretch {s1}");
             let moved = (x[0] + x[1] + x[2]) / 3.0;
@@ -184,7 +189,7 @@ mod tests {
             );
             // Once at the limit, a second pass changes nothing.
             let again = x.clone();
-            limit_membranes(&[m], &mut x, &w, 1.2, (0, &mut Vec::new()));
+            limit_membranes(&[m], &mut x, &w, 1.2, (0, &mut Vec::new(), &mut Vec::new()));
             assert_eq!(x, again);
         }
     }
@@ -194,17 +199,35 @@ mod tests {
         let (m, rest) = triangle();
         let mut x: Vec<Vec3> = rest.iter().map(|p| *p * 1.15).collect();
         let before = x.clone();
-        limit_membranes(&[m], &mut x, &[1.0; 3], 1.2, (0, &mut Vec::new()));
+        limit_membranes(
+            &[m],
+            &mut x,
+            &[1.0; 3],
+            1.2,
+            (0, &mut Vec::new(), &mut Vec::new()),
+        );
         assert_eq!(x, before, "1.15x is under 1.2x");
         let mut x: Vec<Vec3> = rest.iter().map(|p| *p * 2.0).collect();
         let before = x.clone();
-        limit_membranes(&[m], &mut x, &[0.0, 0.0, 1.0], 1.2, (0, &mut Vec::new()));
+        limit_membranes(
+            &[m],
+            &mut x,
+            &[0.0, 0.0, 1.0],
+            1.2,
+            (0, &mut Vec::new(), &mut Vec::new()),
+        );
         assert_eq!(
             x, before,
             "two pinned corners fix the triangle's two other sides"
         );
         // One pinned corner stays where it is; the others take the whole move.
-        limit_membranes(&[m], &mut x, &[0.0, 1.0, 1.0], 1.2, (0, &mut Vec::new()));
+        limit_membranes(
+            &[m],
+            &mut x,
+            &[0.0, 1.0, 1.0],
+            1.2,
+            (0, &mut Vec::new(), &mut Vec::new()),
+        );
         assert_eq!(x[0], before[0]);
         assert!((principal(&m, &x).0 - 1.2).abs() < 1e-4);
     }
@@ -236,5 +259,56 @@ mod tests {
         credit_moves(&mut prev, &start, &x, &[1]);
         assert!(near(prev[1], x[1]));
         assert_eq!([prev[0], prev[2], prev[3]], [shifted; 3]);
+    }
+
+    #[test]
+    fn passes_again_over_the_projected_membranes_bring_them_toward_the_limit() {
+        // A unit square of two triangles, stretched 2x along x and sheared: the pass
+        // projects the first triangle, then the second, whose move of the shared corners
+        // takes the first past the limit again.
+        let rest = [Vec3::ZERO, Vec3::Z, Vec3::X, Vec3::new(1.0, 0.0, 1.0)];
+        let uv = |p: Vec3| Vec2::new(p.x, p.z);
+        let ms: Vec<Membrane> = [[0, 2, 1], [1, 2, 3]]
+            .iter()
+            .enumerate()
+            .map(|(k, t)| {
+                let r = t.map(|i| rest[i as usize]);
+                membrane_of(*t, k as u32, r, r.map(uv))
+            })
+            .collect();
+        let w = [1.0; 4];
+        let worst = |x: &[Vec3]| ms.iter().map(|m| principal(m, x).0).fold(0.0, f32::max);
+        let mut x: Vec<Vec3> = rest
+            .iter()
+            .map(|p| Vec3::new(2.0 * p.x + 0.6 * p.z, 0.0, 1.5 * p.z))
+            .collect();
+        // As the second half of a split cloth: vertex indices offset by 5 in `active`.
+        let (off, mut moved, mut active) = (5, Vec::new(), Vec::new());
+        limit_membranes(&ms, &mut x, &w, 1.2, (off, &mut moved, &mut active));
+        let once = worst(&x);
+        assert!(once > 1.21, "one pass leaves {once}");
+        assert_eq!(active.len(), 2, "both triangles were projected");
+        assert!(
+            active
+                .iter()
+                .zip(&ms)
+                .all(|(a, m)| a.v == m.v.map(|i| i + off))
+        );
+        assert!(moved.iter().all(|&i| i >= off), "moved carries the offset");
+        // Passes again over what was projected (in the square's own indices here).
+        let mut active: Vec<Membrane> = active
+            .into_iter()
+            .map(|m| Membrane {
+                v: m.v.map(|i| i - off),
+                ..m
+            })
+            .collect();
+        for _ in 0..2 {
+            let mut next = Vec::new();
+            limit_membranes(&active, &mut x, &w, 1.2, (0, &mut moved, &mut next));
+            active = next;
+        }
+        let thrice = worst(&x);
+        assert!(thrice - 1.2 < 0.2 * (once - 1.2), "{thrice} after {once}");
     }
 }
