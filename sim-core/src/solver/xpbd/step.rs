@@ -17,13 +17,16 @@ use crate::solver::state::Cloth;
 use crate::solver::stitch::stitch;
 
 /// Passes the strain limit makes again after the guard's pass, each over the membranes its
-/// full pass there projected: one Gauss-Seidel pass leaves a triangle past the limit where
-/// its neighbours' projections pulled its shared corners after its own. On the 64 x 64
-/// mannequin drape (limit 0.2, densities 0.15, 0.15001, 0.15002) the worst side ended
-/// 1.254, 1.249, 1.251x its rest length with none, 1.244, 1.244, 1.246x with two. Two
-/// more in the pass before the guard as well left it at 1.242, 1.243, 1.239x, but the
-/// sewn dress no longer came to rest in any of the three (1.7e-5 J; docs/models.md).
+/// full pass there projected, and how far each goes toward the limit. One Gauss-Seidel
+/// pass leaves a triangle past the limit where its neighbours' projections pulled its
+/// shared corners after its own. Measured on the 64 x 64 drapes, limit 0.2, densities
+/// 0.15, 0.15001, 0.15002 (docs/models.md): the mannequin's worst side ended 1.254, 1.249,
+/// 1.251x its rest length with none, 1.244, 1.244, 1.246x with two whole ones and 1.233,
+/// 1.235, 1.236x with two at 0.3. Whole ones shook vertices below the cube's corners in a
+/// two-substep cycle (drape-cube at 7e-6 J; 1e-7 J at 0.3, 1.4e-7 at 0.5, 1.9e-6 at 0.7).
+/// Two more in the pass before the guard kept the sewn dress from coming to rest at all.
 const LIMIT_PASSES_AGAIN: usize = 2;
+const LIMIT_AGAIN_RELAX: f32 = 0.3;
 
 #[derive(Clone, Debug)]
 pub struct Xpbd {
@@ -179,7 +182,7 @@ impl Xpbd {
 
     /// The strain limit's pass over every membrane (`strain_limit`): the two halves, the
     /// boundary, then the edits' membranes; then `again` more over the membranes it
-    /// projected. The vertices it moves are added to `moved`. One thread:
+    /// projected, each [`LIMIT_AGAIN_RELAX`] of the way. The vertices it moves are added to `moved`. One thread:
     /// the pass moves only the few overloaded triangles, and checking the rest costs less
     /// than starting a thread.
     fn limit_strain(&mut self, x: &mut [Vec3], w: &[f32], moved: &mut Vec<u32>, again: usize) {
@@ -190,13 +193,15 @@ impl Xpbd {
         active.clear();
         let (wa, wb) = w.split_at(mid);
         let (xa, xb) = x.split_at_mut(mid);
-        limit_membranes(&ga.membranes, xa, wa, s_max, (0, moved, active));
-        limit_membranes(&gb.membranes, xb, wb, s_max, (gb.off, moved, active));
-        limit_membranes(&gc.membranes, x, w, s_max, (0, moved, active));
-        limit_membranes(&self.extra_membranes, x, w, s_max, (0, moved, active));
+        let whole = (s_max, 1.0);
+        limit_membranes(&ga.membranes, xa, wa, whole, (0, moved, active));
+        limit_membranes(&gb.membranes, xb, wb, whole, (gb.off, moved, active));
+        limit_membranes(&gc.membranes, x, w, whole, (0, moved, active));
+        limit_membranes(&self.extra_membranes, x, w, whole, (0, moved, active));
         for _ in 0..again {
             next.clear();
-            limit_membranes(active, x, w, s_max, (0, moved, next));
+            let part = (s_max, LIMIT_AGAIN_RELAX);
+            limit_membranes(active, x, w, part, (0, moved, next));
         }
     }
 
@@ -208,7 +213,7 @@ impl Xpbd {
     /// of the limit's move along the surface), once more from where the guard put it,
     /// which it then checks again for the vertices moved. Limited before the guard only,
     /// the mannequin drape's most stretched sides were 1.27-1.28x their rest length, 1.25x
-    /// with both, 1.24x with [`LIMIT_PASSES_AGAIN`] in the second (docs/models.md). A
+    /// with both, 1.233-1.236x with [`LIMIT_PASSES_AGAIN`] in the second (docs/models.md). A
     /// vertex the limit moved keeps as velocity only what it really moved
     /// (`credit_moves`).
     fn limit_and_guard(&mut self, cloth: &mut Cloth) {

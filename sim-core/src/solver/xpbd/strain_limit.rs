@@ -26,14 +26,14 @@ use super::guard::credited;
 use crate::solver::constraints::Membrane;
 
 /// Projects every membrane of `membranes` (vertex indices into `x` and `w`) whose largest
-/// principal stretch exceeds `s_max` onto it, in order, adds the corners it moves (plus
-/// `off`: where `x` starts in the cloth) to `moved` and the membranes it projected (their
-/// vertices plus `off`) to `active`.
+/// principal stretch exceeds `s_max` onto it (`relax` of the way: 1 for all of it), in
+/// order, adds the corners it moves (plus `off`: where `x` starts in the cloth) to `moved`
+/// and the membranes it projected (their vertices plus `off`) to `active`.
 pub(super) fn limit_membranes(
     membranes: &[Membrane],
     x: &mut [Vec3],
     w: &[f32],
-    s_max: f32,
+    (s_max, relax): (f32, f32),
     (off, moved, active): (u32, &mut Vec<u32>, &mut Vec<Membrane>),
 ) {
     // A triangle within rounding of the limit (as the projection leaves it) is at it:
@@ -56,7 +56,7 @@ pub(super) fn limit_membranes(
         if let Some(d) = projection(fu, fv, (a, b, c), m, wv, s_max) {
             for (k, &i) in [i0, i1, i2].iter().enumerate() {
                 if d[k] != Vec3::ZERO {
-                    x[i] += d[k];
+                    x[i] += d[k] * relax;
                     moved.push(i as u32 + off);
                 }
             }
@@ -179,7 +179,13 @@ mod tests {
             let before = principal(&m, &x).0;
             assert!(before > 1.3, "{before}");
             let centroid = (x[0] + x[1] + x[2]) / 3.0;
-            limit_membranes(&[m], &mut x, &w, 1.2, (0, &mut Vec::new(), &mut Vec::new()));
+            limit_membranes(
+                &[m],
+                &mut x,
+                &w,
+                (1.2, 1.0),
+                (0, &mut Vec::new(), &mut Vec::new()),
+            );
             let (s1, _) = principal(&m, &x);
             assert!((s1 - 1.2).abs() < 1e-4, "largest stretch {s1}");
             let moved = (x[0] + x[1] + x[2]) / 3.0;
@@ -189,7 +195,13 @@ mod tests {
             );
             // Once at the limit, a second pass changes nothing.
             let again = x.clone();
-            limit_membranes(&[m], &mut x, &w, 1.2, (0, &mut Vec::new(), &mut Vec::new()));
+            limit_membranes(
+                &[m],
+                &mut x,
+                &w,
+                (1.2, 1.0),
+                (0, &mut Vec::new(), &mut Vec::new()),
+            );
             assert_eq!(x, again);
         }
     }
@@ -203,7 +215,7 @@ mod tests {
             &[m],
             &mut x,
             &[1.0; 3],
-            1.2,
+            (1.2, 1.0),
             (0, &mut Vec::new(), &mut Vec::new()),
         );
         assert_eq!(x, before, "1.15x is under 1.2x");
@@ -213,7 +225,7 @@ mod tests {
             &[m],
             &mut x,
             &[0.0, 0.0, 1.0],
-            1.2,
+            (1.2, 1.0),
             (0, &mut Vec::new(), &mut Vec::new()),
         );
         assert_eq!(
@@ -225,7 +237,7 @@ mod tests {
             &[m],
             &mut x,
             &[0.0, 1.0, 1.0],
-            1.2,
+            (1.2, 1.0),
             (0, &mut Vec::new(), &mut Vec::new()),
         );
         assert_eq!(x[0], before[0]);
@@ -284,7 +296,7 @@ mod tests {
             .collect();
         // As the second half of a split cloth: vertex indices offset by 5 in `active`.
         let (off, mut moved, mut active) = (5, Vec::new(), Vec::new());
-        limit_membranes(&ms, &mut x, &w, 1.2, (off, &mut moved, &mut active));
+        limit_membranes(&ms, &mut x, &w, (1.2, 1.0), (off, &mut moved, &mut active));
         let once = worst(&x);
         assert!(once > 1.21, "one pass leaves {once}");
         assert_eq!(active.len(), 2, "both triangles were projected");
@@ -305,10 +317,23 @@ mod tests {
             .collect();
         for _ in 0..2 {
             let mut next = Vec::new();
-            limit_membranes(&active, &mut x, &w, 1.2, (0, &mut moved, &mut next));
+            limit_membranes(&active, &mut x, &w, (1.2, 1.0), (0, &mut moved, &mut next));
             active = next;
         }
         let thrice = worst(&x);
         assert!(thrice - 1.2 < 0.2 * (once - 1.2), "{thrice} after {once}");
+    }
+
+    #[test]
+    fn a_relaxed_projection_goes_part_of_the_way() {
+        let (m, rest) = triangle();
+        let mut x: Vec<Vec3> = rest.iter().map(|p| *p * 1.5).collect();
+        let w = [1.0; 3];
+        let (mut moved, mut active) = (Vec::new(), Vec::new());
+        limit_membranes(&[m], &mut x, &w, (1.2, 0.3), (0, &mut moved, &mut active));
+        let s = principal(&m, &x).0;
+        // A uniform stretch scales about the centroid: 0.3 of the way from 1.5 to 1.2.
+        assert!((s - (1.5 - 0.3 * 0.3)).abs() < 1e-4, "{s}");
+        assert_eq!((moved.len(), active.len()), (3, 1));
     }
 }
