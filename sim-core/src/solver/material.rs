@@ -61,10 +61,11 @@ fn default_one() -> f32 {
 /// Default [`Material::strain_limit`]: off. At 0.2 (a woven fabric's stiff end: its
 /// stress-strain curve turns steeply up within a few per cent and its shear locks at
 /// 30-40°, where a grid triangle's diagonal is 1.2-1.25x its rest length) the mannequin
-/// drape's most stretched side falls from 1.43x to 1.25x and the dress's from 2.5x to
-/// 1.7x, with all its seams closed; but the dress then no longer comes to rest, and a
-/// fit-cube run left 6 of its 76 seam pairs open, so it is an option for now:
-/// `--strain-limit`, or `strain_limit` in a design file's material (docs/models.md).
+/// drape's most stretched side falls from 1.43x to 1.24x and the dress's from 2.5x to
+/// 1.5-1.6x, and every drape comes to rest; but in one dress run of three a flap at the
+/// armhole keeps moving, it costs 30-100% more frame, and the library's knits stretch
+/// past 1.2x, so it is an option for now: `--strain-limit`, or `strain_limit` in a design
+/// file's material (docs/models.md).
 pub const DEFAULT_STRAIN_LIMIT: f32 = 0.0;
 
 fn default_strain_limit() -> f32 {
