@@ -154,6 +154,11 @@ mod tests {
         (m, rest.to_vec())
     }
 
+    /// One whole pass of the limit at 1.2 over `ms`.
+    fn limit_all(ms: &[Membrane], x: &mut [Vec3], w: &[f32]) {
+        limit_membranes(ms, x, w, (1.2, 1.0), (0, &mut Vec::new(), &mut Vec::new()));
+    }
+
     fn principal(m: &Membrane, x: &[Vec3]) -> (f32, f32) {
         let [a, b, c] = m.v.map(|i| x[i as usize]);
         let fu = a * m.c[0] + b * m.c[1] + c * m.c[2];
@@ -179,13 +184,7 @@ mod tests {
             let before = principal(&m, &x).0;
             assert!(before > 1.3, "{before}");
             let centroid = (x[0] + x[1] + x[2]) / 3.0;
-            limit_membranes(
-                &[m],
-                &mut x,
-                &w,
-                (1.2, 1.0),
-                (0, &mut Vec::new(), &mut Vec::new()),
-            );
+            limit_all(&[m], &mut x, &w);
             let (s1, _) = principal(&m, &x);
             assert!((s1 - 1.2).abs() < 1e-4, "largest stretch {s1}");
             let moved = (x[0] + x[1] + x[2]) / 3.0;
@@ -195,13 +194,7 @@ mod tests {
             );
             // Once at the limit, a second pass changes nothing.
             let again = x.clone();
-            limit_membranes(
-                &[m],
-                &mut x,
-                &w,
-                (1.2, 1.0),
-                (0, &mut Vec::new(), &mut Vec::new()),
-            );
+            limit_all(&[m], &mut x, &w);
             assert_eq!(x, again);
         }
     }
@@ -211,35 +204,17 @@ mod tests {
         let (m, rest) = triangle();
         let mut x: Vec<Vec3> = rest.iter().map(|p| *p * 1.15).collect();
         let before = x.clone();
-        limit_membranes(
-            &[m],
-            &mut x,
-            &[1.0; 3],
-            (1.2, 1.0),
-            (0, &mut Vec::new(), &mut Vec::new()),
-        );
+        limit_all(&[m], &mut x, &[1.0; 3]);
         assert_eq!(x, before, "1.15x is under 1.2x");
         let mut x: Vec<Vec3> = rest.iter().map(|p| *p * 2.0).collect();
         let before = x.clone();
-        limit_membranes(
-            &[m],
-            &mut x,
-            &[0.0, 0.0, 1.0],
-            (1.2, 1.0),
-            (0, &mut Vec::new(), &mut Vec::new()),
-        );
+        limit_all(&[m], &mut x, &[0.0, 0.0, 1.0]);
         assert_eq!(
             x, before,
             "two pinned corners fix the triangle's two other sides"
         );
         // One pinned corner stays where it is; the others take the whole move.
-        limit_membranes(
-            &[m],
-            &mut x,
-            &[0.0, 1.0, 1.0],
-            (1.2, 1.0),
-            (0, &mut Vec::new(), &mut Vec::new()),
-        );
+        limit_all(&[m], &mut x, &[0.0, 1.0, 1.0]);
         assert_eq!(x[0], before[0]);
         assert!((principal(&m, &x).0 - 1.2).abs() < 1e-4);
     }
