@@ -385,14 +385,19 @@ fn haptic(data: &[u8]) {
 /// exact predicates' slow path), the model the input's first byte picks, a 16 x 16
 /// texture.
 pub(crate) fn small_design(model: ModelKind) -> Design {
+    small_design_of(model, Material::default(), 1.0)
+}
+
+/// As [`small_design`] with material `m`, the cloth stretched `stretch` times along x.
+pub(crate) fn small_design_of(model: ModelKind, m: Material, stretch: f32) -> Design {
     let mesh = sim_core::mesh::ClothMesh::grid(0.3, 0.3, 4, 4, 0.0).expect("a 4 x 4 grid meshes");
-    let m = Material::default();
     let mut cloth = Cloth::new(mesh, &m).expect("a grid is a cloth");
     for x in &mut cloth.x {
+        x.x *= stretch;
         x.y = m.thickness + 0.01 + 0.005 * (20.0 * x.x).sin() * (17.0 * x.z).cos();
     }
     let sim = Simulation::new(cloth, None, model, m, Environment::default(), None)
-        .expect("the default material simulates");
+        .expect("the material simulates");
     Design::with_texture(sim, Texture::new(16, 16, CLOTH_COLOUR))
 }
 

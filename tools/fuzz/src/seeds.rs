@@ -8,7 +8,7 @@ use shared::Header;
 use shared::command::{Command, MaterialChange, PieceShape, Tearing};
 use shared::ui_to_sim::ToolCommand;
 use sim_core::design::Design;
-use sim_core::solver::ModelKind;
+use sim_core::solver::{Material, ModelKind};
 
 const DRESS_SVG: &str = include_str!("../../../sim-core/assets/dress.svg");
 
@@ -64,6 +64,17 @@ pub fn write_seeds(dir: &Path) -> std::io::Result<()> {
         let bytes = d.save_design().map_err(std::io::Error::other)?;
         put(dir, "design", name, &bytes)?;
     }
+    // The strain limit at work under the guard: the cloth stretched 1.5x, limited to 1.2x.
+    let limited = Material {
+        strain_limit: 0.2,
+        ..Material::default()
+    };
+    let mut d = crate::small_design_of(ModelKind::Xpbd, limited, 1.5);
+    d.sim.set_guard(true);
+    let _ = d.step();
+    d.refresh_png_cache().map_err(std::io::Error::other)?;
+    let bytes = d.save_design().map_err(std::io::Error::other)?;
+    put(dir, "design", "xpbd-strain-limit", &bytes)?;
     put(dir, "obj", "cloth", CLOTH_OBJ.as_bytes())?;
     put(dir, "obj", "cube", CUBE_OBJ.as_bytes())?;
     put(dir, "body", "cube", CUBE_OBJ.as_bytes())?;
