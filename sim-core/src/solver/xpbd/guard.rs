@@ -68,7 +68,6 @@ pub struct Guard {
     motion: Motion,
     /// Where the vertices are as the guard lets them move, during a pass.
     committed: Vec<Vec3>,
-
     pub stats: ContactStats,
 }
 

@@ -26,6 +26,7 @@ use crate::solver::stitch::stitch;
 /// two-substep cycle (drape-cube at 7e-6 J; 1e-7 J at 0.3, 1.4e-7 at 0.5, 1.9e-6 at 0.7).
 /// Two more in the pass before the guard kept the sewn dress from coming to rest at all.
 const LIMIT_PASSES_AGAIN: usize = 2;
+/// How far each of those passes goes toward the limit (above).
 const LIMIT_AGAIN_RELAX: f32 = 0.3;
 
 #[derive(Clone, Debug)]
@@ -182,9 +183,9 @@ impl Xpbd {
 
     /// The strain limit's pass over every membrane (`strain_limit`): the two halves, the
     /// boundary, then the edits' membranes; then `again` more over the membranes it
-    /// projected, each [`LIMIT_AGAIN_RELAX`] of the way. The vertices it moves are added to `moved`. One thread:
-    /// the pass moves only the few overloaded triangles, and checking the rest costs less
-    /// than starting a thread.
+    /// projected, each [`LIMIT_AGAIN_RELAX`] of the way. The vertices it moves are added
+    /// to `moved`. One thread: the pass moves only the few overloaded triangles, and
+    /// checking the rest costs less than starting a thread.
     fn limit_strain(&mut self, x: &mut [Vec3], w: &[f32], moved: &mut Vec<u32>, again: usize) {
         let s_max = 1.0 + self.material.strain_limit;
         let [ga, gb, gc] = &self.groups;
@@ -213,8 +214,8 @@ impl Xpbd {
     /// of the limit's move along the surface), once more from where the guard put it,
     /// which it then checks again for the vertices moved. Limited before the guard only,
     /// the mannequin drape's most stretched sides were 1.27-1.28x their rest length, 1.25x
-    /// with both, 1.233-1.236x with [`LIMIT_PASSES_AGAIN`] in the second (docs/models.md). A
-    /// vertex the limit moved keeps as velocity only what it really moved
+    /// with both, 1.233-1.236x with [`LIMIT_PASSES_AGAIN`] in the second (docs/models.md).
+    /// A vertex the limit moved keeps as velocity only what it really moved
     /// (`credit_moves`).
     fn limit_and_guard(&mut self, cloth: &mut Cloth) {
         let limit = self.material.strain_limit > 0.0;
