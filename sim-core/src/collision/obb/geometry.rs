@@ -14,8 +14,51 @@ pub enum Feature {
 }
 
 /// Closest point on triangle `(a, b, c)` to `p` (Ericson, Real-Time Collision Detection 5.1.5).
+///
+/// A degenerate triangle (corners that coincide or lie on one line, as cloth collapsed
+/// onto itself can have) gives the nearest point of its sides: the regions' divisions are
+/// 0 / 0 there. Found by fuzzing the design file (2026-11-29): a loaded cloth with such a
+/// triangle made the guard's search clamp a NaN weight and panic.
 #[inline]
 pub fn closest_point_on_triangle(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> (Vec3, Feature) {
+    let (q, f) = closest_point_by_region(p, a, b, c);
+    if q.is_finite() {
+        return (q, f);
+    }
+    nearest_on_sides(p, [a, b, c])
+}
+
+/// The nearest point to `p` on the three sides of a triangle, and the side (or corner).
+#[cold]
+fn nearest_on_sides(p: Vec3, v: [Vec3; 3]) -> (Vec3, Feature) {
+    let mut best = (v[0], Feature::Vertex(0), f32::INFINITY);
+    for k in 0..3 {
+        let (s, e) = (v[k], v[(k + 1) % 3]);
+        let d = e - s;
+        let len2 = d.length_squared();
+        let t = if len2 > 0.0 {
+            ((p - s).dot(d) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let q = s + d * t;
+        let dist = (p - q).length_squared();
+        if dist < best.2 {
+            let f = if t <= 0.0 {
+                Feature::Vertex(k as u8)
+            } else if t >= 1.0 {
+                Feature::Vertex(((k + 1) % 3) as u8)
+            } else {
+                Feature::Edge(k as u8)
+            };
+            best = (q, f, dist);
+        }
+    }
+    (best.0, best.1)
+}
+
+#[inline]
+fn closest_point_by_region(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> (Vec3, Feature) {
     let ab = b - a;
     let ac = c - a;
     let ap = p - a;
@@ -310,5 +353,40 @@ mod tests {
             Vec3::new(0.0, 1.9, 0.0),
             Vec3::new(1.9, 0.0, 5.0)
         ));
+    }
+
+    #[test]
+    fn a_degenerate_triangle_gives_the_nearest_point_of_its_sides() {
+        // Found by fuzzing a design file: collapsed cloth triangles gave NaN (0 / 0 in the
+        // regions' divisions), and the guard's search panicked clamping it.
+        let o = Vec3::ZERO;
+        let x = Vec3::new(1.0, 0.0, 0.0);
+        let cases = [
+            [o, o, o],                        // a point
+            [o, o, x],                        // two corners at one place
+            [o, x, Vec3::new(2.0, 0.0, 0.0)], // on one line
+            [x, o, Vec3::new(0.5, 0.0, 0.0)], // on one line, another order
+        ];
+        let points = [
+            Vec3::new(0.3, 0.7, -0.2),
+            Vec3::new(-1.0, 0.0, 0.0),
+            Vec3::new(3.0, -2.0, 1.0),
+            Vec3::new(0.5, 0.0, 0.0),
+        ];
+        for tri in cases {
+            for p in points {
+                let (q, _) = closest_point_on_triangle(p, tri[0], tri[1], tri[2]);
+                assert!(q.is_finite(), "{tri:?} {p}: {q}");
+                // Brute force: the nearest of many points along the sides.
+                let best = (0..3)
+                    .flat_map(|k| {
+                        let (s, e) = (tri[k], tri[(k + 1) % 3]);
+                        (0..=1000).map(move |i| s + (e - s) * (i as f32 / 1000.0))
+                    })
+                    .map(|r| r.distance(p))
+                    .fold(f32::INFINITY, f32::min);
+                assert!((q.distance(p) - best).abs() < 1e-3, "{tri:?} {p}: {q}");
+            }
+        }
     }
 }
