@@ -962,16 +962,7 @@ fn a_vertex_in_no_triangle_is_no_obstacle() {
 
 /// A cloth of `m` pinned at two corners, hung for `frames` frames at 5 substeps.
 fn hung_by_two_corners(m: Material, frames: usize) -> Simulation {
-    let n = 16;
-    let mesh = ClothMesh::grid(0.5, 0.5, n, n, 1.0).unwrap();
-    let mut cloth = Cloth::new(mesh, &m).unwrap();
-    cloth.pin(0);
-    cloth.pin(n);
-    let env = Environment {
-        floor: None,
-        ..Environment::default()
-    };
-    let mut sim = Simulation::new(cloth, None, ModelKind::Xpbd, m, env, Some(5)).unwrap();
+    let mut sim = hanging(16, 0.5, ModelKind::Xpbd, Some(5), m);
     run_until_still(&mut sim, frames);
     sim
 }
