@@ -240,4 +240,35 @@ mod tests {
         d.sew(a, b).unwrap();
         assert!((d.sim.cloth.x[a as usize].x - 0.01).abs() < 1e-5);
     }
+
+    /// A sew across 32 cm leaves the sides around the joined vertex far past their rest
+    /// length. The cloth takes that up without flying off: before the settling frames
+    /// (`solver::xpbd::settle`), XPBD turned the stretch into speed: 25 m/s here, and
+    /// pieces flew 20 m in the random-edits test. Weightless, so any speed is the sew's
+    /// (now 0.002 m/s under xpbd; vbd's implicit steps pull the halves in at 1.2 m/s).
+    #[test]
+    fn a_sew_across_a_gap_pulls_the_cloth_in_without_flinging_it() {
+        for model in [ModelKind::Xpbd, ModelKind::Vbd] {
+            let (mesh, a, b) = across_a_gap(false);
+            let mut d = crate::design::floating(mesh, model);
+            d.sew(a, b).unwrap();
+            let mut fastest = 0.0f32;
+            for _ in 0..60 {
+                d.step().unwrap();
+                let v = d.sim.cloth.v.iter().map(|v| v.length()).fold(0.0, f32::max);
+                fastest = fastest.max(v);
+            }
+            assert!(fastest < 2.0, "{model:?}: {fastest} m/s");
+            // The stretch was taken up: the sides by the joined vertex began over 0.2 m;
+            // now none is much past a diagonal's rest length (0.141 m).
+            let c = &d.sim.cloth;
+            let worst = c
+                .live
+                .iter()
+                .flat_map(|(_, t)| t.edges().map(|(i, j, _)| (i, j)))
+                .map(|(i, j)| (c.x[i as usize] - c.x[j as usize]).length())
+                .fold(0.0f32, f32::max);
+            assert!(worst < 0.16, "{model:?}: a side of {worst} m");
+        }
+    }
 }

@@ -18,7 +18,7 @@
 //!
 //! Inside: `coloring` and `simd` <- `groups` (the packed constraint groups) and `limits`
 //! (stretch limits) <- `tethers`, and `strain_limit` (the optional hard limit per
-//! triangle) <- `step` (the solver's state and its frame) <- `edit`
+//! triangle), and `settle` (an edit's stretch taken up without becoming speed) <- `step` (the solver's state and its frame) <- `edit`
 //! (keeping it in step with an edited cloth) <- `solver` (the `Solver` trait's methods).
 
 mod coarse;
@@ -28,6 +28,7 @@ mod graph;
 mod groups;
 mod guard;
 mod limits;
+mod settle;
 mod simd;
 mod solver;
 mod step;

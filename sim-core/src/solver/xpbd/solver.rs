@@ -40,6 +40,7 @@ impl Solver for Xpbd {
 
     fn sync(&mut self, cloth: &Cloth, tris: &[u32], edges: &[u64], verts: &[u32]) {
         self.follow_edit(cloth, tris, edges, verts);
+        self.settle.edited(cloth, tris);
         if let Some(g) = &mut self.guard {
             g.rebuild(cloth);
         }

@@ -7,6 +7,7 @@ use glam::Vec3;
 use super::groups::{Compliance, Group, Loc, solve_bending, solve_membranes, split_groups};
 use super::guard::Guard;
 use super::limits::{CoarseScratch, StretchLimits};
+use super::settle::Settle;
 use super::strain_limit::{credit_moves, limit_membranes};
 use super::tethers::{solve_tethers, stretch_limits, tethers};
 use crate::collision::{Body, ContactCache};
@@ -71,6 +72,8 @@ pub struct Xpbd {
     /// Contact that is never crossed (`guard`, switched on by `Solver::set_guard`);
     /// `None` (the default): the body's contact planes only.
     pub(super) guard: Option<Guard>,
+    /// Frames after an edit whose stretch is taken up without becoming speed.
+    pub(super) settle: Settle,
 }
 
 impl Xpbd {
@@ -138,6 +141,7 @@ impl Xpbd {
             threads: 1,
             built: cloth.len(),
             guard: None,
+            settle: Settle::default(),
         }
     }
 
@@ -267,6 +271,7 @@ impl Xpbd {
         self.update_normals(cloth);
         drive.grip.begin_frame();
         let damp = (-self.material.damping * h).exp();
+        let settling = self.settle.begin_frame(&cloth.v);
         let m = self.material;
         let inv_h2 = 1.0 / (h * h);
         let compliance = Compliance::of(&m, h);
@@ -346,20 +351,9 @@ impl Xpbd {
                 );
             }
             self.limit_and_guard(cloth);
-            let inv_h = 1.0 / h;
-            for i in 0..cloth.len() {
-                if cloth.inv_mass[i] == 0.0 {
-                    cloth.v[i] = Vec3::ZERO;
-                    continue;
-                }
-                let mut v = (cloth.x[i] - self.prev[i]) * inv_h * damp;
-                // Air drag on the normal velocity, integrated implicitly (always stable).
-                let n = self.normals[i];
-                let vn = v.dot(n);
-                let k = m.drag * self.area[i] * cloth.inv_mass[i] * h;
-                v -= n * (vn * k / (1.0 + k));
-                cloth.v[i] = v;
-            }
+            // Settling after an edit: what gravity gave since the frame began.
+            let gain = settling.then(|| env.gravity.length() * h * (k + 1) as f32);
+            self.velocities(cloth, h, damp, gain);
             if let Some(g) = &mut self.guard
                 && (k + 1) * searches % substeps < searches
             {
@@ -370,6 +364,28 @@ impl Xpbd {
         self.coarse = coarse;
         if let Some(g) = &mut self.guard {
             g.end_frame(drive);
+        }
+    }
+
+    /// The substep's velocities from its moves: the material's mass damping, air drag on
+    /// the normal velocity (integrated implicitly: always stable), and, while settling
+    /// after an edit, no vertex faster than its frame's start plus `gain`.
+    fn velocities(&self, cloth: &mut Cloth, h: f32, damp: f32, gain: Option<f32>) {
+        let inv_h = 1.0 / h;
+        for i in 0..cloth.len() {
+            if cloth.inv_mass[i] == 0.0 {
+                cloth.v[i] = Vec3::ZERO;
+                continue;
+            }
+            let mut v = (cloth.x[i] - self.prev[i]) * inv_h * damp;
+            let n = self.normals[i];
+            let vn = v.dot(n);
+            let k = self.material.drag * self.area[i] * cloth.inv_mass[i] * h;
+            v -= n * (vn * k / (1.0 + k));
+            if let Some(gain) = gain {
+                v = self.settle.cap(i, v, gain);
+            }
+            cloth.v[i] = v;
         }
     }
 
