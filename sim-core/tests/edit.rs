@@ -549,8 +549,12 @@ proptest! {
             prop_assert!(s.step().is_ok());
         }
         prop_assert!(s.sim.cloth.is_finite());
-        // Stable: nothing flies off (free fall for ~0.5 s covers about 1.2 m at most).
-        prop_assert!(s.sim.cloth.x.iter().all(|p| p.length() < 20.0));
+        // Stable: nothing flies off. The cloth starts within 1.07 m of the origin with the
+        // floor below it, and nothing here lifts it. Before an edit's stretch settled
+        // without becoming speed, sews flung pieces past 1.5 m in 15 of 60 sequences (to
+        // 5.8 m; 23 m in the one kept in edit.proptest-regressions); now 0 of 60, 1.10 m.
+        let far = s.sim.cloth.x.iter().map(|p| p.length()).fold(0.0f32, f32::max);
+        prop_assert!(far < 1.5, "a vertex {far} m from the origin");
     }
 }
 
