@@ -335,6 +335,24 @@ mod guard_tests {
         );
     }
 
+    /// A material change rebuilds the xpbd solver; the guard goes on with it (it once
+    /// went with the old solver, and the studio's Apply or a fabric choice let the cloth
+    /// cross again while the panel still said it never would).
+    #[test]
+    fn a_material_change_keeps_the_guard() {
+        let mut d = sheet(ModelKind::Xpbd);
+        d.set_guard(true).unwrap();
+        let mut m = d.sim.material;
+        m.density *= 1.5;
+        m.strain_limit = 0.2;
+        d.sim.set_material(m, Some(7)).unwrap();
+        assert!(d.guarded(), "kept through a material change");
+        d.step().unwrap();
+        assert!(d.guarded());
+        let crossed = d.sim.crossings();
+        assert_eq!(crossed.self_pairs + crossed.body_pairs, 0);
+    }
+
     #[test]
     fn the_models_without_a_switch_say_why() {
         for model in [ModelKind::Seed, ModelKind::Implicit] {

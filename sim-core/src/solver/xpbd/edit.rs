@@ -13,6 +13,7 @@ use super::simd::LANES;
 use super::step::Xpbd;
 use super::tethers::tethers;
 use crate::solver::constraints::{live_bend, membrane_of, weigh_membrane};
+use crate::solver::material::Material;
 use crate::solver::state::Cloth;
 
 /// Where item `item` of a coloured list is: `Ok((colour, block, lane))` when packed in a
@@ -70,6 +71,21 @@ impl Group {
 }
 
 impl Xpbd {
+    /// Builds the solver afresh for `cloth` and `material`, keeping what is not the
+    /// material's: the stretch limits' lattice (rescaled), the substep's start positions,
+    /// the thread count, the guard (whose `rebuild` the caller runs if the mesh changed)
+    /// and any settling. A material change once dropped the guard with the rest, so a
+    /// studio user's Apply or fabric choice let the cloth cross again.
+    pub(super) fn rebuild(&mut self, cloth: &Cloth, material: &Material) {
+        let limits = std::mem::take(&mut self.limits);
+        let mut fresh = Xpbd::with_limits(cloth, material, Some(limits));
+        fresh.prev = std::mem::take(&mut self.prev);
+        fresh.threads = self.threads;
+        fresh.guard = self.guard.take();
+        fresh.settle = std::mem::take(&mut self.settle);
+        *self = fresh;
+    }
+
     /// Brings the solver in line with `cloth` after an edit: `tris` are the triangle
     /// slots that changed, `edges` the keys of every edge of their old and new triangles,
     /// `verts` the vertices whose mass or pin changed. New vertices (past the solver's
@@ -82,13 +98,9 @@ impl Xpbd {
             // names them, so rebuild rather than leave an index past the cloth (found by
             // the commands fuzz target). Vertices added since the build live only in the
             // edits' own constraints, which the removed triangles take with them below.
-            let mut prev = std::mem::take(&mut self.prev);
-            prev.truncate(n);
-            let limits = std::mem::take(&mut self.limits);
-            let mut fresh = Xpbd::with_limits(cloth, &self.material, Some(limits));
-            fresh.prev = prev;
-            fresh.threads = self.threads;
-            *self = fresh;
+            self.prev.truncate(n);
+            let material = self.material;
+            self.rebuild(cloth, &material);
             return;
         }
         // Vertices added by edits and now undone.

@@ -59,11 +59,7 @@ impl Solver for Xpbd {
         if material.density != self.material.density {
             cloth.set_density(material.density);
         }
-        let limits = std::mem::take(&mut self.limits);
-        let mut fresh = Xpbd::with_limits(cloth, material, Some(limits));
-        fresh.prev.clone_from(&self.prev);
-        fresh.threads = self.threads;
-        *self = fresh;
+        self.rebuild(cloth, material);
         Ok(())
     }
 
