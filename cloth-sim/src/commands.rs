@@ -88,6 +88,7 @@ pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
         Command::Redo => design.redo().map(|l| format!("Redone: {l}")).map_err(e),
         Command::SetTearing(t) => set_tearing(design, *t),
         Command::SetGuard { on } => design.set_guard(*on).map_err(e),
+        Command::SetStrainLimit { limit } => set_strain_limit(design, *limit),
         Command::Save { path } => design
             .refresh_png_cache()
             .and_then(|_| design.save_design_file(std::path::Path::new(path)))
@@ -294,6 +295,34 @@ fn set_material(
          friction {}, damping {}/s; {} substeps{said}",
         m.density, m.stretch, m.shear, m.bending, m.friction, m.damping, design.sim.substeps
     ))
+}
+
+/// The xpbd model's strain limit for the design, in place (0: none).
+pub(crate) fn set_strain_limit(design: &mut Design, limit: f32) -> Result<String, String> {
+    if design.sim.model != ModelKind::Xpbd {
+        return Err(format!(
+            "Strain limit not changed: the {} model has none (the xpbd model's is a hard \
+             limit on each triangle's stretch)",
+            design.sim.model.name()
+        ));
+    }
+    let m = Material {
+        strain_limit: limit,
+        ..design.sim.material
+    };
+    design
+        .sim
+        .set_material(m, None)
+        .map_err(|e| format!("Strain limit not changed: {e}"))?;
+    Ok(if limit == 0.0 {
+        "Strain limit off: triangles stretch as far as the solver leaves them".into()
+    } else {
+        format!(
+            "Strain limit on: no triangle stretches past {:.2}x its rest length in any \
+             direction (frames cost 30-100% more)",
+            1.0 + limit
+        )
+    })
 }
 
 /// What applying the pieces' fabrics said, as "; note: ..." parts.

@@ -23,7 +23,7 @@ use sim_core::design::{Design, TILE};
 use sim_core::solver::{FrameStats, ModelKind};
 
 use crate::autosave::Autosave;
-use crate::commands::{carry_out, model_code, replacement};
+use crate::commands::{carry_out, model_code, replacement, set_strain_limit};
 use crate::config::{ServiceConfig, ServiceStats};
 use crate::export::export;
 use crate::pen::{PenFeed, Tools, pen_acts};
@@ -320,11 +320,24 @@ impl Service<'_> {
                     Command::Reset { .. } => Some(self.cfg.scene.guard),
                     _ => self.cfg.guard_forced,
                 };
+                // And its strain limit, which the material of a new scene (cloth-sim's,
+                // changed as RESET asks) does not carry.
+                let limit = matches!(c, Command::Reset { .. })
+                    .then_some(self.design.sim.material)
+                    .filter(|_| self.design.sim.model == ModelKind::Xpbd)
+                    .map(|m| m.strain_limit);
                 let (next, m) = replacement(&mut self.design, c, self.cfg)?;
                 self.design = next;
                 self.design.sim.set_threads(self.threads);
                 if let Some(on) = guard {
                     self.design.sim.set_guard(on);
+                }
+                if let Some(limit) = limit
+                    && self.design.sim.model == ModelKind::Xpbd
+                    && limit != self.design.sim.material.strain_limit
+                    && let Err(e) = set_strain_limit(&mut self.design, limit)
+                {
+                    log(&format!("the new scene's strain limit: {e}"));
                 }
                 // The new design counts its own frames (a loaded one may be behind): the
                 // rate starts over with it.
@@ -498,6 +511,7 @@ impl Service<'_> {
             (tel.body, tel.grid) = scene_of(&self.design);
             tel.model = model_code(sim.model);
             tel.never_crosses = u32::from(sim.never_crosses());
+            tel.strain_limit = sim.material.strain_limit;
             let _ = self.ports.telemetry.send_copy(**tel);
             self.tel_at = (Instant::now(), sim.frame);
         }

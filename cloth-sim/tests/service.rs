@@ -48,8 +48,8 @@ fn commands_are_carried_out_and_answered() {
     drop(states);
     STOP.store(true, Ordering::Relaxed);
     let stats = handle.join().unwrap();
-    assert_eq!(stats.commands, 22);
-    assert_eq!(stats.rejected, 5);
+    assert_eq!(stats.commands, 32);
+    assert_eq!(stats.rejected, 9);
     let _ = std::fs::remove_file(&path);
     // The autosave, its previous good version, and the design the load replaced.
     let replaced = autosave.with_extension("before-reset.saiho");
@@ -431,7 +431,8 @@ fn material_in_place(node: &Node, ask: Ask<'_>) {
 }
 
 /// xpbd's guard goes on in place and the telemetry says so; a new scene keeps it; it
-/// goes off again, and a new scene keeps it off.
+/// goes off again, and a new scene keeps it off. Likewise the strain limit, which a
+/// material change does not undo and an out-of-range value or the vbd model refuses.
 fn guard_in_place(node: &Node, ask: Ask<'_>) {
     let telemetry = ports::subscriber(node, services::sim_telemetry, None).unwrap();
     let wait_for = |what: &str, want: &dyn Fn(&shared::telemetry::SimTelemetry) -> bool| {
@@ -451,18 +452,55 @@ fn guard_in_place(node: &Node, ask: Ask<'_>) {
         mode: on,
         ..Default::default()
     };
-    // The loaded drape crosses the cube (plain xpbd made it): those crossings are named.
+    // The loaded design kept its guard (the file has it), through the material change
+    // above too: until 2026-11-29 that change dropped it, and the cloth crossed the cube.
     let r = ask(guard(1));
     assert!(
-        r.ok == 1
-            && r.message()
-                .contains("The guard is on, but the cloth already crosses"),
+        r.ok == 1 && r.message().contains("The guard is on already"),
+        "{}",
+        r.message()
+    );
+    assert_eq!(ask(guard(0)).ok, 1);
+    wait_for("the guard off", &|t| t.never_crosses == 0);
+    let r = ask(guard(1));
+    assert!(
+        r.ok == 1 && r.message().starts_with("The guard is on"),
         "{}",
         r.message()
     );
     use shared::telemetry::scene_model;
     wait_for("the guard on", &|t| {
         t.model == scene_model::XPBD && t.never_crosses == 1
+    });
+    let limit = |value| ToolCommand {
+        op: op::SET_STRAIN_LIMIT,
+        value,
+        ..Default::default()
+    };
+    let r = ask(limit(0.2));
+    assert!(
+        r.ok == 1 && r.message().contains("1.20x"),
+        "{}",
+        r.message()
+    );
+    wait_for("the strain limit", &|t| t.strain_limit == 0.2);
+    for bad in [0.001, 20.0, -0.2, f32::NAN] {
+        let r = ask(limit(bad));
+        let m = r.message();
+        assert!(
+            r.ok == 0 && (m.contains("strain limit") || m.contains("not finite")),
+            "{m}"
+        );
+    }
+    // A material change (here the damping) keeps the limit and the guard.
+    let mut damp = ToolCommand {
+        op: op::SET_MATERIAL,
+        ..Default::default()
+    };
+    damp.uv[5] = 0.8;
+    assert_eq!(ask(damp).ok, 1);
+    wait_for("the damping, the limit and the guard kept", &|t| {
+        t.material[5] == 0.8 && t.strain_limit == 0.2 && t.never_crosses == 1
     });
     let r = ask(ToolCommand {
         op: op::RESET,
@@ -471,9 +509,11 @@ fn guard_in_place(node: &Node, ask: Ask<'_>) {
         ..Default::default()
     });
     assert_eq!(r.ok, 1, "{}", r.message());
-    wait_for("a new scene with the guard", &|t| {
-        t.grid == 6 && t.never_crosses == 1
+    wait_for("a new scene with the guard and the limit", &|t| {
+        t.grid == 6 && t.never_crosses == 1 && t.strain_limit == 0.2
     });
+    assert_eq!(ask(limit(0.0)).ok, 1);
+    wait_for("the limit off", &|t| t.strain_limit == 0.0);
     assert_eq!(ask(guard(0)).ok, 1);
     wait_for("the guard off", &|t| t.never_crosses == 0);
     // A new scene keeps it as the designer left it: off (a new design has it on).
@@ -504,8 +544,10 @@ fn guard_in_place(node: &Node, ask: Ask<'_>) {
     wait_for("the vbd scene", &|t| {
         t.model == scene_model::VBD && t.never_crosses == 1
     });
-    // Under vbd there is no guard to switch off.
+    // Under vbd there is no guard to switch off, and no strain limit.
     let r = ask(guard(0));
+    assert!(r.ok == 0 && r.message().contains("vbd"), "{}", r.message());
+    let r = ask(limit(0.2));
     assert!(r.ok == 0 && r.message().contains("vbd"), "{}", r.message());
 }
 

@@ -177,6 +177,11 @@ pub enum Command {
     SetGuard {
         on: bool,
     },
+    /// The xpbd model's strain limit: the most a triangle may stretch past its rest
+    /// length (0.2: 1.2x; 0: none).
+    SetStrainLimit {
+        limit: f32,
+    },
 }
 
 /// Why a command cannot be put on the wire.
@@ -250,6 +255,7 @@ impl Command {
             Self::SetPieceFabric { .. } => op::SET_PIECE_FABRIC,
             Self::NameSeam { .. } => op::NAME_SEAM,
             Self::SetGuard { .. } => op::SET_GUARD,
+            Self::SetStrainLimit { .. } => op::SET_STRAIN_LIMIT,
         }
     }
 
@@ -273,6 +279,7 @@ impl Command {
             Self::Tear { a, b, split } => (c.a, c.b, c.mode) = (*a, *b, u32::from(*split)),
             Self::Pin { vertex, pinned } => (c.a, c.mode) = (*vertex, u32::from(*pinned)),
             Self::SetGuard { on } => c.mode = u32::from(*on),
+            Self::SetStrainLimit { limit } => c.value = *limit,
             Self::Paint {
                 point,
                 radius_m,
@@ -459,6 +466,7 @@ impl Command {
                 name: text(c),
             },
             op::SET_GUARD => Self::SetGuard { on: c.mode == 1 },
+            op::SET_STRAIN_LIMIT => Self::SetStrainLimit { limit: c.value },
             op::SEAM_PLANE => Self::SeamPlane {
                 a: [[u[0], u[1]], [u[2], u[3]]],
                 b: [[u[4], u[5]], [u[6], u[7]]],
@@ -627,6 +635,8 @@ mod tests {
             },
             Command::SetGuard { on: true },
             Command::SetGuard { on: false },
+            Command::SetStrainLimit { limit: 0.2 },
+            Command::SetStrainLimit { limit: 0.0 },
         ]
     }
 
@@ -713,6 +723,11 @@ mod tests {
                 edge_m: 0.02,
             },
             Command::PlacePiece { piece: 0, place: 9 },
+            // A strain limit below the material's range but not 0, past it, negative, NaN.
+            Command::SetStrainLimit { limit: 0.005 },
+            Command::SetStrainLimit { limit: 11.0 },
+            Command::SetStrainLimit { limit: -0.2 },
+            Command::SetStrainLimit { limit: f32::NAN },
             Command::SetFabric { name: "  ".into() },
             Command::SetPieceFabric {
                 piece: 0,

@@ -204,6 +204,10 @@ pub struct SimTelemetry {
     pub model: u32,
     /// 1 when its contact is never crossed (vbd, or xpbd with its guard on), else 0.
     pub never_crosses: u32,
+    /// The xpbd model's strain limit (0.2: no triangle past 1.2x its rest length; 0:
+    /// none). Since protocol 10.
+    pub strain_limit: f32,
+    pub _pad: u32,
 }
 
 /// [`SimTelemetry::model`] values.
@@ -239,7 +243,10 @@ impl Checked for SimTelemetry {
         if !(self.rate_hz.is_finite() && self.autosave_ms_max.is_finite()) {
             return Err("a rate or time is not finite".into());
         }
-        if !self.material.iter().all(|v| v.is_finite() && *v >= 0.0) {
+        if !(self.material.iter().all(|v| v.is_finite() && *v >= 0.0)
+            && self.strain_limit.is_finite()
+            && self.strain_limit >= 0.0)
+        {
             return Err("a material value is negative or not finite".into());
         }
         if self.body > scene_body::LAST {

@@ -79,7 +79,12 @@ pub mod op {
     /// it on, the cloth never crosses itself or the body (frames cost several times
     /// more). Refused for the models without one; vbd's contact is never crossed whatever.
     pub const SET_GUARD: u32 = 25;
-    pub const LAST: u32 = SET_GUARD;
+    /// The xpbd model's strain limit for the current design, in place: `value` is the most
+    /// a triangle may stretch in any direction past its rest length (0.2: 1.2x), within
+    /// [`STRAIN_LIMIT`](super::STRAIN_LIMIT), or 0 for none. Refused for the other models.
+    /// Since protocol 10.
+    pub const SET_STRAIN_LIMIT: u32 = 26;
+    pub const LAST: u32 = SET_STRAIN_LIMIT;
 }
 
 /// [`ToolCommand::b`] of a RESET: the body.
@@ -124,6 +129,8 @@ pub mod shape {
 pub const PIECE_SIZE: (f32, f32) = (0.01, 3.0);
 pub const PIECE_EDGE: (f32, f32) = (0.005, 0.5);
 
+/// The strain limits SET_STRAIN_LIMIT accepts besides 0 (the material's own range).
+pub const STRAIN_LIMIT: (f32, f32) = (0.01, 10.0);
 pub const TEXT_LEN: usize = 240;
 pub const MESSAGE_LEN: usize = 200;
 
@@ -215,6 +222,15 @@ impl Checked for ToolCommand {
         }
         if self.op == op::SET_GUARD && self.mode > 1 {
             return Err(format!("guard {} (0 off, 1 on)", self.mode));
+        }
+        if self.op == op::SET_STRAIN_LIMIT
+            && self.value != 0.0
+            && !(STRAIN_LIMIT.0..=STRAIN_LIMIT.1).contains(&self.value)
+        {
+            return Err(format!(
+                "strain limit {} (0 for none, else {} to {})",
+                self.value, STRAIN_LIMIT.0, STRAIN_LIMIT.1
+            ));
         }
         if self.op == op::NAME_SEAM && self.text().is_none() {
             return Err("a seam's name must be UTF-8 text".into());

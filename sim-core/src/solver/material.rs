@@ -64,8 +64,8 @@ fn default_one() -> f32 {
 /// drape's most stretched side falls from 1.43x to 1.24x and the dress's from 2.5x to
 /// 1.5-1.6x, and every drape comes to rest; but in one dress run of three a flap at the
 /// armhole keeps moving, it costs 30-100% more frame, and the library's knits stretch
-/// past 1.2x, so it is an option for now: `--strain-limit`, or `strain_limit` in a design
-/// file's material (docs/models.md).
+/// past 1.2x, so it is an option for now: `--strain-limit`, the studio's Hold stretch under
+/// (`SET_STRAIN_LIMIT`), or `strain_limit` in a design file's material (docs/models.md).
 pub const DEFAULT_STRAIN_LIMIT: f32 = 0.0;
 
 fn default_strain_limit() -> f32 {
