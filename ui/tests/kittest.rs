@@ -696,6 +696,61 @@ fn the_guard_is_switched_from_the_scene_panel() {
     );
 }
 
+/// The scene panel's strain-limit switch sends the ratio shown (1.2x unless cloth-sim
+/// reports another), and off; under vbd there is none.
+#[test]
+fn the_strain_limit_is_switched_from_the_scene_panel() {
+    use shared::telemetry::{SimTelemetry, scene_model};
+    let mut h = harness();
+    let label = "Hold stretch under";
+    let tel = |model, strain_limit| {
+        Some(Box::new(SimTelemetry {
+            model,
+            strain_limit,
+            ..Default::default()
+        }))
+    };
+    h.state_mut().store.sim_tel = tel(scene_model::XPBD, 0.0);
+    h.run_steps(2);
+    press(&mut h, label);
+    let c = *commands(&h).last().unwrap();
+    assert_eq!(c.op, op::SET_STRAIN_LIMIT);
+    assert!((c.value - 0.2).abs() < 1e-6, "{}", c.value);
+    // cloth-sim reports it, then another's 1.35x: the ratio follows, and pressed again
+    // the limit goes off.
+    h.state_mut().store.sim_tel = tel(scene_model::XPBD, c.value);
+    h.run_steps(2);
+    h.state_mut().store.sim_tel = tel(scene_model::XPBD, 0.35);
+    h.run_steps(2);
+    assert!(h.query_by_value("1.35x").is_some(), "the ratio shown");
+    // Dragged, the ratio stays where the hand left it (not snapped back to cloth-sim's)
+    // and is sent once, when the drag ends.
+    let sent = commands(&h).len();
+    let at = h.get_by_value("1.35x").rect().center();
+    h.hover_at(at);
+    h.run_steps(1);
+    h.drag_at(at);
+    h.run_steps(1);
+    for dx in [10.0, 20.0, 30.0] {
+        h.hover_at(at + egui::vec2(dx, 0.0));
+        h.run_steps(1);
+    }
+    assert_eq!(commands(&h).len(), sent, "nothing sent while dragging");
+    h.drop_at(at + egui::vec2(30.0, 0.0));
+    h.run_steps(2);
+    let c = *commands(&h).last().unwrap();
+    assert_eq!(commands(&h).len(), sent + 1);
+    assert!(c.op == op::SET_STRAIN_LIMIT && c.value > 0.4, "{}", c.value);
+    let dragged = format!("{:.2}x", 1.0 + c.value);
+    assert!(h.query_by_value(&dragged).is_some(), "{dragged} shown");
+    press(&mut h, label);
+    let c = *commands(&h).last().unwrap();
+    assert_eq!((c.op, c.value), (op::SET_STRAIN_LIMIT, 0.0));
+    h.state_mut().store.sim_tel = tel(scene_model::VBD, 0.0);
+    h.run_steps(2);
+    assert!(h.query_by_label(label).is_none());
+}
+
 /// A new scene can run another cloth model: the chooser starts at the running one, and
 /// New scene sends the one chosen.
 #[test]
