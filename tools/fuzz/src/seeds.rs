@@ -198,6 +198,7 @@ fn command_seeds(dir: &Path) -> std::io::Result<()> {
             name: "left side".into(),
         },
         Command::SetGuard { on: true },
+        Command::SetStrainLimit { limit: 0.2 },
         Command::RemoveRegion {
             min: [0.2, 0.2],
             max: [0.6, 0.6],
