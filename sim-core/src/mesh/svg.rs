@@ -513,7 +513,7 @@ fn walk(text: &str) -> Result<Walked, SvgError> {
 }
 
 /// The loops as pieces: outer loops (counter-clockwise) with the holes inside them
-/// (clockwise), in metres with the pattern's y up.
+/// (clockwise), in metres with the pattern's y up, in the file's order.
 fn nest(mut found: Vec<Found>, names: &[String]) -> Result<Vec<NamedOutline>, SvgError> {
     // Ours: a group's cut line is dropped when it has a sewing line.
     let sewn: Vec<usize> = found
@@ -523,7 +523,7 @@ fn nest(mut found: Vec<Found>, names: &[String]) -> Result<Vec<NamedOutline>, Sv
         .collect();
     found.retain(|f| !(f.class == "cut" && sewn.contains(&f.group)));
     // Metres, pattern y up.
-    let mut loops: Vec<(Vec<Vec2>, usize)> = found
+    let loops: Vec<(Vec<Vec2>, usize)> = found
         .into_iter()
         .map(|f| {
             (
@@ -540,11 +540,18 @@ fn nest(mut found: Vec<Found>, names: &[String]) -> Result<Vec<NamedOutline>, Sv
         return Err(SvgError::NoClosedShape);
     }
     // Largest first; each loop's depth is the number of larger loops holding it.
-    loops.sort_by(|a, b| area2(&b.0).abs().total_cmp(&area2(&a.0).abs()));
+    let mut by_size: Vec<usize> = (0..loops.len()).collect();
+    by_size.sort_by(|&a, &b| {
+        area2(&loops[b].0)
+            .abs()
+            .total_cmp(&area2(&loops[a].0).abs())
+    });
     let mut pieces: Vec<(NamedOutline, usize)> = Vec::new();
-    for i in 0..loops.len() {
+    for (r, &i) in by_size.iter().enumerate() {
         let p = loops[i].0[0];
-        let holders: Vec<usize> = (0..i).filter(|&j| contains(&loops[j].0, p)).collect();
+        let holders: Vec<usize> = (by_size[..r].iter().copied())
+            .filter(|&j| contains(&loops[j].0, p))
+            .collect();
         let depth = holders.len();
         // The innermost holder is the last (smallest) of them.
         let holder = holders.last().copied();
@@ -553,10 +560,7 @@ fn nest(mut found: Vec<Found>, names: &[String]) -> Result<Vec<NamedOutline>, Sv
             if area2(&l) < 0.0 {
                 l.reverse();
             }
-            let name = match names.get(loops[i].1) {
-                Some(n) if !n.is_empty() => n.clone(),
-                _ => format!("piece {}", pieces.len() + 1),
-            };
+            let name = names.get(loops[i].1).cloned().unwrap_or_default();
             pieces.push((
                 NamedOutline {
                     name,
@@ -574,6 +578,11 @@ fn nest(mut found: Vec<Found>, names: &[String]) -> Result<Vec<NamedOutline>, Sv
             piece.0.outline.loops.push(l);
         }
     }
+    // In the file's order (by size only to nest them): the first drawn first.
+    pieces.sort_by_key(|(_, i)| *i);
+    for (k, p) in (1..).zip(&mut pieces).filter(|(_, p)| p.0.name.is_empty()) {
+        p.0.name = format!("piece {k}");
+    }
     Ok(pieces.into_iter().map(|(p, _)| p).collect())
 }
 
@@ -587,109 +596,4 @@ pub fn load_svg(path: &Path) -> Result<Vec<NamedOutline>, SvgError> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn perimeter(l: &[Vec2]) -> f32 {
-        (0..l.len())
-            .map(|i| (l[(i + 1) % l.len()] - l[i]).length())
-            .sum()
-    }
-
-    #[test]
-    fn shapes_transforms_units_and_holes() {
-        let svg = r#"<svg xmlns="http://www.w3.org/2000/svg" width="200mm" height="100mm" viewBox="0 0 20 10">
-            <g id="front"><title>Front</title>
-              <rect x="0" y="0" width="8" height="5"/>
-              <circle cx="4" cy="2.5" r="1"/>
-            </g>
-            <g transform="translate(10,0)"><path d="M0,0 L5,0 A2.5,2.5 0 0 1 0,0 Z"/></g>
-            <path d="M0,8 L3,8" />
-        </svg>"#;
-        let p = read_svg(svg).unwrap();
-        assert_eq!(p.len(), 2, "{p:?}");
-        // 1 user unit = 10 mm: the rect is 80 x 50 mm, with the circle (r 10 mm) a hole.
-        assert_eq!(p[0].name, "Front");
-        assert_eq!(p[0].outline.loops.len(), 2);
-        assert!((perimeter(&p[0].outline.loops[0]) - 0.26).abs() < 1e-5);
-        let c = perimeter(&p[0].outline.loops[1]);
-        assert!((c - 0.02 * std::f32::consts::PI).abs() < 2e-4, "{c}");
-        // The half disc: 50 mm of line and a 25 mm-radius half circle, drawn with an arc.
-        let d = perimeter(&p[1].outline.loops[0]);
-        assert!(
-            (d - (0.05 + 0.025 * std::f32::consts::PI)).abs() < 3e-4,
-            "{d}"
-        );
-        assert_eq!(p[1].name, "piece 2");
-        // Meshable, hole included.
-        crate::mesh::mesher::mesh_outline(&p[0].outline, 0.005).unwrap();
-    }
-
-    #[test]
-    fn a_seam_mark_of_no_length_is_left_out() {
-        // A seam along the rect's bottom edge, closed, and then closed 10,000 times more:
-        // its two segments are marks, the closings of no length are not.
-        let svg = format!(
-            r#"<svg xmlns="http://www.w3.org/2000/svg" width="80mm" height="50mm" viewBox="0 0 80 50">
-              <rect x="0" y="0" width="80" height="50"/>
-              <path class="seam" data-seam="A" d="M0,50 L40,50 L40,50 Z{}"/>
-            </svg>"#,
-            "Z".repeat(10_000)
-        );
-        let p = read_svg(&svg).unwrap();
-        assert_eq!(p.len(), 1);
-        assert_eq!(
-            p[0].marks.len(),
-            2,
-            "{:?}",
-            &p[0].marks[..3.min(p[0].marks.len())]
-        );
-        assert!(p[0].marks.iter().all(|m| (m.b - m.a).length() > 0.0));
-    }
-
-    #[test]
-    fn no_shape_or_no_svg_is_a_clear_error() {
-        assert!(matches!(
-            read_svg(r#"<svg xmlns="http://www.w3.org/2000/svg"><path d="M0,0 L1,1"/></svg>"#),
-            Err(SvgError::NoClosedShape)
-        ));
-        assert!(matches!(read_svg("hello"), Err(SvgError::Xml(_))));
-        assert!(matches!(
-            read_svg(r#"<svg><path d="Q oops"/></svg>"#),
-            Err(SvgError::PathData(_))
-        ));
-    }
-
-    /// Found by the svg fuzz target: a coordinate of 1e29 made the flattening ask for
-    /// 690 GB (an abort), one of 2e30 in a curve's control point took seconds.
-    #[test]
-    fn a_shape_beyond_the_scene_is_refused() {
-        for d in [
-            "M 10 10 L 190 100000000000000000000000000000 C 0 150 0 50 10 10 Z",
-            "M 10 10 L 190 10 Q 2000000000000000000000000000000 100 190 190 Z",
-        ] {
-            let svg = format!(r#"<svg width="200mm" viewBox="0 0 200 200"><path d="{d}"/></svg>"#);
-            let e = read_svg(&svg).unwrap_err();
-            assert!(matches!(e, SvgError::TooFar(_)), "{e}");
-            assert!(e.to_string().contains("another unit"), "{e}");
-        }
-        // Found by the svg fuzz target: an arc whose end lies 1e44 away (flags run into
-        // the number) and a huge circle took minutes to cut into Béziers.
-        for shape in [
-            r#"<path d="M 10 10 L 191 01 h 9a11 100 040 1000011111111111111111111111111111111111111111131 1 41 11 10 Z"/>"#,
-            r#"<circle cx="0" cy="0" r="1e40"/>"#,
-            r#"<path d="M0,0L1e10-3z"/>"#,
-        ] {
-            let svg = format!(r#"<svg width="200mm" viewBox="0 0 200 200">{shape}</svg>"#);
-            assert!(
-                matches!(read_svg(&svg), Err(SvgError::TooFar(_))),
-                "{shape}"
-            );
-        }
-        assert_eq!(first_huge("M 1e9 -2.5e+3 .5-7"), None);
-        assert_eq!(first_huge("L3-1.5e10"), Some(-1.5e10));
-        // A transform that scales a small shape out of the scene, likewise.
-        let svg = r#"<svg><g transform="scale(1e12)"><rect width="10" height="10"/></g></svg>"#;
-        assert!(matches!(read_svg(svg), Err(SvgError::TooFar(_))));
-    }
-}
+mod tests;
