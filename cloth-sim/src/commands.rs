@@ -298,7 +298,7 @@ fn set_material(
 }
 
 /// The xpbd model's strain limit for the design, in place (0: none).
-pub(crate) fn set_strain_limit(design: &mut Design, limit: f32) -> Result<String, String> {
+pub fn set_strain_limit(design: &mut Design, limit: f32) -> Result<String, String> {
     if design.sim.model != ModelKind::Xpbd {
         return Err(format!(
             "Strain limit not changed: the {} model has none (the xpbd model's is a hard \

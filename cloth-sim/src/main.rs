@@ -326,11 +326,18 @@ struct MaterialArgs {
     /// XPBD: the most a triangle may stretch in any direction over its rest length,
     /// held hard each substep (0.2: 1.2x, a woven fabric's stiff end; 0, the default:
     /// off). Keeps drapes from stretching where the solver lags; slower on sewn cloth.
-    #[arg(long, default_value_t = Material::default().strain_limit, allow_negative_numbers = true)]
-    strain_limit: f32,
+    /// `run`: a resumed design takes it too, whatever its file says.
+    #[arg(long, allow_negative_numbers = true)]
+    strain_limit: Option<f32>,
 }
 
 impl MaterialArgs {
+    /// `--strain-limit`, or the default (off).
+    fn strain_limit(&self) -> f32 {
+        self.strain_limit
+            .unwrap_or(Material::default().strain_limit)
+    }
+
     fn material(&self) -> Material {
         let lib = Library::builtin();
         if let Some(f) = self.fabric.as_deref().and_then(|n| lib.get(n).ok()) {
@@ -341,7 +348,7 @@ impl MaterialArgs {
                 seed_stiffness: self.seed_stiffness,
                 tethers: !self.no_tethers,
                 stretch_limits: !self.no_stretch_limits,
-                strain_limit: self.strain_limit,
+                strain_limit: self.strain_limit(),
                 ..f.material()
             };
         }
@@ -360,7 +367,7 @@ impl MaterialArgs {
             seed_stiffness: self.seed_stiffness,
             tethers: !self.no_tethers,
             stretch_limits: !self.no_stretch_limits,
-            strain_limit: self.strain_limit,
+            strain_limit: self.strain_limit(),
         }
     }
 }
@@ -513,6 +520,12 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
             if on { "" } else { "no-" },
             design.sim.model.name()
         ));
+    }
+    if let Some(limit) = a.material.strain_limit.filter(|_| resumed) {
+        match cloth_sim::set_strain_limit(&mut design, limit) {
+            Ok(said) => log(&format!("--strain-limit on the resumed design: {said}")),
+            Err(e) => log(&format!("note: --strain-limit: {e}")),
+        }
     }
     if let Some(m) = a.model.filter(|&m| resumed && m != design.sim.model) {
         log(&format!(

@@ -60,6 +60,11 @@ struct Cli {
     /// The cloth's fabric, from the library (`cloth-sim fabrics` lists them).
     #[arg(long)]
     fabric: Option<String>,
+    /// XPBD: the most a triangle may stretch past its rest length, held hard each substep
+    /// (cloth-sim's --strain-limit; 0.2: 1.2x; 0: off, the default). Given, a resumed
+    /// design takes it too; the studio's Hold stretch under changes it while running.
+    #[arg(long, allow_negative_numbers = true)]
+    strain_limit: Option<f32>,
     /// Simulated pen script (timed positions and buttons) for haptic-loop.
     #[arg(long)]
     script: Option<PathBuf>,
@@ -290,6 +295,9 @@ fn sim_args(cli: &Cli, domain: &Domain, fresh: bool, autosave: Option<&PathBuf>)
     if let Some(f) = &cli.fabric {
         a.extend(["--fabric".into(), f.clone()]);
     }
+    if let Some(l) = cli.strain_limit {
+        a.extend(["--strain-limit".into(), l.to_string()]);
+    }
     if let Some(p) = autosave {
         a.extend(["--autosave".into(), p.display().to_string()]);
     }
@@ -489,12 +497,21 @@ mod tests {
     #[test]
     fn model_and_fabric_go_to_cloth_sim() {
         let domain = Domain::new("labargs").unwrap();
-        let cli =
-            Cli::try_parse_from(["cloth-lab", "--model", "vbd", "--fabric", "denim"]).unwrap();
+        let cli = Cli::try_parse_from([
+            "cloth-lab",
+            "--model",
+            "vbd",
+            "--fabric",
+            "denim",
+            "--strain-limit",
+            "0.25",
+        ])
+        .unwrap();
         let a = sim_args(&cli, &domain, false, None);
         let at = |flag: &str| a.iter().position(|s| s == flag).map(|i| a[i + 1].as_str());
         assert_eq!(at("--model"), Some("vbd"), "{a:?}");
         assert_eq!(at("--fabric"), Some("denim"), "{a:?}");
+        assert_eq!(at("--strain-limit"), Some("0.25"), "{a:?}");
         assert!(!a.iter().any(|s| s == "--guard"), "{a:?}");
         let guarded = sim_args(
             &Cli::try_parse_from(["cloth-lab", "--guard"]).unwrap(),
@@ -518,7 +535,9 @@ mod tests {
             None,
         );
         assert!(
-            !plain.iter().any(|s| s == "--model" || s == "--fabric"),
+            !plain
+                .iter()
+                .any(|s| s == "--model" || s == "--fabric" || s == "--strain-limit"),
             "{plain:?}"
         );
         assert!(Cli::try_parse_from(["cloth-lab", "--model", "blender"]).is_err());
