@@ -29,7 +29,9 @@ fn commands_are_carried_out_and_answered() {
     cfg.autosave_every_s = 600.0;
     let _ = std::fs::remove_file(&cfg.autosave);
     let autosave = cfg.autosave.clone();
-    cfg.seconds = Some(30.0);
+    // A backstop: the test stops cloth-sim itself. It takes 12 s here; a slow machine
+    // running its telemetry waits (1 Hz) must not find cloth-sim gone.
+    cfg.seconds = Some(60.0);
     let handle = std::thread::spawn(move || {
         let mut scene = ScenarioConfig::new(ScenarioName::DrapeCube);
         scene.grid = 8;
