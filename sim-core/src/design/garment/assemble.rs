@@ -185,7 +185,7 @@ pub struct Sewn {
 }
 
 /// Arc length of each point of closed loop `l` from its first.
-fn arc(l: &[Vec2]) -> Vec<f32> {
+pub(crate) fn arc(l: &[Vec2]) -> Vec<f32> {
     let mut out = Vec::with_capacity(l.len() + 1);
     out.push(0.0);
     for i in 0..l.len() {

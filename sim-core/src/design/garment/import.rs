@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use glam::Vec2;
 
-use super::assemble::project;
+use super::assemble::{arc, project};
 use super::garmentcode::read_garmentcode;
 use super::place::Landmarks;
 use super::spec::{DEFAULT_FABRIC, EdgeRef, PatternSpec, PieceSpec, SeamSpec, SpecError};
@@ -104,8 +104,22 @@ pub fn pattern_from_outlines(pieces: Vec<NamedOutline>) -> (PatternSpec, Vec<Str
     for (label, side) in runs {
         by_label.entry(label).or_default().push(side);
     }
-    for (label, sides) in by_label {
+    let loops: Vec<&[Vec2]> = spec
+        .pieces
+        .iter()
+        .map(|p| &p.outline.loops[0][..])
+        .collect();
+    for (label, mut sides) in by_label {
+        let bridged = bridge_gaps(&mut sides, &loops);
         if let [a, b] = sides[..] {
+            for (piece, gap) in bridged {
+                notices.push(format!(
+                    "seam {label}: its marks on {} stop for {:.0} mm of outline (a notch in \
+                     the seam line, such as a dart) and go on; sewn as one stretch across it",
+                    spec.pieces[piece].name,
+                    gap * 1000.0
+                ));
+            }
             spec.seams.push(SeamSpec { label, a, b });
         } else {
             notices.push(format!(
@@ -115,6 +129,56 @@ pub fn pattern_from_outlines(pieces: Vec<NamedOutline>) -> (PatternSpec, Vec<Str
         }
     }
     (spec, notices)
+}
+
+/// The most a gap in a seam's marks on one piece may be, as a share of the two marked
+/// stretches either side of it, for them to be sewn as one. Our own export leaves such a
+/// gap where a weld took the eased side's extra length in as a dart (the collapsing
+/// weld, docs/garments.md): the notch it cuts into the seam line is not marked.
+const BRIDGE: f32 = 0.25;
+/// Most stretches of one label [`bridge_gaps`] tries to join.
+const BRIDGE_MOST: usize = 8;
+
+/// Joins a label's stretches on one piece across the gap between them, the shortest
+/// first, while the label has more than the two stretches a seam joins and the gap is at
+/// most [`BRIDGE`] of the stretches' length. Returns each join's piece and gap (m). A
+/// label on more than [`BRIDGE_MOST`] stretches is not a broken seam and is left as it is
+/// (each try is a pass over every pair of its stretches).
+fn bridge_gaps(sides: &mut Vec<EdgeRef>, loops: &[&[Vec2]]) -> Vec<(usize, f32)> {
+    let mut bridged = Vec::new();
+    if sides.len() > BRIDGE_MOST {
+        return bridged;
+    }
+    while sides.len() > 2 {
+        let mut best: Option<(f32, usize, usize)> = None;
+        for (i, a) in sides.iter().enumerate() {
+            for (j, b) in sides.iter().enumerate() {
+                let Some(l) = loops
+                    .get(a.piece)
+                    .filter(|l| i != j && a.piece == b.piece && l.len() >= 3)
+                else {
+                    continue;
+                };
+                let cum = arc(l);
+                let per = cum[l.len()];
+                let at = |p: Vec2| project(l, &cum, p).0;
+                let (a0, a1, b0, b1) = (at(a.from), at(a.to), at(b.from), at(b.to));
+                let (len_a, len_b) = ((a1 - a0).rem_euclid(per), (b1 - b0).rem_euclid(per));
+                let gap = (b0 - a1).rem_euclid(per);
+                let fits = len_a + gap + len_b < per && gap <= BRIDGE * (len_a + len_b);
+                if fits && best.is_none_or(|(g, ..)| gap < g) {
+                    best = Some((gap, i, j));
+                }
+            }
+        }
+        let Some((gap, i, j)) = best else {
+            break;
+        };
+        sides[i].to = sides[j].to;
+        bridged.push((sides[i].piece, gap));
+        sides.remove(j);
+    }
+    bridged
 }
 
 /// The marked stretches of outer loop `l`: per label, its marks chained where they meet,
@@ -264,6 +328,39 @@ mod tests {
         );
         assert_eq!(notices.len(), 1);
         assert!(notices[0].contains("seam B"), "{notices:?}");
+    }
+
+    /// A seam whose marks on one piece stop for a short way and go on (our export's
+    /// notch where a weld took ease in as a dart) is sewn as one stretch there, and said;
+    /// a gap wider than a quarter of the marked length is not bridged.
+    #[test]
+    fn a_short_gap_in_a_seams_marks_is_bridged_and_said() {
+        let front = square("front", vec![mark("A", (1.0, 0.0), (1.0, 1.0))]);
+        let back = |low: f32, high: f32| {
+            square(
+                "back",
+                vec![
+                    mark("A", (0.0, 1.0), (0.0, high)),
+                    mark("A", (0.0, low), (0.0, 0.0)),
+                ],
+            )
+        };
+        let (spec, notices) = pattern_from_outlines(vec![front.clone(), back(0.4, 0.5)]);
+        assert_eq!(spec.seams.len(), 1, "{notices:?}");
+        let s = &spec.seams[0];
+        assert_eq!(
+            (s.b.piece, s.b.from, s.b.to),
+            (1, Vec2::new(0.0, 1.0), Vec2::new(0.0, 0.0))
+        );
+        assert_eq!(notices.len(), 1, "{notices:?}");
+        assert!(
+            notices[0].contains("seam A") && notices[0].contains("back stop for 100 mm"),
+            "{notices:?}"
+        );
+        // 0.8 m between 0.1 m and 0.1 m of marks: three stretches, unsewn.
+        let (spec, notices) = pattern_from_outlines(vec![front, back(0.1, 0.9)]);
+        assert!(spec.seams.is_empty(), "{spec:?}");
+        assert!(notices[0].contains("3 stretches"), "{notices:?}");
     }
 
     /// Found by the svg fuzz target: thousands of seam marks were chained and grouped
