@@ -325,7 +325,8 @@ struct MaterialArgs {
     no_stretch_limits: bool,
     /// XPBD: the most a triangle may stretch in any direction over its rest length,
     /// held hard each substep (0.2: 1.2x, a woven fabric's stiff end; 0, the default:
-    /// off). Keeps drapes from stretching where the solver lags; slower on sewn cloth.
+    /// off; dress-mannequin's default is 0.2). Keeps drapes from stretching where the
+    /// solver lags; slower on sewn cloth.
     /// `run`: a resumed design takes it too, whatever its file says.
     #[arg(long, allow_negative_numbers = true)]
     strain_limit: Option<f32>,
@@ -628,6 +629,24 @@ fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>> {
         cfg.piece_edge = e;
     }
     cfg.material = a.material.material();
+    // The dress's cotton is held under 1.2x unless asked otherwise (a fabric named
+    // here may be a knit, which stretches further: then only `--strain-limit` sets it).
+    let dress_default = name == ScenarioName::DressMannequin
+        && cfg.model == ModelKind::Xpbd
+        && a.material.strain_limit.is_none()
+        && a.material.fabric.is_none()
+        && a.piece_fabric.is_empty();
+    if dress_default {
+        cfg.material.strain_limit = sim_core::scenario::garment::DRESS_STRAIN_LIMIT;
+        if !a.quiet {
+            eprintln!(
+                "dress-mannequin: the cotton is held under {:.1}x its rest length \
+                 (--strain-limit {}, this scenario's default; --strain-limit 0 for none)",
+                1.0 + cfg.material.strain_limit,
+                cfg.material.strain_limit
+            );
+        }
+    }
     cfg.progress = !a.quiet;
     cfg.threads = a.threads;
     cfg.tear_threshold = a.tear_threshold;

@@ -111,6 +111,9 @@ pub struct Report {
     pub model: String,
     /// Whether the xpbd model ran with its guard (contact that is never crossed).
     pub guard: bool,
+    /// The xpbd model's strain limit (`--strain-limit`; 0: none): no side past `1 +`
+    /// this times its rest length.
+    pub strain_limit: f32,
     pub body: String,
     pub grid: usize,
     pub vertices: usize,

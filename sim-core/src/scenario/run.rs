@@ -359,6 +359,10 @@ fn report(
         scenario: cfg.scenario.name().into(),
         model: cfg.model.name().into(),
         guard: cfg.guard && cfg.model == crate::solver::ModelKind::Xpbd,
+        strain_limit: match sim.model {
+            crate::solver::ModelKind::Xpbd => sim.material.strain_limit,
+            _ => 0.0,
+        },
         body: cfg.body.as_ref().map_or("floor".into(), BodyKind::name),
         grid: cfg.grid,
         vertices: sim.cloth.len(),
