@@ -223,6 +223,14 @@ fn add_piece(
             for n in notes.iter().chain(&sewn.open) {
                 msg += &format!("; note: {n}");
             }
+            if sewn.seams > 0
+                && design.sim.model == ModelKind::Xpbd
+                && design.sim.material.strain_limit == 0.0
+            {
+                // The shipped dress's shoulder seams close only so (docs/garments.md).
+                msg += "; tip: Hold stretch under (the scene panel) keeps the cloth from \
+                        stretching like rubber where it hangs, which seams need to close";
+            }
             Ok(msg)
         }
     }

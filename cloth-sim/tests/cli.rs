@@ -906,7 +906,10 @@ fn the_default_dress_closes_every_seam_with_its_cotton_held() {
         &["dress-mannequin", "--piece-edge", "0.05", "--frames", "300"],
     );
     assert_eq!(r["model"], "xpbd", "{r}");
-    assert!((r["strain_limit"].as_f64().unwrap() - 0.2).abs() < 1e-6, "{r}");
+    assert!(
+        (r["strain_limit"].as_f64().unwrap() - 0.2).abs() < 1e-6,
+        "{r}"
+    );
     assert_eq!(r["seam_pairs_welded"], r["seam_pairs"], "{r}");
     assert_eq!(r["settled"], true, "{r}");
     assert!(r["strain_max"].as_f64().unwrap() < 0.5, "{r}");

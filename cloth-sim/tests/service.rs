@@ -992,6 +992,12 @@ fn pieces_are_added_placed_listed_and_deleted_over_the_protocol() {
     let r = ask(file);
     assert_eq!(r.ok, 1, "{}", r.message());
     assert!(r.message().contains("4 seams stitched"), "{}", r.message());
+    // The strain limit is off in this design: the reply says what closes the seams.
+    assert!(
+        r.message().contains("tip: Hold stretch under"),
+        "{}",
+        r.message()
+    );
     assert_eq!(names(4).len(), 4);
     // Its seams are listed; the second is removed and the list says so.
     let seams = |n: usize| -> Vec<String> {
