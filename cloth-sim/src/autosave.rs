@@ -47,6 +47,39 @@ pub fn backup_of(autosave: &Path) -> PathBuf {
     autosave.with_file_name(format!("{stem}.previous.saiho"))
 }
 
+/// Starts a new design with `fresh` (`--fresh`), the autosave there kept as the backup
+/// (what the last one was is not thrown away). Nothing is resumed: before, `--fresh`
+/// moved the autosave to the backup and then resumed the backup, so that it started
+/// with the old design after all.
+pub fn start_fresh(
+    cfg: &ServiceConfig,
+    fresh: impl FnOnce() -> Result<Design, String>,
+    log: &mut dyn FnMut(&str),
+) -> Result<Design, String> {
+    if cfg.autosave.is_dir() {
+        return Err(format!(
+            "the autosave path {} is a directory; give a file path (--autosave FILE.saiho)",
+            cfg.autosave.display()
+        ));
+    }
+    prepare_dir(&cfg.autosave)?;
+    if cfg.autosave.is_file() {
+        let kept = backup_of(&cfg.autosave);
+        std::fs::rename(&cfg.autosave, &kept).map_err(|e| {
+            format!(
+                "--fresh: cannot move the autosave {} aside to {}: {e}",
+                cfg.autosave.display(),
+                kept.display()
+            )
+        })?;
+        log(&format!(
+            "--fresh: the previous autosave is kept as {}",
+            kept.display()
+        ));
+    }
+    fresh()
+}
+
 /// Resumes the newest design that reads: the autosave, else its backup. A file that
 /// cannot be read is moved aside (and the log says where); if it cannot be moved, start
 /// is refused rather than overwrite it. With neither, builds the scene with `fresh`.

@@ -19,7 +19,7 @@ mod pen;
 mod publish;
 mod service;
 
-pub use autosave::{backup_of, prepare_dir, resume_or};
+pub use autosave::{backup_of, prepare_dir, resume_or, start_fresh};
 pub use commands::{carry_out, set_strain_limit};
 pub use config::{ServiceConfig, ServiceStats};
 pub use service::run;

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand};
-use cloth_sim::{ServiceConfig, backup_of, resume_or};
+use cloth_sim::{ServiceConfig, resume_or};
 use shared::cli::whole_in;
 use sim_core::collision::BodyKind;
 use sim_core::design::TearMode;
@@ -490,26 +490,12 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
     let stop = shared::signals::termination_flag();
     let mut log = |m: &str| eprintln!("cloth-sim: {m}");
     cloth_sim::prepare_dir(&cfg.autosave)?;
-    if a.fresh && cfg.autosave.is_file() {
-        // A new design, but the last one is not thrown away: it becomes the backup.
-        let kept = backup_of(&cfg.autosave);
-        std::fs::rename(&cfg.autosave, &kept).map_err(|e| {
-            format!(
-                "--fresh: cannot move the autosave {} aside to {}: {e}",
-                cfg.autosave.display(),
-                kept.display()
-            )
-        })?;
-        log(&format!(
-            "--fresh: the previous autosave is kept as {}",
-            kept.display()
-        ));
-    }
-    let (mut design, resumed) = resume_or(
-        &cfg,
-        || build_design(&scene).map_err(|e| e.to_string()),
-        &mut log,
-    )?;
+    let build = || build_design(&scene).map_err(|e| e.to_string());
+    let (mut design, resumed) = if a.fresh {
+        (cloth_sim::start_fresh(&cfg, build, &mut log)?, false)
+    } else {
+        resume_or(&cfg, build, &mut log)?
+    };
     for n in &design.sim.notices {
         log(&format!("note: {n}"));
     }

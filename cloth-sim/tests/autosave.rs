@@ -7,7 +7,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
-use cloth_sim::{ServiceConfig, backup_of, resume_or, run};
+use cloth_sim::{ServiceConfig, backup_of, resume_or, run, start_fresh};
 use shared::domain::Domain;
 use sim_core::design::Design;
 use sim_core::design::file::FORMAT;
@@ -51,6 +51,34 @@ fn damaged(good: &[u8]) -> Vec<(&'static str, Vec<u8>, &'static str)> {
         ("newer format", newer, "newer-format"),
         ("not a design", b"hello".to_vec(), "not-a-design"),
     ]
+}
+
+/// `--fresh` starts a new design and keeps the last one as the backup. Until
+/// 2026-11-29 it moved the autosave to the backup and then resumed the backup: every
+/// `cloth-lab --fresh` went on with the old design.
+#[test]
+fn a_fresh_start_keeps_the_last_design_as_the_backup_and_starts_anew() {
+    let d = dir("fresh");
+    let autosave = d.join("lab.autosave.saiho");
+    let cfg = config(&autosave, &format!("fr{}", std::process::id()));
+    let old = small(6).save_design().unwrap();
+    std::fs::write(&autosave, &old).unwrap();
+    let mut log = Vec::new();
+    let design = start_fresh(&cfg, || Ok(small(4)), &mut |m| log.push(m.to_string())).unwrap();
+    assert_eq!(design.sim.cloth.len(), 25, "the new 4 x 4 design: {log:?}");
+    assert_eq!(std::fs::read(backup_of(&autosave)).unwrap(), old);
+    assert!(!autosave.exists());
+    assert!(log.len() == 1 && log[0].contains("kept as"), "{log:?}");
+    // What the next start without --fresh resumes, until the new design is autosaved.
+    let (r, _) = resume(&cfg);
+    assert_eq!(r.unwrap().0.sim.cloth.len(), 49);
+    // With nothing there, nothing is moved or said.
+    std::fs::remove_file(backup_of(&autosave)).unwrap();
+    let mut log = Vec::new();
+    let design = start_fresh(&cfg, || Ok(small(4)), &mut |m| log.push(m.to_string())).unwrap();
+    assert_eq!(design.sim.cloth.len(), 25);
+    assert!(log.is_empty() && !backup_of(&autosave).exists(), "{log:?}");
+    let _ = std::fs::remove_dir_all(&d);
 }
 
 #[test]
