@@ -104,6 +104,9 @@ pub struct Request {
 struct Slot {
     role: Role,
     args: Vec<String>,
+    /// Given on the first start only (cloth-sim's `--fresh`: a restart must resume the
+    /// design being worked on, not start another).
+    first: Vec<String>,
     child: Option<Child>,
     starts: u32,
     /// Set while the lab itself stops or restarts it: its exit is expected.
@@ -111,6 +114,18 @@ struct Slot {
     failed: Option<String>,
     /// The last error line the process printed (its reason, when it fails).
     last_error: std::sync::Arc<std::sync::Mutex<Option<String>>>,
+}
+
+impl Slot {
+    /// The arguments of its next start.
+    fn args_now(&self) -> impl Iterator<Item = &String> {
+        let first = if self.starts == 0 {
+            &self.first[..]
+        } else {
+            &[]
+        };
+        self.args.iter().chain(first)
+    }
 }
 
 pub struct Supervisor {
@@ -210,9 +225,15 @@ impl Supervisor {
     }
 
     pub fn add(&mut self, role: Role, args: Vec<String>) {
+        self.add_first(role, args, Vec::new());
+    }
+
+    /// [`Supervisor::add`], with `first` added to the arguments of the first start only.
+    pub fn add_first(&mut self, role: Role, args: Vec<String>, first: Vec<String>) {
         self.slots.push(Slot {
             role,
             args,
+            first,
             child: None,
             starts: 0,
             stopping: false,
@@ -239,7 +260,7 @@ impl Supervisor {
             ));
         }
         let mut c = Command::new(&bin);
-        c.args(&slot.args)
+        c.args(slot.args_now())
             .stdin(Stdio::null())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped());
@@ -506,4 +527,30 @@ pub fn have_display() -> bool {
 /// Whether `path` exists as a file.
 pub fn exists(path: &Path) -> bool {
     path.is_file()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `--fresh` goes with cloth-sim's first start only: a restart (the s key, `cloth-lab
+    /// restart sim`, or after a crash) resumes the design being worked on. With it on
+    /// every start, the fixed `--fresh` would set that design aside each time.
+    #[test]
+    fn first_start_arguments_are_not_given_again() {
+        let mut slot = Slot {
+            role: Role::Sim,
+            args: vec!["run".into()],
+            first: vec!["--fresh".into()],
+            child: None,
+            starts: 0,
+            stopping: false,
+            failed: None,
+            last_error: Default::default(),
+        };
+        let now = |s: &Slot| s.args_now().cloned().collect::<Vec<_>>();
+        assert_eq!(now(&slot), ["run", "--fresh"]);
+        slot.starts = 1;
+        assert_eq!(now(&slot), ["run"]);
+    }
 }

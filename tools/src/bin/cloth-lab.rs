@@ -270,7 +270,7 @@ fn other_cpus(cli: &Cli) -> Vec<String> {
     })
 }
 
-fn sim_args(cli: &Cli, domain: &Domain, fresh: bool, autosave: Option<&PathBuf>) -> Vec<String> {
+fn sim_args(cli: &Cli, domain: &Domain, autosave: Option<&PathBuf>) -> Vec<String> {
     let mut a = vec![
         "run".to_string(),
         "--domain".into(),
@@ -280,9 +280,6 @@ fn sim_args(cli: &Cli, domain: &Domain, fresh: bool, autosave: Option<&PathBuf>)
         "--body".into(),
         cli.body.clone(),
     ];
-    if fresh {
-        a.push("--fresh".into());
-    }
     if let Some(m) = &cli.model {
         a.extend(["--model".into(), m.clone()]);
     }
@@ -327,7 +324,13 @@ fn run_lab(cli: &Cli) -> Result<(), String> {
     eprintln!("cloth-lab: {}", real_time_line(cli));
     let mut sup = Supervisor::new(domain.clone())?;
     sup.add(Role::Haptic, haptic_args(cli, &domain, cli.script.as_ref()));
-    sup.add(Role::Sim, sim_args(cli, &domain, cli.fresh, None));
+    // --fresh on the first start only: a restarted cloth-sim resumes what it was doing.
+    let fresh = if cli.fresh {
+        vec!["--fresh".into()]
+    } else {
+        Vec::new()
+    };
+    sup.add_first(Role::Sim, sim_args(cli, &domain, None), fresh);
     if !cli.no_ui {
         if sibling("cloth-ui")?.is_file() {
             let mut ui = vec!["--domain".into(), domain.name().into()];
@@ -384,7 +387,11 @@ fn run_headless(cli: &Cli) -> Result<(), String> {
     let autosave = cli.out.join("autosave.saiho");
     let mut sup = Supervisor::new(domain.clone())?;
     sup.add(Role::Haptic, haptic_args(cli, &domain, cli.script.as_ref()));
-    sup.add(Role::Sim, sim_args(cli, &domain, true, Some(&autosave)));
+    sup.add_first(
+        Role::Sim,
+        sim_args(cli, &domain, Some(&autosave)),
+        vec!["--fresh".into()],
+    );
     sup.start_all()?;
     eprintln!(
         "cloth-lab: headless {} in domain '{}': haptic-loop ({}), cloth-sim (grid {}, {} model), a scripted designer in place of cloth-ui",
@@ -507,7 +514,7 @@ mod tests {
             "0.25",
         ])
         .unwrap();
-        let a = sim_args(&cli, &domain, false, None);
+        let a = sim_args(&cli, &domain, None);
         let at = |flag: &str| a.iter().position(|s| s == flag).map(|i| a[i + 1].as_str());
         assert_eq!(at("--model"), Some("vbd"), "{a:?}");
         assert_eq!(at("--fabric"), Some("denim"), "{a:?}");
@@ -516,24 +523,17 @@ mod tests {
         let guarded = sim_args(
             &Cli::try_parse_from(["cloth-lab", "--guard"]).unwrap(),
             &domain,
-            false,
             None,
         );
         assert!(guarded.iter().any(|s| s == "--guard"), "{guarded:?}");
         let unguarded = sim_args(
             &Cli::try_parse_from(["cloth-lab", "--no-guard"]).unwrap(),
             &domain,
-            false,
             None,
         );
         assert!(unguarded.iter().any(|s| s == "--no-guard"), "{unguarded:?}");
         assert!(Cli::try_parse_from(["cloth-lab", "--guard", "--no-guard"]).is_err());
-        let plain = sim_args(
-            &Cli::try_parse_from(["cloth-lab"]).unwrap(),
-            &domain,
-            false,
-            None,
-        );
+        let plain = sim_args(&Cli::try_parse_from(["cloth-lab"]).unwrap(), &domain, None);
         assert!(
             !plain
                 .iter()
