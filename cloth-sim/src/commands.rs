@@ -9,8 +9,8 @@ use sim_core::design::garment::{DEFAULT_FABRIC, Landmarks, PieceSpec, Place, loa
 use sim_core::design::{Design, EDITED, EditError, TearMode};
 use sim_core::fabric::Library;
 use sim_core::mesh::mesher::Outline;
-use sim_core::scenario::build_design;
 use sim_core::scenario::garment::SEAM_PULL;
+use sim_core::scenario::{ScenarioName, build_scene};
 use sim_core::solver::{Material, ModelKind};
 
 use crate::config::ServiceConfig;
@@ -223,16 +223,22 @@ fn add_piece(
             for n in notes.iter().chain(&sewn.open) {
                 msg += &format!("; note: {n}");
             }
-            if sewn.seams > 0
-                && design.sim.model == ModelKind::Xpbd
-                && design.sim.material.strain_limit == 0.0
-            {
-                // The shipped dress's shoulder seams close only so (docs/garments.md).
-                msg += "; tip: Hold stretch under (the scene panel) keeps the cloth from \
-                        stretching like rubber where it hangs, which seams need to close";
+            if sewn.seams > 0 {
+                msg += seam_tip(design);
             }
             Ok(msg)
         }
+    }
+}
+
+/// What a reply that stitched seams adds when the xpbd model runs without its strain
+/// limit: the cloth stretches where it hangs, and the shipped dress's shoulder seams
+/// then stay open at the neck (docs/garments.md). Empty otherwise.
+pub(crate) fn seam_tip(design: &Design) -> &'static str {
+    if design.sim.model == ModelKind::Xpbd && design.sim.material.strain_limit == 0.0 {
+        "; tip: switch on Hold stretch under (the scene panel) so that the seams can close"
+    } else {
+        ""
     }
 }
 
@@ -456,13 +462,14 @@ pub(crate) fn model_code(kind: ModelKind) -> u32 {
         .unwrap_or(scene_model::NAMES.len()) as u32
 }
 
-/// The design that replaces the current one for a RESET or LOAD command (the current one
-/// is saved first, next to the autosave, so a reset loses nothing).
+/// The design that replaces the current one for a RESET or LOAD command, what it is, and
+/// where the current one was saved first (next to the autosave, so a reset loses
+/// nothing).
 pub(crate) fn replacement(
     design: &mut Design,
     c: &Command,
     cfg: &ServiceConfig,
-) -> Result<(Design, String), String> {
+) -> Result<(Design, String, std::path::PathBuf), String> {
     let next = match c {
         Command::Load { path } => {
             let path = std::path::PathBuf::from(path);
@@ -479,6 +486,7 @@ pub(crate) fn replacement(
             material,
             substeps,
             model,
+            pattern,
         } => {
             let mut scene = cfg.scene.clone();
             if let Some(m) = model {
@@ -499,14 +507,39 @@ pub(crate) fn replacement(
             if let Some(n) = substeps {
                 scene.substeps = Some(*n as usize);
             }
-            let d = build_design(&scene).map_err(|e| e.to_string())?;
-            let msg = format!(
-                "New design: a {}x{} cloth over the {} ({} model)",
-                scene.grid,
-                scene.grid,
-                name,
-                scene.model.name()
-            );
+            if let Some(path) = pattern {
+                // The garment scenarios' design: the pattern's pieces placed round the
+                // body (their tops above its shoulders) and sewn, nothing else in the way.
+                scene.scenario = ScenarioName::DrapePattern;
+                scene.pattern = Some(path.into());
+                scene.cloth = None;
+                scene.piece = None;
+            }
+            let (mut d, spec) = build_scene(&scene).map_err(|e| e.to_string())?;
+            let msg = match (pattern, spec) {
+                (Some(path), Some(spec)) => {
+                    let sewn = sew(&mut d, &spec, SEAM_PULL).map_err(|e| e.to_string())?;
+                    let mut msg = format!(
+                        "New design: the {} pieces of {path} round the {name}, {} seams \
+                         stitched ({} pairs; {} model)",
+                        d.pieces.len(),
+                        sewn.seams,
+                        sewn.pairs,
+                        scene.model.name()
+                    );
+                    for n in d.sim.notices.iter().chain(&sewn.open) {
+                        msg += &format!("; note: {n}");
+                    }
+                    msg
+                }
+                _ => format!(
+                    "New design: a {}x{} cloth over the {} ({} model)",
+                    scene.grid,
+                    scene.grid,
+                    name,
+                    scene.model.name()
+                ),
+            };
             (d, msg)
         }
         other => {
@@ -523,20 +556,13 @@ pub(crate) fn replacement(
         .map_err(|e| {
             format!("The current design could not be saved first ({e}); nothing changed")
         })?;
-    Ok((
-        next.0,
-        format!(
-            "{}; the previous design is saved in {}",
-            next.1,
-            backup.display()
-        ),
-    ))
+    Ok((next.0, next.1, backup))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use sim_core::scenario::{ScenarioConfig, ScenarioName};
+    use sim_core::scenario::{ScenarioConfig, build_design};
 
     /// Every model goes to the wire and back by its code; a code past the table is an
     /// error.
@@ -573,8 +599,9 @@ mod tests {
             material: shared::command::MaterialChange::default(),
             substeps: None,
             model: None,
+            pattern: None,
         };
-        let (next, said) = replacement(&mut d, &reset, &cfg).unwrap();
+        let (next, said, _) = replacement(&mut d, &reset, &cfg).unwrap();
         let _ = std::fs::remove_dir_all(&dir);
         assert_eq!(
             next.sim.body.as_ref().map(|b| b.name.as_str()),
@@ -582,6 +609,52 @@ mod tests {
         );
         assert!(said.contains("over the mannequin-apose"), "{said}");
         assert_eq!(next.sim.cloth.len(), 7 * 7);
+    }
+
+    /// A reset with a pattern file builds the garment round the body, sewn, in place of
+    /// the square; a file that is no pattern changes nothing and says why.
+    #[test]
+    fn a_reset_with_a_pattern_builds_the_garment() {
+        let dir = std::env::temp_dir().join(format!("saiho-reset-dress-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut cfg = ServiceConfig::new(shared::domain::Domain::new("dress").unwrap());
+        cfg.autosave = dir.join("autosave.saiho");
+        cfg.scene.grid = 4;
+        cfg.scene.piece_edge = 0.06;
+        let mut d = build_design(&cfg.scene).unwrap();
+        let dress = concat!(env!("CARGO_MANIFEST_DIR"), "/../sim-core/assets/dress.svg");
+        let reset = |pattern: &str| Command::Reset {
+            body: BodyChoice::Mannequin,
+            grid: None,
+            material: shared::command::MaterialChange::default(),
+            substeps: None,
+            model: None,
+            pattern: Some(pattern.into()),
+        };
+        let (next, said, saved) = replacement(&mut d, &reset(dress), &cfg).unwrap();
+        assert!(saved.is_file(), "the design replaced is saved first");
+        let names: Vec<&str> = next.pieces.iter().map(|p| p.name.as_str()).collect();
+        assert_eq!(names, ["front", "back"], "{said}");
+        assert_eq!(next.seams.len(), 4, "{said}");
+        assert!(
+            said.contains("round the mannequin, 4 seams stitched"),
+            "{said}"
+        );
+        // The tops start above the shoulders, clear of the body.
+        let top = next
+            .sim
+            .cloth
+            .x
+            .iter()
+            .map(|p| p.y)
+            .fold(f32::MIN, f32::max);
+        assert!(top > 1.5, "{top}");
+        let bad = dir.join("not-a-pattern.svg");
+        std::fs::write(&bad, "<svg xmlns=\"http://www.w3.org/2000/svg\"/>").unwrap();
+        let err = replacement(&mut d, &reset(bad.to_str().unwrap()), &cfg).unwrap_err();
+        let _ = std::fs::remove_dir_all(&dir);
+        assert!(err.contains("not-a-pattern.svg"), "{err}");
+        assert_eq!(d.sim.cloth.len(), 5 * 5, "the design is as it was");
     }
 
     /// A fabric by name replaces the measured values for the whole design and names

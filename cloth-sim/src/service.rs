@@ -23,7 +23,7 @@ use sim_core::design::{Design, TILE};
 use sim_core::solver::{FrameStats, ModelKind};
 
 use crate::autosave::Autosave;
-use crate::commands::{carry_out, model_code, replacement, set_strain_limit};
+use crate::commands::{carry_out, model_code, replacement, seam_tip, set_strain_limit};
 use crate::config::{ServiceConfig, ServiceStats};
 use crate::export::export;
 use crate::pen::{PenFeed, Tools, pen_acts};
@@ -326,7 +326,7 @@ impl Service<'_> {
                     .then_some(self.design.sim.material)
                     .filter(|_| self.design.sim.model == ModelKind::Xpbd)
                     .map(|m| m.strain_limit);
-                let (next, m) = replacement(&mut self.design, c, self.cfg)?;
+                let (next, what, saved) = replacement(&mut self.design, c, self.cfg)?;
                 self.design = next;
                 self.design.sim.set_threads(self.threads);
                 if let Some(on) = guard {
@@ -339,6 +339,17 @@ impl Service<'_> {
                 {
                     log(&format!("the new scene's strain limit: {e}"));
                 }
+                // The tip after the limit is carried over, which it depends on.
+                let tip = match c {
+                    Command::Reset {
+                        pattern: Some(_), ..
+                    } if !self.design.seams.is_empty() => seam_tip(&self.design),
+                    _ => "",
+                };
+                let m = format!(
+                    "{what}{tip}; the previous design is saved in {}",
+                    saved.display()
+                );
                 // The new design counts its own frames (a loaded one may be behind): the
                 // rate starts over with it.
                 self.tel_at = (Instant::now(), self.design.sim.frame);

@@ -50,7 +50,7 @@ fn commands_are_carried_out_and_answered() {
     drop(states);
     STOP.store(true, Ordering::Relaxed);
     let stats = handle.join().unwrap();
-    assert_eq!(stats.commands, 32);
+    assert_eq!(stats.commands, 33);
     assert_eq!(stats.rejected, 9);
     let _ = std::fs::remove_file(&path);
     // The autosave, its previous good version, and the design the load replaced.
@@ -529,6 +529,27 @@ fn guard_in_place(node: &Node, ask: Ask<'_>) {
     wait_for("a new scene still without the guard", &|t| {
         t.grid == 7 && t.model == scene_model::XPBD && t.never_crosses == 0
     });
+    // A new scene of a pattern's pieces round the mannequin, sewn (protocol 11); with
+    // the limit off the reply says what closes the seams.
+    let dress = concat!(env!("CARGO_MANIFEST_DIR"), "/../sim-core/assets/dress.svg");
+    let mut pattern = ToolCommand {
+        op: op::RESET,
+        b: shared::ui_to_sim::body::MANNEQUIN,
+        ..Default::default()
+    };
+    assert!(pattern.set_text(dress));
+    let r = ask(pattern);
+    let m = r.message();
+    assert!(
+        r.ok == 1
+            && m.contains("2 pieces of")
+            && m.contains("4 seams stitched")
+            && m.contains("tip: switch on Hold stretch under"),
+        "{m}"
+    );
+    wait_for("the dress", &|t| {
+        t.grid == 0 && t.body == shared::telemetry::scene_body::MANNEQUIN
+    });
     // A new scene under another model.
     let mut vbd = ToolCommand {
         op: op::RESET,
@@ -994,7 +1015,7 @@ fn pieces_are_added_placed_listed_and_deleted_over_the_protocol() {
     assert!(r.message().contains("4 seams stitched"), "{}", r.message());
     // The strain limit is off in this design: the reply says what closes the seams.
     assert!(
-        r.message().contains("tip: Hold stretch under"),
+        r.message().contains("tip: switch on Hold stretch under"),
         "{}",
         r.message()
     );

@@ -124,6 +124,9 @@ pub enum Command {
         /// The cloth model, a [`scene_model`](crate::telemetry::scene_model) code (`None`:
         /// cloth-sim's own, its `--model`).
         model: Option<u32>,
+        /// A pattern file (SVG, DXF or GarmentCode JSON) whose pieces the new design is,
+        /// placed round the body and sewn, in place of a square cloth (`None`).
+        pattern: Option<String>,
     },
     /// Load the design file at `path` in place of the current design.
     Load {
@@ -325,7 +328,11 @@ impl Command {
                 material,
                 substeps,
                 model,
+                pattern,
             } => {
+                if let Some(p) = pattern {
+                    set_text(&mut c, p)?;
+                }
                 // 0: cloth-sim's own; a code past the byte's range stays out of range.
                 c.rgba[0] = model.map_or(0, |m| m.saturating_add(1).min(255) as u8);
                 c.b = match which {
@@ -429,6 +436,7 @@ impl Command {
                 material: MaterialChange::from_wire(u),
                 substeps: some_nonzero(c.mode),
                 model: u32::from(c.rgba[0]).checked_sub(1),
+                pattern: Some(text(c)).filter(|t| !t.is_empty()),
             },
             op::LOAD => Self::Load { path: text(c) },
             op::SET_MATERIAL => Self::SetMaterial {
@@ -562,6 +570,7 @@ mod tests {
                 material,
                 substeps: Some(9),
                 model: Some(crate::telemetry::scene_model::VBD),
+                pattern: None,
             },
             Command::Reset {
                 body: BodyChoice::Sphere,
@@ -569,6 +578,7 @@ mod tests {
                 material: MaterialChange::default(),
                 substeps: None,
                 model: None,
+                pattern: None,
             },
             Command::Reset {
                 body: BodyChoice::MannequinAPose,
@@ -576,6 +586,15 @@ mod tests {
                 material: MaterialChange::default(),
                 substeps: None,
                 model: None,
+                pattern: None,
+            },
+            Command::Reset {
+                body: BodyChoice::Mannequin,
+                grid: None,
+                material: MaterialChange::default(),
+                substeps: None,
+                model: Some(crate::telemetry::scene_model::XPBD),
+                pattern: Some("patterns/dress.svg".into()),
             },
             Command::Load {
                 path: "design.saiho".into(),
@@ -676,6 +695,7 @@ mod tests {
             material: MaterialChange::default(),
             substeps: None,
             model: None,
+            pattern: None,
         }
         .to_wire(Header::next(&mut seq))
         .unwrap();

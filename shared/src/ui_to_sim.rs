@@ -41,7 +41,9 @@ pub mod op {
     /// shear N/m, bending N m, friction, damping 1/s), 0 keeping the current value, and
     /// `mode` substeps per frame (0: cloth-sim's setting), and since version 8 the cloth
     /// model `rgba[0]` (0: cloth-sim's own, its `--model`; else 1 + a
-    /// [`scene_model`](crate::telemetry::scene_model) code). The
+    /// [`scene_model`](crate::telemetry::scene_model) code), and since version 11 a
+    /// pattern file's path in `text` (SVG, DXF or GarmentCode JSON: the new design is its
+    /// pieces placed round the body and sewn; empty: a square cloth of `a` cells). The
     /// design being replaced is saved first, next to the autosave (`*.before-reset.saiho`).
     pub const RESET: u32 = 14;
     /// Load the design file at the path in `text` in place of the current design (which

@@ -773,3 +773,30 @@ fn a_new_scene_takes_the_model_chosen() {
     let c = *commands(&h).last().unwrap();
     assert_eq!((c.op, c.rgba[0]), (op::RESET, 1 + scene_model::VBD as u8));
 }
+
+/// A new scene can be a pattern's pieces: the path typed in the scene panel's Pattern
+/// field goes with the reset, and with the field empty again a square cloth.
+#[test]
+fn a_new_scene_can_be_a_pattern() {
+    use egui::accesskit::Role;
+    let mut h = harness();
+    h.get_by_role_and_label(Role::TextInput, "Pattern")
+        .scroll_to_me();
+    h.run_steps(20);
+    h.get_by_role_and_label(Role::TextInput, "Pattern").focus();
+    h.run_steps(1);
+    h.get_by_role_and_label(Role::TextInput, "Pattern")
+        .type_text("patterns/dress.svg");
+    h.run_steps(2);
+    press(&mut h, "New scene");
+    press(&mut h, "Click again to reset");
+    let c = *commands(&h).last().unwrap();
+    assert_eq!((c.op, c.text()), (op::RESET, Some("patterns/dress.svg")));
+    h.state_mut().scene.pattern.clear();
+    h.run_steps(2);
+    press(&mut h, "New scene");
+    press(&mut h, "Click again to reset");
+    let c = *commands(&h).last().unwrap();
+    assert_eq!((c.op, c.text()), (op::RESET, Some("")));
+    assert_eq!(c.a, 64, "the grid again");
+}

@@ -15,6 +15,9 @@ use crate::action::Action;
 pub struct ScenePanel {
     pub body: BodyChoice,
     pub grid: u32,
+    /// A pattern file whose pieces a new scene is, placed and sewn (empty: a square
+    /// cloth of `grid` cells).
+    pub pattern: String,
     /// A [`scene_model`] code; `None` until cloth-sim reports one (then its own).
     pub model: Option<u32>,
     /// A reset waits for a second click within a few seconds.
@@ -38,6 +41,7 @@ impl Default for ScenePanel {
         Self {
             body: BodyChoice::Cube,
             grid: 64,
+            pattern: String::new(),
             model: None,
             reset_armed: None,
             running: None,
@@ -204,7 +208,7 @@ impl ScenePanel {
             let cloth = if grid > 0 {
                 format!("a {grid} x {grid} cloth")
             } else {
-                "an edited cloth".to_string()
+                "a cloth of pattern pieces".to_string()
             };
             ui.label(format!(
                 "Now: {cloth} over {}, {} model",
@@ -262,8 +266,28 @@ impl ScenePanel {
                 .on_hover_text("The cloth model of the next scene");
             self.model = Some(m);
         }
-        ui.add(egui::Slider::new(&mut self.grid, 8..=128).text("Grid"))
-            .on_hover_text("Cells per side of the next cloth ((N+1)^2 vertices)");
+        let square = self.pattern.trim().is_empty();
+        ui.add_enabled(
+            square,
+            egui::Slider::new(&mut self.grid, 8..=128).text("Grid"),
+        )
+        .on_hover_text("Cells per side of the next cloth ((N+1)^2 vertices)")
+        .on_disabled_hover_text("The next scene is the pattern's pieces, not a square");
+        ui.horizontal(|ui| {
+            let label = ui.label("Pattern");
+            ui.add(
+                egui::TextEdit::singleline(&mut self.pattern)
+                    .hint_text("none: a square cloth")
+                    .desired_width(140.0),
+            )
+            .on_hover_text(
+                "A pattern file (.svg, .dxf or GarmentCode .json, as a path cloth-sim can \
+                 read): the next scene is its pieces placed round the body, their tops above \
+                 its shoulders, and sewn, with nothing else in the way (a garment added to a \
+                 scene lands on its cloth). Empty: a square cloth of this grid",
+            )
+            .labelled_by(label.id);
+        });
         let armed = self
             .reset_armed
             .is_some_and(|t| t.elapsed() < Duration::from_secs(4));
@@ -274,7 +298,7 @@ impl ScenePanel {
         };
         if ui
             .button(label)
-            .on_hover_text("Start a new design with this body and grid and the material above; cloth-sim saves the current one first")
+            .on_hover_text("Start a new design with this body and grid (or pattern) and the material above; cloth-sim saves the current one first")
             .clicked()
         {
             if armed {
@@ -285,6 +309,7 @@ impl ScenePanel {
                     material: material.change(),
                     substeps: Some(material.substeps).filter(|&n| n != 0),
                     model: self.model,
+                    pattern: Some(self.pattern.trim().to_string()).filter(|p| !p.is_empty()),
                 }));
             } else {
                 self.reset_armed = Some(Instant::now());
