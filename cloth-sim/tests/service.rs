@@ -11,6 +11,7 @@ use cloth_sim::{ServiceConfig, run};
 use shared::domain::ScratchDomain;
 use shared::ports;
 use shared::services;
+use shared::telemetry::SimTelemetry;
 use shared::ui_to_sim::{CommandReply, ToolCommand, op};
 use shared::{Checked, Header};
 use sim_core::scenario::{ScenarioConfig, ScenarioName, build_design};
@@ -47,6 +48,7 @@ fn commands_are_carried_out_and_answered() {
     reset_and_load(&mut ask, &meshes, &path);
     material_in_place(&node, &mut ask);
     guard_in_place(&node, &mut ask);
+    new_scenes(&node, &mut ask);
     drop(states);
     STOP.store(true, Ordering::Relaxed);
     let stats = handle.join().unwrap();
@@ -437,18 +439,8 @@ fn material_in_place(node: &Node, ask: Ask<'_>) {
 /// material change does not undo and an out-of-range value or the vbd model refuses.
 fn guard_in_place(node: &Node, ask: Ask<'_>) {
     let telemetry = ports::subscriber(node, services::sim_telemetry, None).unwrap();
-    let wait_for = |what: &str, want: &dyn Fn(&shared::telemetry::SimTelemetry) -> bool| {
-        let deadline = Instant::now() + Duration::from_secs(5);
-        loop {
-            if let Some(t) = telemetry.receive().unwrap()
-                && want(&t)
-            {
-                return;
-            }
-            assert!(Instant::now() < deadline, "no telemetry of {what}");
-            std::thread::sleep(Duration::from_millis(20));
-        }
-    };
+    let wait_for =
+        |what: &str, want: &dyn Fn(&SimTelemetry) -> bool| await_telemetry(&telemetry, what, want);
     let guard = |on| ToolCommand {
         op: op::SET_GUARD,
         mode: on,
@@ -529,6 +521,25 @@ fn guard_in_place(node: &Node, ask: Ask<'_>) {
     wait_for("a new scene still without the guard", &|t| {
         t.grid == 7 && t.model == scene_model::XPBD && t.never_crosses == 0
     });
+}
+
+/// New scenes after [`guard_in_place`] (the guard and the limit off): a pattern's pieces,
+/// then another model.
+fn new_scenes(node: &Node, ask: Ask<'_>) {
+    use shared::telemetry::scene_model;
+    let telemetry = ports::subscriber(node, services::sim_telemetry, None).unwrap();
+    let wait_for =
+        |what: &str, want: &dyn Fn(&SimTelemetry) -> bool| await_telemetry(&telemetry, what, want);
+    let guard = |on| ToolCommand {
+        op: op::SET_GUARD,
+        mode: on,
+        ..Default::default()
+    };
+    let limit = |value| ToolCommand {
+        op: op::SET_STRAIN_LIMIT,
+        value,
+        ..Default::default()
+    };
     // A new scene of a pattern's pieces round the mannequin, sewn (protocol 11); with
     // the limit off the reply says what closes the seams.
     let dress = concat!(env!("CARGO_MANIFEST_DIR"), "/../sim-core/assets/dress.svg");
@@ -572,6 +583,24 @@ fn guard_in_place(node: &Node, ask: Ask<'_>) {
     assert!(r.ok == 0 && r.message().contains("vbd"), "{}", r.message());
     let r = ask(limit(0.2));
     assert!(r.ok == 0 && r.message().contains("vbd"), "{}", r.message());
+}
+
+/// Waits up to 5 s for sim telemetry that `want`s.
+fn await_telemetry(
+    telemetry: &services::Sub<SimTelemetry>,
+    what: &str,
+    want: &dyn Fn(&SimTelemetry) -> bool,
+) {
+    let deadline = Instant::now() + Duration::from_secs(5);
+    loop {
+        if let Some(t) = telemetry.receive().unwrap()
+            && want(&t)
+        {
+            return;
+        }
+        assert!(Instant::now() < deadline, "no telemetry of {what}");
+        std::thread::sleep(Duration::from_millis(20));
+    }
 }
 
 /// A client of the command service that waits for the reply to each request (the server

@@ -675,7 +675,7 @@ fn the_guard_is_switched_from_the_scene_panel() {
     h.state_mut().store.sim_tel = tel(scene_model::XPBD, 0);
     h.run_steps(2);
     assert!(
-        h.query_by_label("Now: an edited cloth over the cube, xpbd model")
+        h.query_by_label("Now: pieces of cloth over the cube, xpbd model")
             .is_some()
     );
     press(&mut h, label);
@@ -775,17 +775,18 @@ fn a_new_scene_takes_the_model_chosen() {
 }
 
 /// A new scene can be a pattern's pieces: the path typed in the scene panel's Pattern
-/// field goes with the reset, and with the field empty again a square cloth.
+/// file field goes with the reset, and with the field empty again a square cloth.
 #[test]
 fn a_new_scene_can_be_a_pattern() {
     use egui::accesskit::Role;
     let mut h = harness();
-    h.get_by_role_and_label(Role::TextInput, "Pattern")
+    h.get_by_role_and_label(Role::TextInput, "Pattern file")
         .scroll_to_me();
     h.run_steps(20);
-    h.get_by_role_and_label(Role::TextInput, "Pattern").focus();
+    h.get_by_role_and_label(Role::TextInput, "Pattern file")
+        .focus();
     h.run_steps(1);
-    h.get_by_role_and_label(Role::TextInput, "Pattern")
+    h.get_by_role_and_label(Role::TextInput, "Pattern file")
         .type_text("patterns/dress.svg");
     h.run_steps(2);
     press(&mut h, "New scene");

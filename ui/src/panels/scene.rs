@@ -208,7 +208,7 @@ impl ScenePanel {
             let cloth = if grid > 0 {
                 format!("a {grid} x {grid} cloth")
             } else {
-                "a cloth of pattern pieces".to_string()
+                "pieces of cloth".to_string()
             };
             ui.label(format!(
                 "Now: {cloth} over {}, {} model",
@@ -266,6 +266,16 @@ impl ScenePanel {
                 .on_hover_text("The cloth model of the next scene");
             self.model = Some(m);
         }
+        self.new_scene(ui, material, actions);
+    }
+
+    /// The grid or a pattern file, and the New scene button (two clicks) that builds it.
+    fn new_scene(
+        &mut self,
+        ui: &mut egui::Ui,
+        material: MaterialChoice,
+        actions: &mut Vec<Action>,
+    ) {
         let square = self.pattern.trim().is_empty();
         ui.add_enabled(
             square,
@@ -274,7 +284,7 @@ impl ScenePanel {
         .on_hover_text("Cells per side of the next cloth ((N+1)^2 vertices)")
         .on_disabled_hover_text("The next scene is the pattern's pieces, not a square");
         ui.horizontal(|ui| {
-            let label = ui.label("Pattern");
+            let label = ui.label("Pattern file");
             ui.add(
                 egui::TextEdit::singleline(&mut self.pattern)
                     .hint_text("none: a square cloth")
