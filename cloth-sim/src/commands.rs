@@ -10,7 +10,7 @@ use sim_core::design::{Design, EDITED, EditError, TearMode};
 use sim_core::fabric::Library;
 use sim_core::mesh::mesher::Outline;
 use sim_core::scenario::garment::SEAM_PULL;
-use sim_core::scenario::{ScenarioName, build_scene};
+use sim_core::scenario::{ScenarioConfig, ScenarioName, build_scene};
 use sim_core::solver::{Material, ModelKind};
 
 use crate::config::ServiceConfig;
@@ -462,6 +462,29 @@ pub(crate) fn model_code(kind: ModelKind) -> u32 {
         .unwrap_or(scene_model::NAMES.len()) as u32
 }
 
+/// A new design from `scene`; with `scene.pattern` (whatever its scenario) that pattern's
+/// pieces placed round the body and sewn, as drape-pattern builds them, and what was
+/// stitched ("4 seams stitched (122 pairs)", with the notes of the file's reader and of
+/// the seams left unsewn).
+pub fn new_design(scene: &ScenarioConfig) -> Result<(Design, Option<String>), String> {
+    let mut scene = scene.clone();
+    if scene.pattern.is_some() {
+        scene.scenario = ScenarioName::DrapePattern;
+        scene.cloth = None;
+        scene.piece = None;
+    }
+    let (mut d, spec) = build_scene(&scene).map_err(|e| e.to_string())?;
+    let Some(spec) = spec else {
+        return Ok((d, None));
+    };
+    let sewn = sew(&mut d, &spec, SEAM_PULL).map_err(|e| e.to_string())?;
+    let mut said = format!("{} seams stitched ({} pairs)", sewn.seams, sewn.pairs);
+    for n in d.sim.notices.iter().chain(&sewn.open) {
+        said += &format!("; note: {n}");
+    }
+    Ok((d, Some(said)))
+}
+
 /// The design that replaces the current one for a RESET or LOAD command, what it is, and
 /// where the current one was saved first (next to the autosave, so a reset loses
 /// nothing).
@@ -507,31 +530,17 @@ pub(crate) fn replacement(
             if let Some(n) = substeps {
                 scene.substeps = Some(*n as usize);
             }
-            if let Some(path) = pattern {
-                // The garment scenarios' design: the pattern's pieces placed round the
-                // body (their tops above its shoulders) and sewn, nothing else in the way.
-                scene.scenario = ScenarioName::DrapePattern;
-                scene.pattern = Some(path.into());
-                scene.cloth = None;
-                scene.piece = None;
-            }
-            let (mut d, spec) = build_scene(&scene).map_err(|e| e.to_string())?;
-            let msg = match (pattern, spec) {
-                (Some(path), Some(spec)) => {
-                    let sewn = sew(&mut d, &spec, SEAM_PULL).map_err(|e| e.to_string())?;
-                    let mut msg = format!(
-                        "New design: the {} pieces of {path} round the {name}, {} seams \
-                         stitched ({} pairs; {} model)",
-                        d.pieces.len(),
-                        sewn.seams,
-                        sewn.pairs,
-                        scene.model.name()
-                    );
-                    for n in d.sim.notices.iter().chain(&sewn.open) {
-                        msg += &format!("; note: {n}");
-                    }
-                    msg
-                }
+            // A square cloth, or the garment scenarios' design: the pattern's pieces
+            // placed round the body (their tops above its shoulders) and sewn.
+            scene.scenario = ScenarioName::DrapeCube;
+            scene.pattern = pattern.as_ref().map(Into::into);
+            let (d, sewn) = new_design(&scene)?;
+            let msg = match (pattern, sewn) {
+                (Some(path), Some(sewn)) => format!(
+                    "New design: the {} pieces of {path} round the {name}, {sewn} ({} model)",
+                    d.pieces.len(),
+                    scene.model.name()
+                ),
                 _ => format!(
                     "New design: a {}x{} cloth over the {} ({} model)",
                     scene.grid,
@@ -562,7 +571,7 @@ pub(crate) fn replacement(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use sim_core::scenario::{ScenarioConfig, build_design};
+    use sim_core::scenario::build_design;
 
     /// Every model goes to the wire and back by its code; a code past the table is an
     /// error.

@@ -20,6 +20,6 @@ mod publish;
 mod service;
 
 pub use autosave::{backup_of, prepare_dir, resume_or, start_fresh};
-pub use commands::{carry_out, set_strain_limit};
+pub use commands::{carry_out, new_design, set_strain_limit};
 pub use config::{ServiceConfig, ServiceStats};
 pub use service::run;

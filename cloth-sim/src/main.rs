@@ -12,8 +12,8 @@ use sim_core::design::TearMode;
 use sim_core::fabric::{Library, Standard};
 use sim_core::mesh::obj::load_obj;
 use sim_core::scenario::{
-    MAX_FRAMES, MAX_GRID, MAX_THREADS, PieceShape, ScenarioConfig, ScenarioName, build_design,
-    max_realtime_grid, run_scenario,
+    MAX_FRAMES, MAX_GRID, MAX_THREADS, PieceShape, ScenarioConfig, ScenarioName, max_realtime_grid,
+    run_scenario,
 };
 use sim_core::solver::{MAX_FRAME_SUBSTEPS, Material, ModelKind};
 
@@ -156,6 +156,11 @@ struct RunArgs {
     /// Start a new design even if an autosave exists.
     #[arg(long)]
     fresh: bool,
+    /// A new design is this pattern's pieces (SVG, DXF or GarmentCode JSON) placed round
+    /// the body and sewn, as `scenario drape-pattern` builds them, instead of a square
+    /// cloth. A resumed design stays as it is (--fresh for the pattern's).
+    #[arg(long, value_name = "FILE")]
+    pattern: Option<PathBuf>,
     /// Pinch spring stiffness, N/m (the haptic loop renders the same spring).
     #[arg(long, default_value_t = 100.0, allow_negative_numbers = true)]
     pinch_stiffness: f32,
@@ -490,7 +495,21 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
     let stop = shared::signals::termination_flag();
     let mut log = |m: &str| eprintln!("cloth-sim: {m}");
     cloth_sim::prepare_dir(&cfg.autosave)?;
-    let build = || build_design(&scene).map_err(|e| e.to_string());
+    // The first design: the square, or the pattern's pieces (a new scene from the studio
+    // is the square unless it names a pattern).
+    let mut first = scene.clone();
+    first.pattern = a.pattern.clone();
+    let build = || {
+        let (d, sewn) = cloth_sim::new_design(&first)?;
+        if let (Some(p), Some(sewn)) = (&a.pattern, sewn) {
+            eprintln!(
+                "cloth-sim: the {} pieces of {} round the body, {sewn}",
+                d.pieces.len(),
+                p.display()
+            );
+        }
+        Ok(d)
+    };
     let (mut design, resumed) = if a.fresh {
         (cloth_sim::start_fresh(&cfg, build, &mut log)?, false)
     } else {
@@ -513,6 +532,13 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
             Ok(said) => log(&format!("--strain-limit on the resumed design: {said}")),
             Err(e) => log(&format!("note: --strain-limit: {e}")),
         }
+    }
+    if let Some(p) = a.pattern.as_ref().filter(|_| resumed) {
+        log(&format!(
+            "note: --pattern {}: the resumed design stays as it is (--fresh starts the \
+             pattern's)",
+            p.display()
+        ));
     }
     if let Some(m) = a.model.filter(|&m| resumed && m != design.sim.model) {
         log(&format!(

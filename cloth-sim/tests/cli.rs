@@ -405,6 +405,10 @@ fn bad_run_flags_are_a_clear_error_before_any_work() {
             "--no-guard is the xpbd model's",
         ),
         (&["--guard", "--no-guard"], "cannot be used with"),
+        (
+            &["--pattern", "/nonexistent/x.svg", "--fresh"],
+            "cannot read /nonexistent/x.svg",
+        ),
     ] {
         let mut all = vec!["run", "--domain", "clibad", "--autosave", a];
         all.extend_from_slice(args);
@@ -427,6 +431,50 @@ fn bad_run_flags_are_a_clear_error_before_any_work() {
         ],
         "a file, not a directory",
     );
+    std::fs::remove_dir_all(dir).ok();
+}
+
+/// `cloth-sim run --pattern FILE` starts a new design of the pattern's pieces, placed
+/// and sewn; a resumed design stays as it is, and the log says so.
+#[test]
+fn run_starts_a_design_from_a_pattern() {
+    let dir = tmp("run-pattern");
+    let autosave = dir.join("a.saiho");
+    let dress = concat!(env!("CARGO_MANIFEST_DIR"), "/../sim-core/assets/dress.svg");
+    let domain = format!("rp{}", std::process::id());
+    let run = |fresh: bool| {
+        let mut args = vec![
+            "run",
+            "--domain",
+            &domain,
+            "--body",
+            "mannequin",
+            "--pattern",
+            dress,
+            "--seconds",
+            "1",
+            "--autosave",
+            autosave.to_str().unwrap(),
+        ];
+        if fresh {
+            args.push("--fresh");
+        }
+        let out = cloth_sim(&args);
+        let err = String::from_utf8_lossy(&out.stderr).to_string();
+        assert!(out.status.success(), "{err}");
+        err
+    };
+    let said = run(true);
+    assert!(
+        said.contains("the 2 pieces of") && said.contains("4 seams stitched"),
+        "{said}"
+    );
+    let d = sim_core::design::Design::load_design_file(&autosave).unwrap();
+    let names: Vec<&str> = d.pieces.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(names, ["front", "back"]);
+    assert_eq!(d.seams.len(), 4);
+    let said = run(false);
+    assert!(said.contains("the resumed design stays as it is"), "{said}");
     std::fs::remove_dir_all(dir).ok();
 }
 

@@ -71,6 +71,12 @@ struct Cli {
     /// Start a new design rather than resume the autosave.
     #[arg(long)]
     fresh: bool,
+    /// A new design is this pattern's pieces (SVG, DXF or GarmentCode JSON) placed round
+    /// the body and sewn (cloth-sim's --pattern): `--body mannequin --pattern
+    /// sim-core/assets/dress.svg --strain-limit 0.2 --fresh` starts with the dress. A
+    /// resumed design stays as it is.
+    #[arg(long, value_name = "FILE")]
+    pattern: Option<PathBuf>,
     /// Do not start cloth-ui (also: run the lab, not the headless scenario, without a
     /// display).
     #[arg(long)]
@@ -295,6 +301,9 @@ fn sim_args(cli: &Cli, domain: &Domain, autosave: Option<&PathBuf>) -> Vec<Strin
     if let Some(l) = cli.strain_limit {
         a.extend(["--strain-limit".into(), l.to_string()]);
     }
+    if let Some(p) = &cli.pattern {
+        a.extend(["--pattern".into(), p.display().to_string()]);
+    }
     if let Some(p) = autosave {
         a.extend(["--autosave".into(), p.display().to_string()]);
     }
@@ -375,6 +384,14 @@ fn run_headless(cli: &Cli) -> Result<(), String> {
     }
     if cli.body != "cube" {
         return Err("the fit-cube scenario drapes over the cube (--body cube)".into());
+    }
+    if cli.pattern.is_some() {
+        return Err(
+            "--pattern starts the studio's design from a pattern; the headless \
+             scenario is fit-cube (without a display, `cloth-sim scenario drape-pattern FILE` \
+             drapes a pattern)"
+                .into(),
+        );
     }
     std::fs::create_dir_all(&cli.out).map_err(|e| format!("{}: {e}", cli.out.display()))?;
     // A private domain unless one is given, so a running lab is never disturbed.
@@ -512,6 +529,8 @@ mod tests {
             "denim",
             "--strain-limit",
             "0.25",
+            "--pattern",
+            "dress.svg",
         ])
         .unwrap();
         let a = sim_args(&cli, &domain, None);
@@ -519,6 +538,7 @@ mod tests {
         assert_eq!(at("--model"), Some("vbd"), "{a:?}");
         assert_eq!(at("--fabric"), Some("denim"), "{a:?}");
         assert_eq!(at("--strain-limit"), Some("0.25"), "{a:?}");
+        assert_eq!(at("--pattern"), Some("dress.svg"), "{a:?}");
         assert!(!a.iter().any(|s| s == "--guard"), "{a:?}");
         let guarded = sim_args(
             &Cli::try_parse_from(["cloth-lab", "--guard"]).unwrap(),
@@ -535,9 +555,10 @@ mod tests {
         assert!(Cli::try_parse_from(["cloth-lab", "--guard", "--no-guard"]).is_err());
         let plain = sim_args(&Cli::try_parse_from(["cloth-lab"]).unwrap(), &domain, None);
         assert!(
-            !plain
-                .iter()
-                .any(|s| s == "--model" || s == "--fabric" || s == "--strain-limit"),
+            !plain.iter().any(|s| s == "--model"
+                || s == "--fabric"
+                || s == "--strain-limit"
+                || s == "--pattern"),
             "{plain:?}"
         );
         assert!(Cli::try_parse_from(["cloth-lab", "--model", "blender"]).is_err());
