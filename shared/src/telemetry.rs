@@ -5,10 +5,14 @@ use iceoryx2::prelude::ZeroCopySend;
 use crate::{Checked, Header};
 
 /// Buckets of a [`Histogram`]: 1 µs wide up to 2 ms (so a 1 ms period is resolved to the
-/// microsecond), then 100 µs wide up to 12 ms; the last bucket counts everything above.
+/// microsecond), then 100 µs wide up to 12 ms, then (since protocol 11) 1 ms wide up to
+/// 1 s; the last bucket counts everything above. Before, everything above 12 ms was one
+/// bucket, and a cloth whose frames mostly took longer (a garment, a 128 x 128 cloth)
+/// showed its slowest frame as its median.
 pub const FINE_BUCKETS: usize = 2000;
-pub const COARSE_BUCKETS: usize = 101;
-pub const BUCKETS: usize = FINE_BUCKETS + COARSE_BUCKETS;
+pub const COARSE_BUCKETS: usize = 100;
+pub const SLOW_BUCKETS: usize = 988;
+pub const BUCKETS: usize = FINE_BUCKETS + COARSE_BUCKETS + SLOW_BUCKETS + 1;
 
 /// A fixed-size histogram of durations (no allocation, so the haptic tick can record).
 #[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable)]
@@ -34,20 +38,26 @@ impl Default for Histogram {
 
 impl Histogram {
     pub fn bucket_of(ns: u64) -> usize {
+        const SLOW_FROM: usize = FINE_BUCKETS + COARSE_BUCKETS;
         let us = ns / 1000;
         if us < FINE_BUCKETS as u64 {
             us as usize
+        } else if us < 12_000 {
+            FINE_BUCKETS + ((us - FINE_BUCKETS as u64) / 100) as usize
         } else {
-            (FINE_BUCKETS + ((us - FINE_BUCKETS as u64) / 100) as usize).min(BUCKETS - 1)
+            (SLOW_FROM + ((us - 12_000) / 1000) as usize).min(BUCKETS - 1)
         }
     }
 
     /// The lower edge of bucket `b`, ns.
     pub fn bucket_floor_ns(b: usize) -> u64 {
+        const SLOW_FROM: usize = FINE_BUCKETS + COARSE_BUCKETS;
         if b < FINE_BUCKETS {
             b as u64 * 1000
-        } else {
+        } else if b < SLOW_FROM {
             FINE_BUCKETS as u64 * 1000 + (b - FINE_BUCKETS) as u64 * 100_000
+        } else {
+            12_000_000 + (b - SLOW_FROM) as u64 * 1_000_000
         }
     }
 
@@ -158,7 +168,36 @@ mod tests {
         let p50 = h.quantile_ns(0.5);
         assert!((500_000..=502_000).contains(&p50), "{p50}");
         assert_eq!(h.quantile_ns(1.0), 5_000_000);
-        assert_eq!(Histogram::bucket_of(20_000_000), BUCKETS - 1);
+        assert_eq!(Histogram::bucket_of(2_000_000_000), BUCKETS - 1);
+        // Slow frames get buckets of their own: 1 ms wide from 12 ms to 1 s.
+        assert_eq!(
+            Histogram::bucket_of(11_999_999),
+            FINE_BUCKETS + COARSE_BUCKETS - 1
+        );
+        assert_eq!(
+            Histogram::bucket_of(12_000_000),
+            FINE_BUCKETS + COARSE_BUCKETS
+        );
+        assert_eq!(
+            Histogram::bucket_of(20_500_000),
+            FINE_BUCKETS + COARSE_BUCKETS + 8
+        );
+        assert_eq!(Histogram::bucket_of(999_999_999), BUCKETS - 2);
+        assert_eq!(Histogram::bucket_floor_ns(BUCKETS - 1), 1_000_000_000);
+        for b in 1..BUCKETS {
+            let floor = Histogram::bucket_floor_ns(b);
+            assert!(floor > Histogram::bucket_floor_ns(b - 1), "bucket {b}");
+            assert_eq!(Histogram::bucket_of(floor), b, "bucket {b}");
+        }
+        // Frames of 20 ms with one of 2 s: the median is 21 ms (its bucket's top), not
+        // the slowest frame (what a single bucket above 12 ms gave).
+        let mut slow = Histogram::default();
+        for _ in 0..99 {
+            slow.record(20_500_000);
+        }
+        slow.record(2_000_000_000);
+        assert_eq!(slow.quantile_ns(0.5), 21_000_000);
+        assert_eq!(slow.quantile_ns(1.0), 2_000_000_000);
         assert_eq!(Histogram::bucket_of(1_000_700), 1000);
         assert_eq!(Histogram::bucket_of(2_150_000), FINE_BUCKETS + 1);
         assert_eq!(Histogram::bucket_floor_ns(FINE_BUCKETS + 1), 2_100_000);

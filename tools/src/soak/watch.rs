@@ -286,9 +286,10 @@ impl Watch {
 
 /// The longest frame recorded in `now` since `before` (two snapshots of cloth-sim's frame
 /// times, which count from its start), ms: the new maximum when it grew, else the upper
-/// edge of the highest bucket that grew (at most the maximum). The top bucket is open
-/// (12 ms and over): a frame there that set no new maximum reads as its floor, 12 ms, a
-/// lower bound (reading the maximum put a stop's 5 s frame in later phases). `None` when
+/// edge of the highest bucket that grew (at most the maximum): to the millisecond from
+/// 12 ms to 1 s. The top bucket is open (1 s and over): a frame there that set no new
+/// maximum reads as its floor, 1 s, a lower bound (reading the maximum put a stop's 5 s
+/// frame in later phases). `None` when
 /// no frame was recorded in between; a count that went back is a restarted cloth-sim,
 /// counted afresh.
 pub(super) fn frame_time_since(before: Option<&Histogram>, now: &Histogram) -> Option<f64> {
@@ -417,11 +418,15 @@ mod tests {
         assert!((5.02..=5.13).contains(&ms), "{ms}");
         // Nothing new.
         assert_eq!(frame_time_since(Some(&h), &h), None);
-        // A stop's 5 s frame, then a 20 ms one: the open top bucket's floor, not 5 s.
+        // A stop's 5 s frame, then a 20 ms one: the top of its 1 ms bucket, not 5 s.
         h.record(5_000_000_000);
         let stopped = h;
         h.record(20_000_000);
-        assert_eq!(frame_time_since(Some(&stopped), &h), Some(12.0));
+        assert_eq!(frame_time_since(Some(&stopped), &h), Some(21.0));
+        // Another stop's frame of 3 s: the open top bucket's floor, 1 s, not 5 s.
+        let twenty = h;
+        h.record(3_000_000_000);
+        assert_eq!(frame_time_since(Some(&twenty), &h), Some(1000.0));
         // A restarted cloth-sim counts from zero again.
         let mut fresh = Histogram::default();
         fresh.record(2_000_000);
