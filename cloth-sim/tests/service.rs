@@ -441,11 +441,6 @@ fn guard_in_place(node: &Node, ask: Ask<'_>) {
     let telemetry = ports::subscriber(node, services::sim_telemetry, None).unwrap();
     let wait_for =
         |what: &str, want: &dyn Fn(&SimTelemetry) -> bool| await_telemetry(&telemetry, what, want);
-    let guard = |on| ToolCommand {
-        op: op::SET_GUARD,
-        mode: on,
-        ..Default::default()
-    };
     // The loaded design kept its guard (the file has it), through the material change
     // above too: until 2026-11-29 that change dropped it, and the cloth crossed the cube.
     let r = ask(guard(1));
@@ -466,11 +461,6 @@ fn guard_in_place(node: &Node, ask: Ask<'_>) {
     wait_for("the guard on", &|t| {
         t.model == scene_model::XPBD && t.never_crosses == 1
     });
-    let limit = |value| ToolCommand {
-        op: op::SET_STRAIN_LIMIT,
-        value,
-        ..Default::default()
-    };
     let r = ask(limit(0.2));
     assert!(
         r.ok == 1 && r.message().contains("1.20x"),
@@ -530,16 +520,6 @@ fn new_scenes(node: &Node, ask: Ask<'_>) {
     let telemetry = ports::subscriber(node, services::sim_telemetry, None).unwrap();
     let wait_for =
         |what: &str, want: &dyn Fn(&SimTelemetry) -> bool| await_telemetry(&telemetry, what, want);
-    let guard = |on| ToolCommand {
-        op: op::SET_GUARD,
-        mode: on,
-        ..Default::default()
-    };
-    let limit = |value| ToolCommand {
-        op: op::SET_STRAIN_LIMIT,
-        value,
-        ..Default::default()
-    };
     // A new scene of a pattern's pieces round the mannequin, sewn (protocol 11); with
     // the limit off the reply says what closes the seams.
     let dress = concat!(env!("CARGO_MANIFEST_DIR"), "/../sim-core/assets/dress.svg");
@@ -583,6 +563,24 @@ fn new_scenes(node: &Node, ask: Ask<'_>) {
     assert!(r.ok == 0 && r.message().contains("vbd"), "{}", r.message());
     let r = ask(limit(0.2));
     assert!(r.ok == 0 && r.message().contains("vbd"), "{}", r.message());
+}
+
+/// SET_GUARD: `on` 1 or 0.
+fn guard(on: u32) -> ToolCommand {
+    ToolCommand {
+        op: op::SET_GUARD,
+        mode: on,
+        ..Default::default()
+    }
+}
+
+/// SET_STRAIN_LIMIT to `value` (0: none).
+fn limit(value: f32) -> ToolCommand {
+    ToolCommand {
+        op: op::SET_STRAIN_LIMIT,
+        value,
+        ..Default::default()
+    }
 }
 
 /// Waits up to 5 s for sim telemetry that `want`s.
