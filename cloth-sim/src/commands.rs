@@ -236,7 +236,8 @@ fn add_piece(
 /// then stay open at the neck (docs/garments.md). Empty otherwise.
 pub(crate) fn seam_tip(design: &Design) -> &'static str {
     if design.sim.model == ModelKind::Xpbd && design.sim.material.strain_limit == 0.0 {
-        "; tip: switch on Hold stretch under (the scene panel) so that the seams can close"
+        "; tip: if a seam stays open, try Hold stretch under (the scene panel): the shipped \
+         dress closes every seam with it"
     } else {
         ""
     }

@@ -535,7 +535,7 @@ fn new_scenes(node: &Node, ask: Ask<'_>) {
         r.ok == 1
             && m.contains("2 pieces of")
             && m.contains("4 seams stitched")
-            && m.contains("tip: switch on Hold stretch under"),
+            && m.contains("tip: if a seam stays open, try Hold stretch under"),
         "{m}"
     );
     wait_for("the dress", &|t| {
@@ -1042,7 +1042,8 @@ fn pieces_are_added_placed_listed_and_deleted_over_the_protocol() {
     assert!(r.message().contains("4 seams stitched"), "{}", r.message());
     // The strain limit is off in this design: the reply says what closes the seams.
     assert!(
-        r.message().contains("tip: switch on Hold stretch under"),
+        r.message()
+            .contains("tip: if a seam stays open, try Hold stretch under"),
         "{}",
         r.message()
     );
