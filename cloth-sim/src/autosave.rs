@@ -63,6 +63,9 @@ pub fn start_fresh(
         ));
     }
     prepare_dir(&cfg.autosave)?;
+    // Built first: a new design that cannot be made (a pattern file that does not read)
+    // is refused with nothing moved.
+    let design = fresh()?;
     if cfg.autosave.is_file() {
         let kept = backup_of(&cfg.autosave);
         std::fs::rename(&cfg.autosave, &kept).map_err(|e| {
@@ -77,7 +80,7 @@ pub fn start_fresh(
             kept.display()
         ));
     }
-    fresh()
+    Ok(design)
 }
 
 /// Resumes the newest design that reads: the autosave, else its backup. A file that

@@ -72,6 +72,12 @@ fn a_fresh_start_keeps_the_last_design_as_the_backup_and_starts_anew() {
     // What the next start without --fresh resumes, until the new design is autosaved.
     let (r, _) = resume(&cfg);
     assert_eq!(r.unwrap().0.sim.cloth.len(), 49);
+    // A new design that cannot be made moves nothing.
+    std::fs::write(&autosave, &old).unwrap();
+    let r = start_fresh(&cfg, || Err("no such pattern".into()), &mut |_| {});
+    assert_eq!(r.err().as_deref(), Some("no such pattern"));
+    assert_eq!(std::fs::read(&autosave).unwrap(), old, "the autosave stays");
+    std::fs::remove_file(&autosave).unwrap();
     // With nothing there, nothing is moved or said.
     std::fs::remove_file(backup_of(&autosave)).unwrap();
     let mut log = Vec::new();
