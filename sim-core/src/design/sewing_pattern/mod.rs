@@ -601,6 +601,9 @@ mod tests {
         }
         assert!((d.pattern_length(&row) - 1.0).abs() < 1e-5);
         assert!((d.pattern_length(&row[..3]) - 0.25).abs() < 1e-5);
+        // A vertex skipped (as a seam's shorter side is paired): the pattern's distance
+        // between the two, not the 3D one (0.5 m, stretched).
+        assert!((d.pattern_length(&[0, 2, 3]) - 0.375).abs() < 1e-5);
     }
 
     #[test]
