@@ -190,7 +190,11 @@ impl PiecesPanel {
                 egui::TextEdit::singleline(&mut self.path)
                     .hint_text("pattern.svg, .dxf or GarmentCode .json"),
             )
-            .on_hover_text("Every piece of the file is added, its seams stitched");
+            .on_hover_text(
+                "Every piece of the file is added, its seams stitched, round the cloth already \
+                 there (a garment's pieces land on it). To start a garment on its own, give the \
+                 file to the scene panel's Pattern file and press New scene",
+            );
         } else {
             ui.horizontal(|ui| {
                 for (k, label) in ["W", "H"].iter().enumerate() {
