@@ -789,10 +789,19 @@ fn a_new_scene_can_be_a_pattern() {
     h.get_by_role_and_label(Role::TextInput, "Pattern file")
         .type_text("patterns/dress.svg");
     h.run_steps(2);
+    // The new lab's body is the cube: a pattern there is said to be cut for a person,
+    // and one click makes the next scene the mannequin.
+    assert_eq!(h.state().scene.body, shared::command::BodyChoice::Cube);
+    press(&mut h, "Use the mannequin");
+    assert!(
+        h.query_by_label("Use the mannequin").is_none(),
+        "the note goes once the body is a person"
+    );
     press(&mut h, "New scene");
     press(&mut h, "Click again to reset");
     let c = *commands(&h).last().unwrap();
     assert_eq!((c.op, c.text()), (op::RESET, Some("patterns/dress.svg")));
+    assert_eq!(c.b, shared::ui_to_sim::body::MANNEQUIN);
     h.state_mut().scene.pattern.clear();
     h.run_steps(2);
     press(&mut h, "New scene");
