@@ -524,3 +524,73 @@ fn the_guard_is_kept_and_a_false_claim_refused() {
         "{e}"
     );
 }
+
+/// A seam eased 20 mm keeps its two sides' lengths in the seam list once its pairs
+/// weld: each side is read on its own piece's triangles, not on whichever triangle held
+/// the welded edge first (which showed the two sides equal).
+#[test]
+fn an_eased_seam_keeps_its_sides_lengths_as_it_welds() {
+    // The shipped dress with its back 20 mm longer: side seams B and D are 530 mm on the
+    // front and 550 mm on the back.
+    let svg = include_str!("../assets/dress.svg")
+        .replace(
+            "height=\"790mm\" viewBox=\"0 0 1000 790\"",
+            "height=\"810mm\" viewBox=\"0 0 1000 810\"",
+        )
+        .replace("M520.0,770.0 L980.0,770.0", "M520.0,790.0 L980.0,790.0")
+        .replace(
+            "x1=\"520.0\" y1=\"240.0\" x2=\"520.0\" y2=\"770.0\"",
+            "x1=\"520.0\" y1=\"240.0\" x2=\"520.0\" y2=\"790.0\"",
+        )
+        .replace(
+            "x1=\"980.0\" y1=\"240.0\" x2=\"980.0\" y2=\"770.0\"",
+            "x1=\"980.0\" y1=\"240.0\" x2=\"980.0\" y2=\"790.0\"",
+        );
+    assert_eq!(svg.matches("790.0").count(), 4, "the back made longer");
+    let path = std::env::temp_dir().join(format!("saiho-eased-{}.svg", std::process::id()));
+    std::fs::write(&path, svg).unwrap();
+    let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
+    cfg.pattern = Some(path.clone());
+    cfg.piece_edge = 0.06;
+    let built = sim_core::scenario::build_scene(&cfg);
+    std::fs::remove_file(&path).unwrap();
+    let (mut d, spec) = built.unwrap();
+    sim_core::design::garment::sew(
+        &mut d,
+        &spec.unwrap(),
+        sim_core::scenario::garment::SEAM_PULL,
+    )
+    .unwrap();
+    let names: Vec<char> = (0..d.seams.len())
+        .map(|i| (b'A' + i as u8) as char)
+        .collect();
+    assert_eq!(names.len(), 4);
+    let before: Vec<(f32, f32)> = d.seams.iter().map(|s| d.seam_lengths(s)).collect();
+    for side in [1, 3] {
+        let (a, b) = before[side];
+        assert!(
+            (b - a - 0.02).abs() < 0.004,
+            "seam {}: {a} {b}",
+            names[side]
+        );
+    }
+    let welded = |d: &Design, i: usize| d.seams[i].pairs.iter().filter(|(p, q)| p == q).count();
+    for _ in 0..400 {
+        d.step().unwrap();
+        if welded(&d, 1) == d.seams[1].pairs.len() && welded(&d, 3) == d.seams[3].pairs.len() {
+            break;
+        }
+    }
+    for (i, s) in d.seams.iter().enumerate() {
+        let (a, b) = d.seam_lengths(s);
+        assert!(welded(&d, i) > 0, "seam {} welded none", names[i]);
+        assert!(
+            (a - before[i].0).abs() < 1e-4 && (b - before[i].1).abs() < 1e-4,
+            "seam {} ({} of {} welded): {a} {b}, before {:?}",
+            names[i],
+            welded(&d, i),
+            s.pairs.len(),
+            before[i]
+        );
+    }
+}

@@ -37,6 +37,7 @@ mod pin;
 mod pinch;
 mod prim;
 mod seam;
+mod seam_lengths;
 mod sew;
 pub mod sewing_pattern;
 mod tear;

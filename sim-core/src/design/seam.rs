@@ -235,17 +235,6 @@ impl Design {
         Ok(n)
     }
 
-    /// Each seam's two sides' pattern lengths (the A side's vertices, then the B side's,
-    /// each in order without repeats), m.
-    pub fn seam_lengths(&self, seam: &Seam) -> (f32, f32) {
-        let side = |pick: fn(&(u32, u32)) -> u32| {
-            let mut path: Vec<u32> = seam.pairs.iter().map(pick).collect();
-            path.dedup();
-            self.pattern_length(&path)
-        };
-        (side(|p| p.0), side(|p| p.1))
-    }
-
     /// Welds stitched pairs that came within reach (after a frame); each weld is an
     /// undoable sew. Returns how many welded. The reach is 1.5 x the cloth's thickness,
     /// at least [`WELD_REACH_MIN`] (not the thickness: under penetration-free contact two

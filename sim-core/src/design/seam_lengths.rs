@@ -1,0 +1,138 @@
+//! A seam's two sides' lengths in the pattern, as the seam list shows them. Once a pair
+//! welds, its vertex is on both sides, and a seam edge between two welded vertices is
+//! held by a triangle of each side, each with its own rest length. A side's own
+//! triangles are told apart by their rest places: along a side each edge starts where
+//! the one before it ended, or, where a weld collapsed a stretch of the side into one
+//! vertex, at that vertex's place nearest to it (the stretch counted in).
+
+use std::collections::HashSet;
+
+use glam::{Vec2, Vec3};
+
+use super::document::Design;
+use super::parts::Seam;
+
+impl Design {
+    /// Each seam's two sides' pattern lengths (the A side's vertices, then the B side's,
+    /// each in order without repeats), m, each side measured on its own triangles, also
+    /// once pairs have welded. (Read from whichever triangle held an edge first, a
+    /// welded side took the other side's lengths, and lost any stretch a weld had
+    /// collapsed into one vertex: the dress's 140 mm shoulder read 117 / 117 mm once
+    /// sewn.) A side is walked from a vertex only it has; when every
+    /// pair has welded there is none, and the A side starts from its first vertex's place
+    /// that comes first by x, then z, the B side from another.
+    pub fn seam_lengths(&self, seam: &Seam) -> (f32, f32) {
+        let path = |pick: fn(&(u32, u32)) -> u32| {
+            let mut p: Vec<u32> = seam.pairs.iter().map(pick).collect();
+            p.dedup();
+            p
+        };
+        let (a, b) = (path(|p| p.0), path(|p| p.1));
+        if seam.pairs.iter().all(|(p, q)| p != q) {
+            return (self.pattern_length(&a), self.pattern_length(&b));
+        }
+        let (la, used) = self.side_length(&a, &b, &[]);
+        let (lb, _) = self.side_length(&b, &a, &used);
+        (la, lb)
+    }
+
+    /// The distinct rest places of vertex `v` (one per side it is on, more where a weld
+    /// collapsed a stretch into it), in x, then z order.
+    fn rest_places(&self, v: u32) -> Vec<Vec3> {
+        let live = &self.sim.cloth.live;
+        let mut p: Vec<Vec3> = live
+            .tris_of(v)
+            .iter()
+            .filter_map(|&t| live.tri(t))
+            .filter_map(|t| Some(t.rest[t.corner(v)?]))
+            .collect();
+        p.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.z.total_cmp(&b.z)));
+        p.dedup();
+        p
+    }
+
+    /// The rest places of edge `(u, v)`'s ends in each triangle that holds it.
+    fn edge_places(&self, u: u32, v: u32) -> Vec<(Vec3, Vec3)> {
+        let live = &self.sim.cloth.live;
+        live.tris_of(u)
+            .iter()
+            .filter_map(|&t| live.tri(t))
+            .filter_map(|t| Some((t.rest[t.corner(u)?], t.rest[t.corner(v)?])))
+            .collect()
+    }
+
+    /// A side's length along `path`, walked from a vertex the `other` side does not
+    /// have (else from the first vertex's first place not `taken`), and the places it
+    /// went through.
+    fn side_length(&self, path: &[u32], other: &[u32], taken: &[Vec3]) -> (f32, Vec<Vec3>) {
+        let shared: HashSet<u32> = other.iter().copied().collect();
+        let start = path
+            .iter()
+            .enumerate()
+            .find_map(|(k, &v)| match self.rest_places(v)[..] {
+                [p] if !shared.contains(&v) => Some((k, p)),
+                _ => None,
+            });
+        let Some((k0, p0)) = start.or_else(|| {
+            let places = self.rest_places(*path.first()?);
+            let p = places
+                .iter()
+                .find(|p| !taken.contains(p))
+                .or(places.first())?;
+            Some((0, *p))
+        }) else {
+            return (self.pattern_length(path), Vec::new());
+        };
+        // Pieces can lie side by side in the pattern plane, a seam's two sides 40 mm
+        // apart: the walk stays on its start's piece.
+        let piece = |p: Vec3| self.record_at(Vec2::new(p.x, -p.z));
+        let own = piece(p0);
+        let mut used = vec![p0];
+        let mut len = 0.0;
+        // Forward from the start, then back from it: each edge from the place nearest
+        // to where the walk is.
+        for forward in [true, false] {
+            let mut at = p0;
+            let edges: Vec<usize> = if forward {
+                (k0..path.len().saturating_sub(1)).collect()
+            } else {
+                (0..k0).rev().collect()
+            };
+            for k in edges {
+                let (u, v) = if forward {
+                    (path[k], path[k + 1])
+                } else {
+                    (path[k + 1], path[k])
+                };
+                let nearest = self
+                    .edge_places(u, v)
+                    .into_iter()
+                    .filter(|e| piece(e.0) == own)
+                    .min_by(|x, y| x.0.distance(at).total_cmp(&y.0.distance(at)));
+                let Some((from, to)) = nearest else {
+                    // No triangle of this side holds the edge (its vertices are not
+                    // neighbours on this side: a pair between them is open, its vertex
+                    // left out of the path): straight on to the next vertex's place.
+                    let next = self
+                        .rest_places(v)
+                        .into_iter()
+                        .filter(|&q| piece(q) == own)
+                        .min_by(|x, y| x.distance(at).total_cmp(&y.distance(at)));
+                    match next {
+                        Some(q) => {
+                            len += at.distance(q);
+                            used.push(q);
+                            at = q;
+                        }
+                        None => len += self.pattern_length(&[u, v]),
+                    }
+                    continue;
+                };
+                len += at.distance(from) + from.distance(to);
+                used.extend([from, to]);
+                at = to;
+            }
+        }
+        (len, used)
+    }
+}
