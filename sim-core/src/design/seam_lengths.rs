@@ -83,7 +83,7 @@ impl Design {
         }) else {
             return (self.pattern_length(path), Vec::new());
         };
-        // Pieces can lie side by side in the pattern plane, a seam's two sides 40 mm
+        // Pieces can lie side by side in the pattern plane, a seam's two sides 50 mm
         // apart: the walk stays on its start's piece.
         let piece = |p: Vec3| self.record_at(Vec2::new(p.x, -p.z));
         let own = piece(p0);
