@@ -64,6 +64,8 @@ struct Service<'a> {
 /// Two local models further apart than this are logged with where the time went (the
 /// haptic loop lets the force fade once its model is 20 ms old).
 const SLOW_MODEL_GAP: Duration = Duration::from_millis(30);
+/// A gap between models this long is a stall (the soak's limit): always logged.
+const STALL_GAP: Duration = Duration::from_millis(50);
 
 /// Where the time between two local models goes: the time since the last mark, per named
 /// part (and notes such as how late a sleep woke, which are not parts of the sum).
@@ -435,10 +437,13 @@ impl Service<'_> {
     fn send_local_model(&mut self, log: &mut dyn FnMut(&str)) {
         if let Some(slow) = self.laps.slow(SLOW_MODEL_GAP) {
             // The first, then at most one every 10 s with how many there were between:
-            // a machine too slow for its cloth would otherwise log every frame.
+            // a machine too slow for its cloth would otherwise log every frame. A stall
+            // (a gap of `STALL_GAP` or more, which the soak counts against cloth-sim) is
+            // always logged, so that each one's lines say where its time went.
+            let stall = self.laps.start.elapsed() >= STALL_GAP;
             let (last, quiet) = &mut self.slow_logged;
             *quiet += 1;
-            if last.is_none_or(|t| t.elapsed() >= Duration::from_secs(10)) {
+            if stall || last.is_none_or(|t| t.elapsed() >= Duration::from_secs(10)) {
                 let more = if *quiet > 1 {
                     format!(" ({} such gaps since the last line)", *quiet)
                 } else {
