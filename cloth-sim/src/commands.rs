@@ -384,9 +384,14 @@ fn set_fabric(design: &mut Design, name: &str) -> Result<String, String> {
         .map_err(|e| format!("Fabric not changed: {e}"))?;
     design.rename_fabrics(|_| f.name.clone());
     let said = fabric_notes(design.apply_fabrics());
+    let held = match (design.sim.model, m.strain_limit) {
+        (ModelKind::Xpbd, l) if l > 0.0 => format!(", held under {:.2}x", 1.0 + l),
+        (ModelKind::Xpbd, _) => ", no stretch limit".into(),
+        _ => String::new(),
+    };
     Ok(format!(
-        "Fabric: {} ({:.0} g/m², bending {:.1e} N m warp, {:.1e} weft) for the whole design; \
-         source: {}{said}",
+        "Fabric: {} ({:.0} g/m², bending {:.1e} N m warp, {:.1e} weft{held}) for the whole \
+         design; source: {}{said}",
         f.name,
         m.density * 1e3,
         m.bending,
@@ -718,6 +723,14 @@ mod tests {
         assert!(d.pieces.iter().all(|p| p.fabric == "denim, edited"));
         carry_out(&mut d, &stiffer).unwrap();
         assert_eq!(d.pieces[0].fabric, "denim, edited", "marked once");
+        // A woven is held under its limit, a knit is not; the reply says which.
+        assert!(said.contains("held under 1.20x"), "{said}");
+        let knit = Command::SetFabric {
+            name: "jersey-interlock".into(),
+        };
+        let said = carry_out(&mut d, &knit).unwrap();
+        assert!(said.contains("no stretch limit"), "{said}");
+        assert_eq!(d.sim.material.strain_limit, 0.0);
     }
 
     /// Found by the `commands` fuzz target (its seventeenth sitting): a piece added, the

@@ -23,17 +23,17 @@ pub fn list(json: bool) -> Res<()> {
         return Ok(());
     }
     println!(
-        "{:<24} {:>6} {:>9} {:>9} {:>7} {:>9} {:>9} {:>9} {:>6}  source",
-        "name", "g/m²", "stretch", "N/m", "shear", "B warp", "B weft", "B bias", "DC"
+        "{:<24} {:>6} {:>9} {:>9} {:>7} {:>9} {:>9} {:>9} {:>6} {:>6}  source",
+        "name", "g/m²", "stretch", "N/m", "shear", "B warp", "B weft", "B bias", "limit", "DC"
     );
     println!(
-        "{:<24} {:>6} {:>9} {:>9} {:>7} {:>9} {:>9} {:>9} {:>6}",
-        "", "", "warp N/m", "weft", "N/m", "µN·m", "µN·m", "µN·m", "meas."
+        "{:<24} {:>6} {:>9} {:>9} {:>7} {:>9} {:>9} {:>9} {:>6} {:>6}",
+        "", "", "warp N/m", "weft", "N/m", "µN·m", "µN·m", "µN·m", "x rest", "meas."
     );
     for f in &lib.fabrics {
         let s = f.si();
         println!(
-            "{:<24} {:>6.0} {:>9.1} {:>9.1} {:>7.1} {:>9.2} {:>9.2} {:>9.2} {:>6}  {}",
+            "{:<24} {:>6.0} {:>9.1} {:>9.1} {:>7.1} {:>9.2} {:>9.2} {:>9.2} {:>6} {:>6}  {}",
             f.name,
             f.weight_gsm,
             s.stretch_warp,
@@ -42,13 +42,19 @@ pub fn list(json: bool) -> Res<()> {
             s.bend_warp * 1e6,
             s.bend_weft * 1e6,
             s.bend_bias * 1e6,
+            if s.strain_limit > 0.0 {
+                format!("{:.2}", 1.0 + s.strain_limit)
+            } else {
+                "none".into()
+            },
             f.dc_measured
                 .map_or("-".into(), |d| format!("{:.1}", d * 100.0)),
             f.source
         );
     }
     println!(
-        "{} fabrics; units and conversions: docs/fabrics.md; --json for every field",
+        "{} fabrics; limit: the most a triangle stretches under the xpbd model; units and \
+         conversions: docs/fabrics.md; --json for every field",
         lib.fabrics.len()
     );
     Ok(())

@@ -941,11 +941,11 @@ fn dress_mannequin_sews_two_panels_round_the_torso_without_crossing() {
     std::fs::remove_dir_all(dir).ok();
 }
 
-/// Under the default model the dress's cotton is held under 1.2x (the scenario's own
+/// Under the default model the dress's cotton is held under 1.2x (the default material's
 /// strain limit) and every seam closes: the shipped pattern's scooped neck lets the
 /// shoulder seams' neck ends meet. At 5 cm triangles the straight neck left both neck
 /// ends open (34 of 36), and the scooped one without the limit three pairs of seam A.
-/// The limit is off when asked, under vbd, and for a named fabric (it may be a knit).
+/// The limit is off when asked, under vbd, and for a knit; a named fabric brings its own.
 #[test]
 fn the_default_dress_closes_every_seam_with_its_cotton_held() {
     let dir = tmp("dress-default");
@@ -976,6 +976,28 @@ fn the_default_dress_closes_every_seam_with_its_cotton_held() {
         args.extend_from_slice(off);
         let r = scenario_report(&dir, &args);
         assert_eq!(r["strain_limit"].as_f64(), Some(0.0), "{off:?}: {r}");
+    }
+    // drape-pattern runs without it unless asked (a pattern from elsewhere closes its
+    // seams by stretching).
+    let dress = concat!(env!("CARGO_MANIFEST_DIR"), "/../sim-core/assets/dress.svg");
+    for (asked, limit) in [(&[][..], 0.0), (&["--strain-limit", "0.2"][..], 0.2)] {
+        let args = [
+            "drape-pattern",
+            dress,
+            "--piece-edge",
+            "0.05",
+            "--frames",
+            "2",
+        ];
+        let r = scenario_report(&dir, &[&args[..], asked].concat());
+        let got = r["strain_limit"].as_f64().unwrap();
+        assert!((got - limit).abs() < 1e-6, "{asked:?}: {r}");
+    }
+    for (fabric, own) in [("denim", 0.2), ("wool-stretch-twill", 0.3)] {
+        let args = ["dress-mannequin", "--piece-edge", "0.05", "--frames", "2"];
+        let r = scenario_report(&dir, &[&args[..], &["--fabric", fabric]].concat());
+        let got = r["strain_limit"].as_f64().unwrap();
+        assert!((got - own).abs() < 1e-6, "{fabric}: {r}");
     }
     std::fs::remove_dir_all(dir).ok();
 }

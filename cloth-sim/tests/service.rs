@@ -461,13 +461,14 @@ fn guard_in_place(node: &Node, ask: Ask<'_>) {
     wait_for("the guard on", &|t| {
         t.model == scene_model::XPBD && t.never_crosses == 1
     });
-    let r = ask(limit(0.2));
+    // The default material holds 1.2x; another ratio shows the limit is set.
+    let r = ask(limit(0.3));
     assert!(
-        r.ok == 1 && r.message().contains("1.20x"),
+        r.ok == 1 && r.message().contains("1.30x"),
         "{}",
         r.message()
     );
-    wait_for("the strain limit", &|t| t.strain_limit == 0.2);
+    wait_for("the strain limit", &|t| t.strain_limit == 0.3);
     for bad in [0.001, 20.0, -0.2, f32::NAN] {
         let r = ask(limit(bad));
         let m = r.message();
@@ -484,7 +485,7 @@ fn guard_in_place(node: &Node, ask: Ask<'_>) {
     damp.uv[5] = 0.8;
     assert_eq!(ask(damp).ok, 1);
     wait_for("the damping, the limit and the guard kept", &|t| {
-        t.material[5] == 0.8 && t.strain_limit == 0.2 && t.never_crosses == 1
+        t.material[5] == 0.8 && t.strain_limit == 0.3 && t.never_crosses == 1
     });
     let r = ask(ToolCommand {
         op: op::RESET,
@@ -494,7 +495,7 @@ fn guard_in_place(node: &Node, ask: Ask<'_>) {
     });
     assert_eq!(r.ok, 1, "{}", r.message());
     wait_for("a new scene with the guard and the limit", &|t| {
-        t.grid == 6 && t.never_crosses == 1 && t.strain_limit == 0.2
+        t.grid == 6 && t.never_crosses == 1 && t.strain_limit == 0.3
     });
     assert_eq!(ask(limit(0.0)).ok, 1);
     wait_for("the limit off", &|t| t.strain_limit == 0.0);
@@ -1040,13 +1041,9 @@ fn pieces_are_added_placed_listed_and_deleted_over_the_protocol() {
     let r = ask(file);
     assert_eq!(r.ok, 1, "{}", r.message());
     assert!(r.message().contains("4 seams stitched"), "{}", r.message());
-    // The strain limit is off in this design: the reply says what closes the seams.
-    assert!(
-        r.message()
-            .contains("tip: if a seam stays open, try Hold stretch under"),
-        "{}",
-        r.message()
-    );
+    // The strain limit is on (the default material's): no tip (with it off, the reply
+    // says what closes the seams: `new_scenes`).
+    assert!(!r.message().contains("tip:"), "{}", r.message());
     assert_eq!(names(4).len(), 4);
     // Its seams are listed; the second is removed and the list says so.
     let seams = |n: usize| -> Vec<String> {

@@ -22,6 +22,14 @@ impl Design {
         let t0 = Instant::now();
         self.sim.stitches.clear();
         self.sim.stitches.extend(open_stitches(&self.seams));
+        // With tearing on, the strain limit lets every side stretch past the tear
+        // threshold (a quarter beyond it: a side no longer than the limit never passes
+        // it): held under 1.2x, a cloth pulled by the pen followed it and never tore.
+        self.sim.stretch_floor = if self.tear.enabled {
+            1.25 * self.tear.threshold
+        } else {
+            0.0
+        };
         let mut stats = self.sim.step_with(pen)?;
         stats.torn = self.tear_overstretched();
         stats.welded = self.weld_close_stitches();

@@ -376,7 +376,7 @@ mod guard_tests {
         d.set_guard(true).unwrap();
         let mut m = d.sim.material;
         m.density *= 1.5;
-        m.strain_limit = 0.2;
+        m.strain_limit = 0.3;
         d.sim.set_material(m, Some(7)).unwrap();
         assert!(d.guarded(), "kept through a material change");
         d.step().unwrap();

@@ -17,6 +17,10 @@ pub const FORMAT_VERSION: i64 = 1;
 /// Standard gravity, m/s²: grams-force to newtons.
 const G: f64 = 9.806_65;
 
+/// A fabric's strain limit when its entry gives none: a woven's (the default material's,
+/// [`crate::solver::material::DEFAULT_STRAIN_LIMIT`]).
+pub const WOVEN_STRAIN_LIMIT: f64 = 0.2;
+
 /// The contact thickness a fabric gets at least, m: thinner layers than this are held
 /// apart at this distance (the contact's tolerance, not the cloth's own thickness).
 pub const MIN_CONTACT_THICKNESS: f32 = 0.001;
@@ -108,6 +112,9 @@ pub struct Fabric {
     /// Bias bending; the mean of warp and weft when not measured.
     pub bend_bias: Option<f64>,
     pub friction: f64,
+    /// The most a triangle stretches over its rest length (the xpbd model's hard limit,
+    /// `Material::strain_limit`); 0: none, as for knits. Chosen, not measured.
+    pub strain_limit: f64,
     /// The values the source did not measure, with what was chosen.
     pub assumed: Vec<String>,
     /// Cusick drape coefficient (0-1) the source measured.
@@ -135,6 +142,8 @@ pub struct FabricSi {
     pub bend_weft: f64,
     pub bend_bias: f64,
     pub friction: f64,
+    /// The most a triangle stretches over its rest length (0: no limit).
+    pub strain_limit: f64,
     /// Bending length `(B / (ρ g))^(1/3)` along the warp, m (Peirce's cantilever).
     pub bending_length_warp: f64,
     pub bending_length_weft: f64,
@@ -158,6 +167,7 @@ impl Fabric {
             bend_weft: bf,
             bend_bias: bias,
             friction: self.friction,
+            strain_limit: self.strain_limit,
             bending_length_warp: length(bw),
             bending_length_weft: length(bf),
         }
@@ -165,8 +175,8 @@ impl Fabric {
 
     /// The model's material for this fabric: membrane stretch isotropic at the
     /// geometric mean of warp and weft (the membrane has one stretch modulus), bending
-    /// anisotropic, contact thickness at least [`MIN_CONTACT_THICKNESS`]; damping, drag
-    /// and the solver switches as in the default material.
+    /// anisotropic, contact thickness at least [`MIN_CONTACT_THICKNESS`], the fabric's
+    /// strain limit; damping, drag and the solver switches as in the default material.
     pub fn material(&self) -> Material {
         let s = self.si();
         Material {
@@ -178,15 +188,16 @@ impl Fabric {
             bending_bias: (s.bend_bias / s.bend_warp) as f32,
             friction: s.friction as f32,
             thickness: (s.thickness as f32).max(MIN_CONTACT_THICKNESS),
+            strain_limit: s.strain_limit as f32,
             ..Material::default()
         }
     }
 }
 
 impl Fabric {
-    /// `base` with this fabric's measured values (density, stretch, shear, bending in
-    /// warp, weft and bias, friction, thickness); its damping, drag and solver switches
-    /// stay, being the designer's settings rather than the cloth's.
+    /// `base` with this fabric's values (density, stretch, shear, bending in warp, weft
+    /// and bias, friction, thickness, strain limit); its damping, drag and solver
+    /// switches stay, being the designer's settings rather than the cloth's.
     pub fn material_over(&self, base: &Material) -> Material {
         let f = self.material();
         Material {
@@ -198,6 +209,7 @@ impl Fabric {
             bending_bias: f.bending_bias,
             friction: f.friction,
             thickness: f.thickness,
+            strain_limit: f.strain_limit,
             ..*base
         }
     }
@@ -240,6 +252,7 @@ struct Raw {
     bend_weft: f64,
     bend_bias: Option<f64>,
     friction: f64,
+    strain_limit: Option<f64>,
     #[serde(default)]
     assumed: Vec<String>,
     dc_measured: Option<f64>,
@@ -400,6 +413,11 @@ fn check(raw: Raw) -> Result<Fabric, String> {
     within("weight_gsm", raw.weight_gsm, 5.0, 1500.0, " g/m²")?;
     within("thickness_mm", raw.thickness_mm, 0.02, 10.0, " mm")?;
     within("friction", raw.friction, 0.0, 3.0, "")?;
+    let strain_limit = raw.strain_limit.unwrap_or(WOVEN_STRAIN_LIMIT);
+    if strain_limit != 0.0 {
+        // As `Material::validate` takes it: 0 (none), or 0.01-10.
+        within("strain_limit", strain_limit, 0.01, 10.0, " (or 0 for none)")?;
+    }
     if let Some(dc) = raw.dc_measured {
         within("dc_measured", dc, 0.0, 1.0, "")?;
     }
@@ -423,6 +441,7 @@ fn check(raw: Raw) -> Result<Fabric, String> {
         bend_weft: raw.bend_weft,
         bend_bias: raw.bend_bias,
         friction: raw.friction,
+        strain_limit,
         assumed: raw.assumed,
         dc_measured: raw.dc_measured,
         nodes_measured: raw.nodes_measured,
@@ -511,6 +530,32 @@ mod tests {
         assert!((f.si().bending_length_warp - 0.01137).abs() < 1e-4);
     }
 
+    /// Wovens hold 1.2x unless their entry says otherwise (stretch wovens 1.3x), knits
+    /// nothing, and choosing a fabric brings its limit with it.
+    #[test]
+    fn each_fabric_carries_its_own_strain_limit() {
+        let lib = Library::builtin();
+        let limit = |name: &str| lib.get(name).expect(name).material().strain_limit;
+        assert_eq!(limit("denim"), 0.2);
+        assert_eq!(limit("polyester-twill"), 0.2);
+        assert_eq!(limit("wool-stretch-twill"), 0.3);
+        for knit in [
+            "jersey-interlock",
+            "rib-knit",
+            "sweatshirt-knit",
+            "ponte-roma",
+        ] {
+            assert_eq!(limit(knit), 0.0, "{knit}");
+        }
+        let knit = lib.get("jersey-interlock").expect("a knit");
+        assert_eq!(knit.material_over(&Material::default()).strain_limit, 0.0);
+        // An entry without the field is a woven's; 0 is none.
+        let plain = Library::parse(&one(GOOD)).expect("good");
+        assert_eq!(plain.fabrics[0].strain_limit, WOVEN_STRAIN_LIMIT);
+        let none = Library::parse(&one(&(GOOD.to_string() + "strain_limit = 0\n")));
+        assert_eq!(none.expect("0 is none").fabrics[0].strain_limit, 0.0);
+    }
+
     fn one(body: &str) -> String {
         format!("version = 1\n[[fabric]]\n{body}")
     }
@@ -553,6 +598,8 @@ friction = 0.3
                 GOOD.replace("bend_weft = 0.05", "bend_weft = 50"),
                 "material",
             ),
+            (GOOD.to_string() + "strain_limit = 0.001\n", "strain_limit"),
+            (GOOD.to_string() + "strain_limit = nan\n", "strain_limit"),
         ];
         for (body, field) in cases {
             let err = Library::parse(&one(&body)).expect_err(field);

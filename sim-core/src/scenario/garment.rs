@@ -19,14 +19,6 @@ pub const DRESS_SVG: &str = include_str!("../../assets/dress.svg");
 /// mesh (its pairs 11 mm apart), the force per pair it replaced.
 pub const SEAM_PULL: f32 = 45.0;
 
-/// The strain limit dress-mannequin drapes its cotton with under the xpbd model when
-/// `--strain-limit` is not given (0.2: no side past 1.2x its rest length, a woven
-/// fabric's stiff end; docs/models.md). Without it the dress hangs from sides stretched
-/// to 2-2.6x at the neck and a shoulder seam's neck end stays open; with it every pair
-/// welds and the dress settles (docs/garments.md). Not the model's default: it costs
-/// the drapes 30-100% more frame, and the library's knits stretch further.
-pub const DRESS_STRAIN_LIMIT: f32 = 0.2;
-
 /// The dress's pattern, arranged on a body with `marks`.
 pub fn dress(marks: &Landmarks) -> Result<PatternSpec, SvgError> {
     let (mut spec, _) = pattern_from_outlines(read_svg(DRESS_SVG)?);

@@ -29,6 +29,9 @@ pub struct Membrane {
     /// piece's fabric: [`MaterialZones`]); 1 in a cloth of one material.
     pub ks: f32,
     pub kg: f32,
+    /// The most this triangle's largest principal stretch may be, its fabric's
+    /// `1 + strain_limit` (the xpbd model's hard limit; infinite: none).
+    pub s_max: f32,
 }
 
 /// One hinge's isometric bending constraint.
@@ -64,7 +67,8 @@ pub fn build_membranes(
         .collect()
 }
 
-/// `m` with its zone's stiffness over `material`'s (the solver's).
+/// `m` with its zone's stiffness over `material`'s (the solver's), and its zone's strain
+/// limit (else `material`'s).
 pub fn weigh_membrane(
     mut m: Membrane,
     zones: &MaterialZones,
@@ -74,7 +78,17 @@ pub fn weigh_membrane(
     let s = zones.scales(rest, material);
     m.ks = s.stretch;
     m.kg = s.shear;
+    m.s_max = s_max_of(zones.material_at(rest, material).strain_limit);
     m
+}
+
+/// The largest principal stretch a strain limit allows (0: no limit, infinite).
+pub fn s_max_of(strain_limit: f32) -> f32 {
+    if strain_limit > 0.0 {
+        1.0 + strain_limit
+    } else {
+        f32::INFINITY
+    }
 }
 
 /// One triangle's membrane from its rest corners and their UVs.
@@ -104,6 +118,7 @@ pub fn membrane_of(v: [u32; 3], id: u32, rest: [Vec3; 3], uv: [Vec2; 3]) -> Memb
         area,
         ks: 1.0,
         kg: 1.0,
+        s_max: f32::INFINITY,
     }
 }
 
@@ -493,6 +508,43 @@ mod tests {
                 1.0
             ) < 1e-9
         );
+    }
+
+    /// Each triangle takes its piece's strain limit: a knit's band none, the rest the
+    /// cloth's.
+    #[test]
+    fn a_triangle_takes_its_fabrics_strain_limit() {
+        use crate::solver::zones::Zone;
+        let m = ClothMesh::grid(1.0, 0.5, 8, 4, 0.0).unwrap();
+        let woven = Material::default();
+        let knit = Material {
+            strain_limit: 0.0,
+            ..woven
+        };
+        // The grid spans x -0.5..0.5: its left half a knit.
+        let zones = MaterialZones::new(
+            vec![Zone {
+                lo: -0.6,
+                hi: 0.0,
+                material: knit,
+            }],
+            &woven,
+        )
+        .unwrap();
+        assert!(!zones.is_empty(), "a limit alone makes a zone");
+        let (mut left, mut right) = (0, 0);
+        for mem in build_membranes(&m, &zones, &woven) {
+            let x = mem.v.map(|i| m.positions[i as usize].x).iter().sum::<f32>() / 3.0;
+            if x < 0.0 {
+                assert_eq!(mem.s_max, f32::INFINITY);
+                left += 1;
+            } else {
+                assert_eq!(mem.s_max, 1.0 + woven.strain_limit);
+                right += 1;
+            }
+        }
+        assert!(left > 10 && right > 10, "{left} {right}");
+        assert_eq!(s_max_of(0.0), f32::INFINITY);
     }
 
     #[test]

@@ -49,6 +49,9 @@ pub struct Drive<'a, 'p> {
     pub grip: &'a mut Grip,
     pub stitches: &'a [Stitch],
     pub pen: &'a mut PenPath<'p>,
+    /// The least largest stretch the strain limit holds a triangle to
+    /// ([`Simulation::stretch_floor`](super::Simulation::stretch_floor)).
+    pub stretch_floor: f32,
 }
 
 /// One frame's work for a model: the cloth, this frame's contact planes, the world, and

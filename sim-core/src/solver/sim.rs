@@ -52,6 +52,10 @@ pub struct Simulation {
     pub(crate) grip: Grip,
     /// Open seam stitches, handed in by the design before each frame.
     pub stitches: Vec<Stitch>,
+    /// The least stretch the xpbd model's strain limit holds a triangle to (0: its own
+    /// limit): while tearing is on the design sets it a quarter past the tear threshold,
+    /// so that a side can stretch far enough to tear.
+    pub stretch_floor: f32,
     pub(crate) contacts: ContactCache,
     pub(crate) solver: Box<dyn Solver>,
 }
@@ -164,6 +168,7 @@ impl Simulation {
             frame: 0,
             grip: Grip::default(),
             stitches: Vec::new(),
+            stretch_floor: 0.0,
             contacts,
             solver,
         })
@@ -214,6 +219,7 @@ impl Simulation {
             grip: &mut self.grip,
             stitches: &self.stitches,
             pen,
+            stretch_floor: self.stretch_floor,
         };
         let frame = FrameInput {
             cloth: &mut self.cloth,

@@ -4,7 +4,7 @@
 //! A zone is a band of the rest plane's x (a design lays its pieces side by side along x
 //! there, each in a band of its own). A triangle whose rest centre lies in a zone's band
 //! has the zone's mass and stiffness: density, stretch, shear and bending with its weft
-//! and bias shares. Everything else (damping, drag, shear damping, friction and contact
+//! and bias shares, and under xpbd its strain limit. Everything else (damping, drag, shear damping, friction and contact
 //! thickness) stays the simulation's, one for the whole cloth: contact keeps one
 //! thickness between every pair of layers. A cloth of one material has no zones, and
 //! then every element is exactly what it was without them.
@@ -55,7 +55,8 @@ impl Scales {
     };
 }
 
-/// Whether two materials give the same mass and stiffness (the fields zones carry).
+/// Whether two materials give the same mass, stiffness and strain limit (the fields
+/// zones carry).
 fn same_cloth(a: &Material, b: &Material) -> bool {
     a.density == b.density
         && a.stretch == b.stretch
@@ -63,6 +64,7 @@ fn same_cloth(a: &Material, b: &Material) -> bool {
         && a.bending == b.bending
         && a.bending_weft == b.bending_weft
         && a.bending_bias == b.bending_bias
+        && a.strain_limit == b.strain_limit
 }
 
 fn ratio(value: f32, reference: f32) -> f32 {

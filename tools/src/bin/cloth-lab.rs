@@ -61,8 +61,9 @@ struct Cli {
     #[arg(long)]
     fabric: Option<String>,
     /// XPBD: the most a triangle may stretch past its rest length, held hard each substep
-    /// (cloth-sim's --strain-limit; 0.2: 1.2x; 0: off, the default). Given, a resumed
-    /// design takes it too; the studio's Hold stretch under changes it while running.
+    /// (cloth-sim's --strain-limit; 0.2, the default: 1.2x; a fabric's own with --fabric;
+    /// 0: off). Given, a resumed design takes it too; the studio's Hold stretch under
+    /// changes it while running.
     #[arg(long, allow_negative_numbers = true)]
     strain_limit: Option<f32>,
     /// Simulated pen script (timed positions and buttons) for haptic-loop.
@@ -73,7 +74,7 @@ struct Cli {
     fresh: bool,
     /// A new design is this pattern's pieces (SVG, DXF or GarmentCode JSON) placed round
     /// the body and sewn (cloth-sim's --pattern): `--body mannequin --pattern
-    /// sim-core/assets/dress.svg --strain-limit 0.2 --fresh` starts with the dress. A
+    /// sim-core/assets/dress.svg --fresh` starts with the dress. A
     /// resumed design stays as it is.
     #[arg(long, value_name = "FILE")]
     pattern: Option<PathBuf>,

@@ -166,11 +166,11 @@ impl ScenePanel {
             }
         }
         let mut on = limit > 0.0;
-        let hint = "On: no triangle stretches past this ratio of its rest length in any \
-             direction, held hard every substep (a woven fabric's stiff end is about 1.2x; \
-             the mannequin drape's worst side falls from 1.43x to 1.24x). Frames cost 30-100% \
-             more, and a sewn garment may not come fully to rest. Off, the default: the \
-             solver's own stretch (knits need more than 1.2x).";
+        let hint = "On, the default for woven fabrics: no triangle stretches past this \
+             ratio of its rest length in any direction, held hard every substep (a woven \
+             fabric's stiff end is about 1.2x; the mannequin drape's worst side falls from \
+             1.43x to 1.24x). A fabric chosen brings its own (none for knits). Off: frames \
+             cost 30-50% less, and the cloth stretches where it hangs.";
         ui.horizontal(|ui| {
             let toggled = ui
                 .checkbox(&mut on, "Hold stretch under")

@@ -55,6 +55,7 @@ fn converged_step_is_the_implicit_step() {
         grip: &mut grip,
         stitches: &[],
         pen: &mut pen,
+        stretch_floor: 0.0,
     };
     vbd.frame(&mut a, None, &env, 1, &mut drive);
     let mut im = Implicit::new(&b, &m);

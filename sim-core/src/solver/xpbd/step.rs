@@ -51,6 +51,8 @@ pub struct Xpbd {
     /// every vertex began the substep (scratch, kept only while the limit is on).
     limited: [Vec<u32>; 2],
     start: Vec<Vec3>,
+    /// This frame's least limit on a triangle's stretch (`Drive::stretch_floor`).
+    stretch_floor: f32,
     /// The membranes the strain limit's pass projected, in the whole cloth's indices
     /// (scratch for its passes again).
     active: [Vec<Membrane>; 2],
@@ -132,6 +134,7 @@ impl Xpbd {
             coarse: CoarseScratch::default(),
             limited: [Vec::new(), Vec::new()],
             start: Vec::new(),
+            stretch_floor: 0.0,
             active: [Vec::new(), Vec::new()],
             groups,
             membrane_loc,
@@ -191,23 +194,30 @@ impl Xpbd {
     /// to `moved`. One thread: the pass moves only the few overloaded triangles, and
     /// checking the rest costs less than starting a thread.
     fn limit_strain(&mut self, x: &mut [Vec3], w: &[f32], moved: &mut Vec<u32>, again: usize) {
-        let s_max = 1.0 + self.material.strain_limit;
         let [ga, gb, gc] = &self.groups;
         let mid = ga.end;
         let [active, next] = &mut self.active;
         active.clear();
         let (wa, wb) = w.split_at(mid);
         let (xa, xb) = x.split_at_mut(mid);
-        let whole = (s_max, 1.0);
+        let floor = self.stretch_floor;
+        let whole = (floor, 1.0);
         limit_membranes(&ga.membranes, xa, wa, whole, (0, moved, active));
         limit_membranes(&gb.membranes, xb, wb, whole, (gb.off, moved, active));
         limit_membranes(&gc.membranes, x, w, whole, (0, moved, active));
         limit_membranes(&self.extra_membranes, x, w, whole, (0, moved, active));
         for _ in 0..again {
             next.clear();
-            let part = (s_max, LIMIT_AGAIN_RELAX);
+            let part = (floor, LIMIT_AGAIN_RELAX);
             limit_membranes(active, x, w, part, (0, moved, next));
         }
+    }
+
+    /// Whether any triangle has a strain limit: the cloth's material has one, or a
+    /// piece's fabric does (each triangle's own is its membrane's `s_max`).
+    fn limits_strain(&self, cloth: &Cloth) -> bool {
+        self.material.strain_limit > 0.0
+            || (cloth.zones.zones().iter()).any(|z| z.material.strain_limit > 0.0)
     }
 
     /// The end of a substep's positions: the strain limit (when on) and the guard's pass.
@@ -222,7 +232,7 @@ impl Xpbd {
     /// A vertex the limit moved keeps as velocity only what it really moved
     /// (`credit_moves`).
     fn limit_and_guard(&mut self, cloth: &mut Cloth) {
-        let limit = self.material.strain_limit > 0.0;
+        let limit = self.limits_strain(cloth);
         let [mut before, mut after] = std::mem::take(&mut self.limited);
         before.clear();
         after.clear();
@@ -291,6 +301,8 @@ impl Xpbd {
         if let Some(g) = &mut self.guard {
             g.begin_frame();
         }
+        let limit = self.limits_strain(cloth);
+        self.stretch_floor = drive.stretch_floor;
         for k in 0..substeps {
             // The substeps this search covers start here.
             let group = k * searches / substeps;
@@ -304,7 +316,7 @@ impl Xpbd {
             if let Some(g) = &mut self.guard {
                 g.begin_substep(&cloth.x);
             }
-            if m.strain_limit > 0.0 {
+            if limit {
                 self.start.clear();
                 self.start.extend_from_slice(&cloth.x);
             }

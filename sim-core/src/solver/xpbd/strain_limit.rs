@@ -1,4 +1,4 @@
-//! Strain limiting (`Material::strain_limit`, off by default): no triangle stretches in
+//! Strain limiting (`Material::strain_limit`, 0.2 by default): no triangle stretches in
 //! any direction past `1 + limit` times its rest length (its largest principal stretch,
 //! the larger singular value of the deformation gradient `F`), projected as a hard
 //! constraint in every substep, before the guard and again where the guard held a
@@ -26,21 +26,23 @@ use super::guard::credited;
 use crate::solver::constraints::Membrane;
 
 /// Projects every membrane of `membranes` (vertex indices into `x` and `w`) whose largest
-/// principal stretch exceeds `s_max` onto it (`relax` of the way: 1 for all of it), in
+/// principal stretch exceeds its own `s_max` (or `floor`, if more) onto it (`relax` of the
+/// way: 1 for all of it), in
 /// order, adds the corners it moves (plus `off`: where `x` starts in the cloth) to `moved`
 /// and the membranes it projected (their vertices plus `off`) to `active`.
 pub(super) fn limit_membranes(
     membranes: &[Membrane],
     x: &mut [Vec3],
     w: &[f32],
-    (s_max, relax): (f32, f32),
+    (floor, relax): (f32, f32),
     (off, moved, active): (u32, &mut Vec<u32>, &mut Vec<Membrane>),
 ) {
-    // A triangle within rounding of the limit (as the projection leaves it) is at it:
-    // moved again by rounding alone, each vertex so moved would be checked by the guard
-    // once more every substep.
-    let s2 = s_max * s_max * (1.0 + 1e-5);
     for m in membranes {
+        // A triangle within rounding of the limit (as the projection leaves it) is at it:
+        // moved again by rounding alone, each vertex so moved would be checked by the
+        // guard once more every substep. No limit: infinite, never over.
+        let s_max = m.s_max.max(floor);
+        let s2 = s_max * s_max * (1.0 + 1e-5);
         let [i0, i1, i2] = m.v.map(|i| i as usize);
         let p = [x[i0], x[i1], x[i2]];
         let fu = p[0] * m.c[0] + p[1] * m.c[1] + p[2] * m.c[2];
@@ -150,13 +152,16 @@ mod tests {
     /// A right triangle of unit legs along the warp and weft, at rest.
     fn triangle() -> (Membrane, Vec<Vec3>) {
         let rest = [Vec3::ZERO, Vec3::X, Vec3::Z];
-        let m = membrane_of([0, 1, 2], 0, rest, [Vec2::ZERO, Vec2::X, Vec2::Y]);
+        let m = Membrane {
+            s_max: 1.2,
+            ..membrane_of([0, 1, 2], 0, rest, [Vec2::ZERO, Vec2::X, Vec2::Y])
+        };
         (m, rest.to_vec())
     }
 
     /// One whole pass of the limit at 1.2 over `ms`.
     fn limit_all(ms: &[Membrane], x: &mut [Vec3], w: &[f32]) {
-        limit_membranes(ms, x, w, (1.2, 1.0), (0, &mut Vec::new(), &mut Vec::new()));
+        limit_membranes(ms, x, w, (0.0, 1.0), (0, &mut Vec::new(), &mut Vec::new()));
     }
 
     fn principal(m: &Membrane, x: &[Vec3]) -> (f32, f32) {
@@ -260,7 +265,10 @@ mod tests {
             .enumerate()
             .map(|(k, t)| {
                 let r = t.map(|i| rest[i as usize]);
-                membrane_of(*t, k as u32, r, r.map(uv))
+                Membrane {
+                    s_max: 1.2,
+                    ..membrane_of(*t, k as u32, r, r.map(uv))
+                }
             })
             .collect();
         let w = [1.0; 4];
@@ -271,7 +279,7 @@ mod tests {
             .collect();
         // As the second half of a split cloth: vertex indices offset by 5 in `active`.
         let (off, mut moved, mut active) = (5, Vec::new(), Vec::new());
-        limit_membranes(&ms, &mut x, &w, (1.2, 1.0), (off, &mut moved, &mut active));
+        limit_membranes(&ms, &mut x, &w, (0.0, 1.0), (off, &mut moved, &mut active));
         let once = worst(&x);
         assert!(once > 1.21, "one pass leaves {once}");
         assert_eq!(active.len(), 2, "both triangles were projected");
@@ -292,11 +300,58 @@ mod tests {
             .collect();
         for _ in 0..2 {
             let mut next = Vec::new();
-            limit_membranes(&active, &mut x, &w, (1.2, 1.0), (0, &mut moved, &mut next));
+            limit_membranes(&active, &mut x, &w, (0.0, 1.0), (0, &mut moved, &mut next));
             active = next;
         }
         let thrice = worst(&x);
         assert!(thrice - 1.2 < 0.2 * (once - 1.2), "{thrice} after {once}");
+    }
+
+    /// With tearing on the floor is the tear threshold: a triangle may stretch to it.
+    #[test]
+    fn a_floor_over_the_limit_lets_a_triangle_stretch_to_it() {
+        let (m, rest) = triangle();
+        let stretched: Vec<Vec3> = rest.iter().map(|p| *p * 1.5).collect();
+        let (mut moved, mut active) = (Vec::new(), Vec::new());
+        let mut x = stretched.clone();
+        limit_membranes(
+            &[m],
+            &mut x,
+            &[1.0; 3],
+            (1.6, 1.0),
+            (0, &mut moved, &mut active),
+        );
+        assert_eq!(x, stretched, "1.5x is under the floor of 1.6x");
+        limit_membranes(
+            &[m],
+            &mut x,
+            &[1.0; 3],
+            (1.4, 1.0),
+            (0, &mut moved, &mut active),
+        );
+        assert!((principal(&m, &x).0 - 1.4).abs() < 1e-4);
+    }
+
+    /// A triangle of a fabric without a limit (a knit piece) is never projected.
+    #[test]
+    fn a_triangle_without_a_limit_is_left_alone() {
+        let (m, rest) = triangle();
+        let m = Membrane {
+            s_max: f32::INFINITY,
+            ..m
+        };
+        let mut x: Vec<Vec3> = rest.iter().map(|p| *p * 3.0).collect();
+        let before = x.clone();
+        let (mut moved, mut active) = (Vec::new(), Vec::new());
+        limit_membranes(
+            &[m],
+            &mut x,
+            &[1.0; 3],
+            (0.0, 1.0),
+            (0, &mut moved, &mut active),
+        );
+        assert_eq!(x, before);
+        assert!(moved.is_empty() && active.is_empty());
     }
 
     #[test]
@@ -305,7 +360,7 @@ mod tests {
         let mut x: Vec<Vec3> = rest.iter().map(|p| *p * 1.5).collect();
         let w = [1.0; 3];
         let (mut moved, mut active) = (Vec::new(), Vec::new());
-        limit_membranes(&[m], &mut x, &w, (1.2, 0.3), (0, &mut moved, &mut active));
+        limit_membranes(&[m], &mut x, &w, (0.0, 0.3), (0, &mut moved, &mut active));
         let s = principal(&m, &x).0;
         // A uniform stretch scales about the centroid: 0.3 of the way from 1.5 to 1.2.
         assert!((s - (1.5 - 0.3 * 0.3)).abs() < 1e-4, "{s}");
