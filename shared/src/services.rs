@@ -127,11 +127,13 @@ pub fn applied_force(node: &Node<ipc::Service>) -> Result<Factory<AppliedForce>,
     open(node, APPLIED_FORCE, 1, 64)
 }
 
-/// Subscribers may buffer up to 8 (a 60 Hz frame's two models, for 65 ms): the haptic loop
-/// and the studio take 1, the newest; an observer that judges the gaps between models (the
-/// soak) takes 8, so that being held up itself does not look like cloth-sim stalling.
+/// Subscribers may buffer up to 64 (half a second of models, two a 60 Hz frame): the haptic
+/// loop and the studio take 1, the newest; an observer that judges the gaps between models
+/// (the soak) takes all 64, so that being held up itself does not look like cloth-sim
+/// stalling. With 8 (65 ms), a soak held up 66-89 ms while a UI restarted beside it read
+/// three stalls that cloth-sim's own log, which lists every gap of 50 ms, did not have.
 pub fn local_model(node: &Node<ipc::Service>) -> Result<Factory<LocalModel>, ServiceError> {
-    open(node, LOCAL_MODEL, 1, 8)
+    open(node, LOCAL_MODEL, 1, 64)
 }
 
 pub fn pointer(node: &Node<ipc::Service>) -> Result<Factory<PointerInput>, ServiceError> {
