@@ -230,9 +230,9 @@ impl Xpbd {
     /// the mannequin drape's most stretched sides were 1.27-1.28x their rest length, 1.25x
     /// with both, 1.233-1.236x with [`LIMIT_PASSES_AGAIN`] in the second (docs/models.md).
     /// A vertex the limit moved keeps as velocity only what it really moved
-    /// (`credit_moves`).
-    fn limit_and_guard(&mut self, cloth: &mut Cloth) {
-        let limit = self.limits_strain(cloth);
+    /// (`credit_moves`). `limit`: whether any triangle has a limit (`limits_strain`, once
+    /// a frame).
+    fn limit_and_guard(&mut self, cloth: &mut Cloth, limit: bool) {
         let [mut before, mut after] = std::mem::take(&mut self.limited);
         before.clear();
         after.clear();
@@ -362,7 +362,7 @@ impl Xpbd {
                     env.floor,
                 );
             }
-            self.limit_and_guard(cloth);
+            self.limit_and_guard(cloth, limit);
             // Settling after an edit: what gravity gave since the frame began.
             let gain = settling.then(|| env.gravity.length() * h * (k + 1) as f32);
             self.velocities(cloth, h, damp, gain);
