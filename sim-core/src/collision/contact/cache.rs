@@ -279,6 +279,23 @@ impl ContactCache {
     /// moved between frames, a corner) is undone without creating velocity: `prev` moves
     /// out with `x` by that much, so `(x - prev) / h` carries no kick.
     pub fn project(&self, x: &mut [Vec3], prev: &mut [Vec3], inv_mass: &[f32], p: &ContactParams) {
+        self.project_keeping(x, prev, inv_mass, p, None);
+    }
+
+    /// [`ContactCache::project`], and with `spare` (as long as `x`), each pushed particle's
+    /// static friction left unused: the tangential move it could still cancel this
+    /// substep, with the plane's normal ([`StaticFriction`]). Particles not pushed get 0.
+    pub fn project_keeping(
+        &self,
+        x: &mut [Vec3],
+        prev: &mut [Vec3],
+        inv_mass: &[f32],
+        p: &ContactParams,
+        mut spare: Option<&mut StaticFriction>,
+    ) {
+        if let Some(s) = spare.as_deref_mut() {
+            s.clear(x.len());
+        }
         for &i in &self.active {
             let i = i as usize;
             if inv_mass[i] == 0.0 {
@@ -292,7 +309,10 @@ impl ContactCache {
                 if s0 < 0.0 {
                     prev[i] -= n * s0.max(s);
                 }
-                friction(&mut x[i], prev[i], n, -s, p.friction);
+                let left = friction(&mut x[i], prev[i], n, -s, p.friction);
+                if let Some(sp) = spare.as_deref_mut() {
+                    sp.keep(i, n, left);
+                }
             }
         }
         if let Some(floor) = p.floor.filter(|_| self.floor_near) {
@@ -304,24 +324,82 @@ impl ContactCache {
                     if prev[i].y < level {
                         prev[i].y += (level - prev[i].y).min(depth);
                     }
-                    friction(&mut x[i], prev[i], Vec3::Y, depth, p.friction);
+                    let left = friction(&mut x[i], prev[i], Vec3::Y, depth, p.friction);
+                    if let Some(sp) = spare.as_deref_mut() {
+                        sp.keep(i, Vec3::Y, left);
+                    }
                 }
             }
         }
     }
 }
 
+/// The static friction each particle's contact left unused in a substep: Coulomb's cone
+/// holds a tangential move up to `mu` times the push along the normal, and what the
+/// push's own substep did not use still holds the moves made after it (the strain
+/// limit's: `Xpbd::limit_and_guard`). Without it, the limit dragged the cloth lying on the
+/// mannequin along its surface as if it had no friction: the 128 x 128 drape crept at up
+/// to 9 cm/s and never settled (docs/models.md).
+#[derive(Clone, Debug, Default)]
+pub struct StaticFriction {
+    left: Vec<f32>,
+    normal: Vec<Vec3>,
+}
+
+impl StaticFriction {
+    fn clear(&mut self, n: usize) {
+        self.left.clear();
+        self.left.resize(n, 0.0);
+        self.normal.resize(n, Vec3::ZERO);
+    }
+
+    fn keep(&mut self, i: usize, n: Vec3, left: f32) {
+        // The floor after a plane: the larger budget, along its normal.
+        if left > self.left[i] {
+            self.left[i] = left;
+            self.normal[i] = n;
+        }
+    }
+
+    /// Holds back the tangential part of particle `i`'s move from `from` to `x` with the
+    /// friction left (and uses it up): all of it inside the cone, else shortened by it.
+    pub fn hold(&mut self, i: usize, from: Vec3, x: &mut Vec3) {
+        let Some(&left) = self.left.get(i) else {
+            return;
+        };
+        if left <= 0.0 {
+            return;
+        }
+        let n = self.normal[i];
+        let d = *x - from;
+        let t = d - n * d.dot(n);
+        let len = t.length();
+        if len <= left {
+            *x -= t;
+            self.left[i] = left - len;
+        } else {
+            *x -= t * (left / len);
+            self.left[i] = 0.0;
+        }
+    }
+}
+
 /// Position-level Coulomb friction: cancel the tangential displacement when it is within
-/// the static cone (`mu * depth`), otherwise shorten it by that much.
+/// the static cone (`mu * depth`), otherwise shorten it by that much. Returns the part of
+/// the cone left unused (0 when sliding).
 #[inline]
-fn friction(x: &mut Vec3, prev: Vec3, n: Vec3, depth: f32, mu: f32) {
+fn friction(x: &mut Vec3, prev: Vec3, n: Vec3, depth: f32, mu: f32) -> f32 {
     let dx = *x - prev;
     let tangential = dx - n * dx.dot(n);
     let len = tangential.length();
     let limit = mu * depth;
     if len <= limit {
         *x -= tangential;
-    } else if len > 0.0 {
-        *x -= tangential * (limit / len);
+        limit - len
+    } else {
+        if len > 0.0 {
+            *x -= tangential * (limit / len);
+        }
+        0.0
     }
 }

@@ -7,4 +7,4 @@ mod cache;
 mod tests;
 
 pub use broad::REUSE_DISTANCE;
-pub use cache::{ContactCache, ContactParams};
+pub use cache::{ContactCache, ContactParams, StaticFriction};

@@ -199,3 +199,51 @@ fn particles_the_body_grid_proves_out_of_reach_are_not_searched_until_near() {
     assert_eq!(far.active_count(), x.len());
     assert_planes_of_a_fresh_cache(&far, &body, &x, &v, &p);
 }
+
+#[test]
+fn static_friction_left_by_the_push_holds_later_moves_until_used_up() {
+    // Particles 1 mm above the floor's contact layer, the body far away.
+    let body = sphere(Vec3::new(0.0, 5.0, 0.0), 0.2, 2).unwrap();
+    let p = ContactParams {
+        thickness: 0.004,
+        friction: 0.4,
+        floor: Some(0.0),
+    };
+    let mut x: Vec<Vec3> = (0..4)
+        .map(|i| Vec3::new(0.1 * i as f32, 0.005, 0.0))
+        .collect();
+    let (v, inv_mass) = (vec![Vec3::ZERO; 4], vec![1.0; 4]);
+    let mut cache = ContactCache::new(x.len());
+    cache.update(&body, &x, &v, DT, 9.81, &p);
+    let mut prev = x.clone();
+    // Particle 0 pressed 2 mm into the layer while sliding 0.3 mm: held (the cone is
+    // 0.8 mm), with 0.5 mm left. Particle 1 slides 1 mm: past the cone, none left.
+    x[0] += Vec3::new(0.0003, -0.003, 0.0);
+    x[1] += Vec3::new(0.001, -0.003, 0.0);
+    let mut spare = StaticFriction::default();
+    cache.project_keeping(&mut x, &mut prev, &inv_mass, &p, Some(&mut spare));
+    assert!((x[0] - prev[0]).x.abs() < 1e-7, "held by the push");
+    assert!(
+        ((x[1] - prev[1]).x - 0.0002).abs() < 1e-6,
+        "slides past the cone"
+    );
+    // Later moves of 0.3 mm along the floor: the first held whole, the second by the
+    // 0.2 mm left, the third not at all; particle 1's and 2's (nothing pushed it) not.
+    let mut slid = Vec::new();
+    for _ in 0..3 {
+        let from = x[0];
+        x[0] += Vec3::new(0.0003, 0.0001, 0.0);
+        spare.hold(0, from, &mut x[0]);
+        slid.push(x[0] - from);
+    }
+    let near = |a: Vec3, b: [f32; 3]| (a - Vec3::from(b)).length() < 1e-7;
+    assert!(near(slid[0], [0.0, 0.0001, 0.0]), "{slid:?}");
+    assert!(near(slid[1], [0.0001, 0.0001, 0.0]), "{slid:?}");
+    assert!(near(slid[2], [0.0003, 0.0001, 0.0]), "{slid:?}");
+    for i in [1, 2] {
+        let from = x[i];
+        x[i] += Vec3::new(0.0003, 0.0, 0.0);
+        spare.hold(i, from, &mut x[i]);
+        assert!(near(x[i] - from, [0.0003, 0.0, 0.0]), "particle {i}");
+    }
+}

@@ -10,6 +10,7 @@ use super::limits::{CoarseScratch, StretchLimits};
 use super::settle::Settle;
 use super::strain_limit::{credit_moves, limit_membranes};
 use super::tethers::{solve_tethers, stretch_limits, tethers};
+use crate::collision::contact::StaticFriction;
 use crate::collision::{Body, ContactCache};
 use crate::solver::constraints::{BendConstraint, Elements, HingeShares, Membrane, elements_of};
 use crate::solver::material::Material;
@@ -51,6 +52,10 @@ pub struct Xpbd {
     /// every vertex began the substep (scratch, kept only while the limit is on).
     limited: [Vec<u32>; 2],
     start: Vec<Vec3>,
+    /// The static friction the body's contact left unused this substep, which holds back
+    /// the limit's moves of the vertices lying on it, and where they were before them.
+    friction_left: StaticFriction,
+    before_limit: Vec<Vec3>,
     /// This frame's least limit on a triangle's stretch (`Drive::stretch_floor`).
     stretch_floor: f32,
     /// The membranes the strain limit's pass projected, in the whole cloth's indices
@@ -134,6 +139,8 @@ impl Xpbd {
             coarse: CoarseScratch::default(),
             limited: [Vec::new(), Vec::new()],
             start: Vec::new(),
+            friction_left: StaticFriction::default(),
+            before_limit: Vec::new(),
             stretch_floor: 0.0,
             active: [Vec::new(), Vec::new()],
             groups,
@@ -230,15 +237,25 @@ impl Xpbd {
     /// the mannequin drape's most stretched sides were 1.27-1.28x their rest length, 1.25x
     /// with both, 1.233-1.236x with [`LIMIT_PASSES_AGAIN`] in the second (docs/models.md).
     /// A vertex the limit moved keeps as velocity only what it really moved
-    /// (`credit_moves`). `limit`: whether any triangle has a limit (`limits_strain`, once
-    /// a frame).
+    /// (`credit_moves`). The first pass's move of a vertex lying on the body is held back
+    /// by the static friction its contact left unused this substep (`StaticFriction`):
+    /// the limit no longer drags resting cloth along the body as if it had no friction
+    /// (the 128 x 128 mannequin drape crept at up to 9 cm/s and never settled; now it
+    /// does, docs/models.md). `limit`: whether any triangle has a limit (`limits_strain`,
+    /// once a frame).
     fn limit_and_guard(&mut self, cloth: &mut Cloth, limit: bool) {
         let [mut before, mut after] = std::mem::take(&mut self.limited);
         before.clear();
         after.clear();
         let w = &cloth.inv_mass[..];
         if limit {
+            self.before_limit.clear();
+            self.before_limit.extend_from_slice(&cloth.x);
             self.limit_strain(&mut cloth.x, w, &mut before, 0);
+            for &i in &before {
+                let i = i as usize;
+                (self.friction_left).hold(i, self.before_limit[i], &mut cloth.x[i]);
+            }
         }
         if let Some(g) = &mut self.guard {
             g.enforce(&mut cloth.x, &mut self.prev);
@@ -351,7 +368,8 @@ impl Xpbd {
                 solve_tethers(&self.tethers, &mut cloth.x);
             }
             drive.grip.pull(&mut cloth.x, &cloth.inv_mass, inv_h2);
-            contacts.project(&mut cloth.x, &mut self.prev, &cloth.inv_mass, &cp);
+            let spare = limit.then_some(&mut self.friction_left);
+            contacts.project_keeping(&mut cloth.x, &mut self.prev, &cloth.inv_mass, &cp, spare);
             if let Some(g) = &mut self.guard {
                 g.respond(
                     &mut cloth.x,
