@@ -5,7 +5,7 @@ use rustc_hash::FxHashMap as HashMap;
 use glam::Vec3;
 
 use super::groups::{Compliance, Group, Loc, solve_bending, solve_membranes, split_groups};
-use super::guard::Guard;
+use super::guard::{Guard, credited};
 use super::limits::{CoarseScratch, StretchLimits};
 use super::settle::Settle;
 use super::strain_limit::{credit_moves, limit_membranes};
@@ -49,7 +49,7 @@ pub struct Xpbd {
     link_w: Vec<f32>,
     coarse: CoarseScratch,
     /// The vertices the strain limit moved before and after the guard's pass, and where
-    /// every vertex began the substep (scratch, kept only while the limit is on).
+    /// every vertex began the substep (scratch).
     limited: [Vec<u32>; 2],
     start: Vec<Vec3>,
     /// The static friction the body's contact left unused this substep, which holds back
@@ -333,10 +333,8 @@ impl Xpbd {
             if let Some(g) = &mut self.guard {
                 g.begin_substep(&cloth.x);
             }
-            if limit {
-                self.start.clear();
-                self.start.extend_from_slice(&cloth.x);
-            }
+            self.start.clear();
+            self.start.extend_from_slice(&cloth.x);
             let g = env.gravity * h;
             for i in 0..cloth.len() {
                 self.prev[i] = cloth.x[i];
@@ -381,6 +379,7 @@ impl Xpbd {
                 );
             }
             self.limit_and_guard(cloth, limit);
+            self.credit_pushes(&cloth.x);
             // Settling after an edit: what gravity gave since the frame began.
             let gain = settling.then(|| env.gravity.length() * h * (k + 1) as f32);
             self.velocities(cloth, h, damp, gain);
@@ -394,6 +393,22 @@ impl Xpbd {
         self.coarse = coarse;
         if let Some(g) = &mut self.guard {
             g.end_frame(drive);
+        }
+    }
+
+    /// Contact moved `prev` out with a vertex by the push it gave to what was already too
+    /// close at the substep's start (so the push is no velocity); of that shift each
+    /// vertex keeps only as much as it really moved that way by the substep's end. The
+    /// guard and the limit credit their own vertices so; this credits the rest, pushed
+    /// and then held back by the cloth round them. Without it a vertex in a resting stack
+    /// of layers, pushed back up each substep to where it began, kept 0.1 m/s downward
+    /// that it never had, and `fold` never settled (docs/models.md).
+    fn credit_pushes(&mut self, x: &[Vec3]) {
+        let n = x.len().min(self.start.len()).min(self.prev.len());
+        for i in 0..n {
+            if self.prev[i] != self.start[i] {
+                self.prev[i] = credited(self.prev[i], self.start[i], x[i]);
+            }
         }
     }
 
