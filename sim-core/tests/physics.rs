@@ -826,37 +826,32 @@ fn xpbd_guard_lists_no_pairs_of_neighbours_on_a_fine_cloth_at_rest() {
     assert_eq!(sim.crossings().self_pairs, 0);
 }
 
-/// Two layers lying on the floor under the guard, the upper one closer than the contact
-/// thickness: the cloth-cloth push lifts the upper layer and does not press the lower one
-/// into the floor (given half the push, it sank under the thickness at every substep's
-/// end and the floor pushed it back up the next, which in the fold scenario's stack never
-/// settled).
-#[test]
-fn xpbd_guard_does_not_press_a_layer_into_the_floor() {
+/// `count` 0.2 m squares of 10 x 10 cells, apart in the pattern, laid flat one over the
+/// other on the floor, layer `k` at `height(k)`, under the xpbd model with its guard; and
+/// each layer's vertex count.
+fn layers_on_the_floor(count: usize, height: impl Fn(usize) -> f32) -> (Simulation, usize) {
     let m = Material::default();
-    let t = m.thickness;
-    let lower = ClothMesh::grid(0.2, 0.2, 10, 10, t).unwrap();
-    let upper = ClothMesh::grid(0.2, 0.2, 10, 10, t).unwrap();
-    let n = lower.positions.len();
-    // Another piece, apart in the pattern, then laid on the first.
-    let mesh = ClothMesh {
-        positions: lower
-            .positions
-            .iter()
-            .copied()
-            .chain(upper.positions.iter().map(|p| *p + Vec3::X * 0.5))
-            .collect(),
-        uvs: [lower.uvs.clone(), upper.uvs.clone()].concat(),
-        triangles: lower
-            .triangles
-            .iter()
-            .copied()
-            .chain(upper.triangles.iter().map(|tri| tri.map(|i| i + n as u32)))
-            .collect(),
+    let layer = ClothMesh::grid(0.2, 0.2, 10, 10, m.thickness).unwrap();
+    let n = layer.positions.len();
+    let mut mesh = ClothMesh {
+        positions: Vec::new(),
+        uvs: Vec::new(),
+        triangles: Vec::new(),
     };
+    for k in 0..count {
+        let off = (k * n) as u32;
+        let along = Vec3::X * 0.5 * k as f32;
+        mesh.positions
+            .extend(layer.positions.iter().map(|p| *p + along));
+        mesh.uvs.extend(layer.uvs.iter().copied());
+        let tris = layer.triangles.iter().map(|tri| tri.map(|i| i + off));
+        mesh.triangles.extend(tris);
+    }
     let mut cloth = Cloth::new(mesh, &m).unwrap();
-    for p in &mut cloth.x[n..] {
-        *p = Vec3::new(p.x - 0.5, 1.6 * t, p.z);
+    for k in 0..count {
+        for p in &mut cloth.x[k * n..(k + 1) * n] {
+            *p = Vec3::new(p.x - 0.5 * k as f32, height(k), p.z);
+        }
     }
     let env = Environment {
         floor: Some(0.0),
@@ -864,6 +859,18 @@ fn xpbd_guard_does_not_press_a_layer_into_the_floor() {
     };
     let mut sim = Simulation::new(cloth, None, ModelKind::Xpbd, m, env, None).unwrap();
     assert!(sim.set_guard(true));
+    (sim, n)
+}
+
+/// Two layers lying on the floor under the guard, the upper one closer than the contact
+/// thickness: the cloth-cloth push lifts the upper layer and does not press the lower one
+/// into the floor (given half the push, it sank under the thickness at every substep's
+/// end and the floor pushed it back up the next, which in the fold scenario's stack never
+/// settled).
+#[test]
+fn xpbd_guard_does_not_press_a_layer_into_the_floor() {
+    let t = Material::default().thickness;
+    let (mut sim, n) = layers_on_the_floor(2, |k| if k == 0 { t } else { 1.6 * t });
     for frame in 0..60 {
         sim.step().unwrap();
         let low = sim.cloth.x[..n]
@@ -887,37 +894,8 @@ fn xpbd_guard_does_not_press_a_layer_into_the_floor() {
 /// downward at rest in the fold scenario's stack, which never settled.
 #[test]
 fn xpbd_guard_lets_a_stack_of_layers_come_to_rest() {
-    let m = Material::default();
-    let t = m.thickness;
-    let layer = ClothMesh::grid(0.2, 0.2, 10, 10, t).unwrap();
-    let n = layer.positions.len();
-    // Three pieces, apart in the pattern, then laid on one another 0.7 thickness apart.
-    let mut mesh = ClothMesh {
-        positions: Vec::new(),
-        uvs: Vec::new(),
-        triangles: Vec::new(),
-    };
-    for k in 0..3 {
-        let off = (k * n) as u32;
-        let along = Vec3::X * 0.5 * k as f32;
-        mesh.positions
-            .extend(layer.positions.iter().map(|p| *p + along));
-        mesh.uvs.extend(layer.uvs.iter().copied());
-        let tris = layer.triangles.iter().map(|tri| tri.map(|i| i + off));
-        mesh.triangles.extend(tris);
-    }
-    let mut cloth = Cloth::new(mesh, &m).unwrap();
-    for k in 0..3 {
-        for p in &mut cloth.x[k * n..(k + 1) * n] {
-            *p = Vec3::new(p.x - 0.5 * k as f32, (1.0 + 0.7 * k as f32) * t, p.z);
-        }
-    }
-    let env = Environment {
-        floor: Some(0.0),
-        ..Environment::default()
-    };
-    let mut sim = Simulation::new(cloth, None, ModelKind::Xpbd, m, env, None).unwrap();
-    assert!(sim.set_guard(true));
+    let t = Material::default().thickness;
+    let (mut sim, _) = layers_on_the_floor(3, |k| (1.0 + 0.7 * k as f32) * t);
     for _ in 0..300 {
         sim.step().unwrap();
     }
