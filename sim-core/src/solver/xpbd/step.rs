@@ -5,7 +5,7 @@ use rustc_hash::FxHashMap as HashMap;
 use glam::Vec3;
 
 use super::groups::{Compliance, Group, Loc, solve_bending, solve_membranes, split_groups};
-use super::guard::{Guard, credited};
+use super::guard::Guard;
 use super::limits::{CoarseScratch, StretchLimits};
 use super::settle::Settle;
 use super::strain_limit::{credit_moves, limit_membranes};
@@ -236,8 +236,8 @@ impl Xpbd {
     /// which it then checks again for the vertices moved. Limited before the guard only,
     /// the mannequin drape's most stretched sides were 1.27-1.28x their rest length, 1.25x
     /// with both, 1.233-1.236x with [`LIMIT_PASSES_AGAIN`] in the second (docs/models.md).
-    /// A vertex the limit moved keeps as velocity only what it really moved
-    /// (`credit_moves`). The first pass's move of a vertex lying on the body is held back
+    /// A vertex the limit moved keeps as velocity only what it really moved (credited
+    /// with every vertex at the substep's end, `credit_pushes`). The first pass's move of a vertex lying on the body is held back
     /// by the static friction its contact left unused this substep (`StaticFriction`):
     /// the limit no longer drags resting cloth along the body as if it had no friction
     /// (the 128 x 128 mannequin drape crept at up to 9 cm/s and never settled; now it
@@ -266,11 +266,6 @@ impl Xpbd {
             after.dedup();
             if let Some(g) = &mut self.guard {
                 g.enforce_only(&mut cloth.x, &after);
-            }
-        }
-        if limit {
-            for verts in [&before, &after] {
-                credit_moves(&mut self.prev, &self.start, &cloth.x, verts);
             }
         }
         self.limited = [before, after];
@@ -398,18 +393,14 @@ impl Xpbd {
 
     /// Contact moved `prev` out with a vertex by the push it gave to what was already too
     /// close at the substep's start (so the push is no velocity); of that shift each
-    /// vertex keeps only as much as it really moved that way by the substep's end. The
-    /// guard and the limit credit their own vertices so; this credits the rest, pushed
-    /// and then held back by the cloth round them. Without it a vertex in a resting stack
+    /// vertex keeps only as much as it really moved that way by the substep's end
+    /// (`credit_moves`): the strain limit's vertices, and those pushed and then held back
+    /// by the cloth round them. (The guard credits the vertices it holds at its pass.) Without it a vertex in a resting stack
     /// of layers, pushed back up each substep to where it began, kept 0.1 m/s downward
     /// that it never had, and `fold` never settled (docs/models.md).
     fn credit_pushes(&mut self, x: &[Vec3]) {
         let n = x.len().min(self.start.len()).min(self.prev.len());
-        for i in 0..n {
-            if self.prev[i] != self.start[i] {
-                self.prev[i] = credited(self.prev[i], self.start[i], x[i]);
-            }
-        }
+        credit_moves(&mut self.prev, &self.start, x, 0..n as u32);
     }
 
     /// The substep's velocities from its moves: the material's mass damping, air drag on

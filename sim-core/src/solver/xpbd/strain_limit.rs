@@ -127,15 +127,21 @@ fn projection(
 
 /// Contact undoes a penetration that was already there when the substep began without
 /// making it velocity: it moves `prev` out with the vertex (`ContactCache::project`, the
-/// guard's `respond`). Of that shift, a vertex the strain limit moved keeps only as much
-/// as it really moved that way from `start`, as the guard's pass does for the vertices it
-/// holds. Otherwise a vertex the limit pulls back into the contact layer every substep
-/// ends each one where it began with a speed it never had, and carries that speed into
-/// the next, where contact again pushes it out and the limit pulls it in: on the sewn
-/// dress with the limit, a few vertices by the neck held 0.16-0.19 m/s standing still,
-/// and the garment never settled.
-pub(super) fn credit_moves(prev: &mut [Vec3], start: &[Vec3], x: &[Vec3], verts: &[u32]) {
-    for &i in verts {
+/// guard's `respond`). Of that shift, each vertex of `verts` keeps only as much as it
+/// really moved that way from `start`, as the guard's pass does for the vertices it
+/// holds (`Xpbd::credit_pushes` calls it for every vertex at the substep's end).
+/// Otherwise a vertex the limit pulls back into the contact layer every substep ends each
+/// one where it began with a speed it never had, and carries that speed into the next,
+/// where contact again pushes it out and the limit pulls it in: on the sewn dress with
+/// the limit, a few vertices by the neck held 0.16-0.19 m/s standing still, and the
+/// garment never settled.
+pub(super) fn credit_moves(
+    prev: &mut [Vec3],
+    start: &[Vec3],
+    x: &[Vec3],
+    verts: impl IntoIterator<Item = u32>,
+) {
+    for i in verts {
         let i = i as usize;
         if prev[i] != start[i] {
             prev[i] = credited(prev[i], start[i], x[i]);
@@ -237,7 +243,7 @@ mod tests {
             Vec3::new(0.0, -0.5e-3, 0.0), // pulled in past where it began
         ];
         let mut prev = [shifted; 4];
-        credit_moves(&mut prev, &start, &x, &[0, 1, 2, 3]);
+        credit_moves(&mut prev, &start, &x, [0, 1, 2, 3]);
         // Velocity (x - prev) / h: none along the push for the vertex that did not move,
         // none of it for the one that kept 0.4 mm; the others keep the shift whole, or
         // none of it.
@@ -248,7 +254,7 @@ mod tests {
         assert!(near(prev[3], Vec3::ZERO), "{}", prev[3]);
         // A vertex the limit did not move is left alone.
         let mut prev = [shifted; 4];
-        credit_moves(&mut prev, &start, &x, &[1]);
+        credit_moves(&mut prev, &start, &x, [1]);
         assert!(near(prev[1], x[1]));
         assert_eq!([prev[0], prev[2], prev[3]], [shifted; 3]);
     }
