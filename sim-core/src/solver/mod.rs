@@ -12,6 +12,7 @@ mod material;
 mod model;
 mod motion;
 mod pinch;
+mod rest;
 mod seed;
 mod sim;
 mod state;
@@ -25,6 +26,7 @@ pub use implicit::{EarlyStop, Implicit, ImplicitError};
 pub use material::{DEFAULT_SHEAR_DAMPING, DEFAULT_THICKNESS, Material, ModelKind};
 pub use model::{ContactStats, Drive, Environment, FrameInput, Solver, StepError};
 pub use pinch::{Grip, PenInput, PenPath, Pinch};
+pub use rest::SleepRule;
 pub use seed::{Seed, seed_safe_step, seed_stable_step};
 pub use sim::{
     FrameStats, MAX_FRAME_SUBSTEPS, MAX_SUBSTEPS, Simulation, VBD_DEFAULT_SUBSTEPS,

@@ -12,7 +12,7 @@ use crate::collision::{Body, ContactCache};
 use crate::error::ConfigError;
 
 /// The world around the cloth.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Environment {
     pub gravity: Vec3,
     /// Duration of one frame, s (substeps are inside it).

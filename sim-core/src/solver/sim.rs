@@ -10,6 +10,7 @@ use super::implicit::Implicit;
 use super::material::{Material, ModelKind};
 use super::model::{Drive, Environment, FrameInput, Solver, StepError};
 use super::pinch::{Grip, PenPath, Pinch};
+use super::rest::{Rest, Scene, SleepRule};
 use super::seed::{Seed, seed_safe_step, seed_stable_step};
 use super::state::Cloth;
 use super::stitch::Stitch;
@@ -33,6 +34,8 @@ pub struct FrameStats {
     pub torn: usize,
     /// Seam stitches welded this frame.
     pub welded: usize,
+    /// The cloth slept through the frame (see [`Simulation::sleep`]): nothing moved.
+    pub asleep: bool,
 }
 
 #[derive(Debug)]
@@ -56,6 +59,10 @@ pub struct Simulation {
     /// limit): while tearing is on the design sets it a quarter past the tear threshold,
     /// so that a side can stretch far enough to tear.
     pub stretch_floor: f32,
+    /// When the cloth falls asleep once it has come to rest (`solver::rest`); `None`, the
+    /// default here, simulates every frame. cloth-sim's service turns it on.
+    pub sleep: Option<SleepRule>,
+    pub(crate) rest: Rest,
     pub(crate) contacts: ContactCache,
     pub(crate) solver: Box<dyn Solver>,
 }
@@ -169,6 +176,8 @@ impl Simulation {
             grip: Grip::default(),
             stitches: Vec::new(),
             stretch_floor: 0.0,
+            sleep: None,
+            rest: Rest::default(),
             contacts,
             solver,
         })
@@ -186,6 +195,7 @@ impl Simulation {
 
     /// Turns the model's no-crossing guard on or off (xpbd); whether it has one.
     pub fn set_guard(&mut self, on: bool) -> bool {
+        self.rest.wake();
         self.solver.set_guard(&self.cloth, on)
     }
 
@@ -200,6 +210,20 @@ impl Simulation {
     pub fn step_with(&mut self, pen: &mut PenPath<'_>) -> Result<FrameStats, StepError> {
         let t0 = Instant::now();
         let mut stats = FrameStats::default();
+        match self.rest.unchanged(&self.scene()) {
+            Some(true) if self.sleep.is_some() => {
+                self.rest.slept();
+                self.grip.begin_frame();
+                self.frame += 1;
+                // The contacts are those of the frame it fell asleep in.
+                (stats.contacts, stats.queries) = self.rest.last;
+                stats.asleep = true;
+                stats.wall_ms = t0.elapsed().as_secs_f64() * 1e3;
+                return Ok(stats);
+            }
+            Some(_) => self.rest.wake(),
+            None => {}
+        }
         let cp = self.material.contact_params(self.env.floor);
         let own_contact = self.solver.own_contact();
         if let Some(body) = self.body.as_ref().filter(|_| !own_contact) {
@@ -256,17 +280,68 @@ impl Simulation {
             stats.collision_ms += t1.elapsed().as_secs_f64() * 1e3;
         }
         self.frame += 1;
-        stats.wall_ms = t0.elapsed().as_secs_f64() * 1e3;
         if !self.cloth.in_scene() {
             return Err(StepError::Diverged { frame: self.frame });
         }
+        self.watch_rest(&stats);
+        stats.wall_ms = t0.elapsed().as_secs_f64() * 1e3;
         Ok(stats)
+    }
+
+    /// After a frame: puts the cloth to sleep once it has been still for the rule's
+    /// frames (its velocities zeroed; see `solver::rest`), unless the pen holds it or a
+    /// seam stitch is open (a seam is never left half sewn).
+    fn watch_rest(&mut self, stats: &FrameStats) {
+        let Some(rule) = self.sleep else { return };
+        let held = self.grip.pinch.is_some() || !self.stitches.is_empty();
+        if self
+            .rest
+            .watch(&rule, &self.cloth.x, &self.cloth.inv_mass, held)
+        {
+            self.cloth.v.iter_mut().for_each(|v| *v = Vec3::ZERO);
+            let print = self.scene().print();
+            self.rest.fall_asleep(print);
+            self.rest.last = (stats.contacts, stats.queries);
+        }
+    }
+
+    /// The scene as sleep compares it.
+    fn scene(&self) -> Scene<'_> {
+        Scene {
+            x: &self.cloth.x,
+            v: &self.cloth.v,
+            inv_mass: &self.cloth.inv_mass,
+            triangles: self.cloth.live.iter().count(),
+            env: &self.env,
+            substeps: self.substeps,
+            material: &self.material,
+            stitches: &self.stitches,
+            stretch_floor: self.stretch_floor,
+            body: self.body.as_ref(),
+            pinched: self.grip.pinch.is_some(),
+        }
+    }
+
+    /// Whether the cloth sleeps (it came to rest, and nothing has touched it since).
+    pub fn asleep(&self) -> bool {
+        self.rest.asleep()
+    }
+
+    /// Frames the cloth slept through since the simulation began.
+    pub fn frames_asleep(&self) -> u64 {
+        self.rest.frames_asleep
+    }
+
+    /// Wakes a sleeping cloth: the next frame is simulated, and the watch starts again.
+    pub fn wake(&mut self) {
+        self.rest.wake();
     }
 
     /// After the design edited the cloth (triangle slots, edge keys, and vertices whose
     /// mass or pin changed, each sorted and without repeats): brings masses, the contact
     /// cache and the model up to date with the live mesh.
     pub fn cloth_edited(&mut self, tris: &[u32], edges: &[u64], verts: &[u32]) {
+        self.rest.wake();
         for &v in verts {
             self.cloth.update_mass(v as usize, self.material.density);
         }
@@ -278,6 +353,7 @@ impl Simulation {
 
     /// Pins vertex `i` where it is (rebuilds what depends on the free set).
     pub fn pin(&mut self, i: usize) {
+        self.rest.wake();
         self.cloth.pin(i);
         self.solver.pinned(&self.cloth, i as u32);
     }
@@ -293,6 +369,7 @@ impl Simulation {
         substeps: Option<usize>,
     ) -> Result<(), ConfigError> {
         material.validate()?;
+        self.rest.wake();
         if let Some(n) = substeps
             && !(1..=MAX_SUBSTEPS).contains(&n)
         {
@@ -324,6 +401,7 @@ impl Simulation {
         if zones == self.cloth.zones {
             return Ok(());
         }
+        self.rest.wake();
         let old = self.cloth.zones.clone();
         // Masses first: the models pack inverse masses with their elements.
         self.cloth.set_zones(zones, self.material.density);
@@ -401,6 +479,7 @@ impl Simulation {
 
     /// Holds the cloth with `pinch` (the design chose the vertices), replacing any pinch.
     pub fn set_pinch(&mut self, pinch: Option<Pinch>) {
+        self.rest.wake();
         self.grip.pinch = pinch;
     }
 
