@@ -27,6 +27,8 @@ pub struct ServiceConfig {
     /// `--guard` or `--no-guard` as given at start (`None`: neither): a loaded design
     /// takes it; otherwise it keeps the switch its file has.
     pub guard_forced: Option<bool>,
+    /// Let a cloth at rest fall asleep (`--no-sleep`: never), whatever design is loaded.
+    pub sleep: bool,
 }
 
 impl ServiceConfig {
@@ -46,6 +48,7 @@ impl ServiceConfig {
             couple_applied_force: true,
             scene: ScenarioConfig::new(ScenarioName::DrapeCube),
             guard_forced: None,
+            sleep: true,
         }
     }
 }

@@ -142,6 +142,11 @@ struct RunArgs {
     /// too. The studio's "Never cross (guard)" switch turns it back on.
     #[arg(long)]
     no_guard: bool,
+    /// Keep simulating a cloth that has come to rest. By default it falls asleep once no
+    /// vertex has moved 0.2 mm in a second, and costs nothing until the pen, an edit or
+    /// a setting wakes it (docs/models.md, "A cloth at rest sleeps").
+    #[arg(long)]
+    no_sleep: bool,
     /// Substeps per frame (default: the model's).
     #[arg(long, allow_negative_numbers = true, value_parser = whole_in::<usize>(1, MAX_FRAME_SUBSTEPS as i64, " per frame"))]
     substeps: Option<usize>,
@@ -235,6 +240,11 @@ struct ScenarioArgs {
     /// behaviour before 2026-11-28), at a fraction of the frame time.
     #[arg(long)]
     no_guard: bool,
+    /// Let the cloth fall asleep once it has come to rest, as `cloth-sim run` does (no
+    /// vertex moved 0.2 mm in a second): the report adds `frames_asleep` and
+    /// `step_ms_awake`. Off by default, so that the frame times measure the solver.
+    #[arg(long)]
+    sleep: bool,
     /// Frames of 1/60 s to simulate (the operation scenarios act at frame 240).
     #[arg(long, default_value_t = 600, allow_negative_numbers = true, value_parser = whole_in::<u64>(1, MAX_FRAMES as i64, ""))]
     frames: u64,
@@ -475,6 +485,7 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
     }
     cfg.rate_hz = a.rate;
     cfg.seconds = a.seconds;
+    cfg.sleep = !a.no_sleep;
     cfg.pinch_stiffness = a.pinch_stiffness;
     cfg.couple_applied_force = !a.no_force_coupling;
     let mut scene = ScenarioConfig::new(ScenarioName::DrapeCube);
@@ -628,6 +639,7 @@ fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>> {
     cfg.grid = a.grid;
     cfg.model = a.model.unwrap_or(ModelKind::Xpbd);
     cfg.guard = guard_choice(a.guard, a.no_guard, cfg.model)?.unwrap_or(true);
+    cfg.sleep = a.sleep;
     cfg.frames = a.frames;
     if let Some(b) = a.body {
         cfg.body = b.0;

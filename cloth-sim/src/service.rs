@@ -20,7 +20,7 @@ use shared::telemetry::SimTelemetry;
 use shared::ui_to_sim::CommandReply;
 use shared::{Header, services};
 use sim_core::design::{Design, TILE};
-use sim_core::solver::{FrameStats, ModelKind};
+use sim_core::solver::{FrameStats, ModelKind, SleepRule};
 
 use crate::autosave::Autosave;
 use crate::commands::{carry_out, model_code, replacement, seam_tip, set_strain_limit};
@@ -479,6 +479,9 @@ impl Service<'_> {
     /// Steps one frame; while pinching, the pen is read again before each substep, so
     /// samples that arrive while the frame is computed join the path.
     fn step(&mut self) -> Result<FrameStats, String> {
+        // Every design the service holds (a new scene, a loaded file) sleeps at rest
+        // unless `--no-sleep`.
+        self.design.sim.sleep = self.cfg.sleep.then(SleepRule::default);
         let pinching = self.design.sim.pinch().is_some();
         let (feed, ports, stats, cfg) = (&mut self.feed, &self.ports, &mut self.stats, self.cfg);
         let fs = self
@@ -528,6 +531,7 @@ impl Service<'_> {
             tel.model = model_code(sim.model);
             tel.never_crosses = u32::from(sim.never_crosses());
             tel.strain_limit = sim.material.strain_limit;
+            tel.asleep = u32::from(sim.asleep());
             let _ = self.ports.telemetry.send_copy(**tel);
             self.tel_at = (Instant::now(), sim.frame);
         }

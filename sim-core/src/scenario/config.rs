@@ -14,7 +14,7 @@ use crate::mesh::mesher::{self, EDGE_RANGE, MeshError, Outline};
 use crate::mesh::svg;
 use crate::mesh::{ClothMesh, obj};
 use crate::solver::{
-    Cloth, Environment, MAX_FRAME_SUBSTEPS, Material, ModelKind, Simulation, StepError,
+    Cloth, Environment, MAX_FRAME_SUBSTEPS, Material, ModelKind, Simulation, SleepRule, StepError,
 };
 
 /// The scenarios `cloth-sim scenario` knows.
@@ -144,6 +144,10 @@ pub struct ScenarioConfig {
     /// by default; the other models ignore it (vbd's contact is always guarded, the
     /// paper's model and the implicit reference have none).
     pub guard: bool,
+    /// Let the cloth fall asleep once it has come to rest, as cloth-sim's service does
+    /// (`solver::rest`, [`SleepRule::default`]). Off by default here: a scenario measures
+    /// every frame's work.
+    pub sleep: bool,
 }
 
 /// A pattern piece by its outline's shape and size, m, or the pieces of an SVG file.
@@ -299,6 +303,7 @@ impl ScenarioConfig {
             fabric: None,
             piece_fabrics: Vec::new(),
             guard: true,
+            sleep: false,
         }
     }
 }
@@ -506,6 +511,7 @@ pub fn build_scene(cfg: &ScenarioConfig) -> Result<(Design, Option<PatternSpec>)
     if cfg.model == ModelKind::Xpbd {
         sim.set_guard(cfg.guard);
     }
+    sim.sleep = cfg.sleep.then(SleepRule::default);
     sim.notices.extend(notices);
     let mut design = Design::new(sim);
     design.pieces = records;

@@ -126,6 +126,15 @@ pub struct Report {
     pub step_ms: Percentiles,
     /// The frame's collision broad phase alone, ms.
     pub collision_ms: Percentiles,
+    /// Whether the cloth could fall asleep once at rest (`--sleep`); the frames it slept
+    /// through (each a check that nothing changed, a fraction of a millisecond), the
+    /// first of them (1-based), and the frame time over the frames it was awake.
+    pub sleep: bool,
+    pub frames_asleep: u64,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub first_frame_asleep: Option<u64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub step_ms_awake: Option<Percentiles>,
     /// Each frame's wall time in order, ms to 0.01: where a run spent its time (a drape's
     /// landing frames against its resting ones), which the percentiles do not say.
     pub frame_ms: Vec<f64>,

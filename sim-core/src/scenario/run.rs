@@ -21,10 +21,25 @@ use crate::mesh::obj;
 struct Frames {
     step_ms: Vec<f64>,
     collision_ms: Vec<f64>,
+    /// The frames the cloth did not sleep through (with `--sleep`), ms.
+    awake_ms: Vec<f64>,
+    /// The first frame it slept through.
+    first_asleep: Option<u64>,
     kinetic_energy_max: f64,
     ops: OpsReport,
     /// With `check_every`: the most crossings seen at a checked frame.
     crossings_max: Option<Crossings>,
+}
+
+/// The once-a-second progress line, after frame `frame` (1-based).
+fn progress(cfg: &ScenarioConfig, frame: u64, step_ms: &[f64], ke: f64, contacts: usize) {
+    eprintln!(
+        "{}: frame {frame}/{} ({:.0}%), frame p50 {:.2} ms, kinetic energy {ke:.2e} J, {contacts} contacts",
+        cfg.scenario.name(),
+        cfg.frames,
+        100.0 * frame as f64 / cfg.frames as f64,
+        Percentiles::of(step_ms).p50,
+    );
 }
 
 /// The seam allowance of the pattern every scenario writes, mm.
@@ -152,20 +167,16 @@ fn run_frames(
         }
         frames.step_ms.push(stats.wall_ms);
         frames.collision_ms.push(stats.collision_ms);
+        if stats.asleep {
+            frames.first_asleep.get_or_insert(f + 1);
+        } else {
+            frames.awake_ms.push(stats.wall_ms);
+        }
         let ke = design.sim.cloth.kinetic_energy();
         frames.kinetic_energy_max = frames.kinetic_energy_max.max(ke);
         if cfg.progress && last_print.elapsed().as_secs_f64() >= 1.0 {
             last_print = Instant::now();
-            let p = Percentiles::of(&frames.step_ms);
-            eprintln!(
-                "{}: frame {}/{} ({:.0}%), frame p50 {:.2} ms, kinetic energy {ke:.2e} J, {} contacts",
-                cfg.scenario.name(),
-                f + 1,
-                cfg.frames,
-                100.0 * (f + 1) as f64 / cfg.frames as f64,
-                p.p50,
-                stats.contacts
-            );
+            progress(cfg, f + 1, &frames.step_ms, ke, stats.contacts);
         }
     }
     if ops.seams.is_some() {
@@ -373,6 +384,10 @@ fn report(
         substeps: sim.substeps,
         step_ms: Percentiles::of(&frames.step_ms),
         collision_ms: Percentiles::of(&frames.collision_ms),
+        sleep: cfg.sleep,
+        frames_asleep: sim.frames_asleep(),
+        first_frame_asleep: frames.first_asleep,
+        step_ms_awake: cfg.sleep.then(|| Percentiles::of(&frames.awake_ms)),
         frame_ms: frames
             .step_ms
             .iter()
