@@ -157,6 +157,18 @@ mod tests {
     use super::*;
 
     #[test]
+    fn sim_telemetry_says_whether_the_cloth_sleeps_and_nothing_else() {
+        let tel = |asleep| SimTelemetry {
+            asleep,
+            ..Default::default()
+        };
+        assert!(tel(0).check_body().is_ok());
+        assert!(tel(1).check_body().is_ok());
+        let e = tel(7).check_body().unwrap_err();
+        assert!(e.contains("sleep 7"), "{e}");
+    }
+
+    #[test]
     fn histogram_quantiles() {
         let mut h = Histogram::default();
         for us in 1..=1000u64 {
@@ -246,7 +258,10 @@ pub struct SimTelemetry {
     /// The xpbd model's strain limit (0.2: no triangle past 1.2x its rest length; 0:
     /// none). Since protocol 10.
     pub strain_limit: f32,
-    pub _pad: u32,
+    /// 1 while the cloth sleeps: it came to rest and is not simulated until the pen, an
+    /// edit or a setting wakes it; else 0. It took the place of padding, so an older
+    /// cloth-sim sends 0 and an older studio ignores it.
+    pub asleep: u32,
 }
 
 /// [`SimTelemetry::model`] values.
@@ -291,10 +306,10 @@ impl Checked for SimTelemetry {
         if self.body > scene_body::LAST {
             return Err(format!("unknown body {}", self.body));
         }
-        if self.model > scene_model::LAST || self.never_crosses > 1 {
+        if self.model > scene_model::LAST || self.never_crosses > 1 || self.asleep > 1 {
             return Err(format!(
-                "unknown model {} or contact {}",
-                self.model, self.never_crosses
+                "unknown model {}, contact {} or sleep {}",
+                self.model, self.never_crosses, self.asleep
             ));
         }
         Ok(())

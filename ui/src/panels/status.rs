@@ -94,6 +94,12 @@ impl StatusPanel {
                 s.frame_time.quantile_ns(0.5) as f64 * 1e-6,
                 s.frame_time.quantile_ns(0.99) as f64 * 1e-6
             ));
+            if s.asleep == 1 {
+                ui.label("cloth at rest: asleep").on_hover_text(
+                    "Not simulated until the pen, an edit or a setting wakes it, so the \
+                     cores are left to the haptic loop (cloth-sim run --no-sleep: never)",
+                );
+            }
         }
         match cap {
             Some((max, why)) => ui.label(format!("UI: {:.0} fps (at most {max:.0}: {why})", self.fps))
