@@ -1,6 +1,7 @@
-//! The real processes in an isolated domain with the simulated pen: a scripted pinch
-//! reaches cloth-sim and the haptic loop renders the spring force toward the pinched
-//! vertex; kill -9 of cloth-sim takes the force to zero within 10 ms of the model going
+//! The real processes in an isolated domain with the simulated pen: the cloth comes to
+//! rest over the cube and cloth-sim lets it sleep, still publishing its model; a scripted
+//! pinch wakes it, reaches cloth-sim and the haptic loop renders the spring force toward
+//! the pinched vertex; kill -9 of cloth-sim takes the force to zero within 10 ms of the model going
 //! stale while the loop keeps ticking; a restarted cloth-sim resumes from its autosave.
 
 #![allow(clippy::unwrap_used)]
@@ -14,6 +15,7 @@ use shared::haptic_to_sim::{AppliedForce, DeviceSample};
 use shared::ports;
 use shared::services;
 use shared::sim_to_haptic::LocalModel;
+use shared::telemetry::SimTelemetry;
 use tests::{Proc, bin};
 
 fn cloth_sim(domain: &str, autosave: &std::path::Path, fresh: bool) -> Proc {
@@ -44,6 +46,8 @@ struct Observer {
     model: Option<LocalModel>,
     pen: Option<DeviceSample>,
     last_model_ns: u64,
+    /// cloth-sim's telemetry as it came: (seconds since the start, asleep, frame).
+    sleep: Vec<(f64, u32, u64)>,
 }
 
 /// What the test watches: the applied forces, local models and device samples (for the
@@ -52,6 +56,7 @@ struct Watch {
     forces: services::Sub<AppliedForce>,
     models: services::Sub<LocalModel>,
     samples: services::Sub<DeviceSample>,
+    telemetry: services::Sub<SimTelemetry>,
     frames: services::SliceSub<f32, shared::sim_to_ui::ClothFrameHeader>,
     meshes: services::SliceSub<shared::sim_to_ui::MeshCorner, shared::sim_to_ui::MeshHeader>,
 }
@@ -62,6 +67,7 @@ impl Watch {
             forces: ports::subscriber(node, services::applied_force, None).unwrap(),
             models: ports::subscriber(node, services::local_model, None).unwrap(),
             samples: ports::subscriber(node, services::device, None).unwrap(),
+            telemetry: ports::subscriber(node, services::sim_telemetry, None).unwrap(),
             frames: ports::subscriber(node, services::cloth_frame, None).unwrap(),
             meshes: ports::subscriber(node, services::cloth_mesh, None).unwrap(),
         }
@@ -77,6 +83,11 @@ impl Watch {
             }
             while let Some(s) = self.samples.receive().unwrap() {
                 o.pen = Some(*s);
+            }
+            while let Some(t) = self.telemetry.receive().unwrap() {
+                t.check().unwrap();
+                o.sleep
+                    .push((t0.elapsed().as_secs_f64(), t.asleep, t.frame));
             }
             while let Some(f) = self.forces.receive().unwrap() {
                 o.forces.push(*f);
@@ -98,10 +109,11 @@ fn pinch_force_kill_and_resume() {
     std::fs::create_dir_all(&tmp).unwrap();
     let autosave = tmp.join("design.saiho");
     let script = tmp.join("lift.script");
-    // Rest 1.5 s over the cube, touch the cloth, press, lift 12 cm, hold.
+    // Rest 8 s over the cube (the 16 x 16 cloth comes to rest and sleeps in about
+    // 4.5 s), touch the cloth, press, lift 12 cm, hold.
     std::fs::write(
         &script,
-        "0 0 0.60 0 0\n1.5 0 0.60 0 0\n2.5 0 0.41 0 0\n2.7 0 0.41 0 1\n4.0 0 0.53 0 1\n60 0 0.53 0 1\n",
+        "0 0 0.60 0 0\n8.0 0 0.60 0 0\n9.0 0 0.41 0 0\n9.2 0 0.41 0 1\n10.5 0 0.53 0 1\n60 0 0.53 0 1\n",
     )
     .unwrap();
     let node = services::node(&d, "observer").unwrap();
@@ -118,7 +130,8 @@ fn pinch_force_kill_and_resume() {
     );
     let t0 = Instant::now();
     let mut o = Observer::default();
-    watch.collect(&mut o, t0, Duration::from_secs(6));
+    watch.collect(&mut o, t0, Duration::from_secs(13));
+    it_slept_then_the_pinch_woke_it(&o);
     the_spring_pulls_the_pen_back(&o);
     // kill -9 cloth-sim: the model goes stale; the force is zero 20 ms + 10 ms later.
     // The cloth reaches a viewer: positions and normals every frame, the mesh once.
@@ -133,6 +146,30 @@ fn pinch_force_kill_and_resume() {
     let sim2 = cloth_sim(d.name(), &autosave, false);
     it_resumes(&watch, sim2, o.last_model_ns, frame_before);
     let _ = std::fs::remove_dir_all(&tmp);
+}
+
+/// Before the pen came down the resting cloth slept, with frames still counted (its model
+/// stayed fresh for the haptic loop); once the pinch held it (from 9.2 s; telemetry a
+/// second late at most), it was awake.
+fn it_slept_then_the_pinch_woke_it(o: &Observer) {
+    let before: Vec<_> = o.sleep.iter().filter(|s| s.0 < 8.5).collect();
+    let slept = before.iter().filter(|s| s.1 == 1).count();
+    assert!(
+        slept > 0,
+        "never asleep before the pen came down: {:?}",
+        o.sleep
+    );
+    let frames: Vec<u64> = before.iter().map(|s| s.2).collect();
+    assert!(
+        frames.windows(2).all(|w| w[1] > w[0]),
+        "frames stalled: {frames:?}"
+    );
+    let held: Vec<_> = o.sleep.iter().filter(|s| s.0 > 10.5).collect();
+    assert!(
+        !held.is_empty() && held.iter().all(|s| s.1 == 0),
+        "{:?}",
+        o.sleep
+    );
 }
 
 /// The pinch reached cloth-sim (it reports pinching) and the loop renders a spring that
