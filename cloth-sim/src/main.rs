@@ -142,9 +142,10 @@ struct RunArgs {
     /// too. The studio's "Never cross (guard)" switch turns it back on.
     #[arg(long)]
     no_guard: bool,
-    /// Keep simulating a cloth that has come to rest. By default it falls asleep once no
-    /// vertex has moved 0.2 mm in a second, and costs nothing until the pen, an edit or
-    /// a setting wakes it (docs/models.md, "A cloth at rest sleeps").
+    /// Keep simulating a cloth that has come to rest. By default it falls asleep once it
+    /// has moved under 0.25 mm (root mean square) in a second, with no more than one
+    /// vertex in a hundred past 2 mm, and costs nothing until the pen, an edit or a
+    /// setting wakes it (docs/models.md, "A cloth at rest sleeps").
     #[arg(long)]
     no_sleep: bool,
     /// Substeps per frame (default: the model's).
@@ -240,9 +241,10 @@ struct ScenarioArgs {
     /// behaviour before 2026-11-28), at a fraction of the frame time.
     #[arg(long)]
     no_guard: bool,
-    /// Let the cloth fall asleep once it has come to rest, as `cloth-sim run` does (no
-    /// vertex moved 0.2 mm in a second): the report adds `frames_asleep` and
-    /// `step_ms_awake`. Off by default, so that the frame times measure the solver.
+    /// Let the cloth fall asleep once it has come to rest, as `cloth-sim run` does (under
+    /// 0.25 mm root mean square in a second, at most 1% of its vertices past 2 mm): the
+    /// report adds `frames_asleep` and `step_ms_awake`. Off by default, so that the frame
+    /// times measure the solver.
     #[arg(long)]
     sleep: bool,
     /// Frames of 1/60 s to simulate (the operation scenarios act at frame 240).

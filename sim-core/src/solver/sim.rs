@@ -210,8 +210,8 @@ impl Simulation {
     pub fn step_with(&mut self, pen: &mut PenPath<'_>) -> Result<FrameStats, StepError> {
         let t0 = Instant::now();
         let mut stats = FrameStats::default();
-        match self.rest.unchanged(&self.scene()) {
-            Some(true) if self.sleep.is_some() => {
+        if self.rest.asleep() {
+            if self.sleep.is_some() && self.rest.unchanged(&self.scene()) == Some(true) {
                 self.rest.slept();
                 self.grip.begin_frame();
                 self.frame += 1;
@@ -221,8 +221,7 @@ impl Simulation {
                 stats.wall_ms = t0.elapsed().as_secs_f64() * 1e3;
                 return Ok(stats);
             }
-            Some(_) => self.rest.wake(),
-            None => {}
+            self.rest.wake();
         }
         let cp = self.material.contact_params(self.env.floor);
         let own_contact = self.solver.own_contact();
