@@ -84,6 +84,21 @@ fn fit_cube_takes_the_cubes_shape() {
     std::fs::remove_dir_all(out).unwrap();
 }
 
+/// A drape is at rest once it has been still for a second by the sleep rule, which a
+/// cloth still landing is not; a 16 x 16 cloth on the cube is still from about frame 270.
+#[test]
+fn a_drape_is_at_rest_only_once_it_has_been_still_for_a_second() {
+    let (landing, out) = run(ScenarioName::DrapeCube, 16, 60);
+    assert!(!landing.at_rest && !landing.sleep && landing.frames_asleep == 0);
+    let (rested, _) = run(ScenarioName::DrapeCube, 16, 400);
+    assert!(rested.at_rest && rested.settled);
+    assert_eq!(
+        rested.frames_asleep, 0,
+        "a scenario sleeps only with --sleep"
+    );
+    let _ = std::fs::remove_dir_all(out);
+}
+
 #[test]
 fn pulling_a_gripped_corner_tears_the_cloth() {
     let (r, out) = run(ScenarioName::Tear, 24, 420);

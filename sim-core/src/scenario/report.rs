@@ -174,6 +174,12 @@ pub struct Report {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub stable_step_s: Option<f64>,
     pub settled: bool,
+    /// At rest by the sleep rule (`SleepRule::default`): over the last second the cloth
+    /// moved under 0.25 mm (root mean square), at most 1% of its vertices past 2 mm, and
+    /// the pen did not hold it nor a stitch pull it. Stricter than `settled` (the root
+    /// mean square speed under 1 cm/s at the last frame): a 128 x 128 drape was settled
+    /// with a flap at the shoulder still swinging 3-4 cm (docs/models.md).
+    pub at_rest: bool,
     /// What the operation scenarios did and measured (absent fields: not this scenario).
     #[serde(flatten)]
     pub ops: OpsReport,

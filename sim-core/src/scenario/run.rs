@@ -15,6 +15,7 @@ use crate::design::Design;
 use crate::design::export::{export_glb, export_obj};
 use crate::design::garment::PatternSpec;
 use crate::mesh::obj;
+use crate::solver::{Rest, SleepRule};
 
 /// What the frames of a run measured.
 #[derive(Default)]
@@ -25,6 +26,10 @@ struct Frames {
     awake_ms: Vec<f64>,
     /// The first frame it slept through.
     first_asleep: Option<u64>,
+    /// The sleep rule's watch (whether or not the cloth may sleep), and whether the last
+    /// frame found the cloth still for the rule's second.
+    watch: Rest,
+    at_rest: bool,
     kinetic_energy_max: f64,
     ops: OpsReport,
     /// With `check_every`: the most crossings seen at a checked frame.
@@ -174,6 +179,10 @@ fn run_frames(
         }
         let ke = design.sim.cloth.kinetic_energy();
         frames.kinetic_energy_max = frames.kinetic_energy_max.max(ke);
+        let sim = &design.sim;
+        let held = sim.pinch().is_some() || !sim.stitches.is_empty();
+        let (x, w) = (&sim.cloth.x, &sim.cloth.inv_mass);
+        frames.at_rest = frames.watch.watch(&SleepRule::default(), x, w, held);
         if cfg.progress && last_print.elapsed().as_secs_f64() >= 1.0 {
             last_print = Instant::now();
             progress(cfg, f + 1, &frames.step_ms, ke, stats.contacts);
@@ -415,6 +424,7 @@ fn report(
         top_face_gap_max_m: top_face_gap,
         stable_step_s: sim.stable_step,
         settled: ke <= 0.5 * total_mass * 0.01f64.powi(2),
+        at_rest: frames.at_rest,
         ops: frames.ops,
         exported: exported.iter().map(|p| p.display().to_string()).collect(),
         wall_s: started.elapsed().as_secs_f64(),
