@@ -4,9 +4,9 @@
 //! guard and the solver's passes over everything: docs/collision.md), so a design left
 //! lying on the mannequin kept both cores busy and ran slower than real time, beside the
 //! haptic loop. With a [`SleepRule`], [`Simulation`](super::Simulation) watches how far
-//! the free vertices stray from where they were when the watch began; once none has
-//! strayed `still_m` for `frames` frames, the cloth falls asleep: its velocities are set
-//! to zero and later frames do nothing but check that nothing changed.
+//! the free vertices stray from where they were when the watch began; once they have
+//! stayed within the rule's bounds for its `frames` frames, the cloth falls asleep: its
+//! velocities are set to zero and later frames do nothing but check that nothing changed.
 //!
 //! What wakes it: the pen's pinch, an edit, a pin, a new material, zones or guard
 //! setting (each wakes it explicitly), and, as a check against a caller that changes the
@@ -138,7 +138,7 @@ impl Scene<'_> {
 pub struct Rest {
     /// Where the vertices were when the watch began.
     anchor: Vec<Vec3>,
-    /// Frames since then in which no free vertex strayed `still_m` from there.
+    /// Frames since then in which the vertices stayed within the rule's bounds.
     still: u32,
     asleep: Option<Stillness>,
     /// Frames slept since the simulation began.
@@ -160,10 +160,10 @@ impl Rest {
         self.still = 0;
     }
 
-    /// Before a frame: whether a sleeping cloth's scene is as it fell asleep (`None`:
-    /// it is awake). [`Rest::slept`] or [`Rest::wake`] follows.
-    pub fn unchanged(&self, scene: &Scene<'_>) -> Option<bool> {
-        self.asleep.as_ref().map(|s| scene.is(s))
+    /// Before a frame: whether the cloth sleeps and its scene is as it fell asleep.
+    /// [`Rest::slept`] or [`Rest::wake`] follows.
+    pub fn still_asleep(&self, scene: &Scene<'_>) -> bool {
+        self.asleep.as_ref().is_some_and(|s| scene.is(s))
     }
 
     /// Counts a frame slept through.

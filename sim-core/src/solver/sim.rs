@@ -211,7 +211,7 @@ impl Simulation {
         let t0 = Instant::now();
         let mut stats = FrameStats::default();
         if self.rest.asleep() {
-            if self.sleep.is_some() && self.rest.unchanged(&self.scene()) == Some(true) {
+            if self.sleep.is_some() && self.rest.still_asleep(&self.scene()) {
                 self.rest.slept();
                 self.grip.begin_frame();
                 self.frame += 1;
