@@ -11,10 +11,10 @@ use crate::solver::{FrameStats, PenPath, StepError};
 impl Design {
     /// Steps one frame. On divergence the error says so; the state is then not usable.
     pub fn step(&mut self) -> Result<FrameStats, StepError> {
-        self.step_with(&mut |_, _| None)
+        self.step_with(&mut |_, _, _| None)
     }
 
-    /// Steps one frame, asking `pen(substep, substeps)` before each substep where the
+    /// Steps one frame, asking `pen(substep, substeps, held)` before each substep where the
     /// pinch's pointer is and how hard it may pull (`None`: unchanged); then tears what
     /// is overstretched (when tearing is on) and welds stitches that closed, each as an
     /// undoable edit.

@@ -32,8 +32,19 @@ pub struct PenInput {
     pub force_limit: Option<f32>,
 }
 
-/// Where the pen is before each substep: `pen(substep, substeps)`, `None` for unchanged.
-pub type PenPath<'a> = dyn FnMut(usize, usize) -> Option<PenInput> + 'a;
+/// The pinched vertex before a substep: where it is and how fast it moves, as the
+/// substeps before it left it. A caller can report the pinch from it at substep rate:
+/// cloth-sim sends the haptic loop its local model from it, so a frame slower than the
+/// loop's 20 ms staleness limit (a 16k-vertex cloth under the guard) still feeds the pen.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Held {
+    pub position: Vec3,
+    pub velocity: Vec3,
+}
+
+/// Where the pen is before each substep: `pen(substep, substeps, held)`, `None` for
+/// unchanged. Asked only while pinching; `held` is the pinched vertex now.
+pub type PenPath<'a> = dyn FnMut(usize, usize, Option<Held>) -> Option<PenInput> + 'a;
 
 /// The pinch while it lasts, and what it pulled with in the last frame.
 #[derive(Clone, Debug, Default)]
@@ -53,10 +64,16 @@ impl Grip {
     }
 
     /// Before substep `k` of `n`: while pinching, moves the pointer end to where the pen
-    /// is (`pen` is asked only then).
-    pub fn follow(&mut self, k: usize, n: usize, pen: &mut PenPath<'_>) {
-        if let Some(p) = &mut self.pinch
-            && let Some(input) = pen(k, n)
+    /// is (`pen` is asked only then, and told where the pinched vertex is in `x` and how
+    /// fast it moves in `v`).
+    pub fn follow(&mut self, k: usize, n: usize, pen: &mut PenPath<'_>, x: &[Vec3], v: &[Vec3]) {
+        let Some(p) = &mut self.pinch else { return };
+        let i = p.vertex as usize;
+        let held = x
+            .get(i)
+            .zip(v.get(i))
+            .map(|(&position, &velocity)| Held { position, velocity });
+        if let Some(input) = pen(k, n, held)
             && input.target.is_finite()
         {
             p.target = input.target;

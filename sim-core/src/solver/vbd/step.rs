@@ -216,7 +216,9 @@ impl Vbd {
             let steps = (g + 1) * substeps / groups - g * substeps / groups;
             self.search(cloth, body, env, drive, steps as f32 * h);
             for _ in 0..steps {
-                drive.grip.follow(k, substeps, &mut *drive.pen);
+                drive
+                    .grip
+                    .follow(k, substeps, &mut *drive.pen, &cloth.x, &cloth.v);
                 self.substep(cloth, env, h, drive);
                 k += 1;
             }
