@@ -5,42 +5,58 @@
 use glam::Vec3;
 use shared::Header;
 use shared::services::SlicePub;
-use shared::sim_to_haptic::{LocalModel, MAX_PLANES};
+use shared::sim_to_haptic::{LocalModel, MAX_PLANES, workspace_covering};
 use shared::sim_to_ui::{
     BodyMeshHeader, ClothFrameHeader, MAX_LISTED, MeshCorner, MeshHeader, PieceList, SeamEntry,
     SeamSegment, TextureTile, put_text,
 };
 use sim_core::design::sewing_pattern::seam_label;
 use sim_core::design::{Design, TILE, Texture};
+use sim_core::solver::Held;
 
 fn port_error(e: impl std::fmt::Debug) -> String {
     format!("{e:?}")
 }
 
+/// The pen's workspace for `design`'s scene: the default mapping, grown to reach the
+/// whole body (`workspace_covering`); the default without a body.
+pub(crate) fn scene_workspace(design: &Design) -> [f32; 4] {
+    let Some(body) = &design.sim.body else {
+        return [0.0; 4];
+    };
+    let (lo, hi) = body.vertices.iter().fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), &p| (lo.min(p), hi.max(p)),
+    );
+    workspace_covering(lo.to_array(), hi.to_array())
+}
+
 /// The local model for a pen at `tip`: the pinched vertex while pinching, otherwise the
-/// body, cloth and floor planes near the tip.
+/// body, cloth and floor planes near the tip; in the scene's `workspace`.
 pub(crate) fn local_model(
     design: &Design,
     tip: Vec3,
     pen_sent_ns: u64,
     seq: &mut u64,
-    stiffness: f32,
+    (stiffness, workspace): (f32, [f32; 4]),
 ) -> LocalModel {
     let sim = &design.sim;
+    if let Some(p) = sim.pinch() {
+        let i = p.vertex as usize;
+        let held = Held {
+            position: sim.cloth.x[i],
+            velocity: sim.cloth.v[i],
+        };
+        return pinch_model(sim.frame, held, pen_sent_ns, seq, (stiffness, workspace));
+    }
     let mut m = LocalModel {
         header: Header::next(seq),
         frame: sim.frame,
         pen_sent_ns,
         stiffness,
+        workspace,
         ..Default::default()
     };
-    if let Some(p) = sim.pinch() {
-        let i = p.vertex as usize;
-        m.pinching = 1;
-        m.vertex_position = sim.cloth.x[i].to_array();
-        m.vertex_velocity = sim.cloth.v[i].to_array();
-        return m;
-    }
     let mut planes = Vec::with_capacity(MAX_PLANES);
     if let Some(body) = &sim.body
         && let Some(c) = body.contact(tip, 0.05, u32::MAX)
@@ -66,6 +82,28 @@ pub(crate) fn local_model(
         m.planes[k] = p;
     }
     m
+}
+
+/// The local model of a pinch in the middle of frame `frame`, from the pinched vertex as
+/// the substeps so far left it (`held`, told to the pen before each substep).
+pub(crate) fn pinch_model(
+    frame: u64,
+    held: Held,
+    pen_sent_ns: u64,
+    seq: &mut u64,
+    (stiffness, workspace): (f32, [f32; 4]),
+) -> LocalModel {
+    LocalModel {
+        header: Header::next(seq),
+        frame,
+        pen_sent_ns,
+        stiffness,
+        workspace,
+        pinching: 1,
+        vertex_position: held.position.to_array(),
+        vertex_velocity: held.velocity.to_array(),
+        ..Default::default()
+    }
 }
 
 /// Publishes the body's triangles (nothing when there is no body).
@@ -308,5 +346,40 @@ mod tests {
                 s.label()
             );
         }
+    }
+
+    /// The local model carries the scene's workspace: on the mannequin it reaches the
+    /// body's top and its feet (the default reached only 0.3-0.9 m up), and a pinch's
+    /// model carries the same one; without a body, the default (all zero).
+    #[test]
+    fn the_model_carries_a_workspace_that_reaches_the_whole_body() {
+        use shared::sim_to_haptic::TOUCH_HALF_EXTENT_M;
+        let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+        cfg.piece_edge = 0.06;
+        let (d, _) = build_scene(&cfg).unwrap();
+        let body = d.sim.body.as_ref().unwrap();
+        let ws = scene_workspace(&d);
+        let tip = Vec3::new(0.0, 1.0, 0.5);
+        let m = local_model(&d, tip, 0, &mut 0, (100.0, ws));
+        shared::Checked::check_body(&m).unwrap();
+        assert_eq!(m.workspace, ws);
+        for p in &body.vertices {
+            for i in 0..3 {
+                let reach = TOUCH_HALF_EXTENT_M[i] * ws[3];
+                assert!((p[i] - ws[i]).abs() <= reach, "{p} out of {ws:?}");
+            }
+        }
+        let top = body.vertices.iter().map(|p| p.y).fold(0.0, f32::max);
+        assert!(top > 1.6, "the mannequin's top at {top} m");
+        let held = Held {
+            position: Vec3::new(0.0, 1.4, 0.1),
+            velocity: Vec3::ZERO,
+        };
+        assert_eq!(pinch_model(3, held, 0, &mut 0, (100.0, ws)).workspace, ws);
+        let mut bare = ScenarioConfig::new(ScenarioName::DrapeCube);
+        bare.grid = 4;
+        let (mut d, _) = build_scene(&bare).unwrap();
+        d.sim.body = None;
+        assert_eq!(scene_workspace(&d), [0.0; 4]);
     }
 }

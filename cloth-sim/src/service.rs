@@ -15,6 +15,7 @@ use std::time::{Duration, Instant};
 use iceoryx2::port::update_connections::UpdateConnections;
 use shared::command::Command;
 use shared::ports::{SimPorts, SimSizes};
+use shared::sim_to_haptic::LocalModel;
 use shared::sim_to_ui::ToolState;
 use shared::telemetry::SimTelemetry;
 use shared::ui_to_sim::CommandReply;
@@ -27,7 +28,9 @@ use crate::commands::{carry_out, model_code, replacement, seam_tip, set_strain_l
 use crate::config::{ServiceConfig, ServiceStats};
 use crate::export::export;
 use crate::pen::{PenFeed, Tools, pen_acts};
-use crate::publish::{ClothOut, local_model, publish_body, publish_tile};
+use crate::publish::{
+    ClothOut, local_model, pinch_model, publish_body, publish_tile, scene_workspace,
+};
 
 /// The running service: its design, ports and everything it keeps between frames.
 struct Service<'a> {
@@ -59,6 +62,9 @@ struct Service<'a> {
     laps: Laps,
     /// When a slow gap between models was last logged, and how many came since.
     slow_logged: (Option<Instant>, u32),
+    /// The pen's workspace in the design's scene (`scene_workspace`; a new scene's
+    /// replaces it).
+    workspace: [f32; 4],
 }
 
 /// Two local models further apart than this are logged with where the time went (the
@@ -182,7 +188,9 @@ pub fn run(
         edited: false,
         laps: Laps::start(),
         slow_logged: (None, 0),
+        workspace: [0.0; 4],
     };
+    s.workspace = scene_workspace(&s.design);
     let mut autosave = Autosave::start(&cfg.autosave, cfg.autosave_every_s)?;
     let period = Duration::from_secs_f64(1.0 / cfg.rate_hz.clamp(1.0, 1000.0));
     let started = Instant::now();
@@ -215,6 +223,54 @@ pub fn run(
     Ok(s.stats)
 }
 
+/// Where local models go out: the haptic loop's port, the failures counted, and the
+/// gap since the last one timed (`laps`), logged when slow.
+struct ModelOut<'a> {
+    ports: &'a SimPorts,
+    stats: &'a mut ServiceStats,
+    laps: &'a mut Laps,
+    /// When a slow gap was last logged, and how many came since.
+    slow_logged: &'a mut (Option<Instant>, u32),
+}
+
+impl ModelOut<'_> {
+    /// Sends `m`, and logs where the time went when the last model went out
+    /// [`SLOW_MODEL_GAP`] ago or more.
+    fn send(&mut self, m: LocalModel, log: &mut dyn FnMut(&str)) {
+        if let Some(slow) = self.laps.slow(SLOW_MODEL_GAP) {
+            // The first, then at most one every 10 s with how many there were between:
+            // a machine too slow for its cloth would otherwise log every frame. A stall
+            // (a gap of `STALL_GAP` or more, which the soak counts against cloth-sim) is
+            // always logged, so that each one's lines say where its time went.
+            let stall = self.laps.start.elapsed() >= STALL_GAP;
+            let (last, quiet) = &mut *self.slow_logged;
+            *quiet += 1;
+            if stall || last.is_none_or(|t| t.elapsed() >= Duration::from_secs(10)) {
+                let more = if *quiet > 1 {
+                    format!(" ({} such gaps since the last line)", *quiet)
+                } else {
+                    String::new()
+                };
+                log(&format!(
+                    "the pen's model went out {slow} after the last{more}: the haptic loop \
+                     fades the force once its model is 20 ms old"
+                ));
+                *last = Some(Instant::now());
+                *quiet = 0;
+            }
+        }
+        self.laps.restart();
+        if let Err(e) = self.ports.model.send_copy(m) {
+            self.stats.model_send_failures += 1;
+            if self.stats.model_send_failures == 1 {
+                log(&format!(
+                    "sending the pen's model failed: {e:?} (counted from now on)"
+                ));
+            }
+        }
+    }
+}
+
 impl Service<'_> {
     /// One frame, up to the autosave; where its time went.
     fn frame(&mut self, autosave: &Autosave, log: &mut dyn FnMut(&str)) -> Result<(), String> {
@@ -245,7 +301,7 @@ impl Service<'_> {
         // tip): a 60 Hz frame that takes 8-12 ms would otherwise leave gaps near the
         // haptic loop's 20 ms staleness limit between models.
         self.send_local_model(log);
-        let fs = self.step()?;
+        let fs = self.step(log)?;
         self.laps.mark("step");
         self.record(&fs, autosave);
         self.stats.frames += 1;
@@ -330,6 +386,7 @@ impl Service<'_> {
                     .map(|m| m.strain_limit);
                 let (next, what, saved) = replacement(&mut self.design, c, self.cfg)?;
                 self.design = next;
+                self.workspace = scene_workspace(&self.design);
                 self.design.sim.set_threads(self.threads);
                 if let Some(on) = guard {
                     self.design.sim.set_guard(on);
@@ -432,76 +489,65 @@ impl Service<'_> {
         }
     }
 
-    /// Sends the local model, and logs where the time went when the last one was sent
-    /// [`SLOW_MODEL_GAP`] ago or more.
+    /// Sends the local model (`ModelOut::send`).
     fn send_local_model(&mut self, log: &mut dyn FnMut(&str)) {
-        if let Some(slow) = self.laps.slow(SLOW_MODEL_GAP) {
-            // The first, then at most one every 10 s with how many there were between:
-            // a machine too slow for its cloth would otherwise log every frame. A stall
-            // (a gap of `STALL_GAP` or more, which the soak counts against cloth-sim) is
-            // always logged, so that each one's lines say where its time went.
-            let stall = self.laps.start.elapsed() >= STALL_GAP;
-            let (last, quiet) = &mut self.slow_logged;
-            *quiet += 1;
-            if stall || last.is_none_or(|t| t.elapsed() >= Duration::from_secs(10)) {
-                let more = if *quiet > 1 {
-                    format!(" ({} such gaps since the last line)", *quiet)
-                } else {
-                    String::new()
-                };
-                log(&format!(
-                    "the pen's model went out {slow} after the last{more}: the haptic loop \
-                     fades the force once its model is 20 ms old"
-                ));
-                *last = Some(Instant::now());
-                *quiet = 0;
-            }
-        }
-        self.laps.restart();
         let (tip, sent_ns) = self.feed.tip();
         let m = local_model(
             &self.design,
             tip,
             sent_ns,
             &mut self.seq_model,
-            self.cfg.pinch_stiffness,
+            (self.cfg.pinch_stiffness, self.workspace),
         );
-        if let Err(e) = self.ports.model.send_copy(m) {
-            self.stats.model_send_failures += 1;
-            if self.stats.model_send_failures == 1 {
-                log(&format!(
-                    "sending the pen's model failed: {e:?} (counted from now on)"
-                ));
-            }
-        }
+        let mut out = ModelOut {
+            ports: &self.ports,
+            stats: &mut self.stats,
+            laps: &mut self.laps,
+            slow_logged: &mut self.slow_logged,
+        };
+        out.send(m, log);
     }
 
     /// Steps one frame; while pinching, the pen is read again before each substep, so
-    /// samples that arrive while the frame is computed join the path.
-    fn step(&mut self) -> Result<FrameStats, String> {
+    /// samples that arrive while the frame is computed join the path, and the pinched
+    /// vertex goes to the haptic loop as its local model before each substep: a frame
+    /// slower than the loop's 20 ms staleness limit (a 16k-vertex cloth under the guard
+    /// takes 30-150 ms) then lets the pen's force fade less often while it pulls.
+    fn step(&mut self, log: &mut dyn FnMut(&str)) -> Result<FrameStats, String> {
         // Every design the service holds (a new scene, a loaded file) sleeps at rest
         // unless `--no-sleep`.
         self.design.sim.sleep = self.cfg.sleep.then(SleepRule::default);
         let pinching = self.design.sim.pinch().is_some();
-        let (feed, ports, stats, cfg) = (&mut self.feed, &self.ports, &mut self.stats, self.cfg);
+        let frame = self.design.sim.frame;
+        let (feed, cfg, seq) = (&mut self.feed, self.cfg, &mut self.seq_model);
+        let spring = (cfg.pinch_stiffness, self.workspace);
+        let mut out = ModelOut {
+            ports: &self.ports,
+            stats: &mut self.stats,
+            laps: &mut self.laps,
+            slow_logged: &mut self.slow_logged,
+        };
         let fs = self
             .design
-            .step_with(&mut |k, n| {
+            .step_with(&mut |k, n, held| {
                 if !pinching {
                     return None;
                 }
-                feed.drain(&ports.device, &ports.applied, stats);
+                feed.drain(&out.ports.device, &out.ports.applied, out.stats);
+                if let Some(held) = held {
+                    let (_, sent_ns) = feed.tip();
+                    out.send(pinch_model(frame, held, sent_ns, seq, spring), log);
+                }
                 let input = feed.input(k, n, cfg)?;
-                stats.pen_substeps += 1;
+                out.stats.pen_substeps += 1;
                 if input.force_limit.is_some() {
-                    stats.coupled_substeps += 1;
+                    out.stats.coupled_substeps += 1;
                 }
                 Some(input)
             })
             .map_err(|e| format!("the simulation failed: {e}"))?;
         Ok(fs)
     }
-
     /// Counts the frame, and sends the telemetry once a second.
     fn record(&mut self, fs: &FrameStats, autosave: &Autosave) {
         let sim = &self.design.sim;

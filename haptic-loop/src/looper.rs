@@ -13,7 +13,7 @@ use shared::sim_to_haptic::LocalModel;
 use shared::telemetry::LoopTelemetry;
 use shared::{Checked, Header};
 
-use crate::device::{DeviceError, DeviceState, HapticDevice, PointerTarget};
+use crate::device::{DeviceError, DeviceState, HapticDevice, PointerTarget, Workspace};
 use crate::proxy::{ProxyParams, proxy_force};
 use crate::rt;
 use crate::safety::{ForceSafety, Hold, SafetyLimits};
@@ -70,6 +70,8 @@ struct Tick {
     gone_since: u64,
     /// Read the local model's publishers again at this tick's housekeeping.
     relist: bool,
+    /// The workspace the device was last given (from the models).
+    workspace: Workspace,
 }
 
 /// Runs until `stop` is set or `max_ticks`; returns what it measured. With `sim`, the
@@ -97,6 +99,7 @@ pub fn run<D: HapticDevice + PointerTarget>(
         reject_logged: 0,
         gone_since: 0,
         relist: true,
+        workspace: Workspace::default(),
     };
     let period = cfg.period_ns;
     let t0 = rt::now_ns();
@@ -165,12 +168,24 @@ pub fn run<D: HapticDevice + PointerTarget>(
 
 impl Tick {
     /// Takes the newest valid model and pointer input; rejects (and counts) bad ones.
-    fn receive<D: PointerTarget>(&mut self, ports: &HapticPorts, dev: &mut D, start: u64) {
+    fn receive<D: HapticDevice + PointerTarget>(
+        &mut self,
+        ports: &HapticPorts,
+        dev: &mut D,
+        start: u64,
+    ) {
         while let Ok(Some(s)) = ports.model.receive() {
             match s.check() {
                 Ok(()) => {
                     self.model = Some((*s, start));
                     self.model_new = true;
+                    // The scene's workspace (a new scene may bring another).
+                    let ws = Workspace::from_wire(s.workspace);
+                    if ws != self.workspace {
+                        dev.set_workspace(ws);
+                        self.workspace = ws;
+                        self.safety.restart_ramp();
+                    }
                 }
                 Err(e) => {
                     self.stats.rejected += 1;

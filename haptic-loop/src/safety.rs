@@ -83,6 +83,13 @@ impl ForceSafety {
         self.gain
     }
 
+    /// The device's mapping into the scene changed (a new scene's workspace): the pen now
+    /// stands elsewhere in the scene, so the force restarts from zero and comes back over
+    /// the ramp, as after engaging.
+    pub fn restart_ramp(&mut self) {
+        self.gain = 0.0;
+    }
+
     /// The force to send, from the wanted `f`, after `dt` seconds; `hold` says whether the
     /// output must go to zero (stale model, device error).
     pub fn filter(&mut self, f: [f32; 3], dt: f32, hold: Hold) -> [f32; 3] {

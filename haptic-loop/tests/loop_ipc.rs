@@ -18,6 +18,15 @@ use shared::sim_to_haptic::LocalModel;
 use shared::{Header, monotonic_ns};
 
 fn start_loop(d: Domain, ticks: u64) -> std::thread::JoinHandle<looper::LoopStats> {
+    start_loop_at(d, ticks, [0.0, 0.6, 0.0])
+}
+
+/// The loop with the simulated pen's hand held at `hand` (scene metres).
+fn start_loop_at(
+    d: Domain,
+    ticks: u64,
+    hand: [f32; 3],
+) -> std::thread::JoinHandle<looper::LoopStats> {
     std::thread::spawn(move || {
         let node = services::node(&d, "haptic").unwrap();
         let ports = HapticPorts::open(&node).unwrap();
@@ -25,7 +34,7 @@ fn start_loop(d: Domain, ticks: u64) -> std::thread::JoinHandle<looper::LoopStat
             max_ticks: Some(ticks),
             ..LoopConfig::default()
         };
-        let mut dev = SimDevice::new(Still([0.0, 0.6, 0.0], 0), Workspace::default());
+        let mut dev = SimDevice::new(Still(hand, 0), Workspace::default());
         let stop = AtomicBool::new(false);
         looper::run(&mut dev, &ports, &cfg, &stop, None, None, |_| {})
     })
@@ -111,4 +120,46 @@ fn pinch_force_then_stale_model_ramps_to_zero_and_ticks_go_on() {
             .unwrap()
             .contains("vertex position")
     );
+}
+
+/// The pen reaches where the scene's workspace says: a hand at the mannequin's shoulder
+/// (1.45 m up) leaves the pen at the default workspace's top (0.9 m) until cloth-sim's
+/// model brings the mannequin's workspace, and then the pen gets there.
+#[test]
+fn the_models_workspace_lets_the_pen_reach_the_whole_body() {
+    use shared::sim_to_haptic::workspace_covering;
+    let d = ScratchDomain::new(&format!("hw{}", std::process::id())).unwrap();
+    let handle = start_loop_at(d.0.clone(), 900, [0.1, 1.45, 0.12]);
+    let node = services::node(&d, "fake-sim").unwrap();
+    let model_pub = ports::publisher(&node, services::local_model).unwrap();
+    let pen = ports::subscriber(&node, services::device, None).unwrap();
+    let highest = |t: u64| {
+        let t0 = monotonic_ns();
+        let mut y = f32::NEG_INFINITY;
+        while monotonic_ns() - t0 < t {
+            std::thread::sleep(Duration::from_millis(2));
+            while let Some(s) = pen.receive().unwrap() {
+                y = y.max(s.position[1]);
+            }
+        }
+        y
+    };
+    let before = highest(300_000_000);
+    assert!((0.85..=0.9).contains(&before), "before: {before}");
+    let workspace = workspace_covering([-0.25, 0.0, -0.15], [0.25, 1.77, 0.15]);
+    let mut seq = 0;
+    for _ in 0..10 {
+        model_pub
+            .send_copy(LocalModel {
+                header: Header::next(&mut seq),
+                workspace,
+                ..Default::default()
+            })
+            .unwrap();
+        std::thread::sleep(Duration::from_millis(5));
+    }
+    let after = highest(300_000_000);
+    assert!(after > 1.4, "after the mannequin's workspace: {after}");
+    let stats = handle.join().unwrap();
+    assert_eq!(stats.rejected, 0);
 }

@@ -8,6 +8,44 @@ use crate::{Checked, Header, finite3};
 /// Most contact planes in a local model.
 pub const MAX_PLANES: usize = 16;
 
+/// Half the Touch's workspace (about 160 x 120 x 70 mm) along the scene's x, y, z, m.
+pub const TOUCH_HALF_EXTENT_M: [f32; 3] = [0.080, 0.060, 0.035];
+/// The pen's workspace without a body: scene metres per device metre, and its centre.
+/// It reaches 0.8 x 0.6 x 0.35 m around (0, 0.6, 0): the cube scene.
+pub const DEFAULT_WORKSPACE_SCALE: f32 = 5.0;
+pub const DEFAULT_WORKSPACE_CENTRE: [f32; 3] = [0.0, 0.6, 0.0];
+/// The largest workspace scale a model may carry (a 160 m scene across the Touch).
+pub const MAX_WORKSPACE_SCALE: f32 = 1000.0;
+
+/// The pen's workspace for a scene whose body lies in `lo..hi`: the default mapping
+/// (`DEFAULT_WORKSPACE_*`), grown where needed to reach the whole body with a tenth of
+/// its size to spare, at one scale on every axis (the Touch's motion is not distorted).
+/// `[centre x, y, z, scale]`. With the default alone the pen reached only the
+/// mannequin's legs (y 0.3-0.9 m): its hands could not pinch a garment's shoulder.
+pub fn workspace_covering(lo: [f32; 3], hi: [f32; 3]) -> [f32; 4] {
+    let s = DEFAULT_WORKSPACE_SCALE;
+    let c = DEFAULT_WORKSPACE_CENTRE;
+    let mut a: [f32; 3] = std::array::from_fn(|i| c[i] - TOUCH_HALF_EXTENT_M[i] * s);
+    let mut b: [f32; 3] = std::array::from_fn(|i| c[i] + TOUCH_HALF_EXTENT_M[i] * s);
+    for i in 0..3 {
+        let spare = 0.05 * (hi[i] - lo[i]);
+        if lo[i].is_finite() && hi[i].is_finite() && lo[i] <= hi[i] {
+            a[i] = a[i].min(lo[i] - spare);
+            b[i] = b[i].max(hi[i] + spare);
+        }
+    }
+    let scale = (0..3)
+        .map(|i| (b[i] - a[i]) / (2.0 * TOUCH_HALF_EXTENT_M[i]))
+        .fold(s, f32::max)
+        .min(MAX_WORKSPACE_SCALE);
+    [
+        0.5 * (a[0] + b[0]),
+        0.5 * (a[1] + b[1]),
+        0.5 * (a[2] + b[2]),
+        scale,
+    ]
+}
+
 #[derive(
     Clone, Copy, Debug, Default, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable,
 )]
@@ -31,6 +69,10 @@ pub struct LocalModel {
     /// space on the normal's side.
     pub plane_count: u32,
     pub planes: [[f32; 4]; MAX_PLANES],
+    /// The pen's workspace in this scene: `[centre x, y, z, scale]` (scene metres per
+    /// device metre; `workspace_covering`), or all zero for the default mapping. The
+    /// haptic loop maps the device into it.
+    pub workspace: [f32; 4],
     /// Explicit padding (was implicit): every byte of a message is a field.
     pub _pad: u32,
 }
@@ -49,6 +91,17 @@ impl Checked for LocalModel {
         }
         finite3("vertex position", &self.vertex_position)?;
         finite3("vertex velocity", &self.vertex_velocity)?;
+        let [cx, cy, cz, scale] = self.workspace;
+        let default = self.workspace == [0.0; 4];
+        let centre_ok = [cx, cy, cz].iter().all(|c| c.is_finite() && c.abs() <= 1e4);
+        let real = scale > 0.0 && scale <= MAX_WORKSPACE_SCALE && centre_ok;
+        if !(default || real) {
+            return Err(format!(
+                "workspace {:?}: its scale must be in (0, {MAX_WORKSPACE_SCALE}] and its centre \
+                 finite, within 10 km (or all zero: the default)",
+                self.workspace
+            ));
+        }
         let n = self.plane_count as usize;
         if n > MAX_PLANES {
             return Err(format!("{n} planes, at most {MAX_PLANES}"));

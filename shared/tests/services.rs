@@ -82,6 +82,73 @@ fn malformed_and_mismatched_messages_are_rejected_with_a_reason() {
     assert!(m.check().unwrap_err().to_string().contains("unit"));
     m.planes[0] = [0.0, 1.0, 0.0, 0.3];
     m.check().unwrap();
+    // The workspace: all zero is the default; otherwise a real scale and centre.
+    m.workspace = [0.0, 0.9, 0.0, 16.0];
+    m.check().unwrap();
+    for bad in [
+        [0.0, 0.9, 0.0, 0.0],
+        [0.0, 0.9, 0.0, -1.0],
+        [0.0, 0.9, 0.0, 1e4],
+        [f32::NAN, 0.9, 0.0, 16.0],
+        [0.0, 0.9, 0.0, f32::INFINITY],
+        [0.0, 2e4, 0.0, 16.0],
+    ] {
+        m.workspace = bad;
+        assert!(
+            m.check().unwrap_err().to_string().contains("workspace"),
+            "{bad:?} passed"
+        );
+    }
+}
+
+/// The pen's workspace reaches the whole body at one scale, and is the default mapping
+/// where the body fits in that.
+#[test]
+fn the_workspace_reaches_the_whole_body() {
+    use shared::sim_to_haptic::{
+        DEFAULT_WORKSPACE_CENTRE, DEFAULT_WORKSPACE_SCALE, TOUCH_HALF_EXTENT_M, workspace_covering,
+    };
+    let reach = |w: [f32; 4], p: [f32; 3]| {
+        (0..3).all(|i| (p[i] - w[i]).abs() <= TOUCH_HALF_EXTENT_M[i] * w[3] + 1e-6)
+    };
+    // A body within the default box: the default mapping.
+    let w = workspace_covering([-0.1, 0.4, -0.1], [0.1, 0.6, 0.1]);
+    assert_eq!(
+        w,
+        [
+            DEFAULT_WORKSPACE_CENTRE[0],
+            DEFAULT_WORKSPACE_CENTRE[1],
+            DEFAULT_WORKSPACE_CENTRE[2],
+            DEFAULT_WORKSPACE_SCALE
+        ]
+    );
+    // The mannequin (1.77 m tall): the default reached only y 0.3-0.9.
+    let (lo, hi) = ([-0.25, 0.0, -0.15], [0.25, 1.77, 0.15]);
+    let old = [0.0, 0.6, 0.0, DEFAULT_WORKSPACE_SCALE];
+    assert!(
+        !reach(old, [0.0, 1.45, 0.1]),
+        "the shoulder was in reach before"
+    );
+    let w = workspace_covering(lo, hi);
+    for p in [
+        lo,
+        hi,
+        [0.0, 1.45, 0.1],
+        [0.25, 0.0, -0.15],
+        [0.0, 0.9, 0.0],
+    ] {
+        assert!(reach(w, p), "{p:?} out of {w:?}");
+    }
+    // ... and the cube scene's pen still reaches where it starts (0.6 m up).
+    let w = workspace_covering([-0.2, 0.0, -0.2], [0.2, 0.4, 0.2]);
+    assert!(
+        reach(w, [0.0, 0.6, 0.0]) && reach(w, [0.2, 0.0, 0.2]),
+        "{w:?}"
+    );
+    assert!(w[3] < 10.0, "{w:?}");
+    // A body given as nothing (no vertices): the default.
+    let w = workspace_covering([f32::INFINITY; 3], [f32::NEG_INFINITY; 3]);
+    assert_eq!(w[3], DEFAULT_WORKSPACE_SCALE);
 }
 
 #[test]

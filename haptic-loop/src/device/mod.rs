@@ -9,6 +9,9 @@ mod sim;
 
 pub use openhaptics::OpenHaptics;
 pub use replay::{LOG_HEADER, Record, Replay};
+use shared::sim_to_haptic::{
+    DEFAULT_WORKSPACE_CENTRE, DEFAULT_WORKSPACE_SCALE, TOUCH_HALF_EXTENT_M,
+};
 pub use sim::{Script, SimDevice, Still, TargetSource};
 
 /// What a device reports at a tick (scene frame, metres, Y up).
@@ -36,6 +39,9 @@ pub trait HapticDevice {
     fn read(&mut self, dt: f32) -> Result<DeviceState, DeviceError>;
     /// Commands the force (N, scene frame) for this tick.
     fn write_force(&mut self, force: [f32; 3]) -> Result<(), DeviceError>;
+    /// Maps the device into `ws` from the next read on (a device that reports scene
+    /// positions already, like a replay, ignores it).
+    fn set_workspace(&mut self, _ws: Workspace) {}
 }
 
 /// A device that can also take the UI's pointer as its hand target (the sim pen).
@@ -44,7 +50,8 @@ pub trait PointerTarget {
 }
 
 /// The Touch's workspace, about 160 x 120 x 70 mm, mapped into the scene at a scale
-/// (scene metres per device metre) around a centre.
+/// (scene metres per device metre) around a centre. cloth-sim chooses the mapping for its
+/// scene (`LocalModel::workspace`: the default, grown to reach the whole body).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Workspace {
     pub half_extent_m: [f32; 3],
@@ -55,14 +62,27 @@ pub struct Workspace {
 impl Default for Workspace {
     fn default() -> Self {
         Self {
-            half_extent_m: [0.080, 0.060, 0.035],
-            scale: 5.0,
-            centre: [0.0, 0.6, 0.0],
+            half_extent_m: TOUCH_HALF_EXTENT_M,
+            scale: DEFAULT_WORKSPACE_SCALE,
+            centre: DEFAULT_WORKSPACE_CENTRE,
         }
     }
 }
 
 impl Workspace {
+    /// The mapping a local model carries (`[centre, scale]`, all zero for the default;
+    /// the model was checked).
+    pub fn from_wire(w: [f32; 4]) -> Self {
+        if w == [0.0; 4] {
+            return Self::default();
+        }
+        Self {
+            scale: w[3],
+            centre: [w[0], w[1], w[2]],
+            ..Self::default()
+        }
+    }
+
     /// Clamps a scene point into the mapped workspace.
     pub fn clamp(&self, p: [f32; 3]) -> [f32; 3] {
         std::array::from_fn(|i| {

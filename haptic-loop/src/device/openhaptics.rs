@@ -16,6 +16,8 @@ use std::ffi::{c_char, c_double, c_int, c_uint, c_ulong, c_ushort, c_void};
 use std::sync::OnceLock;
 use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, Ordering};
 
+use shared::sim_to_haptic::DEFAULT_WORKSPACE_SCALE;
+
 use super::{DeviceError, DeviceState, HapticDevice, PointerTarget, Workspace};
 
 pub type Hhd = c_uint;
@@ -309,12 +311,22 @@ impl HapticDevice for OpenHaptics {
         })
     }
 
+    /// The force goes to the device at `DEFAULT_WORKSPACE_SCALE / scale` of itself: a
+    /// workspace grown to reach a tall body moves the pen further in the scene for each
+    /// device millimetre, which would make every scene spring that much stiffer at the
+    /// hand (and past what the Touch renders passively). Scaled back, a spring feels as it
+    /// does in the default mapping; forces are only weaker, never stronger.
     fn write_force(&mut self, force: [f32; 3]) -> Result<(), DeviceError> {
+        let k = (DEFAULT_WORKSPACE_SCALE / self.workspace.scale).min(1.0);
         for (slot, f) in SHARED.force.iter().zip(force) {
-            let f = if f.is_finite() { f as f64 } else { 0.0 };
+            let f = if f.is_finite() { (f * k) as f64 } else { 0.0 };
             slot.store(f.to_bits(), Ordering::Release);
         }
         Ok(())
+    }
+
+    fn set_workspace(&mut self, ws: Workspace) {
+        self.workspace = ws;
     }
 }
 

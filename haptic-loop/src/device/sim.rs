@@ -101,6 +101,10 @@ impl<T: TargetSource> HapticDevice for SimDevice<T> {
         self.force = force;
         Ok(())
     }
+
+    fn set_workspace(&mut self, ws: Workspace) {
+        self.workspace = ws;
+    }
 }
 
 /// A fixed target (the pen held still), for tests and idle runs.
