@@ -540,10 +540,14 @@ fn no_long_files_or_functions() {
         .filter(|p| !p.components().any(|c| c.as_os_str() == "target"))
     {
         let text = std::fs::read_to_string(p).unwrap();
-        let in_tests = p
+        // Judged by the path inside the workspace: the root itself is `tests/..`, and
+        // every absolute path through it has a `tests` component (so, until
+        // 2026-11-30, no file was ever held to the length).
+        let rel = p.strip_prefix(root()).unwrap_or(p);
+        let in_tests = rel
             .components()
             .any(|c| c.as_os_str() == "tests" || c.as_os_str() == "benches")
-            || p.file_name().is_some_and(|n| n == "tests.rs");
+            || rel.file_name().is_some_and(|n| n == "tests.rs");
         let n = text.lines().count();
         if n > 700 && !in_tests {
             bad.push(format!("{}: {n} lines", p.display()));

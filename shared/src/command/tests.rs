@@ -1,0 +1,273 @@
+use super::*;
+
+/// One of every variant, with values that are valid on the wire.
+fn every_variant() -> Vec<Command> {
+    let material = MaterialChange {
+        density: Some(0.2),
+        stretch: None,
+        shear: Some(30.0),
+        bending: Some(2e-5),
+        friction: None,
+        damping: Some(0.5),
+    };
+    vec![
+        Command::CutVertex {
+            vertex: 7,
+            direction: [1.0, 0.0, -0.5],
+        },
+        Command::Sew { a: 3, b: 9 },
+        Command::Tear {
+            a: 1,
+            b: 2,
+            split: false,
+        },
+        Command::Tear {
+            a: 1,
+            b: 2,
+            split: true,
+        },
+        Command::Pin {
+            vertex: 4,
+            pinned: true,
+        },
+        Command::Pin {
+            vertex: 4,
+            pinned: false,
+        },
+        Command::Paint {
+            point: [0.1, 0.45, -0.2],
+            radius_m: 0.02,
+            rgba: [200, 30, 40, 255],
+        },
+        Command::Undo,
+        Command::Redo,
+        Command::SetTearing(Tearing::Off),
+        Command::SetTearing(Tearing::On {
+            threshold: 1.6,
+            split: false,
+        }),
+        Command::SetTearing(Tearing::On {
+            threshold: 2.0,
+            split: true,
+        }),
+        Command::Save {
+            path: "/tmp/ß design.saiho".into(),
+        },
+        Command::SetTool {
+            tool: crate::sim_to_ui::tool::PAINT,
+            rgba: [1, 2, 3, 4],
+            brush_m: 0.01,
+        },
+        Command::RemoveRegion {
+            min: [0.75, 0.75],
+            max: [1.5, 1.5],
+        },
+        Command::Seam {
+            a: [[0.75, 0.75], [0.75, 1.0]],
+            b: [[0.75, 0.75], [1.0, 0.75]],
+            tolerance: 0.03,
+        },
+        Command::Export {
+            dir: "out/export".into(),
+        },
+        Command::Reset {
+            body: BodyChoice::Mannequin,
+            grid: Some(96),
+            material,
+            substeps: Some(9),
+            model: Some(crate::telemetry::scene_model::VBD),
+            pattern: None,
+        },
+        Command::Reset {
+            body: BodyChoice::Sphere,
+            grid: None,
+            material: MaterialChange::default(),
+            substeps: None,
+            model: None,
+            pattern: None,
+        },
+        Command::Reset {
+            body: BodyChoice::MannequinAPose,
+            grid: Some(64),
+            material: MaterialChange::default(),
+            substeps: None,
+            model: None,
+            pattern: None,
+        },
+        Command::Reset {
+            body: BodyChoice::Mannequin,
+            grid: None,
+            material: MaterialChange::default(),
+            substeps: None,
+            model: Some(crate::telemetry::scene_model::XPBD),
+            pattern: Some("patterns/dress.svg".into()),
+        },
+        Command::Load {
+            path: "design.saiho".into(),
+        },
+        Command::SetMaterial {
+            material,
+            substeps: None,
+        },
+        Command::SetMaterial {
+            material: MaterialChange::default(),
+            substeps: Some(20),
+        },
+    ]
+    .into_iter()
+    .chain(piece_variants())
+    .collect()
+}
+
+/// The variants that make and sew pieces, and the fabric.
+fn piece_variants() -> Vec<Command> {
+    vec![
+        Command::AddPiece {
+            shape: PieceShape::Rectangle { w: 0.3, h: 0.5 },
+            place: crate::ui_to_sim::place::BACK,
+            edge_m: 0.02,
+        },
+        Command::AddPiece {
+            shape: PieceShape::Ellipse { w: 0.2, h: 0.1 },
+            place: crate::ui_to_sim::place::LEFT_ARM,
+            edge_m: 0.01,
+        },
+        Command::AddPiece {
+            shape: PieceShape::File {
+                path: "patterns/skirt.dxf".into(),
+            },
+            place: crate::ui_to_sim::place::FRONT,
+            edge_m: 0.03,
+        },
+        Command::SeamPlane {
+            a: [[0.1, -0.2], [0.1, -0.6]],
+            b: [[0.7, -0.2], [0.7, -0.6]],
+            tolerance_m: 0.01,
+        },
+        Command::PlacePiece { piece: 2, place: 3 },
+        Command::DeletePiece { piece: 1 },
+        Command::RemoveSeam { seam: 3 },
+        Command::SetFabric {
+            name: "denim-11oz".into(),
+        },
+        Command::SetPieceFabric {
+            piece: 1,
+            name: "jersey-interlock".into(),
+        },
+        Command::NameSeam {
+            seam: 2,
+            name: "left side, 1 cm".into(),
+        },
+        Command::SetGuard { on: true },
+        Command::SetGuard { on: false },
+        Command::SetStrainLimit { limit: 0.2 },
+        Command::SetStrainLimit { limit: 0.0 },
+    ]
+}
+
+#[test]
+fn every_variant_round_trips_through_the_wire_record() {
+    let all = every_variant();
+    let mut ops: Vec<u32> = all.iter().map(Command::op).collect();
+    ops.sort_unstable();
+    ops.dedup();
+    assert_eq!(
+        ops,
+        (1..=op::LAST).collect::<Vec<_>>(),
+        "a variant is missing"
+    );
+    let mut seq = 0;
+    for c in all {
+        let wire = c.to_wire(Header::next(&mut seq)).unwrap();
+        assert_eq!(wire.op, c.op());
+        assert_eq!(Command::from_wire(&wire), Ok(c.clone()), "{wire:?}");
+    }
+}
+
+#[test]
+fn a_bad_record_is_refused_and_a_long_path_is_not_sent() {
+    let mut seq = 0;
+    let mut wire = Command::Undo.to_wire(Header::next(&mut seq)).unwrap();
+    wire.op = op::LAST + 1;
+    assert!(Command::from_wire(&wire).is_err());
+    let mut wire = Command::SetGuard { on: true }
+        .to_wire(Header::next(&mut seq))
+        .unwrap();
+    wire.mode = 2;
+    assert!(Command::from_wire(&wire).is_err(), "guard 2");
+    let mut wire = Command::Reset {
+        body: BodyChoice::Cube,
+        grid: None,
+        material: MaterialChange::default(),
+        substeps: None,
+        model: None,
+        pattern: None,
+    }
+    .to_wire(Header::next(&mut seq))
+    .unwrap();
+    wire.rgba[0] = 5;
+    assert!(Command::from_wire(&wire).is_err(), "model 5");
+    wire.rgba[0] = 0;
+    wire.b = body::LAST + 1;
+    assert!(Command::from_wire(&wire).is_err(), "body past the last");
+    let mut wire = Command::Undo.to_wire(Header::next(&mut seq)).unwrap();
+    wire.header.protocol += 1;
+    assert!(matches!(
+        Command::from_wire(&wire),
+        Err(MessageError::Protocol { .. })
+    ));
+    // A piece of no size, a place that is not one, an edge out of range, NaN.
+    for bad in [
+        Command::AddPiece {
+            shape: PieceShape::Rectangle { w: 0.0, h: 0.4 },
+            place: 0,
+            edge_m: 0.02,
+        },
+        Command::AddPiece {
+            shape: PieceShape::Ellipse {
+                w: 0.2,
+                h: f32::NAN,
+            },
+            place: 0,
+            edge_m: 0.02,
+        },
+        Command::AddPiece {
+            shape: PieceShape::Rectangle { w: 0.2, h: 0.2 },
+            place: crate::ui_to_sim::place::LAST + 1,
+            edge_m: 0.02,
+        },
+        Command::AddPiece {
+            shape: PieceShape::Rectangle { w: 0.2, h: 0.2 },
+            place: 0,
+            edge_m: 0.0001,
+        },
+        Command::AddPiece {
+            shape: PieceShape::File {
+                path: String::new(),
+            },
+            place: 0,
+            edge_m: 0.02,
+        },
+        Command::PlacePiece { piece: 0, place: 9 },
+        // A strain limit below the material's range but not 0, past it, negative, NaN.
+        Command::SetStrainLimit { limit: 0.005 },
+        Command::SetStrainLimit { limit: 11.0 },
+        Command::SetStrainLimit { limit: -0.2 },
+        Command::SetStrainLimit { limit: f32::NAN },
+        Command::SetFabric { name: "  ".into() },
+        Command::SetPieceFabric {
+            piece: 0,
+            name: String::new(),
+        },
+    ] {
+        let wire = bad.to_wire(Header::next(&mut seq)).unwrap();
+        assert!(Command::from_wire(&wire).is_err(), "{bad:?}");
+    }
+    let long = Command::Save {
+        path: "x".repeat(TEXT_LEN + 1),
+    };
+    assert_eq!(
+        long.to_wire(Header::default()),
+        Err(CommandError::PathTooLong { len: TEXT_LEN + 1 })
+    );
+}
