@@ -400,6 +400,52 @@ fn lab_headless_fit_cube_drives_the_real_processes() {
     let _ = std::fs::remove_dir_all(&out_dir);
 }
 
+/// `cloth-lab --headless --scenario dress-mannequin`: the shipped dress sewn round the
+/// mannequin across the real processes; the scripted designer pulls the front out at the
+/// chest with the simulated pen (1.25 m up: the pen's workspace is the scene's, where the
+/// old fixed one stopped at 0.9 m and pinched nothing), cuts the neckline away on the
+/// pattern and exports the garment and its pattern.
+#[test]
+fn lab_headless_dress_mannequin_sews_pulls_and_cuts_across_the_processes() {
+    let out_dir = std::env::temp_dir().join(format!("saiho-lab-dress-{}", std::process::id()));
+    let out = Command::new(bin("cloth-lab"))
+        .args(["--headless", "--scenario", "dress-mannequin", "--out"])
+        .arg(&out_dir)
+        .stdin(Stdio::null())
+        .output()
+        .unwrap();
+    let log = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{log}");
+    for f in [
+        "cloth.obj",
+        "cloth.glb",
+        "pattern.svg",
+        "pattern.dxf",
+        "design.saiho",
+    ] {
+        assert!(out_dir.join(f).is_file(), "{f} missing; {log}");
+    }
+    let r: Value =
+        serde_json::from_str(&std::fs::read_to_string(out_dir.join("report.json")).unwrap())
+            .unwrap();
+    assert_eq!(r["scenario"], "dress-mannequin");
+    assert_eq!(r["body"], "mannequin");
+    assert_eq!(r["mesh_valid"], true, "{r}");
+    assert_eq!(
+        (&r["crossings_self"], &r["crossings_body"]),
+        (&json!(0), &json!(0)),
+        "{r}"
+    );
+    assert_eq!(r["seams"], 4, "{r}");
+    assert!(r["seam_pairs_welded"].as_u64().unwrap() >= 100, "{r}");
+    let s = &r["stand_in"];
+    assert!(s["pen_vertex_at"][1].as_f64().unwrap() > 1.2, "{s}");
+    assert!(s["pen_pulled_m"].as_f64().unwrap() > 0.005, "{s}");
+    assert!(s["neckline_triangles"].as_u64().unwrap() > 20, "{s}");
+    assert!(log.contains("1 pinches"), "{log}");
+    let _ = std::fs::remove_dir_all(&out_dir);
+}
+
 /// A process that fails at start stops the lab at once, and the lab says why; bad flags
 /// are refused before anything starts.
 #[test]

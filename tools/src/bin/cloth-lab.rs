@@ -375,25 +375,98 @@ fn run_lab(cli: &Cli) -> Result<(), String> {
     }
 }
 
+/// The headless scenarios: the paper's fit-cube, and the dress on the mannequin.
+#[derive(Clone, Copy, PartialEq)]
+enum Headless {
+    FitCube,
+    DressMannequin,
+}
+
+impl Headless {
+    /// The scenario `cli` asks for, if its flags fit it.
+    fn of(cli: &Cli) -> Result<Self, String> {
+        let s = match cli.scenario.as_str() {
+            "fit-cube" => Self::FitCube,
+            "dress-mannequin" => Self::DressMannequin,
+            other => {
+                return Err(format!(
+                    "unknown headless scenario '{other}' (fit-cube, dress-mannequin)"
+                ));
+            }
+        };
+        match s {
+            Self::FitCube if cli.body != "cube" => {
+                return Err("the fit-cube scenario drapes over the cube (--body cube)".into());
+            }
+            Self::DressMannequin if !matches!(cli.body.as_str(), "cube" | "mannequin") => {
+                return Err(
+                    "the dress-mannequin scenario dresses the mannequin (--body mannequin)".into(),
+                );
+            }
+            _ => {}
+        }
+        if cli.pattern.is_some() {
+            return Err(
+                "--pattern starts the studio's design from a pattern; the headless \
+                 scenarios use their own (without a display, `cloth-sim scenario \
+                 drape-pattern FILE` drapes a pattern)"
+                    .into(),
+            );
+        }
+        Ok(s)
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            Self::FitCube => "fit-cube",
+            Self::DressMannequin => "dress-mannequin",
+        }
+    }
+
+    /// cloth-sim's arguments: the dress starts on the mannequin from the shipped pattern,
+    /// written into `out`.
+    fn sim_args(
+        self,
+        cli: &Cli,
+        domain: &Domain,
+        autosave: &PathBuf,
+    ) -> Result<Vec<String>, String> {
+        let mut a = sim_args(cli, domain, Some(autosave));
+        if self == Self::DressMannequin {
+            let svg = cli.out.join("dress.svg");
+            std::fs::write(&svg, tools::headless::DRESS_SVG)
+                .map_err(|e| format!("{}: {e}", svg.display()))?;
+            if let Some(i) = a.iter().position(|s| s == "--body") {
+                a[i + 1] = "mannequin".into();
+            }
+            a.extend(["--pattern".into(), svg.display().to_string()]);
+        }
+        Ok(a)
+    }
+}
+
+/// The scripted designer's part of a headless scenario: what it did, as JSON.
+fn stand_in(
+    which: Headless,
+    domain: &Domain,
+    out: &std::path::Path,
+    abort: &AtomicBool,
+) -> Result<serde_json::Value, String> {
+    let mut progress = |m: &str| eprintln!("cloth-lab: {m}");
+    let json = |e: serde_json::Error| e.to_string();
+    match which {
+        Headless::FitCube => tools::headless::fit_cube(domain, out, abort, &mut progress)
+            .and_then(|r| serde_json::to_value(&r).map_err(json)),
+        Headless::DressMannequin => {
+            tools::headless::dress_mannequin(domain, out, abort, &mut progress)
+                .and_then(|r| serde_json::to_value(&r).map_err(json))
+        }
+    }
+}
+
 fn run_headless(cli: &Cli) -> Result<(), String> {
     validate(cli)?;
-    if cli.scenario != "fit-cube" {
-        return Err(format!(
-            "unknown headless scenario '{}' (fit-cube)",
-            cli.scenario
-        ));
-    }
-    if cli.body != "cube" {
-        return Err("the fit-cube scenario drapes over the cube (--body cube)".into());
-    }
-    if cli.pattern.is_some() {
-        return Err(
-            "--pattern starts the studio's design from a pattern; the headless \
-             scenario is fit-cube (without a display, `cloth-sim scenario drape-pattern FILE` \
-             drapes a pattern)"
-                .into(),
-        );
-    }
+    let which = Headless::of(cli)?;
     std::fs::create_dir_all(&cli.out).map_err(|e| format!("{}: {e}", cli.out.display()))?;
     // A private domain unless one is given, so a running lab is never disturbed.
     let domain = match &cli.domain {
@@ -407,13 +480,13 @@ fn run_headless(cli: &Cli) -> Result<(), String> {
     sup.add(Role::Haptic, haptic_args(cli, &domain, cli.script.as_ref()));
     sup.add_first(
         Role::Sim,
-        sim_args(cli, &domain, Some(&autosave)),
+        which.sim_args(cli, &domain, &autosave)?,
         vec!["--fresh".into()],
     );
     sup.start_all()?;
     eprintln!(
         "cloth-lab: headless {} in domain '{}': haptic-loop ({}), cloth-sim (grid {}, {} model), a scripted designer in place of cloth-ui",
-        cli.scenario,
+        which.name(),
         domain.name(),
         cli.device,
         cli.grid,
@@ -427,10 +500,7 @@ fn run_headless(cli: &Cli) -> Result<(), String> {
         let (domain, out, done) = (domain.clone(), cli.out.clone(), done.clone());
         let abort = abort.clone();
         std::thread::spawn(move || {
-            let r = tools::headless::fit_cube(&domain, &out, &abort, &mut |m| {
-                eprintln!("cloth-lab: {m}")
-            })
-            .and_then(|standin| {
+            let r = stand_in(which, &domain, &out, &abort).and_then(|standin| {
                 let haptic = tools::latency::loop_snapshot(&domain, Duration::from_secs(3))?;
                 Ok((standin, haptic))
             });
@@ -459,7 +529,7 @@ fn run_headless(cli: &Cli) -> Result<(), String> {
             serde_json::from_str(&t).map_err(|e| format!("{}: {e}", sim_path.display()))
         })?;
     let mut report = serde_json::Map::new();
-    report.insert("scenario".into(), "fit-cube".into());
+    report.insert("scenario".into(), which.name().into());
     report.insert(
         "processes".into(),
         serde_json::json!(["haptic-loop", "cloth-sim", "scripted designer (cloth-lab)"]),
@@ -470,10 +540,7 @@ fn run_headless(cli: &Cli) -> Result<(), String> {
         report.extend(m);
     }
     let json = |e: serde_json::Error| e.to_string();
-    report.insert(
-        "stand_in".into(),
-        serde_json::to_value(&standin).map_err(json)?,
-    );
+    report.insert("stand_in".into(), standin);
     report.insert(
         "latency".into(),
         serde_json::to_value(tools::latency::LoopSummary::of(&haptic)).map_err(json)?,

@@ -7,6 +7,9 @@
 //! corner squares beyond it (select on the pattern, delete); seam the two flaps that meet
 //! at each vertical edge (two boundary paths drawn on the pattern); let the seams pull
 //! shut; export.
+//!
+//! dress-mannequin (`dress`): the shipped dress sewn round the mannequin, its hem pulled
+//! with the pen, its neckline cut, exported.
 
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -22,6 +25,10 @@ use shared::{Checked, Header, services};
 
 use crate::stats::{Percentiles, new_hdr};
 
+mod dress;
+
+pub use dress::{DRESS_SVG, DressReport, dress_mannequin};
+
 /// Frames of draping before the operations (as `cloth-sim scenario fit-cube`).
 pub const DRAPE_FRAMES: u64 = 240;
 /// Frames after the seams are added, for them to pull shut and the cloth to settle.
@@ -33,6 +40,8 @@ struct Seen {
     frames: services::SliceSub<f32, shared::sim_to_ui::ClothFrameHeader>,
     meshes: services::SliceSub<shared::sim_to_ui::MeshCorner, shared::sim_to_ui::MeshHeader>,
     uv: Vec<[f32; 2]>,
+    /// The mesh's corners, three a triangle.
+    corners: Vec<shared::sim_to_ui::MeshCorner>,
     x: Vec<[f32; 3]>,
     frame: u64,
     topology: Option<u64>,
@@ -40,6 +49,22 @@ struct Seen {
 }
 
 impl Seen {
+    fn new(
+        frames: services::SliceSub<f32, shared::sim_to_ui::ClothFrameHeader>,
+        meshes: services::SliceSub<shared::sim_to_ui::MeshCorner, shared::sim_to_ui::MeshHeader>,
+    ) -> Self {
+        Self {
+            frames,
+            meshes,
+            uv: Vec::new(),
+            corners: Vec::new(),
+            x: Vec::new(),
+            frame: 0,
+            topology: None,
+            last_note: Instant::now(),
+        }
+    }
+
     /// Takes in what arrived; a message that fails its checks is an error.
     fn poll(&mut self) -> Result<(), String> {
         let pe = |e: &dyn std::fmt::Debug| format!("{e:?}");
@@ -55,6 +80,7 @@ impl Seen {
                 }
             }
             self.uv = u;
+            self.corners = m.payload().to_vec();
             self.topology = Some(h.topology);
         }
         while let Some(f) = self.frames.receive().map_err(|e| pe(&e))? {
@@ -315,15 +341,7 @@ pub fn fit_cube(
         log: Vec::new(),
     };
     let mut report = StandInReport::default();
-    let mut seen = Seen {
-        frames: ports.frames,
-        meshes: ports.meshes,
-        uv: Vec::new(),
-        x: Vec::new(),
-        frame: 0,
-        topology: None,
-        last_note: Instant::now(),
-    };
+    let mut seen = Seen::new(ports.frames, ports.meshes);
     seen.wait(1, "waiting for cloth-sim", stop, progress)?;
     let first = seen.frame;
     seen.wait(first + DRAPE_FRAMES, "draping", stop, progress)?;
