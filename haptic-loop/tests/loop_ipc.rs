@@ -129,10 +129,16 @@ fn pinch_force_then_stale_model_ramps_to_zero_and_ticks_go_on() {
 fn the_models_workspace_lets_the_pen_reach_the_whole_body() {
     use shared::sim_to_haptic::workspace_covering;
     let d = ScratchDomain::new(&format!("hw{}", std::process::id())).unwrap();
-    let handle = start_loop_at(d.0.clone(), 900, [0.1, 1.45, 0.12]);
+    let handle = start_loop_at(d.0.clone(), 2000, [0.1, 1.45, 0.12]);
     let node = services::node(&d, "fake-sim").unwrap();
     let model_pub = ports::publisher(&node, services::local_model).unwrap();
     let pen = ports::subscriber(&node, services::device, None).unwrap();
+    // The loop has started once its first sample comes (a slow machine takes a while).
+    let t0 = monotonic_ns();
+    while pen.receive().unwrap().is_none() {
+        assert!(monotonic_ns() - t0 < 3_000_000_000, "no pen sample in 3 s");
+        std::thread::sleep(Duration::from_millis(2));
+    }
     let highest = |t: u64| {
         let t0 = monotonic_ns();
         let mut y = f32::NEG_INFINITY;
