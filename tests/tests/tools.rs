@@ -329,22 +329,18 @@ fn bad_request_then_stop(d: &Domain, lab: &mut Proc) {
     assert!(status.success(), "cloth-lab exit: {status:?}");
 }
 
-/// `cloth-lab --headless`: the paper's fit-cube across the real processes, driven through
-/// the command service (select and delete the corners on the pattern, seam the flaps,
-/// export), with the report and exports written. Grid 40, whose lines fall on the cube's
-/// faces: the scripted designer cuts on the grid lines at the top face's edges, and on a
-/// coarser grid (32: 19 mm outside each face) the flaps are that much too wide to hug the
-/// cube (a 23 mm mean standoff, with the guard that no longer lets them be pulled through).
-#[test]
-fn lab_headless_fit_cube_drives_the_real_processes() {
-    let out_dir = std::env::temp_dir().join(format!("saiho-lab-fit-{}", std::process::id()));
+/// Runs `cloth-lab --headless` with `args` into `out_dir`; checks it succeeded and wrote
+/// every export; its report and log.
+fn lab_headless(args: &[&str], out_dir: &Path) -> (Value, String) {
     let out = Command::new(bin("cloth-lab"))
-        .args(["--headless", "--grid", "40", "--out"])
-        .arg(&out_dir)
+        .arg("--headless")
+        .args(args)
+        .arg("--out")
+        .arg(out_dir)
         .stdin(Stdio::null())
         .output()
         .unwrap();
-    let log = String::from_utf8_lossy(&out.stderr);
+    let log = String::from_utf8_lossy(&out.stderr).into_owned();
     assert!(out.status.success(), "{log}");
     for f in [
         "cloth.obj",
@@ -358,9 +354,20 @@ fn lab_headless_fit_cube_drives_the_real_processes() {
     ] {
         assert!(out_dir.join(f).is_file(), "{f} missing; {log}");
     }
-    let r: Value =
-        serde_json::from_str(&std::fs::read_to_string(out_dir.join("report.json")).unwrap())
-            .unwrap();
+    let report = std::fs::read_to_string(out_dir.join("report.json")).unwrap();
+    (serde_json::from_str(&report).unwrap(), log)
+}
+
+/// `cloth-lab --headless`: the paper's fit-cube across the real processes, driven through
+/// the command service (select and delete the corners on the pattern, seam the flaps,
+/// export), with the report and exports written. Grid 40, whose lines fall on the cube's
+/// faces: the scripted designer cuts on the grid lines at the top face's edges, and on a
+/// coarser grid (32: 19 mm outside each face) the flaps are that much too wide to hug the
+/// cube (a 23 mm mean standoff, with the guard that no longer lets them be pulled through).
+#[test]
+fn lab_headless_fit_cube_drives_the_real_processes() {
+    let out_dir = std::env::temp_dir().join(format!("saiho-lab-fit-{}", std::process::id()));
+    let (r, log) = lab_headless(&["--grid", "40"], &out_dir);
     assert_eq!(r["scenario"], "fit-cube");
     assert_eq!(r["mesh_valid"], true, "{r}");
     // The default xpbd has its guard: nothing crosses (652 body-crossing pairs before).
@@ -408,26 +415,7 @@ fn lab_headless_fit_cube_drives_the_real_processes() {
 #[test]
 fn lab_headless_dress_mannequin_sews_pulls_and_cuts_across_the_processes() {
     let out_dir = std::env::temp_dir().join(format!("saiho-lab-dress-{}", std::process::id()));
-    let out = Command::new(bin("cloth-lab"))
-        .args(["--headless", "--scenario", "dress-mannequin", "--out"])
-        .arg(&out_dir)
-        .stdin(Stdio::null())
-        .output()
-        .unwrap();
-    let log = String::from_utf8_lossy(&out.stderr);
-    assert!(out.status.success(), "{log}");
-    for f in [
-        "cloth.obj",
-        "cloth.glb",
-        "pattern.svg",
-        "pattern.dxf",
-        "design.saiho",
-    ] {
-        assert!(out_dir.join(f).is_file(), "{f} missing; {log}");
-    }
-    let r: Value =
-        serde_json::from_str(&std::fs::read_to_string(out_dir.join("report.json")).unwrap())
-            .unwrap();
+    let (r, log) = lab_headless(&["--scenario", "dress-mannequin"], &out_dir);
     assert_eq!(r["scenario"], "dress-mannequin");
     assert_eq!(r["body"], "mannequin");
     assert_eq!(r["mesh_valid"], true, "{r}");

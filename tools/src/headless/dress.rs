@@ -96,16 +96,7 @@ pub fn dress_mannequin(
     ));
     let cut_at = seen.frame;
     seen.wait(cut_at + SETTLE_FRAMES, "settling", stop, progress)?;
-    let dir = out
-        .canonicalize()
-        .map_err(|e| format!("{}: {e}", out.display()))?;
-    let m = ui.must(
-        Command::Export {
-            dir: dir.display().to_string(),
-        },
-        stop,
-    )?;
-    progress(&m);
+    ui.export(out, stop, progress)?;
     report.sim_frames_seen = seen.frame - first;
     report.command_rtt_us = Percentiles::of(&ui.rtt);
     report.commands = ui.log;

@@ -190,6 +190,26 @@ impl Ui {
         }
     }
 
+    /// Has cloth-sim export the design into `out`.
+    fn export(
+        &mut self,
+        out: &Path,
+        stop: &AtomicBool,
+        progress: &mut dyn FnMut(&str),
+    ) -> Result<(), String> {
+        let dir = out
+            .canonicalize()
+            .map_err(|e| format!("{}: {e}", out.display()))?;
+        let m = self.must(
+            Command::Export {
+                dir: dir.display().to_string(),
+            },
+            stop,
+        )?;
+        progress(&m);
+        Ok(())
+    }
+
     fn must(&mut self, c: Command, stop: &AtomicBool) -> Result<String, String> {
         let r = self.ask(&c, stop)?;
         if r.ok == 1 {
@@ -362,16 +382,7 @@ pub fn fit_cube(
     ));
     let sewn_from = seen.frame;
     seen.wait(sewn_from + SEW_FRAMES, "sewing", stop, progress)?;
-    let dir = out
-        .canonicalize()
-        .map_err(|e| format!("{}: {e}", out.display()))?;
-    let m = ui.must(
-        Command::Export {
-            dir: dir.display().to_string(),
-        },
-        stop,
-    )?;
-    progress(&m);
+    ui.export(out, stop, progress)?;
     report.sim_frames_seen = seen.frame - first;
     report.command_rtt_us = Percentiles::of(&ui.rtt);
     report.commands = ui.log;
