@@ -14,8 +14,10 @@ pub const TOUCH_HALF_EXTENT_M: [f32; 3] = [0.080, 0.060, 0.035];
 /// It reaches 0.8 x 0.6 x 0.35 m around (0, 0.6, 0): the cube scene.
 pub const DEFAULT_WORKSPACE_SCALE: f32 = 5.0;
 pub const DEFAULT_WORKSPACE_CENTRE: [f32; 3] = [0.0, 0.6, 0.0];
-/// The largest workspace scale a model may carry (a 160 m scene across the Touch).
+/// The largest workspace scale a model may carry (a 160 m scene across the Touch), and
+/// the least (the Touch's reach shrunk to 1.6 mm: a pen that could not move).
 pub const MAX_WORKSPACE_SCALE: f32 = 1000.0;
+pub const MIN_WORKSPACE_SCALE: f32 = 0.01;
 
 /// The pen's workspace for a scene whose body lies in `lo..hi`: the default mapping
 /// (`DEFAULT_WORKSPACE_*`), grown where needed to reach the whole body with a tenth of
@@ -94,10 +96,10 @@ impl Checked for LocalModel {
         let [cx, cy, cz, scale] = self.workspace;
         let default = self.workspace == [0.0; 4];
         let centre_ok = [cx, cy, cz].iter().all(|c| c.is_finite() && c.abs() <= 1e4);
-        let real = scale > 0.0 && scale <= MAX_WORKSPACE_SCALE && centre_ok;
+        let real = (MIN_WORKSPACE_SCALE..=MAX_WORKSPACE_SCALE).contains(&scale) && centre_ok;
         if !(default || real) {
             return Err(format!(
-                "workspace {:?}: its scale must be in (0, {MAX_WORKSPACE_SCALE}] and its centre \
+                "workspace {:?}: its scale must be in [{MIN_WORKSPACE_SCALE}, {MAX_WORKSPACE_SCALE}] and its centre \
                  finite, within 10 km (or all zero: the default)",
                 self.workspace
             ));

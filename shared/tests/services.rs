@@ -88,6 +88,7 @@ fn malformed_and_mismatched_messages_are_rejected_with_a_reason() {
     for bad in [
         [0.0, 0.9, 0.0, 0.0],
         [0.0, 0.9, 0.0, -1.0],
+        [0.0, 0.9, 0.0, 1e-30],
         [0.0, 0.9, 0.0, 1e4],
         [f32::NAN, 0.9, 0.0, 16.0],
         [0.0, 0.9, 0.0, f32::INFINITY],
