@@ -70,8 +70,10 @@ struct Tick {
     gone_since: u64,
     /// Read the local model's publishers again at this tick's housekeeping.
     relist: bool,
-    /// The workspace the device was last given (from the models).
+    /// The workspace the device was last given (from the models), and the last one said
+    /// in the log.
     workspace: Workspace,
+    workspace_logged: Workspace,
 }
 
 /// Runs until `stop` is set or `max_ticks`; returns what it measured. With `sim`, the
@@ -100,6 +102,7 @@ pub fn run<D: HapticDevice + PointerTarget>(
         gone_since: 0,
         relist: true,
         workspace: Workspace::default(),
+        workspace_logged: Workspace::default(),
     };
     let period = cfg.period_ns;
     let t0 = rt::now_ns();
@@ -320,6 +323,14 @@ impl Tick {
                 None => log("device recovered"),
             }
             self.error_logged = err.cloned();
+        }
+        if self.workspace != self.workspace_logged {
+            let (c, s) = (self.workspace.centre, self.workspace.scale);
+            log(&format!(
+                "the scene's workspace: the device mapped {s:.1}x around ({:.2}, {:.2}, {:.2}) m",
+                c[0], c[1], c[2]
+            ));
+            self.workspace_logged = self.workspace;
         }
         if hold != self.hold_was {
             log(match hold {

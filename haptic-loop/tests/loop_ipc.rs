@@ -18,15 +18,16 @@ use shared::sim_to_haptic::LocalModel;
 use shared::{Header, monotonic_ns};
 
 fn start_loop(d: Domain, ticks: u64) -> std::thread::JoinHandle<looper::LoopStats> {
-    start_loop_at(d, ticks, [0.0, 0.6, 0.0])
+    std::thread::spawn(move || start_loop_at(d, ticks, [0.0, 0.6, 0.0]).join().unwrap().0)
 }
 
-/// The loop with the simulated pen's hand held at `hand` (scene metres).
+/// The loop with the simulated pen's hand held at `hand` (scene metres); its stats and
+/// the lines it logged.
 fn start_loop_at(
     d: Domain,
     ticks: u64,
     hand: [f32; 3],
-) -> std::thread::JoinHandle<looper::LoopStats> {
+) -> std::thread::JoinHandle<(looper::LoopStats, Vec<String>)> {
     std::thread::spawn(move || {
         let node = services::node(&d, "haptic").unwrap();
         let ports = HapticPorts::open(&node).unwrap();
@@ -36,7 +37,11 @@ fn start_loop_at(
         };
         let mut dev = SimDevice::new(Still(hand, 0), Workspace::default());
         let stop = AtomicBool::new(false);
-        looper::run(&mut dev, &ports, &cfg, &stop, None, None, |_| {})
+        let mut lines = Vec::new();
+        let stats = looper::run(&mut dev, &ports, &cfg, &stop, None, None, |l| {
+            lines.push(l.to_string())
+        });
+        (stats, lines)
     })
 }
 
@@ -166,6 +171,13 @@ fn the_models_workspace_lets_the_pen_reach_the_whole_body() {
     }
     let after = highest(300_000_000);
     assert!(after > 1.4, "after the mannequin's workspace: {after}");
-    let stats = handle.join().unwrap();
+    let (stats, lines) = handle.join().unwrap();
     assert_eq!(stats.rejected, 0);
+    // The lab engineer is told the mapping the scene brought.
+    assert!(
+        lines
+            .iter()
+            .any(|l| l.starts_with("the scene's workspace: the device mapped 16.")),
+        "{lines:?}"
+    );
 }
