@@ -20,7 +20,7 @@ use shared::sim_to_ui::tool;
 use shared::ui_to_haptic::PointerInput;
 
 use super::{Seen, Ui, number_in};
-use crate::stats::{Percentiles, new_hdr};
+use crate::stats::Percentiles;
 
 /// The shipped dress pattern (the one `cloth-sim scenario dress-mannequin` drapes).
 pub const DRESS_SVG: &str = include_str!("../../../sim-core/assets/dress.svg");
@@ -63,12 +63,7 @@ pub fn dress_mannequin(
     let node = services::node(domain, "lab-ui-standin").map_err(|e| e.to_string())?;
     let ports = DesignerPorts::open(&node).map_err(|e| e.to_string())?;
     let pointer = ports::publisher(&node, services::pointer).map_err(|e| e.to_string())?;
-    let mut ui = Ui {
-        client: ports.commands,
-        seq: 0,
-        rtt: new_hdr(),
-        log: Vec::new(),
-    };
+    let mut ui = Ui::new(ports.commands);
     let mut seen = Seen::new(ports.frames, ports.meshes);
     let mut report = DressReport::default();
     seen.wait(1, "waiting for cloth-sim", stop, progress)?;

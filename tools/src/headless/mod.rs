@@ -155,6 +155,15 @@ struct Ui {
 }
 
 impl Ui {
+    fn new(client: CommandClient) -> Self {
+        Self {
+            client,
+            seq: 0,
+            rtt: new_hdr(),
+            log: Vec::new(),
+        }
+    }
+
     fn ask(&mut self, command: &Command, stop: &AtomicBool) -> Result<CommandReply, String> {
         let c = command
             .to_wire(Header::next(&mut self.seq))
@@ -354,12 +363,7 @@ pub fn fit_cube(
     let _release = services::ReleaseOnDrop(domain.clone());
     let node = services::node(domain, "lab-ui-standin").map_err(|e| e.to_string())?;
     let ports = DesignerPorts::open(&node).map_err(|e| e.to_string())?;
-    let mut ui = Ui {
-        client: ports.commands,
-        seq: 0,
-        rtt: new_hdr(),
-        log: Vec::new(),
-    };
+    let mut ui = Ui::new(ports.commands);
     let mut report = StandInReport::default();
     let mut seen = Seen::new(ports.frames, ports.meshes);
     seen.wait(1, "waiting for cloth-sim", stop, progress)?;
