@@ -623,7 +623,8 @@ fn fold_lies_on_the_floor_and_the_scenarios_that_act_on_a_body_need_one() {
 
 /// Reads `dir/pattern.svg` and `dir/pattern.dxf` with readers that are not ours (Python's
 /// XML parser, and `ezdxf`, which `.ci/run` installs) and prints, per piece, its sewing
-/// line's loop lengths in mm: "svg L1 L2 ..." then "dxf L1 L2 ..." lines.
+/// line's loop lengths in mm: "svg L1 L2 ..." then "dxf L1 L2 ..." lines; then the
+/// notches each reader found and the DXF's turn points: "marks SVG DXF TURNS".
 const READ_PATTERN: &str = r#"
 import sys, math, re, xml.etree.ElementTree as ET
 import ezdxf
@@ -649,7 +650,13 @@ for name in inserts:
     assert any(e.dxftype() == "POLYLINE" and e.dxf.layer == "1" for e in b), "no boundary"
     assert any(e.dxftype() == "TEXT" and e.dxf.text.startswith("Piece Name:") for e in b)
     assert any(e.dxftype() == "LINE" and e.dxf.layer == "7" for e in b), "no grain line"
+    assert any(e.dxftype() == "TEXT" and e.dxf.text.startswith("Material:") for e in b)
     print("dxf", " ".join(f"{x:.2f}" for x in lens))
+svg_notches = sum(1 for l in svg.iter("{http://www.w3.org/2000/svg}line") if l.get("class") == "notch")
+blocks = [doc.blocks[name] for name in inserts]
+dxf_notches = sum(1 for b in blocks for e in b if e.dxftype() == "LINE" and e.dxf.layer == "4")
+turns = sum(1 for b in blocks for e in b if e.dxftype() == "POINT" and e.dxf.layer == "2")
+print("marks", svg_notches, dxf_notches, turns)
 "#;
 
 /// The SVG and DXF in `p` read by readers that are not ours give loops of the lengths
@@ -676,6 +683,15 @@ fn check_with_independent_readers(p: &std::path::Path, ours: &[Vec<f64>]) {
         read.status.success(),
         "the SVG or DXF did not read (ezdxf: python3 -m pip install ezdxf): {}",
         String::from_utf8_lossy(&read.stderr)
+    );
+    // The balance notches, the same in both; the turn points of the outlines' corners.
+    let marks: Vec<usize> = (text.lines())
+        .find_map(|l| l.strip_prefix("marks"))
+        .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
+        .unwrap_or_default();
+    assert!(
+        marks.len() == 3 && marks[0] == marks[1] && marks[0] > 0 && marks[2] >= 4,
+        "notches in the SVG and DXF, turn points: {marks:?}"
     );
     for kind in ["svg", "dxf"] {
         let theirs: Vec<Vec<f64>> = text

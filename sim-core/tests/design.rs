@@ -594,3 +594,96 @@ fn an_eased_seam_keeps_its_sides_lengths_as_it_welds() {
         );
     }
 }
+
+/// The sewing-line perimeter of each piece of `d`'s pattern, mm, in the pieces' order.
+fn pattern_perimeters(d: &Design) -> Vec<f64> {
+    sim_core::design::sewing_pattern::pieces(d)
+        .iter()
+        .map(|p| p.perimeters()[0])
+        .collect()
+}
+
+/// Where a seam's side has more vertices than its partner, its welds fold triangles of
+/// that side away (the dress's back, at its 3 cm triangles, within 40 frames). That
+/// cloth is still the piece's: the pattern out keeps each piece's outline as it was cut
+/// (the back had notches a triangle deep, spikes in its cut line), the design file keeps
+/// the record, and the balance notches of a seam's two sides fall at the same fractions
+/// of their lengths.
+#[test]
+fn cloth_eased_into_a_seam_stays_in_the_pattern_out() {
+    let cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+    let (mut d, spec) = sim_core::scenario::build_scene(&cfg).unwrap();
+    let pull = sim_core::scenario::garment::SEAM_PULL;
+    sim_core::design::garment::sew(&mut d, &spec.unwrap(), pull).unwrap();
+    let cut = pattern_perimeters(&d);
+    for _ in 0..40 {
+        d.step().unwrap();
+    }
+    let eased: usize = d.seams.iter().map(|s| s.eased.len()).sum();
+    assert!(
+        eased > 0,
+        "no triangle eased into a seam: the case did not arise"
+    );
+    let welded: usize = (d.seams.iter())
+        .map(|s| s.pairs.iter().filter(|(a, b)| a == b).count())
+        .sum();
+    assert!(welded > 0);
+    let now = pattern_perimeters(&d);
+    // The back is never cut: its outline is as made (the front's neckline is cut later).
+    assert_eq!(now.len(), 2);
+    for (p, c) in now.iter().zip(&cut) {
+        assert!((p - c).abs() < 0.5, "{now:?} against {cut:?} as cut");
+    }
+    let loaded = Design::load_design(&d.save_design().unwrap()).unwrap();
+    assert_eq!(loaded.seams, d.seams, "the file keeps the eased triangles");
+    let mut forgot = loaded;
+    forgot.seams.iter_mut().for_each(|s| s.eased.clear());
+    let notched = pattern_perimeters(&forgot);
+    assert!(
+        notched.iter().zip(&cut).any(|(p, c)| p - c > 5.0),
+        "without the record the outline goes round the folded triangles: {notched:?}"
+    );
+    // Balance notches: each seam side's notches at the same fractions of its length as
+    // its partner's, slits from the cut line half way to the sewing line.
+    let pieces = sim_core::design::sewing_pattern::finish(
+        sim_core::design::sewing_pattern::pieces(&d),
+        10.0,
+    );
+    let count: usize = pieces.iter().map(|p| p.notches.len()).sum();
+    // Four seams, two sides each: the shoulders (under 250 mm) one notch, the sides three.
+    assert_eq!(count, 2 * (1 + 1 + 3 + 3), "{count}");
+    // The distance from `q` to closed polyline `l`.
+    let off = |l: &[glam::DVec2], q: glam::DVec2| {
+        (0..l.len())
+            .map(|i| {
+                let (a, b) = (l[i], l[(i + 1) % l.len()]);
+                let t = ((q - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+                q.distance(a + (b - a) * t)
+            })
+            .fold(f64::MAX, f64::min)
+    };
+    for p in &pieces {
+        for &(a, b) in &p.notches {
+            assert!(((b - a).length() - 5.0).abs() < 1e-6, "{a} {b}");
+            // From the cut line to half way to the sewing line.
+            assert!(off(&p.cut[0], a) < 0.01, "{a} {b}");
+            assert!((off(&p.loops[0], b) - 5.0).abs() < 0.01, "{a} {b}");
+        }
+    }
+    // Each seam's sides carry the same notches: per seam, as many on the front as on
+    // the back, each on the sewing line of that seam (its point there: a + 2 (b - a)).
+    let on_seam = |p: &sim_core::design::sewing_pattern::Piece, label: &str| {
+        (p.notches.iter())
+            .filter(|&&(a, b)| {
+                let at = a + (b - a) * 2.0;
+                (p.seams.iter().filter(|s| s.0 == label))
+                    .any(|&(_, s0, s1)| off(&[s0, s1], at) < 0.01)
+            })
+            .count()
+    };
+    for (label, want) in [("A", 1), ("B", 3), ("C", 1), ("D", 3)] {
+        for p in &pieces {
+            assert_eq!(on_seam(p, label), want, "seam {label} on the {}", p.name);
+        }
+    }
+}

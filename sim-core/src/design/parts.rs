@@ -2,6 +2,8 @@
 //! how hard they pull) and the tearing settings. Plain data; the operations on them are
 //! in `seam` and `tear`.
 
+use glam::Vec3;
+
 use crate::solver::Stitch;
 
 #[derive(Clone, Debug, PartialEq)]
@@ -12,6 +14,12 @@ pub struct Seam {
     pub max_force: f32,
     /// What the designer calls it ("left side seam"); empty: it goes by its letter.
     pub name: String,
+    /// The triangles (their rest corners) its welds folded away: where one side has more
+    /// vertices than the other, two neighbours of that side are welded to one partner in
+    /// turn and the triangle between them collapses, its cloth eased into the seam. It is
+    /// still cloth of its piece: the pattern out draws the piece with it
+    /// (`sewing_pattern`).
+    pub eased: Vec<[Vec3; 3]>,
 }
 
 /// The seams' open stitches, as the solver pulls them.

@@ -3,6 +3,8 @@
 //! thickness and at least [`WELD_REACH_MIN`], or [`ZIP_REACH`] edges beside a welded
 //! pair or where the seam's two sides meet (a zip).
 
+use glam::Vec3;
+
 use super::document::Design;
 
 /// Sides of a seam whose pattern lengths differ by more than this share of the longer
@@ -170,6 +172,7 @@ impl Design {
             pairs,
             max_force,
             name: String::new(),
+            eased: Vec::new(),
         };
         let count = seam.pairs.len();
         let index = self.seams.len() as u32;
@@ -285,10 +288,24 @@ impl Design {
                 if !self.place_weld(&mut prims, a, b, gap > near) {
                     continue;
                 }
+                // A triangle the weld collapses is eased into this seam (`Seam::eased`).
+                let folded: Vec<[Vec3; 3]> = (prims.iter())
+                    .filter_map(|p| match p {
+                        Prim::Tri {
+                            old: Some(t),
+                            new: None,
+                            ..
+                        } => Some(t.rest),
+                        _ => None,
+                    })
+                    .collect();
                 // Every seam now refers to `a` where it referred to `b`.
                 for (sj, seam) in self.seams.iter().enumerate() {
-                    if seam.pairs.iter().any(|&(p, q)| p == b || q == b) {
+                    if sj == si || seam.pairs.iter().any(|&(p, q)| p == b || q == b) {
                         let mut new = seam.clone();
+                        if sj == si {
+                            new.eased.extend_from_slice(&folded);
+                        }
                         for pq in &mut new.pairs {
                             *pq = (
                                 if pq.0 == b { a } else { pq.0 },

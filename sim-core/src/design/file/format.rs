@@ -55,6 +55,10 @@ pub struct SeamRecord {
     /// Files written before seams had names have none.
     #[serde(default)]
     pub name: String,
+    /// The rest corners of the triangles its welds eased into it (`Seam::eased`); none
+    /// in files written before they were kept.
+    #[serde(default)]
+    pub eased: Vec<[[f32; 3]; 3]>,
 }
 
 /// The JSON header.

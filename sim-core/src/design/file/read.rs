@@ -290,10 +290,18 @@ fn read_seams(h: &Header) -> Result<Vec<Seam>, DesignError> {
             if s.name.chars().count() > crate::design::MAX_NAME {
                 return Err(corrupt("a seam's name is too long"));
             }
+            if s.eased.len() > h.triangles
+                || !s.eased.iter().flatten().flatten().all(|c| c.is_finite())
+            {
+                return Err(corrupt(
+                    "a seam's eased triangles are not numbers or too many",
+                ));
+            }
             Ok(Seam {
                 pairs: s.pairs.clone(),
                 max_force: s.max_force,
                 name: s.name.clone(),
+                eased: s.eased.iter().map(|t| t.map(Vec3::from)).collect(),
             })
         })
         .collect()

@@ -88,6 +88,7 @@ impl Design {
                     pairs: s.pairs.clone(),
                     max_force: s.max_force,
                     name: s.name.clone(),
+                    eased: s.eased.iter().map(|t| t.map(|c| c.to_array())).collect(),
                 })
                 .collect(),
             tear_enabled: self.tear.enabled,

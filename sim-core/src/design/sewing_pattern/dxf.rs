@@ -1,8 +1,11 @@
 //! The pattern as DXF in the AAMA/ASTM D6673 layout pattern tools exchange (Seamly2D,
 //! Valentina, CLO, Gerber): ASCII DXF R12, millimetres, one block per piece holding its
-//! boundary (layer 1, the cut line), its sewing line (layer 14, with an allowance), its
-//! grain line (layer 7), its seams (layer 8, labelled) and its annotation (layer 15:
-//! "Piece Name: ..."), and an INSERT of each block where the layout put it.
+//! boundary (layer 1, the cut line), its sewing line (layer 14, with an allowance), the
+//! turn points of both (layer 2: points where the outline turns by more than
+//! [`TURN_DEGREES`]), its notches (layer 4, slits as lines, as Seamly2D writes them),
+//! its grain line (layer 7), its seams (layer 8, labelled) and its annotation (layer 15:
+//! "Piece Name: ...", "Material: ...", "Quantity: 1"), and an INSERT of each block where
+//! the layout put it.
 
 use std::fmt::Write as _;
 
@@ -39,6 +42,12 @@ impl Dxf {
         self.pair(8, layer);
     }
 
+    fn dot(&mut self, layer: &str, p: DVec2) {
+        self.pair(0, "POINT");
+        self.pair(8, layer);
+        self.point(p, 0);
+    }
+
     fn line(&mut self, layer: &str, a: DVec2, b: DVec2) {
         self.pair(0, "LINE");
         self.pair(8, layer);
@@ -58,6 +67,20 @@ impl Dxf {
             .collect();
         self.pair(1, clean);
     }
+}
+
+/// An outline's corner turns by more than this to be a turn point, degrees.
+pub const TURN_DEGREES: f64 = 30.0;
+
+/// The points where closed loop `l` turns by more than [`TURN_DEGREES`].
+fn turn_points(l: &[DVec2]) -> impl Iterator<Item = DVec2> + '_ {
+    let n = l.len();
+    let cos_max = TURN_DEGREES.to_radians().cos();
+    (0..n).filter_map(move |i| {
+        let a = (l[i] - l[(i + n - 1) % n]).normalize_or_zero();
+        let b = (l[(i + 1) % n] - l[i]).normalize_or_zero();
+        (a != DVec2::ZERO && b != DVec2::ZERO && a.dot(b) < cos_max).then_some(l[i])
+    })
 }
 
 /// The block name of piece `i`.
@@ -88,7 +111,7 @@ pub fn dxf_string(pieces: &[Piece]) -> String {
     d.pair(73, 0);
     d.pair(40, "0.0");
     d.pair(0, "ENDTAB");
-    let layers = ["0", "1", "7", "8", "14", "15"];
+    let layers = ["0", "1", "2", "4", "7", "8", "14", "15"];
     d.pair(0, "TABLE");
     d.pair(2, "LAYER");
     d.pair(70, layers.len());
@@ -113,11 +136,20 @@ pub fn dxf_string(pieces: &[Piece]) -> String {
         d.pair(3, &name);
         for l in &p.cut {
             d.polyline("1", l);
+            for t in turn_points(l) {
+                d.dot("2", t);
+            }
         }
         if p.cut != p.loops {
             for l in &p.loops {
                 d.polyline("14", l);
+                for t in turn_points(l) {
+                    d.dot("2", t);
+                }
             }
+        }
+        for &(a, b) in &p.notches {
+            d.line("4", a, b);
         }
         d.line("7", p.grain.0, p.grain.1);
         for (_, a, b) in &p.seams {
@@ -143,6 +175,12 @@ pub fn dxf_string(pieces: &[Piece]) -> String {
         let m = (p.grain.0 + p.grain.1) * 0.5 + DVec2::new(0.0, 6.0);
         d.text("15", m, 8.0, &format!("Piece Name: {}", p.name));
         d.text("15", m - DVec2::new(0.0, 12.0), 6.0, "Quantity: 1");
+        d.text(
+            "15",
+            m - DVec2::new(0.0, 20.0),
+            6.0,
+            &format!("Material: {}", p.fabric),
+        );
         d.pair(0, "ENDBLK");
         d.pair(8, "0");
     }

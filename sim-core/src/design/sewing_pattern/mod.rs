@@ -43,6 +43,13 @@ pub struct Piece {
     pub seam_names: Vec<(String, String)>,
     /// The grain line (warp direction: the pattern's first axis), through the piece.
     pub grain: (DVec2, DVec2),
+    /// The piece's fabric, by its library name ("cloth" for the design's own material).
+    pub fabric: String,
+    /// Balance notches (`finish`): slits cut into the edge, each from the cut line into
+    /// the piece, where a seam's side is matched to its other side: at its middle, and
+    /// at its quarters when it is longer than [`QUARTER_NOTCHES_MM`]. Sewn notch to
+    /// notch, the two sides meet as the simulation paired them (by arc length).
+    pub notches: Vec<(DVec2, DVec2)>,
 }
 
 impl Piece {
@@ -185,6 +192,10 @@ fn pieces_in(design: &Design, to2: impl Fn(Vec3) -> DVec2 + Copy) -> Vec<Piece> 
     let parts = pattern_parts(design);
     let names = design.describe(&parts);
     let seam_of = seam_labels(design);
+    let eased: FxHashSet<Places3> = (design.seams.iter())
+        .flat_map(|s| &s.eased)
+        .map(|t| places3(t.map(|p| key(0, p).1)))
+        .collect();
     let mut out = Vec::new();
     for (part, info) in parts.iter().zip(names) {
         let corners: Vec<[Key; 3]> = part
@@ -207,7 +218,10 @@ fn pieces_in(design: &Design, to2: impl Fn(Vec3) -> DVec2 + Copy) -> Vec<Piece> 
             .flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3])))
             .filter(|&(a, b)| !directed.contains(&(b, a)))
             .collect();
-        let key_loops = chain(&boundary);
+        let mut key_loops = chain(&boundary);
+        for l in &mut key_loops {
+            fill_eased(l, &eased);
+        }
         let mut loops = key_loops
             .iter()
             .map(|l| l.iter().map(|k| places[k]).collect::<Vec<DVec2>>())
@@ -250,9 +264,44 @@ fn pieces_in(design: &Design, to2: impl Fn(Vec3) -> DVec2 + Copy) -> Vec<Piece> 
             seams,
             seam_names,
             grain,
+            fabric: info.fabric,
+            notches: Vec::new(),
         });
     }
     out
+}
+
+/// A triangle by its three corners' pattern places (a `Key`'s place), sorted.
+type Places3 = [[i64; 3]; 3];
+
+fn places3(mut t: Places3) -> Places3 {
+    t.sort_unstable();
+    t
+}
+
+/// Fills back into outline loop `l` the triangles the seams' welds folded away
+/// (`Seam::eased`, as `Places3`). A seam whose side has more vertices than its partner
+/// welds two neighbours of that side to one partner vertex in turn, and the second weld
+/// collapses the triangle between them (the extra length eased into the seam in 3D).
+/// That cloth is still part of the piece, but its outline went round the missing
+/// triangle: a notch a triangle deep, and a spike in the cut line with an allowance (the
+/// dress's back had six). Each is an outline corner whose two sides and the edge
+/// between their ends were such a triangle's; a dart's tip, cut away, never is.
+fn fill_eased(l: &mut Vec<Key>, eased: &FxHashSet<Places3>) {
+    if eased.is_empty() {
+        return;
+    }
+    let mut i = 0;
+    while l.len() > 3 && i < l.len() {
+        let n = l.len();
+        let corner = places3([l[i].1, l[(i + 1) % n].1, l[(i + 2) % n].1]);
+        if eased.contains(&corner) {
+            l.remove((i + 1) % n);
+            i = i.saturating_sub(2);
+        } else {
+            i += 1;
+        }
+    }
 }
 
 /// Most outline edges in a row a seam may skip (see `seam_segments`).
@@ -395,14 +444,115 @@ pub fn offset(l: &[DVec2], d: f64) -> Vec<DVec2> {
     out
 }
 
-/// Adds a seam allowance of `mm` to every piece (the cut line), then lays the pieces out
-/// left to right, 20 mm apart, their lowest points on y = 0.
+/// A seam side longer than this gets notches at its quarters too, mm.
+pub const QUARTER_NOTCHES_MM: f64 = 250.0;
+/// How far a notch reaches into a piece without an allowance, mm.
+const NOTCH_DEPTH_MM: f64 = 5.0;
+
+/// Each seam side of `p` as a chain of outline points (its segments joined end to end).
+fn seam_sides(p: &Piece) -> Vec<Vec<DVec2>> {
+    let mut labels: Vec<&str> = p.seams.iter().map(|(l, _, _)| l.as_str()).collect();
+    labels.sort_unstable();
+    labels.dedup();
+    let mut sides = Vec::new();
+    for label in labels {
+        let mut segs: Vec<(DVec2, DVec2)> = (p.seams.iter())
+            .filter(|(l, _, _)| l == label)
+            .map(|&(_, a, b)| (a, b))
+            .collect();
+        let mut chains: Vec<Vec<DVec2>> = Vec::new();
+        while let Some((a, b)) = segs.pop() {
+            let mut c = vec![a, b];
+            // Grow the chain at both ends while a segment continues it.
+            loop {
+                let end = c[c.len() - 1];
+                let start = c[0];
+                if let Some(k) = segs.iter().position(|s| s.0 == end) {
+                    c.push(segs.swap_remove(k).1);
+                } else if let Some(k) = segs.iter().position(|s| s.1 == start) {
+                    c.insert(0, segs.swap_remove(k).0);
+                } else {
+                    break;
+                }
+            }
+            chains.push(c);
+        }
+        sides.extend(chains);
+    }
+    sides
+}
+
+/// Whether `q` lies in the piece's material (inside its outer loop and no hole; even-odd
+/// over the loops).
+fn in_material(loops: &[Vec<DVec2>], q: DVec2) -> bool {
+    let mut inside = false;
+    for l in loops {
+        for i in 0..l.len() {
+            let (a, b) = (l[i], l[(i + 1) % l.len()]);
+            if (a.y > q.y) != (b.y > q.y) && q.x < a.x + (q.y - a.y) * (b.x - a.x) / (b.y - a.y) {
+                inside = !inside;
+            }
+        }
+    }
+    inside
+}
+
+/// The point at `t` of the way along chain `c` by length, and the chain's direction there.
+fn along(c: &[DVec2], t: f64) -> (DVec2, DVec2) {
+    let total: f64 = c.windows(2).map(|w| (w[1] - w[0]).length()).sum();
+    let mut left = t * total;
+    for w in c.windows(2) {
+        let len = (w[1] - w[0]).length();
+        if len > 0.0 && (left <= len || w[1] == c[c.len() - 1]) {
+            let d = (w[1] - w[0]) / len;
+            return (w[0] + d * left.min(len), d);
+        }
+        left -= len;
+    }
+    (c[0], DVec2::X)
+}
+
+/// The balance notches of piece `p` (see [`Piece::notches`]) for an allowance of
+/// `allowance_mm`: each a slit square to its seam's side, from the cut line half way to
+/// the sewing line (or [`NOTCH_DEPTH_MM`] into a piece cut on its sewing line).
+fn notches(p: &Piece, allowance_mm: f64) -> Vec<(DVec2, DVec2)> {
+    let mut out = Vec::new();
+    for side in seam_sides(p) {
+        let len: f64 = side.windows(2).map(|w| (w[1] - w[0]).length()).sum();
+        if len <= 0.0 {
+            continue;
+        }
+        let at: &[f64] = if len > QUARTER_NOTCHES_MM {
+            &[0.25, 0.5, 0.75]
+        } else {
+            &[0.5]
+        };
+        for &t in at {
+            let (q, d) = along(&side, t);
+            let mut n = DVec2::new(-d.y, d.x);
+            if !in_material(&p.loops, q + n * 0.5) {
+                n = -n;
+            }
+            let (from, depth) = if allowance_mm > 0.0 {
+                (q - n * allowance_mm, 0.5 * allowance_mm)
+            } else {
+                (q, NOTCH_DEPTH_MM)
+            };
+            out.push((from, from + n * depth));
+        }
+    }
+    out
+}
+
+/// Adds a seam allowance of `mm` to every piece (the cut line) and its notches, then lays
+/// the pieces out left to right, 20 mm apart, their lowest points on y = 0.
 pub fn finish(mut pieces: Vec<Piece>, allowance_mm: f64) -> Vec<Piece> {
     let mut x = 0.0;
     for p in &mut pieces {
         if allowance_mm > 0.0 {
             p.cut = p.loops.iter().map(|l| offset(l, allowance_mm)).collect();
         }
+        p.notches = notches(p, allowance_mm);
         let (lo, hi) = p.cut.iter().fold(
             (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
             |(lo, hi), l| {
@@ -419,6 +569,10 @@ pub fn finish(mut pieces: Vec<Piece>, allowance_mm: f64) -> Vec<Piece> {
         for s in &mut p.seams {
             s.1 += shift;
             s.2 += shift;
+        }
+        for n in &mut p.notches {
+            n.0 += shift;
+            n.1 += shift;
         }
         p.grain.0 += shift;
         p.grain.1 += shift;

@@ -1,6 +1,6 @@
 //! The pattern as SVG, one unit a millimetre: a group per piece with its cut line, its
 //! sewing line (dashed, when there is an allowance), its seams marked and labelled, its
-//! grain line with arrow heads, and its name.
+//! balance notches, its grain line with arrow heads, its name and its fabric.
 
 use std::fmt::Write as _;
 
@@ -83,6 +83,16 @@ pub fn svg_string(pieces: &[Piece]) -> String {
                 h - b.y
             );
         }
+        for (a, b) in &p.notches {
+            let _ = writeln!(
+                s,
+                "<line class=\"notch\" x1=\"{:.3}\" y1=\"{:.3}\" x2=\"{:.3}\" y2=\"{:.3}\" stroke=\"black\" stroke-width=\"0.5\"/>",
+                a.x,
+                h - a.y,
+                b.x,
+                h - b.y
+            );
+        }
         // One label per seam, at its first segment's middle.
         let mut seen: Vec<&str> = Vec::new();
         for (label, a, b) in &p.seams {
@@ -125,10 +135,17 @@ pub fn svg_string(pieces: &[Piece]) -> String {
         let m = (a + b) * 0.5;
         let _ = writeln!(
             s,
-            "<text class=\"name\" x=\"{:.3}\" y=\"{:.3}\" font-size=\"10\">{}</text>\n</g>",
+            "<text class=\"name\" x=\"{:.3}\" y=\"{:.3}\" font-size=\"10\">{}</text>",
             m.x,
             h - m.y - 4.0,
             xml(&p.name)
+        );
+        let _ = writeln!(
+            s,
+            "<text class=\"fabric\" x=\"{:.3}\" y=\"{:.3}\" font-size=\"6\">fabric: {}</text>\n</g>",
+            m.x,
+            h - m.y + 6.0,
+            xml(&p.fabric)
         );
     }
     s.push_str("</svg>\n");
