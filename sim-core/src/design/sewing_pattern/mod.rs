@@ -192,36 +192,27 @@ fn pieces_in(design: &Design, to2: impl Fn(Vec3) -> DVec2 + Copy) -> Vec<Piece> 
     let parts = pattern_parts(design);
     let names = design.describe(&parts);
     let seam_of = seam_labels(design);
-    let eased: FxHashSet<Places3> = (design.seams.iter())
+    let eased: Vec<[Vec3; 3]> = design
+        .seams
+        .iter()
         .flat_map(|s| &s.eased)
-        .map(|t| places3(t.map(|p| key(0, p).1)))
+        .copied()
         .collect();
     let mut out = Vec::new();
     for (part, info) in parts.iter().zip(names) {
-        let corners: Vec<[Key; 3]> = part
+        let mut corners: Vec<[Key; 3]> = part
             .iter()
             .filter_map(|&s| live.tri(s))
             .map(|t| [0, 1, 2].map(|k| key(t.v[k], t.rest[k])))
             .collect();
-        let places: HashMap<Key, DVec2> = part
+        let mut places: HashMap<Key, DVec2> = part
             .iter()
             .filter_map(|&s| live.tri(s))
             .flat_map(|t| (0..3).map(move |k| (key(t.v[k], t.rest[k]), to2(t.rest[k]))))
             .collect();
-        // Boundary edges: directed pattern edges without their twin in the part.
-        let directed: FxHashSet<(Key, Key)> = corners
-            .iter()
-            .flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3])))
-            .collect();
-        let boundary: Vec<(Key, Key)> = corners
-            .iter()
-            .flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3])))
-            .filter(|&(a, b)| !directed.contains(&(b, a)))
-            .collect();
-        let mut key_loops = chain(&boundary);
-        for l in &mut key_loops {
-            fill_eased(l, &eased);
-        }
+        add_eased(&mut corners, &mut places, &eased, to2);
+        let boundary = boundary_of(&corners);
+        let key_loops = chain(&boundary);
         let mut loops = key_loops
             .iter()
             .map(|l| l.iter().map(|k| places[k]).collect::<Vec<DVec2>>())
@@ -271,35 +262,71 @@ fn pieces_in(design: &Design, to2: impl Fn(Vec3) -> DVec2 + Copy) -> Vec<Piece> 
     out
 }
 
-/// A triangle by its three corners' pattern places (a `Key`'s place), sorted.
-type Places3 = [[i64; 3]; 3];
-
-fn places3(mut t: Places3) -> Places3 {
-    t.sort_unstable();
-    t
+/// The directed pattern edges of `corners` without their twin: the part's outline.
+fn boundary_of(corners: &[[Key; 3]]) -> Vec<(Key, Key)> {
+    let edges = || {
+        corners
+            .iter()
+            .flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3])))
+    };
+    let directed: FxHashSet<(Key, Key)> = edges().collect();
+    edges()
+        .filter(|&(a, b)| !directed.contains(&(b, a)))
+        .collect()
 }
 
-/// Fills back into outline loop `l` the triangles the seams' welds folded away
-/// (`Seam::eased`, as `Places3`). A seam whose side has more vertices than its partner
-/// welds two neighbours of that side to one partner vertex in turn, and the second weld
-/// collapses the triangle between them (the extra length eased into the seam in 3D).
-/// That cloth is still part of the piece, but its outline went round the missing
-/// triangle: a notch a triangle deep, and a spike in the cut line with an allowance (the
-/// dress's back had six). Each is an outline corner whose two sides and the edge
-/// between their ends were such a triangle's; a dart's tip, cut away, never is.
-fn fill_eased(l: &mut Vec<Key>, eased: &FxHashSet<Places3>) {
-    if eased.is_empty() {
-        return;
-    }
-    let mut i = 0;
-    while l.len() > 3 && i < l.len() {
-        let n = l.len();
-        let corner = places3([l[i].1, l[(i + 1) % n].1, l[(i + 2) % n].1]);
-        if eased.contains(&corner) {
-            l.remove((i + 1) % n);
-            i = i.saturating_sub(2);
-        } else {
-            i += 1;
+/// Puts back into a part (its triangles' corner keys and their places) the triangles the
+/// seams' welds folded away (`Seam::eased`, rest corners). A seam whose side has more
+/// vertices than its partner welds two neighbours of that side to one partner vertex in
+/// turn, and the second weld collapses the triangle between them (the extra length eased
+/// into the seam in 3D). That cloth is still part of the piece, but its outline went round
+/// the missing triangle: a notch a triangle deep, or a corner cut off, and a spike in
+/// the cut line with an allowance (the dress's back had six). Each such triangle is
+/// joined to the part along an outline edge it shares (the edge's twin is one of its
+/// sides), its third corner the outline's key at that place next to the edge, or a place
+/// of its own where the weld merged that corner away; a triangle it shares no outline
+/// edge with yet may join after another (a run of them), one not of this part never
+/// does. A dart's tip, whose cloth was cut away, is never in the record and stays.
+fn add_eased(
+    corners: &mut Vec<[Key; 3]>,
+    places: &mut HashMap<Key, DVec2>,
+    eased: &[[Vec3; 3]],
+    to2: impl Fn(Vec3) -> DVec2,
+) {
+    let mut left: Vec<usize> = (0..eased.len()).collect();
+    loop {
+        let boundary = boundary_of(corners);
+        let next_of: HashMap<Key, Key> = boundary.iter().map(|&(a, b)| (a, b)).collect();
+        let prev_of: HashMap<Key, Key> = boundary.iter().map(|&(a, b)| (b, a)).collect();
+        let before = left.len();
+        left.retain(|&n| {
+            let t = eased[n];
+            let q = t.map(|p| key(0, p).1);
+            for i in 0..3 {
+                let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+                // The triangle's side i -> j is the twin of outline edge (u, v).
+                let Some(&(u, v)) = boundary.iter().find(|(u, v)| u.1 == q[j] && v.1 == q[i])
+                else {
+                    continue;
+                };
+                // Its third corner: next to the edge on the outline, or its own place.
+                let third = [next_of.get(&v), prev_of.get(&u)]
+                    .into_iter()
+                    .flatten()
+                    .copied()
+                    .find(|w| w.1 == q[k])
+                    .unwrap_or((u32::MAX - n as u32, q[k]));
+                places.entry(third).or_insert_with(|| to2(t[k]));
+                let mut tri = [v, u, third];
+                // In the triangle's own winding: i, j, k.
+                tri.rotate_right(i);
+                corners.push(tri);
+                return false;
+            }
+            true
+        });
+        if left.is_empty() || left.len() == before {
+            return;
         }
     }
 }
@@ -822,5 +849,72 @@ mod tests {
         let o = offset(&spike, 1.0);
         assert!(o.len() > 3);
         assert!(o.iter().all(|p| p.x < 106.0), "{o:?}");
+    }
+
+    /// The outline of `corners` as chained loops of places.
+    fn outline(corners: &[[Key; 3]], places: &HashMap<Key, DVec2>) -> Vec<Vec<DVec2>> {
+        chain(&boundary_of(corners))
+            .iter()
+            .map(|l| l.iter().map(|k| places[k]).collect())
+            .collect()
+    }
+
+    #[test]
+    fn triangles_a_weld_folded_away_go_back_into_the_outline() {
+        let p = |x: f32, z: f32| Vec3::new(x, 0.0, z);
+        let to2 = |q: Vec3| DVec2::new(q.x as f64, q.z as f64);
+        let (c0, c1, c2, c3, m) = (
+            p(0.0, 0.0),
+            p(2.0, 0.0),
+            p(2.0, 2.0),
+            p(0.0, 2.0),
+            p(1.0, 1.0),
+        );
+        // A notch: four triangles round a centre, the first folded away, its two corners
+        // on the outline since merged into one vertex (7) as a seam's weld leaves them.
+        let k = |v: u32, q: Vec3| key(v, q);
+        let mut corners = vec![
+            [k(7, c1), k(2, c2), k(4, m)],
+            [k(2, c2), k(3, c3), k(4, m)],
+            [k(3, c3), k(7, c0), k(4, m)],
+        ];
+        let mut places: HashMap<Key, DVec2> = corners
+            .iter()
+            .flatten()
+            .map(|&q| {
+                (
+                    q,
+                    to2([c0, c1, c2, c3, m]
+                        .into_iter()
+                        .find(|r| key(0, *r).1 == q.1)
+                        .unwrap()),
+                )
+            })
+            .collect();
+        assert_eq!(outline(&corners, &places)[0].len(), 5, "the notch");
+        add_eased(&mut corners, &mut places, &[[c0, c1, m]], to2);
+        let l = &outline(&corners, &places)[0];
+        assert_eq!(l.len(), 4, "{l:?}");
+        assert!((perimeter(l) - 8.0).abs() < 1e-9);
+        // A corner cut off: the square in two triangles, the one with corner c1 folded
+        // away and c1 merged into another vertex (no key left at its place).
+        let mut corners = vec![[k(0, c0), k(2, c2), k(3, c3)]];
+        let mut places: HashMap<Key, DVec2> = [(k(0, c0), c0), (k(2, c2), c2), (k(3, c3), c3)]
+            .into_iter()
+            .map(|(q, r)| (q, to2(r)))
+            .collect();
+        add_eased(&mut corners, &mut places, &[[c0, c1, c2]], to2);
+        let l = &outline(&corners, &places)[0];
+        assert_eq!(l.len(), 4, "{l:?}");
+        assert!((perimeter(l) - 8.0).abs() < 1e-9);
+        // A triangle of another part (no outline edge of this one) stays out.
+        let mut corners = vec![[k(0, c0), k(2, c2), k(3, c3)]];
+        add_eased(
+            &mut corners,
+            &mut places,
+            &[[p(5.0, 0.0), p(6.0, 0.0), p(6.0, 1.0)]],
+            to2,
+        );
+        assert_eq!(corners.len(), 1);
     }
 }
