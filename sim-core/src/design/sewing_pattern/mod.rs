@@ -571,10 +571,18 @@ fn notches(p: &Piece, allowance_mm: f64) -> Vec<(DVec2, DVec2)> {
     out
 }
 
+/// The width the pattern's layout keeps to, mm: a wide fabric's (150 cm), so the pattern
+/// prints and lays on the cloth in rows instead of one strip (a jumpsuit's was 5 m long).
+pub const LAYOUT_WIDTH_MM: f64 = 1500.0;
+/// The gap between pieces in the layout, mm.
+const LAYOUT_GAP_MM: f64 = 20.0;
+
 /// Adds a seam allowance of `mm` to every piece (the cut line) and its notches, then lays
-/// the pieces out left to right, 20 mm apart, their lowest points on y = 0.
+/// the pieces out left to right in rows [`LAYOUT_WIDTH_MM`] wide (a piece wider than that
+/// has a row of its own), 20 mm apart, the first row's lowest points on y = 0 and each
+/// next row above.
 pub fn finish(mut pieces: Vec<Piece>, allowance_mm: f64) -> Vec<Piece> {
-    let mut x = 0.0;
+    let (mut x, mut row_y, mut row_top) = (0.0, 0.0, 0.0f64);
     for p in &mut pieces {
         if allowance_mm > 0.0 {
             p.cut = p.loops.iter().map(|l| offset(l, allowance_mm)).collect();
@@ -587,7 +595,12 @@ pub fn finish(mut pieces: Vec<Piece>, allowance_mm: f64) -> Vec<Piece> {
                 (lo.min(a), hi.max(b))
             },
         );
-        let shift = DVec2::new(x - lo.x, -lo.y);
+        if x > 0.0 && x + (hi.x - lo.x) > LAYOUT_WIDTH_MM {
+            x = 0.0;
+            row_y = row_top + LAYOUT_GAP_MM;
+        }
+        row_top = row_top.max(row_y + hi.y - lo.y);
+        let shift = DVec2::new(x - lo.x, row_y - lo.y);
         for l in p.loops.iter_mut().chain(p.cut.iter_mut()) {
             for q in l.iter_mut() {
                 *q += shift;
@@ -603,7 +616,7 @@ pub fn finish(mut pieces: Vec<Piece>, allowance_mm: f64) -> Vec<Piece> {
         }
         p.grain.0 += shift;
         p.grain.1 += shift;
-        x += hi.x - lo.x + 20.0;
+        x += hi.x - lo.x + LAYOUT_GAP_MM;
     }
     pieces
 }
@@ -703,12 +716,41 @@ mod tests {
             );
         }
         let laid = finish(p, 0.0);
-        let (_, hi0) = bounds(&laid[0].cut[0]);
-        let (lo1, _) = bounds(&laid[1].cut[0]);
+        let (lo0, hi0) = bounds(&laid[0].cut[0]);
+        let (lo1, hi1) = bounds(&laid[1].cut[0]);
+        // Two 1000 mm pieces: one row each, the second above, 20 mm apart.
         assert!(
-            lo1.x >= hi0.x + 19.999,
-            "laid out side by side without overlap"
+            lo1.y >= hi0.y + 19.999 && lo0.x.abs() < 1e-9 && lo1.x.abs() < 1e-9,
+            "laid out in rows without overlap: {lo0} {hi0} {lo1} {hi1}"
         );
+        // Narrow pieces share a row, within the layout's width.
+        let narrow: Vec<Piece> = (0..7)
+            .map(|i| {
+                let mut q = laid[i % 2].clone();
+                let sq = vec![
+                    DVec2::ZERO,
+                    DVec2::new(300.0, 0.0),
+                    DVec2::new(300.0, 200.0),
+                    DVec2::new(0.0, 200.0),
+                ];
+                (q.loops, q.cut, q.seams, q.notches) = (vec![sq.clone()], vec![sq], vec![], vec![]);
+                q
+            })
+            .collect();
+        let laid = finish(narrow, 0.0);
+        let boxes: Vec<(DVec2, DVec2)> = laid.iter().map(|q| bounds(&q.cut[0])).collect();
+        // Four of 300 mm and three gaps in a row (1260 mm), then the other three.
+        assert!(boxes.iter().all(|(_, hi)| hi.x <= LAYOUT_WIDTH_MM));
+        assert_eq!(boxes.iter().filter(|(lo, _)| lo.y == 0.0).count(), 4);
+        for (i, a) in boxes.iter().enumerate() {
+            for b in &boxes[i + 1..] {
+                let apart = a.1.x + 19.999 <= b.0.x
+                    || b.1.x + 19.999 <= a.0.x
+                    || a.1.y + 19.999 <= b.0.y
+                    || b.1.y + 19.999 <= a.0.y;
+                assert!(apart, "{a:?} {b:?}");
+            }
+        }
 
         let mut d = square(1.0, 8);
         d.remove_region(Vec2::new(0.24, 0.24), Vec2::new(0.76, 0.76))
