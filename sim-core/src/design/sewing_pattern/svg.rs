@@ -93,20 +93,21 @@ pub fn svg_string(pieces: &[Piece]) -> String {
                 h - b.y
             );
         }
-        // One label per seam, at its first segment's middle.
-        let mut seen: Vec<&str> = Vec::new();
-        for (label, a, b) in &p.seams {
-            if seen.contains(&label.as_str()) {
-                continue;
+        // A label for each side of a seam, inside the piece beside its middle (where its
+        // middle notch is), clear of the corners where sides meet.
+        for (label, side) in super::notches::seam_sides(p) {
+            let (q, d) = super::notches::along(&side, 0.5);
+            let mut n = DVec2::new(-d.y, d.x);
+            if !super::notches::in_material(&p.loops, q + n * 0.5) {
+                n = -n;
             }
-            seen.push(label);
-            let m = (*a + *b) * 0.5;
+            let m = q + n * 10.0;
             let _ = writeln!(
                 s,
-                "<text class=\"seam-label\" x=\"{:.3}\" y=\"{:.3}\" font-size=\"8\" fill=\"#c02030\">{}</text>",
+                "<text class=\"seam-label\" x=\"{:.3}\" y=\"{:.3}\" font-size=\"8\" text-anchor=\"middle\" fill=\"#c02030\">{}</text>",
                 m.x,
                 h - m.y,
-                xml(&p.seam_text(label))
+                xml(&p.seam_text(&label))
             );
         }
         let (a, b) = p.grain;
