@@ -54,24 +54,30 @@ fn histogram_ms(h: &Histogram) -> Percentiles {
     }
 }
 
-/// Writes the design's exports and `sim-report.json` into `dir`.
+/// Writes the design's exports and `sim-report.json` into `dir`, the sewing pattern with a
+/// seam allowance of `allowance_mm` (refused outside 0-100 mm before anything is written).
 pub(crate) fn export(
     design: &mut Design,
     dir: &Path,
+    allowance_mm: f32,
     tel: &SimTelemetry,
     stats: &ServiceStats,
 ) -> Result<String, String> {
+    use sim_core::design::sewing_pattern::MAX_ALLOWANCE_MM;
+    // Checked before anything is written: a refused export leaves nothing behind.
+    let allowance = allowance_mm as f64;
+    if !(0.0..=MAX_ALLOWANCE_MM).contains(&allowance) {
+        return Err(format!(
+            "a seam allowance of {allowance_mm} mm: it must be 0-{MAX_ALLOWANCE_MM} mm"
+        ));
+    }
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     design.refresh_png_cache().map_err(|e| e.to_string())?;
     let mut files = export_obj(design, dir, "cloth").map_err(|e| e.to_string())?;
     files.push(export_glb(design, dir, "cloth").map_err(|e| e.to_string())?);
     files.extend(
-        sim_core::design::sewing_pattern::export_pattern(
-            design,
-            dir,
-            sim_core::scenario::SCENARIO_ALLOWANCE_MM,
-        )
-        .map_err(|e| e.to_string())?,
+        sim_core::design::sewing_pattern::export_pattern(design, dir, allowance)
+            .map_err(|e| e.to_string())?,
     );
     let design_path = dir.join("design.saiho");
     design

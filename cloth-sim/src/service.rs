@@ -422,9 +422,10 @@ impl Service<'_> {
                 log(&m);
                 Ok(m)
             }
-            Command::Export { dir } => export(
+            Command::Export { dir, allowance_mm } => export(
                 &mut self.design,
                 std::path::Path::new(dir),
+                *allowance_mm,
                 &self.tel,
                 &self.stats,
             ),

@@ -43,6 +43,7 @@ fn commands_are_carried_out_and_answered() {
     let mut ask = asker(ports::command_client(&node).unwrap());
     let path = std::env::temp_dir().join(format!("saiho-svc-save-{}.saiho", std::process::id()));
     edits_refusals_and_save(&mut ask, &path, &autosave);
+    exports_carry_their_seam_allowance(&mut ask);
     let (states, frames, _pen) = tool_state_and_the_pens_pin(&node, &mut ask);
     let meshes = paint_reaches_a_late_viewer(&node, &mut ask, &frames);
     reset_and_load(&mut ask, &meshes, &path);
@@ -52,8 +53,8 @@ fn commands_are_carried_out_and_answered() {
     drop(states);
     STOP.store(true, Ordering::Relaxed);
     let stats = handle.join().unwrap();
-    assert_eq!(stats.commands, 33);
-    assert_eq!(stats.rejected, 9);
+    assert_eq!(stats.commands, 38);
+    assert_eq!(stats.rejected, 10);
     let _ = std::fs::remove_file(&path);
     // The autosave, its previous good version, and the design the load replaced.
     let replaced = autosave.with_extension("before-reset.saiho");
@@ -77,6 +78,39 @@ fn the_edit_is_autosaved_at_once(autosave: &std::path::Path, vertices: usize) {
         );
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
+}
+
+/// Export writes the sewing pattern with the allowance asked for (0: cut on the sewing
+/// line, no separate sewing line drawn); one outside 0-100 mm, or not a number, is
+/// refused before anything is written.
+fn exports_carry_their_seam_allowance(ask: Ask<'_>) {
+    let dir = std::env::temp_dir().join(format!("saiho-svc-export-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let export = |allowance_mm: f32| {
+        let c = shared::command::Command::Export {
+            dir: dir.display().to_string(),
+            allowance_mm,
+        };
+        c.to_wire(Header::default()).unwrap()
+    };
+    // Not a number is a malformed command; out of range, a refused export.
+    for (bad, why) in [
+        (f32::NAN, "not finite"),
+        (-1.0, "seam allowance"),
+        (200.0, "0-100 mm"),
+    ] {
+        let r = ask(export(bad));
+        assert_eq!(r.ok, 0, "{bad}: {}", r.message());
+        assert!(r.message().contains(why), "{}", r.message());
+        assert!(!dir.exists(), "a refused export wrote {}", dir.display());
+    }
+    for (mm, sewing_line) in [(0.0, false), (15.0, true)] {
+        let r = ask(export(mm));
+        assert_eq!(r.ok, 1, "{}", r.message());
+        let svg = std::fs::read_to_string(dir.join("pattern.svg")).unwrap();
+        assert_eq!(svg.contains("class=\"sew\""), sewing_line, "{mm} mm");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 /// A cut, refusals (sewing a vertex to itself, malformed requests), undo, and a save.

@@ -201,7 +201,10 @@ impl App {
         self.command(match op {
             PathOp::Save => Command::Save { path: abs },
             PathOp::Load => Command::Load { path: abs },
-            PathOp::Export => Command::Export { dir: abs },
+            PathOp::Export => Command::Export {
+                dir: abs,
+                allowance_mm: self.tools.allowance_mm,
+            },
         });
     }
 

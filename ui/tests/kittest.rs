@@ -191,8 +191,8 @@ fn pin_paint_and_pinch(h: &mut Harness<'static, App>, centre: egui::Pos2) {
     );
 }
 
-/// Undo and redo by button and by keyboard, a tool by its shortcut, load, a new scene,
-/// and a click beside the cloth.
+/// Undo and redo by button and by keyboard, a tool by its shortcut, load, export, a new
+/// scene, and a click beside the cloth.
 fn keys_load_and_reset(h: &mut Harness<'static, App>) {
     // Undo and redo by button and by keyboard.
     h.get_by_label("Undo").click();
@@ -216,6 +216,13 @@ fn keys_load_and_reset(h: &mut Harness<'static, App>) {
         "{:?}",
         c.text()
     );
+    // Export names the folder and carries the seam allowance for the pattern.
+    h.get_by_label("Export").click();
+    h.run_steps(2);
+    let c = *commands(h).last().unwrap();
+    assert_eq!(c.op, op::EXPORT);
+    assert!(c.text().unwrap().ends_with("out/export"), "{:?}", c.text());
+    assert_eq!(c.value, shared::command::DEFAULT_ALLOWANCE_MM);
     let n = commands(h).len();
     press(h, "New scene");
     assert_eq!(commands(h).len(), n, "one click must not reset");

@@ -56,6 +56,10 @@ pub enum PieceShape {
     File { path: String },
 }
 
+/// The seam allowance the studio's Export gives the sewing pattern unless told otherwise,
+/// mm: the scenarios' (`sim_core::scenario::SCENARIO_ALLOWANCE_MM`).
+pub const DEFAULT_ALLOWANCE_MM: f32 = 10.0;
+
 /// One operation on the design (see [`op`] for what each does on cloth-sim's side).
 #[derive(Clone, Debug, PartialEq)]
 pub enum Command {
@@ -110,9 +114,13 @@ pub enum Command {
         b: [[f32; 2]; 2],
         tolerance: f32,
     },
-    /// Export the design into the directory `dir`.
+    /// Export the design into the directory `dir` (`EXPORT`; `value` the allowance), its
+    /// sewing pattern with a seam
+    /// allowance of `allowance_mm` (0: cut on the sewing line; cloth-sim refuses one
+    /// outside 0-100 mm, or not a number, and writes nothing).
     Export {
         dir: String,
+        allowance_mm: f32,
     },
     /// A new design over `body`: `grid` cells a side (`None` keeps the current), the
     /// material changed as given, `substeps` per frame (`None`: cloth-sim's setting).
@@ -293,11 +301,12 @@ impl Command {
             Self::SetTearing(Tearing::On { threshold, split }) => {
                 (c.mode, c.value) = (if *split { 2 } else { 1 }, *threshold);
             }
-            Self::Save { path }
-            | Self::Export { dir: path }
-            | Self::Load { path }
-            | Self::SetFabric { name: path } => {
+            Self::Save { path } | Self::Load { path } | Self::SetFabric { name: path } => {
                 set_text(&mut c, path)?;
+            }
+            Self::Export { dir, allowance_mm } => {
+                set_text(&mut c, dir)?;
+                c.value = *allowance_mm;
             }
             Self::SetPieceFabric { piece: a, name } | Self::NameSeam { seam: a, name } => {
                 c.a = *a;
@@ -424,7 +433,10 @@ impl Command {
                 b: [[u[4], u[5]], [u[6], u[7]]],
                 tolerance: c.value,
             },
-            op::EXPORT => Self::Export { dir: text(c) },
+            op::EXPORT => Self::Export {
+                dir: text(c),
+                allowance_mm: c.value,
+            },
             op::RESET => Self::Reset {
                 body: match c.b {
                     body::SPHERE => BodyChoice::Sphere,

@@ -69,6 +69,7 @@ fn every_variant() -> Vec<Command> {
         },
         Command::Export {
             dir: "out/export".into(),
+            allowance_mm: 15.0,
         },
         Command::Reset {
             body: BodyChoice::Mannequin,

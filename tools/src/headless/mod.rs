@@ -212,6 +212,7 @@ impl Ui {
         let m = self.must(
             Command::Export {
                 dir: dir.display().to_string(),
+                allowance_mm: shared::command::DEFAULT_ALLOWANCE_MM,
             },
             stop,
         )?;

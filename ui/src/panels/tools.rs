@@ -15,6 +15,8 @@ pub struct ToolsPanel {
     pub tear_threshold: f32,
     pub save_path: String,
     pub export_dir: String,
+    /// The seam allowance Export gives the sewing pattern, mm.
+    pub allowance_mm: f32,
 }
 
 impl Default for ToolsPanel {
@@ -26,6 +28,7 @@ impl Default for ToolsPanel {
             tear_threshold: 1.6,
             save_path: "design.saiho".into(),
             export_dir: "out/export".into(),
+            allowance_mm: shared::command::DEFAULT_ALLOWANCE_MM,
         }
     }
 }
@@ -155,12 +158,25 @@ impl ToolsPanel {
         });
         ui.horizontal(|ui| {
             ui.label("Folder");
-            ui.text_edit_singleline(&mut self.export_dir)
-                .on_hover_text("Where Export writes OBJ+MTL+PNG, GLB and the design");
+            ui.text_edit_singleline(&mut self.export_dir).on_hover_text(
+                "Where Export writes OBJ+MTL+PNG, GLB, the sewing pattern (SVG, DXF) and the design",
+            );
+        });
+        ui.horizontal(|ui| {
+            ui.label("Seam allowance");
+            ui.add(
+                egui::DragValue::new(&mut self.allowance_mm)
+                    .range(0.0..=100.0)
+                    .speed(0.5)
+                    .suffix(" mm"),
+            )
+            .on_hover_text(
+                "The pattern's cut line, this far outside its sewing line (0: cut on it)",
+            );
         });
         if ui
             .button("Export")
-            .on_hover_text("Export the cloth and the body")
+            .on_hover_text("Export the cloth, the body and the sewing pattern")
             .clicked()
         {
             actions.push(Action::Path(PathOp::Export, self.export_dir.clone()));
