@@ -70,8 +70,8 @@ fn seal(bytes: &mut [u8]) {
 }
 
 /// A design file (`Design::load_design`, as `cloth-sim run --resume`, LOAD and the
-/// autosave's resume read it). One that loads must be valid, step, and load again from
-/// what this build writes of it.
+/// autosave's resume read it). One that loads must be valid, give a sewing pattern of
+/// numbers, step, and load again from what this build writes of it.
 pub fn design(data: &[u8]) {
     let mut bytes = data.to_vec();
     seal(&mut bytes);
@@ -79,6 +79,23 @@ pub fn design(data: &[u8]) {
         return;
     };
     d.validate().expect("a loaded design is valid");
+    // Its sewing pattern, as Export writes it: every point a number.
+    let pattern = sim_core::design::sewing_pattern::finish(
+        sim_core::design::sewing_pattern::pieces(&d),
+        10.0,
+    );
+    for p in &pattern {
+        let points = (p.loops.iter().chain(&p.cut).flatten().copied())
+            .chain(p.notches.iter().flat_map(|n| [n.0, n.1]))
+            .chain([p.grain.0, p.grain.1]);
+        assert!(
+            points.into_iter().all(|q| q.is_finite()),
+            "a pattern piece with a point that is not a number: {}",
+            p.name
+        );
+    }
+    let _ = sim_core::design::sewing_pattern::svg_string(&pattern);
+    let _ = sim_core::design::sewing_pattern::dxf_string(&pattern);
     if d.step().is_err() {
         return;
     }

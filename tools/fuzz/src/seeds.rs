@@ -64,6 +64,20 @@ pub fn write_seeds(dir: &Path) -> std::io::Result<()> {
         let bytes = d.save_design().map_err(std::io::Error::other)?;
         put(dir, "design", name, &bytes)?;
     }
+    // A seam, and cloth eased into it: a corner triangle folded away (removed) and kept in
+    // the seam's record, which the pattern out puts back.
+    let mut d = crate::small_design(ModelKind::Xpbd);
+    let _ = d.add_seam(&[0, 5, 10, 15, 20], &[4, 9, 14, 19, 24], 0.05);
+    let corner = d.sim.cloth.live.iter().find(|(_, t)| t.v.contains(&0));
+    if let Some((slot, t)) = corner.map(|(s, t)| (s, t.rest)) {
+        let _ = d.remove_triangles(&[slot]);
+        if let Some(seam) = d.seams.first_mut() {
+            seam.eased.push(t);
+        }
+    }
+    d.refresh_png_cache().map_err(std::io::Error::other)?;
+    let bytes = d.save_design().map_err(std::io::Error::other)?;
+    put(dir, "design", "eased-seam", &bytes)?;
     // The strain limit at work under the guard: the cloth stretched 1.5x, limited to 1.2x.
     let limited = Material {
         strain_limit: 0.2,
