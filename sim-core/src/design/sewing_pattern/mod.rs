@@ -50,7 +50,7 @@ pub struct Piece {
     pub fabric: String,
     /// Balance notches (`finish`): slits cut into the edge, each from the cut line into
     /// the piece, where a seam's side is matched to its other side: at its middle, and
-    /// at its quarters when it is longer than [`QUARTER_NOTCHES_MM`]. Sewn notch to
+    /// at its quarters when the seam's longer side is longer than [`QUARTER_NOTCHES_MM`]. Sewn notch to
     /// notch, the two sides meet as the simulation paired them (by arc length).
     pub notches: Vec<(DVec2, DVec2)>,
 }
@@ -486,11 +486,12 @@ const LAYOUT_GAP_MM: f64 = 20.0;
 /// next row above.
 pub fn finish(mut pieces: Vec<Piece>, allowance_mm: f64) -> Vec<Piece> {
     let (mut x, mut row_y, mut row_top) = (0.0, 0.0, 0.0f64);
+    let longest = notches::longest_sides(&pieces);
     for p in &mut pieces {
         if allowance_mm > 0.0 {
             p.cut = p.loops.iter().map(|l| offset(l, allowance_mm)).collect();
         }
-        p.notches = notches(p, allowance_mm);
+        p.notches = notches(p, allowance_mm, &longest);
         let (lo, hi) = p.cut.iter().fold(
             (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
             |(lo, hi), l| {

@@ -3,6 +3,7 @@
 //! SVG's seam labels are placed along.
 
 use glam::DVec2;
+use rustc_hash::FxHashMap as HashMap;
 
 use super::Piece;
 
@@ -75,17 +76,40 @@ pub(super) fn along(c: &[DVec2], t: f64) -> (DVec2, DVec2) {
     (c[0], DVec2::X)
 }
 
+/// A chain's length.
+fn length(c: &[DVec2]) -> f64 {
+    c.windows(2).map(|w| (w[1] - w[0]).length()).sum()
+}
+
+/// The longest side of each seam over `pieces`, by label: both sides of a seam take their
+/// notches by it, so that a side just under [`QUARTER_NOTCHES_MM`] and its partner just
+/// over get the same notches.
+pub(super) fn longest_sides(pieces: &[Piece]) -> HashMap<String, f64> {
+    let mut longest: HashMap<String, f64> = HashMap::default();
+    for (label, side) in pieces.iter().flat_map(seam_sides) {
+        let l = longest.entry(label).or_default();
+        *l = l.max(length(&side));
+    }
+    longest
+}
+
 /// The balance notches of piece `p` (see [`Piece::notches`]) for an allowance of
 /// `allowance_mm`: each a slit square to its seam's side, from the cut line half way to
-/// the sewing line (or [`NOTCH_DEPTH_MM`] into a piece cut on its sewing line).
-pub(super) fn notches(p: &Piece, allowance_mm: f64) -> Vec<(DVec2, DVec2)> {
+/// the sewing line (or [`NOTCH_DEPTH_MM`] into a piece cut on its sewing line); at the
+/// quarters too where the seam's longest side (`longest`, by label) is long.
+pub(super) fn notches(
+    p: &Piece,
+    allowance_mm: f64,
+    longest: &HashMap<String, f64>,
+) -> Vec<(DVec2, DVec2)> {
     let mut out = Vec::new();
-    for (_, side) in seam_sides(p) {
-        let len: f64 = side.windows(2).map(|w| (w[1] - w[0]).length()).sum();
+    for (label, side) in seam_sides(p) {
+        let len = length(&side);
         if len <= 0.0 {
             continue;
         }
-        let at: &[f64] = if len > QUARTER_NOTCHES_MM {
+        let seam = longest.get(&label).copied().unwrap_or(len);
+        let at: &[f64] = if seam > QUARTER_NOTCHES_MM {
             &[0.25, 0.5, 0.75]
         } else {
             &[0.5]

@@ -301,3 +301,33 @@ fn triangles_a_weld_folded_away_go_back_into_the_outline() {
     );
     assert_eq!(corners.len(), 1);
 }
+
+/// A seam's two sides get the same notches though one is just under the quarter-notch
+/// length and the other just over (the count follows the seam's longer side).
+#[test]
+fn both_sides_of_a_seam_get_the_same_notches() {
+    let piece = |w: f64| {
+        let sq = vec![
+            DVec2::ZERO,
+            DVec2::new(w, 0.0),
+            DVec2::new(w, 100.0),
+            DVec2::new(0.0, 100.0),
+        ];
+        Piece {
+            name: format!("{w}"),
+            loops: vec![sq.clone()],
+            cut: vec![sq],
+            seams: vec![("A".into(), DVec2::ZERO, DVec2::new(w, 0.0))],
+            seam_names: vec![],
+            grain: (DVec2::new(10.0, 50.0), DVec2::new(20.0, 50.0)),
+            fabric: "cloth".into(),
+            notches: vec![],
+        }
+    };
+    let short = QUARTER_NOTCHES_MM - 10.0;
+    let laid = finish(vec![piece(short), piece(QUARTER_NOTCHES_MM + 10.0)], 10.0);
+    assert_eq!(laid[0].notches.len(), 3);
+    assert_eq!(laid[1].notches.len(), 3);
+    // Alone, the short side has one (its middle).
+    assert_eq!(finish(vec![piece(short)], 10.0)[0].notches.len(), 1);
+}
