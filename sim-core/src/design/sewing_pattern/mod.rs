@@ -50,8 +50,9 @@ pub struct Piece {
     pub fabric: String,
     /// Balance notches (`finish`): slits cut into the edge, each from the cut line into
     /// the piece, where a seam's side is matched to its other side: at its middle, and
-    /// at its quarters when the seam's longer side is longer than [`QUARTER_NOTCHES_MM`]. Sewn notch to
-    /// notch, the two sides meet as the simulation paired them (by arc length).
+    /// at its quarters when the seam's longer side is longer than
+    /// [`QUARTER_NOTCHES_MM`]. Sewn notch to notch, the two sides meet as the simulation
+    /// paired them (by arc length).
     pub notches: Vec<(DVec2, DVec2)>,
 }
 
