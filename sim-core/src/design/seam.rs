@@ -299,9 +299,10 @@ impl Design {
                         _ => None,
                     })
                     .collect();
-                // Every seam now refers to `a` where it referred to `b`.
+                // Every seam now refers to `a` where it referred to `b` (this one among
+                // them: `b` is in its pair `k`).
                 for (sj, seam) in self.seams.iter().enumerate() {
-                    if sj == si || seam.pairs.iter().any(|&(p, q)| p == b || q == b) {
+                    if seam.pairs.iter().any(|&(p, q)| p == b || q == b) {
                         let mut new = seam.clone();
                         if sj == si {
                             new.eased.extend_from_slice(&folded);
