@@ -1,7 +1,8 @@
 //! Meshing a pattern piece: a 1 m square and a 0.6 x 0.4 m ellipse at edge lengths that
 //! give about 10,000 triangles (the garment issue's target: <= 50 ms); and adding such a
 //! piece to the dress on the mannequin (meshing, placing a layer out until it crosses
-//! nothing, the undoable edit; the undo after each is not timed).
+//! nothing, the undoable edit; the undo after each is not timed); the pattern out, and
+//! the pattern view's lines cloth-sim sends the studio.
 
 #![allow(clippy::unwrap_used)] // benchmark setup: a failure should stop the run
 
@@ -64,6 +65,20 @@ fn mesher(c: &mut Criterion) {
     std::fs::create_dir_all(&dir).unwrap();
     g.bench_function("the dress, 10 mm allowance, SVG and DXF", |b| {
         b.iter(|| sim_core::design::sewing_pattern::export_pattern(&d, &dir, 10.0).unwrap())
+    });
+    // What cloth-sim computes for the studio's pattern view whenever the pieces or the
+    // seams change (outlines, seams, notches and grain lines, nothing written).
+    g.bench_function("the dress, pattern view lines", |b| {
+        b.iter(|| sim_core::design::sewing_pattern::view_pieces(&d))
+    });
+    let mut square = ScenarioConfig::new(ScenarioName::DrapeMannequin);
+    square.grid = 128;
+    let square = build_design(&square).unwrap();
+    g.bench_function("128 x 128 square, piece list", |b| {
+        b.iter(|| square.piece_list())
+    });
+    g.bench_function("128 x 128 square, pattern view lines", |b| {
+        b.iter(|| sim_core::design::sewing_pattern::view_pieces(&square))
     });
     g.finish();
     let _ = std::fs::remove_dir_all(&dir);

@@ -686,6 +686,21 @@ fn cloth_eased_into_a_seam_stays_in_the_pattern_out() {
             assert_eq!(on_seam(p, label), want, "seam {label} on the {}", p.name);
         }
     }
+    // The studio's pattern view has the same pieces, in metres: the eased cloth in each
+    // outline, the same notches, 5 mm into the piece from its sewing line.
+    let view = sim_core::design::sewing_pattern::view_pieces(&d);
+    assert_eq!(view.len(), 2);
+    for (v, c) in view.iter().zip(&cut) {
+        assert!(
+            (v.perimeters()[0] * 1000.0 - c).abs() < 0.5,
+            "{} against {c}",
+            v.perimeters()[0]
+        );
+        assert_eq!(v.notches.len(), 8, "{}", v.name);
+        for &(a, b) in &v.notches {
+            assert!(off(&v.loops[0], a) < 1e-6 && (off(&v.loops[0], b) - 0.005).abs() < 1e-5);
+        }
+    }
 }
 
 /// A seam's eased triangles from a file are checked: not numbers, or more of them than

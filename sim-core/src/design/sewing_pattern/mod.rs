@@ -67,6 +67,21 @@ impl Piece {
 }
 
 impl Piece {
+    /// Every place of the piece multiplied by `k` (millimetres to metres: 1e-3).
+    fn scale(&mut self, k: f64) {
+        for q in self.loops.iter_mut().chain(&mut self.cut).flatten() {
+            *q *= k;
+        }
+        for (_, a, b) in &mut self.seams {
+            *a *= k;
+            *b *= k;
+        }
+        for (a, b) in self.notches.iter_mut().chain([&mut self.grain]) {
+            *a *= k;
+            *b *= k;
+        }
+    }
+
     /// Length of each sewing-line loop, mm.
     pub fn perimeters(&self) -> Vec<f64> {
         self.loops.iter().map(|l| perimeter(l)).collect()
@@ -124,22 +139,33 @@ fn plane(design: &Design) -> (DVec3, DVec3, DVec3) {
 pub fn pattern_parts(design: &Design) -> Vec<Vec<u32>> {
     let live = &design.sim.cloth.live;
     let slots: Vec<u32> = live.iter().map(|(s, _)| s).collect();
-    let tris: Vec<[Key; 3]> = live
+    // Each distinct corner key as a number, so the edges hash as one u64 each (hashing
+    // the keys themselves made this the cost of the 128 x 128 cloth's piece list).
+    let mut id: HashMap<Key, u32> = HashMap::default();
+    id.reserve(slots.len() * 2);
+    let tris: Vec<[u32; 3]> = live
         .iter()
-        .map(|(_, t)| [0, 1, 2].map(|k| key(t.v[k], t.rest[k])))
+        .map(|(_, t)| {
+            [0, 1, 2].map(|k| {
+                let n = id.len() as u32;
+                *id.entry(key(t.v[k], t.rest[k])).or_insert(n)
+            })
+        })
         .collect();
-    let mut edge_tri: HashMap<(Key, Key), usize> = HashMap::default();
+    let edge = |a: u32, b: u32| (a as u64) << 32 | b as u64;
+    let mut edge_tri: HashMap<u64, u32> = HashMap::default();
+    edge_tri.reserve(tris.len() * 3);
     for (i, t) in tris.iter().enumerate() {
         for k in 0..3 {
-            edge_tri.insert((t[k], t[(k + 1) % 3]), i);
+            edge_tri.insert(edge(t[k], t[(k + 1) % 3]), i as u32);
         }
     }
     // Triangles joined across shared pattern edges (union-find).
     let mut sets = Sets::new(tris.len());
     for (i, t) in tris.iter().enumerate() {
         for k in 0..3 {
-            if let Some(&j) = edge_tri.get(&(t[(k + 1) % 3], t[k])) {
-                sets.join(i, j);
+            if let Some(&j) = edge_tri.get(&edge(t[(k + 1) % 3], t[k])) {
+                sets.join(i, j as usize);
             }
         }
     }
@@ -166,20 +192,21 @@ pub fn pieces(design: &Design) -> Vec<Piece> {
     })
 }
 
-/// Every listed seam's outline edges where the studio's pattern view draws them: in the
-/// design's pattern plane (rest x and -z), metres, each with its seam's index.
-pub fn seam_lines(design: &Design) -> Vec<(usize, DVec2, DVec2)> {
-    if design.seams.is_empty() {
-        return Vec::new();
+/// The pattern as the studio's pattern view draws it: every piece where the view has it,
+/// in the design's pattern plane (rest x and -z), in metres, with its seams (labelled as
+/// in the pattern out) and its balance notches as cut without an allowance (5 mm into the
+/// piece from its sewing line). The same outlines the pattern out writes, so the view
+/// shows the cloth a weld eased into a seam, not the gap its mesh has there.
+pub fn view_pieces(design: &Design) -> Vec<Piece> {
+    let mut pieces = pieces_in(design, |p: Vec3| {
+        DVec2::new(p.x as f64, -p.z as f64) * 1000.0
+    });
+    let longest = notches::longest_sides(&pieces);
+    for p in &mut pieces {
+        p.notches = notches(p, 0.0, &longest);
+        p.scale(1e-3);
     }
-    let index: HashMap<String, usize> = (0..design.seams.len())
-        .map(|i| (seam_label(i), i))
-        .collect();
-    pieces_in(design, |p: Vec3| DVec2::new(p.x as f64, -p.z as f64))
-        .into_iter()
-        .flat_map(|piece| piece.seams)
-        .filter_map(|(label, a, b)| Some((*index.get(&label)?, a, b)))
-        .collect()
+    pieces
 }
 
 /// [`pieces`] with each rest position mapped into the plane by `to2`.
@@ -204,18 +231,21 @@ fn pieces_in(design: &Design, to2: impl Fn(Vec3) -> DVec2 + Copy) -> Vec<Piece> 
         .collect();
     let mut out = Vec::new();
     for (part, info) in parts.iter().zip(names) {
-        let mut corners: Vec<[Key; 3]> = part
-            .iter()
-            .filter_map(|&s| live.tri(s))
-            .map(|t| [0, 1, 2].map(|k| key(t.v[k], t.rest[k])))
+        let mut c = Corners::default();
+        for t in part.iter().filter_map(|&s| live.tri(s)) {
+            let tri = [0, 1, 2].map(|k| c.id(key(t.v[k], t.rest[k]), || to2(t.rest[k])));
+            c.tris.push(tri);
+        }
+        add_eased(&mut c, &eased, to2);
+        let boundary: Vec<(Key, Key)> = boundary_of(&c.tris)
+            .into_iter()
+            .map(|(a, b)| (c.keys[a as usize], c.keys[b as usize]))
             .collect();
-        let mut places: HashMap<Key, DVec2> = part
+        // The places of the outline's corners, all that is drawn from here on.
+        let places: HashMap<Key, DVec2> = boundary
             .iter()
-            .filter_map(|&s| live.tri(s))
-            .flat_map(|t| (0..3).map(move |k| (key(t.v[k], t.rest[k]), to2(t.rest[k]))))
+            .map(|&(a, _)| (a, c.places[c.ids[&a] as usize]))
             .collect();
-        add_eased(&mut corners, &mut places, &eased, to2);
-        let boundary = boundary_of(&corners);
         let key_loops = chain(&boundary);
         let mut loops = key_loops
             .iter()
@@ -266,16 +296,42 @@ fn pieces_in(design: &Design, to2: impl Fn(Vec3) -> DVec2 + Copy) -> Vec<Piece> 
     out
 }
 
-/// The directed pattern edges of `corners` without their twin: the part's outline.
-fn boundary_of(corners: &[[Key; 3]]) -> Vec<(Key, Key)> {
+/// A part's triangles by corner number, and each number's key and pattern place.
+#[derive(Default)]
+struct Corners {
+    tris: Vec<[u32; 3]>,
+    keys: Vec<Key>,
+    places: Vec<DVec2>,
+    ids: HashMap<Key, u32>,
+}
+
+impl Corners {
+    /// The number of corner `k`, a new one placed at `place()` if it has none yet.
+    fn id(&mut self, k: Key, place: impl FnOnce() -> DVec2) -> u32 {
+        if let Some(&i) = self.ids.get(&k) {
+            return i;
+        }
+        let i = self.keys.len() as u32;
+        self.ids.insert(k, i);
+        self.keys.push(k);
+        self.places.push(place());
+        i
+    }
+}
+
+/// The directed pattern edges of `tris` (corner numbers) without their twin: the
+/// part's outline.
+fn boundary_of(tris: &[[u32; 3]]) -> Vec<(u32, u32)> {
+    let edge = |a: u32, b: u32| (a as u64) << 32 | b as u64;
     let edges = || {
-        corners
-            .iter()
+        tris.iter()
             .flat_map(|t| (0..3).map(move |k| (t[k], t[(k + 1) % 3])))
     };
-    let directed: FxHashSet<(Key, Key)> = edges().collect();
+    let mut directed: FxHashSet<u64> = FxHashSet::default();
+    directed.reserve(tris.len() * 3);
+    directed.extend(edges().map(|(a, b)| edge(a, b)));
     edges()
-        .filter(|&(a, b)| !directed.contains(&(b, a)))
+        .filter(|&(a, b)| !directed.contains(&edge(b, a)))
         .collect()
 }
 
@@ -291,25 +347,23 @@ fn boundary_of(corners: &[[Key; 3]]) -> Vec<(Key, Key)> {
 /// of its own where the weld merged that corner away; a triangle it shares no outline
 /// edge with yet may join after another (a run of them), one not of this part never
 /// does. A dart's tip, whose cloth was cut away, is never in the record and stays.
-fn add_eased(
-    corners: &mut Vec<[Key; 3]>,
-    places: &mut HashMap<Key, DVec2>,
-    eased: &[[Vec3; 3]],
-    to2: impl Fn(Vec3) -> DVec2,
-) {
+fn add_eased(c: &mut Corners, eased: &[[Vec3; 3]], to2: impl Fn(Vec3) -> DVec2) {
     let mut left: Vec<usize> = (0..eased.len()).collect();
-    loop {
-        let boundary = boundary_of(corners);
-        let next_of: HashMap<Key, Key> = boundary.iter().map(|&(a, b)| (a, b)).collect();
-        let prev_of: HashMap<Key, Key> = boundary.iter().map(|&(a, b)| (b, a)).collect();
+    while !left.is_empty() {
+        let boundary = boundary_of(&c.tris);
+        let next_of: HashMap<u32, u32> = boundary.iter().map(|&(a, b)| (a, b)).collect();
+        let prev_of: HashMap<u32, u32> = boundary.iter().map(|&(a, b)| (b, a)).collect();
         let before = left.len();
         left.retain(|&n| {
             let t = eased[n];
             let q = t.map(|p| key(0, p).1);
+            let at = |c: &Corners, w: u32| c.keys[w as usize].1;
             for i in 0..3 {
                 let (j, k) = ((i + 1) % 3, (i + 2) % 3);
                 // The triangle's side i -> j is the twin of outline edge (u, v).
-                let Some(&(u, v)) = boundary.iter().find(|(u, v)| u.1 == q[j] && v.1 == q[i])
+                let Some(&(u, v)) = boundary
+                    .iter()
+                    .find(|&&(u, v)| at(c, u) == q[j] && at(c, v) == q[i])
                 else {
                     continue;
                 };
@@ -318,18 +372,17 @@ fn add_eased(
                     .into_iter()
                     .flatten()
                     .copied()
-                    .find(|w| w.1 == q[k])
-                    .unwrap_or((u32::MAX - n as u32, q[k]));
-                places.entry(third).or_insert_with(|| to2(t[k]));
+                    .find(|&w| at(c, w) == q[k])
+                    .unwrap_or_else(|| c.id((u32::MAX - n as u32, q[k]), || to2(t[k])));
                 let mut tri = [v, u, third];
                 // In the triangle's own winding: i, j, k.
                 tri.rotate_right(i);
-                corners.push(tri);
+                c.tris.push(tri);
                 return false;
             }
             true
         });
-        if left.is_empty() || left.len() == before {
+        if left.len() == before {
             return;
         }
     }

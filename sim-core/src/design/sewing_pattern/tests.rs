@@ -235,11 +235,15 @@ fn offset_mitres_right_angles_and_bevels_sharp_corners() {
     assert!(o.iter().all(|p| p.x < 106.0), "{o:?}");
 }
 
-/// The outline of `corners` as chained loops of places.
-fn outline(corners: &[[Key; 3]], places: &HashMap<Key, DVec2>) -> Vec<Vec<DVec2>> {
-    chain(&boundary_of(corners))
+/// The outline of `c` as chained loops of places.
+fn outline(c: &Corners) -> Vec<Vec<DVec2>> {
+    let boundary: Vec<(Key, Key)> = boundary_of(&c.tris)
+        .into_iter()
+        .map(|(a, b)| (c.keys[a as usize], c.keys[b as usize]))
+        .collect();
+    chain(&boundary)
         .iter()
-        .map(|l| l.iter().map(|k| places[k]).collect())
+        .map(|l| l.iter().map(|k| c.places[c.ids[k] as usize]).collect())
         .collect()
 }
 
@@ -254,52 +258,38 @@ fn triangles_a_weld_folded_away_go_back_into_the_outline() {
         p(0.0, 2.0),
         p(1.0, 1.0),
     );
+    // Corners numbered from (vertex, rest place) triangles.
+    let part = |tris: &[[(u32, Vec3); 3]]| {
+        let mut c = Corners::default();
+        for t in tris {
+            let tri = t.map(|(v, q)| c.id(key(v, q), || to2(q)));
+            c.tris.push(tri);
+        }
+        c
+    };
     // A notch: four triangles round a centre, the first folded away, its two corners
     // on the outline since merged into one vertex (7) as a seam's weld leaves them.
-    let k = |v: u32, q: Vec3| key(v, q);
-    let mut corners = vec![
-        [k(7, c1), k(2, c2), k(4, m)],
-        [k(2, c2), k(3, c3), k(4, m)],
-        [k(3, c3), k(7, c0), k(4, m)],
-    ];
-    let mut places: HashMap<Key, DVec2> = corners
-        .iter()
-        .flatten()
-        .map(|&q| {
-            (
-                q,
-                to2([c0, c1, c2, c3, m]
-                    .into_iter()
-                    .find(|r| key(0, *r).1 == q.1)
-                    .unwrap()),
-            )
-        })
-        .collect();
-    assert_eq!(outline(&corners, &places)[0].len(), 5, "the notch");
-    add_eased(&mut corners, &mut places, &[[c0, c1, m]], to2);
-    let l = &outline(&corners, &places)[0];
+    let mut c = part(&[
+        [(7, c1), (2, c2), (4, m)],
+        [(2, c2), (3, c3), (4, m)],
+        [(3, c3), (7, c0), (4, m)],
+    ]);
+    assert_eq!(outline(&c)[0].len(), 5, "the notch");
+    add_eased(&mut c, &[[c0, c1, m]], to2);
+    let l = &outline(&c)[0];
     assert_eq!(l.len(), 4, "{l:?}");
     assert!((perimeter(l) - 8.0).abs() < 1e-9);
     // A corner cut off: the square in two triangles, the one with corner c1 folded
     // away and c1 merged into another vertex (no key left at its place).
-    let mut corners = vec![[k(0, c0), k(2, c2), k(3, c3)]];
-    let mut places: HashMap<Key, DVec2> = [(k(0, c0), c0), (k(2, c2), c2), (k(3, c3), c3)]
-        .into_iter()
-        .map(|(q, r)| (q, to2(r)))
-        .collect();
-    add_eased(&mut corners, &mut places, &[[c0, c1, c2]], to2);
-    let l = &outline(&corners, &places)[0];
+    let mut c = part(&[[(0, c0), (2, c2), (3, c3)]]);
+    add_eased(&mut c, &[[c0, c1, c2]], to2);
+    let l = &outline(&c)[0];
     assert_eq!(l.len(), 4, "{l:?}");
     assert!((perimeter(l) - 8.0).abs() < 1e-9);
     // A triangle of another part (no outline edge of this one) stays out.
-    let mut corners = vec![[k(0, c0), k(2, c2), k(3, c3)]];
-    add_eased(
-        &mut corners,
-        &mut places,
-        &[[p(5.0, 0.0), p(6.0, 0.0), p(6.0, 1.0)]],
-        to2,
-    );
-    assert_eq!(corners.len(), 1);
+    let mut c = part(&[[(0, c0), (2, c2), (3, c3)]]);
+    add_eased(&mut c, &[[p(5.0, 0.0), p(6.0, 0.0), p(6.0, 1.0)]], to2);
+    assert_eq!(c.tris.len(), 1);
 }
 
 /// A seam's two sides get the same notches though one is just under the quarter-notch
