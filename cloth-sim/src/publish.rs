@@ -7,8 +7,8 @@ use shared::Header;
 use shared::services::SlicePub;
 use shared::sim_to_haptic::{LocalModel, MAX_PLANES, workspace_covering};
 use shared::sim_to_ui::{
-    BodyMeshHeader, ClothFrameHeader, MAX_LISTED, MeshCorner, MeshHeader, PieceList, SeamEntry,
-    SeamSegment, TextureTile, put_text,
+    BodyMeshHeader, ClothFrameHeader, MAX_LISTED, MeshCorner, MeshHeader, OutlineSegment,
+    PieceList, SeamEntry, SeamSegment, TextureTile, outline, put_text,
 };
 use sim_core::design::sewing_pattern::seam_label;
 use sim_core::design::{Design, TILE, Texture};
@@ -294,15 +294,52 @@ pub(crate) fn piece_list(design: &Design, seq: &mut u64) -> PieceList {
             name,
         };
     }
-    let lines = sim_core::design::sewing_pattern::seam_lines(design);
-    let listed = lines.iter().filter(|(seam, ..)| *seam < MAX_LISTED);
+    // The pattern as the export makes it: each seam's sides and each piece's lines.
+    let view = sim_core::design::sewing_pattern::view_pieces(design);
+    let seam_index: std::collections::HashMap<String, usize> = (0..design.seams.len())
+        .map(|i| (seam_label(i), i))
+        .collect();
+    let listed = view
+        .iter()
+        .flat_map(|p| &p.seams)
+        .filter_map(|(label, a, b)| Some((*seam_index.get(label)?, a, b)))
+        .filter(|(seam, ..)| *seam < MAX_LISTED);
     for (g, (seam, a, b)) in l.segments.iter_mut().zip(listed) {
         *g = SeamSegment {
-            seam: *seam as u32,
+            seam: seam as u32,
             a: a.as_vec2().to_array(),
             b: b.as_vec2().to_array(),
         };
         l.segment_count += 1;
+    }
+    let lines = view.iter().flat_map(|p| {
+        // Names are unique in the list: the view's piece is the listed one of its name.
+        let piece = pieces
+            .iter()
+            .take(MAX_LISTED)
+            .position(|e| e.name == p.name)
+            .map_or(u32::MAX, |i| i as u32);
+        let sewing = p.loops.iter().flat_map(|l| {
+            (0..l.len()).map(move |i| (outline::SEWING_LINE, l[i], l[(i + 1) % l.len()]))
+        });
+        let notches = p.notches.iter().map(|&(a, b)| (outline::NOTCH, a, b));
+        let grain = std::iter::once((outline::GRAIN, p.grain.0, p.grain.1));
+        sewing
+            .chain(notches)
+            .chain(grain)
+            .map(move |(kind, a, b)| (piece, kind, a, b))
+    });
+    for (piece, kind, a, b) in lines {
+        if let Some(g) = l.outline.get_mut(l.outline_total as usize) {
+            *g = OutlineSegment {
+                piece,
+                kind,
+                a: a.as_vec2().to_array(),
+                b: b.as_vec2().to_array(),
+            };
+            l.outline_count += 1;
+        }
+        l.outline_total += 1;
     }
     l
 }
@@ -326,7 +363,7 @@ mod tests {
         sim_core::design::garment::sew(&mut d, &spec.unwrap(), SEAM_PULL).unwrap();
         d.name_seam(2, "left side, the longest name a seam could ever have")
             .unwrap();
-        let l = piece_list(&d, &mut 0);
+        let mut l = piece_list(&d, &mut 0);
         let seams = shared::sim_to_ui::check_seams(&l).unwrap();
         let segments = shared::sim_to_ui::check_seam_segments(&l).unwrap();
         assert_eq!(seams.len(), 4);
@@ -346,6 +383,49 @@ mod tests {
                 s.label()
             );
         }
+        // The pattern's lines: each listed piece's sewing line as long as the pattern
+        // out's, its notches (one per shoulder side, three per side seam side) and one
+        // grain line.
+        let lines = shared::sim_to_ui::check_outline(&l).unwrap();
+        assert_eq!(l.outline_total as usize, lines.len());
+        let cut = sim_core::design::sewing_pattern::pieces(&d);
+        let listed = shared::sim_to_ui::check_pieces(&l).unwrap();
+        assert_eq!(listed.len(), 2);
+        for (i, piece) in listed.iter().enumerate() {
+            let of = |kind| {
+                lines
+                    .iter()
+                    .filter(move |g| g.piece == i as u32 && g.kind == kind)
+            };
+            let sewing: f32 = of(outline::SEWING_LINE)
+                .map(|g| glam::Vec2::from(g.a).distance(glam::Vec2::from(g.b)))
+                .sum();
+            let want = cut
+                .iter()
+                .find(|p| p.name == piece.name)
+                .unwrap()
+                .perimeters()[0];
+            assert!(
+                (sewing as f64 * 1000.0 - want).abs() < 0.5,
+                "{}: {sewing} m drawn, {want} mm cut",
+                piece.name
+            );
+            assert_eq!(of(outline::NOTCH).count(), 8, "{}", piece.name);
+            assert_eq!(of(outline::GRAIN).count(), 1, "{}", piece.name);
+        }
+        // Lines naming no listed piece, of no known kind, or not finite are refused.
+        for spoil in [
+            |g: &mut OutlineSegment| g.piece = 2,
+            |g: &mut OutlineSegment| g.kind = 7,
+            |g: &mut OutlineSegment| g.b[1] = f32::NAN,
+        ] {
+            let kept = l.outline[5];
+            spoil(&mut l.outline[5]);
+            assert!(shared::sim_to_ui::check_outline(&l).is_err());
+            l.outline[5] = kept;
+        }
+        l.outline_count = l.outline_total + 1;
+        assert!(shared::sim_to_ui::check_outline(&l).is_err());
     }
 
     /// The local model carries the scene's workspace: on the mannequin it reaches the

@@ -319,6 +319,38 @@ pub struct SeamSegment {
     pub b: [f32; 2],
 }
 
+/// Most pattern outline segments a [`PieceList`] carries (a 1 m square cut at 5 mm edges
+/// has 800 along its border).
+pub const MAX_OUTLINE_SEGMENTS: usize = 8192;
+
+/// What an [`OutlineSegment`] draws.
+pub mod outline {
+    /// The sewing line: the piece's outline (outer loop and holes).
+    pub const SEWING_LINE: u32 = 0;
+    /// A balance notch: a slit from the sewing line into the piece.
+    pub const NOTCH: u32 = 1;
+    /// The grain line (the warp's direction).
+    pub const GRAIN: u32 = 2;
+    pub const LAST: u32 = GRAIN;
+}
+
+/// One line of the pattern as cloth-sim's pattern out makes it, in the design's pattern
+/// plane (rest x and -z), m: the studio's pattern view draws these, so it shows what an
+/// export writes (the cloth a weld eased into a seam included).
+#[derive(
+    Clone, Copy, Debug, Default, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable,
+)]
+#[repr(C)]
+#[type_name("saiho::OutlineSegment")]
+pub struct OutlineSegment {
+    /// The piece's place in `entries`, or `u32::MAX` for a piece past [`MAX_LISTED`].
+    pub piece: u32,
+    /// [`outline`]`::SEWING_LINE`, `NOTCH` or `GRAIN`.
+    pub kind: u32,
+    pub a: [f32; 2],
+    pub b: [f32; 2],
+}
+
 /// The design's pieces and seams now (`saiho/pieces`, history 1): sent when they
 /// change, in the order cloth-sim numbers them for PLACE_PIECE, DELETE_PIECE and
 /// REMOVE_SEAM.
@@ -342,6 +374,12 @@ pub struct PieceList {
     /// `segment_count`; a design with more draws the first [`MAX_SEAM_SEGMENTS`].
     pub segment_count: u32,
     pub segments: [SeamSegment; MAX_SEAM_SEGMENTS],
+    /// The pattern's lines (every piece's sewing line, notches and grain line): how many
+    /// there are, and how many of `outline` are filled (fewer when over
+    /// [`MAX_OUTLINE_SEGMENTS`]: a viewer then draws the outline of its own mesh).
+    pub outline_total: u32,
+    pub outline_count: u32,
+    pub outline: [OutlineSegment; MAX_OUTLINE_SEGMENTS],
     /// Explicit padding: every byte of a message is a field.
     pub _pad: u32,
 }
@@ -359,6 +397,9 @@ impl Default for PieceList {
             seams: [SeamEntry::default(); MAX_LISTED],
             segment_count: 0,
             segments: [SeamSegment::default(); MAX_SEAM_SEGMENTS],
+            outline_total: 0,
+            outline_count: 0,
+            outline: [OutlineSegment::default(); MAX_OUTLINE_SEGMENTS],
             _pad: 0,
         }
     }
@@ -456,6 +497,36 @@ pub fn check_seam_segments(l: &PieceList) -> Result<Vec<SeamSegment>, MessageErr
         ));
     }
     Ok(segments.to_vec())
+}
+
+/// Checks a received list's pattern lines and returns them: at most
+/// [`MAX_OUTLINE_SEGMENTS`], each of a listed piece (or none), of a known kind, with
+/// finite ends.
+pub fn check_outline(l: &PieceList) -> Result<Vec<OutlineSegment>, MessageError> {
+    let n = l.outline_count as usize;
+    if n > MAX_OUTLINE_SEGMENTS || l.outline_total < l.outline_count {
+        return Err(malformed(
+            "piece list",
+            format!(
+                "{n} of {} outline segments (at most {MAX_OUTLINE_SEGMENTS})",
+                l.outline_total
+            ),
+        ));
+    }
+    let lines = &l.outline[..n];
+    if let Some(k) = lines.iter().position(|g| {
+        (g.piece >= l.count && g.piece != u32::MAX)
+            || g.kind > outline::LAST
+            || !g.a.iter().chain(&g.b).all(|c| c.is_finite())
+    }) {
+        return Err(malformed(
+            "piece list",
+            format!(
+                "outline segment {k} names no listed piece, is of no known kind or is not finite"
+            ),
+        ));
+    }
+    Ok(lines.to_vec())
 }
 
 /// Checks a received piece list and returns its pieces.

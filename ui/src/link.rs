@@ -10,8 +10,8 @@ use shared::command::Command;
 use shared::domain::Domain;
 use shared::ports::UiPorts;
 use shared::sim_to_ui::{
-    check_body, check_frame, check_mesh, check_pieces, check_seam_segments, check_seams,
-    check_tile, frame_stitches,
+    check_body, check_frame, check_mesh, check_outline, check_pieces, check_seam_segments,
+    check_seams, check_tile, frame_stitches,
 };
 use shared::ui_to_haptic::PointerInput;
 use shared::ui_to_sim::{CommandReply, ToolCommand};
@@ -136,15 +136,23 @@ impl Link {
     fn poll_state(&mut self, store: &mut Store, now: std::time::Instant) {
         let p = &self.ports;
         while let Ok(Some(l)) = p.pieces.receive() {
-            let checked =
-                check_pieces(&l).and_then(|p| Ok((p, check_seams(&l)?, check_seam_segments(&l)?)));
+            let checked = check_pieces(&l).and_then(|p| {
+                Ok((
+                    p,
+                    check_seams(&l)?,
+                    check_seam_segments(&l)?,
+                    check_outline(&l)?,
+                ))
+            });
             match checked {
-                Ok((list, seams, segments)) => {
+                Ok((list, seams, segments, outline)) => {
                     store.pieces = list;
                     store.pieces_total = l.total;
                     store.seams = seams;
                     store.seams_total = l.seam_total;
                     store.seam_segments = segments;
+                    store.outline = outline;
+                    store.outline_total = l.outline_total;
                 }
                 Err(x) => store.record(&x),
             }

@@ -7,7 +7,9 @@ use std::time::Instant;
 
 use shared::haptic_to_sim::DeviceSample;
 use shared::sim_to_haptic::LocalModel;
-use shared::sim_to_ui::{ListedPiece, MeshCorner, SeamEntry, SeamSegment, ToolState};
+use shared::sim_to_ui::{
+    ListedPiece, MeshCorner, OutlineSegment, SeamEntry, SeamSegment, ToolState,
+};
 use shared::telemetry::{LoopTelemetry, SimTelemetry};
 
 /// The cloth's triangles and what the renderer derives from them.
@@ -256,6 +258,11 @@ pub struct Store {
     pub seams_total: u32,
     /// The listed seams' outline edges in the pattern plane, each with its seam's place.
     pub seam_segments: Vec<SeamSegment>,
+    /// The pattern's lines as cloth-sim's pattern out makes them (sewing lines, notches,
+    /// grain lines), and how many it has (more than `outline` holds: the pattern view
+    /// draws the mesh's own outline instead).
+    pub outline: Vec<OutlineSegment>,
+    pub outline_total: u32,
     /// The mesh piece (`Mesh::piece_of`) the 3D view and pattern view highlight.
     pub highlight: Option<u32>,
 }
@@ -288,6 +295,8 @@ impl Default for Store {
             seams: Vec::new(),
             seams_total: 0,
             seam_segments: Vec::new(),
+            outline: Vec::new(),
+            outline_total: 0,
             highlight: None,
         }
     }

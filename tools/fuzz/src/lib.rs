@@ -334,6 +334,7 @@ pub fn messages(data: &[u8]) {
                 let _ = shared::sim_to_ui::check_pieces(&m);
                 let _ = shared::sim_to_ui::check_seams(&m);
                 let _ = shared::sim_to_ui::check_seam_segments(&m);
+                let _ = shared::sim_to_ui::check_outline(&m);
             }
         }
         9 => {

@@ -6,6 +6,7 @@
 //! the stitches still pulling.
 
 use shared::command::{Command, PieceShape};
+use shared::sim_to_ui::{OutlineSegment, outline};
 use shared::ui_to_sim::{PIECE_EDGE, PIECE_SIZE, place, shape};
 
 use crate::action::Action;
@@ -277,12 +278,12 @@ impl PiecesPanel {
         };
         let size = ui.available_size().max(egui::vec2(200.0, 200.0));
         let (rect, response) = ui.allocate_exact_size(size, egui::Sense::click_and_drag());
-        let Some(frame) = PatternFrame::of(mesh, rect) else {
+        let Some(frame) = PatternFrame::of(mesh, store, rect) else {
             return;
         };
         let painter = ui.painter_at(rect);
         painter.rect_filled(rect, 0.0, egui::Color32::from_gray(24));
-        frame.draw(&painter, mesh, store);
+        frame.draw(&painter, mesh, store, self.selected);
         // Two drags, each a side from its start to its end.
         // A drag starts once the pointer has moved; the side starts where it was pressed.
         if response.drag_started()
@@ -430,15 +431,24 @@ struct PatternFrame {
     scale: f32,
 }
 
+/// Whether the pattern view draws cloth-sim's pattern lines (the export's outlines, notches
+/// and grain lines): when it sent them all; otherwise the mesh's own outline.
+fn pattern_lines(store: &Store) -> Option<&[OutlineSegment]> {
+    let all = !store.outline.is_empty() && store.outline.len() == store.outline_total as usize;
+    all.then_some(&store.outline[..])
+}
+
 impl PatternFrame {
-    fn of(mesh: &crate::store::Mesh, rect: egui::Rect) -> Option<Self> {
+    fn of(mesh: &crate::store::Mesh, store: &Store, rect: egui::Rect) -> Option<Self> {
         let (mut lo, mut hi) = ([f32::MAX; 2], [f32::MIN; 2]);
-        for (a, b, _) in &mesh.outline {
-            for p in [a, b] {
-                for k in 0..2 {
-                    lo[k] = lo[k].min(p[k]);
-                    hi[k] = hi[k].max(p[k]);
-                }
+        let ends: Vec<[f32; 2]> = match pattern_lines(store) {
+            Some(lines) => lines.iter().flat_map(|g| [g.a, g.b]).collect(),
+            None => mesh.outline.iter().flat_map(|(a, b, _)| [*a, *b]).collect(),
+        };
+        for p in ends {
+            for k in 0..2 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
             }
         }
         if lo[0] > hi[0] {
@@ -472,7 +482,13 @@ impl PatternFrame {
 
     /// The outlines, each seam in its colour with its label, the stitches still pulling
     /// and the scale bar.
-    fn draw(&self, painter: &egui::Painter, mesh: &crate::store::Mesh, store: &Store) {
+    fn draw(
+        &self,
+        painter: &egui::Painter,
+        mesh: &crate::store::Mesh,
+        store: &Store,
+        selected: Option<usize>,
+    ) {
         let bar = egui::pos2(self.rect.left() + 8.0, self.rect.bottom() - 10.0);
         let grey = egui::Color32::from_gray(140);
         painter.line_segment(
@@ -486,23 +502,74 @@ impl PatternFrame {
             egui::FontId::proportional(11.0),
             grey,
         );
-        for (a, b, piece) in &mesh.outline {
-            let (w, c) = if store.highlight == Some(*piece) {
-                (2.0, colour(HIGHLIGHT))
+        let line = |bright: bool| {
+            if bright {
+                egui::Stroke::new(2.0, colour(HIGHLIGHT))
             } else {
-                (1.0, egui::Color32::from_gray(190))
-            };
-            painter.line_segment([self.at(*a), self.at(*b)], egui::Stroke::new(w, c));
+                egui::Stroke::new(1.0, egui::Color32::from_gray(190))
+            }
+        };
+        let mut notches: Vec<(egui::Pos2, egui::Pos2)> = Vec::new();
+        match pattern_lines(store) {
+            Some(lines) => {
+                // Each run of joined segments as one path: drawn segment by segment, the
+                // joins of a line at a fraction of a pixel look dashed.
+                let mut run: Vec<egui::Pos2> = Vec::new();
+                for (k, g) in lines.iter().enumerate() {
+                    let bright = selected.is_some_and(|i| i as u32 == g.piece);
+                    let (a, b) = (self.at(g.a), self.at(g.b));
+                    if g.kind == outline::GRAIN {
+                        grain_arrow(painter, a, b, bright);
+                        continue;
+                    }
+                    if g.kind == outline::NOTCH {
+                        // Drawn over the seams below, at least 7 pixels long.
+                        notches.push((a, b));
+                        continue;
+                    }
+                    if run.is_empty() {
+                        run.push(a);
+                    }
+                    run.push(b);
+                    let next = lines.get(k + 1);
+                    let joined =
+                        next.is_some_and(|n| n.a == g.b && n.piece == g.piece && n.kind == g.kind);
+                    if !joined {
+                        painter.add(egui::Shape::line(std::mem::take(&mut run), line(bright)));
+                    }
+                }
+            }
+            None => {
+                for (a, b, piece) in &mesh.outline {
+                    let bright = store.highlight == Some(*piece);
+                    painter.line_segment([self.at(*a), self.at(*b)], line(bright));
+                }
+            }
         }
         // Each seam's sides in its colour, its label where each run of its edges starts.
-        for (k, g) in store.seam_segments.iter().enumerate() {
+        let segments = &store.seam_segments;
+        let mut run: Vec<egui::Pos2> = Vec::new();
+        for (k, g) in segments.iter().enumerate() {
             let (a, b) = (self.at(g.a), self.at(g.b));
             let c = seam_colour(g.seam as usize);
-            painter.line_segment([a, b], egui::Stroke::new(3.0, c));
-            let starts_run = k == 0 || {
-                let before = &store.seam_segments[k - 1];
-                before.seam != g.seam || before.b != g.a
+            if run.is_empty() {
+                run.push(a);
+            }
+            run.push(b);
+            let joined = |h: &shared::sim_to_ui::SeamSegment,
+                          next: &shared::sim_to_ui::SeamSegment| {
+                h.seam == next.seam && h.b == next.a
             };
+            if !segments.get(k + 1).is_some_and(|n| joined(g, n)) {
+                painter.add(egui::Shape::line(
+                    std::mem::take(&mut run),
+                    egui::Stroke::new(3.0, c),
+                ));
+            }
+            // A run's label where it starts; a run a loop's start cut in two (the same
+            // seam's segment ends where it starts) is labelled once.
+            let starts_run =
+                (k == 0 || !joined(&segments[k - 1], g)) && !segments.iter().any(|h| joined(h, g));
             if starts_run && let Some(s) = store.seams.get(g.seam as usize) {
                 painter.text(
                     a + egui::vec2(4.0, -4.0),
@@ -512,6 +579,10 @@ impl PatternFrame {
                     c,
                 );
             }
+        }
+        for (a, b) in notches {
+            let d = (b - a).normalized() * (b - a).length().max(7.0);
+            painter.line_segment([a, a + d], egui::Stroke::new(1.5, egui::Color32::WHITE));
         }
         // A stitch joins two vertices; each is drawn at its first place in the pattern.
         let mut place_of: std::collections::HashMap<u32, [f32; 2]> = Default::default();
@@ -528,7 +599,60 @@ impl PatternFrame {
     }
 }
 
+/// A grain line: a thin line with an arrowhead at each end (the warp runs along it).
+fn grain_arrow(painter: &egui::Painter, a: egui::Pos2, b: egui::Pos2, bright: bool) {
+    let c = if bright {
+        colour(HIGHLIGHT).gamma_multiply(0.7)
+    } else {
+        egui::Color32::from_gray(110)
+    };
+    let stroke = egui::Stroke::new(1.0, c);
+    painter.line_segment([a, b], stroke);
+    let d = (b - a).normalized() * 6.0;
+    let side = egui::vec2(-d.y, d.x) * 0.5;
+    for (tip, back) in [(a, d), (b, -d)] {
+        painter.line_segment([tip, tip + back + side], stroke);
+        painter.line_segment([tip, tip + back - side], stroke);
+    }
+}
+
 fn colour(c: [f32; 4]) -> egui::Color32 {
     let b = |v: f32| (v.clamp(0.0, 1.0) * 255.0) as u8;
     egui::Color32::from_rgb(b(c[0]), b(c[1]), b(c[2]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The view fits and draws cloth-sim's pattern lines when it has them all, and the
+    /// mesh's own outline when it has none or only some of them.
+    #[test]
+    fn the_pattern_view_draws_cloth_sims_lines_and_falls_back_to_the_mesh() {
+        let (mesh, _) = Store::demo_cloth(4, 1.0);
+        let mut store = Store::default();
+        let rect = egui::Rect::from_min_size(egui::pos2(0.0, 0.0), egui::vec2(400.0, 400.0));
+        let mesh_centre = PatternFrame::of(&mesh, &store, rect).unwrap().centre;
+        // A square 1 m across round (5.5, 5.5), far from the demo cloth's pattern.
+        let corners = [[5.0, 5.0], [6.0, 5.0], [6.0, 6.0], [5.0, 6.0]];
+        store.outline = (0..4)
+            .map(|i| OutlineSegment {
+                piece: 0,
+                kind: outline::SEWING_LINE,
+                a: corners[i],
+                b: corners[(i + 1) % 4],
+            })
+            .collect();
+        store.outline_total = 4;
+        let frame = PatternFrame::of(&mesh, &store, rect).unwrap();
+        assert_eq!(frame.centre, [5.5, 5.5]);
+        assert!((frame.scale - 0.92 * 400.0).abs() < 1e-3, "{}", frame.scale);
+        // Cut short (more lines than sent): the mesh's outline.
+        store.outline_total = 5;
+        assert_eq!(
+            PatternFrame::of(&mesh, &store, rect).unwrap().centre,
+            mesh_centre
+        );
+        assert_ne!(mesh_centre, [5.5, 5.5]);
+    }
 }
