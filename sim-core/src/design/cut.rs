@@ -115,7 +115,7 @@ impl Design {
         Ok(splits)
     }
 
-    fn rollback(&mut self, applied: &[Prim]) {
+    pub(super) fn rollback(&mut self, applied: &[Prim]) {
         let inverse: Vec<Prim> = applied.iter().rev().map(Prim::inverse).collect();
         // Inverses of applied primitives always apply.
         let _ = self.apply_prims(&inverse);

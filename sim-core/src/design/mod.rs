@@ -43,6 +43,7 @@ pub mod sewing_pattern;
 mod tear;
 mod texture;
 mod transaction;
+mod trim;
 mod zip;
 
 pub use document::{CLOTH_COLOUR, Design, TEXTURE_SIZE};

@@ -1,0 +1,181 @@
+//! Exact cuts in the pattern plane (`Design::trim`): the new border follows the outline,
+//! not the mesh's edges; no sliver triangles; one undoable edit; bad outlines refused.
+
+// Test helpers: a failed unwrap is a failed test, with its location.
+#![allow(clippy::unwrap_used)]
+
+use glam::{Vec2, Vec3};
+use sim_core::design::Design;
+use sim_core::mesh::ClothMesh;
+use sim_core::solver::{Cloth, Environment, Material, ModelKind, Simulation};
+
+/// An `n` x `n` cloth of 0.5 m lying flat at y = 1, no gravity.
+fn flat(n: usize) -> Design {
+    let mesh = ClothMesh::grid(0.5, 0.5, n, n, 1.0).unwrap();
+    let m = Material::default();
+    let cloth = Cloth::new(mesh, &m).unwrap();
+    let env = Environment {
+        floor: None,
+        gravity: Vec3::ZERO,
+        ..Environment::default()
+    };
+    Design::new(Simulation::new(cloth, None, ModelKind::Xpbd, m, env, None).unwrap())
+}
+
+fn plane(p: Vec3) -> Vec2 {
+    Vec2::new(p.x, -p.z)
+}
+
+/// The smallest angle of any triangle (pattern plane), degrees.
+fn min_angle(d: &Design) -> f32 {
+    let mut worst = 180.0f32;
+    for (_, t) in d.sim.cloth.live.iter() {
+        let p = t.rest.map(plane);
+        for k in 0..3 {
+            let (a, b) = (p[(k + 1) % 3] - p[k], p[(k + 2) % 3] - p[k]);
+            worst = worst.min(a.angle_to(b).abs().to_degrees());
+        }
+    }
+    worst
+}
+
+/// The distance from `q` to closed polygon `l`.
+fn off(l: &[Vec2], q: Vec2) -> f32 {
+    (0..l.len())
+        .map(|i| {
+            let (a, b) = (l[i], l[(i + 1) % l.len()]);
+            let t = ((q - a).dot(b - a) / (b - a).length_squared()).clamp(0.0, 1.0);
+            q.distance(a + (b - a) * t)
+        })
+        .fold(f32::MAX, f32::min)
+}
+
+/// The pattern bounds of every triangle.
+fn bounds(d: &Design) -> (Vec2, Vec2) {
+    let (mut lo, mut hi) = (Vec2::splat(f32::MAX), Vec2::splat(f32::MIN));
+    for (_, t) in d.sim.cloth.live.iter() {
+        for p in t.rest.map(plane) {
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+    }
+    (lo, hi)
+}
+
+/// The border vertices' pattern places (edges in one triangle).
+fn border_places(d: &Design) -> Vec<Vec2> {
+    let live = &d.sim.cloth.live;
+    let mut out = Vec::new();
+    for (_, t) in live.iter() {
+        for k in 0..3 {
+            if live.edge(t.v[k], t.v[(k + 1) % 3])[1] == sim_core::mesh::NONE {
+                out.push(plane(t.rest[k]));
+            }
+        }
+    }
+    out
+}
+
+/// A round hole in a grid: its border lies on the circle (the grid's edges do not), no
+/// triangle gets an angle under 15 degrees, and undo and redo take it back and again.
+#[test]
+fn a_round_hole_is_cut_along_its_outline() {
+    let mut d = flat(20);
+    let before = (d.sim.cloth.live.triangles(), d.sim.cloth.len());
+    let (lo, hi) = bounds(&d);
+    let c = (lo + hi) * 0.5;
+    let circle: Vec<Vec2> = (0..64)
+        .map(|i| {
+            let a = std::f32::consts::TAU * i as f32 / 64.0;
+            c + 0.1 * Vec2::new(a.cos(), a.sin())
+        })
+        .collect();
+    let n = d.trim(&circle).unwrap();
+    assert!(n > 40, "{n} triangles");
+    d.sim.cloth.live.validate(&d.sim.cloth.x).unwrap();
+    let hole: Vec<Vec2> = border_places(&d)
+        .into_iter()
+        .filter(|p| p.distance(c) < 0.2)
+        .collect();
+    assert!(
+        hole.len() >= 32,
+        "{} border vertices round the hole",
+        hole.len()
+    );
+    for p in &hole {
+        assert!(
+            off(&circle, *p) < 1e-5,
+            "{p} is {} m off the circle",
+            off(&circle, *p)
+        );
+    }
+    assert!(min_angle(&d) >= 15.0, "{}", min_angle(&d));
+    // Nothing inside the circle is left.
+    for (_, t) in d.sim.cloth.live.iter() {
+        let m = plane((t.rest[0] + t.rest[1] + t.rest[2]) / 3.0);
+        assert!(m.distance(c) > 0.09, "{m}");
+    }
+    let after = (d.sim.cloth.live.triangles(), d.sim.cloth.len());
+    d.undo().unwrap();
+    assert_eq!((d.sim.cloth.live.triangles(), d.sim.cloth.len()), before);
+    d.redo().unwrap();
+    assert_eq!((d.sim.cloth.live.triangles(), d.sim.cloth.len()), after);
+    for _ in 0..10 {
+        d.step().unwrap();
+    }
+    assert!(d.sim.cloth.x.iter().all(|p| p.is_finite()));
+}
+
+/// The dress's neckline (the dress-mannequin scenario's cut): below the old neck curve
+/// the new border lies on the half ellipse, and no triangle is thin.
+#[test]
+fn the_dress_neckline_is_cut_along_its_curve() {
+    use sim_core::scenario::{ScenarioConfig, ScenarioName, build_scene};
+    let cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+    let (mut d, _) = build_scene(&cfg).unwrap();
+    let k = d.pieces.iter().position(|r| r.name == "front").unwrap();
+    let rec = &d.pieces[k];
+    let (lo, hi) = sim_core::mesh::bounds2(&rec.outline.loops[0]);
+    let (mid, top) = (0.5 * (lo.x + hi.x) + rec.offset.x, hi.y + rec.offset.y);
+    let n = sim_core::scenario::garment::cut_neckline(&mut d).unwrap();
+    assert!(n > 10, "{n}");
+    d.sim.cloth.live.validate(&d.sim.cloth.x).unwrap();
+    assert!(min_angle(&d) >= 12.0, "{}", min_angle(&d));
+    let ellipse: Vec<Vec2> = (0..=400)
+        .map(|i| {
+            let a = std::f32::consts::PI * i as f32 / 400.0;
+            Vec2::new(mid - 0.07 * a.cos(), top - 0.08 * a.sin())
+        })
+        .collect();
+    let on: Vec<Vec2> = border_places(&d)
+        .into_iter()
+        .filter(|p| (p.x - mid).abs() < 0.04 && p.y > top - 0.1 && p.y < top + 0.01)
+        .collect();
+    assert!(on.len() >= 5, "{on:?}");
+    let open = |l: &[Vec2], q: Vec2| off(&l[..l.len() - 1], q).min(off(&l[1..], q));
+    for p in on {
+        assert!(
+            open(&ellipse, p) < 1e-3,
+            "{p} off the curve by {}",
+            open(&ellipse, p)
+        );
+    }
+}
+
+/// Outlines that are not numbers, that take every triangle or that meet no cloth are
+/// clear errors, and the design is as it was.
+#[test]
+fn bad_outlines_change_nothing() {
+    let mut d = flat(10);
+    let before = (d.sim.cloth.live.triangles(), d.sim.cloth.len());
+    let (lo, hi) = bounds(&d);
+    let square = |a: Vec2, b: Vec2| vec![a, Vec2::new(b.x, a.y), b, Vec2::new(a.x, b.y)];
+    let e = d.trim(&[Vec2::ZERO, Vec2::NAN, Vec2::ONE]).unwrap_err();
+    assert!(e.to_string().contains("finite"), "{e}");
+    let e = d.trim(&square(lo - 0.1, hi + 0.1)).unwrap_err();
+    assert!(e.to_string().contains("all of the cloth"), "{e}");
+    let e = d.trim(&square(hi + 1.0, hi + 2.0)).unwrap_err();
+    assert!(e.to_string().contains("no cloth inside"), "{e}");
+    assert_eq!((d.sim.cloth.live.triangles(), d.sim.cloth.len()), before);
+    assert!(d.undo().is_err(), "nothing went into the history");
+}
