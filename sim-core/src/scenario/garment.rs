@@ -28,22 +28,33 @@ pub fn dress(marks: &Landmarks) -> Result<PatternSpec, SvgError> {
     Ok(spec)
 }
 
-/// The front neckline: half its width and its depth, m (a square neck between the
-/// shoulder seams).
+/// The front neckline: half its width and its depth below the shoulders' line, m (a
+/// round neck between the shoulder seams).
 const NECKLINE: Vec2 = Vec2::new(0.07, 0.08);
 
-/// Cuts the front's neckline away: the triangles of the piece named "front" whose
-/// pattern centre lies in the square below the middle of its top edge. Returns how many.
+/// Cuts the front's neckline away along a half ellipse below the middle of its top edge
+/// ([`NECKLINE`]), exactly: the new border follows the curve ([`Design::trim`]), not
+/// the mesh's edges. Returns how many triangles went.
 pub fn cut_neckline(design: &mut Design) -> Result<usize, EditError> {
     let Some(k) = design.pieces.iter().position(|r| r.name == "front") else {
         return Ok(0);
     };
-    let (lo, hi) = crate::mesh::bounds2(&design.pieces[k].outline.loops[0]);
+    let rec = &design.pieces[k];
+    let (lo, hi) = crate::mesh::bounds2(&rec.outline.loops[0]);
     let mid = 0.5 * (lo.x + hi.x);
-    let slots = design.record_slots(k, |own| {
-        (own.x - mid).abs() < NECKLINE.x && own.y > hi.y - NECKLINE.y
-    });
-    design.remove_triangles(&slots)
+    let steps = 48;
+    let mut outline: Vec<Vec2> = (0..=steps)
+        .map(|i| {
+            let a = std::f32::consts::PI * i as f32 / steps as f32;
+            Vec2::new(mid - NECKLINE.x * a.cos(), hi.y - NECKLINE.y * a.sin())
+        })
+        .collect();
+    // Closed above the piece.
+    outline.push(Vec2::new(mid + NECKLINE.x, hi.y + 0.05));
+    outline.push(Vec2::new(mid - NECKLINE.x, hi.y + 0.05));
+    let offset = rec.offset;
+    let outline: Vec<Vec2> = outline.into_iter().map(|p| p + offset).collect();
+    design.trim(&outline)
 }
 
 /// Which pieces of an assembled pattern start crossed, for the refusal's message: each
