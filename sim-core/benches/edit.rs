@@ -63,10 +63,11 @@ fn ops(c: &mut Criterion) {
     let centre = n / 2 * (n + 1) + n / 2;
     let nb = s.sim.cloth.live.neighbours(centre)[0];
     let p = s.sim.cloth.x[centre as usize];
-    let stroke = [
-        s.sim.cloth.x[(centre - 10) as usize],
-        s.sim.cloth.x[(centre + 10) as usize],
-    ];
+    // Along the cloth (as the pen draws it) through 20 cells of a row, not the chord
+    // between its ends through the air.
+    let stroke: Vec<Vec3> = (centre - 10..=centre + 10)
+        .map(|v| s.sim.cloth.x[v as usize])
+        .collect();
     let mut g = c.benchmark_group("edit-16k");
     g.sample_size(30);
     undoable(&mut g, &mut s, "cut_vertex", |s| {

@@ -179,3 +179,32 @@ fn bad_outlines_change_nothing() {
     assert_eq!((d.sim.cloth.live.triangles(), d.sim.cloth.len()), before);
     assert!(d.undo().is_err(), "nothing went into the history");
 }
+
+/// A stroke across a grid at a slant cuts it in two along the stroke: both new borders
+/// lie on its line (the vertices nearest it, as the cut used to split, are up to half a
+/// cell off it), no triangle is thin, and undo joins the cloth again.
+#[test]
+fn a_slanted_stroke_cuts_along_itself() {
+    let mut d = flat(16);
+    let before = (d.sim.cloth.live.triangles(), d.sim.cloth.len());
+    // In 3D the flat cloth lies at y = 1 with its pattern at (x, -z).
+    let (p, q) = (Vec3::new(-0.3, 1.0, -0.11), Vec3::new(0.3, 1.0, 0.07));
+    let splits = d.cut_stroke(&[p, q], 0.02).unwrap();
+    assert!(splits >= 16, "{splits}");
+    d.sim.cloth.live.validate(&d.sim.cloth.x).unwrap();
+    let line = [plane(p), plane(q)];
+    let (lo, hi) = bounds(&d);
+    let cut: Vec<Vec2> = border_places(&d)
+        .into_iter()
+        .filter(|b| {
+            b.x > lo.x + 1e-4 && b.x < hi.x - 1e-4 && b.y > lo.y + 1e-4 && b.y < hi.y - 1e-4
+        })
+        .collect();
+    assert!(cut.len() >= 30, "{} vertices along the cut", cut.len());
+    let far = cut.iter().map(|b| off(&line, *b)).fold(0.0f32, f32::max);
+    assert!(far < 1e-3, "a border vertex {far} m off the stroke");
+    assert!(min_angle(&d) >= 8.0, "{}", min_angle(&d));
+    assert_eq!(sim_core::design::sewing_pattern::pattern_parts(&d).len(), 2);
+    assert_eq!(d.undo().unwrap(), "cut stroke");
+    assert_eq!((d.sim.cloth.live.triangles(), d.sim.cloth.len()), before);
+}

@@ -1,11 +1,12 @@
-//! Cutting: the paper's cut (a vertex split across the cut direction), scissors along a
-//! stroke, and cutting pieces away (triangles removed).
+//! Cutting: the paper's cut (a vertex split across the cut direction) and cutting pieces
+//! away (triangles removed); scissors along a stroke are in `stroke.rs`, exact cuts along
+//! a pattern outline in `trim.rs`.
 
 use glam::Vec3;
 
 use super::document::Design;
 use super::error::EditError;
-use super::prim::{Edit, Prim};
+use super::prim::Prim;
 use crate::mesh::Tri;
 
 impl Design {
@@ -31,13 +32,28 @@ impl Design {
             .iter()
             .filter_map(|&t| self.sim.cloth.live.tri(t).map(|tri| (t, *tri)))
             .collect();
-        let moving: Vec<&(u32, Tri)> = tris
+        let moving: Vec<(u32, Tri)> = tris
             .iter()
             .filter(|(_, t)| (self.centroid(t) - xv).dot(plane) > 0.0)
+            .copied()
             .collect();
-        if moving.is_empty() || moving.len() == tris.len() {
+        if moving.len() == tris.len() {
             return Err(EditError::NothingToCut(v));
         }
+        self.split_off_prims(v, &moving)
+    }
+
+    /// Primitives that give the triangles `moving` (some of `v`'s, not none) a new vertex
+    /// of their own in `v`'s place.
+    pub(super) fn split_off_prims(
+        &self,
+        v: u32,
+        moving: &[(u32, Tri)],
+    ) -> Result<Vec<Prim>, EditError> {
+        if moving.is_empty() {
+            return Err(EditError::NothingToCut(v));
+        }
+        let xv = self.sim.cloth.x[v as usize];
         let new = self.sim.cloth.len() as u32;
         let mut prims = vec![Prim::AddVertex {
             index: new,
@@ -74,90 +90,8 @@ impl Design {
         Ok(new)
     }
 
-    /// Scissors: splits the vertices along the polyline `points` (the pointer's path),
-    /// each across the local stroke direction, as one undoable operation. Returns how
-    /// many vertices were split.
-    pub fn cut_stroke(&mut self, points: &[Vec3], radius: f32) -> Result<usize, EditError> {
-        if points.iter().any(|p| !p.is_finite()) {
-            return Err(EditError::BadDirection);
-        }
-        let chain = self.stroke_chain(points, radius);
-        if chain.len() < 2 {
-            return Err(EditError::EmptyStroke);
-        }
-        let mut all = Vec::new();
-        let mut splits = 0;
-        for k in 0..chain.len() {
-            let (a, b) = (
-                chain[k.saturating_sub(1)],
-                chain[(k + 1).min(chain.len() - 1)],
-            );
-            let dir = self.sim.cloth.x[b as usize] - self.sim.cloth.x[a as usize];
-            let v = chain[k];
-            let plane = dir.cross(self.sim.cloth.vertex_normal(v));
-            let Ok(prims) = self.split_prims(v, plane) else {
-                continue;
-            };
-            if let Err(e) = self.apply_prims(&prims) {
-                self.rollback(&all);
-                return Err(e);
-            }
-            splits += 1;
-            all.extend(prims);
-        }
-        if splits == 0 {
-            return Err(EditError::EmptyStroke);
-        }
-        self.history.push(Edit {
-            label: "cut stroke",
-            prims: all,
-        });
-        Ok(splits)
-    }
-
-    pub(super) fn rollback(&mut self, applied: &[Prim]) {
-        let inverse: Vec<Prim> = applied.iter().rev().map(Prim::inverse).collect();
-        // Inverses of applied primitives always apply.
-        let _ = self.apply_prims(&inverse);
-    }
-
-    /// The chain of vertices a stroke passes: the nearest vertex to points sampled along
-    /// it, consecutive ones joined through the mesh when they are not neighbours.
-    fn stroke_chain(&self, points: &[Vec3], radius: f32) -> Vec<u32> {
-        let mut picks: Vec<u32> = Vec::new();
-        let segments: Vec<(Vec3, Vec3)> = if points.len() == 1 {
-            vec![(points[0], points[0])]
-        } else {
-            points.windows(2).map(|w| (w[0], w[1])).collect()
-        };
-        for (p, q) in segments {
-            let steps = ((q - p).length() / (radius * 0.5).max(1e-4))
-                .ceil()
-                .clamp(1.0, 4096.0) as usize;
-            for s in 0..=steps {
-                let at = p.lerp(q, s as f32 / steps as f32);
-                if let Some(v) = self.sim.cloth.nearest_vertex(at, radius)
-                    && picks.last() != Some(&v)
-                {
-                    picks.push(v);
-                }
-            }
-        }
-        let mut chain: Vec<u32> = Vec::new();
-        for v in picks {
-            match chain.last() {
-                Some(&u) if !self.sim.cloth.live.neighbours(u).contains(&v) => {
-                    chain.extend(self.mesh_path(u, v, 8).into_iter().skip(1));
-                }
-                _ => chain.push(v),
-            }
-        }
-        chain.dedup();
-        chain
-    }
-
     /// Shortest edge path from `a` to `b` of at most `limit` edges (just `[a, b]` if none).
-    fn mesh_path(&self, a: u32, b: u32, limit: usize) -> Vec<u32> {
+    pub(super) fn mesh_path(&self, a: u32, b: u32, limit: usize) -> Vec<u32> {
         let mut prev: std::collections::HashMap<u32, u32> = std::collections::HashMap::new();
         let mut frontier = vec![a];
         prev.insert(a, a);

@@ -38,7 +38,7 @@ pub enum EditError {
     NothingToCut(u32),
     #[error("the cut direction is zero or not finite")]
     BadDirection,
-    #[error("the stroke crosses no vertex of the cloth")]
+    #[error("the stroke runs over no cloth (none within its radius of it), so nothing was cut")]
     EmptyStroke,
     #[error("no cloth within {radius} m of the pointer")]
     NothingNear { radius: f32 },

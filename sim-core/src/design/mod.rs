@@ -40,6 +40,7 @@ mod seam;
 mod seam_lengths;
 mod sew;
 pub mod sewing_pattern;
+mod stroke;
 mod tear;
 mod texture;
 mod transaction;

@@ -23,6 +23,11 @@ struct Touched {
     pieces: bool,
 }
 
+/// What primitives applied without the incremental update touched
+/// ([`Design::apply_unsynced`]), until [`Design::sync_batch`].
+#[derive(Default)]
+pub(super) struct Batch(Touched);
+
 impl Touched {
     fn tri(&mut self, slot: u32, t: Option<&Tri>) {
         self.tris.push(slot);
@@ -148,6 +153,43 @@ impl Design {
         // The cloth changed: a weld refused before may go now.
         self.weld_refused.clear();
         Ok(())
+    }
+
+    /// Applies `prims` whole or not at all, like [`Design::apply_prims`], but leaves the
+    /// incremental update to [`Design::sync_batch`]: for an edit that reads the mesh
+    /// between its steps (an exact cut splits an edge, then finds the next crossing), so
+    /// the solver and the guard are brought up to date once, not at every step.
+    pub(super) fn apply_unsynced(
+        &mut self,
+        prims: &[Prim],
+        batch: &mut Batch,
+    ) -> Result<(), EditError> {
+        self.check_editable()?;
+        for (k, p) in prims.iter().enumerate() {
+            if let Err(e) = self.apply_prim(p, &mut batch.0) {
+                for q in prims[..k].iter().rev() {
+                    // The inverse of an applied primitive always applies.
+                    let _ = self.apply_prim(&q.inverse(), &mut batch.0);
+                }
+                return Err(e);
+            }
+        }
+        Ok(())
+    }
+
+    /// Takes back `applied` (applied through [`Design::apply_unsynced`] into `batch`),
+    /// last first.
+    pub(super) fn undo_unsynced(&mut self, applied: &[Prim], batch: &mut Batch) {
+        for q in applied.iter().rev() {
+            // The inverse of an applied primitive always applies.
+            let _ = self.apply_prim(&q.inverse(), &mut batch.0);
+        }
+    }
+
+    /// The incremental update for everything a batch touched.
+    pub(super) fn sync_batch(&mut self, mut batch: Batch) {
+        self.sync(&mut batch.0);
+        self.weld_refused.clear();
     }
 
     fn sync(&mut self, touched: &mut Touched) {

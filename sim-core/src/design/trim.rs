@@ -13,6 +13,7 @@ use glam::{Vec2, Vec3};
 use super::document::Design;
 use super::error::EditError;
 use super::prim::{Edit, Prim};
+use super::transaction::Batch;
 use crate::mesh::{NONE, Tri};
 
 /// Most crossings one segment of a path may have (a guard against a path that finds no
@@ -68,8 +69,10 @@ impl Design {
         let mut closed = outline.to_vec();
         closed.push(outline[0]);
         let mut applied = Vec::new();
-        if let Err(e) = self.split_along(&closed, &mut applied) {
-            self.rollback(&applied);
+        let mut batch = Batch::default();
+        if let Err(e) = self.split_along(&closed, &mut applied, &mut batch) {
+            self.undo_unsynced(&applied, &mut batch);
+            self.sync_batch(batch);
             return Err(e);
         }
         let cut: Vec<Prim> = (self.sim.cloth.live.iter())
@@ -88,12 +91,14 @@ impl Design {
         } else if n == self.sim.cloth.live.tri_count() {
             Err(EditError::LastCloth)
         } else {
-            self.apply_prims(&cut)
+            self.apply_unsynced(&cut, &mut batch)
         };
         if let Err(e) = result {
-            self.rollback(&applied);
+            self.undo_unsynced(&applied, &mut batch);
+            self.sync_batch(batch);
             return Err(e);
         }
+        self.sync_batch(batch);
         applied.extend(cut);
         self.history.push(Edit {
             label: "trim",
@@ -103,45 +108,86 @@ impl Design {
     }
 
     /// Splits every edge the polyline `path` (pattern plane) crosses where it crosses it,
-    /// segment by segment, applying each split at once; the primitives applied are added
-    /// to `applied` (for the caller's undo record, or its rollback on an error).
-    fn split_along(&mut self, path: &[Vec2], applied: &mut Vec<Prim>) -> Result<(), EditError> {
+    /// segment by segment, applying each split at once into `batch` (the caller syncs);
+    /// the primitives applied are added to `applied` (for the caller's undo record, or
+    /// its rollback on an error). Returns the vertices the cut now runs through, in the
+    /// path's order.
+    pub(super) fn split_along(
+        &mut self,
+        path: &[Vec2],
+        applied: &mut Vec<Prim>,
+        batch: &mut Batch,
+    ) -> Result<Vec<u32>, EditError> {
+        let mut chain: Vec<u32> = Vec::new();
+        // The triangles near the path, then near each segment (with those each split
+        // or move changes): one pass over the cloth, not one a crossing.
+        let near = |t: &Tri, lo: Vec2, hi: Vec2| {
+            let c = t.rest.map(plane);
+            !(c.iter().all(|v| v.x < lo.x)
+                || c.iter().all(|v| v.x > hi.x)
+                || c.iter().all(|v| v.y < lo.y)
+                || c.iter().all(|v| v.y > hi.y))
+        };
+        let (lo, hi) = path.iter().fold(
+            (Vec2::splat(f32::MAX), Vec2::splat(f32::MIN)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        let mut around: Vec<u32> = (self.sim.cloth.live.iter())
+            .filter(|(_, t)| near(t, lo, hi))
+            .map(|(s, _)| s)
+            .collect();
         for w in path.windows(2) {
             let (p, q) = (w[0], w[1]);
+            let (lo, hi) = (p.min(q), p.max(q));
+            let live = &self.sim.cloth.live;
+            let mut cands: Vec<u32> = (around.iter().copied())
+                .filter(|&s| live.tri(s).is_some_and(|t| near(t, lo, hi)))
+                .collect();
             // The segment's next crossing past the last one, found again after each
             // split: a split or a move changes the edges round it. A crossing at the
             // last one's place (an edge of the vertex just made or moved) is that one.
             let mut at = -1.0f32;
             for _ in 0..MAX_CROSSINGS {
-                let Some((u, a, b, s)) = self.next_crossing(p, q, at + 1e-4) else {
+                let Some((u, a, b, s)) = self.next_crossing(p, q, at + 1e-4, &cands) else {
                     break;
                 };
                 at = u;
-                let prims = self.crossing_prims(a, b, s, (p, q));
+                let (vertex, prims) = self.crossing_prims(a, b, s, (p, q));
+                if chain.last() != Some(&vertex) {
+                    chain.push(vertex);
+                }
                 if prims.is_empty() {
                     continue;
                 }
-                self.apply_prims(&prims)?;
+                self.apply_unsynced(&prims, batch)?;
+                for prim in &prims {
+                    if let Prim::Tri { slot, .. } = prim {
+                        cands.push(*slot);
+                        around.push(*slot);
+                    }
+                }
                 applied.extend(prims);
             }
         }
-        Ok(())
+        Ok(chain)
     }
 
-    /// The first crossing of segment `p`-`q` (pattern plane) with an edge of the cloth
-    /// at share `from` along it or later: (share, a, b, share along `a`-`b` from `a`).
-    fn next_crossing(&self, p: Vec2, q: Vec2, from: f32) -> Option<(f32, u32, u32, f32)> {
-        let (lo, hi) = (p.min(q), p.max(q));
+    /// The first crossing of segment `p`-`q` (pattern plane) with an edge of the
+    /// triangles in `slots` at share `from` along it or later: (share, a, b, share along
+    /// `a`-`b` from `a`).
+    fn next_crossing(
+        &self,
+        p: Vec2,
+        q: Vec2,
+        from: f32,
+        slots: &[u32],
+    ) -> Option<(f32, u32, u32, f32)> {
         let mut best: Option<(f32, u32, u32, f32)> = None;
-        for (_, t) in self.sim.cloth.live.iter() {
-            let c = t.rest.map(plane);
-            if c.iter().all(|v| v.x < lo.x)
-                || c.iter().all(|v| v.x > hi.x)
-                || c.iter().all(|v| v.y < lo.y)
-                || c.iter().all(|v| v.y > hi.y)
-            {
+        for &slot in slots {
+            let Some(t) = self.sim.cloth.live.tri(slot) else {
                 continue;
-            }
+            };
+            let c = t.rest.map(plane);
             for k in 0..3 {
                 let (i, j) = (k, (k + 1) % 3);
                 let Some((u, s)) = crossing(p, q, c[i], c[j]) else {
@@ -209,11 +255,12 @@ impl Design {
     /// [`THROUGH_M`] of the segment. Failing all three, the better of the first two if it
     /// keeps every angle over [`FAIR_DEG`], else through the nearer end. Applied in
     /// order, each crossing's vertex joins the one before by an edge.
-    fn crossing_prims(&self, a: u32, b: u32, s: f32, seg: (Vec2, Vec2)) -> Vec<Prim> {
+    fn crossing_prims(&self, a: u32, b: u32, s: f32, seg: (Vec2, Vec2)) -> (u32, Vec<Prim>) {
+        let made = self.sim.cloth.len() as u32;
         let split = self.split_edge_prims(a, b, s);
         let q_split = worst_angle(&split);
         if q_split >= GOOD_DEG {
-            return split;
+            return (made, split);
         }
         let (near, far, t) = if s < 0.5 { (a, b, s) } else { (b, a, 1.0 - s) };
         let moved = self.move_prims(near, far, t);
@@ -223,7 +270,7 @@ impl Design {
             worst_angle(&moved)
         };
         if q_move >= GOOD_DEG {
-            return moved;
+            return (near, moved);
         }
         let through = self
             .sim
@@ -235,14 +282,15 @@ impl Design {
             .and_then(|t| Some(plane(t.rest[t.corner(near)?])))
             .is_some_and(|at| distance_to_segment(at, seg) <= THROUGH_M);
         if through {
-            return Vec::new();
+            return (near, Vec::new());
         }
-        let (best, q) = if q_move > q_split {
-            (moved, q_move)
+        if q_move > q_split && q_move >= FAIR_DEG {
+            (near, moved)
+        } else if q_split >= FAIR_DEG {
+            (made, split)
         } else {
-            (split, q_split)
-        };
-        if q >= FAIR_DEG { best } else { Vec::new() }
+            (near, Vec::new())
+        }
     }
 
     /// The primitives that move inner vertex `v`, in the pattern, to share `t` of the way

@@ -1,0 +1,249 @@
+//! Scissors along a stroke on the cloth (the pen's path in 3D), cut exactly: the stroke
+//! is taken to the cloth's surface and from there into the pattern, where its crossings
+//! with the edges become vertices on it (as `trim.rs` makes them); the cloth is then
+//! split along the chain of those vertices. Splitting the vertices nearest the stroke
+//! instead (until 2026-11-30) cut along the mesh's edges: a staircase in the pattern out.
+
+use glam::{Vec2, Vec3};
+
+use super::document::Design;
+use super::error::EditError;
+use super::prim::{Edit, Prim};
+use super::transaction::Batch;
+use crate::collision::obb::geometry::closest_point_on_triangle;
+use crate::mesh::Tri;
+
+/// How much further than the stroke moved a place may move in the pattern before the
+/// stroke is taken to have crossed to another piece, m.
+const RUN_JUMP_M: f32 = 0.005;
+
+/// A rest position's place in the pattern plane.
+fn plane(p: Vec3) -> Vec2 {
+    Vec2::new(p.x, -p.z)
+}
+
+/// The angle from `a` to `b` counter-clockwise, in [0, 2 pi).
+fn ccw(a: Vec2, b: Vec2) -> f32 {
+    let t = a.perp_dot(b).atan2(a.dot(b));
+    if t < 0.0 {
+        t + std::f32::consts::TAU
+    } else {
+        t
+    }
+}
+
+/// Barycentric coordinates of `p` (on the triangle's plane) in triangle `a`, `b`, `c`;
+/// the centre for a degenerate triangle.
+fn barycentric(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
+    let (e0, e1, e2) = (b - a, c - a, p - a);
+    let (d00, d01, d11) = (e0.dot(e0), e0.dot(e1), e1.dot(e1));
+    let (d20, d21) = (e2.dot(e0), e2.dot(e1));
+    let den = d00 * d11 - d01 * d01;
+    if den.abs() <= f32::EPSILON * d00 * d11 {
+        return Vec3::splat(1.0 / 3.0);
+    }
+    let v = (d11 * d20 - d01 * d21) / den;
+    let w = (d00 * d21 - d01 * d20) / den;
+    Vec3::new(1.0 - v - w, v, w)
+}
+
+impl Design {
+    /// Scissors: cuts the cloth along the polyline `points` (the pointer's path), as one
+    /// undoable operation ("cut stroke"). Each run of the stroke within `radius` of the
+    /// cloth and on one piece of its pattern is cut exactly along it there: the new
+    /// borders follow the stroke, not the mesh's edges. A stroke that starts or ends on
+    /// the cloth cuts a slit to the vertex past its end. Returns how many vertices were
+    /// split.
+    pub fn cut_stroke(&mut self, points: &[Vec3], radius: f32) -> Result<usize, EditError> {
+        if points.iter().any(|p| !p.is_finite()) || !(radius.is_finite() && radius > 0.0) {
+            return Err(EditError::BadDirection);
+        }
+        self.check_editable()?;
+        let runs = self.stroke_runs(points, radius);
+        let mut applied = Vec::new();
+        let mut batch = Batch::default();
+        let mut splits = 0;
+        for run in &runs {
+            let done = self
+                .split_along(run, &mut applied, &mut batch)
+                .and_then(|chain| self.split_chain(&chain, run, &mut applied, &mut batch));
+            match done {
+                Ok(n) => splits += n,
+                Err(e) => {
+                    self.undo_unsynced(&applied, &mut batch);
+                    self.sync_batch(batch);
+                    return Err(e);
+                }
+            }
+        }
+        if splits == 0 {
+            self.undo_unsynced(&applied, &mut batch);
+            self.sync_batch(batch);
+            return Err(EditError::EmptyStroke);
+        }
+        self.sync_batch(batch);
+        self.history.push(Edit {
+            label: "cut stroke",
+            prims: applied,
+        });
+        Ok(splits)
+    }
+
+    /// The stroke in the pattern: points every half `radius` along it, each within
+    /// `radius` of the cloth taken to the nearest place on its surface and from there to
+    /// the pattern plane, in runs on one piece each (a point off the cloth, or one whose
+    /// place jumps across the pattern, ends a run; runs of one point are dropped).
+    fn stroke_runs(&self, points: &[Vec3], radius: f32) -> Vec<Vec<Vec2>> {
+        let segments: Vec<(Vec3, Vec3)> = if points.len() == 1 {
+            vec![(points[0], points[0])]
+        } else {
+            points.windows(2).map(|w| (w[0], w[1])).collect()
+        };
+        let mut runs: Vec<Vec<Vec2>> = Vec::new();
+        let mut run: Vec<Vec2> = Vec::new();
+        let mut last: Option<(Vec3, Vec2)> = None;
+        for (p, q) in segments {
+            let steps = ((q - p).length() / (radius * 0.5))
+                .ceil()
+                .clamp(1.0, 4096.0) as usize;
+            for s in 0..=steps {
+                let at = p.lerp(q, s as f32 / steps as f32);
+                let Some(place) = self.surface_place(at, radius) else {
+                    runs.push(std::mem::take(&mut run));
+                    last = None;
+                    continue;
+                };
+                // Another piece (across a seam, whose sides lie apart in the pattern):
+                // a place far further from the last than the stroke went.
+                if let Some((at0, place0)) = last
+                    && place.distance(place0) > 2.0 * at.distance(at0) + RUN_JUMP_M
+                {
+                    runs.push(std::mem::take(&mut run));
+                }
+                if run.last() != Some(&place) {
+                    run.push(place);
+                }
+                last = Some((at, place));
+            }
+        }
+        runs.push(run);
+        runs.retain(|r| r.len() >= 2);
+        runs
+    }
+
+    /// The place on the cloth's surface nearest `at` (among the triangles round the
+    /// nearest vertex and its neighbours), if within `radius`: its place in the pattern.
+    fn surface_place(&self, at: Vec3, radius: f32) -> Option<Vec2> {
+        let cloth = &self.sim.cloth;
+        let v = cloth.nearest_vertex(at, f32::INFINITY)?;
+        let mut best: Option<(f32, Vec2)> = None;
+        for u in std::iter::once(v).chain(cloth.live.neighbours(v)) {
+            for &slot in cloth.live.tris_of(u) {
+                let Some(t) = cloth.live.tri(slot) else {
+                    continue;
+                };
+                let [a, b, c] = t.v.map(|i| cloth.x[i as usize]);
+                let (p, _) = closest_point_on_triangle(at, a, b, c);
+                let d = p.distance_squared(at);
+                if best.is_none_or(|(bd, ..)| d < bd) {
+                    let w = barycentric(p, a, b, c);
+                    let r = t.rest.map(plane);
+                    best = Some((d, r[0] * w.x + r[1] * w.y + r[2] * w.z));
+                }
+            }
+        }
+        best.filter(|(d, _)| *d <= radius * radius)
+            .map(|(_, place)| place)
+    }
+
+    /// Splits the cloth along `chain` (the vertices on the run's path, in order): at each
+    /// vertex the triangles of its fan on this piece (its place in the pattern nearest
+    /// the run) that lie right of the path get a new vertex; at the chain's ends, right
+    /// of the path's line through it (as the paper's cut split them: for a stroke along
+    /// x on a cloth facing up, the +z side). Consecutive vertices that are not neighbours are
+    /// joined through the mesh first. Returns how many vertices were split.
+    fn split_chain(
+        &mut self,
+        chain: &[u32],
+        run: &[Vec2],
+        applied: &mut Vec<Prim>,
+        batch: &mut Batch,
+    ) -> Result<usize, EditError> {
+        let mut joined: Vec<u32> = Vec::new();
+        for &v in chain {
+            match joined.last() {
+                Some(&u) if u != v && !self.sim.cloth.live.neighbours(u).contains(&v) => {
+                    joined.extend(self.mesh_path(u, v, 8).into_iter().skip(1));
+                }
+                Some(&u) if u == v => {}
+                _ => joined.push(v),
+            }
+        }
+        joined.dedup();
+        // Each vertex's place on this piece: the one nearest the run.
+        let places: Vec<Option<Vec2>> = joined.iter().map(|&v| self.place_near(v, run)).collect();
+        if joined.len() < 2 || places.iter().any(Option::is_none) {
+            return Ok(0);
+        }
+        let places: Vec<Vec2> = places.into_iter().flatten().collect();
+        let n = joined.len();
+        let mut splits = 0;
+        for k in 0..n {
+            let (v, p) = (joined[k], places[k]);
+            let fwd = if k + 1 < n {
+                places[k + 1] - p
+            } else {
+                p - places[k - 1]
+            };
+            let back = if k > 0 { places[k - 1] - p } else { -fwd };
+            if fwd.length_squared() < 1e-14 || back.length_squared() < 1e-14 {
+                continue;
+            }
+            let turn = ccw(fwd, back);
+            let live = &self.sim.cloth.live;
+            let fan: Vec<(u32, Tri)> = (live.tris_of(v).iter())
+                .filter_map(|&slot| live.tri(slot).map(|t| (slot, *t)))
+                .collect();
+            let moving: Vec<(u32, Tri)> = fan
+                .iter()
+                .filter(|(_, t)| {
+                    let on_piece = t
+                        .corner(v)
+                        .is_some_and(|c| plane(t.rest[c]).distance(p) < 1e-6);
+                    let mid = plane((t.rest[0] + t.rest[1] + t.rest[2]) / 3.0);
+                    on_piece && ccw(fwd, mid - p) > turn
+                })
+                .copied()
+                .collect();
+            if moving.is_empty() || moving.len() == fan.len() {
+                continue;
+            }
+            let prims = self.split_off_prims(v, &moving)?;
+            self.apply_unsynced(&prims, batch)?;
+            applied.extend(prims);
+            splits += 1;
+        }
+        Ok(splits)
+    }
+
+    /// Vertex `v`'s place in the pattern nearest the polyline `run` (a vertex on a seam
+    /// has one on each piece).
+    fn place_near(&self, v: u32, run: &[Vec2]) -> Option<Vec2> {
+        let live = &self.sim.cloth.live;
+        let dist = |q: Vec2| {
+            run.windows(2)
+                .map(|w| {
+                    let d = w[1] - w[0];
+                    let t = ((q - w[0]).dot(d) / d.length_squared().max(1e-20)).clamp(0.0, 1.0);
+                    q.distance(w[0] + d * t)
+                })
+                .fold(f32::MAX, f32::min)
+        };
+        (live.tris_of(v).iter())
+            .filter_map(|&slot| {
+                let t = live.tri(slot)?;
+                Some(plane(t.rest[t.corner(v)?]))
+            })
+            .min_by(|a, b| dist(*a).total_cmp(&dist(*b)))
+    }
+}
