@@ -29,6 +29,10 @@ struct Touched {
     /// The moved vertices' triangles the edit leaves in place, and their slots.
     kept: Vec<Tri>,
     kept_slots: HashSet<u32>,
+    /// Each vertex the edit adds in another's place in a triangle (a cut's copy of the
+    /// vertex it splits), to that one: the two sides of a fresh cut lie together, and
+    /// are neighbours there, not a crossing.
+    origin: HashMap<u32, u32>,
 }
 
 impl Design {
@@ -37,6 +41,8 @@ impl Design {
         let mut to = HashMap::new();
         let mut changed = HashSet::new();
         let (mut old, mut new) = (Vec::new(), Vec::<(Tri, u32)>::new());
+        let mut added = HashSet::new();
+        let mut origin = HashMap::new();
         for prim in prims {
             match prim {
                 Prim::Move { vertex, new: n, .. } => {
@@ -44,12 +50,21 @@ impl Design {
                 }
                 Prim::AddVertex { index, x, .. } => {
                     to.insert(*index, *x);
+                    added.insert(*index);
                 }
                 Prim::Tri {
                     slot,
                     old: o,
                     new: n,
                 } => {
+                    if let (Some(o), Some(n)) = (o, n) {
+                        for k in 0..3 {
+                            let (was, now) = (o.v[k], n.v[k]);
+                            if was != now && added.contains(&now) {
+                                origin.entry(now).or_insert(was);
+                            }
+                        }
+                    }
                     if changed.insert(*slot) {
                         old.extend(o.map(|t| t.v));
                     }
@@ -77,6 +92,7 @@ impl Design {
             new: new.into_iter().map(|t| t.0).collect(),
             kept,
             kept_slots,
+            origin,
         }
     }
 
@@ -145,7 +161,6 @@ impl Design {
         }
         let kept = t.kept.iter().map(|k| k.v);
         let now: Vec<[u32; 3]> = t.old.iter().copied().chain(kept.clone()).collect();
-        let then: Vec<[u32; 3]> = t.new.iter().map(|n| n.v).chain(kept).collect();
         let others: Vec<[u32; 3]> = self
             .sim
             .cloth
@@ -157,6 +172,21 @@ impl Design {
         let (x, body) = (&self.sim.cloth.x, self.sim.body.as_ref());
         let now_at = |v: u32| x.get(v as usize).copied();
         let then_at = |v: u32| t.to.get(&v).copied().or_else(|| now_at(v));
+        // A cut's copies as the vertices they split, where they lie: the cut's two sides
+        // meet there as neighbours (a copy's place is its origin's; until 2026-11-30
+        // every cut undone under the guard could not be redone, "would make 2
+        // crossings").
+        let canon = |v: u32| {
+            let mut v = v;
+            for _ in 0..64 {
+                match t.origin.get(&v) {
+                    Some(&o) if then_at(v) == then_at(o) => v = o,
+                    _ => break,
+                }
+            }
+            v
+        };
+        let then: Vec<[u32; 3]> = t.new.iter().map(|n| n.v.map(canon)).chain(kept).collect();
         // Each touched triangle against the rest and the body, and against the other
         // touched ones (a pair among them counted twice, alike before and after).
         let count = |at: &dyn Fn(u32) -> Option<Vec3>, fan: &[[u32; 3]]| {
