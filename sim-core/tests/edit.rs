@@ -431,6 +431,7 @@ fn a_seam_pulls_two_cut_pieces_together_and_welds_them() {
 enum Op {
     Cut(u32, f32),
     Stroke(u32, u32),
+    Trim(u32, f32),
     Sew(u32, u32),
     Seam(u32, u32),
     Tear(u32, usize, bool),
@@ -445,6 +446,7 @@ fn op() -> impl Strategy<Value = Op> {
     prop_oneof![
         4 => (any::<u32>(), 0.0f32..6.3).prop_map(|(v, a)| Op::Cut(v, a)),
         1 => (any::<u32>(), any::<u32>()).prop_map(|(a, b)| Op::Stroke(a, b)),
+        1 => (any::<u32>(), 0.02f32..0.12).prop_map(|(v, r)| Op::Trim(v, r)),
         3 => (any::<u32>(), any::<u32>()).prop_map(|(a, b)| Op::Sew(a, b)),
         1 => (any::<u32>(), any::<u32>()).prop_map(|(a, b)| Op::Seam(a, b)),
         3 => (any::<u32>(), any::<usize>(), any::<bool>()).prop_map(|(v, k, d)| Op::Tear(v, k, d)),
@@ -470,6 +472,23 @@ fn run(s: &mut Design, op: &Op) -> bool {
                 s.sim.cloth.x[(b % n) as usize],
             );
             s.cut_stroke(&[p, q], 0.03).map(|_| ())
+        }
+        Op::Trim(v, r) => {
+            // A hexagon of radius r round the vertex's place in the pattern.
+            let live = &s.sim.cloth.live;
+            let at = (live.tris_of(v % n).first())
+                .and_then(|&t| live.tri(t))
+                .and_then(|t| t.corner(v % n).map(|k| t.rest[k]));
+            match at {
+                Some(p) => {
+                    let c = Vec2::new(p.x, -p.z);
+                    let hex: Vec<Vec2> = (0..6)
+                        .map(|i| c + r * Vec2::from_angle(i as f32 * std::f32::consts::FRAC_PI_3))
+                        .collect();
+                    s.trim(&hex).map(|_| ())
+                }
+                None => Ok(()),
+            }
         }
         Op::Sew(a, b) => {
             // Prefer border vertices so some sews succeed.
