@@ -102,8 +102,17 @@ pub fn view_mouse(
                 crate::tools::tool_name(t)
             )));
         }
-    } else if let Some(dr) = &view.drag {
-        let target = o + dir * dr.depth;
+    } else if let Some(dr) = &mut view.drag {
+        // Scissors and brush ride the cloth under the mouse (a stroke at the press's
+        // depth left a round torso within a few centimetres, and the cut stopped
+        // there); pinch and tear keep that depth, and the cloth follows the pen.
+        let target = match hit {
+            Some(h) if matches!(t, tool::CUT | tool::PAINT) => {
+                dr.depth = (h.point - o).dot(dir);
+                h.point
+            }
+            _ => o + dir * dr.depth,
+        };
         if resp.dragged_by(egui::PointerButton::Primary) {
             if dr.pen {
                 actions.push(Action::Pointer(target.to_array(), 1));
