@@ -17,6 +17,9 @@ use crate::mesh::Tri;
 /// stroke is taken to have crossed to another piece, m.
 const RUN_JUMP_M: f32 = 0.005;
 
+/// The longest stretch of a stroke off the cloth that a cut bridges, m.
+const MAX_GAP_M: f32 = 0.05;
+
 /// A rest position's place in the pattern plane.
 fn plane(p: Vec3) -> Vec2 {
     Vec2::new(p.x, -p.z)
@@ -91,8 +94,9 @@ impl Design {
 
     /// The stroke in the pattern: points every half `radius` along it, each within
     /// `radius` of the cloth taken to the nearest place on its surface and from there to
-    /// the pattern plane, in runs on one piece each (a point off the cloth, or one whose
-    /// place jumps across the pattern, ends a run; runs of one point are dropped).
+    /// the pattern plane, in runs on one piece each (a stretch off the cloth longer than
+    /// [`MAX_GAP_M`], or a place that jumps across the pattern, ends a run; a shorter
+    /// stretch is bridged straight in the pattern; runs of one point are dropped).
     fn stroke_runs(&self, points: &[Vec3], radius: f32) -> Vec<Vec<Vec2>> {
         let segments: Vec<(Vec3, Vec3)> = if points.len() == 1 {
             vec![(points[0], points[0])]
@@ -109,8 +113,12 @@ impl Design {
             for s in 0..=steps {
                 let at = p.lerp(q, s as f32 / steps as f32);
                 let Some(place) = self.surface_place(at, radius) else {
-                    runs.push(std::mem::take(&mut run));
-                    last = None;
+                    // The pen off the cloth for a moment (it rides the surface with a
+                    // lag): the run goes on across a short gap, ends at a long one.
+                    if last.is_some_and(|(at0, _)| at.distance(at0) > MAX_GAP_M) {
+                        runs.push(std::mem::take(&mut run));
+                        last = None;
+                    }
                     continue;
                 };
                 // Another piece (across a seam, whose sides lie apart in the pattern):
