@@ -226,3 +226,32 @@ fn a_cut_undone_under_the_guard_can_be_redone() {
     assert_eq!(d.redo().unwrap(), "cut stroke");
     assert_eq!((d.sim.cloth.live.triangles(), d.sim.cloth.len()), after);
 }
+
+/// A stroke that leaves the cloth for a moment (a pen riding it with a lag) cuts on
+/// across the gap; one that leaves it for longer than 5 cm stops there, and the two
+/// slits leave cloth between them.
+#[test]
+fn a_stroke_bridges_a_short_lift_only() {
+    let lifted = |gap: f32| {
+        let mut d = flat(16);
+        let z = 0.013;
+        let stroke = [
+            Vec3::new(-0.3, 1.0, z),
+            Vec3::new(-0.5 * gap, 1.0, z),
+            Vec3::new(-0.5 * gap, 1.025, z),
+            Vec3::new(0.5 * gap, 1.025, z),
+            Vec3::new(0.5 * gap, 1.0, z),
+            Vec3::new(0.3, 1.0, z),
+        ];
+        d.cut_stroke(&stroke, 0.02).unwrap();
+        d.sim.cloth.live.validate(&d.sim.cloth.x).unwrap();
+        sim_core::design::sewing_pattern::pattern_parts(&d).len()
+    };
+    assert_eq!(lifted(0.0), 2, "no lift: cut in two");
+    assert_eq!(
+        lifted(0.04),
+        2,
+        "4 cm off the cloth (2.5 cm above it) is bridged"
+    );
+    assert_eq!(lifted(0.2), 1, "a 20 cm lift leaves a bridge of cloth");
+}
