@@ -164,24 +164,7 @@ fn pin_paint_and_pinch(h: &mut Harness<'static, App>, centre: egui::Pos2) {
     // Pinch: a drag moves the simulated pen with its button held, then lets go.
     h.get_by_label("Pinch  (P)").click();
     h.run_steps(2);
-    let before = h.state().emitted.len();
-    h.hover_at(centre);
-    h.run_steps(1);
-    h.drag_at(centre);
-    h.run_steps(1);
-    for k in 1..=5 {
-        h.hover_at(centre + egui::vec2(0.0, -12.0 * k as f32));
-        h.run_steps(1);
-    }
-    h.drop_at(centre + egui::vec2(0.0, -60.0));
-    h.run_steps(2);
-    let pen: Vec<([f32; 3], u32)> = h.state().emitted[before..]
-        .iter()
-        .filter_map(|e| match e {
-            Emitted::Pointer(p, b) => Some((*p, *b)),
-            _ => None,
-        })
-        .collect();
+    let pen = drag_up(h, centre);
     assert!(pen.len() >= 3, "{pen:?}");
     assert_eq!(pen[0].1, 1);
     assert_eq!(pen.last().unwrap().1, 0);
@@ -194,6 +177,19 @@ fn pin_paint_and_pinch(h: &mut Harness<'static, App>, centre: egui::Pos2) {
     // meets the cloth; at the press's depth it left it within a few centimetres).
     h.get_by_label("Cut  (C)").click();
     h.run_steps(2);
+    let pen = drag_up(h, centre);
+    assert!(pen.len() >= 3, "{pen:?}");
+    assert!(
+        pen.iter().all(|(p, _)| (p[1] - 0.4).abs() < 1e-3),
+        "the stroke lies on the cloth (y = 0.4): {pen:?}"
+    );
+    let moved = glam::Vec3::from(pen.last().unwrap().0).distance(glam::Vec3::from(pen[0].0));
+    assert!(moved > 0.02, "{pen:?}");
+}
+
+/// Drags 60 px up from `centre` with the current tool: the pen's points sent, with
+/// their button.
+fn drag_up(h: &mut Harness<'static, App>, centre: egui::Pos2) -> Vec<([f32; 3], u32)> {
     let before = h.state().emitted.len();
     h.hover_at(centre);
     h.run_steps(1);
@@ -205,20 +201,13 @@ fn pin_paint_and_pinch(h: &mut Harness<'static, App>, centre: egui::Pos2) {
     }
     h.drop_at(centre + egui::vec2(0.0, -60.0));
     h.run_steps(2);
-    let pen: Vec<([f32; 3], u32)> = h.state().emitted[before..]
+    h.state().emitted[before..]
         .iter()
         .filter_map(|e| match e {
             Emitted::Pointer(p, b) => Some((*p, *b)),
             _ => None,
         })
-        .collect();
-    assert!(pen.len() >= 3, "{pen:?}");
-    assert!(
-        pen.iter().all(|(p, _)| (p[1] - 0.4).abs() < 1e-3),
-        "the stroke lies on the cloth (y = 0.4): {pen:?}"
-    );
-    let moved = glam::Vec3::from(pen.last().unwrap().0).distance(glam::Vec3::from(pen[0].0));
-    assert!(moved > 0.02, "{pen:?}");
+        .collect()
 }
 
 /// Undo and redo by button and by keyboard, a tool by its shortcut, load, export, a new
