@@ -10,6 +10,7 @@ use super::document::Design;
 use super::error::EditError;
 use super::prim::{Edit, Prim};
 use super::transaction::Batch;
+use super::trim::{distance_to_segment, plane};
 use crate::collision::obb::geometry::closest_point_on_triangle;
 use crate::mesh::Tri;
 
@@ -19,11 +20,6 @@ const RUN_JUMP_M: f32 = 0.005;
 
 /// The longest stretch of a stroke off the cloth that a cut bridges, m.
 const MAX_GAP_M: f32 = 0.05;
-
-/// A rest position's place in the pattern plane.
-fn plane(p: Vec3) -> Vec2 {
-    Vec2::new(p.x, -p.z)
-}
 
 /// The angle from `a` to `b` counter-clockwise, in [0, 2 pi).
 fn ccw(a: Vec2, b: Vec2) -> f32 {
@@ -240,11 +236,7 @@ impl Design {
         let live = &self.sim.cloth.live;
         let dist = |q: Vec2| {
             run.windows(2)
-                .map(|w| {
-                    let d = w[1] - w[0];
-                    let t = ((q - w[0]).dot(d) / d.length_squared().max(1e-20)).clamp(0.0, 1.0);
-                    q.distance(w[0] + d * t)
-                })
+                .map(|w| distance_to_segment(q, (w[0], w[1])))
                 .fold(f32::MAX, f32::min)
         };
         (live.tris_of(v).iter())

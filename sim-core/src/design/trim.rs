@@ -21,7 +21,7 @@ use crate::mesh::{NONE, Tri};
 const MAX_CROSSINGS: usize = 100_000;
 
 /// A rest position's place in the pattern plane.
-fn plane(p: Vec3) -> Vec2 {
+pub(super) fn plane(p: Vec3) -> Vec2 {
     Vec2::new(p.x, -p.z)
 }
 
@@ -226,13 +226,7 @@ impl Design {
             };
             let rest = tri.rest[ca].lerp(tri.rest[cb], s);
             let uv = tri.uv[ca].lerp(tri.uv[cb], s);
-            let with_m = |corner: usize| {
-                let mut n: Tri = tri;
-                n.v[corner] = m;
-                n.rest[corner] = rest;
-                n.uv[corner] = uv;
-                n
-            };
+            let with_m = |corner: usize| tri.with_corner(corner, m, rest, uv);
             prims.push(Prim::Tri {
                 slot,
                 old: Some(tri),
@@ -367,7 +361,7 @@ fn worst_angle(prims: &[Prim]) -> f32 {
 }
 
 /// The distance from `q` to segment `seg`.
-fn distance_to_segment(q: Vec2, (a, b): (Vec2, Vec2)) -> f32 {
+pub(super) fn distance_to_segment(q: Vec2, (a, b): (Vec2, Vec2)) -> f32 {
     let d = b - a;
     let t = ((q - a).dot(d) / d.length_squared().max(1e-20)).clamp(0.0, 1.0);
     q.distance(a + d * t)

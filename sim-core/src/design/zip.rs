@@ -12,7 +12,7 @@
 
 use super::document::Design;
 use super::prim::Prim;
-use crate::mesh::{NONE, Tri};
+use crate::mesh::NONE;
 
 /// Where along the edge `p` may sit: not at either end (a sliver triangle).
 const END_MARGIN: f32 = 0.1;
@@ -67,13 +67,7 @@ impl Design {
         let (cq, cr) = (tri.corner(q)?, tri.corner(r)?);
         let rest = tri.rest[cq].lerp(tri.rest[cr], t);
         let uv = tri.uv[cq].lerp(tri.uv[cr], t);
-        let with_p = |corner: usize| {
-            let mut n: Tri = tri;
-            n.v[corner] = p;
-            n.rest[corner] = rest;
-            n.uv[corner] = uv;
-            n
-        };
+        let with_p = |corner: usize| tri.with_corner(corner, p, rest, uv);
         let v = self.sim.cloth.v[p as usize];
         Some(vec![
             Prim::Move {

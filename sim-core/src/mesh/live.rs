@@ -29,6 +29,16 @@ impl Tri {
         0.5 * (b - a).cross(c - a).length()
     }
 
+    /// This triangle with corner `corner` taken by vertex `v` at rest place `rest` and
+    /// texture coordinate `uv` (an edge split, or a vertex put into an edge).
+    pub fn with_corner(&self, corner: usize, v: u32, rest: Vec3, uv: Vec2) -> Tri {
+        let mut n = *self;
+        n.v[corner] = v;
+        n.rest[corner] = rest;
+        n.uv[corner] = uv;
+        n
+    }
+
     /// The corner holding vertex `v`.
     pub fn corner(&self, v: u32) -> Option<usize> {
         self.v.iter().position(|&i| i == v)
