@@ -258,7 +258,8 @@ impl ClothOut {
 
 /// The design's pieces as `saiho/pieces` carries them (the first [`MAX_LISTED`]).
 pub(crate) fn piece_list(design: &Design, seq: &mut u64) -> PieceList {
-    let pieces = design.piece_list();
+    // The list and the pattern view from one pass over the cloth's parts.
+    let (pieces, view) = design.piece_list_and_view();
     let mut l = PieceList {
         header: Header::next(seq),
         topology: design.sim.cloth.live.version(),
@@ -295,7 +296,6 @@ pub(crate) fn piece_list(design: &Design, seq: &mut u64) -> PieceList {
         };
     }
     // The pattern as the export makes it: each seam's sides and each piece's lines.
-    let view = sim_core::design::sewing_pattern::view_pieces(design);
     let seam_index: std::collections::HashMap<String, usize> = (0..design.seams.len())
         .map(|i| (seam_label(i), i))
         .collect();

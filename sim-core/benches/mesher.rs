@@ -80,6 +80,9 @@ fn mesher(c: &mut Criterion) {
     g.bench_function("128 x 128 square, pattern view lines", |b| {
         b.iter(|| sim_core::design::sewing_pattern::view_pieces(&square))
     });
+    g.bench_function("128 x 128 square, piece list and view (as sent)", |b| {
+        b.iter(|| square.piece_list_and_view())
+    });
     g.finish();
     let _ = std::fs::remove_dir_all(&dir);
 }

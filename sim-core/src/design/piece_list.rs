@@ -65,10 +65,17 @@ impl Design {
     /// [`Design::piece_list`] with each piece's triangle slots.
     pub(super) fn listed(&self) -> Vec<(PieceInfo, Vec<u32>)> {
         let parts = super::sewing_pattern::pattern_parts(self);
-        let mut out: Vec<(PieceInfo, Vec<u32>)> =
-            self.describe(&parts).into_iter().zip(parts).collect();
-        out.sort_by(|(a, _), (b, _)| a.record.cmp(&b.record).then(b.triangles.cmp(&a.triangles)));
-        out
+        in_list_order(self.describe(&parts).into_iter().zip(parts).collect())
+    }
+
+    /// [`Design::piece_list`] and the studio's pattern view
+    /// ([`sewing_pattern::view_pieces`](super::sewing_pattern::view_pieces)), the cloth's
+    /// parts found once for both (cloth-sim sends both after every cut).
+    pub fn piece_list_and_view(&self) -> (Vec<PieceInfo>, Vec<super::sewing_pattern::Piece>) {
+        let parts = super::sewing_pattern::pattern_parts(self);
+        let view = super::sewing_pattern::view_of(self, &parts);
+        let list = in_list_order(self.describe(&parts).into_iter().zip(parts).collect());
+        (list.into_iter().map(|(info, _)| info).collect(), view)
     }
 
     /// Each part (its triangle slots) named as [`Design::piece_list`] says, in the
@@ -133,4 +140,10 @@ impl Design {
         }
         out
     }
+}
+
+/// Pieces in the list's order: by record, largest first within one.
+fn in_list_order(mut parts: Vec<(PieceInfo, Vec<u32>)>) -> Vec<(PieceInfo, Vec<u32>)> {
+    parts.sort_by(|(a, _), (b, _)| a.record.cmp(&b.record).then(b.triangles.cmp(&a.triangles)));
+    parts
 }

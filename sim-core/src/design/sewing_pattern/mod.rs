@@ -186,7 +186,7 @@ pub fn pattern_parts(design: &Design) -> Vec<Vec<u32>> {
 /// named as [`Design::piece_list`] names them.
 pub fn pieces(design: &Design) -> Vec<Piece> {
     let (origin, u, v) = plane(design);
-    pieces_in(design, |p: Vec3| {
+    pieces_in(design, &pattern_parts(design), |p: Vec3| {
         let d = p.as_dvec3() - origin;
         DVec2::new(d.dot(u), d.dot(v)) * 1000.0
     })
@@ -198,7 +198,12 @@ pub fn pieces(design: &Design) -> Vec<Piece> {
 /// piece from its sewing line). The same outlines the pattern out writes, so the view
 /// shows the cloth a weld eased into a seam, not the gap its mesh has there.
 pub fn view_pieces(design: &Design) -> Vec<Piece> {
-    let mut pieces = pieces_in(design, |p: Vec3| {
+    view_of(design, &pattern_parts(design))
+}
+
+/// [`view_pieces`] of the parts `parts` (as [`pattern_parts`] finds them).
+pub(crate) fn view_of(design: &Design, parts: &[Vec<u32>]) -> Vec<Piece> {
+    let mut pieces = pieces_in(design, parts, |p: Vec3| {
         DVec2::new(p.x as f64, -p.z as f64) * 1000.0
     });
     let longest = notches::longest_sides(&pieces);
@@ -209,8 +214,13 @@ pub fn view_pieces(design: &Design) -> Vec<Piece> {
     pieces
 }
 
-/// [`pieces`] with each rest position mapped into the plane by `to2`.
-fn pieces_in(design: &Design, to2: impl Fn(Vec3) -> DVec2 + Copy) -> Vec<Piece> {
+/// [`pieces`] of the parts `parts`, with each rest position mapped into the plane by
+/// `to2`.
+fn pieces_in(
+    design: &Design,
+    parts: &[Vec<u32>],
+    to2: impl Fn(Vec3) -> DVec2 + Copy,
+) -> Vec<Piece> {
     // The designer's names of the seams that have one, by label.
     let seam_names_of: HashMap<String, String> = design
         .seams
@@ -220,8 +230,7 @@ fn pieces_in(design: &Design, to2: impl Fn(Vec3) -> DVec2 + Copy) -> Vec<Piece> 
         .map(|(i, s)| (seam_label(i), s.name.clone()))
         .collect();
     let live = &design.sim.cloth.live;
-    let parts = pattern_parts(design);
-    let names = design.describe(&parts);
+    let names = design.describe(parts);
     let seam_of = seam_labels(design);
     let eased: Vec<[Vec3; 3]> = design
         .seams
