@@ -205,6 +205,11 @@ fn a_slanted_stroke_cuts_along_itself() {
     assert!(far < 1e-3, "a border vertex {far} m off the stroke");
     assert!(min_angle(&d) >= 8.0, "{}", min_angle(&d));
     assert_eq!(sim_core::design::sewing_pattern::pattern_parts(&d).len(), 2);
+    // No crossing, exactly (the cut's two sides, lying together, welded as the exports'
+    // counts weld them).
+    use sim_core::collision::crossings;
+    let (x, tris) = crossings::weld(&d.sim.cloth.x, &d.sim.cloth.live.triangles());
+    assert_eq!(crossings::count_self(&x, &tris), 0);
     assert_eq!(d.undo().unwrap(), "cut stroke");
     assert_eq!((d.sim.cloth.live.triangles(), d.sim.cloth.len()), before);
 }
