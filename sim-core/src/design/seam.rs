@@ -373,6 +373,7 @@ mod tests {
     use super::ZIP_AFTER;
     use crate::collision::Body;
     use crate::design::Design;
+    use crate::design::cut::PART_M;
     use crate::mesh::ClothMesh;
     use crate::solver::ModelKind;
 
@@ -393,14 +394,16 @@ mod tests {
             .unwrap();
         let row = (n / 2 * (n + 1)) as u32;
         let x = d.sim.cloth.x.clone();
-        let split = |v: u32| (0..x.len()).any(|u| u != v as usize && x[u] == x[v as usize]);
+        // A cut's two sides lie a parting apart (`cut::PART_M` each way).
+        let twins = |u: usize, v: usize| u != v && (x[u] - x[v]).length() < 3.0 * PART_M;
+        let split = |v: u32| (0..x.len()).any(|u| twins(u, v as usize));
         let a: Vec<u32> = (row..row + n as u32 + 1).filter(|&v| split(v)).collect();
         let b: Vec<u32> = a
             .iter()
             .map(|&v| {
                 (0..x.len() as u32)
                     .rev()
-                    .find(|&u| u != v && x[u as usize] == x[v as usize])
+                    .find(|&u| twins(u as usize, v as usize))
                     .unwrap()
             })
             .collect();

@@ -21,6 +21,11 @@ struct Touched {
     verts: Vec<u32>,
     /// A piece record changed (its fabric, or a piece came or went).
     pieces: bool,
+    /// Vertices added, in order.
+    added: Vec<u32>,
+    /// Each added vertex that took another's place in a triangle (a cut's copy), with
+    /// that vertex: parted after the update ([`Design::part_copies`]).
+    copies: Vec<(u32, u32)>,
 }
 
 /// What primitives applied without the incremental update touched
@@ -71,6 +76,13 @@ impl Design {
                 cloth.live.set(*slot, *new)?;
                 touched.tri(*slot, old.as_ref());
                 touched.tri(*slot, new.as_ref());
+                if let (Some(o), Some(n)) = (old, new) {
+                    for (&was, &now) in o.v.iter().zip(&n.v) {
+                        if was != now && touched.added.contains(&now) {
+                            touched.copies.push((now, was));
+                        }
+                    }
+                }
             }
             Prim::Uv { slot, old, new } => {
                 let Some(t) = cloth.live.tri(*slot) else {
@@ -94,6 +106,7 @@ impl Design {
                 cloth.mass.push(0.0);
                 cloth.inv_mass.push(0.0);
                 cloth.pinned.push(false);
+                touched.added.push(*index);
             }
             Prim::RemoveVertex { index, .. } => {
                 if *index as usize + 1 != cloth.len() || !cloth.live.pop_vertex() {
@@ -106,6 +119,8 @@ impl Design {
                 // `sync` drops touched vertices past the end (a retain here cost O(n)
                 // per vertex: seconds to undo a large added piece).
                 cloth.pinned.pop();
+                touched.added.retain(|&a| a != *index);
+                touched.copies.retain(|c| c.0 != *index && c.1 != *index);
             }
             Prim::Move { vertex, new, .. } => {
                 let i = *vertex as usize;
@@ -206,6 +221,7 @@ impl Design {
                 }
             }
         }
+        self.part_copies(&touched.copies);
         touched.verts.sort_unstable();
         touched.verts.dedup();
         touched
