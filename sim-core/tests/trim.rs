@@ -286,7 +286,14 @@ fn a_fresh_cuts_sides_do_not_slide_into_each_other() {
     let stroke = [Vec3::new(-0.3, 1.0, -0.11), Vec3::new(0.3, 1.0, 0.07)];
     let mut d = flat(16);
     d.set_guard(true).unwrap();
+    let before = d.sim.cloth.x.clone();
     d.cut_stroke(&stroke, 0.02).unwrap();
+    // Undone, the sides come back together where they were (a cut and its undo, again
+    // and again, do not walk the cloth away), and they part again when redone.
+    d.undo().unwrap();
+    let back = (d.sim.cloth.x.iter().zip(&before)).map(|(a, b)| (*a - *b).length());
+    assert!(back.fold(0.0, f32::max) < 1e-6);
+    d.redo().unwrap();
     // The sides apart, by about twice the parting each, nowhere touching.
     use sim_core::collision::crossings;
     let (x, tris) = (&d.sim.cloth.x, d.sim.cloth.live.triangles());

@@ -22,8 +22,8 @@ impl Design {
     /// apart along it only, and they could slide into each other in the cloth's plane
     /// (2 crossing pairs on a flat cloth cut along a slanted stroke, up to 25 while the
     /// trim's moved vertices pulled the cloth). Apart, the guard keeps each pair of
-    /// sides from crossing the line between them. Not an edit of its own: undo joins the
-    /// sides again where they are.
+    /// sides from crossing the line between them. The moves are kept in `parting` for
+    /// the edit to record (undone, the sides come back by as much).
     pub(super) fn part_copies(&mut self, copies: &[(u32, u32)]) {
         let cloth = &self.sim.cloth;
         let n = cloth.len();
@@ -55,11 +55,16 @@ impl Design {
                     fan.iter().map(|t| self.centroid(t)).sum::<Vec3>() / fan.len() as f32 - x;
                 let normal = cloth.vertex_normal(v);
                 let along = (inward - normal * normal.dot(inward)).try_normalize()?;
-                Some((v as usize, x + along * PART_M))
+                Some((v as usize, along * PART_M))
             })
             .collect();
-        for (v, x) in moves {
-            self.sim.cloth.x[v] = x;
+        self.parting.clear();
+        for (v, by) in moves {
+            self.sim.cloth.x[v] += by;
+            self.parting.push(Prim::Nudge {
+                vertex: v as u32,
+                by,
+            });
         }
     }
 

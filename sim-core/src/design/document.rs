@@ -4,6 +4,7 @@
 use super::history::History;
 use super::parts::{Seam, TearSettings};
 use super::pieces::PieceRecord;
+use super::prim::Prim;
 use super::texture::Texture;
 use crate::error::GeometryError;
 use crate::solver::Simulation;
@@ -40,6 +41,9 @@ pub struct Design {
     /// rolled it back and brought the solver and its contact search up to date, every
     /// frame: the resting dress took 60-90 ms a frame instead of 15 (`seam.rs`).
     pub(super) weld_refused: Vec<(u32, u32)>,
+    /// The moves that parted the last update's fresh cut ([`Design::part_copies`]),
+    /// until the edit that made it takes them into its history.
+    pub(super) parting: Vec<Prim>,
 }
 
 impl Design {
@@ -60,6 +64,7 @@ impl Design {
             png_cache: None,
             seam_idle: Vec::new(),
             weld_refused: Vec::new(),
+            parting: Vec::new(),
         }
     }
 

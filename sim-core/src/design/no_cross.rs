@@ -48,6 +48,13 @@ impl Design {
                 Prim::Move { vertex, new: n, .. } => {
                     to.insert(*vertex, n.0);
                 }
+                Prim::Nudge { vertex, by } => {
+                    let x = &self.sim.cloth.x;
+                    let was = to.get(vertex).copied();
+                    if let Some(p) = was.or_else(|| x.get(*vertex as usize).copied()) {
+                        to.insert(*vertex, p + *by);
+                    }
+                }
                 Prim::AddVertex { index, x, .. } => {
                     to.insert(*index, *x);
                     added.insert(*index);

@@ -44,6 +44,12 @@ pub enum Prim {
         old: (Vec3, Vec3),
         new: (Vec3, Vec3),
     },
+    /// A vertex moved by `by` from wherever it is (a cut's sides parted: undone, they
+    /// come back by as much, where the cloth has taken them since).
+    Nudge {
+        vertex: u32,
+        by: Vec3,
+    },
     Pin {
         vertex: u32,
         old: bool,
@@ -85,6 +91,7 @@ impl Prim {
                 old: new,
                 new: old,
             },
+            Prim::Nudge { vertex, by } => Prim::Nudge { vertex, by: -by },
             Prim::Pin { vertex, old, new } => Prim::Pin {
                 vertex,
                 old: new,

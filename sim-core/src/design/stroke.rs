@@ -81,6 +81,7 @@ impl Design {
             return Err(EditError::EmptyStroke);
         }
         self.sync_batch(batch);
+        applied.append(&mut self.parting);
         self.history.push(Edit {
             label: "cut stroke",
             prims: applied,

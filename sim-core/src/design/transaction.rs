@@ -130,6 +130,13 @@ impl Design {
                 cloth.x[i] = new.0;
                 cloth.v[i] = new.1;
             }
+            Prim::Nudge { vertex, by } => {
+                let i = *vertex as usize;
+                if i >= cloth.len() || !by.is_finite() {
+                    return Err(EditError::NoVertex(*vertex));
+                }
+                cloth.x[i] += *by;
+            }
             Prim::Pin { vertex, new, .. } => {
                 let i = *vertex as usize;
                 if i >= cloth.len() {
@@ -241,7 +248,9 @@ impl Design {
         label: &'static str,
         prims: Vec<Prim>,
     ) -> Result<(), EditError> {
+        let mut prims = prims;
         self.apply_prims(&prims)?;
+        prims.append(&mut self.parting);
         if self.sim.cloth.live.tri_count() == 0 {
             // A design with no cloth cannot be saved and loaded again: refuse, as if
             // nothing happened (the inverse of applied primitives always applies).

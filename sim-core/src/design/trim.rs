@@ -100,6 +100,7 @@ impl Design {
         }
         self.sync_batch(batch);
         applied.extend(cut);
+        applied.append(&mut self.parting);
         self.history.push(Edit {
             label: "trim",
             prims: applied,
