@@ -18,6 +18,7 @@ use crate::collision::Body;
 use crate::collision::proximity::{
     Aabb, ClothView, Guarded, NONE, Proximity, ProximityParams, Reach, constrain, unique_edges,
 };
+use crate::mesh::{edge_ends, edge_key};
 use crate::solver::model::{ContactStats, Drive, Environment};
 use crate::solver::motion::Motion;
 use crate::solver::state::Cloth;
@@ -81,9 +82,14 @@ impl Guard {
     /// Follows the live mesh (after an edit): its triangles, edges and pattern; the pairs
     /// referred to the old mesh and are forgotten.
     pub fn rebuild(&mut self, cloth: &Cloth) {
-        let n = cloth.len();
         self.tris = cloth.live.triangles();
         self.edges = unique_edges(&self.tris);
+        self.follow_mesh(cloth);
+    }
+
+    /// The rest of [`Guard::rebuild`], once the triangles and edges are the live mesh's.
+    fn follow_mesh(&mut self, cloth: &Cloth) {
+        let n = cloth.len();
         self.mean_edge = cloth.live.mean_rest_side();
         self.pattern = cloth.live.pattern_places(n);
         self.bridged_for = f32::NAN;
@@ -93,6 +99,51 @@ impl Guard {
         self.reach.clear();
         self.pushed.clear();
         self.boxes.clear();
+    }
+
+    /// [`Guard::rebuild`] after an edit whose triangles' edges (old and new, sorted
+    /// keys) are `touched`: the unique edges are the old list with those that went taken
+    /// out and those that came put in, in the same order as a rebuild's, without sorting
+    /// every edge again (1 ms of a 2 ms cut on 16k vertices).
+    pub fn follow_edit(&mut self, cloth: &Cloth, touched: &[u64]) {
+        let live = &cloth.live;
+        let here = |k: u64| {
+            let (a, b) = edge_ends(k);
+            live.edge(a, b).iter().any(|&t| live.tri(t).is_some())
+        };
+        let mut edges = Vec::with_capacity(self.edges.len() + touched.len());
+        let mut sorted = touched.to_vec();
+        if !touched.is_sorted() {
+            sorted.sort_unstable();
+        }
+        sorted.dedup();
+        let mut t = sorted.into_iter().peekable();
+        for k in self.edges.iter().map(|&[a, b]| edge_key(a, b)) {
+            while let Some(&n) = t.peek().filter(|&&n| n < k) {
+                if here(n) {
+                    edges.push(n);
+                }
+                t.next();
+            }
+            if t.peek() == Some(&k) {
+                t.next();
+                if !here(k) {
+                    continue;
+                }
+            }
+            edges.push(k);
+        }
+        edges.extend(t.filter(|&n| here(n)));
+        self.tris = live.triangles();
+        self.edges = edges
+            .into_iter()
+            .map(|k| {
+                let (a, b) = edge_ends(k);
+                [a, b]
+            })
+            .collect();
+        debug_assert_eq!(self.edges, unique_edges(&self.tris));
+        self.follow_mesh(cloth);
     }
 
     pub fn refresh_free(&mut self, cloth: &Cloth) {
