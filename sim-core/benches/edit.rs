@@ -144,6 +144,27 @@ fn frame_after_edits(c: &mut Criterion, centre: u32) {
     g.bench_function("mannequin_128_after_20_cuts", |b| {
         b.iter(|| t.step().unwrap())
     });
+    // The frame right after an edit, beside any frame: the guard's pairs follow the
+    // edit (only the edited vertices' searched again) instead of a search of the whole
+    // cloth.
+    let mut s = draped();
+    g.bench_function("mannequin_128_a_frame", |b| b.iter(|| s.step().unwrap()));
+    g.bench_function("mannequin_128_a_cut_and_the_frame_after", |b| {
+        b.iter_custom(|it| {
+            timed(
+                &mut s,
+                it,
+                |s| {
+                    s.cut_vertex(centre, Vec3::X).unwrap();
+                    s.step().unwrap();
+                },
+                |s| {
+                    s.undo().unwrap();
+                    s.step().unwrap();
+                },
+            )
+        })
+    });
     g.finish();
 }
 

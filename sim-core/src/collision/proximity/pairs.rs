@@ -124,6 +124,65 @@ impl Proximity {
         self.cloth.forget_mesh();
     }
 
+    /// After an edit of the mesh (vertices `n..` gone, triangles and edges another
+    /// list): forgets the pairs of the gone vertices, and takes the last search as of
+    /// this mesh. The trees are built again for a list of another length, and refitted
+    /// (exact, whatever the items now are) for one of the same. The caller updates every vertex whose primitives changed
+    /// as moved ([`Proximity::update`]); the pairs of the others are as a search of this
+    /// mesh would find them (their primitives, boxes and freedom are as they were).
+    pub fn follow_mesh(&mut self, c: &ClothView<'_>) {
+        if let Some(s) = &mut self.searched {
+            s.sizes = [c.x.len(), c.tris.len(), c.edges.len()];
+            s.free = c.free.to_vec();
+        }
+        self.forget_vertices_from(c.x.len());
+    }
+
+    /// Forgets every pair with a vertex `n` or past it.
+    pub fn forget_vertices_from(&mut self, n: usize) {
+        let gone = |q: &Pair| (0..4).any(|k| q.side[k] != 0 && q.v[k] as usize >= n);
+        if self.pairs.iter().any(gone) {
+            self.pairs.retain(|q| !gone(q));
+            self.finish(n);
+        }
+    }
+
+    /// Whether `other` has the same pairs with a vertex `moved` (in any order, each's
+    /// geometry to 1e-6): an update searches those again as a full search does, and
+    /// keeps the others as the last search found them (a check of the incremental
+    /// searches).
+    #[cfg(debug_assertions)]
+    pub fn same_pairs_of(&self, other: &Proximity, moved: &[bool]) -> bool {
+        type Key = (u8, [u32; 4], [i64; 4]);
+        let r = |f: f32| (f as f64 * 1e6).round() as i64;
+        let of_moved =
+            |q: &&Pair| (0..4).any(|k| q.side[k] != 0 && moved.get(q.v[k] as usize) == Some(&true));
+        let sorted = |p: &Proximity| {
+            let mut k: Vec<Key> = (p.pairs.iter().filter(of_moved))
+                .map(|q| {
+                    let g = [r(q.n.x), r(q.n.y), r(q.n.z), r(q.delta + q.offset + q.w[1])];
+                    (q.kind as u8, q.v, g)
+                })
+                .collect();
+            k.sort_unstable();
+            k
+        };
+        let (a, b) = (sorted(self), sorted(other));
+        if a != b {
+            let only = |x: &[Key], y: &[Key]| {
+                x.iter()
+                    .filter(|k| !y.contains(k))
+                    .take(6)
+                    .cloned()
+                    .collect::<Vec<_>>()
+            };
+            eprintln!("pairs of the moved: {} against {}", a.len(), b.len());
+            eprintln!("only in this: {:?}", only(&a, &b));
+            eprintln!("only in the other: {:?}", only(&b, &a));
+        }
+        a == b
+    }
+
     fn clear_pairs(&mut self) {
         self.searched = None;
         self.pairs.clear();

@@ -47,7 +47,7 @@ impl Solver for Xpbd {
         // seeing that, searches in full.
         if let Some(g) = &mut self.guard {
             if !(tris.is_empty() && edges.is_empty()) {
-                g.follow_edit(cloth, edges);
+                g.follow_edit(cloth, edges, verts);
             } else if !verts.is_empty() {
                 g.refresh_free(cloth);
             }
