@@ -147,9 +147,10 @@ impl Design {
         let longest = (cloth.live.iter())
             .flat_map(|(_, t)| {
                 t.edges()
-                    .map(|(a, b, _)| cloth.x[a as usize].distance(cloth.x[b as usize]))
+                    .map(|(a, b, _)| cloth.x[a as usize].distance_squared(cloth.x[b as usize]))
             })
-            .fold(0.0f32, f32::max);
+            .fold(0.0f32, f32::max)
+            .sqrt();
         let grow = Vec3::splat(radius + longest);
         let lo = points.iter().fold(Vec3::INFINITY, |l, p| l.min(*p)) - grow;
         let hi = points.iter().fold(Vec3::NEG_INFINITY, |h, p| h.max(*p)) + grow;

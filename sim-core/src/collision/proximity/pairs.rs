@@ -131,11 +131,15 @@ impl Proximity {
     /// as moved ([`Proximity::update`]); the pairs of the others are as a search of this
     /// mesh would find them (their primitives, boxes and freedom are as they were).
     pub fn follow_mesh(&mut self, c: &ClothView<'_>) {
-        if let Some(s) = &mut self.searched {
-            s.sizes = [c.x.len(), c.tris.len(), c.edges.len()];
-            s.free = c.free.to_vec();
+        let Some(s) = &mut self.searched else {
+            return;
+        };
+        let shrank = c.x.len() < s.sizes[0];
+        s.sizes = [c.x.len(), c.tris.len(), c.edges.len()];
+        s.free = c.free.to_vec();
+        if shrank {
+            self.forget_vertices_from(c.x.len());
         }
-        self.forget_vertices_from(c.x.len());
     }
 
     /// Forgets every pair with a vertex `n` or past it.

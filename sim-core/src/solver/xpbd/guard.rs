@@ -72,7 +72,7 @@ pub struct Guard {
     /// Vertices whose triangles, edges, place in the pattern or freedom an edit changed
     /// since the last search: their pairs are searched again at the next one, as if they
     /// had left their boxes ([`Guard::follow_edit`]).
-    edited: Vec<u32>,
+    edited: Vec<bool>,
     pub stats: ContactStats,
 }
 
@@ -170,17 +170,23 @@ impl Guard {
         self.refresh_free(cloth);
         self.motion.resize(n);
         self.bridged_for = f32::NAN;
-        self.edited
-            .extend(verts.iter().copied().filter(|&v| (v as usize) < n));
-        self.edited.extend((0..n.min(old_n) as u32).filter(|&i| {
-            let i = i as usize;
-            old_free[i] != self.free[i] || old_pattern.get(i) != self.pattern.get(i)
-        }));
-        self.edited.extend(old_n.min(n) as u32..n as u32);
+        // New vertices are edited too.
+        self.edited.resize(old_n.min(n), false);
+        self.edited.resize(n, true);
+        for &v in verts.iter().filter(|&&v| (v as usize) < n) {
+            self.edited[v as usize] = true;
+        }
+        for i in 0..n.min(old_n) {
+            if old_free[i] != self.free[i] || old_pattern.get(i) != self.pattern.get(i) {
+                self.edited[i] = true;
+            }
+        }
         // New vertices have no box yet (so they are searched); gone ones take their
         // pairs with them.
         self.boxes.resize(n, Aabb::EMPTY);
-        self.prox.forget_vertices_from(n);
+        if n < old_n {
+            self.prox.forget_vertices_from(n);
+        }
         self.pushed.clear();
     }
 
@@ -219,8 +225,12 @@ impl Guard {
             // After an edit: whose neighbours over a weld changed is edited too.
             if self.bridged_for.is_nan() && !self.boxes.is_empty() {
                 let old = &self.bridged;
-                let changed = (0..bridged.len()).filter(|&i| old.get(i) != Some(&bridged[i]));
-                self.edited.extend(changed.map(|i| i as u32));
+                self.edited.resize(bridged.len(), false);
+                for (i, b) in bridged.iter().enumerate() {
+                    if old.get(i) != Some(b) {
+                        self.edited[i] = true;
+                    }
+                }
             }
             self.bridged = bridged;
             self.bridged_for = exclusion;
@@ -234,13 +244,11 @@ impl Guard {
         if searched {
             let boxes = self.need.iter().zip(&self.boxes);
             self.moved.extend(boxes.map(|(a, b)| !inside(a, b)));
-            for &v in &self.edited {
-                if let Some(m) = self.moved.get_mut(v as usize) {
-                    *m = true;
-                }
+            for (m, &e) in self.moved.iter_mut().zip(&self.edited) {
+                *m |= e;
             }
         }
-        let after_edit = !self.edited.is_empty();
+        let after_edit = self.edited.contains(&true);
         self.edited.clear();
         if searched && !self.moved.contains(&true) {
             self.stats.reused += 1;
