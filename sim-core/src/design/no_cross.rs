@@ -256,6 +256,42 @@ mod tests {
     use crate::mesh::ClothMesh;
     use crate::solver::ModelKind;
 
+    /// The guard's pairs outlive an edit: the frame after a cut, a tear or an undo
+    /// updates the pairs of the vertices the edit touched instead of searching the whole
+    /// cloth again (which cost 157 ms against a 44 ms frame on the 16k-vertex drape).
+    #[test]
+    fn the_frame_after_an_edit_updates_the_guards_pairs() {
+        let mut d = floating(
+            ClothMesh::grid(0.4, 0.4, 16, 16, 1.0).unwrap(),
+            ModelKind::Xpbd,
+        );
+        d.set_guard(true).unwrap();
+        d.step().unwrap();
+        let stats = |d: &crate::design::Design| d.sim.solver.contact_stats().unwrap();
+        assert_eq!(stats(&d).searches, 1, "the first frame searches in full");
+        d.step().unwrap();
+        assert_eq!(
+            (stats(&d).searches, stats(&d).updates),
+            (0, 0),
+            "nothing moved"
+        );
+        d.cut_vertex(140, Vec3::X).unwrap();
+        d.step().unwrap();
+        assert_eq!(
+            (stats(&d).searches, stats(&d).updates),
+            (0, 1),
+            "after a cut"
+        );
+        d.tear_edge(20, 21, crate::design::TearMode::Split).unwrap();
+        d.undo().unwrap();
+        d.step().unwrap();
+        assert_eq!(
+            (stats(&d).searches, stats(&d).updates),
+            (0, 1),
+            "after an undo"
+        );
+    }
+
     /// A 0.4 m cloth at y = 1 with its right half (x > 0) cut away, then its left half
     /// stood up as a wall at x = 0.1, through where the right half lay.
     fn cut_then_moved(model: ModelKind) -> crate::design::Design {
