@@ -190,6 +190,28 @@ impl Guard {
         self.pushed.clear();
     }
 
+    /// Each vertex's neighbours over a weld for the exclusion distance `exclusion`,
+    /// worked out again when it or the mesh changed; after an edit, a vertex whose
+    /// neighbours changed is edited too.
+    fn follow_bridges(&mut self, cloth: &Cloth, exclusion: f32) {
+        if self.bridged_for == exclusion {
+            return;
+        }
+        let bridged = cloth
+            .live
+            .bridged_neighbours(cloth.len(), &self.pattern, exclusion);
+        if self.bridged_for.is_nan() && !self.boxes.is_empty() {
+            self.edited.resize(bridged.len(), false);
+            for (i, b) in bridged.iter().enumerate() {
+                if self.bridged.get(i) != Some(b) {
+                    self.edited[i] = true;
+                }
+            }
+        }
+        self.bridged = bridged;
+        self.bridged_for = exclusion;
+    }
+
     pub fn refresh_free(&mut self, cloth: &Cloth) {
         self.free = (0..cloth.len())
             .map(|i| cloth.inv_mass[i] > 0.0 && cloth.live.vertex_alive(i as u32))
@@ -218,23 +240,7 @@ impl Guard {
             self.rebuild(cloth);
         }
         let exclusion = 2.0 * thickness + 2.0 * self.mean_edge;
-        if self.bridged_for != exclusion {
-            let bridged = cloth
-                .live
-                .bridged_neighbours(cloth.len(), &self.pattern, exclusion);
-            // After an edit: whose neighbours over a weld changed is edited too.
-            if self.bridged_for.is_nan() && !self.boxes.is_empty() {
-                let old = &self.bridged;
-                self.edited.resize(bridged.len(), false);
-                for (i, b) in bridged.iter().enumerate() {
-                    if old.get(i) != Some(b) {
-                        self.edited[i] = true;
-                    }
-                }
-            }
-            self.bridged = bridged;
-            self.bridged_for = exclusion;
-        }
+        self.follow_bridges(cloth, exclusion);
         self.motion
             .boxes(&mut self.need, cloth, &self.free, env, drive, span);
         let inside = |a: &Aabb, b: &Aabb| b.lo.cmple(a.lo).all() && a.hi.cmple(b.hi).all();
