@@ -125,8 +125,8 @@ impl Proximity {
     }
 
     /// After an edit of the mesh (vertices `n..` gone, triangles and edges another
-    /// list): forgets the pairs of the gone vertices, and takes the last search as of
-    /// this mesh. The trees are built again for a list of another length, and refitted
+    /// list), before an update: forgets the pairs of the gone vertices, and takes the
+    /// last search as of this mesh. The trees are built again for a list of another length, and refitted
     /// (exact, whatever the items now are) for one of the same. The caller updates every vertex whose primitives changed
     /// as moved ([`Proximity::update`]); the pairs of the others are as a search of this
     /// mesh would find them (their primitives, boxes and freedom are as they were).
@@ -134,20 +134,14 @@ impl Proximity {
         let Some(s) = &mut self.searched else {
             return;
         };
-        let shrank = c.x.len() < s.sizes[0];
-        s.sizes = [c.x.len(), c.tris.len(), c.edges.len()];
+        let n = c.x.len();
+        let shrank = n < s.sizes[0];
+        s.sizes = [n, c.tris.len(), c.edges.len()];
         s.free = c.free.to_vec();
         if shrank {
-            self.forget_vertices_from(c.x.len());
-        }
-    }
-
-    /// Forgets every pair with a vertex `n` or past it.
-    pub fn forget_vertices_from(&mut self, n: usize) {
-        let gone = |q: &Pair| (0..4).any(|k| q.side[k] != 0 && q.v[k] as usize >= n);
-        if self.pairs.iter().any(gone) {
+            // The update that follows indexes what is left.
+            let gone = |q: &Pair| (0..4).any(|k| q.side[k] != 0 && q.v[k] as usize >= n);
             self.pairs.retain(|q| !gone(q));
-            self.finish(n);
         }
     }
 
