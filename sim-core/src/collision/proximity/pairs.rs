@@ -126,10 +126,11 @@ impl Proximity {
 
     /// After an edit of the mesh (vertices `n..` gone, triangles and edges another
     /// list), before an update: forgets the pairs of the gone vertices, and takes the
-    /// last search as of this mesh. The trees are built again for a list of another length, and refitted
-    /// (exact, whatever the items now are) for one of the same. The caller updates every vertex whose primitives changed
-    /// as moved ([`Proximity::update`]); the pairs of the others are as a search of this
-    /// mesh would find them (their primitives, boxes and freedom are as they were).
+    /// last search as of this mesh. The trees are built again for a list of another
+    /// length, and refitted (exact, whatever the items now are) for one of the same.
+    /// The caller updates every vertex whose primitives changed as moved
+    /// ([`Proximity::update`]); the pairs of the others stay as the last search found
+    /// them, as in any update (their primitives, boxes and freedom are as they were).
     pub fn follow_mesh(&mut self, c: &ClothView<'_>) {
         let Some(s) = &mut self.searched else {
             return;

@@ -304,8 +304,9 @@ impl Guard {
         };
         if partial {
             if after_edit {
-                // The mesh is another: the trees are built again, and the search is
-                // taken as of it (the edited vertices are among the moved).
+                // The mesh is another: the search is taken as of it (the edited
+                // vertices are among the moved; the trees are refitted to the new
+                // lists, or built again for one of another length).
                 self.prox.follow_mesh(&view);
             }
             self.prox.update(&view, body, &params, &self.moved);
