@@ -8,7 +8,7 @@ use glam::{Vec2, Vec3};
 
 use super::document::Design;
 use super::error::EditError;
-use super::prim::{Edit, Prim};
+use super::prim::Prim;
 use super::transaction::Batch;
 use super::trim::{distance_to_segment, plane};
 use crate::collision::obb::geometry::closest_point_on_triangle;
@@ -69,23 +69,16 @@ impl Design {
             match done {
                 Ok(n) => splits += n,
                 Err(e) => {
-                    self.undo_unsynced(&applied, &mut batch);
-                    self.sync_batch(batch);
+                    self.abandon_batch(&applied, batch);
                     return Err(e);
                 }
             }
         }
         if splits == 0 {
-            self.undo_unsynced(&applied, &mut batch);
-            self.sync_batch(batch);
+            self.abandon_batch(&applied, batch);
             return Err(EditError::EmptyStroke);
         }
-        self.sync_batch(batch);
-        applied.append(&mut self.parting);
-        self.history.push(Edit {
-            label: "cut stroke",
-            prims: applied,
-        });
+        self.record_batch("cut stroke", applied, batch);
         Ok(splits)
     }
 

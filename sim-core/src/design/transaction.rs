@@ -29,7 +29,8 @@ struct Touched {
 }
 
 /// What primitives applied without the incremental update touched
-/// ([`Design::apply_unsynced`]), until [`Design::sync_batch`].
+/// ([`Design::apply_unsynced`]), until [`Design::record_batch`] or
+/// [`Design::abandon_batch`].
 #[derive(Default)]
 pub(super) struct Batch(Touched);
 
@@ -178,7 +179,7 @@ impl Design {
     }
 
     /// Applies `prims` whole or not at all, like [`Design::apply_prims`], but leaves the
-    /// incremental update to [`Design::sync_batch`]: for an edit that reads the mesh
+    /// incremental update to [`Design::record_batch`]: for an edit that reads the mesh
     /// between its steps (an exact cut splits an edge, then finds the next crossing), so
     /// the solver and the guard are brought up to date once, not at every step.
     pub(super) fn apply_unsynced(
@@ -200,16 +201,33 @@ impl Design {
     }
 
     /// Takes back `applied` (applied through [`Design::apply_unsynced`] into `batch`),
-    /// last first.
-    pub(super) fn undo_unsynced(&mut self, applied: &[Prim], batch: &mut Batch) {
+    /// last first, and brings the solver and contact up to date: nothing changed.
+    pub(super) fn abandon_batch(&mut self, applied: &[Prim], mut batch: Batch) {
         for q in applied.iter().rev() {
             // The inverse of an applied primitive always applies.
             let _ = self.apply_prim(&q.inverse(), &mut batch.0);
         }
+        self.sync_batch(batch);
+    }
+
+    /// Brings the solver and contact up to date for a batch applied whole, and records
+    /// `applied` (with the parting of any fresh cut it made) as one operation.
+    pub(super) fn record_batch(
+        &mut self,
+        label: &'static str,
+        mut applied: Vec<Prim>,
+        batch: Batch,
+    ) {
+        self.sync_batch(batch);
+        applied.append(&mut self.parting);
+        self.history.push(Edit {
+            label,
+            prims: applied,
+        });
     }
 
     /// The incremental update for everything a batch touched.
-    pub(super) fn sync_batch(&mut self, mut batch: Batch) {
+    fn sync_batch(&mut self, mut batch: Batch) {
         self.sync(&mut batch.0);
         self.weld_refused.clear();
     }

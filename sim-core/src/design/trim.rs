@@ -12,7 +12,7 @@ use glam::{Vec2, Vec3};
 
 use super::document::Design;
 use super::error::EditError;
-use super::prim::{Edit, Prim};
+use super::prim::Prim;
 use super::transaction::Batch;
 use crate::mesh::{NONE, Tri};
 
@@ -71,8 +71,7 @@ impl Design {
         let mut applied = Vec::new();
         let mut batch = Batch::default();
         if let Err(e) = self.split_along(&closed, &mut applied, &mut batch) {
-            self.undo_unsynced(&applied, &mut batch);
-            self.sync_batch(batch);
+            self.abandon_batch(&applied, batch);
             return Err(e);
         }
         let cut: Vec<Prim> = (self.sim.cloth.live.iter())
@@ -94,17 +93,11 @@ impl Design {
             self.apply_unsynced(&cut, &mut batch)
         };
         if let Err(e) = result {
-            self.undo_unsynced(&applied, &mut batch);
-            self.sync_batch(batch);
+            self.abandon_batch(&applied, batch);
             return Err(e);
         }
-        self.sync_batch(batch);
         applied.extend(cut);
-        applied.append(&mut self.parting);
-        self.history.push(Edit {
-            label: "trim",
-            prims: applied,
-        });
+        self.record_batch("trim", applied, batch);
         Ok(n)
     }
 
