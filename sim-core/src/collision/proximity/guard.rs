@@ -39,7 +39,6 @@ pub fn constrain(
     bx: &Aabb,
     prox: &Proximity,
 ) -> (Vec3, Guarded) {
-    let current = x[i];
     let roles = prox.roles(i);
     let t = target.clamp(bx.lo, bx.hi);
     let how = if t == target {
@@ -58,15 +57,30 @@ pub fn constrain(
     if !broken {
         return (t, how);
     }
+    project_against(i, target, x, bx, prox, roles.iter().copied())
+}
+
+/// Where vertex `i`, at `x[i]` and sent to `target` past one of its bounds, goes when
+/// only the bounds of `roles` (`pair * 4 + slot`, in the order of its roles) are taken
+/// into account: [`constrain`]'s projection, and the same point when every other bound of
+/// the vertex holds wherever that may end ([`super::reach::Reach::project`]).
+pub fn project_against(
+    i: usize,
+    target: Vec3,
+    x: &[Vec3],
+    bx: &Aabb,
+    prox: &Proximity,
+    roles: impl Iterator<Item = u32>,
+) -> (Vec3, Guarded) {
     SCRATCH.with_borrow_mut(|s| {
         s.planes.clear();
         s.shared.clear();
-        for &r in roles {
+        for r in roles {
             let pair = &prox.pairs[(r / 4) as usize];
             s.planes.push(pair.bound_for((r % 4) as usize, x));
             s.shared.push(pair.body_bound == f32::NEG_INFINITY);
         }
-        s.nearest_allowed(target, current, bx)
+        s.nearest_allowed(target, x[i], bx)
     })
 }
 

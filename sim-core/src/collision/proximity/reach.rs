@@ -6,22 +6,26 @@
 //! body's bound. A vertex moving `d` changes its own `n . x` by at most `d`, so while
 //! every vertex of a cloth pair stays within `G / 2` of where the search saw it (and a
 //! body pair's within `G`), the pair holds whatever the others do: the guard's exact
-//! check of such a move would find it free. A vertex's reach is the least such share over
-//! its pairs (less a few micrometres for rounding), and a move inside it and inside the
-//! vertex's box skips the pairs' check, which is most of the guard's time at rest (47% of
-//! a resting 128 x 128 mannequin frame before, `perf`).
+//! check of such a move would find it free. That share is the pair's room for each of its
+//! vertices (less a few micrometres for rounding), and a vertex's reach is the least room
+//! over its pairs: a move inside it (and inside the vertex's box) skips the pairs' check,
+//! which is most of the guard's time at rest (47% of a resting 128 x 128 mannequin frame
+//! before, `perf`).
 //!
-//! The argument for a pair needs each of its vertices inside its own reach. A vertex that
-//! leaves its reach (after the full check, which keeps its pairs exactly), or is moved
-//! outside the guard (a pinned vertex, the pen's grip), marks its pairs broken until the
-//! next search: a move of a partner inside its own reach then checks those pairs exactly,
-//! and only those (at rest, most of the moves checked at all were of partners of the
-//! hundred or so vertices pressed against a bound, with 30-40 pairs each). Skipped or
-//! not, the guard lets each vertex go exactly where its full check would: the cloth does
-//! not change by a bit.
+//! The argument for a pair needs each of its vertices inside its room for that pair. A
+//! vertex that goes past the room of some of its pairs (after the exact check of those
+//! pairs), or is moved outside the guard (a pinned vertex, the pen's grip), marks those
+//! pairs broken until the next search. A move checks exactly the pairs it takes past
+//! their room and the broken ones, and only those: a vertex pressed against the body has
+//! one or two pairs with no room among 30-40 with millimetres of it (the sewn 2 x 8k dress
+//! at rest spent 41% of its frame checking them all, `perf`). Skipped or not, the guard
+//! lets each vertex go exactly where its full check would: the cloth does not change by a
+//! bit (the debug build compares each such move with the full check).
 
 use glam::Vec3;
 
+use super::grid::Aabb;
+use super::guard::{Guarded, project_against};
 use super::pair::NONE;
 use super::pairs::Proximity;
 
@@ -33,20 +37,32 @@ const ROUNDING: f32 = 4e-6;
 #[derive(Clone, Debug, Default)]
 pub struct Reach {
     anchor: Vec<Vec3>,
-    /// Squared reach (negative: none).
+    /// Squared reach: the least of the vertex's rooms (negative: none).
     reach2: Vec<f32>,
+    /// Each role (`pair * 4 + slot`): the squared room of that vertex in that pair
+    /// (negative: none).
+    room2: Vec<f32>,
     /// In a broken pair: its moves check those pairs.
     touched: Vec<bool>,
-    /// Each pair: one of its vertices left its reach.
+    /// Each pair: one of its vertices went past its room.
     broken: Vec<bool>,
-    /// Left its own reach since the search (its pairs are broken).
-    left: Vec<bool>,
+    /// The farthest (squared) each vertex has stood from its anchor since the search, as
+    /// far as its pairs are concerned: every pair whose room that exceeds is broken.
+    farthest2: Vec<f32>,
+}
+
+/// The squared room for a share of `room` metres (negative: none).
+fn squared(room: f32) -> f32 {
+    let room = room - ROUNDING;
+    // NaN (a pair with no second side) and no room alike: none.
+    if room > 0.0 { room * room } else { -1.0 }
 }
 
 impl Reach {
     /// Forgets every reach (the pairs are gone): every move is checked.
     pub fn clear(&mut self) {
         self.reach2.clear();
+        self.farthest2.clear();
     }
 
     /// Each vertex's reach over the pairs `prox` lists, the cloth standing at `x`.
@@ -56,20 +72,21 @@ impl Reach {
         self.anchor.extend_from_slice(x);
         self.reach2.clear();
         self.reach2.resize(n, f32::INFINITY);
+        self.room2.clear();
+        self.room2.resize(prox.pairs.len() * 4, -1.0);
         self.touched.clear();
         self.touched.resize(n, false);
         self.broken.clear();
         self.broken.resize(prox.pairs.len(), false);
-        self.left.clear();
-        self.left.resize(n, false);
         let reach = &mut self.reach2;
-        for q in &prox.pairs {
+        for (q, rooms) in prox.pairs.iter().zip(self.room2.chunks_exact_mut(4)) {
             let live = |k: usize| q.side[k] != 0 && q.v[k] != NONE && (q.v[k] as usize) < n;
             if q.body_bound > f32::NEG_INFINITY {
                 for k in (0..4).filter(|&k| live(k)) {
                     let v = q.v[k] as usize;
                     let room = q.side[k] as f32 * q.n.dot(x[v]) - q.body_bound - q.delta;
-                    reach[v] = reach[v].min(room);
+                    rooms[k] = squared(room);
+                    reach[v] = reach[v].min(rooms[k]);
                 }
                 continue;
             }
@@ -82,37 +99,32 @@ impl Reach {
                     second = second.max(h);
                 }
             }
-            let share = 0.5 * (first - second - q.delta);
+            let share = squared(0.5 * (first - second - q.delta));
             for k in (0..4).filter(|&k| live(k)) {
+                rooms[k] = share;
                 let v = q.v[k] as usize;
                 reach[v] = reach[v].min(share);
             }
         }
-        for r in reach.iter_mut() {
-            let room = *r - ROUNDING;
-            // NaN (a pair with no second side) and no room alike: no reach.
-            *r = if room > 0.0 { room * room } else { -1.0 };
-        }
+        self.farthest2.clear();
+        self.farthest2.extend(reach.iter().map(|&r| r.max(0.0)));
     }
 
-    /// Whether vertex `i` may go to `t` with only its broken pairs checked, and they keep
-    /// their bounds with the others standing at `x`: then the guard's full check would
-    /// find the move free.
+    /// Whether vertex `i` may go to `t` with only the pairs checked that the move takes
+    /// past their room, and the broken ones, and they keep their bounds with the others
+    /// standing at `x`: then the guard's full check would find the move free.
     #[inline]
     pub fn within(&self, i: usize, t: Vec3, x: &[Vec3], prox: &Proximity) -> bool {
         let Some(&r2) = self.reach2.get(i) else {
             return false;
         };
-        if (t - self.anchor[i]).length_squared() > r2 {
-            return false;
-        }
-        if !self.touched[i] {
+        let d2 = (t - self.anchor[i]).length_squared();
+        if d2 <= r2 && !self.touched[i] {
             return true;
         }
         prox.roles(i).iter().all(|&r| {
-            let k = (r / 4) as usize;
-            self.broken.get(k) != Some(&true) || {
-                let (m, h) = prox.pairs[k].bound_for((r % 4) as usize, x);
+            self.safe(r, d2) || {
+                let (m, h) = prox.pairs[(r / 4) as usize].bound_for((r % 4) as usize, x);
                 // As `constrain` tests it (a NaN bound is no violation there either).
                 let d = m.dot(t) - h;
                 d >= 0.0 || d.is_nan()
@@ -120,20 +132,67 @@ impl Reach {
         })
     }
 
-    /// Vertex `i` now stands at `p`: if that is past its reach, its pairs are broken, and
+    /// Whether `t` is within vertex `i`'s reach (where no pair of it can bind).
+    pub fn in_reach(&self, i: usize, t: Vec3) -> bool {
+        let d2 = |a: Vec3| (t - a).length_squared();
+        let at = self.anchor.get(i);
+        self.reach2
+            .get(i)
+            .zip(at)
+            .is_some_and(|(&r2, &a)| d2(a) <= r2)
+    }
+
+    /// Whether role `r`'s pair holds wherever its vertex stands within `sqrt(d2)` of its
+    /// anchor, the pair's other vertices standing anywhere they have stood.
+    #[inline]
+    fn safe(&self, r: u32, d2: f32) -> bool {
+        self.broken.get((r / 4) as usize) == Some(&false)
+            && self.room2.get(r as usize).is_some_and(|&room| room >= d2)
+    }
+
+    /// Where vertex `i` sent to `target`, past some bound [`Reach::within`] checked,
+    /// goes: the guard's projection against only the pairs that can bind anywhere the
+    /// projection may end (those whose room the distance from the anchor plus twice the
+    /// move leaves, and the broken ones); every other pair holds there, so it is out of
+    /// the projection's own reckoning too. `None` when that cannot be said (no reach, the
+    /// projection ended farther than that, or it was shortened): check in full.
+    pub fn project(
+        &self,
+        i: usize,
+        target: Vec3,
+        x: &[Vec3],
+        bx: &Aabb,
+        prox: &Proximity,
+    ) -> Option<(Vec3, Guarded)> {
+        self.reach2.get(i)?;
+        let anchor = self.anchor[i];
+        let radius = target.distance(anchor) + 2.0 * target.distance(x[i]);
+        let r2 = radius * radius;
+        let roles = prox.roles(i).iter().copied();
+        let roles = roles.filter(|&r| !self.safe(r, r2));
+        let (p, how) = project_against(i, target, x, bx, prox, roles);
+        (how == Guarded::Projected && (p - anchor).length_squared() <= r2).then_some((p, how))
+    }
+
+    /// Vertex `i` now stands at `p`: the pairs whose room that is past are broken, and
     /// each of their vertices checks them at every move from now on.
     #[inline]
     pub fn note(&mut self, i: usize, p: Vec3, prox: &Proximity) {
-        let Some(&r2) = self.reach2.get(i) else {
+        let Some(&far2) = self.farthest2.get(i) else {
             return;
         };
-        // A vertex with no reach that has not moved has broken nobody's assumption.
-        if self.left[i] || (p - self.anchor[i]).length_squared() <= r2.max(0.0) {
+        // Within every room it has been past already (a vertex with no room that has not
+        // moved has broken nobody's assumption).
+        let d2 = (p - self.anchor[i]).length_squared();
+        if d2 <= far2 {
             return;
         }
-        self.left[i] = true;
+        self.farthest2[i] = d2;
         for &r in prox.roles(i) {
             let k = (r / 4) as usize;
+            if self.broken[k] || self.room2[r as usize] >= d2 {
+                continue;
+            }
             self.broken[k] = true;
             for &v in &prox.pairs[k].v {
                 if let Some(c) = self.touched.get_mut(v as usize) {
@@ -188,7 +247,7 @@ mod tests {
         let (x, prox) = folded_sheet();
         let anywhere = Aabb::point(Vec3::ZERO).grown(10.0);
         let mut seed = 7u64;
-        let (mut tight, mut skipped, mut partial) = (0, 0, 0);
+        let (mut tight, mut skipped, mut partial, mut projected) = (0, 0, 0, 0);
         for round in 0..20 {
             let mut reach = Reach::default();
             reach.compute(&prox, &x);
@@ -213,15 +272,22 @@ mod tests {
                     assert_eq!(constrain(i, t, &now, &anywhere, &prox), (t, Guarded::Free));
                     now[i] = t;
                 } else {
-                    now[i] = constrain(i, t, &now, &anywhere, &prox).0;
+                    let full = constrain(i, t, &now, &anywhere, &prox);
+                    // Against the pairs it can reach, when it says, it goes where the
+                    // full check sends it.
+                    if let Some(near) = reach.project(i, t, &now, &anywhere, &prox) {
+                        assert_eq!(near, full, "vertex {i}");
+                        projected += 1;
+                    }
+                    now[i] = full.0;
                 }
                 reach.note(i, now[i], &prox);
             }
             assert!(prox.all_hold(&now, 0.0));
         }
         assert!(
-            skipped > 20 * x.len() / 2 && tight > 100,
-            "{skipped} {tight}"
+            skipped > 20 * x.len() / 2 && tight > 100 && projected > 20,
+            "{skipped} {tight} {projected}"
         );
         assert!(
             partial > 200,
@@ -261,6 +327,38 @@ mod tests {
         };
         assert!(pushed(0.99));
         assert!(!pushed(1.2));
+    }
+
+    #[test]
+    fn a_vertex_breaks_only_the_pairs_whose_room_it_passed() {
+        let (x, prox) = folded_sheet();
+        let mut reach = Reach::default();
+        reach.compute(&prox, &x);
+        // A vertex whose pairs have different rooms, moved halfway between its least room
+        // and its greatest: the pairs with less room than that are broken, no others.
+        let rooms = |i: usize| prox.roles(i).iter().map(|&r| reach.room2[r as usize]);
+        let spread = |i: usize| {
+            let (lo, hi) = rooms(i).fold((f32::INFINITY, 0.0f32), |(a, b), r| (a.min(r), b.max(r)));
+            (lo > 0.0 && hi > 4.0 * lo).then_some((lo.sqrt(), hi.sqrt()))
+        };
+        let (i, (lo, hi)) = (0..x.len())
+            .find_map(|i| spread(i).map(|s| (i, s)))
+            .expect("a vertex with pairs of different room");
+        let d = 0.5 * (lo + hi);
+        let mut moved = x.clone();
+        moved[i] += Vec3::X * d;
+        reach.note(i, moved[i], &prox);
+        let passed = |r: u32| reach.room2[r as usize] < d * d;
+        let mine: Vec<u32> = prox.roles(i).to_vec();
+        assert!(mine.iter().any(|&r| passed(r)) && mine.iter().any(|&r| !passed(r)));
+        for k in 0..prox.pairs.len() {
+            let expect = mine.iter().any(|&r| (r / 4) as usize == k && passed(r));
+            assert_eq!(reach.broken[k], expect, "pair {k}");
+        }
+        // Within what it has already passed, nothing more breaks.
+        let before = reach.broken.clone();
+        reach.note(i, x[i] + Vec3::X * (0.9 * d), &prox);
+        assert_eq!(reach.broken, before);
     }
 
     #[test]

@@ -493,12 +493,28 @@ impl Guard {
         let inside = target.clamp(bx.lo, bx.hi);
         let (p, how) = if self.reach.within(i, inside, &self.committed, &self.prox) {
             self.stats.skipped += 1;
+            debug_assert!(
+                self.reach.in_reach(i, inside)
+                    || constrain(i, inside, &self.committed, bx, &self.prox)
+                        == (inside, Guarded::Free),
+                "vertex {i}: a move past its reach let through is one the full check finds free"
+            );
             let how = if inside == target {
                 Guarded::Free
             } else {
                 Guarded::Projected
             };
             (inside, how)
+        } else if let Some(near) = self
+            .reach
+            .project(i, target, &self.committed, bx, &self.prox)
+        {
+            debug_assert_eq!(
+                near,
+                constrain(i, target, &self.committed, bx, &self.prox),
+                "vertex {i}: the projection against the pairs it can reach is the full one"
+            );
+            near
         } else {
             constrain(i, target, &self.committed, bx, &self.prox)
         };
