@@ -57,13 +57,17 @@ pub fn constrain(
     if !broken {
         return (t, how);
     }
-    project_against(i, target, x, bx, prox, roles.iter().copied())
+    let all = project_against(i, target, x, bx, prox, roles.iter().copied(), |_| true);
+    all.unwrap_or((x[i], Guarded::Shortened))
 }
 
 /// Where vertex `i`, at `x[i]` and sent to `target` past one of its bounds, goes when
 /// only the bounds of `roles` (`pair * 4 + slot`, in the order of its roles) are taken
-/// into account: [`constrain`]'s projection, and the same point when every other bound of
-/// the vertex holds wherever that may end ([`super::reach::Reach::project`]).
+/// into account: [`constrain`]'s projection. `None` unless `held` holds at every point
+/// the projection's reckoning stood on past the vertex's current place (where it ends,
+/// and where the rounds ended when it is shortened): given a region where every other
+/// bound of the vertex holds with room to spare, that is the full check's point
+/// ([`super::reach::Reach::project`]).
 pub fn project_against(
     i: usize,
     target: Vec3,
@@ -71,7 +75,8 @@ pub fn project_against(
     bx: &Aabb,
     prox: &Proximity,
     roles: impl Iterator<Item = u32>,
-) -> (Vec3, Guarded) {
+    held: impl Fn(Vec3) -> bool,
+) -> Option<(Vec3, Guarded)> {
     SCRATCH.with_borrow_mut(|s| {
         s.planes.clear();
         s.shared.clear();
@@ -80,7 +85,8 @@ pub fn project_against(
             s.planes.push(pair.bound_for((r % 4) as usize, x));
             s.shared.push(pair.body_bound == f32::NEG_INFINITY);
         }
-        s.nearest_allowed(target, x[i], bx)
+        let (p, how) = s.nearest_allowed(target, x[i], bx, &held)?;
+        held(p).then_some((p, how))
     })
 }
 
@@ -105,10 +111,20 @@ impl Scratch {
     /// Where a vertex at `current` sent to `target`, outside its bounds, goes: the
     /// nearest allowed point when the rounds find it, else as far toward where they
     /// ended as the bounds allow, sliding along those it touches.
-    fn nearest_allowed(&mut self, target: Vec3, current: Vec3, bx: &Aabb) -> (Vec3, Guarded) {
+    /// `None` when the rounds ended where `held` does not hold.
+    fn nearest_allowed(
+        &mut self,
+        target: Vec3,
+        current: Vec3,
+        bx: &Aabb,
+        held: impl Fn(Vec3) -> bool,
+    ) -> Option<(Vec3, Guarded)> {
         match self.project(target, current, bx) {
-            Ok(p) => (p, Guarded::Projected),
-            Err(last) => (shorten(current, last, bx, &self.planes), Guarded::Shortened),
+            Ok(p) => Some((p, Guarded::Projected)),
+            Err(last) if held(last) => {
+                Some((shorten(current, last, bx, &self.planes), Guarded::Shortened))
+            }
+            Err(_) => None,
         }
     }
 
@@ -346,7 +362,9 @@ mod tests {
             planes,
             near: Vec::new(),
         };
-        let (p, _) = s.nearest_allowed(target, current, &bx);
+        let (p, _) = s
+            .nearest_allowed(target, current, &bx, |_| true)
+            .expect("held everywhere");
         // Near it: at most a tenth of the way farther from the target, and well away
         // from where it was.
         let way = exact.distance(current);

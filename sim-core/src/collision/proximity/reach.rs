@@ -151,11 +151,13 @@ impl Reach {
     }
 
     /// Where vertex `i` sent to `target`, past some bound [`Reach::within`] checked,
-    /// goes: the guard's projection against only the pairs that can bind anywhere the
-    /// projection may end (those whose room the distance from the anchor plus twice the
-    /// move leaves, and the broken ones); every other pair holds there, so it is out of
-    /// the projection's own reckoning too. `None` when that cannot be said (no reach, the
-    /// projection ended farther than that, or it was shortened): check in full.
+    /// goes: the guard's projection against only the pairs that can bind within the
+    /// distance from the anchor plus twice the move (those whose room that leaves, and
+    /// the broken ones); every other pair holds there with a few micrometres to spare, so
+    /// it is out of the projection's own reckoning too (it ends nearer the target than the
+    /// vertex is, unless shortened along a straight path from the vertex, which leaves
+    /// that ball once and does not come back). `None` when that cannot be said (no reach,
+    /// or the projection stood farther out): check in full.
     pub fn project(
         &self,
         i: usize,
@@ -170,8 +172,8 @@ impl Reach {
         let r2 = radius * radius;
         let roles = prox.roles(i).iter().copied();
         let roles = roles.filter(|&r| !self.safe(r, r2));
-        let (p, how) = project_against(i, target, x, bx, prox, roles);
-        (how == Guarded::Projected && (p - anchor).length_squared() <= r2).then_some((p, how))
+        let held = |p: Vec3| (p - anchor).length_squared() <= r2;
+        project_against(i, target, x, bx, prox, roles, held)
     }
 
     /// Vertex `i` now stands at `p`: the pairs whose room that is past are broken, and
