@@ -320,3 +320,41 @@ fn a_fresh_cuts_sides_do_not_slide_into_each_other() {
         "hanging, stroke and vertex cut"
     );
 }
+
+/// A cut through a pinned vertex parts its two sides as well (both stay pinned, 40 µm
+/// apart): left together, they met at one point, and hanging from it the cloth's exact
+/// count found 1-6 touching triangle pairs. Undone, the pin is where it was.
+#[test]
+fn a_pinned_cuts_sides_are_parted_too() {
+    let hanging = || {
+        let mesh = ClothMesh::grid(0.5, 0.5, 16, 16, 1.0).unwrap();
+        let m = Material::default();
+        let env = Environment {
+            floor: None,
+            ..Environment::default()
+        };
+        let cloth = Cloth::new(mesh, &m).unwrap();
+        let sim = Simulation::new(cloth, None, ModelKind::Xpbd, m, env, None).unwrap();
+        let mut d = Design::new(sim);
+        d.set_guard(true).unwrap();
+        for v in [0, 16, CENTRE] {
+            d.set_pin(v, true).unwrap();
+        }
+        d
+    };
+    const CENTRE: u32 = 8 * 17 + 8;
+    let mut d = hanging();
+    let before = d.sim.cloth.x[CENTRE as usize];
+    let copy = d.cut_vertex(CENTRE, Vec3::X).unwrap();
+    assert!(d.sim.cloth.is_pinned(copy as usize));
+    let apart = d.sim.cloth.x[copy as usize] - d.sim.cloth.x[CENTRE as usize];
+    assert!(apart.length() > 5e-5, "{apart}");
+    assert_eq!(most_crossings(&mut d, 90), (0, 0), "vertex cut");
+    d.undo().unwrap();
+    assert!((d.sim.cloth.x[CENTRE as usize] - before).length() < 1e-6);
+
+    let mut d = hanging();
+    let stroke = [Vec3::new(-0.1, 1.0, -0.2), Vec3::new(0.1, 1.0, 0.2)];
+    d.cut_stroke(&stroke, 0.02).unwrap();
+    assert_eq!(most_crossings(&mut d, 90), (0, 0), "stroke");
+}

@@ -23,7 +23,10 @@ impl Design {
     /// (2 crossing pairs on a flat cloth cut along a slanted stroke, up to 25 while the
     /// trim's moved vertices pulled the cloth). Apart, the guard keeps each pair of
     /// sides from crossing the line between them. The moves are kept in `parting` for
-    /// the edit to record (undone, the sides come back by as much).
+    /// the edit to record (undone, the sides come back by as much). A pinned vertex is
+    /// moved too (its copy is pinned with it, and a pin holds a vertex where it is): left
+    /// together, a pinned cut's two sides met at one point, which the exact count finds
+    /// as 1-6 touching triangle pairs on a cloth hanging from it.
     pub(super) fn part_copies(&mut self, copies: &[(u32, u32)]) {
         let cloth = &self.sim.cloth;
         let n = cloth.len();
@@ -39,7 +42,6 @@ impl Design {
         // Every direction from the positions as the edit left them, then the moves.
         let moves: Vec<(usize, Vec3)> = sides
             .iter()
-            .filter(|&&v| !cloth.is_pinned(v as usize))
             .filter_map(|&v| {
                 let fan: Vec<&Tri> = cloth
                     .live
