@@ -6,7 +6,7 @@ use glam::Vec3;
 
 use super::document::Design;
 use super::error::EditError;
-use super::prim::Prim;
+use super::prim::{Between, Prim};
 use crate::mesh::Tri;
 
 /// How far a cut moves each of its two sides off the line it was made along, across
@@ -119,6 +119,7 @@ impl Design {
             index: new,
             x: xv,
             v: self.sim.cloth.v[v as usize],
+            from: Some(Between { a: v, b: v, s: 0.0 }),
         }];
         for (slot, t) in moving {
             let mut n = *t;

@@ -55,8 +55,12 @@ impl Design {
                         to.insert(*vertex, p + *by);
                     }
                 }
-                Prim::AddVertex { index, x, .. } => {
-                    to.insert(*index, *x);
+                Prim::AddVertex { index, x, from, .. } => {
+                    // Where applying it will put it: between its vertices as they stand.
+                    let xs = &self.sim.cloth.x;
+                    let at = |i: u32| to.get(&i).copied().or_else(|| xs.get(i as usize).copied());
+                    let placed = from.and_then(|f| Some(at(f.a)?.lerp(at(f.b)?, f.s)));
+                    to.insert(*index, placed.unwrap_or(*x));
                     added.insert(*index);
                 }
                 Prim::Tri {

@@ -119,6 +119,7 @@ impl Design {
             index: n0 + i as u32,
             x,
             v: Vec3::ZERO,
+            from: None,
         }));
         for (k, t) in mesh.triangles.iter().enumerate() {
             let rest = t.map(|v| {

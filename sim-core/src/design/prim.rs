@@ -9,6 +9,28 @@ use super::pieces::PieceRecord;
 use super::texture::PaintPatch;
 use crate::mesh::Tri;
 
+/// Where an added vertex lies: at share `s` of the way from vertex `a` to vertex `b`
+/// (`a == b`: a copy of `a`, a cut's other side). Applied, it is placed between them as
+/// they stand then, so that a cut redone after the cloth has moved is made where the
+/// cloth is (placed where the cut had found it, its copy stood 40 cm off its triangles on
+/// a cloth that had fallen since the undo).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Between {
+    pub a: u32,
+    pub b: u32,
+    pub s: f32,
+}
+
+impl Between {
+    /// The position and velocity between `a` and `b` in `x` and `v`; `None` when either
+    /// is not there.
+    pub fn place(&self, x: &[Vec3], v: &[Vec3]) -> Option<(Vec3, Vec3)> {
+        let (a, b) = (self.a as usize, self.b as usize);
+        let (xa, xb, va, vb) = (x.get(a)?, x.get(b)?, v.get(a)?, v.get(b)?);
+        Some((xa.lerp(*xb, self.s), va.lerp(*vb, self.s)))
+    }
+}
+
 /// One reversible change.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Prim {
@@ -26,17 +48,21 @@ pub enum Prim {
         old: [Vec2; 3],
         new: [Vec2; 3],
     },
-    /// A vertex appended at `index` (always the end) with this position and velocity.
+    /// A vertex appended at `index` (always the end) with this position and velocity,
+    /// or, made `from` others ([`Between`]: a cut's copy, a split edge's new vertex),
+    /// between them as they stand when it is applied.
     AddVertex {
         index: u32,
         x: Vec3,
         v: Vec3,
+        from: Option<Between>,
     },
     /// The last vertex removed (it must be unused): the inverse of `AddVertex`.
     RemoveVertex {
         index: u32,
         x: Vec3,
         v: Vec3,
+        from: Option<Between>,
     },
     /// A vertex moved (its velocity too).
     Move {
@@ -84,8 +110,8 @@ impl Prim {
                 old: new,
                 new: old,
             },
-            Prim::AddVertex { index, x, v } => Prim::RemoveVertex { index, x, v },
-            Prim::RemoveVertex { index, x, v } => Prim::AddVertex { index, x, v },
+            Prim::AddVertex { index, x, v, from } => Prim::RemoveVertex { index, x, v, from },
+            Prim::RemoveVertex { index, x, v, from } => Prim::AddVertex { index, x, v, from },
             Prim::Move { vertex, old, new } => Prim::Move {
                 vertex,
                 old: new,

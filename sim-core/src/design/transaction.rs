@@ -97,13 +97,15 @@ impl Design {
                 }
                 cloth.live.set_uv(*slot, *new)?;
             }
-            Prim::AddVertex { index, x, v } => {
+            Prim::AddVertex { index, x, v, from } => {
+                let placed = from.and_then(|f| f.place(&cloth.x, &cloth.v));
+                let (x, v) = placed.unwrap_or((*x, *v));
                 if *index as usize != cloth.len() || !x.is_finite() || !v.is_finite() {
                     return Err(EditError::NoVertex(*index));
                 }
                 cloth.live.push_vertex();
-                cloth.x.push(*x);
-                cloth.v.push(*v);
+                cloth.x.push(x);
+                cloth.v.push(v);
                 cloth.mass.push(0.0);
                 cloth.inv_mass.push(0.0);
                 cloth.pinned.push(false);

@@ -12,7 +12,7 @@ use glam::{Vec2, Vec3};
 
 use super::document::Design;
 use super::error::EditError;
-use super::prim::Prim;
+use super::prim::{Between, Prim};
 use super::transaction::Batch;
 use crate::mesh::{NONE, Tri};
 
@@ -206,6 +206,7 @@ impl Design {
             index: m,
             x: cloth.x[ia].lerp(cloth.x[ib], s),
             v: cloth.v[ia].lerp(cloth.v[ib], s),
+            from: Some(Between { a, b, s }),
         }];
         let mut next = cloth.live.slots() as u32;
         for slot in cloth.live.edge(a, b) {
