@@ -22,6 +22,25 @@ fn flat(n: usize) -> Design {
     Design::new(Simulation::new(cloth, None, ModelKind::Xpbd, m, env, None).unwrap())
 }
 
+/// A 0.5 m, 16 x 16 cloth under gravity with no floor, the guard on, hanging from the
+/// vertices `pins`.
+fn hanging(pins: &[u32]) -> Design {
+    let mesh = ClothMesh::grid(0.5, 0.5, 16, 16, 1.0).unwrap();
+    let m = Material::default();
+    let env = Environment {
+        floor: None,
+        ..Environment::default()
+    };
+    let cloth = Cloth::new(mesh, &m).unwrap();
+    let sim = Simulation::new(cloth, None, ModelKind::Xpbd, m, env, None).unwrap();
+    let mut d = Design::new(sim);
+    d.set_guard(true).unwrap();
+    for &v in pins {
+        d.set_pin(v, true).unwrap();
+    }
+    d
+}
+
 fn plane(p: Vec3) -> Vec2 {
     Vec2::new(p.x, -p.z)
 }
@@ -300,18 +319,7 @@ fn a_fresh_cuts_sides_do_not_slide_into_each_other() {
     assert_eq!(crossings::count_self(x, &tris), 0);
     assert_eq!(most_crossings(&mut d, 30), (0, 0), "weightless stroke");
 
-    let mesh = ClothMesh::grid(0.5, 0.5, 16, 16, 1.0).unwrap();
-    let m = Material::default();
-    let env = Environment {
-        floor: None,
-        ..Environment::default()
-    };
-    let cloth = Cloth::new(mesh, &m).unwrap();
-    let sim = Simulation::new(cloth, None, ModelKind::Xpbd, m, env, None).unwrap();
-    let mut d = Design::new(sim);
-    d.set_guard(true).unwrap();
-    d.set_pin(0, true).unwrap();
-    d.set_pin(16, true).unwrap();
+    let mut d = hanging(&[0, 16]);
     d.cut_stroke(&stroke, 0.02).unwrap();
     d.cut_vertex(8 * 17 + 3, Vec3::X).unwrap();
     assert_eq!(
@@ -326,24 +334,8 @@ fn a_fresh_cuts_sides_do_not_slide_into_each_other() {
 /// count found 1-6 touching triangle pairs. Undone, the pin is where it was.
 #[test]
 fn a_pinned_cuts_sides_are_parted_too() {
-    let hanging = || {
-        let mesh = ClothMesh::grid(0.5, 0.5, 16, 16, 1.0).unwrap();
-        let m = Material::default();
-        let env = Environment {
-            floor: None,
-            ..Environment::default()
-        };
-        let cloth = Cloth::new(mesh, &m).unwrap();
-        let sim = Simulation::new(cloth, None, ModelKind::Xpbd, m, env, None).unwrap();
-        let mut d = Design::new(sim);
-        d.set_guard(true).unwrap();
-        for v in [0, 16, CENTRE] {
-            d.set_pin(v, true).unwrap();
-        }
-        d
-    };
     const CENTRE: u32 = 8 * 17 + 8;
-    let mut d = hanging();
+    let mut d = hanging(&[0, 16, CENTRE]);
     let before = d.sim.cloth.x[CENTRE as usize];
     let copy = d.cut_vertex(CENTRE, Vec3::X).unwrap();
     assert!(d.sim.cloth.is_pinned(copy as usize));
@@ -353,7 +345,7 @@ fn a_pinned_cuts_sides_are_parted_too() {
     d.undo().unwrap();
     assert!((d.sim.cloth.x[CENTRE as usize] - before).length() < 1e-6);
 
-    let mut d = hanging();
+    let mut d = hanging(&[0, 16, CENTRE]);
     let stroke = [Vec3::new(-0.1, 1.0, -0.2), Vec3::new(0.1, 1.0, 0.2)];
     d.cut_stroke(&stroke, 0.02).unwrap();
     assert_eq!(most_crossings(&mut d, 90), (0, 0), "stroke");
@@ -366,21 +358,6 @@ fn a_pinned_cuts_sides_are_parted_too() {
 /// vertices along the edges it crosses, the same.
 #[test]
 fn a_cut_redone_after_the_cloth_moved_is_made_where_the_cloth_is() {
-    let hanging = || {
-        let mesh = ClothMesh::grid(0.5, 0.5, 16, 16, 1.0).unwrap();
-        let m = Material::default();
-        let env = Environment {
-            floor: None,
-            ..Environment::default()
-        };
-        let cloth = Cloth::new(mesh, &m).unwrap();
-        let sim = Simulation::new(cloth, None, ModelKind::Xpbd, m, env, None).unwrap();
-        let mut d = Design::new(sim);
-        d.set_guard(true).unwrap();
-        d.set_pin(0, true).unwrap();
-        d.set_pin(16, true).unwrap();
-        d
-    };
     // The longest side of any triangle at a vertex added by the last edit.
     let longest_new = |d: &Design, first: usize| {
         let x = &d.sim.cloth.x;
@@ -392,7 +369,7 @@ fn a_cut_redone_after_the_cloth_moved_is_made_where_the_cloth_is() {
             .flat_map(|t| (0..3).map(|k| x[t[k] as usize].distance(x[t[(k + 1) % 3] as usize])));
         sides.fold(0.0f32, f32::max)
     };
-    let mut d = hanging();
+    let mut d = hanging(&[0, 16]);
     let n = d.sim.cloth.len();
     let centre = 8 * 17 + 8;
     let copy = d.cut_vertex(centre, Vec3::X).unwrap() as usize;
@@ -413,7 +390,7 @@ fn a_cut_redone_after_the_cloth_moved_is_made_where_the_cloth_is() {
     );
     assert!(longest_new(&d, n) < 0.05, "{}", longest_new(&d, n));
 
-    let mut d = hanging();
+    let mut d = hanging(&[0, 16]);
     let n = d.sim.cloth.len();
     let stroke = [Vec3::new(-0.2, 1.0, -0.05), Vec3::new(0.2, 1.0, 0.05)];
     d.cut_stroke(&stroke, 0.02).unwrap();
