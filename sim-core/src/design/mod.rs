@@ -55,7 +55,7 @@ pub use parts::{STITCH_PULL, Seam, TearMode, TearSettings, open_stitches};
 pub use piece_edit::MAX_PIECE_VERTICES;
 pub use piece_list::PieceInfo;
 pub use pieces::{MAX_NAME, PieceRecord};
-pub use prim::{Between, Edit, Prim};
+pub use prim::{Between, Edit, MergeAt, Prim};
 pub use seam::SEAM_MISMATCH;
 pub use texture::{PaintPatch, TILE, Texture};
 

@@ -48,6 +48,22 @@ impl Design {
                 Prim::Move { vertex, new: n, .. } => {
                     to.insert(*vertex, n.0);
                 }
+                Prim::Merge { a, b, at, .. } => {
+                    let x = &self.sim.cloth.x;
+                    let at_now =
+                        |i: u32| to.get(&i).copied().or_else(|| x.get(i as usize).copied());
+                    if let (Some(xa), Some(xb)) = (at_now(*a), at_now(*b)) {
+                        to.insert(*a, at.of(xa, xb));
+                    }
+                }
+                Prim::Unmerge { a, b, apart, .. } => {
+                    let x = &self.sim.cloth.x;
+                    let was = to.get(a).copied().or_else(|| x.get(*a as usize).copied());
+                    if let Some(p) = was {
+                        to.insert(*a, p + apart[0]);
+                        to.insert(*b, p + apart[1]);
+                    }
+                }
                 Prim::Nudge { vertex, by } => {
                     let x = &self.sim.cloth.x;
                     let was = to.get(vertex).copied();

@@ -42,7 +42,7 @@ pub const WELD_REACH_MIN: f32 = 0.006;
 
 use super::error::EditError;
 use super::parts::Seam;
-use super::prim::Prim;
+use super::prim::{MergeAt, Prim};
 
 impl Design {
     /// Checks that `path` is a chain of border vertices joined by border edges.
@@ -347,14 +347,16 @@ impl Design {
     fn place_weld(&self, prims: &mut [Prim], a: u32, b: u32, zip: bool) -> bool {
         let x = &self.sim.cloth.x;
         let ends = [x[a as usize], x[b as usize]];
-        for to in [None, Some(ends[0]), Some(ends[1])] {
-            if let Some(to) = to {
-                for p in prims.iter_mut() {
-                    if let Prim::Move { vertex, new, .. } = p
-                        && *vertex == a
-                    {
-                        new.0 = to;
-                    }
+        for place in [MergeAt::Middle, MergeAt::A, MergeAt::B] {
+            for p in prims.iter_mut() {
+                if let Prim::Merge {
+                    a: pa, at, apart, ..
+                } = p
+                    && *pa == a
+                {
+                    let to = place.of(ends[0], ends[1]);
+                    *at = place;
+                    *apart = [ends[0] - to, ends[1] - to];
                 }
             }
             let stretched = zip && self.stretch_after(prims) > ZIP_STRAIN;

@@ -2,7 +2,7 @@
 
 use super::document::Design;
 use super::error::EditError;
-use super::prim::Prim;
+use super::prim::{MergeAt, Prim};
 use crate::mesh::NONE;
 
 impl Design {
@@ -86,10 +86,13 @@ impl Design {
         let live = &self.sim.cloth.live;
         let c = &self.sim.cloth;
         let (ia, ib) = (a as usize, b as usize);
-        let mut prims = vec![Prim::Move {
-            vertex: a,
-            old: (c.x[ia], c.v[ia]),
-            new: ((c.x[ia] + c.x[ib]) * 0.5, (c.v[ia] + c.v[ib]) * 0.5),
+        let at = MergeAt::Middle;
+        let to = at.of(c.x[ia], c.x[ib]);
+        let mut prims = vec![Prim::Merge {
+            a,
+            b,
+            at,
+            apart: [c.x[ia] - to, c.x[ib] - to],
         }];
         // The collapsed side's triangle goes first, so that no edge has three on the way.
         if let Some(t) = live.tri(gone) {

@@ -133,6 +133,24 @@ impl Design {
                 cloth.x[i] = new.0;
                 cloth.v[i] = new.1;
             }
+            Prim::Merge { a, b, at, .. } => {
+                let (ia, ib) = (*a as usize, *b as usize);
+                if ia >= cloth.len() || ib >= cloth.len() {
+                    return Err(EditError::NoVertex(if ia >= cloth.len() { *a } else { *b }));
+                }
+                cloth.x[ia] = at.of(cloth.x[ia], cloth.x[ib]);
+                cloth.v[ia] = (cloth.v[ia] + cloth.v[ib]) * 0.5;
+            }
+            Prim::Unmerge { a, b, apart, .. } => {
+                let (ia, ib) = (*a as usize, *b as usize);
+                if ia >= cloth.len() || ib >= cloth.len() || !apart.iter().all(|d| d.is_finite()) {
+                    return Err(EditError::NoVertex(if ia >= cloth.len() { *a } else { *b }));
+                }
+                let p = cloth.x[ia];
+                cloth.x[ia] = p + apart[0];
+                cloth.x[ib] = p + apart[1];
+                cloth.v[ib] = cloth.v[ia];
+            }
             Prim::Nudge { vertex, by } => {
                 let i = *vertex as usize;
                 if i >= cloth.len() || !by.is_finite() {
