@@ -48,6 +48,21 @@ impl Design {
                 Prim::Move { vertex, new: n, .. } => {
                     to.insert(*vertex, n.0);
                 }
+                Prim::MoveOnto { vertex, to: on, .. } => {
+                    let x = &self.sim.cloth.x;
+                    let at_now =
+                        |i: u32| to.get(&i).copied().or_else(|| x.get(i as usize).copied());
+                    if let (Some(xa), Some(xb)) = (at_now(on.a), at_now(on.b)) {
+                        to.insert(*vertex, on.along(xa, xb));
+                    }
+                }
+                Prim::MoveOff { vertex, back, .. } => {
+                    let x = &self.sim.cloth.x;
+                    let was = to.get(vertex).copied();
+                    if let Some(p) = was.or_else(|| x.get(*vertex as usize).copied()) {
+                        to.insert(*vertex, p + *back);
+                    }
+                }
                 Prim::Merge { a, b, at, .. } => {
                     let x = &self.sim.cloth.x;
                     let at_now =

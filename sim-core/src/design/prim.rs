@@ -29,6 +29,12 @@ impl Between {
         let (xa, xb, va, vb) = (x.get(a)?, x.get(b)?, v.get(a)?, v.get(b)?);
         Some((xa.lerp(*xb, self.s), va.lerp(*vb, self.s)))
     }
+
+    /// The point `s` of the way from `xa` to `xb`, as `xa + (xb - xa) s` (a zip's place
+    /// on its edge; [`Between::place`] rounds as a split edge's new vertex does).
+    pub fn along(&self, xa: Vec3, xb: Vec3) -> Vec3 {
+        xa + (xb - xa) * self.s
+    }
 }
 
 /// Where a merge puts its vertex: halfway between the two (a sew), or at either's place
@@ -111,6 +117,22 @@ pub enum Prim {
         at: MergeAt,
         apart: [Vec3; 2],
     },
+    /// Vertex `vertex` moved onto the segment between two others (a seam's zip eases it
+    /// into the edge across its slit), at `to` of the way from `to.a` as they stand
+    /// ([`Between::along`]); `back`: where it lay from that point when the edit was made,
+    /// which its inverse, [`Prim::MoveOff`], puts it at from where it stands. Its
+    /// velocity stays.
+    MoveOnto {
+        vertex: u32,
+        to: Between,
+        back: Vec3,
+    },
+    /// The inverse of [`Prim::MoveOnto`]: `vertex` moved by `back` from where it stands.
+    MoveOff {
+        vertex: u32,
+        to: Between,
+        back: Vec3,
+    },
     /// A vertex moved by `by` from wherever it is (a cut's sides parted: undone, they
     /// come back by as much, where the cloth has taken them since).
     Nudge {
@@ -158,6 +180,8 @@ impl Prim {
                 old: new,
                 new: old,
             },
+            Prim::MoveOnto { vertex, to, back } => Prim::MoveOff { vertex, to, back },
+            Prim::MoveOff { vertex, to, back } => Prim::MoveOnto { vertex, to, back },
             Prim::Merge { a, b, at, apart } => Prim::Unmerge { a, b, at, apart },
             Prim::Unmerge { a, b, at, apart } => Prim::Merge { a, b, at, apart },
             Prim::Nudge { vertex, by } => Prim::Nudge { vertex, by: -by },

@@ -12,6 +12,66 @@ use super::parts::Seam;
 use super::pieces::PieceRecord;
 use super::prim::{Edit, Prim};
 use crate::mesh::{Tri, edge_key, warp_of};
+use crate::solver::Cloth;
+
+/// Applies a primitive that only moves vertices (the others are left alone): to a place
+/// recorded (`Move`), or by one (`Nudge`, `MoveOff`, `Unmerge`), or between others as
+/// they stand (`MoveOnto`, `Merge`). Refused, changing nothing, when a vertex is not there
+/// or a move is not finite.
+fn move_vertices(cloth: &mut Cloth, p: &Prim) -> Result<(), EditError> {
+    let n = cloth.len();
+    let there = |vs: &[u32]| match vs.iter().find(|&&v| v as usize >= n) {
+        Some(&v) => Err(EditError::NoVertex(v)),
+        None => Ok(()),
+    };
+    let finite = |v: u32, ok: bool| {
+        if ok {
+            Ok(())
+        } else {
+            Err(EditError::NoVertex(v))
+        }
+    };
+    match p {
+        Prim::Move { vertex, new, .. } => {
+            there(&[*vertex])?;
+            finite(*vertex, new.0.is_finite() && new.1.is_finite())?;
+            cloth.x[*vertex as usize] = new.0;
+            cloth.v[*vertex as usize] = new.1;
+        }
+        Prim::MoveOnto { vertex, to, .. } => {
+            there(&[*vertex, to.a, to.b])?;
+            let (xa, xb) = (cloth.x[to.a as usize], cloth.x[to.b as usize]);
+            cloth.x[*vertex as usize] = to.along(xa, xb);
+        }
+        Prim::MoveOff { vertex, back, .. } => {
+            there(&[*vertex])?;
+            finite(*vertex, back.is_finite())?;
+            cloth.x[*vertex as usize] += *back;
+        }
+        Prim::Merge { a, b, at, .. } => {
+            there(&[*a, *b])?;
+            let (ia, ib) = (*a as usize, *b as usize);
+            cloth.x[ia] = at.of(cloth.x[ia], cloth.x[ib]);
+            cloth.v[ia] = (cloth.v[ia] + cloth.v[ib]) * 0.5;
+        }
+        Prim::Unmerge { a, b, apart, .. } => {
+            there(&[*a, *b])?;
+            finite(*a, apart.iter().all(|d| d.is_finite()))?;
+            let (ia, ib) = (*a as usize, *b as usize);
+            let at = cloth.x[ia];
+            cloth.x[ia] = at + apart[0];
+            cloth.x[ib] = at + apart[1];
+            cloth.v[ib] = cloth.v[ia];
+        }
+        Prim::Nudge { vertex, by } => {
+            there(&[*vertex])?;
+            finite(*vertex, by.is_finite())?;
+            cloth.x[*vertex as usize] += *by;
+        }
+        _ => {}
+    }
+    Ok(())
+}
 
 /// What a batch of primitives touched, for the incremental update.
 #[derive(Default)]
@@ -125,39 +185,12 @@ impl Design {
                 touched.added.retain(|&a| a != *index);
                 touched.copies.retain(|c| c.0 != *index && c.1 != *index);
             }
-            Prim::Move { vertex, new, .. } => {
-                let i = *vertex as usize;
-                if i >= cloth.len() || !new.0.is_finite() || !new.1.is_finite() {
-                    return Err(EditError::NoVertex(*vertex));
-                }
-                cloth.x[i] = new.0;
-                cloth.v[i] = new.1;
-            }
-            Prim::Merge { a, b, at, .. } => {
-                let (ia, ib) = (*a as usize, *b as usize);
-                if ia >= cloth.len() || ib >= cloth.len() {
-                    return Err(EditError::NoVertex(if ia >= cloth.len() { *a } else { *b }));
-                }
-                cloth.x[ia] = at.of(cloth.x[ia], cloth.x[ib]);
-                cloth.v[ia] = (cloth.v[ia] + cloth.v[ib]) * 0.5;
-            }
-            Prim::Unmerge { a, b, apart, .. } => {
-                let (ia, ib) = (*a as usize, *b as usize);
-                if ia >= cloth.len() || ib >= cloth.len() || !apart.iter().all(|d| d.is_finite()) {
-                    return Err(EditError::NoVertex(if ia >= cloth.len() { *a } else { *b }));
-                }
-                let p = cloth.x[ia];
-                cloth.x[ia] = p + apart[0];
-                cloth.x[ib] = p + apart[1];
-                cloth.v[ib] = cloth.v[ia];
-            }
-            Prim::Nudge { vertex, by } => {
-                let i = *vertex as usize;
-                if i >= cloth.len() || !by.is_finite() {
-                    return Err(EditError::NoVertex(*vertex));
-                }
-                cloth.x[i] += *by;
-            }
+            Prim::Move { .. }
+            | Prim::MoveOnto { .. }
+            | Prim::MoveOff { .. }
+            | Prim::Merge { .. }
+            | Prim::Unmerge { .. }
+            | Prim::Nudge { .. } => move_vertices(cloth, p)?,
             Prim::Pin { vertex, new, .. } => {
                 let i = *vertex as usize;
                 if i >= cloth.len() {

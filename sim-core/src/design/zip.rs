@@ -11,7 +11,7 @@
 //! is eased into the shorter, as a tailor eases a sleeve cap into its armhole.
 
 use super::document::Design;
-use super::prim::Prim;
+use super::prim::{Between, Prim};
 use crate::mesh::NONE;
 
 /// Where along the edge `p` may sit: not at either end (a sliver triangle).
@@ -68,12 +68,11 @@ impl Design {
         let rest = tri.rest[cq].lerp(tri.rest[cr], t);
         let uv = tri.uv[cq].lerp(tri.uv[cr], t);
         let with_p = |corner: usize| tri.with_corner(corner, p, rest, uv);
-        let v = self.sim.cloth.v[p as usize];
         Some(vec![
-            Prim::Move {
+            Prim::MoveOnto {
                 vertex: p,
-                old: (xp, v),
-                new: (on_edge, v),
+                to: Between { a: q, b: r, s: t },
+                back: xp - on_edge,
             },
             Prim::Tri {
                 slot,
@@ -193,6 +192,41 @@ mod tests {
             assert_eq!(d.sim.cloth.live.tri_count(), tris);
             assert!(d.seams[0].pairs.iter().all(|(p, q)| p != q));
         }
+    }
+
+    /// A zip undone after the cloth has moved puts the vertex back as far off the edge
+    /// as it lay, from where it stands (before, where the zip had found it: with the
+    /// whole cloth 0.3 m away since, 0.3 m off its triangles); redone, onto the edge as it
+    /// stands.
+    #[test]
+    fn a_zip_undone_or_redone_after_the_cloth_moved_stays_with_it() {
+        let (mut d, a) = uneven_seam(ModelKind::Xpbd);
+        let p = a[1] as usize;
+        let before = d.sim.cloth.x.clone();
+        d.weld_close_stitches();
+        assert!(!d.sim.cloth.live.is_boundary(a[1]), "not zipped");
+        let shift = Vec3::new(0.3, -0.1, 0.05);
+        let moved = |d: &mut Design| d.sim.cloth.x.iter_mut().for_each(|x| *x += shift);
+        moved(&mut d);
+        let on_edge = d.sim.cloth.x[p];
+        // Undo the welds and the zip (the last edits), the cloth moved since.
+        while d.sim.cloth.x[p].distance(before[p] + shift) > 1e-5 {
+            d.undo().unwrap();
+            assert!(
+                d.sim.cloth.x[p].distance(on_edge) < 0.05,
+                "{}",
+                d.sim.cloth.x[p]
+            );
+        }
+        moved(&mut d);
+        while d.redo().is_ok() {}
+        let x = &d.sim.cloth.x;
+        assert!(
+            x[p].distance(on_edge + shift) < 1e-5,
+            "{} {}",
+            x[p],
+            on_edge + shift
+        );
     }
 
     /// A vertex farther than the reach from the edge across the slit waits.
