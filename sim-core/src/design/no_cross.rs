@@ -45,54 +45,22 @@ impl Design {
         let mut origin = HashMap::new();
         for prim in prims {
             match prim {
-                Prim::Move { vertex, new: n, .. } => {
-                    to.insert(*vertex, n.0);
-                }
-                Prim::MoveOnto { vertex, to: on, .. } => {
+                Prim::Move { .. }
+                | Prim::MoveOnto { .. }
+                | Prim::MoveOff { .. }
+                | Prim::Nudge { .. }
+                | Prim::Merge { .. }
+                | Prim::Unmerge { .. }
+                | Prim::AddVertex { .. } => {
+                    // Where applying it will put them: from where they stand by then.
                     let x = &self.sim.cloth.x;
-                    let at_now =
-                        |i: u32| to.get(&i).copied().or_else(|| x.get(i as usize).copied());
-                    if let (Some(xa), Some(xb)) = (at_now(on.a), at_now(on.b)) {
-                        to.insert(*vertex, on.along(xa, xb));
+                    let now = |i: u32| to.get(&i).copied().or_else(|| x.get(i as usize).copied());
+                    for (v, p) in prim.placed(now).into_iter().flatten() {
+                        to.insert(v, p);
                     }
-                }
-                Prim::MoveOff { vertex, back, .. } => {
-                    let x = &self.sim.cloth.x;
-                    let was = to.get(vertex).copied();
-                    if let Some(p) = was.or_else(|| x.get(*vertex as usize).copied()) {
-                        to.insert(*vertex, p + *back);
+                    if let Prim::AddVertex { index, .. } = prim {
+                        added.insert(*index);
                     }
-                }
-                Prim::Merge { a, b, at, .. } => {
-                    let x = &self.sim.cloth.x;
-                    let at_now =
-                        |i: u32| to.get(&i).copied().or_else(|| x.get(i as usize).copied());
-                    if let (Some(xa), Some(xb)) = (at_now(*a), at_now(*b)) {
-                        to.insert(*a, at.of(xa, xb));
-                    }
-                }
-                Prim::Unmerge { a, b, apart, .. } => {
-                    let x = &self.sim.cloth.x;
-                    let was = to.get(a).copied().or_else(|| x.get(*a as usize).copied());
-                    if let Some(p) = was {
-                        to.insert(*a, p + apart[0]);
-                        to.insert(*b, p + apart[1]);
-                    }
-                }
-                Prim::Nudge { vertex, by } => {
-                    let x = &self.sim.cloth.x;
-                    let was = to.get(vertex).copied();
-                    if let Some(p) = was.or_else(|| x.get(*vertex as usize).copied()) {
-                        to.insert(*vertex, p + *by);
-                    }
-                }
-                Prim::AddVertex { index, x, from, .. } => {
-                    // Where applying it will put it: between its vertices as they stand.
-                    let xs = &self.sim.cloth.x;
-                    let at = |i: u32| to.get(&i).copied().or_else(|| xs.get(i as usize).copied());
-                    let placed = from.and_then(|f| Some(at(f.a)?.lerp(at(f.b)?, f.s)));
-                    to.insert(*index, placed.unwrap_or(*x));
-                    added.insert(*index);
                 }
                 Prim::Tri {
                     slot,

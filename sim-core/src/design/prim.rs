@@ -161,6 +161,34 @@ pub enum Prim {
 }
 
 impl Prim {
+    /// Where the vertices this primitive places end up (up to two), `now` saying where a
+    /// vertex stands before it (`None`: not there): the one definition of a move that
+    /// applying the primitive ([`Design::apply_prims`](super::Design)) and the history's
+    /// crossing check (`no_cross`) both follow. Primitives that place no vertex: none.
+    pub fn placed(&self, now: impl Fn(u32) -> Option<Vec3>) -> [Option<(u32, Vec3)>; 2] {
+        let one = |p: Option<(u32, Vec3)>| [p, None];
+        match self {
+            Prim::Move { vertex, new, .. } => one(Some((*vertex, new.0))),
+            Prim::MoveOnto { vertex, to, .. } => one(now(to.a)
+                .zip(now(to.b))
+                .map(|(a, b)| (*vertex, to.along(a, b)))),
+            Prim::MoveOff { vertex, back, .. } => one(now(*vertex).map(|p| (*vertex, p + *back))),
+            Prim::Nudge { vertex, by } => one(now(*vertex).map(|p| (*vertex, p + *by))),
+            Prim::Merge { a, b, at, .. } => {
+                one(now(*a).zip(now(*b)).map(|(xa, xb)| (*a, at.of(xa, xb))))
+            }
+            Prim::Unmerge { a, b, apart, .. } => match now(*a) {
+                Some(p) => [Some((*a, p + apart[0])), Some((*b, p + apart[1]))],
+                None => [None, None],
+            },
+            Prim::AddVertex { index, x, from, .. } => {
+                let between = from.and_then(|f| Some(now(f.a)?.lerp(now(f.b)?, f.s)));
+                one(Some((*index, between.unwrap_or(*x))))
+            }
+            _ => [None, None],
+        }
+    }
+
     pub fn inverse(&self) -> Prim {
         match self.clone() {
             Prim::Tri { slot, old, new } => Prim::Tri {

@@ -31,43 +31,40 @@ fn move_vertices(cloth: &mut Cloth, p: &Prim) -> Result<(), EditError> {
             Err(EditError::NoVertex(v))
         }
     };
+    // Checked first, so that a refused primitive changes nothing.
     match p {
         Prim::Move { vertex, new, .. } => {
             there(&[*vertex])?;
             finite(*vertex, new.0.is_finite() && new.1.is_finite())?;
-            cloth.x[*vertex as usize] = new.0;
-            cloth.v[*vertex as usize] = new.1;
         }
-        Prim::MoveOnto { vertex, to, .. } => {
-            there(&[*vertex, to.a, to.b])?;
-            let (xa, xb) = (cloth.x[to.a as usize], cloth.x[to.b as usize]);
-            cloth.x[*vertex as usize] = to.along(xa, xb);
+        Prim::MoveOnto { vertex, to, .. } => there(&[*vertex, to.a, to.b])?,
+        Prim::MoveOff {
+            vertex, back: d, ..
         }
-        Prim::MoveOff { vertex, back, .. } => {
+        | Prim::Nudge { vertex, by: d } => {
             there(&[*vertex])?;
-            finite(*vertex, back.is_finite())?;
-            cloth.x[*vertex as usize] += *back;
+            finite(*vertex, d.is_finite())?;
         }
-        Prim::Merge { a, b, at, .. } => {
-            there(&[*a, *b])?;
-            let (ia, ib) = (*a as usize, *b as usize);
-            cloth.x[ia] = at.of(cloth.x[ia], cloth.x[ib]);
-            cloth.v[ia] = (cloth.v[ia] + cloth.v[ib]) * 0.5;
-        }
+        Prim::Merge { a, b, .. } => there(&[*a, *b])?,
         Prim::Unmerge { a, b, apart, .. } => {
             there(&[*a, *b])?;
             finite(*a, apart.iter().all(|d| d.is_finite()))?;
+        }
+        _ => {}
+    }
+    let places = p.placed(|i| cloth.x.get(i as usize).copied());
+    for (v, at) in places.into_iter().flatten() {
+        cloth.x[v as usize] = at;
+    }
+    // Velocities: a move to a recorded place takes its recorded one, a merged vertex the
+    // mean of the two, an unmerged one its partner's; the others keep theirs.
+    match p {
+        Prim::Move { vertex, new, .. } => cloth.v[*vertex as usize] = new.1,
+        Prim::Merge { a, b, .. } => {
             let (ia, ib) = (*a as usize, *b as usize);
-            let at = cloth.x[ia];
-            cloth.x[ia] = at + apart[0];
-            cloth.x[ib] = at + apart[1];
-            cloth.v[ib] = cloth.v[ia];
+            cloth.v[ia] = (cloth.v[ia] + cloth.v[ib]) * 0.5;
         }
-        Prim::Nudge { vertex, by } => {
-            there(&[*vertex])?;
-            finite(*vertex, by.is_finite())?;
-            cloth.x[*vertex as usize] += *by;
-        }
+        Prim::Unmerge { a, b, .. } => cloth.v[*b as usize] = cloth.v[*a as usize],
         _ => {}
     }
     Ok(())
