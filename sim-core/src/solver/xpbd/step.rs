@@ -30,6 +30,12 @@ use crate::solver::stitch::stitch;
 const LIMIT_PASSES_AGAIN: usize = 2;
 /// How far each of those passes goes toward the limit (above).
 const LIMIT_AGAIN_RELAX: f32 = 0.3;
+/// The membranes in the second half from which the strain limit's pass over the halves
+/// takes a second thread. Handing work to a thread costs 36-126 µs on this VM, twice a
+/// substep here: on the 64 x 64 mannequin drape (about 4,000 a half) it took the resting
+/// frame from 4.7-5.1 to 5.8 ms (two alternating pairs of runs); on the 2 x 8k dress
+/// (about 15,000) it saved 1-2 ms.
+const LIMIT_PARALLEL_FROM: usize = 8_000;
 
 #[derive(Clone, Debug)]
 pub struct Xpbd {
@@ -204,10 +210,10 @@ impl Xpbd {
     /// The strain limit's pass over every membrane (`strain_limit`): the two halves, the
     /// boundary, then the edits' membranes; then `again` more over the membranes it
     /// projected, each [`LIMIT_AGAIN_RELAX`] of the way. The vertices it moves are added
-    /// to `moved`. The two halves in parallel when `threads > 1` (they share no vertex,
-    /// so the cloth and the lists come out as one thread's): on the sewn 2 x 8k dress at
-    /// rest about 3,000 triangles are at their limit, and the pass was a fifth of the
-    /// frame (`perf`).
+    /// to `moved`. The two halves in parallel when `threads > 1` and the cloth is large
+    /// ([`LIMIT_PARALLEL_FROM`]; they share no vertex, so the cloth and the lists come out
+    /// as one thread's): on the sewn 2 x 8k dress at rest about 3,000 triangles are at
+    /// their limit, and the pass was a fifth of the frame (`perf`).
     fn limit_strain(&mut self, x: &mut [Vec3], w: &[f32], moved: &mut Vec<u32>, again: usize) {
         let [ga, gb, gc] = &self.groups;
         let mid = ga.end;
@@ -222,7 +228,7 @@ impl Xpbd {
         let whole = (floor, 1.0);
         let mut second =
             || limit_membranes(&gb.membranes, xb, wb, whole, (gb.off, moved_b, active_b));
-        if self.threads > 1 && !gb.membranes.is_empty() {
+        if self.threads > 1 && gb.membranes.len() >= LIMIT_PARALLEL_FROM {
             std::thread::scope(|s| {
                 s.spawn(second);
                 limit_membranes(&ga.membranes, xa, wa, whole, (0, moved, active));
