@@ -26,7 +26,7 @@ use glam::Vec3;
 
 use super::grid::Aabb;
 use super::guard::{Guarded, project_against};
-use super::pair::NONE;
+use super::pair::{NONE, Pair};
 use super::pairs::Proximity;
 
 /// Taken off every reach for rounding in the guard's dot products (positions of metres in
@@ -65,21 +65,21 @@ impl Reach {
         self.farthest2.clear();
     }
 
-    /// Each vertex's reach over the pairs `prox` lists, the cloth standing at `x`.
-    pub fn compute(&mut self, prox: &Proximity, x: &[Vec3]) {
+    /// Each vertex's reach over `pairs` (a search's), the cloth standing at `x`.
+    pub fn compute(&mut self, pairs: &[Pair], x: &[Vec3]) {
         let n = x.len();
         self.anchor.clear();
         self.anchor.extend_from_slice(x);
         self.reach2.clear();
         self.reach2.resize(n, f32::INFINITY);
         self.room2.clear();
-        self.room2.resize(prox.pairs.len() * 4, -1.0);
+        self.room2.resize(pairs.len() * 4, -1.0);
         self.touched.clear();
         self.touched.resize(n, false);
         self.broken.clear();
-        self.broken.resize(prox.pairs.len(), false);
+        self.broken.resize(pairs.len(), false);
         let reach = &mut self.reach2;
-        for (q, rooms) in prox.pairs.iter().zip(self.room2.chunks_exact_mut(4)) {
+        for (q, rooms) in pairs.iter().zip(self.room2.chunks_exact_mut(4)) {
             let live = |k: usize| q.side[k] != 0 && q.v[k] != NONE && (q.v[k] as usize) < n;
             if q.body_bound > f32::NEG_INFINITY {
                 for k in (0..4).filter(|&k| live(k)) {
@@ -252,7 +252,7 @@ mod tests {
         let (mut tight, mut skipped, mut partial, mut projected) = (0, 0, 0, 0);
         for round in 0..20 {
             let mut reach = Reach::default();
-            reach.compute(&prox, &x);
+            reach.compute(&prox.pairs, &x);
             // Every vertex in turn, as the guard's pass goes, the others where they went
             // before it: to a random place within its reach, or (every seventh, from the
             // second round) well past it, as the full check lets it.
@@ -301,7 +301,7 @@ mod tests {
     fn a_reach_is_all_the_room_a_pair_has() {
         let (x, prox) = folded_sheet();
         let mut reach = Reach::default();
-        reach.compute(&prox, &x);
+        reach.compute(&prox.pairs, &x);
         // The cloth pair with the least room: its two sides pushed toward each other by
         // just under their reach keep it, by a little over, break it.
         let room = |q: &Pair| {
@@ -335,7 +335,7 @@ mod tests {
     fn a_vertex_breaks_only_the_pairs_whose_room_it_passed() {
         let (x, prox) = folded_sheet();
         let mut reach = Reach::default();
-        reach.compute(&prox, &x);
+        reach.compute(&prox.pairs, &x);
         // A vertex whose pairs have different rooms, moved halfway between its least room
         // and its greatest: the pairs with less room than that are broken, no others.
         let rooms = |i: usize| prox.roles(i).iter().map(|&r| reach.room2[r as usize]);
@@ -367,7 +367,7 @@ mod tests {
     fn a_vertex_past_its_reach_breaks_its_pairs_and_no_others() {
         let (x, prox) = folded_sheet();
         let mut reach = Reach::default();
-        reach.compute(&prox, &x);
+        reach.compute(&prox.pairs, &x);
         let i = (0..x.len())
             .find(|&i| prox.roles(i).len() > 3 && reach.reach2[i] > 0.0)
             .expect("a vertex in pairs");
@@ -398,7 +398,7 @@ mod tests {
         }
         assert!(kept > 0 && stopped > 0, "{kept} {stopped}");
         // After a search nothing is broken.
-        reach.compute(&prox, &moved);
+        reach.compute(&prox.pairs, &moved);
         assert!(!reach.broken.contains(&true) && !reach.touched.contains(&true));
     }
 }

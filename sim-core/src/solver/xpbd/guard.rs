@@ -16,7 +16,8 @@ use glam::Vec3;
 
 use crate::collision::Body;
 use crate::collision::proximity::{
-    Aabb, ClothView, Guarded, NONE, Proximity, ProximityParams, Reach, constrain, unique_edges,
+    Aabb, ClothView, Guarded, NONE, Pair, Proximity, ProximityParams, Reach, constrain,
+    unique_edges,
 };
 use crate::mesh::{edge_ends, edge_key};
 use crate::solver::model::{ContactStats, Drive, Environment};
@@ -293,6 +294,18 @@ impl Guard {
             threads,
         };
         let t0 = std::time::Instant::now();
+        // Each vertex's reach and the pairs that push, worked out as soon as the pairs
+        // are final (meanwhile the search indexes them, on two threads).
+        let (reach, pushed, x) = (&mut self.reach, &mut self.pushed, &cloth.x[..]);
+        let after = move |pairs: &[Pair]| {
+            reach.compute(pairs, x);
+            pushed.clear();
+            pushed.extend(pairs.iter().enumerate().filter_map(|(k, q)| {
+                // The body's pairs are left to its contact planes: pushed by both along
+                // different normals at the cube's rims, resting cloth jittered (2 cm/s).
+                (q.energy && q.body_bound == f32::NEG_INFINITY).then_some(k as u32)
+            }));
+        };
         let view = ClothView {
             x: &cloth.x,
             boxes: &self.boxes,
@@ -309,7 +322,8 @@ impl Guard {
                 // lists, or built again for one of another length).
                 self.prox.follow_mesh(&view);
             }
-            self.prox.update(&view, body, &params, &self.moved);
+            self.prox
+                .update_with(&view, body, &params, &self.moved, after);
             self.stats.updates += 1;
             #[cfg(debug_assertions)]
             if after_edit {
@@ -321,17 +335,9 @@ impl Guard {
                 );
             }
         } else {
-            self.prox.detect(&view, body, &params);
+            self.prox.detect_with(&view, body, &params, after);
             self.stats.searches += 1;
         }
-        self.reach.compute(&self.prox, &cloth.x);
-        self.pushed.clear();
-        let pushed = self.prox.pairs.iter().enumerate();
-        self.pushed.extend(pushed.filter_map(|(k, q)| {
-            // The body's pairs are left to its contact planes: pushed by both along
-            // different normals at the cube's rims, resting cloth jittered (2 cm/s).
-            (q.energy && q.body_bound == f32::NEG_INFINITY).then_some(k as u32)
-        }));
         self.stats.pairs = self.prox.counts;
         self.stats.detect_us += t0.elapsed().as_micros() as u64;
     }
