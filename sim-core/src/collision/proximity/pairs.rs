@@ -572,7 +572,11 @@ mod tests {
         };
         let (one, (seen_one, reach_one)) = search(1);
         let (two, (seen_two, reach_two)) = search(2);
-        assert!(two.pairs.len() >= FINISH_PARALLEL_FROM, "{}", two.pairs.len());
+        assert!(
+            two.pairs.len() >= FINISH_PARALLEL_FROM,
+            "{}",
+            two.pairs.len()
+        );
         // Given the pairs as they are kept, energies and all, on either path.
         assert_eq!(seen_one, one.pairs);
         assert_eq!(seen_two, two.pairs);
@@ -581,7 +585,11 @@ mod tests {
         for i in (0..x.len()).step_by(97) {
             assert_eq!(one.roles(i), two.roles(i), "vertex {i}");
             let t = x[i] + Vec3::Y * 1e-4;
-            assert_eq!(reach_one.in_reach(i, t), reach_two.in_reach(i, t), "vertex {i}");
+            assert_eq!(
+                reach_one.in_reach(i, t),
+                reach_two.in_reach(i, t),
+                "vertex {i}"
+            );
         }
     }
 
