@@ -140,10 +140,10 @@ impl Proximity {
         s.sizes = [n, c.tris.len(), c.edges.len()];
         s.free = c.free.to_vec();
         if shrank {
-            // The update that follows indexes what is left.
+            // The update that follows indexes what is left, and reads each vertex's pairs
+            // in it.
             let gone = |q: &Pair| (0..4).any(|k| q.side[k] != 0 && q.v[k] as usize >= n);
             self.pairs.retain(|q| !gone(q));
-            // The update that follows reads each vertex's pairs.
             index_roles(&self.pairs, n, &mut self.start, &mut self.roles);
         }
     }
