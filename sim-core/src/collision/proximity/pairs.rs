@@ -234,20 +234,9 @@ impl Proximity {
     /// corner are searched again, and so are the cloth vertex-face pairs of the vertices
     /// near a moved triangle (each vertex's nearest feature gets the energy); the others
     /// are kept, their primitives' boxes and so what they can reach being as they were.
-    /// The pairs come out as a full search's, in another order.
+    /// The pairs come out as a full search's, in another order. `also` is given them as
+    /// [`Proximity::detect_with`] gives them.
     pub fn update(
-        &mut self,
-        cloth: &ClothView<'_>,
-        body: Option<&Body>,
-        p: &ProximityParams,
-        moved: &[bool],
-    ) {
-        self.update_with(cloth, body, p, moved, |_| {});
-    }
-
-    /// [`Proximity::update`], and `also` given the pairs as [`Proximity::detect_with`]
-    /// gives them.
-    pub fn update_with(
         &mut self,
         cloth: &ClothView<'_>,
         body: Option<&Body>,
@@ -528,7 +517,7 @@ mod tests {
             boxes[k] = Aabb::point(x[k]).with(x[k] - Vec3::Y * 0.004).grown(0.001);
         }
         let now = ClothView::unwelded((&x, &boxes), mesh, &pattern, &free);
-        prox.update(&now, Some(&body), &params, &moved);
+        prox.update(&now, Some(&body), &params, &moved, |_| {});
         let mut full = Proximity::default();
         full.detect(&now, Some(&body), &params);
         let sorted = |p: &Proximity| {
@@ -546,7 +535,7 @@ mod tests {
             assert_eq!(prox.roles(i).len(), full.roles(i).len(), "vertex {i}");
         }
         // Another body, or none: a full search.
-        prox.update(&now, None, &params, &moved);
+        prox.update(&now, None, &params, &moved, |_| {});
         full.detect(&now, None, &params);
         assert_eq!(sorted(&prox), sorted(&full));
     }

@@ -322,8 +322,7 @@ impl Guard {
                 // lists, or built again for one of another length).
                 self.prox.follow_mesh(&view);
             }
-            self.prox
-                .update_with(&view, body, &params, &self.moved, after);
+            self.prox.update(&view, body, &params, &self.moved, after);
             self.stats.updates += 1;
             #[cfg(debug_assertions)]
             if after_edit {
