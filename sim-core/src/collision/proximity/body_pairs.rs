@@ -39,7 +39,8 @@ fn push(
         cloth_pts[k] = c.x[v as usize];
     }
     let cloth_pts = &cloth_pts[..vs.len().min(3)];
-    let (n, sep0) = separating(cloth_pts, corners, on_cloth, on_body, fallback);
+    // The body's side is its own (outward): no exact side asked.
+    let (n, sep0) = separating(cloth_pts, corners, (on_cloth, on_body), fallback, || 0);
     let body_bound = corners
         .iter()
         .map(|b| n.dot(*b))

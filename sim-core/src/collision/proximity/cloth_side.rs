@@ -14,7 +14,7 @@ use super::distance::{point_triangle, segment_segment};
 use super::grid::Aabb;
 use super::pair::{
     ClothView, NONE, Pair, PairKind, ProximityParams, boxes_apart, feature_key, keep, max_along,
-    min_along, separating,
+    min_along, separating, triple_sign,
 };
 
 /// Below this many items a search runs on one thread (starting one costs more).
@@ -482,7 +482,9 @@ fn vertex_tri(
     }
     let xi = c.x[i as usize];
     let [a, bb, cc] = tri.map(|v| c.x[v as usize]);
-    let (n, sep0) = separating(&[xi], &[a, bb, cc], xi, q, (bb - a).cross(cc - a));
+    let alt = (bb - a).cross(cc - a);
+    let side = || triple_sign(a, bb, cc, xi);
+    let (n, sep0) = separating(&[xi], &[a, bb, cc], (xi, q), alt, side);
     let gap_max = c.boxes[i as usize].min_along(n) - max_along(c.boxes, &tri, n);
     let energy = gap_max < p.radius && !near;
     if !energy && gap_max >= p.delta {
@@ -517,12 +519,15 @@ fn edge_edge(c: &ClothView<'_>, p: &ProximityParams, found: &[(u32, u32)], part:
         let [p0, p1] = e.map(|v| c.x[v as usize]);
         let [q0, q1] = g.map(|v| c.x[v as usize]);
         let (s, t) = segment_segment(p0, p1, q0, q1);
+        // `((p1 - p0) x (q1 - q0)) . (p0 - q0)`, whose sign is that of
+        // `((p1 - q0) x (q1 - q0)) . (p0 - q0)`.
+        let side = || triple_sign(q0, p1, q1, p0);
         let (n, sep0) = separating(
             &[p0, p1],
             &[q0, q1],
-            p0.lerp(p1, s),
-            q0.lerp(q1, t),
+            (p0.lerp(p1, s), q0.lerp(q1, t)),
             (p1 - p0).cross(q1 - q0),
+            side,
         );
         let gap_max = min_along(c.boxes, &e, n) - max_along(c.boxes, &g, n);
         let interior = s > 1e-4 && s < 1.0 - 1e-4 && t > 1e-4 && t < 1.0 - 1e-4;

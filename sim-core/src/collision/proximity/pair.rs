@@ -228,12 +228,32 @@ pub(super) fn feature_key(t: [u32; 3], tri_id: u32, w: [f32; 3]) -> u64 {
     }
 }
 
+/// Separations under this are within what rounding the positions (f32, coordinates of a
+/// metre or two) and the dot products can make of them, m: which side a primitive is on
+/// is then decided exactly.
+const SIDE_DOUBT: f32 = 1e-5;
+
 /// The direction that separates the corners `ps` of one primitive from the corners `qs`
 /// of another, and by how much: the direction between their closest points `p` and `q`
 /// when it is well defined, otherwise the best of it and `alt` either way (a face normal,
 /// or the cross product of two edges). Near touching, the closest points' difference is
 /// all rounding: its direction could show a separation the primitives do not have.
-pub(super) fn separating(ps: &[Vec3], qs: &[Vec3], p: Vec3, q: Vec3, alt: Vec3) -> (Vec3, f32) {
+///
+/// And when every separation found is under [`SIDE_DOUBT`], `alt` is taken toward the
+/// side `side` gives (the exact sign of `alt . (ps - qs)`; 0: not known, or in the
+/// plane): in f32 either way can come out ahead there, and the wrong one lets the guard
+/// keep a vertex lying on a face on the far side of it. The sewn 2 x 8k dress had a
+/// vertex at a seam's T-junction lying in a welded triangle's plane, inside it; the
+/// search took the face's normal toward the side away from the vertex's own triangles,
+/// and the next substep the vertex went through (docs/collision.md, "A side decided
+/// exactly").
+pub(super) fn separating(
+    ps: &[Vec3],
+    qs: &[Vec3],
+    (p, q): (Vec3, Vec3),
+    alt: Vec3,
+    side: impl FnOnce() -> i8,
+) -> (Vec3, f32) {
     let sep = |n: Vec3| {
         let lo = ps.iter().map(|x| n.dot(*x)).fold(f32::INFINITY, f32::min);
         let hi = qs
@@ -260,8 +280,36 @@ pub(super) fn separating(ps: &[Vec3], qs: &[Vec3], p: Vec3, q: Vec3, alt: Vec3) 
                 best = (n, s);
             }
         }
+        if best.1 < SIDE_DOUBT {
+            match side() {
+                0 => {}
+                s => {
+                    let n = a * f32::from(s);
+                    best = (n, sep(n));
+                }
+            }
+        }
     }
     best
+}
+
+/// The sign of `((b - a) x (c - a)) . (d - a)`, exactly (Shewchuk's adaptive predicate
+/// on the f32 coordinates, which convert to f64 without rounding).
+pub(super) fn triple_sign(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> i8 {
+    let c3 = |p: Vec3| robust::Coord3D {
+        x: f64::from(p.x),
+        y: f64::from(p.y),
+        z: f64::from(p.z),
+    };
+    // `orient3d(pa, pb, pc, pd)` is det[pa - pd, pb - pd, pc - pd].
+    let v = robust::orient3d(c3(b), c3(c), c3(d), c3(a));
+    if v > 0.0 {
+        1
+    } else if v < 0.0 {
+        -1
+    } else {
+        0
+    }
 }
 
 /// Whether the boxes of vertices `a` and those of `b` stay more than `gap` apart along
@@ -328,5 +376,64 @@ mod tests {
             ..view
         };
         assert!(!none.rest_near(&[0], &[3], 0.5), "without the weld");
+    }
+
+    /// A small deterministic generator in [-1, 1).
+    fn noise(seed: &mut u64) -> f32 {
+        *seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        ((*seed >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
+    }
+
+    #[test]
+    fn the_exact_triple_product_has_the_sign_of_the_plain_one() {
+        let mut seed = 3;
+        for _ in 0..1000 {
+            let mut p = || Vec3::new(noise(&mut seed), noise(&mut seed), noise(&mut seed));
+            let (a, b, c, d) = (p(), p(), p(), p());
+            let plain = (b - a).as_dvec3().cross((c - a).as_dvec3()).dot((d - a).as_dvec3());
+            if plain.abs() > 1e-6 {
+                assert_eq!(super::triple_sign(a, b, c, d), plain.signum() as i8);
+            }
+        }
+        let o = Vec3::ZERO;
+        assert_eq!(super::triple_sign(o, Vec3::X, Vec3::Y, Vec3::Y), 0);
+    }
+
+    /// A vertex a hair from a face's plane, over the face, on either side of it, the
+    /// face tilted and a metre and a half up (as on a body): the direction found puts
+    /// the vertex on the side it is on, exactly. In f32 alone the face's normal either
+    /// way came out ahead by rounding, and the wrong way round in some of these.
+    #[test]
+    fn a_vertex_a_hair_from_a_face_is_kept_on_its_own_side() {
+        let mut seed = 11;
+        let (mut wrong_in_f32, mut decided) = (0, 0);
+        for _ in 0..4000 {
+            let mut n = || noise(&mut seed);
+            let base = Vec3::new(0.15, 1.5, -0.02) + 0.01 * Vec3::new(n(), n(), n());
+            let u = Vec3::new(n(), n(), n()).normalize() * 0.008;
+            let v = Vec3::new(n(), n(), n()).normalize() * 0.008;
+            let (a, b, c) = (base, base + u, base + v);
+            // Inside the face, off its plane by up to 0.3 um.
+            let (s, t) = (0.2 + 0.3 * n().abs(), 0.2 + 0.3 * n().abs());
+            let normal = u.cross(v).normalize();
+            let x = a + u * s + v * t + normal * (3e-7 * n());
+            let face = [a, b, c];
+            let alt = (b - a).cross(c - a);
+            let exact = super::triple_sign(a, b, c, x);
+            if exact == 0 {
+                continue;
+            }
+            let on_face = a + u * s + v * t;
+            let (dir, _) = super::separating(&[x], &face, (x, on_face), alt, || exact);
+            let side = |d: Vec3| (d.dot(alt) > 0.0) as i8 * 2 - 1;
+            assert_eq!(side(dir), exact, "the side decided exactly");
+            let (plain, _) = super::separating(&[x], &face, (x, on_face), alt, || 0);
+            wrong_in_f32 += usize::from(side(plain) != exact);
+            decided += 1;
+        }
+        assert!(decided > 3000, "{decided}");
+        assert!(wrong_in_f32 > 0, "f32 alone never erred here: the test shows nothing");
     }
 }
