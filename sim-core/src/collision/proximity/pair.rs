@@ -392,7 +392,10 @@ mod tests {
         for _ in 0..1000 {
             let mut p = || Vec3::new(noise(&mut seed), noise(&mut seed), noise(&mut seed));
             let (a, b, c, d) = (p(), p(), p(), p());
-            let plain = (b - a).as_dvec3().cross((c - a).as_dvec3()).dot((d - a).as_dvec3());
+            let plain = (b - a)
+                .as_dvec3()
+                .cross((c - a).as_dvec3())
+                .dot((d - a).as_dvec3());
             if plain.abs() > 1e-6 {
                 assert_eq!(super::triple_sign(a, b, c, d), plain.signum() as i8);
             }
@@ -434,6 +437,9 @@ mod tests {
             decided += 1;
         }
         assert!(decided > 3000, "{decided}");
-        assert!(wrong_in_f32 > 0, "f32 alone never erred here: the test shows nothing");
+        assert!(
+            wrong_in_f32 > 0,
+            "f32 alone never erred here: the test shows nothing"
+        );
     }
 }

@@ -22,6 +22,9 @@
 //! lets each vertex go exactly where its full check would: the cloth does not change by a
 //! bit (the debug build compares each such move with the full check).
 
+use std::sync::atomic::Ordering::Relaxed;
+use std::sync::atomic::{AtomicBool, AtomicU32};
+
 use glam::Vec3;
 
 use super::grid::Aabb;
@@ -34,6 +37,12 @@ use super::pairs::Proximity;
 const ROUNDING: f32 = 4e-6;
 
 /// Each vertex's reach from where the last search saw it.
+///
+/// What a pass marks (`touched`, `broken`, `farthest2`) is kept in atomics so that the
+/// guard's two halves can mark at once through a shared `Reach`: a vertex of one half
+/// marks only its own pairs and their vertices, all in its half ([`Reach::order`]), so
+/// no flag is written by both; relaxed loads and stores are plain ones on x86, and the
+/// threads' scope orders them for what follows.
 #[derive(Clone, Debug, Default)]
 pub struct Reach {
     anchor: Vec<Vec3>,
@@ -43,12 +52,87 @@ pub struct Reach {
     /// (negative: none).
     room2: Vec<f32>,
     /// In a broken pair: its moves check those pairs.
-    touched: Vec<bool>,
+    touched: Flags,
     /// Each pair: one of its vertices went past its room.
-    broken: Vec<bool>,
+    broken: Flags,
     /// The farthest (squared) each vertex has stood from its anchor since the search, as
     /// far as its pairs are concerned: every pair whose room that exceeds is broken.
-    farthest2: Vec<f32>,
+    farthest2: Floats,
+    /// The order the guard passes the vertices in: the first half of the vertex range's
+    /// vertices whose pairs lie all in that half, the same for the second half, then the
+    /// rest (each in vertex order); and where the halves meet.
+    order: [Vec<u32>; 3],
+    /// Each vertex's list in `order`.
+    part: Vec<u8>,
+    mid: usize,
+}
+
+/// Flags two threads may set at once, each its own.
+#[derive(Debug, Default)]
+struct Flags(Vec<AtomicBool>);
+
+impl Clone for Flags {
+    fn clone(&self) -> Self {
+        Self(
+            self.0
+                .iter()
+                .map(|f| AtomicBool::new(f.load(Relaxed)))
+                .collect(),
+        )
+    }
+}
+
+impl Flags {
+    fn reset(&mut self, n: usize) {
+        self.0.clear();
+        self.0.resize_with(n, AtomicBool::default);
+    }
+
+    #[inline]
+    fn get(&self, i: usize) -> Option<bool> {
+        self.0.get(i).map(|f| f.load(Relaxed))
+    }
+
+    #[inline]
+    fn set(&self, i: usize) {
+        if let Some(f) = self.0.get(i) {
+            f.store(true, Relaxed);
+        }
+    }
+
+    #[cfg(test)]
+    fn to_vec(&self) -> Vec<bool> {
+        self.0.iter().map(|f| f.load(Relaxed)).collect()
+    }
+}
+
+/// `f32`s two threads may write at once, each its own.
+#[derive(Debug, Default)]
+struct Floats(Vec<AtomicU32>);
+
+impl Clone for Floats {
+    fn clone(&self) -> Self {
+        Self(
+            self.0
+                .iter()
+                .map(|f| AtomicU32::new(f.load(Relaxed)))
+                .collect(),
+        )
+    }
+}
+
+impl Floats {
+    #[inline]
+    fn get(&self, i: usize) -> Option<f32> {
+        self.0.get(i).map(|f| f32::from_bits(f.load(Relaxed)))
+    }
+
+    #[inline]
+    fn set(&self, i: usize, v: f32) {
+        if let Some(f) = self.0.get(i) {
+            f.store(v.to_bits(), Relaxed);
+        }
+    }
 }
 
 /// The squared room for a share of `room` metres (negative: none).
@@ -62,7 +146,8 @@ impl Reach {
     /// Forgets every reach (the pairs are gone): every move is checked.
     pub fn clear(&mut self) {
         self.reach2.clear();
-        self.farthest2.clear();
+        self.farthest2.0.clear();
+        self.order.iter_mut().for_each(Vec::clear);
     }
 
     /// Each vertex's reach over `pairs` (a search's), the cloth standing at `x`.
@@ -74,12 +159,18 @@ impl Reach {
         self.reach2.resize(n, f32::INFINITY);
         self.room2.clear();
         self.room2.resize(pairs.len() * 4, -1.0);
-        self.touched.clear();
-        self.touched.resize(n, false);
-        self.broken.clear();
-        self.broken.resize(pairs.len(), false);
+        self.touched.reset(n);
+        self.broken.reset(pairs.len());
+        let mid = n / 2;
+        let mut mixed = vec![false; n];
         let reach = &mut self.reach2;
         for (q, rooms) in pairs.iter().zip(self.room2.chunks_exact_mut(4)) {
+            let cloth = q.v.iter().filter(|&&v| v != NONE && (v as usize) < n);
+            if cloth.clone().any(|&v| v as usize >= mid)
+                && cloth.clone().any(|&v| (v as usize) < mid)
+            {
+                cloth.for_each(|&v| mixed[v as usize] = true);
+            }
             let live = |k: usize| q.side[k] != 0 && q.v[k] != NONE && (q.v[k] as usize) < n;
             if q.body_bound > f32::NEG_INFINITY {
                 for k in (0..4).filter(|&k| live(k)) {
@@ -106,8 +197,42 @@ impl Reach {
                 reach[v] = reach[v].min(share);
             }
         }
-        self.farthest2.clear();
-        self.farthest2.extend(reach.iter().map(|&r| r.max(0.0)));
+        let far = reach.iter().map(|&r| AtomicU32::new(r.max(0.0).to_bits()));
+        self.farthest2.0.clear();
+        self.farthest2.0.extend(far);
+        self.mid = mid;
+        self.order.iter_mut().for_each(Vec::clear);
+        self.part.clear();
+        for (v, &m) in mixed.iter().enumerate() {
+            let list = if m { 2 } else { u8::from(v >= mid) };
+            self.order[list as usize].push(v as u32);
+            self.part.push(list);
+        }
+    }
+
+    /// Splits `verts` into the lists of [`Reach::order`] they belong to, each in the
+    /// order given (`None` as there).
+    pub fn split(&self, verts: &[u32], n: usize, lists: &mut [Vec<u32>; 3]) -> Option<usize> {
+        self.order(n)?;
+        lists.iter_mut().for_each(Vec::clear);
+        for &v in verts {
+            let part = self.part.get(v as usize).copied().unwrap_or(2);
+            lists[part as usize].push(v);
+        }
+        Some(self.mid)
+    }
+
+    /// The order the guard may pass the cloth's `n` vertices in, in two threads: the
+    /// first half of the vertex range's vertices whose pairs are all within that half
+    /// (`lists[0]`), the second half's (`lists[1]`), then every other vertex
+    /// (`lists[2]`), and `mid`, where the halves meet. A vertex's move is checked against
+    /// its pairs' other vertices as they stand and marks only its own pairs, so the
+    /// first two lists, passed at once, meet no vertex or pair of the other: the same
+    /// as passing them one after the other. `None` when the pairs were not worked out
+    /// for `n` vertices.
+    pub fn order(&self, n: usize) -> Option<(usize, &[Vec<u32>; 3])> {
+        let all = self.order.iter().map(Vec::len).sum::<usize>();
+        (all == n && self.reach2.len() == n).then_some((self.mid, &self.order))
     }
 
     /// Whether vertex `i` may go to `t` with only the pairs checked that the move takes
@@ -119,7 +244,7 @@ impl Reach {
             return false;
         };
         let d2 = (t - self.anchor[i]).length_squared();
-        if d2 <= r2 && !self.touched[i] {
+        if d2 <= r2 && self.touched.get(i) == Some(false) {
             return true;
         }
         prox.roles(i).iter().all(|&r| {
@@ -146,7 +271,7 @@ impl Reach {
     /// anchor, the pair's other vertices standing anywhere they have stood.
     #[inline]
     fn safe(&self, r: u32, d2: f32) -> bool {
-        self.broken.get((r / 4) as usize) == Some(&false)
+        self.broken.get((r / 4) as usize) == Some(false)
             && self.room2.get(r as usize).is_some_and(|&room| room >= d2)
     }
 
@@ -179,8 +304,8 @@ impl Reach {
     /// Vertex `i` now stands at `p`: the pairs whose room that is past are broken, and
     /// each of their vertices checks them at every move from now on.
     #[inline]
-    pub fn note(&mut self, i: usize, p: Vec3, prox: &Proximity) {
-        let Some(&far2) = self.farthest2.get(i) else {
+    pub fn note(&self, i: usize, p: Vec3, prox: &Proximity) {
+        let Some(far2) = self.farthest2.get(i) else {
             return;
         };
         // Within every room it has been past already (a vertex with no room that has not
@@ -189,17 +314,15 @@ impl Reach {
         if d2 <= far2 {
             return;
         }
-        self.farthest2[i] = d2;
+        self.farthest2.set(i, d2);
         for &r in prox.roles(i) {
             let k = (r / 4) as usize;
-            if self.broken[k] || self.room2[r as usize] >= d2 {
+            if self.broken.get(k) != Some(false) || self.room2[r as usize] >= d2 {
                 continue;
             }
-            self.broken[k] = true;
+            self.broken.set(k);
             for &v in &prox.pairs[k].v {
-                if let Some(c) = self.touched.get_mut(v as usize) {
-                    *c = true;
-                }
+                self.touched.set(v as usize);
             }
         }
     }
@@ -270,7 +393,7 @@ mod tests {
                 if reach.within(i, t, &now, &prox) {
                     skipped += 1;
                     tight += usize::from(r < 1e-3 && !prox.roles(i).is_empty());
-                    partial += usize::from(reach.touched[i]);
+                    partial += usize::from(reach.touched.get(i) == Some(true));
                     assert_eq!(constrain(i, t, &now, &anywhere, &prox), (t, Guarded::Free));
                     now[i] = t;
                 } else {
@@ -355,12 +478,12 @@ mod tests {
         assert!(mine.iter().any(|&r| passed(r)) && mine.iter().any(|&r| !passed(r)));
         for k in 0..prox.pairs.len() {
             let expect = mine.iter().any(|&r| (r / 4) as usize == k && passed(r));
-            assert_eq!(reach.broken[k], expect, "pair {k}");
+            assert_eq!(reach.broken.get(k), Some(expect), "pair {k}");
         }
         // Within what it has already passed, nothing more breaks.
-        let before = reach.broken.clone();
+        let before = reach.broken.to_vec();
         reach.note(i, x[i] + Vec3::X * (0.9 * d), &prox);
-        assert_eq!(reach.broken, before);
+        assert_eq!(reach.broken.to_vec(), before);
     }
 
     #[test]
@@ -374,7 +497,7 @@ mod tests {
         let mine = |k: usize| prox.pairs[k].v.contains(&(i as u32));
         // Within its reach: nothing changes.
         reach.note(i, x[i], &prox);
-        assert!(!reach.broken.contains(&true));
+        assert!(!reach.broken.to_vec().contains(&true));
         // Past it, through one of its pairs (5 cm toward the pair's other side): its pairs
         // are broken, no others.
         let r = prox.roles(i)[0];
@@ -383,7 +506,7 @@ mod tests {
         moved[i] -= q.n * (q.side[(r % 4) as usize] as f32 * 0.05);
         reach.note(i, moved[i], &prox);
         for k in 0..prox.pairs.len() {
-            assert_eq!(reach.broken[k], mine(k), "pair {k}");
+            assert_eq!(reach.broken.get(k), Some(mine(k)), "pair {k}");
         }
         // A partner standing still is let through exactly when the full check finds it
         // free against the vertex where it went; a vertex in none of its pairs, as before.
@@ -392,13 +515,13 @@ mod tests {
         for j in (0..x.len()).filter(|&j| j != i && reach.reach2[j] > 0.0) {
             let full = constrain(j, x[j], &moved, &anywhere, &prox).1 == Guarded::Free;
             assert_eq!(reach.within(j, x[j], &moved, &prox), full, "vertex {j}");
-            if reach.touched[j] {
+            if reach.touched.get(j) == Some(true) {
                 if full { kept += 1 } else { stopped += 1 }
             }
         }
         assert!(kept > 0 && stopped > 0, "{kept} {stopped}");
         // After a search nothing is broken.
         reach.compute(&prox.pairs, &moved);
-        assert!(!reach.broken.contains(&true) && !reach.touched.contains(&true));
+        assert!(!reach.broken.to_vec().contains(&true) && !reach.touched.to_vec().contains(&true));
     }
 }

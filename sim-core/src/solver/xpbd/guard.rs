@@ -70,6 +70,10 @@ pub struct Guard {
     motion: Motion,
     /// Where the vertices are as the guard lets them move, during a pass.
     committed: Vec<Vec3>,
+    /// The same for the second half's thread, during a pass on two.
+    committed_b: Vec<Vec3>,
+    /// A list of vertices split as [`Reach::order`] orders them.
+    split: [Vec<u32>; 3],
     /// Vertices whose triangles, edges, place in the pattern or freedom an edit changed
     /// since the last search: their pairs are searched again at the next one, as if they
     /// had left their boxes ([`Guard::follow_edit`]).
@@ -450,24 +454,67 @@ impl Guard {
     }
 
     /// Passes every vertex's move of the substep (from where [`Guard::begin_substep`]
-    /// saw it to `x`) through the guard, in vertex order, each against the others as they
-    /// stand. A vertex the guard moved elsewhere takes its velocity from the move it made:
-    /// contact shifted its `prev` by the push it gave (so the push does not become
-    /// velocity), and of that shift only as much as the vertex really moved that way is
-    /// kept, or a vertex held still would keep a speed it never had.
-    pub fn enforce(&mut self, x: &mut [Vec3], prev: &mut [Vec3]) {
-        if self.boxes.len() != x.len() || self.committed.len() != x.len() {
+    /// saw it to `x`) through the guard, each against the others as they stand, in the
+    /// order of [`Reach::order`]: the two halves' own vertices (on two threads when
+    /// `threads > 1` and the cloth has [`GUARD_PARALLEL_FROM`] vertices), then those
+    /// whose pairs reach across; in vertex order before the first search. One thread or
+    /// two, the order is the same and so is the cloth. A vertex the guard moved
+    /// elsewhere takes its velocity from the move it made: contact shifted its `prev` by
+    /// the push it gave (so the push does not become velocity), and of that shift only
+    /// as much as the vertex really moved that way is kept, or a vertex held still would
+    /// keep a speed it never had.
+    pub fn enforce(&mut self, x: &mut [Vec3], prev: &mut [Vec3], threads: usize) {
+        self.enforce_from(x, prev, threads, GUARD_PARALLEL_FROM);
+    }
+
+    /// [`Guard::enforce`], on two threads from `parallel_from` vertices.
+    fn enforce_from(
+        &mut self,
+        x: &mut [Vec3],
+        prev: &mut [Vec3],
+        threads: usize,
+        parallel_from: usize,
+    ) {
+        let n = x.len();
+        if self.boxes.len() != n || self.committed.len() != n || prev.len() != n {
             return;
         }
-        for i in 0..x.len() {
-            let (p, how) = self.pass(i, x[i]);
-            if how != Guarded::Free {
-                // Contact shifted `prev` by the push it gave (so the push is no velocity);
-                // credit no more of it than the vertex moved that way.
-                prev[i] = credited(prev[i], self.committed[i], p);
+        let moves = Moves {
+            free: &self.free,
+            boxes: &self.boxes,
+            reach: &self.reach,
+            prox: &self.prox,
+        };
+        let committed = &mut self.committed[..];
+        let targets = &*x;
+        let mut counts = Counts::default();
+        match moves.reach.order(n) {
+            None => counts += moves.run(committed, targets, (prev, 0), 0..n),
+            Some((mid, [first, second, rest])) => {
+                let two = threads > 1 && n >= parallel_from;
+                if two && !first.is_empty() && !second.is_empty() {
+                    // The second half on its own copy of where the vertices stand: it
+                    // reads and writes only its half's.
+                    let theirs = &mut self.committed_b;
+                    theirs.clear();
+                    theirs.extend_from_slice(committed);
+                    let (pa, pb) = prev.split_at_mut(mid);
+                    let b = std::thread::scope(|s| {
+                        let b = s.spawn(|| moves.run(theirs, targets, (pb, mid), each(second)));
+                        counts += moves.run(committed, targets, (pa, 0), each(first));
+                        b.join()
+                    });
+                    // A panic in the second half's thread is this one's.
+                    counts += b.unwrap_or_else(|e| std::panic::resume_unwind(e));
+                    committed[mid..].copy_from_slice(&theirs[mid..]);
+                } else {
+                    counts += moves.run(committed, targets, (&mut *prev, 0), each(first));
+                    counts += moves.run(committed, targets, (&mut *prev, 0), each(second));
+                }
+                counts += moves.run(committed, targets, (prev, 0), each(rest));
             }
-            self.committed[i] = p;
         }
+        self.add(counts);
         x.copy_from_slice(&self.committed);
     }
 
@@ -476,32 +523,157 @@ impl Guard {
     /// guard held a vertex back; they stay velocity, as the limit's moves before the
     /// guard do (with `prev` moved along, so that they did not, the drape-cube no longer
     /// settled: 2.8e-4 J after 300 frames against 9e-8).
-    pub fn enforce_only(&mut self, x: &mut [Vec3], verts: &[u32]) {
-        if self.boxes.len() != x.len() || self.committed.len() != x.len() {
+    ///
+    /// In the order of [`Reach::order`] as well (the halves' own vertices on two threads
+    /// when each has [`ONLY_PARALLEL_FROM`] of them), or as listed before the first
+    /// search.
+    pub fn enforce_only(&mut self, x: &mut [Vec3], verts: &[u32], threads: usize) {
+        let n = x.len();
+        if self.boxes.len() != n || self.committed.len() != n {
             return;
         }
-        for &i in verts {
-            let i = i as usize;
-            let (p, _) = self.pass(i, x[i]);
-            self.committed[i] = p;
-            x[i] = p;
+        let moves = Moves {
+            free: &self.free,
+            boxes: &self.boxes,
+            reach: &self.reach,
+            prox: &self.prox,
+        };
+        let committed = &mut self.committed[..];
+        let lists = &mut self.split;
+        let mut counts = Counts::default();
+        match moves.reach.split(verts, n, lists) {
+            None => counts += moves.run_only(committed, (x, 0), verts),
+            Some(mid) => {
+                let [first, second, rest] = &*lists;
+                let two = threads > 1 && n >= GUARD_PARALLEL_FROM;
+                if two && first.len().min(second.len()) >= ONLY_PARALLEL_FROM {
+                    let theirs = &mut self.committed_b;
+                    theirs.clear();
+                    theirs.extend_from_slice(committed);
+                    let (xa, xb) = x.split_at_mut(mid);
+                    let b = std::thread::scope(|s| {
+                        let b = s.spawn(|| moves.run_only(theirs, (xb, mid), second));
+                        counts += moves.run_only(committed, (xa, 0), first);
+                        b.join()
+                    });
+                    counts += b.unwrap_or_else(|e| std::panic::resume_unwind(e));
+                    committed[mid..].copy_from_slice(&theirs[mid..]);
+                } else {
+                    counts += moves.run_only(committed, (&mut *x, 0), first);
+                    counts += moves.run_only(committed, (&mut *x, 0), second);
+                }
+                counts += moves.run_only(committed, (x, 0), rest);
+            }
         }
+        self.add(counts);
     }
 
-    /// Where vertex `i` sent to `target` may go (from `committed`), counted in the stats.
-    fn pass(&mut self, i: usize, target: Vec3) -> (Vec3, Guarded) {
+    fn add(&mut self, c: Counts) {
+        self.stats.skipped += c.skipped;
+        self.stats.projected += c.projected;
+        self.stats.shortened += c.shortened;
+    }
+}
+
+/// The vertex indices of a list.
+fn each(list: &[u32]) -> impl Iterator<Item = usize> + '_ {
+    list.iter().map(|&i| i as usize)
+}
+
+/// Vertices from this many on pass the guard in two threads (when there are two): below,
+/// starting the second thread costs more than it saves.
+const GUARD_PARALLEL_FROM: usize = 8_000;
+
+/// Vertices from this many in each half of a list pass the guard's second look
+/// ([`Guard::enforce_only`]) in two threads.
+const ONLY_PARALLEL_FROM: usize = 256;
+
+/// What the guard's pass reads, shared by the two halves' threads.
+struct Moves<'a> {
+    free: &'a [bool],
+    boxes: &'a [Aabb],
+    reach: &'a Reach,
+    prox: &'a Proximity,
+}
+
+/// What a pass did to its moves.
+#[derive(Clone, Copy, Debug, Default)]
+struct Counts {
+    skipped: usize,
+    projected: usize,
+    shortened: usize,
+}
+
+impl std::ops::AddAssign for Counts {
+    fn add_assign(&mut self, o: Self) {
+        self.skipped += o.skipped;
+        self.projected += o.projected;
+        self.shortened += o.shortened;
+    }
+}
+
+impl Moves<'_> {
+    /// Passes the moves of `verts` in turn (from `committed` to `targets`), each vertex
+    /// kept at `committed` as it goes; `prev` holds the vertices from `off` on.
+    fn run(
+        &self,
+        committed: &mut [Vec3],
+        targets: &[Vec3],
+        (prev, off): (&mut [Vec3], usize),
+        verts: impl Iterator<Item = usize>,
+    ) -> Counts {
+        let mut counts = Counts::default();
+        for i in verts {
+            let (p, how) = self.pass(committed, i, targets[i], &mut counts);
+            if how != Guarded::Free {
+                // Contact shifted `prev` by the push it gave (so the push is no velocity);
+                // credit no more of it than the vertex moved that way.
+                let pv = &mut prev[i - off];
+                *pv = credited(*pv, committed[i], p);
+            }
+            committed[i] = p;
+        }
+        counts
+    }
+
+    /// Passes the moves of `verts` in turn (from `committed` to where `x` has them), each
+    /// vertex kept at `committed` and `x` as it goes; `x` holds the vertices from `off`
+    /// on. Their velocity stays as the move was.
+    fn run_only(
+        &self,
+        committed: &mut [Vec3],
+        (x, off): (&mut [Vec3], usize),
+        verts: &[u32],
+    ) -> Counts {
+        let mut counts = Counts::default();
+        for &i in verts {
+            let i = i as usize;
+            let (p, _) = self.pass(committed, i, x[i - off], &mut counts);
+            committed[i] = p;
+            x[i - off] = p;
+        }
+        counts
+    }
+
+    /// Where vertex `i` sent to `target` may go (from `committed`), counted in `counts`.
+    fn pass(
+        &self,
+        committed: &[Vec3],
+        i: usize,
+        target: Vec3,
+        counts: &mut Counts,
+    ) -> (Vec3, Guarded) {
         if !self.free[i] {
-            self.reach.note(i, target, &self.prox);
+            self.reach.note(i, target, self.prox);
             return (target, Guarded::Free);
         }
         let bx = &self.boxes[i];
         let inside = target.clamp(bx.lo, bx.hi);
-        let (p, how) = if self.reach.within(i, inside, &self.committed, &self.prox) {
-            self.stats.skipped += 1;
+        let (p, how) = if self.reach.within(i, inside, committed, self.prox) {
+            counts.skipped += 1;
             debug_assert!(
                 self.reach.in_reach(i, inside)
-                    || constrain(i, inside, &self.committed, bx, &self.prox)
-                        == (inside, Guarded::Free),
+                    || constrain(i, inside, committed, bx, self.prox) == (inside, Guarded::Free),
                 "vertex {i}: a move past its reach let through is one the full check finds free"
             );
             let how = if inside == target {
@@ -510,24 +682,21 @@ impl Guard {
                 Guarded::Projected
             };
             (inside, how)
-        } else if let Some(near) = self
-            .reach
-            .project(i, target, &self.committed, bx, &self.prox)
-        {
+        } else if let Some(near) = self.reach.project(i, target, committed, bx, self.prox) {
             debug_assert_eq!(
                 near,
-                constrain(i, target, &self.committed, bx, &self.prox),
+                constrain(i, target, committed, bx, self.prox),
                 "vertex {i}: the projection against the pairs it can reach is the full one"
             );
             near
         } else {
-            constrain(i, target, &self.committed, bx, &self.prox)
+            constrain(i, target, committed, bx, self.prox)
         };
-        self.reach.note(i, p, &self.prox);
+        self.reach.note(i, p, self.prox);
         match how {
             Guarded::Free => {}
-            Guarded::Projected => self.stats.projected += 1,
-            Guarded::Shortened => self.stats.shortened += 1,
+            Guarded::Projected => counts.projected += 1,
+            Guarded::Shortened => counts.shortened += 1,
         }
         (p, how)
     }

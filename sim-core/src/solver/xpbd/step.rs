@@ -286,13 +286,13 @@ impl Xpbd {
             }
         }
         if let Some(g) = &mut self.guard {
-            g.enforce(&mut cloth.x, &mut self.prev);
+            g.enforce(&mut cloth.x, &mut self.prev, self.threads);
         }
         if limit && self.guard.is_some() {
             self.limit_strain(&mut cloth.x, w, &mut after, LIMIT_PASSES_AGAIN);
             in_order_once(&mut after, &mut self.limited_bits, cloth.x.len());
             if let Some(g) = &mut self.guard {
-                g.enforce_only(&mut cloth.x, &after);
+                g.enforce_only(&mut cloth.x, &after, self.threads);
             }
         }
         self.limited = [before, after];
