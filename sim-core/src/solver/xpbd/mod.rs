@@ -28,6 +28,7 @@ mod edit;
 mod graph;
 mod groups;
 mod guard;
+mod guard_pass;
 mod limits;
 mod settle;
 mod simd;
