@@ -574,19 +574,3 @@ impl Guard {
         self.stats.shortened += c.shortened;
     }
 }
-
-/// Where `prev` goes for a vertex that began the substep at `start` and ended it at `p`:
-/// contact moved `prev` out with the vertex by the push it gave to a penetration that was
-/// already there (`prev - start`), so that the push is no velocity; of that shift only as
-/// much is kept as the vertex really moved that way, or a vertex held still would keep a
-/// speed it never had.
-pub(super) fn credited(prev: Vec3, start: Vec3, p: Vec3) -> Vec3 {
-    let shift = prev - start;
-    let len = shift.length();
-    if len > 0.0 {
-        let dir = shift / len;
-        start + dir * (p - start).dot(dir).clamp(0.0, len)
-    } else {
-        start
-    }
-}

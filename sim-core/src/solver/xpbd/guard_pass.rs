@@ -4,7 +4,6 @@
 
 use glam::Vec3;
 
-use super::guard::credited;
 use crate::collision::proximity::{Aabb, Guarded, Proximity, Reach, constrain};
 
 /// The vertex indices of a list.
@@ -131,5 +130,21 @@ impl Moves<'_> {
             Guarded::Shortened => counts.shortened += 1,
         }
         (p, how)
+    }
+}
+
+/// Where `prev` goes for a vertex that began the substep at `start` and ended it at `p`:
+/// contact moved `prev` out with the vertex by the push it gave to a penetration that was
+/// already there (`prev - start`), so that the push is no velocity; of that shift only as
+/// much is kept as the vertex really moved that way, or a vertex held still would keep a
+/// speed it never had.
+pub(super) fn credited(prev: Vec3, start: Vec3, p: Vec3) -> Vec3 {
+    let shift = prev - start;
+    let len = shift.length();
+    if len > 0.0 {
+        let dir = shift / len;
+        start + dir * (p - start).dot(dir).clamp(0.0, len)
+    } else {
+        start
     }
 }

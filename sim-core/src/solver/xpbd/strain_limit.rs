@@ -22,7 +22,7 @@
 
 use glam::Vec3;
 
-use super::guard::credited;
+use super::guard_pass::credited;
 use crate::solver::constraints::Membrane;
 
 /// Projects every membrane of `membranes` (vertex indices into `x` and `w`) whose largest
