@@ -346,6 +346,7 @@ mod tests {
     use glam::Vec3;
 
     use super::ClothView;
+    use crate::collision::proximity::reach::tests::noise;
 
     /// Vertices 0 and 3 are 3 m apart in the pattern but neighbours over a weld; 1 is
     /// near 0 in the pattern only.
@@ -376,14 +377,6 @@ mod tests {
             ..view
         };
         assert!(!none.rest_near(&[0], &[3], 0.5), "without the weld");
-    }
-
-    /// A small deterministic generator in [-1, 1).
-    fn noise(seed: &mut u64) -> f32 {
-        *seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((*seed >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
     }
 
     #[test]

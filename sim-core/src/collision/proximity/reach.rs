@@ -329,7 +329,7 @@ impl Reach {
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::collision::body::sphere;
     use crate::collision::proximity::grid::{Aabb, unique_edges};
@@ -360,7 +360,7 @@ mod tests {
     }
 
     /// Steps of a small deterministic generator in [-1, 1).
-    fn noise(seed: &mut u64) -> f32 {
+    pub(in crate::collision::proximity) fn noise(seed: &mut u64) -> f32 {
         *seed = seed
             .wrapping_mul(6364136223846793005)
             .wrapping_add(1442695040888963407);

@@ -464,34 +464,18 @@ impl Guard {
     /// as much as the vertex really moved that way is kept, or a vertex held still would
     /// keep a speed it never had.
     pub fn enforce(&mut self, x: &mut [Vec3], prev: &mut [Vec3], threads: usize) {
-        self.enforce_from(x, prev, threads, GUARD_PARALLEL_FROM);
-    }
-
-    /// [`Guard::enforce`], on two threads from `parallel_from` vertices.
-    fn enforce_from(
-        &mut self,
-        x: &mut [Vec3],
-        prev: &mut [Vec3],
-        threads: usize,
-        parallel_from: usize,
-    ) {
         let n = x.len();
         if self.boxes.len() != n || self.committed.len() != n || prev.len() != n {
             return;
         }
-        let moves = Moves {
-            free: &self.free,
-            boxes: &self.boxes,
-            reach: &self.reach,
-            prox: &self.prox,
-        };
+        let moves = Moves::of(&self.free, &self.boxes, &self.reach, &self.prox);
         let committed = &mut self.committed[..];
         let targets = &*x;
         let mut counts = Counts::default();
         match moves.reach.order(n) {
             None => counts += moves.run(committed, targets, (prev, 0), 0..n),
             Some((mid, [first, second, rest])) => {
-                let two = threads > 1 && n >= parallel_from;
+                let two = threads > 1 && n >= GUARD_PARALLEL_FROM;
                 if two && !first.is_empty() && !second.is_empty() {
                     // The second half on its own copy of where the vertices stand: it
                     // reads and writes only its half's.
@@ -532,12 +516,7 @@ impl Guard {
         if self.boxes.len() != n || self.committed.len() != n {
             return;
         }
-        let moves = Moves {
-            free: &self.free,
-            boxes: &self.boxes,
-            reach: &self.reach,
-            prox: &self.prox,
-        };
+        let moves = Moves::of(&self.free, &self.boxes, &self.reach, &self.prox);
         let committed = &mut self.committed[..];
         let lists = &mut self.split;
         let mut counts = Counts::default();

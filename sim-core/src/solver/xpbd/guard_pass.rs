@@ -21,10 +21,10 @@ pub(super) const ONLY_PARALLEL_FROM: usize = 256;
 
 /// What the guard's pass reads, shared by the two halves' threads.
 pub(super) struct Moves<'a> {
-    pub(super) free: &'a [bool],
-    pub(super) boxes: &'a [Aabb],
+    free: &'a [bool],
+    boxes: &'a [Aabb],
     pub(super) reach: &'a Reach,
-    pub(super) prox: &'a Proximity,
+    prox: &'a Proximity,
 }
 
 /// What a pass did to its moves.
@@ -43,7 +43,21 @@ impl std::ops::AddAssign for Counts {
     }
 }
 
-impl Moves<'_> {
+impl<'a> Moves<'a> {
+    pub(super) fn of(
+        free: &'a [bool],
+        boxes: &'a [Aabb],
+        reach: &'a Reach,
+        prox: &'a Proximity,
+    ) -> Self {
+        Self {
+            free,
+            boxes,
+            reach,
+            prox,
+        }
+    }
+
     /// Passes the moves of `verts` in turn (from `committed` to `targets`), each vertex
     /// kept at `committed` as it goes; `prev` holds the vertices from `off` on.
     pub(super) fn run(
