@@ -162,14 +162,17 @@ impl Reach {
         self.touched.reset(n);
         self.broken.reset(pairs.len());
         let mid = n / 2;
-        let mut mixed = vec![false; n];
+        // Each vertex's list: its half, or the rest once a pair of it straddles `mid`.
+        let part = &mut self.part;
+        part.clear();
+        part.extend((0..n).map(|v| u8::from(v >= mid)));
         let reach = &mut self.reach2;
         for (q, rooms) in pairs.iter().zip(self.room2.chunks_exact_mut(4)) {
             let cloth = q.v.iter().filter(|&&v| v != NONE && (v as usize) < n);
             if cloth.clone().any(|&v| v as usize >= mid)
                 && cloth.clone().any(|&v| (v as usize) < mid)
             {
-                cloth.for_each(|&v| mixed[v as usize] = true);
+                cloth.for_each(|&v| part[v as usize] = 2);
             }
             let live = |k: usize| q.side[k] != 0 && q.v[k] != NONE && (q.v[k] as usize) < n;
             if q.body_bound > f32::NEG_INFINITY {
@@ -202,11 +205,8 @@ impl Reach {
         self.farthest2.0.extend(far);
         self.mid = mid;
         self.order.iter_mut().for_each(Vec::clear);
-        self.part.clear();
-        for (v, &m) in mixed.iter().enumerate() {
-            let list = if m { 2 } else { u8::from(v >= mid) };
+        for (v, &list) in self.part.iter().enumerate() {
             self.order[list as usize].push(v as u32);
-            self.part.push(list);
         }
     }
 
