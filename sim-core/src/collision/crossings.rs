@@ -27,8 +27,9 @@ fn c3(p: Vec3) -> Coord3D<f64> {
     }
 }
 
-/// The sign of the orientation of `d` against the plane through `a`, `b`, `c`, exactly.
-fn o3(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> i8 {
+/// The sign of the orientation of `d` against the plane through `a`, `b`, `c`, exactly:
+/// of det[a - d, b - d, c - d].
+pub(crate) fn o3(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> i8 {
     sign(orient3d(c3(a), c3(b), c3(c), c3(d)))
 }
 

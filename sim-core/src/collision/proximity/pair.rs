@@ -293,23 +293,10 @@ pub(super) fn separating(
     best
 }
 
-/// The sign of `((b - a) x (c - a)) . (d - a)`, exactly (Shewchuk's adaptive predicate
-/// on the f32 coordinates, which convert to f64 without rounding).
+/// The sign of `((b - a) x (c - a)) . (d - a)`, exactly (the crossing count's
+/// orientation predicate: det[b - a, c - a, d - a]).
 pub(super) fn triple_sign(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> i8 {
-    let c3 = |p: Vec3| robust::Coord3D {
-        x: f64::from(p.x),
-        y: f64::from(p.y),
-        z: f64::from(p.z),
-    };
-    // `orient3d(pa, pb, pc, pd)` is det[pa - pd, pb - pd, pc - pd].
-    let v = robust::orient3d(c3(b), c3(c), c3(d), c3(a));
-    if v > 0.0 {
-        1
-    } else if v < 0.0 {
-        -1
-    } else {
-        0
-    }
+    crate::collision::crossings::o3(b, c, d, a)
 }
 
 /// Whether the boxes of vertices `a` and those of `b` stay more than `gap` apart along
