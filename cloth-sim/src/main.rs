@@ -45,8 +45,8 @@ enum Command {
     Crossings {
         /// The cloth, as an OBJ (vertices at the same position are one vertex).
         cloth: PathBuf,
-        /// The body: cube, sphere, mannequin, mannequin-apose (ours, as the scenarios
-        /// place them) or an .obj (a scenario's body.obj).
+        /// The body: cube, sphere, mannequin, mannequin-apose, human (ours, as the
+        /// scenarios place them) or an .obj (a scenario's body.obj).
         #[arg(long, value_parser = parse_body)]
         body: Option<BodyKind>,
     },
@@ -121,7 +121,7 @@ struct RunArgs {
     /// Domain (iceoryx2 prefix) to run in; default $SAIHO_DOMAIN, else "default".
     #[arg(long)]
     domain: Option<String>,
-    /// Body: cube, sphere, mannequin, mannequin-apose or a path to an .obj.
+    /// Body: cube, sphere, mannequin, mannequin-apose, human or a path to an .obj.
     #[arg(long, value_parser = parse_body, default_value = "cube")]
     body: BodyKind,
     /// Cells per side of the square cloth.
@@ -252,10 +252,11 @@ struct ScenarioArgs {
     #[arg(long, default_value_t = 600, allow_negative_numbers = true, value_parser = whole_in::<u64>(1, MAX_FRAMES as i64, ""))]
     frames: u64,
     /// Body: cube, sphere, mannequin, mannequin-apose (its arms held out 50 degrees below
-    /// the horizontal, as GarmentCode's patterns are placed for: their sleeves go round its
-    /// arms), a path to an .obj (metres, Y up, closed, outward winding) or floor (none: the
-    /// cloth lies on the floor). Default: the scenario's own (the cube; the mannequin for
-    /// drape-mannequin and the garments; the floor for fold).
+    /// the horizontal), human (an average adult figure, 1.72 m, arms held out 45 degrees:
+    /// GarmentCode's own body, which its patterns are cut for), a path to an .obj (metres,
+    /// Y up, closed, outward winding) or floor (none: the cloth lies on the floor).
+    /// Default: the scenario's own (the cube; the mannequin for drape-mannequin and the
+    /// garments, the human body for a GarmentCode pattern; the floor for fold).
     #[arg(long, value_parser = parse_scenario_body)]
     body: Option<ScenarioBody>,
     /// Substeps per frame (default: 5 for xpbd, 1 for implicit, the stable count for seed).

@@ -612,6 +612,7 @@ fn scene_of(design: &Design) -> (u32, u32) {
         Some("sphere") => scene_body::SPHERE,
         Some("mannequin") => scene_body::MANNEQUIN,
         Some("mannequin-apose") => scene_body::MANNEQUIN_APOSE,
+        Some("human") => scene_body::HUMAN,
         Some(_) => scene_body::FILE,
     };
     let rest = &design.sim.cloth.rest;

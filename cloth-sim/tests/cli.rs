@@ -607,7 +607,7 @@ fn fold_lies_on_the_floor_and_the_scenarios_that_act_on_a_body_need_one() {
     let o = dir.to_str().unwrap();
     fails_cleanly(
         &["scenario", "tear", "--body", "floor", "--out", o, "--quiet"],
-        "body must be cube, sphere, mannequin, mannequin-apose or an .obj",
+        "body must be cube, sphere, mannequin, mannequin-apose, human or an .obj",
     );
     assert!(!dir.join("report.json").exists());
     let r = scenario_report(&dir, &["fold", "--model", "vbd", "--grid", "10"]);

@@ -285,7 +285,9 @@ pub mod scene_body {
     pub const NONE: u32 = 4;
     /// The A-posed mannequin (since protocol 9).
     pub const MANNEQUIN_APOSE: u32 = 5;
-    pub const LAST: u32 = MANNEQUIN_APOSE;
+    /// The human body (since protocol 15).
+    pub const HUMAN: u32 = 6;
+    pub const LAST: u32 = HUMAN;
 }
 
 impl Checked for SimTelemetry {

@@ -96,7 +96,9 @@ pub mod body {
     pub const MANNEQUIN: u32 = 2;
     /// Since protocol 9.
     pub const MANNEQUIN_APOSE: u32 = 3;
-    pub const LAST: u32 = MANNEQUIN_APOSE;
+    /// Since protocol 15.
+    pub const HUMAN: u32 = 4;
+    pub const LAST: u32 = HUMAN;
 }
 
 /// The named places round the body a piece can start at.

@@ -526,6 +526,7 @@ pub(crate) fn replacement(
                 BodyChoice::Mannequin => BodyKind::Mannequin,
                 BodyChoice::Cube => BodyKind::Cube,
                 BodyChoice::MannequinAPose => BodyKind::MannequinAPose,
+                BodyChoice::Human => BodyKind::Human,
             };
             let name = kind.name();
             scene.body = Some(kind);

@@ -15,6 +15,9 @@ pub enum BodyChoice {
     /// The mannequin with its arms held out 50 degrees below the horizontal, as
     /// GarmentCode's patterns place their sleeves (since protocol 9).
     MannequinAPose,
+    /// A human figure, GarmentCode's average body, its arms held out 45 degrees below the
+    /// horizontal: the body GarmentCode's patterns are cut for (since protocol 15).
+    Human,
 }
 
 /// A change of material: each value given replaces the design's, each `None` keeps it.
@@ -349,6 +352,7 @@ impl Command {
                     BodyChoice::Sphere => body::SPHERE,
                     BodyChoice::Mannequin => body::MANNEQUIN,
                     BodyChoice::MannequinAPose => body::MANNEQUIN_APOSE,
+                    BodyChoice::Human => body::HUMAN,
                 };
                 c.a = grid.unwrap_or(0);
                 c.mode = substeps.unwrap_or(0);
@@ -442,6 +446,7 @@ impl Command {
                     body::SPHERE => BodyChoice::Sphere,
                     body::MANNEQUIN => BodyChoice::Mannequin,
                     body::MANNEQUIN_APOSE => BodyChoice::MannequinAPose,
+                    body::HUMAN => BodyChoice::Human,
                     _ => BodyChoice::Cube,
                 },
                 grid: some_nonzero(c.a),

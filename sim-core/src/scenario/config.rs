@@ -266,7 +266,7 @@ impl ScenarioConfig {
         if self.body.is_none() && self.scenario.needs_body() {
             return Err(ConfigError::OutOfRange {
                 name: "body",
-                rule: "cube, sphere, mannequin, mannequin-apose or an .obj for this scenario (it acts on a body)",
+                rule: "cube, sphere, mannequin, mannequin-apose, human or an .obj for this scenario (it acts on a body)",
                 value: "floor".into(),
             });
         }

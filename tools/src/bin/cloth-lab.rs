@@ -39,7 +39,8 @@ struct Cli {
     #[arg(long, default_value_t = 64, allow_negative_numbers = true,
           value_parser = whole_in::<usize>(1, 1999, " cells a side"))]
     grid: usize,
-    /// Body: cube, sphere, mannequin, mannequin-apose (arms held out) or FILE.obj.
+    /// Body: cube, sphere, mannequin, mannequin-apose (arms held out), human (GarmentCode's
+    /// average body) or FILE.obj.
     #[arg(long, default_value = "cube")]
     body: String,
     /// Cloth model of a new design (cloth-sim's --model): xpbd (the default: real time,

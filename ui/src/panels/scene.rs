@@ -76,6 +76,7 @@ fn body_name(code: u32) -> &'static str {
         scene_body::SPHERE => "sphere",
         scene_body::MANNEQUIN => "mannequin",
         scene_body::MANNEQUIN_APOSE => "mannequin, arms out (A-pose)",
+        scene_body::HUMAN => "human body",
         scene_body::FILE => "a body from a file",
         _ => "no body",
     }
@@ -96,6 +97,7 @@ impl ScenePanel {
             scene_body::SPHERE => self.body = BodyChoice::Sphere,
             scene_body::MANNEQUIN => self.body = BodyChoice::Mannequin,
             scene_body::MANNEQUIN_APOSE => self.body = BodyChoice::MannequinAPose,
+            scene_body::HUMAN => self.body = BodyChoice::Human,
             _ => {}
         }
         if t.grid > 0 {
@@ -216,7 +218,8 @@ impl ScenePanel {
                     scene_body::CUBE
                     | scene_body::SPHERE
                     | scene_body::MANNEQUIN
-                    | scene_body::MANNEQUIN_APOSE => {
+                    | scene_body::MANNEQUIN_APOSE
+                    | scene_body::HUMAN => {
                         format!("the {}", body_name(body))
                     }
                     other => body_name(other).to_string(),
@@ -234,6 +237,7 @@ impl ScenePanel {
                     BodyChoice::Mannequin => "mannequin",
                     BodyChoice::Cube => "cube",
                     BodyChoice::MannequinAPose => "mannequin, A-pose",
+                    BodyChoice::Human => "human body",
                 })
                 .show_ui(ui, |ui| {
                     ui.selectable_value(&mut self.body, BodyChoice::Cube, "cube");
@@ -248,6 +252,11 @@ impl ScenePanel {
                         "Its arms held out 50 degrees below the horizontal, as GarmentCode's \
                          patterns place their sleeves: they go round its arms",
                     );
+                    ui.selectable_value(&mut self.body, BodyChoice::Human, "human body")
+                        .on_hover_text(
+                            "An average adult figure, 1.72 m, arms held out 45 degrees \
+                             (GarmentCode's body): its patterns are cut for it and fit it",
+                        );
                 })
                 .response
                 .on_hover_text("What the next scene drapes over");

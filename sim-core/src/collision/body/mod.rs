@@ -20,5 +20,5 @@ pub use mannequin::{
 };
 #[cfg(test)]
 pub(crate) use shapes::icosphere;
-pub use shapes::{BodyKind, body_from_obj_text, cube, sphere};
+pub use shapes::{BodyKind, HUMAN, body_from_obj_text, cube, sphere};
 pub use surface::{Body, BodyContact};

@@ -23,23 +23,28 @@ pub enum BodyKind {
     /// The same figure with its arms held out (an A-pose), as GarmentCode's patterns
     /// are placed for.
     MannequinAPose,
+    /// A human figure, 1.72 m, its arms held out 45 degrees below the horizontal:
+    /// GarmentCode's average body (MIT), the body its patterns are cut and placed for.
+    Human,
     /// A closed, outward-wound OBJ surface in metres, Y up.
     Obj(PathBuf),
 }
 
 impl BodyKind {
-    /// Parses `cube`, `sphere`, `mannequin`, `mannequin-apose` or a path ending in `.obj`.
+    /// Parses `cube`, `sphere`, `mannequin`, `mannequin-apose`, `human` or a path ending
+    /// in `.obj`.
     pub fn parse(s: &str) -> Result<Self, ConfigError> {
         match s {
             "cube" => Ok(Self::Cube),
             "sphere" => Ok(Self::Sphere),
             "mannequin" => Ok(Self::Mannequin),
             "mannequin-apose" => Ok(Self::MannequinAPose),
+            HUMAN => Ok(Self::Human),
             p if p.to_ascii_lowercase().ends_with(".obj") => Ok(Self::Obj(PathBuf::from(p))),
             other => Err(ConfigError::Unknown {
                 what: "body",
                 name: other.to_string(),
-                expected: "cube, sphere, mannequin, mannequin-apose or a path to an .obj file",
+                expected: "cube, sphere, mannequin, mannequin-apose, human or a path to an .obj file",
             }),
         }
     }
@@ -50,6 +55,7 @@ impl BodyKind {
             Self::Sphere => "sphere".into(),
             Self::Mannequin => Pose::Hanging.body_name().into(),
             Self::MannequinAPose => Pose::A.body_name().into(),
+            Self::Human => HUMAN.into(),
             Self::Obj(p) => p.display().to_string(),
         }
     }
@@ -64,10 +70,18 @@ impl BodyKind {
             Self::Sphere => sphere(Vec3::new(0.0, 0.3, 0.0), 0.3, 4).map_err(internal),
             Self::Mannequin => mannequin().map_err(internal),
             Self::MannequinAPose => posed_mannequin(Pose::A).map_err(internal),
+            Self::Human => body_from_obj_text(Path::new(HUMAN), HUMAN_OBJ),
             Self::Obj(path) => obj_body(path),
         }
     }
 }
+
+/// The human body's name.
+pub const HUMAN: &str = "human";
+
+/// The human body's surface: GarmentCode's `mean_all.obj`, decimated to 11,874 triangles
+/// and freed of the places where it crossed itself (`bench/make_human_body.py`).
+const HUMAN_OBJ: &str = include_str!("../../../assets/human.obj");
 
 /// Merges vertices closer than `eps` so shared edges are shared indices.
 fn weld(vertices: &[Vec3], triangles: &[[u32; 3]], eps: f32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
@@ -308,6 +322,32 @@ mod tests {
         // A point in the chest is inside, one in front of it outside.
         assert!(m.penetration(Vec3::new(0.0, 1.3, 0.0)) > 0.05);
         assert_eq!(m.penetration(Vec3::new(0.0, 1.3, 0.3)), 0.0);
+    }
+
+    #[test]
+    fn the_human_body_is_a_clean_solid_of_a_human_size() {
+        let b = BodyKind::parse("human").unwrap().build().unwrap();
+        assert_eq!(b.name, "human");
+        assert_eq!(b.triangles.len(), 11_874);
+        // Outward and closed as it is: nothing was flipped or repaired.
+        assert!(b.repairs.is_empty(), "{:?}", b.repairs);
+        let (mn, mx) = b.bounds();
+        assert!(
+            mn.y.abs() < 1e-3 && (1.70..1.74).contains(&mx.y),
+            "{mn} {mx}"
+        );
+        // Arms held out: 1.3 m across the hands.
+        assert!((1.25..1.35).contains(&(mx.x - mn.x)), "{mn} {mx}");
+        // It does not pass through itself (the original did, at the lips and the
+        // crotch; `bench/make_human_body.py` smoothed them).
+        assert_eq!(
+            crate::collision::crossings::count_self(&b.vertices, &b.triangles),
+            0
+        );
+        // The chest and the head are inside, the air in front of the chest outside.
+        assert!(b.penetration(Vec3::new(0.0, 1.2, 0.0)) > 0.08);
+        assert_eq!(b.penetration(Vec3::new(0.0, 1.2, 0.3)), 0.0);
+        assert!(b.penetration(Vec3::new(0.0, 1.62, 0.01)) > 0.05);
     }
 
     #[test]

@@ -164,7 +164,7 @@ fn euler(d: Vec3) -> Mat3 {
 /// Where a panel starts on our body, from where GarmentCode put it on theirs.
 fn placement(outline: &[Vec2], rot: Mat3, trans: Vec3, marks: &Landmarks) -> Placement {
     let (lo, hi) = crate::mesh::bounds2(outline);
-    let to_ours = Vec3::new(marks.axis.x, GC_RAISE + marks.lift, marks.axis.y);
+    let to_ours = marks.garmentcode + Vec3::Y * marks.lift;
     let world = |p: Vec2| rot * p.extend(0.0) + trans + to_ours;
     let centre = world((lo + hi) * 0.5);
     let top = outline.iter().map(|&p| world(p).y).fold(f32::MIN, f32::max);
@@ -425,6 +425,7 @@ mod tests {
             shoulders: 1.53,
             lift: 0.03,
             arms: None,
+            garmentcode: Vec3::Y * GC_RAISE,
         };
         let spec = read_garmentcode(TWO_PANELS, &marks).unwrap();
         assert_eq!(spec.pieces.len(), 2);

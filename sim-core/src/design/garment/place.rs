@@ -13,7 +13,9 @@ use std::f32::consts::{FRAC_PI_2, PI, TAU};
 use glam::{Mat3, Vec2, Vec3};
 
 use crate::collision::Body;
-use crate::collision::body::{ARM_RADIUS, Pose};
+use crate::collision::body::{ARM_RADIUS, HUMAN, Pose};
+
+use super::garmentcode::GC_RAISE;
 
 /// The named places of a dress form, as a designer says them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -133,6 +135,9 @@ pub struct Landmarks {
     pub lift: f32,
     /// Left then right: shoulder, wrist and the radius pieces start at.
     pub arms: Option<[(Vec3, Vec3, f32); 2]>,
+    /// Where GarmentCode's average body stands on ours (its origin, between its feet):
+    /// its patterns are placed for it. Zero on the `human` body, which is that body.
+    pub garmentcode: Vec3,
 }
 
 /// The top of the mannequin's shoulders, m.
@@ -145,6 +150,20 @@ pub const MANNEQUIN_SHOULDERS: f32 = 1.50;
 /// 51-54 from here; docs/garments.md).
 pub const MANNEQUIN_TOPS: f32 = MANNEQUIN_SHOULDERS + 0.08;
 
+/// The top of the `human` body's shoulders, m.
+pub const HUMAN_SHOULDERS: f32 = 1.44;
+
+/// How far above the `human` body's shoulders a top's pieces start, m (as on the
+/// mannequin).
+const HUMAN_LIFT: f32 = 0.08;
+
+/// The `human` body's left arm (+X): where its axis leaves the torso, and the wrist, m.
+const HUMAN_ARM: [Vec3; 2] = [Vec3::new(0.21, 1.33, -0.03), Vec3::new(0.52, 1.035, 0.02)];
+
+/// The `human` body's upper arm radius, m, and the room round it a sleeve starts in.
+const HUMAN_ARM_RADIUS: f32 = 0.05;
+const HUMAN_ARM_ROOM: f32 = 0.035;
+
 /// How far from the body a piece starts where the body's shape is known only by its
 /// bounds, m.
 const CLEARANCE: f32 = 0.03;
@@ -154,6 +173,7 @@ impl Landmarks {
     /// bounds (an ellipse round its box, no arms), or the floor's (a 1 m wide axis).
     pub fn of(body: Option<&Body>) -> Self {
         match body.map(|b| (b, Pose::of_body(&b.name))) {
+            Some((b, _)) if b.name == HUMAN => Self::human(),
             Some((b, Some(pose))) => {
                 let (mn, mx) = b.bounds();
                 let axis = Vec2::new(0.5 * (mn.x + mx.x), 0.5 * (mn.z + mx.z));
@@ -181,18 +201,21 @@ impl Landmarks {
                     shoulders: MANNEQUIN_TOPS,
                     lift: MANNEQUIN_TOPS - MANNEQUIN_SHOULDERS,
                     arms: Some([arm(1.0), arm(-1.0)]),
+                    garmentcode: Vec3::new(axis.x, GC_RAISE, axis.y),
                 }
             }
             Some((b, None)) => {
                 let (mn, mx) = b.bounds();
                 let half = Vec2::new(0.5 * (mx.x - mn.x), 0.5 * (mx.z - mn.z));
+                let axis = Vec2::new(0.5 * (mn.x + mx.x), 0.5 * (mn.z + mx.z));
                 Self {
-                    axis: Vec2::new(0.5 * (mn.x + mx.x), 0.5 * (mn.z + mx.z)),
+                    axis,
                     // The ellipse through the box's corners, and room.
                     torso: half * std::f32::consts::SQRT_2 + Vec2::splat(CLEARANCE),
                     shoulders: mx.y + CLEARANCE,
                     lift: 0.0,
                     arms: None,
+                    garmentcode: Vec3::new(axis.x, GC_RAISE, axis.y),
                 }
             }
             None => Self {
@@ -201,7 +224,34 @@ impl Landmarks {
                 shoulders: 1.5,
                 lift: 0.0,
                 arms: None,
+                garmentcode: Vec3::Y * GC_RAISE,
             },
+        }
+    }
+
+    /// The `human` body's, measured on its mesh (`sim-core/assets/human.obj`): the
+    /// shoulders' top 1.44 m up at 10-15 cm from the middle, the arms' axis 45 degrees
+    /// below the horizontal from where it leaves the torso to the wrist, the upper arm
+    /// 4-5 cm in radius.
+    fn human() -> Self {
+        let arm = |s: f32| {
+            let m = Vec3::new(s, 1.0, 1.0);
+            (
+                HUMAN_ARM[0] * m,
+                HUMAN_ARM[1] * m,
+                HUMAN_ARM_RADIUS + HUMAN_ARM_ROOM,
+            )
+        };
+        Self {
+            axis: Vec2::new(0.0, -0.005),
+            // Round the torso from the hips to the shoulders (0.39 m across the hips, about
+            // 0.27 m deep at the seat and at the bust), 1-2 cm clear of its front and
+            // back; its sides pass in front of and behind the arms where they leave it.
+            torso: Vec2::new(0.21, 0.20),
+            shoulders: HUMAN_SHOULDERS + HUMAN_LIFT,
+            lift: HUMAN_LIFT,
+            arms: Some([arm(1.0), arm(-1.0)]),
+            garmentcode: Vec3::ZERO,
         }
     }
 
@@ -397,6 +447,7 @@ mod tests {
                 (Vec3::new(0.25, 1.4, 0.0), Vec3::new(0.3, 0.9, 0.0), 0.07),
                 (Vec3::new(-0.25, 1.4, 0.0), Vec3::new(-0.3, 0.9, 0.0), 0.07),
             ]),
+            garmentcode: Vec3::ZERO,
         }
     }
 
@@ -470,6 +521,38 @@ mod tests {
         let n = (x[1] - x[0]).cross(x[2] - x[0]);
         assert!(n.dot(x[0] - c) > 0.0);
         assert!(((x[0] - c).length() - 0.07).abs() < 1e-4);
+    }
+
+    #[test]
+    fn the_human_bodys_landmarks_are_on_its_mesh() {
+        let body = crate::collision::BodyKind::Human.build().unwrap();
+        let m = Landmarks::of(Some(&body));
+        assert_eq!(
+            m.garmentcode,
+            Vec3::ZERO,
+            "GarmentCode's patterns are placed for it"
+        );
+        // The arms' axes run inside the arms, 45 degrees below the horizontal.
+        for (s, w, r) in m.arms.unwrap() {
+            for t in [0.0, 0.5, 1.0] {
+                let p = s.lerp(w, t);
+                assert!(body.penetration(p) > 0.015, "{p}: {}", body.penetration(p));
+            }
+            let d = (w - s).normalize();
+            assert!((-d.y).asin().to_degrees() > 40.0 && (-d.y).asin().to_degrees() < 50.0);
+            assert!(r > 0.05 && r < 0.1);
+        }
+        // The torso's cylinder clears the torso (inside the arms) from the hips to the
+        // shoulders, and the shoulders are below where the tops start.
+        for v in &body.vertices {
+            if v.x.abs() < 0.18 && (0.8..1.45).contains(&v.y) {
+                let d = Vec2::new(v.x - m.axis.x, v.z - m.axis.y) / m.torso;
+                assert!(d.length() < 0.96, "{v}: {}", d.length());
+            }
+            if v.x.abs() > 0.1 && v.x.abs() < 0.15 {
+                assert!(v.y < m.shoulders - m.lift + 0.01, "{v}");
+            }
+        }
     }
 
     #[test]

@@ -288,6 +288,7 @@ mod tests {
             shoulders: 1.5,
             lift: 0.0,
             arms: None,
+            garmentcode: glam::Vec3::ZERO,
         };
         let mut s = PatternSpec {
             pieces: vec![
