@@ -484,6 +484,7 @@ pub fn new_design(scene: &ScenarioConfig) -> Result<(Design, Option<String>), St
         return Ok((d, None));
     };
     let sewn = sew(&mut d, &spec, SEAM_PULL).map_err(|e| e.to_string())?;
+    d.float_while_sewing();
     let mut said = format!("{} seams stitched ({} pairs)", sewn.seams, sewn.pairs);
     for n in d.sim.notices.iter().chain(&sewn.open) {
         said += &format!("; note: {n}");

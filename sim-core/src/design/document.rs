@@ -44,6 +44,9 @@ pub struct Design {
     /// The moves that parted the last update's fresh cut ([`Design::part_copies`]),
     /// until the edit that made it takes them into its history.
     pub(super) parting: Vec<Prim>,
+    /// Frames left in which the cloth floats (no gravity) while its seams pull
+    /// ([`Design::float_while_sewing`]).
+    pub(super) afloat: u32,
 }
 
 impl Design {
@@ -65,6 +68,7 @@ impl Design {
             seam_idle: Vec::new(),
             weld_refused: Vec::new(),
             parting: Vec::new(),
+            afloat: 0,
         }
     }
 

@@ -4,11 +4,32 @@
 
 use std::time::Instant;
 
+use glam::Vec3;
+
 use super::document::Design;
 use super::parts::open_stitches;
 use crate::solver::{FrameStats, PenPath, StepError};
 
+/// How long a garment's pieces float while their seams pull, frames (1 s): long enough
+/// for GarmentCode's shirt to close all 346 of its stitched pairs before it falls onto the
+/// shoulders (docs/garments.md, "Sewn in the air"). GarmentCode's own simulator starts
+/// its drapes the same way, with gravity off for its first steps.
+pub const AFLOAT_FRAMES: u32 = 60;
+
 impl Design {
+    /// Lets the cloth float, without gravity, for the next [`AFLOAT_FRAMES`] frames or
+    /// until every seam has closed, whichever comes first: a garment's pieces, placed
+    /// round the body, are sewn together before they fall onto it, so that a seam is not
+    /// left to close over a shoulder that friction holds it on.
+    pub fn float_while_sewing(&mut self) {
+        self.afloat = AFLOAT_FRAMES;
+    }
+
+    /// Whether the cloth floats this frame (see [`Design::float_while_sewing`]).
+    pub fn afloat(&self) -> bool {
+        self.afloat > 0 && self.seams.iter().any(|s| s.open_pairs().next().is_some())
+    }
+
     /// Steps one frame. On divergence the error says so; the state is then not usable.
     pub fn step(&mut self) -> Result<FrameStats, StepError> {
         self.step_with(&mut |_, _, _| None)
@@ -30,10 +51,86 @@ impl Design {
         } else {
             0.0
         };
-        let mut stats = self.sim.step_with(pen)?;
+        let afloat = self.afloat();
+        self.afloat = if afloat { self.afloat - 1 } else { 0 };
+        let gravity = self.sim.env.gravity;
+        if afloat {
+            self.sim.env.gravity = Vec3::ZERO;
+        }
+        let stepped = self.sim.step_with(pen);
+        self.sim.env.gravity = gravity;
+        let mut stats = stepped?;
         stats.torn = self.tear_overstretched();
         stats.welded = self.weld_close_stitches();
         stats.wall_ms = t0.elapsed().as_secs_f64() * 1e3;
         Ok(stats)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::ClothMesh;
+    use crate::solver::ModelKind;
+
+    /// A 0.5 m cloth of 8 x 8 cells at y = 1 under gravity, nothing under it, its first
+    /// row sewn to its last (0.5 m apart: a tube to close).
+    fn tube() -> Design {
+        let n = 8u32;
+        let mesh = ClothMesh::grid(0.5, 0.5, n as usize, n as usize, 1.0).unwrap();
+        let mut d = crate::design::floating(mesh, ModelKind::Xpbd);
+        d.sim.env.gravity = Vec3::new(0.0, -9.81, 0.0);
+        let a: Vec<u32> = (0..=n).collect();
+        let b: Vec<u32> = (0..=n).map(|i| n * (n + 1) + i).collect();
+        d.add_seam(&a, &b, 0.05).unwrap();
+        d
+    }
+
+    fn mean_y(d: &Design) -> f32 {
+        d.sim.cloth.x.iter().map(|p| p.y).sum::<f32>() / d.sim.cloth.x.len() as f32
+    }
+
+    #[test]
+    fn a_garment_floats_while_its_seams_pull_then_falls() {
+        let mut falling = tube();
+        let y0 = mean_y(&falling);
+        falling.step().unwrap();
+        // Gravity: 0.5 g t^2 is 1.4 mm in a frame.
+        assert!(mean_y(&falling) < y0 - 1e-3, "{}", y0 - mean_y(&falling));
+
+        let mut d = tube();
+        let g = d.sim.env.gravity;
+        d.float_while_sewing();
+        assert!(d.afloat());
+        for _ in 0..10 {
+            d.step().unwrap();
+        }
+        // The stitches pull across, nothing pulls down; gravity is back between frames.
+        assert!((mean_y(&d) - y0).abs() < 1e-4, "{}", mean_y(&d) - y0);
+        assert_eq!(d.sim.env.gravity, g);
+        assert!(d.seams[0].open_pairs().next().is_some(), "closed already");
+        for _ in 10..AFLOAT_FRAMES {
+            d.step().unwrap();
+        }
+        // At most AFLOAT_FRAMES frames, then it falls.
+        assert!(!d.afloat());
+        let y1 = mean_y(&d);
+        d.step().unwrap();
+        assert!(mean_y(&d) < y1 - 5e-4, "{}", y1 - mean_y(&d));
+    }
+
+    #[test]
+    fn a_garment_whose_seams_have_all_closed_no_longer_floats() {
+        let mut d = tube();
+        d.float_while_sewing();
+        for s in &mut d.seams {
+            for p in &mut s.pairs {
+                p.1 = p.0;
+            }
+        }
+        assert!(!d.afloat());
+        let y0 = mean_y(&d);
+        d.step().unwrap();
+        assert!(mean_y(&d) < y0 - 1e-3);
     }
 }

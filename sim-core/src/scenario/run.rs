@@ -109,6 +109,7 @@ fn run_frames(
             eprintln!("note: {n}");
             design.sim.notices.push(n);
         }
+        design.float_while_sewing();
     }
     if fold.is_some() && cfg.frames < scripts::FOLD_FRAMES {
         eprintln!(
