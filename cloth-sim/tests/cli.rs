@@ -1009,6 +1009,22 @@ fn the_default_dress_closes_every_seam_with_its_cotton_held() {
         let got = r["strain_limit"].as_f64().unwrap();
         assert!((got - limit).abs() < 1e-6, "{asked:?}: {r}");
     }
+    // A GarmentCode pattern drapes on its own body, the human one, which it fits: with
+    // the limit. On the mannequin it is a pattern from elsewhere again.
+    let gc = dir.join("two_panels_specification.json");
+    std::fs::write(&gc, TWO_GC_PANELS).unwrap();
+    let gc = gc.to_str().unwrap();
+    for (body, named, limit) in [
+        (&[][..], "human", 0.2),
+        (&["--body", "mannequin"][..], "mannequin", 0.0),
+    ] {
+        let args = ["drape-pattern", gc, "--piece-edge", "0.05", "--frames", "2"];
+        let r = scenario_report(&dir, &[&args[..], body].concat());
+        assert_eq!(r["body"], named, "{r}");
+        let got = r["strain_limit"].as_f64().unwrap();
+        assert!((got - limit).abs() < 1e-6, "{body:?}: {r}");
+        assert_eq!(r["seams"], 2, "{r}");
+    }
     for (fabric, own) in [("denim", 0.2), ("wool-stretch-twill", 0.3)] {
         let args = ["dress-mannequin", "--piece-edge", "0.05", "--frames", "2"];
         let r = scenario_report(&dir, &[&args[..], &["--fabric", fabric]].concat());
@@ -1017,6 +1033,19 @@ fn the_default_dress_closes_every_seam_with_its_cotton_held() {
     }
     std::fs::remove_dir_all(dir).ok();
 }
+
+/// GarmentCode's format, two 40 x 50 cm panels in front of and behind its body's waist,
+/// sewn at both sides.
+const TWO_GC_PANELS: &str = r#"{"pattern": {"panels": {
+  "front": {"vertices": [[-20, 0], [20, 0], [20, 50], [-20, 50]],
+            "edges": [{"endpoints": [0, 1]}, {"endpoints": [1, 2]}, {"endpoints": [2, 3]}, {"endpoints": [3, 0]}],
+            "translation": [0, 80, 25], "rotation": [0, 0, 0]},
+  "back": {"vertices": [[-20, 0], [20, 0], [20, 50], [-20, 50]],
+           "edges": [{"endpoints": [0, 1]}, {"endpoints": [1, 2]}, {"endpoints": [2, 3]}, {"endpoints": [3, 0]}],
+           "translation": [0, 80, -25], "rotation": [0, 180, 0]}},
+  "stitches": [[{"panel": "front", "edge": 1}, {"panel": "back", "edge": 3}],
+               [{"panel": "front", "edge": 3}, {"panel": "back", "edge": 1}]]},
+  "properties": {"units_in_meter": 100}}"#;
 
 /// The drape test from the command line: three specimens averaged, the same on a finer
 /// mesh to check convergence, the shadow and the first specimen's mesh.
