@@ -14,16 +14,11 @@
 use glam::{Mat3, Vec2, Vec3};
 use serde_json::Value;
 
+#[cfg(test)]
+use super::place::GC_RAISE;
 use super::place::{Landmarks, Placement};
 use super::spec::{DEFAULT_FABRIC, EdgeRef, PatternSpec, PieceSpec, SeamSpec, shift_angle};
 use crate::mesh::mesher::{Outline, signed_area2};
-
-/// GarmentCode's average body stands lower than ours (shoulders at about 1.40 m against
-/// 1.50 m): its panels are raised by this much, m, and by the body's `Landmarks::lift`
-/// on top, so that a top starts above the shoulders as ours do (a pencil dress's straps
-/// started level with our shoulders, slid off them while the stitches pulled, and the
-/// dress fell to the floor; docs/garments.md).
-pub const GC_RAISE: f32 = 0.10;
 
 /// Most points one curved edge is flattened into.
 const CURVE_POINTS: usize = 64;

@@ -15,8 +15,6 @@ use glam::{Mat3, Vec2, Vec3};
 use crate::collision::Body;
 use crate::collision::body::{ARM_RADIUS, HUMAN, Pose};
 
-use super::garmentcode::GC_RAISE;
-
 /// The named places of a dress form, as a designer says them.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Place {
@@ -139,6 +137,14 @@ pub struct Landmarks {
     /// its patterns are placed for it. Zero on the `human` body, which is that body.
     pub garmentcode: Vec3,
 }
+
+/// GarmentCode's average body (our `human`) stands lower than the mannequin (the tops of
+/// its shoulders at 1.44 m against 1.50 m, and the mannequin's balls stand higher still at
+/// their outer ends): on the mannequin, and on a body known only by its bounds, its
+/// panels are raised by this much, m, and by the body's `Landmarks::lift` on top, so that a top starts above the shoulders as ours do (a pencil dress's straps
+/// started level with our shoulders, slid off them while the stitches pulled, and the
+/// dress fell to the floor; docs/garments.md).
+pub const GC_RAISE: f32 = 0.10;
 
 /// The top of the mannequin's shoulders, m.
 pub const MANNEQUIN_SHOULDERS: f32 = 1.50;
