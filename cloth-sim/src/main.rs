@@ -121,9 +121,11 @@ struct RunArgs {
     /// Domain (iceoryx2 prefix) to run in; default $SAIHO_DOMAIN, else "default".
     #[arg(long)]
     domain: Option<String>,
-    /// Body: cube, sphere, mannequin, mannequin-apose, human or a path to an .obj.
-    #[arg(long, value_parser = parse_body, default_value = "cube")]
-    body: BodyKind,
+    /// Body of a new design: cube, sphere, mannequin, mannequin-apose, human or a path to
+    /// an .obj. Default: the cube, or the human body for a GarmentCode --pattern (the
+    /// body its patterns are cut for).
+    #[arg(long, value_parser = parse_body)]
+    body: Option<BodyKind>,
     /// Cells per side of the square cloth.
     #[arg(long, default_value_t = 64, allow_negative_numbers = true, value_parser = whole_in::<usize>(1, MAX_GRID as i64, " cells a side"))]
     grid: usize,
@@ -398,6 +400,24 @@ fn parse_model(s: &str) -> Result<ModelKind, String> {
 fn parse_body(s: &str) -> Result<BodyKind, String> {
     BodyKind::parse(s).map_err(|e| e.to_string())
 }
+/// Whether `pattern` is a GarmentCode specification (a `.json`): its patterns are cut and
+/// placed for its average body, which is ours as `human`.
+fn garmentcode_pattern(pattern: Option<&Path>) -> bool {
+    pattern
+        .and_then(Path::extension)
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+}
+
+/// The body of `run`'s new design: the one asked for, else the human body for a
+/// GarmentCode pattern, else the cube.
+fn new_design_body(asked: Option<BodyKind>, pattern: Option<&Path>) -> BodyKind {
+    asked.unwrap_or(if garmentcode_pattern(pattern) {
+        BodyKind::Human
+    } else {
+        BodyKind::Cube
+    })
+}
+
 /// A scenario's `--body`: a body, or `floor` for none.
 #[derive(Clone, Debug)]
 struct ScenarioBody(Option<BodyKind>);
@@ -493,7 +513,7 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
     cfg.pinch_stiffness = a.pinch_stiffness;
     cfg.couple_applied_force = !a.no_force_coupling;
     let mut scene = ScenarioConfig::new(ScenarioName::DrapeCube);
-    scene.body = Some(a.body);
+    scene.body = Some(new_design_body(a.body, a.pattern.as_deref()));
     scene.grid = a.grid;
     scene.model = a.model.unwrap_or(ModelKind::Xpbd);
     let forced = guard_choice(a.guard, a.no_guard, scene.model)?;
@@ -615,4 +635,24 @@ fn guard_choice(guard: bool, no_guard: bool, model: ModelKind) -> Result<Option<
         ));
     }
     Ok(asked)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_garmentcode_pattern_starts_on_its_own_body_unless_told() {
+        let shirt = Path::new("shirt_specification.JSON");
+        assert_eq!(new_design_body(None, Some(shirt)), BodyKind::Human);
+        assert_eq!(
+            new_design_body(None, Some(Path::new("dress.svg"))),
+            BodyKind::Cube
+        );
+        assert_eq!(new_design_body(None, None), BodyKind::Cube);
+        assert_eq!(
+            new_design_body(Some(BodyKind::Mannequin), Some(shirt)),
+            BodyKind::Mannequin
+        );
+    }
 }

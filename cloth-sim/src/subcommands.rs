@@ -33,11 +33,7 @@ pub(super) fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>
     cfg.frames = a.frames;
     // GarmentCode's patterns are cut and placed for its average body, which is ours as
     // `human`: they drape on it unless another body is asked for.
-    let garmentcode = a
-        .pattern
-        .as_ref()
-        .and_then(|p| p.extension())
-        .is_some_and(|e| e.eq_ignore_ascii_case("json"));
+    let garmentcode = garmentcode_pattern(a.pattern.as_deref());
     if garmentcode {
         cfg.body = Some(BodyKind::Human);
     }

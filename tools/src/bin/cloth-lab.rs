@@ -40,9 +40,10 @@ struct Cli {
           value_parser = whole_in::<usize>(1, 1999, " cells a side"))]
     grid: usize,
     /// Body: cube, sphere, mannequin, mannequin-apose (arms held out), human (GarmentCode's
-    /// average body) or FILE.obj.
-    #[arg(long, default_value = "cube")]
-    body: String,
+    /// average body) or FILE.obj. Default: the cube, or the human body for a GarmentCode
+    /// --pattern (cloth-sim's choice).
+    #[arg(long)]
+    body: Option<String>,
     /// Cloth model of a new design (cloth-sim's --model): xpbd (the default: real time,
     /// with its guard the cloth never crosses itself or the body), vbd (never crosses,
     /// strain under 1%; several times slower, see docs/models.md), seed (the paper's
@@ -285,9 +286,10 @@ fn sim_args(cli: &Cli, domain: &Domain, autosave: Option<&PathBuf>) -> Vec<Strin
         domain.name().into(),
         "--grid".into(),
         cli.grid.to_string(),
-        "--body".into(),
-        cli.body.clone(),
     ];
+    if let Some(b) = &cli.body {
+        a.extend(["--body".into(), b.clone()]);
+    }
     if let Some(m) = &cli.model {
         a.extend(["--model".into(), m.clone()]);
     }
@@ -395,11 +397,12 @@ impl Headless {
                 ));
             }
         };
+        let body = cli.body.as_deref().unwrap_or("cube");
         match s {
-            Self::FitCube if cli.body != "cube" => {
+            Self::FitCube if body != "cube" => {
                 return Err("the fit-cube scenario drapes over the cube (--body cube)".into());
             }
-            Self::DressMannequin if !matches!(cli.body.as_str(), "cube" | "mannequin") => {
+            Self::DressMannequin if !matches!(body, "cube" | "mannequin") => {
                 return Err(
                     "the dress-mannequin scenario dresses the mannequin (--body mannequin)".into(),
                 );
@@ -438,8 +441,9 @@ impl Headless {
             std::fs::write(&svg, tools::headless::DRESS_SVG)
                 .map_err(|e| format!("{}: {e}", svg.display()))?;
             if let Some(i) = a.iter().position(|s| s == "--body") {
-                a[i + 1] = "mannequin".into();
+                a.drain(i..i + 2);
             }
+            a.extend(["--body".into(), "mannequin".into()]);
             a.extend(["--pattern".into(), svg.display().to_string()]);
         }
         Ok(a)
@@ -627,8 +631,22 @@ mod tests {
             !plain.iter().any(|s| s == "--model"
                 || s == "--fabric"
                 || s == "--strain-limit"
-                || s == "--pattern"),
+                || s == "--pattern"
+                || s == "--body"),
             "{plain:?}"
+        );
+        let human = sim_args(
+            &Cli::try_parse_from(["cloth-lab", "--body", "human"]).unwrap(),
+            &domain,
+            None,
+        );
+        assert_eq!(
+            human
+                .iter()
+                .position(|s| s == "--body")
+                .map(|i| human[i + 1].as_str()),
+            Some("human"),
+            "{human:?}"
         );
         assert!(Cli::try_parse_from(["cloth-lab", "--model", "blender"]).is_err());
     }
