@@ -94,27 +94,7 @@ fn run_frames(
     let mut pull: Option<(Vec3, Vec3, u64)> = None;
     let mut fold = (cfg.scenario == ScenarioName::Fold).then(scripts::Fold::default);
     if let Some(spec) = spec {
-        let sewn = crate::design::garment::sew(design, spec, super::garment::SEAM_PULL)?;
-        ops.seams = Some(sewn.seams);
-        ops.seam_pairs = Some(sewn.pairs);
-        ops.seam_length_mismatch_m = Some(sewn.mismatch_m as f64);
-        eprintln!(
-            "{}: {} pieces, {} seams of {} stitched pairs",
-            cfg.scenario.name(),
-            spec.pieces.len(),
-            sewn.seams,
-            sewn.pairs
-        );
-        for n in sewn.open {
-            eprintln!("note: {n}");
-            design.sim.notices.push(n);
-        }
-        // dress-mannequin sews its shipped dress as it falls, as it always has: it
-        // closes every pair so, and floating it (2 x 8k vertices) left one drape of
-        // three unsettled, a benchmark's worth of frames moving (docs/garments.md).
-        if cfg.scenario == ScenarioName::DrapePattern {
-            design.float_while_sewing();
-        }
+        sew_pattern(cfg, design, spec, ops)?;
     }
     if fold.is_some() && cfg.frames < scripts::FOLD_FRAMES {
         eprintln!(
@@ -198,6 +178,38 @@ fn run_frames(
         ops.seam_pairs_open = Some(open_pairs(design));
     }
     Ok(frames)
+}
+
+/// Sews a garment scenario's pattern into `design` (its seams' stitches), says what was
+/// sewn, and for drape-pattern lets the pieces float while the seams pull.
+fn sew_pattern(
+    cfg: &ScenarioConfig,
+    design: &mut Design,
+    spec: &PatternSpec,
+    ops: &mut OpsReport,
+) -> Result<(), ScenarioError> {
+    let sewn = crate::design::garment::sew(design, spec, super::garment::SEAM_PULL)?;
+    ops.seams = Some(sewn.seams);
+    ops.seam_pairs = Some(sewn.pairs);
+    ops.seam_length_mismatch_m = Some(sewn.mismatch_m as f64);
+    eprintln!(
+        "{}: {} pieces, {} seams of {} stitched pairs",
+        cfg.scenario.name(),
+        spec.pieces.len(),
+        sewn.seams,
+        sewn.pairs
+    );
+    for n in sewn.open {
+        eprintln!("note: {n}");
+        design.sim.notices.push(n);
+    }
+    // dress-mannequin sews its shipped dress as it falls, as it always has: it
+    // closes every pair so, and floating it (2 x 8k vertices) left one drape of
+    // three unsettled, a benchmark's worth of frames moving (docs/garments.md).
+    if cfg.scenario == ScenarioName::DrapePattern {
+        design.float_while_sewing();
+    }
+    Ok(())
 }
 
 /// The design's stitched pairs still open, seam by seam.
