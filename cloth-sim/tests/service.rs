@@ -236,20 +236,25 @@ fn tool_state_and_the_pens_pin(
     let mut pen_seq = 0;
     let deadline = Instant::now() + Duration::from_secs(10);
     let mut pressed = false;
+    let mut at = [0.0; 3];
     loop {
         assert!(Instant::now() < deadline, "the pen's press did not pin");
         if let Some(f) = frames.receive().unwrap() {
-            // Follow vertex 0 of the (falling) cloth with the tip; press, then release.
+            // Follow vertex 0 of the (falling) cloth with the tip; press, release, and
+            // press again until a press pins: on a loaded machine the frame the tip
+            // follows can be old enough that the cloth has fallen out of reach (a single
+            // press then missed and the test timed out).
             let p = f.payload();
+            at = [p[0], p[1], p[2]];
             let sample = shared::haptic_to_sim::DeviceSample {
                 header: Header::next(&mut pen_seq),
-                position: [p[0], p[1], p[2]],
+                position: at,
                 buttons: u32::from(!pressed),
                 device_ok: 1,
                 ..Default::default()
             };
             pen.send_copy(sample).unwrap();
-            pressed = true;
+            pressed = !pressed;
         }
         if let Some(s) = states.receive().unwrap()
             && s.undo_depth > depth_before
@@ -258,6 +263,14 @@ fn tool_state_and_the_pens_pin(
         }
         std::thread::sleep(Duration::from_millis(2));
     }
+    // The button up, whatever the last sample said.
+    let up = shared::haptic_to_sim::DeviceSample {
+        header: Header::next(&mut pen_seq),
+        position: at,
+        device_ok: 1,
+        ..Default::default()
+    };
+    pen.send_copy(up).unwrap();
     (states, frames, pen)
 }
 

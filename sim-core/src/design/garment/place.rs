@@ -141,9 +141,10 @@ pub struct Landmarks {
 /// GarmentCode's average body (our `human`) stands lower than the mannequin (the tops of
 /// its shoulders at 1.44 m against 1.50 m, and the mannequin's balls stand higher still at
 /// their outer ends): on the mannequin, and on a body known only by its bounds, its
-/// panels are raised by this much, m, and by the body's `Landmarks::lift` on top, so that a top starts above the shoulders as ours do (a pencil dress's straps
-/// started level with our shoulders, slid off them while the stitches pulled, and the
-/// dress fell to the floor; docs/garments.md).
+/// panels are raised by this much, m, and by the body's `Landmarks::lift` on top, so that
+/// a top starts above the shoulders as ours do (a pencil dress's straps started level
+/// with the mannequin's shoulders, slid off them while the stitches pulled, and the dress
+/// fell to the floor; docs/garments.md).
 pub const GC_RAISE: f32 = 0.10;
 
 /// The top of the mannequin's shoulders, m.
@@ -251,8 +252,9 @@ impl Landmarks {
         Self {
             axis: Vec2::new(0.0, -0.005),
             // Round the torso from the hips to the shoulders (0.39 m across the hips, about
-            // 0.27 m deep at the seat and at the bust), 1-2 cm clear of its front and
-            // back; its sides pass in front of and behind the arms where they leave it.
+            // 0.27 m deep at the seat and at the bust), inside the arms at least 4% of the
+            // way in from the ellipse; its sides pass in front of and behind the arms
+            // where they leave the torso.
             torso: Vec2::new(0.21, 0.20),
             shoulders: HUMAN_SHOULDERS + HUMAN_LIFT,
             lift: HUMAN_LIFT,
