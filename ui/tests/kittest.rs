@@ -828,6 +828,19 @@ fn a_new_scene_can_be_a_pattern() {
     let c = *commands(&h).last().unwrap();
     assert_eq!((c.op, c.text()), (op::RESET, Some("patterns/dress.svg")));
     assert_eq!(c.b, shared::ui_to_sim::body::MANNEQUIN);
+    // A GarmentCode pattern is cut for the human body: said over the mannequin too, and
+    // one click makes the next scene that body.
+    h.state_mut().scene.pattern = "patterns/shirt_specification.json".into();
+    h.run_steps(2);
+    press(&mut h, "Use the human body");
+    assert!(
+        h.query_by_label("Use the human body").is_none(),
+        "the note goes once the body is its own"
+    );
+    press(&mut h, "New scene");
+    press(&mut h, "Click again to reset");
+    let c = *commands(&h).last().unwrap();
+    assert_eq!(c.b, shared::ui_to_sim::body::HUMAN);
     h.state_mut().scene.pattern.clear();
     h.run_steps(2);
     press(&mut h, "New scene");
