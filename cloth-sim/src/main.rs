@@ -9,6 +9,7 @@ use cloth_sim::{ServiceConfig, resume_or};
 use shared::cli::whole_in;
 use sim_core::collision::BodyKind;
 use sim_core::design::TearMode;
+use sim_core::design::garment::own_body;
 use sim_core::fabric::{Library, Standard};
 use sim_core::mesh::obj::load_obj;
 use sim_core::scenario::{
@@ -400,22 +401,12 @@ fn parse_model(s: &str) -> Result<ModelKind, String> {
 fn parse_body(s: &str) -> Result<BodyKind, String> {
     BodyKind::parse(s).map_err(|e| e.to_string())
 }
-/// Whether `pattern` is a GarmentCode specification (a `.json`): its patterns are cut and
-/// placed for its average body, which is ours as `human`.
-fn garmentcode_pattern(pattern: Option<&Path>) -> bool {
-    pattern
-        .and_then(Path::extension)
-        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
-}
-
-/// The body of `run`'s new design: the one asked for, else the human body for a
-/// GarmentCode pattern, else the cube.
+/// The body of `run`'s new design: the one asked for, else the one the pattern is cut
+/// for (the human body for a GarmentCode pattern), else the cube.
 fn new_design_body(asked: Option<BodyKind>, pattern: Option<&Path>) -> BodyKind {
-    asked.unwrap_or(if garmentcode_pattern(pattern) {
-        BodyKind::Human
-    } else {
-        BodyKind::Cube
-    })
+    asked
+        .or_else(|| pattern.and_then(own_body))
+        .unwrap_or(BodyKind::Cube)
 }
 
 /// A scenario's `--body`: a body, or `floor` for none.

@@ -31,11 +31,11 @@ pub(super) fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>
     cfg.guard = guard_choice(a.guard, a.no_guard, cfg.model)?.unwrap_or(true);
     cfg.sleep = a.sleep;
     cfg.frames = a.frames;
-    // GarmentCode's patterns are cut and placed for its average body, which is ours as
-    // `human`: they drape on it unless another body is asked for.
-    let garmentcode = garmentcode_pattern(a.pattern.as_deref());
-    if garmentcode {
-        cfg.body = Some(BodyKind::Human);
+    // A pattern cut for a body of ours (GarmentCode's, for its average body: `human`)
+    // drapes on it unless another body is asked for.
+    let cut_for = a.pattern.as_deref().and_then(own_body);
+    if cut_for.is_some() {
+        cfg.body = cut_for.clone();
     }
     if let Some(b) = a.body {
         cfg.body = b.0;
@@ -54,9 +54,9 @@ pub(super) fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>
     // GarmentCode's jumpsuit slid off the mannequin in three runs of three and its shirt
     // kept seams open (docs/garments.md). drape-pattern runs without it unless asked,
     // but for a GarmentCode pattern on its own body, which it fits.
-    let own_body = garmentcode && cfg.body == Some(BodyKind::Human);
+    let on_its_own_body = cut_for.is_some() && cfg.body == cut_for;
     let fits_loosely = name == ScenarioName::DrapePattern
-        && !own_body
+        && !on_its_own_body
         && cfg.model == ModelKind::Xpbd
         && a.material.strain_limit.is_none()
         && a.material.fabric.is_none();

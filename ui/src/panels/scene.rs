@@ -307,8 +307,10 @@ impl ScenePanel {
             )
             .labelled_by(label.id);
         });
-        let garmentcode = self.pattern.trim().to_ascii_lowercase().ends_with(".json");
-        if !square && garmentcode && self.body != BodyChoice::Human {
+        let cut_for_human =
+            sim_core::design::garment::own_body(std::path::Path::new(self.pattern.trim()))
+                == Some(sim_core::collision::BodyKind::Human);
+        if !square && cut_for_human && self.body != BodyChoice::Human {
             self.garmentcode_off_its_body(ui);
         } else if !square && matches!(self.body, BodyChoice::Cube | BodyChoice::Sphere) {
             self.pattern_off_the_mannequin(ui);

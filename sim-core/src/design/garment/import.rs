@@ -11,6 +11,7 @@ use super::assemble::{arc, project};
 use super::garmentcode::read_garmentcode;
 use super::place::Landmarks;
 use super::spec::{DEFAULT_FABRIC, EdgeRef, PatternSpec, PieceSpec, SeamSpec, SpecError};
+use crate::collision::BodyKind;
 use crate::mesh::dxf::{DxfError, load_dxf};
 use crate::mesh::sets::Sets;
 use crate::mesh::svg::{NamedOutline, SeamMark, SvgError, load_svg};
@@ -32,6 +33,15 @@ pub enum ImportError {
     Kind { path: PathBuf },
     #[error("{path}: {source}")]
     Spec { path: PathBuf, source: SpecError },
+}
+
+/// The body a pattern file is cut for, where its format says: GarmentCode's (a `.json`
+/// specification) is cut and placed for GarmentCode's average body, ours as `human`.
+/// `None`: a pattern of ours or from elsewhere, for whatever body it is draped on.
+pub fn own_body(path: &Path) -> Option<BodyKind> {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+        .then_some(BodyKind::Human)
 }
 
 /// Reads the pattern in `path` for a body with `marks`: normalised, every piece placed.
