@@ -189,6 +189,21 @@ fn drape_gc(
     Result<Report, sim_core::scenario::ScenarioError>,
     std::path::PathBuf,
 ) {
+    drape_gc_on(None, tag, panels, stitches, edge, frames)
+}
+
+/// [`drape_gc`] on `body` (`None`: the scenario's own, the mannequin).
+fn drape_gc_on(
+    body: Option<sim_core::collision::BodyKind>,
+    tag: &str,
+    panels: &[(&str, serde_json::Value)],
+    stitches: &[(Side, Side)],
+    edge: f32,
+    frames: u64,
+) -> (
+    Result<Report, sim_core::scenario::ScenarioError>,
+    std::path::PathBuf,
+) {
     let panels: serde_json::Map<String, serde_json::Value> = panels
         .iter()
         .map(|(n, p)| ((*n).to_string(), p.clone()))
@@ -208,6 +223,7 @@ fn drape_gc(
     std::fs::write(&file, spec.to_string()).unwrap();
     let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
     cfg.pattern = Some(file);
+    cfg.body = body;
     cfg.piece_edge = edge;
     cfg.frames = frames;
     (run_scenario(&cfg, &dir.join("out")), dir)
@@ -271,6 +287,61 @@ fn a_garmentcode_top_on_straps_stays_on_the_mannequins_shoulders() {
     );
     assert_eq!((r.crossings_self, r.crossings_body), (0, 0));
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A GarmentCode skirt wider than the hips, its waistband labelled as their skirts' are
+/// (`lower_interface`): held at the waist while it settles, it stays there; the same
+/// skirt unlabelled falls past the hips.
+#[test]
+fn a_garmentcode_waistband_is_held_at_the_waist_while_the_skirt_settles() {
+    // Two 60 x 50 cm panels (120 cm round, against hips of 103.5), their tops at their
+    // body's waist (108.8 cm), sewn at both sides.
+    let panel = |z: f32, turn: f32, waistband: bool| {
+        let mut p = gc_panel(
+            [0.0, 58.8, z],
+            [0.0, turn, 0.0],
+            &[[-30.0, 0.0], [30.0, 0.0], [30.0, 50.0], [-30.0, 50.0]],
+        );
+        if waistband {
+            p["edges"][2]["label"] = "lower_interface".into();
+        }
+        p
+    };
+    let top_after = |tag: &str, waistband: bool| {
+        let (r, dir) = drape_gc_on(
+            Some(sim_core::collision::BodyKind::Human),
+            tag,
+            &[
+                ("front", panel(22.0, 0.0, waistband)),
+                ("back", panel(-22.0, 180.0, waistband)),
+            ],
+            &[(("front", 1), ("back", 3)), (("front", 3), ("back", 1))],
+            0.04,
+            100,
+        );
+        let r = r.unwrap();
+        assert_eq!(r.body, "human");
+        assert_eq!(r.ops.seams, Some(2), "{:?}", r.notices);
+        assert_eq!((r.crossings_self, r.crossings_body), (0, 0));
+        let top = sim_core::mesh::obj::load_obj(&dir.join("out/cloth.obj"))
+            .unwrap()
+            .positions
+            .iter()
+            .map(|p| p.y)
+            .fold(f32::MIN, f32::max);
+        std::fs::remove_dir_all(&dir).ok();
+        (top, r.ops.held_vertices)
+    };
+    let (held, n) = top_after("waistband", true);
+    // Both waistbands, 120 cm at 4 cm edges.
+    assert!(n.unwrap() >= 2 * 60 / 4, "{n:?} held");
+    assert!(
+        (held - 1.088).abs() < 0.03,
+        "the held skirt's top is at {held} m"
+    );
+    let (free, n) = top_after("no-waistband", false);
+    assert_eq!(n, Some(0));
+    assert!(free < 0.95, "the free skirt's top is at {free} m");
 }
 
 /// A GarmentCode top whose sides reach up to where our arms leave the torso: lifted the

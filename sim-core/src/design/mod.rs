@@ -50,7 +50,7 @@ mod zip;
 pub use document::{CLOTH_COLOUR, Design, TEXTURE_SIZE};
 pub use error::EditError;
 pub use fabrics::{EDITED, fabric_zones};
-pub use frame::AFLOAT_FRAMES;
+pub use frame::{AFLOAT_FRAMES, HOLD_FRAMES};
 pub use history::History;
 pub use parts::{STITCH_PULL, Seam, TearMode, TearSettings, open_stitches};
 pub use piece_edit::MAX_PIECE_VERTICES;

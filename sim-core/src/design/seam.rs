@@ -321,6 +321,7 @@ impl Design {
                     }
                 }
                 if self.commit("weld", prims).is_ok() {
+                    self.hand_hold(b, a);
                     welded += 1;
                     zipped |= gap > near;
                 } else {

@@ -103,6 +103,10 @@ pub struct OpsReport {
     pub layer_gap_min_m: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub height_max_m: Option<f64>,
+    /// drape-pattern: vertices the pattern holds to the body's planes while the garment
+    /// settles (a waistband at the waist), for the first `HOLD_FRAMES` frames.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub held_vertices: Option<usize>,
 }
 
 #[derive(Clone, Debug, Serialize)]

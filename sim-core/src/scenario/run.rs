@@ -208,8 +208,31 @@ fn sew_pattern(
     // three unsettled, a benchmark's worth of frames moving (docs/garments.md).
     if cfg.scenario == ScenarioName::DrapePattern {
         design.float_while_sewing();
+        if let Some(said) = hold_pattern(design, spec) {
+            eprintln!("{}: {said}", cfg.scenario.name());
+        }
+        ops.held_vertices = Some(design.held().0.len());
     }
     Ok(())
+}
+
+/// Holds what `spec` holds while the garment settles (a waistband at the waist), and says
+/// what (`None`: it holds nothing).
+pub fn hold_pattern(design: &mut Design, spec: &PatternSpec) -> Option<String> {
+    let holds = crate::design::garment::holds(design, spec);
+    if holds.is_empty() {
+        return None;
+    }
+    let mut what: Vec<&str> = spec.holds.iter().map(|h| h.label.as_str()).collect();
+    what.dedup();
+    let said = format!(
+        "{} vertices ({}) held for the first {} frames",
+        holds.len(),
+        what.join(", "),
+        crate::design::HOLD_FRAMES
+    );
+    design.hold_while_draping(holds);
+    Some(said)
 }
 
 /// The design's stitched pairs still open, seam by seam.

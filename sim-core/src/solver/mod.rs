@@ -34,7 +34,7 @@ pub use sim::{
     XPBD_DEFAULT_SUBSTEPS,
 };
 pub use state::Cloth;
-pub use stitch::{STITCH_STIFFNESS, Stitch};
+pub use stitch::{HOLD_STIFFNESS, Hold, STITCH_STIFFNESS, Stitch};
 pub use vbd::{CONTACT_STIFFNESS, DEFAULT_ITERATIONS, Vbd};
 pub use xpbd::Xpbd;
 pub use zones::{MaterialZones, Scales, Zone};

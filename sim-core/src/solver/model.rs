@@ -6,7 +6,7 @@ use glam::Vec3;
 use super::material::{Material, ModelKind};
 use super::pinch::{Grip, PenPath};
 use super::state::Cloth;
-use super::stitch::Stitch;
+use super::stitch::{Hold, Stitch};
 use crate::collision::proximity::PairCounts;
 use crate::collision::{Body, ContactCache};
 use crate::error::ConfigError;
@@ -48,6 +48,8 @@ pub enum StepError {
 pub struct Drive<'a, 'p> {
     pub grip: &'a mut Grip,
     pub stitches: &'a [Stitch],
+    /// Vertices held to planes (a waistband at the waist while a garment settles).
+    pub holds: &'a [Hold],
     pub pen: &'a mut PenPath<'p>,
     /// The least largest stretch the strain limit holds a triangle to
     /// ([`Simulation::stretch_floor`](super::Simulation::stretch_floor)).

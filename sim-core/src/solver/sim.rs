@@ -13,7 +13,7 @@ use super::pinch::{Grip, PenPath, Pinch};
 use super::rest::{Rest, Scene, SleepRule};
 use super::seed::{Seed, seed_safe_step, seed_stable_step};
 use super::state::Cloth;
-use super::stitch::Stitch;
+use super::stitch::{Hold, Stitch};
 use super::vbd::Vbd;
 use super::xpbd::Xpbd;
 use super::zones::MaterialZones;
@@ -55,6 +55,8 @@ pub struct Simulation {
     pub(crate) grip: Grip,
     /// Open seam stitches, handed in by the design before each frame.
     pub stitches: Vec<Stitch>,
+    /// Vertices held to planes, handed in by the design before each frame.
+    pub holds: Vec<Hold>,
     /// The least stretch the xpbd model's strain limit holds a triangle to (0: its own
     /// limit): while tearing is on the design sets it a quarter past the tear threshold,
     /// so that a side can stretch far enough to tear.
@@ -175,6 +177,7 @@ impl Simulation {
             frame: 0,
             grip: Grip::default(),
             stitches: Vec::new(),
+            holds: Vec::new(),
             stretch_floor: 0.0,
             sleep: None,
             rest: Rest::default(),
@@ -241,6 +244,7 @@ impl Simulation {
         let mut drive = Drive {
             grip: &mut self.grip,
             stitches: &self.stitches,
+            holds: &self.holds,
             pen,
             stretch_floor: self.stretch_floor,
         };
@@ -292,7 +296,7 @@ impl Simulation {
     /// seam stitch is open (a seam is never left half sewn).
     fn watch_rest(&mut self, stats: &FrameStats) {
         let Some(rule) = self.sleep else { return };
-        let held = self.grip.pinch.is_some() || !self.stitches.is_empty();
+        let held = self.grip.pinch.is_some() || !self.stitches.is_empty() || !self.holds.is_empty();
         if self
             .rest
             .watch(&rule, &self.cloth.x, &self.cloth.inv_mass, held)

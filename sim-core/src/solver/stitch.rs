@@ -38,3 +38,96 @@ pub fn stitch(x: &mut [Vec3], w: &[f32], s: &Stitch, inv_h2: f32) {
     x[a] += n * (wa * dl);
     x[b] -= n * (wb * dl);
 }
+
+/// Stiffness of a hold, N/m per held vertex (its force is also capped).
+pub const HOLD_STIFFNESS: f32 = 100.0;
+
+/// One held vertex: pulled onto the plane `normal . x = level` along the normal only (it
+/// slides freely within the plane), with at most `max_force` N. A garment's waistband is
+/// held at the body's waist level so, while the garment settles (GarmentCode's
+/// simulator does the same with its "attachment" constraints).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hold {
+    pub vertex: u32,
+    /// Unit length.
+    pub normal: Vec3,
+    pub level: f32,
+    pub max_force: f32,
+}
+
+impl Hold {
+    /// How far the vertex at `x` is past its plane along the normal, m.
+    pub fn off(&self, x: Vec3) -> f32 {
+        self.normal.dot(x) - self.level
+    }
+}
+
+/// A hold step for the solver: moves the vertex toward its plane as an XPBD spring of
+/// stiffness [`HOLD_STIFFNESS`], the correction bounded so the force stays under
+/// `max_force`.
+pub fn hold(x: &mut [Vec3], w: &[f32], h: &Hold, inv_h2: f32) {
+    let i = h.vertex as usize;
+    let (Some(&wi), Some(xi)) = (w.get(i), x.get_mut(i)) else {
+        return;
+    };
+    let c = h.off(*xi);
+    if wi == 0.0 || !c.is_finite() {
+        return;
+    }
+    let alpha = inv_h2 / HOLD_STIFFNESS;
+    let dl = (c.abs() / (wi + alpha)).min(h.max_force / inv_h2);
+    *xi -= h.normal * (c.signum() * wi * dl);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn waist() -> Hold {
+        Hold {
+            vertex: 1,
+            normal: Vec3::Y,
+            level: 1.0,
+            max_force: 0.05,
+        }
+    }
+
+    #[test]
+    fn a_hold_pulls_its_vertex_onto_its_plane_and_only_across_it() {
+        let inv_h2 = 3600.0 * 25.0;
+        let w = [1e4, 1e4];
+        let mut x = [Vec3::ZERO, Vec3::new(0.3, 0.999, -0.2)];
+        hold(&mut x, &w, &waist(), inv_h2);
+        // 1 mm off: well under the force limit, so most of the way in one step.
+        assert!((x[1].y - 1.0).abs() < 2e-4, "{}", x[1].y);
+        assert_eq!(
+            (x[1].x, x[1].z),
+            (0.3, -0.2),
+            "it slides freely in the plane"
+        );
+        assert_eq!(x[0], Vec3::ZERO, "the others are not held");
+        // From above it pulls down.
+        x[1].y = 1.001;
+        hold(&mut x, &w, &waist(), inv_h2);
+        assert!(x[1].y < 1.001 && x[1].y > 1.0 - 1e-6, "{}", x[1].y);
+    }
+
+    #[test]
+    fn a_hold_pulls_no_harder_than_its_limit_and_leaves_a_pinned_vertex() {
+        let inv_h2 = 3600.0 * 25.0;
+        let mut x = [Vec3::ZERO, Vec3::new(0.0, 0.5, 0.0)];
+        hold(&mut x, &[1e4, 1e4], &waist(), inv_h2);
+        // 0.05 N over a step of 1/300 s moves a vertex of w = 1e4 at most w F h^2.
+        let most = 1e4 * 0.05 / inv_h2;
+        assert!((x[1].y - 0.5 - most).abs() < 1e-6, "{}", x[1].y - 0.5);
+        let mut pinned = [Vec3::ZERO, Vec3::new(0.0, 0.5, 0.0)];
+        hold(&mut pinned, &[1e4, 0.0], &waist(), inv_h2);
+        assert_eq!(pinned[1].y, 0.5);
+        // A vertex not in the cloth is no matter.
+        let far = Hold {
+            vertex: 9,
+            ..waist()
+        };
+        hold(&mut pinned, &[1e4, 0.0], &far, inv_h2);
+    }
+}

@@ -17,8 +17,34 @@ use serde_json::Value;
 #[cfg(test)]
 use super::place::GC_RAISE;
 use super::place::{Landmarks, Placement};
-use super::spec::{DEFAULT_FABRIC, EdgeRef, PatternSpec, PieceSpec, SeamSpec, shift_angle};
+use super::spec::{
+    DEFAULT_FABRIC, EdgeRef, HoldSpec, PatternSpec, PieceSpec, SeamSpec, shift_angle,
+};
 use crate::mesh::mesher::{Outline, signed_area2};
+
+/// Where GarmentCode's simulator holds the edges it labels while a garment settles
+/// (`pygarment/meshgen/garment.py`, its attachment constraints), on its average body
+/// (`assets/bodies/mean_all.yaml`, cm): a waistband (`lower_interface`) at the waist,
+/// `height - head_l - waist_line` = 108.77 cm; a strapless top's edge at the armpits,
+/// `height - head_l - armscye_depth` = 132.80 cm; a collar's sides at half the neck's
+/// width less 1 cm, (18.93 - 2) / 2 = 8.47 cm, either side of the middle. Metres, in
+/// that body's coordinates ([`Landmarks::garmentcode`] puts them on ours).
+const GC_WAIST: f32 = 1.0877;
+const GC_UNDERARM: f32 = 1.3280;
+const GC_NECK_HALF: f32 = 0.0847;
+
+/// The plane (normal, level) GarmentCode holds an edge labelled `label` to, on our body,
+/// if it holds such edges.
+fn hold_plane(label: &str, marks: &Landmarks) -> Option<(Vec3, f32)> {
+    let o = marks.garmentcode;
+    match label {
+        "lower_interface" => Some((Vec3::Y, GC_WAIST + o.y)),
+        "strapless_top" => Some((Vec3::Y, GC_UNDERARM + o.y)),
+        "right_collar" => Some((Vec3::X, o.x - GC_NECK_HALF)),
+        "left_collar" => Some((Vec3::X, o.x + GC_NECK_HALF)),
+        _ => None,
+    }
+}
 
 /// Most points one curved edge is flattened into.
 const CURVE_POINTS: usize = 64;
@@ -333,6 +359,22 @@ pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, St
                 *e = (e.1, e.0);
             }
         }
+        for (k, e) in edges.iter().enumerate() {
+            let label = e.get("label").and_then(Value::as_str).unwrap_or("");
+            if let Some((normal, level)) = hold_plane(label, marks) {
+                let (from, to) = ends[k];
+                spec.holds.push(HoldSpec {
+                    label: label.into(),
+                    edge: EdgeRef {
+                        piece: spec.pieces.len(),
+                        from,
+                        to,
+                    },
+                    normal,
+                    level,
+                });
+            }
+        }
         let rot = euler(vec3(panel.get("rotation")).unwrap_or(Vec3::ZERO));
         let trans = vec3(panel.get("translation")).unwrap_or(Vec3::ZERO) * scale;
         spec.pieces.push(PieceSpec {
@@ -481,6 +523,59 @@ mod tests {
                 .unwrap_err()
                 .contains("edge 9")
         );
+    }
+
+    #[test]
+    fn labelled_waistbands_and_collars_are_held_where_garmentcode_holds_them() {
+        let marks = Landmarks {
+            axis: Vec2::ZERO,
+            torso: Vec2::new(0.215, 0.175),
+            shoulders: 1.53,
+            lift: 0.03,
+            arms: None,
+            garmentcode: Vec3::new(0.01, GC_RAISE, 0.0),
+        };
+        assert!(
+            read_garmentcode(TWO_PANELS, &marks)
+                .unwrap()
+                .holds
+                .is_empty()
+        );
+        // The front's bottom (edge 0) a waistband, the back's right side (edge 1) a
+        // collar's left side; an unknown label is no hold.
+        let labelled = TWO_PANELS
+            .replacen(
+                r#"{"endpoints": [0, 1]}"#,
+                r#"{"endpoints": [0, 1], "label": "lower_interface"}"#,
+                1,
+            )
+            .replacen(
+                r#"{"endpoints": [0, 1]}"#,
+                r#"{"endpoints": [0, 1], "label": "bogus"}"#,
+                1,
+            )
+            .replacen(
+                r#"{"endpoints": [1, 2]}, {"endpoints": [2, 3]}"#,
+                r#"{"endpoints": [1, 2], "label": "left_collar"}, {"endpoints": [2, 3]}"#,
+                1,
+            );
+        let spec = read_garmentcode(&labelled, &marks).unwrap();
+        assert_eq!(spec.holds.len(), 2, "{:?}", spec.holds);
+        let waist = spec.holds.iter().find(|h| h.label == "lower_interface");
+        let waist = waist.unwrap();
+        // The back is piece 0, the front piece 1 (by name).
+        assert_eq!(waist.edge.piece, 1);
+        assert!(waist.edge.from.abs_diff_eq(Vec2::ZERO, 1e-6));
+        assert!(waist.edge.to.abs_diff_eq(Vec2::new(0.5, 0.0), 1e-6));
+        assert_eq!(waist.normal, Vec3::Y);
+        assert!((waist.level - (1.0877 + GC_RAISE)).abs() < 1e-6);
+        let collar = spec
+            .holds
+            .iter()
+            .find(|h| h.label == "left_collar")
+            .unwrap();
+        assert_eq!((collar.edge.piece, collar.normal), (0, Vec3::X));
+        assert!((collar.level - (0.01 + 0.0847)).abs() < 1e-6);
     }
 
     #[test]

@@ -12,9 +12,9 @@ mod import;
 mod place;
 mod spec;
 
-pub use assemble::{Assembled, GarmentError, Sewn, assemble, sew};
+pub use assemble::{Assembled, GarmentError, HOLD_PULL, Sewn, assemble, holds, sew};
 pub(crate) use assemble::{LAYER, PATTERN_GAP, SIMPLIFY};
 pub use garmentcode::read_garmentcode;
 pub use import::{ImportError, load_pattern, own_body, pattern_from_outlines};
 pub use place::{GC_RAISE, Landmarks, Place, PlaceError, Placement, place};
-pub use spec::{DEFAULT_FABRIC, EdgeRef, PatternSpec, PieceSpec, SeamSpec, SpecError};
+pub use spec::{DEFAULT_FABRIC, EdgeRef, HoldSpec, PatternSpec, PieceSpec, SeamSpec, SpecError};

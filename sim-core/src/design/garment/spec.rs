@@ -38,10 +38,24 @@ pub struct SeamSpec {
     pub b: EdgeRef,
 }
 
+/// A stretch held onto a plane of the body's while the garment settles (see
+/// [`Design::hold_while_draping`](crate::design::Design::hold_while_draping)): the plane
+/// `normal . x = level`, in the body's coordinates.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HoldSpec {
+    /// What is held, as the file names it (GarmentCode's `lower_interface`, a skirt's or
+    /// trousers' waistband).
+    pub label: String,
+    pub edge: EdgeRef,
+    pub normal: glam::Vec3,
+    pub level: f32,
+}
+
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PatternSpec {
     pub pieces: Vec<PieceSpec>,
     pub seams: Vec<SeamSpec>,
+    pub holds: Vec<HoldSpec>,
 }
 
 /// Why a pattern cannot be made into cloth.
@@ -250,7 +264,7 @@ mod tests {
     fn bad_seams_are_refused_and_names_made_unique() {
         let mut s = PatternSpec {
             pieces: vec![piece("a", 0.2), piece("a", 0.2)],
-            seams: vec![],
+            ..Default::default()
         };
         s.normalise().unwrap();
         assert_eq!(s.pieces[1].name, "a (2)");
@@ -297,7 +311,7 @@ mod tests {
                 piece("back", 0.4),
                 piece("left sleeve", 0.2),
             ],
-            seams: vec![],
+            ..Default::default()
         };
         s.arrange(&marks);
         let angle = |i: usize| match s.pieces[i].placement {

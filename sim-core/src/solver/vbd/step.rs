@@ -58,6 +58,8 @@ pub struct Vbd {
     normals: Vec<Vec3>,
     area: Vec<f32>,
     has_stitch: Vec<bool>,
+    /// Each vertex's hold in the drive's holds (`u32::MAX`: none).
+    hold_of: Vec<u32>,
     /// The mean rest length of the live mesh's edges, m.
     mean_edge: f32,
     /// Iterations per step: each a global step (when on) and `sweeps` Gauss-Seidel sweeps.
@@ -107,6 +109,7 @@ impl Vbd {
             normals: Vec::new(),
             area: Vec::new(),
             has_stitch: Vec::new(),
+            hold_of: Vec::new(),
             mean_edge: 0.0,
             iterations: DEFAULT_ITERATIONS,
             sweeps: 1,
@@ -196,6 +199,13 @@ impl Vbd {
                 if let Some(f) = self.has_stitch.get_mut(v as usize) {
                     *f = true;
                 }
+            }
+        }
+        self.hold_of.clear();
+        self.hold_of.resize(n, u32::MAX);
+        for (k, hd) in drive.holds.iter().enumerate() {
+            if let Some(o) = self.hold_of.get_mut(hd.vertex as usize) {
+                *o = k as u32;
             }
         }
         drive.grip.begin_frame();
@@ -375,6 +385,9 @@ impl Vbd {
             if self.has_stitch[i] {
                 stitch_terms(i, x, drive.stitches, &mut f, &mut hess);
             }
+            if let Some(hd) = drive.holds.get(self.hold_of[i] as usize) {
+                hold_terms(hd, x[i], &mut f, &mut hess);
+            }
             let det = hess.determinant();
             if !(det.is_finite() && det.abs() > 1e-30) {
                 continue;
@@ -419,6 +432,13 @@ impl Vbd {
             if self.has_stitch[i] {
                 let mut hess = Mat3::ZERO;
                 stitch_terms(i, &cloth.x, drive.stitches, &mut self.force[i], &mut hess);
+            }
+        }
+        for hd in drive.holds {
+            let i = hd.vertex as usize;
+            if let (Some(f), Some(&x)) = (self.force.get_mut(i), cloth.x.get(i)) {
+                let mut hess = Mat3::ZERO;
+                hold_terms(hd, x, f, &mut hess);
             }
         }
         // `solve` takes the gradient.
@@ -602,4 +622,22 @@ fn stitch_terms(
         *f += pull * scale;
         *hess += Mat3::from_diagonal(Vec3::splat(k * scale));
     }
+}
+
+/// A held vertex at `x`: a spring onto its plane along the normal, pulling no harder than
+/// its limit.
+fn hold_terms(hd: &crate::solver::stitch::Hold, x: Vec3, f: &mut Vec3, hess: &mut Mat3) {
+    let k = crate::solver::stitch::HOLD_STIFFNESS;
+    let pull = -k * hd.off(x);
+    if !pull.is_finite() {
+        return;
+    }
+    let scale = if pull.abs() > hd.max_force {
+        hd.max_force / pull.abs()
+    } else {
+        1.0
+    };
+    let nrm = hd.normal;
+    *f += nrm * (pull * scale);
+    *hess += Mat3::from_cols(nrm * nrm.x, nrm * nrm.y, nrm * nrm.z) * (k * scale);
 }

@@ -54,6 +54,7 @@ fn converged_step_is_the_implicit_step() {
     let mut drive = Drive {
         grip: &mut grip,
         stitches: &[],
+        holds: &[],
         pen: &mut pen,
         stretch_floor: 0.0,
     };

@@ -16,7 +16,7 @@ use crate::solver::constraints::{BendConstraint, Elements, HingeShares, Membrane
 use crate::solver::material::Material;
 use crate::solver::model::{Drive, Environment};
 use crate::solver::state::Cloth;
-use crate::solver::stitch::stitch;
+use crate::solver::stitch::{hold, stitch};
 
 /// Passes the strain limit makes again after the guard's pass, each over the membranes its
 /// full pass there projected, and how far each goes toward the limit. One Gauss-Seidel
@@ -375,6 +375,9 @@ impl Xpbd {
             // now undoes most of a stitch's pull (docs/garments.md).
             for st in drive.stitches {
                 stitch(&mut cloth.x, &cloth.inv_mass, st, inv_h2);
+            }
+            for hd in drive.holds {
+                hold(&mut cloth.x, &cloth.inv_mass, hd, inv_h2);
             }
             solve_tethers(&self.tethers, &mut cloth.x);
             self.solve_constraints(
