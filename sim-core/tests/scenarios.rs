@@ -223,7 +223,9 @@ fn drape_gc_on(
     std::fs::write(&file, spec.to_string()).unwrap();
     let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
     cfg.pattern = Some(file);
-    cfg.body = body;
+    if body.is_some() {
+        cfg.body = body;
+    }
     cfg.piece_edge = edge;
     cfg.frames = frames;
     (run_scenario(&cfg, &dir.join("out")), dir)

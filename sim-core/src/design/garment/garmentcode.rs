@@ -46,6 +46,26 @@ fn hold_plane(label: &str, marks: &Landmarks) -> Option<(Vec3, f32)> {
     }
 }
 
+/// The holds of a panel (piece `piece`) whose `edges` run `ends` on its outline: one for
+/// each edge with a label GarmentCode holds.
+fn holds<'a>(
+    edges: &'a [Value],
+    ends: &'a [(Vec2, Vec2)],
+    piece: usize,
+    marks: &'a Landmarks,
+) -> impl Iterator<Item = HoldSpec> + 'a {
+    edges.iter().zip(ends).filter_map(move |(e, &(from, to))| {
+        let label = e.get("label").and_then(Value::as_str)?;
+        let (normal, level) = hold_plane(label, marks)?;
+        Some(HoldSpec {
+            label: label.into(),
+            edge: EdgeRef { piece, from, to },
+            normal,
+            level,
+        })
+    })
+}
+
 /// Most points one curved edge is flattened into.
 const CURVE_POINTS: usize = 64;
 
@@ -359,22 +379,8 @@ pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, St
                 *e = (e.1, e.0);
             }
         }
-        for (k, e) in edges.iter().enumerate() {
-            let label = e.get("label").and_then(Value::as_str).unwrap_or("");
-            if let Some((normal, level)) = hold_plane(label, marks) {
-                let (from, to) = ends[k];
-                spec.holds.push(HoldSpec {
-                    label: label.into(),
-                    edge: EdgeRef {
-                        piece: spec.pieces.len(),
-                        from,
-                        to,
-                    },
-                    normal,
-                    level,
-                });
-            }
-        }
+        let piece = spec.pieces.len();
+        spec.holds.extend(holds(edges, &ends, piece, marks));
         let rot = euler(vec3(panel.get("rotation")).unwrap_or(Vec3::ZERO));
         let trans = vec3(panel.get("translation")).unwrap_or(Vec3::ZERO) * scale;
         spec.pieces.push(PieceSpec {
