@@ -344,6 +344,23 @@ fn a_garmentcode_waistband_is_held_at_the_waist_while_the_skirt_settles() {
     let (free, n) = top_after("no-waistband", false);
     assert_eq!(n, Some(0));
     assert!(free < 0.95, "the free skirt's top is at {free} m");
+    // Their waist is their body's: on the mannequin nothing is held.
+    let (r, dir) = drape_gc(
+        "waistband-mannequin",
+        &[
+            ("front", panel(22.0, 0.0, true)),
+            ("back", panel(-22.0, 180.0, true)),
+        ],
+        &[(("front", 1), ("back", 3)), (("front", 3), ("back", 1))],
+        0.04,
+        1,
+    );
+    let r = r.unwrap();
+    assert_eq!(
+        (r.body.as_str(), r.ops.held_vertices),
+        ("mannequin", Some(0))
+    );
+    std::fs::remove_dir_all(&dir).ok();
 }
 
 /// A GarmentCode top whose sides reach up to where our arms leave the torso: lifted the
