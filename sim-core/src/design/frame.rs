@@ -162,7 +162,8 @@ mod tests {
         assert!(mean_y(&d) < y1 - 5e-4, "{}", y1 - mean_y(&d));
     }
 
-    /// The tube's cloth unsewn, under `model`, its first row held at its own level, 1 m,
+    /// The tube's cloth unsewn, under `model`, its first row held at or above its own
+    /// level, 1 m,
     /// each vertex with up to 0.2 N: 9 x 0.05 N would carry the cloth's 0.37 N as forces,
     /// but under xpbd the cloth's constraints, solved after the holds, take part of each
     /// pull back (it sagged 4 cm in half a second).
@@ -183,13 +184,20 @@ mod tests {
 
     #[test]
     fn a_held_waistband_stays_at_its_level_until_the_hold_ends() {
-        let row = |d: &Design| (0..=8).map(|i| d.sim.cloth.x[i].y).fold(f32::MIN, f32::max);
-        // The vbd model holds it too.
+        // The held row's lowest and highest vertex.
+        let low = |d: &Design| (0..=8).map(|i| d.sim.cloth.x[i].y).fold(f32::MAX, f32::min);
+        let high = |d: &Design| (0..=8).map(|i| d.sim.cloth.x[i].y).fold(f32::MIN, f32::max);
+        // The vbd model holds it too: the hanging cloth keeps it on the plane, not below.
         let mut d = held_tube(ModelKind::Vbd);
         for _ in 0..30 {
             d.step().unwrap();
         }
-        assert!((row(&d) - 1.0).abs() < 0.002, "vbd: {}", row(&d));
+        assert!(
+            low(&d) > 0.995 && high(&d) < 1.01,
+            "vbd: {} {}",
+            low(&d),
+            high(&d)
+        );
         let mut d = held_tube(ModelKind::Xpbd);
         let mut free = tube();
         free.seams.clear();
@@ -197,9 +205,15 @@ mod tests {
             d.step().unwrap();
             free.step().unwrap();
         }
-        // Half a second: the free cloth fell 0.7 m, the held row stayed.
-        assert!(row(&free) < 0.5, "{}", row(&free));
-        assert!((row(&d) - 1.0).abs() < 0.002, "{}", row(&d));
+        // Half a second: the free cloth fell 0.7 m, the held row stayed (within 5 mm:
+        // the holds are springs).
+        assert!(high(&free) < 0.5, "{}", high(&free));
+        assert!(
+            low(&d) > 0.995 && high(&d) < 1.01,
+            "{} {}",
+            low(&d),
+            high(&d)
+        );
         assert_eq!(d.held(), (&d.holds[..], HOLD_FRAMES - 30));
         assert_eq!(d.sim.holds.len(), 9);
         // The hold ends: it falls.
@@ -207,12 +221,12 @@ mod tests {
         d.step().unwrap();
         assert_eq!(d.held().1, 0);
         assert!(d.held().0.is_empty());
-        let y = row(&d);
+        let y = high(&d);
         for _ in 0..10 {
             d.step().unwrap();
         }
         assert!(d.sim.holds.is_empty());
-        assert!(row(&d) < y - 0.02, "{} {}", y, row(&d));
+        assert!(high(&d) < y - 0.02, "{} {}", y, high(&d));
     }
 
     #[test]

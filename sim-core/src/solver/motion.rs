@@ -124,8 +124,8 @@ impl Motion {
         }
         for hd in drive.holds {
             if let Some(&x) = cloth.x.get(hd.vertex as usize) {
-                // A hold pulls its vertex toward its plane: room for a tenth of the way.
-                let reach = 0.1 * hd.off(x).abs();
+                // A hold pulls its vertex back to its plane: room for a tenth of the way.
+                let reach = 0.1 * hd.past(x);
                 let b = &mut boxes[hd.vertex as usize];
                 *b = b.grown(reach.min(STRAY_MAX));
             }

@@ -42,10 +42,11 @@ pub fn stitch(x: &mut [Vec3], w: &[f32], s: &Stitch, inv_h2: f32) {
 /// Stiffness of a hold, N/m per held vertex (its force is also capped).
 pub const HOLD_STIFFNESS: f32 = 100.0;
 
-/// One held vertex: pulled onto the plane `normal . x = level` along the normal only (it
-/// slides freely within the plane), with at most `max_force` N. A garment's waistband is
-/// held at the body's waist level so, while the garment settles (GarmentCode's
-/// simulator does the same with its "attachment" constraints).
+/// One held vertex: kept on the normal's side of the plane `normal . x = level`, pulled
+/// back along the normal only when it is past it (it moves freely on its side and within
+/// the plane), with at most `max_force` N. A garment's waistband is kept from falling
+/// below the body's waist so while the garment settles (GarmentCode's simulator does the
+/// same with its one-sided "attachment" constraints).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hold {
     pub vertex: u32,
@@ -56,27 +57,33 @@ pub struct Hold {
 }
 
 impl Hold {
-    /// How far the vertex at `x` is past its plane along the normal, m.
+    /// How far the vertex at `x` is along the normal from its plane, m (negative: past
+    /// it, on the side it is kept from).
     pub fn off(&self, x: Vec3) -> f32 {
         self.normal.dot(x) - self.level
     }
+
+    /// How far the vertex at `x` is past its plane, m (0 on its own side).
+    pub fn past(&self, x: Vec3) -> f32 {
+        (-self.off(x)).max(0.0)
+    }
 }
 
-/// A hold step for the solver: moves the vertex toward its plane as an XPBD spring of
-/// stiffness [`HOLD_STIFFNESS`], the correction bounded so the force stays under
-/// `max_force`.
+/// A hold step for the solver: moves a vertex past its plane back toward it as an XPBD
+/// spring of stiffness [`HOLD_STIFFNESS`], the correction bounded so the force stays
+/// under `max_force`.
 pub fn hold(x: &mut [Vec3], w: &[f32], h: &Hold, inv_h2: f32) {
     let i = h.vertex as usize;
     let (Some(&wi), Some(xi)) = (w.get(i), x.get_mut(i)) else {
         return;
     };
-    let c = h.off(*xi);
-    if wi == 0.0 || !c.is_finite() {
+    let c = h.past(*xi);
+    if wi == 0.0 || !(c > 0.0 && c.is_finite()) {
         return;
     }
     let alpha = inv_h2 / HOLD_STIFFNESS;
-    let dl = (c.abs() / (wi + alpha)).min(h.max_force / inv_h2);
-    *xi -= h.normal * (c.signum() * wi * dl);
+    let dl = (c / (wi + alpha)).min(h.max_force / inv_h2);
+    *xi += h.normal * (wi * dl);
 }
 
 #[cfg(test)]
@@ -93,7 +100,7 @@ mod tests {
     }
 
     #[test]
-    fn a_hold_pulls_its_vertex_onto_its_plane_and_only_across_it() {
+    fn a_hold_pulls_a_vertex_past_its_plane_back_and_only_across_it() {
         let inv_h2 = 3600.0 * 25.0;
         let w = [1e4, 1e4];
         let mut x = [Vec3::ZERO, Vec3::new(0.3, 0.999, -0.2)];
@@ -106,10 +113,10 @@ mod tests {
             "it slides freely in the plane"
         );
         assert_eq!(x[0], Vec3::ZERO, "the others are not held");
-        // From above it pulls down.
+        // Above the plane it is free.
         x[1].y = 1.001;
         hold(&mut x, &w, &waist(), inv_h2);
-        assert!(x[1].y < 1.001 && x[1].y > 1.0 - 1e-6, "{}", x[1].y);
+        assert_eq!(x[1].y, 1.001);
     }
 
     #[test]

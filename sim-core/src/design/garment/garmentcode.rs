@@ -22,28 +22,20 @@ use super::spec::{
 };
 use crate::mesh::mesher::{Outline, signed_area2};
 
-/// Where GarmentCode's simulator holds the edges it labels while a garment settles
-/// (`pygarment/meshgen/garment.py`, its attachment constraints), on its average body
-/// (`assets/bodies/mean_all.yaml`, cm): a waistband (`lower_interface`) at the waist,
-/// `height - head_l - waist_line` = 108.77 cm; a strapless top's edge at the armpits,
-/// `height - head_l - armscye_depth` = 132.80 cm; a collar's sides at half the neck's
-/// width less 1 cm, (18.93 - 2) / 2 = 8.47 cm, either side of the middle. Metres, in
-/// that body's coordinates ([`Landmarks::garmentcode`] puts them on ours).
+/// The waist of GarmentCode's average body (`assets/bodies/mean_all.yaml`: `height -
+/// head_l - waist_line` = 108.77 cm), m, in that body's coordinates
+/// ([`Landmarks::garmentcode`] puts it on ours). GarmentCode's data-set simulations keep
+/// every waistband (`lower_interface`) from falling below it for their first 400 frames
+/// (`pygarment/meshgen/datasim_utils.py`: `attachment_label_names`, only that label).
 const GC_WAIST: f32 = 1.0877;
-const GC_UNDERARM: f32 = 1.3280;
-const GC_NECK_HALF: f32 = 0.0847;
 
-/// The plane (normal, level) GarmentCode holds an edge labelled `label` to, on our body,
-/// if it holds such edges.
+/// The half-space (normal, level) GarmentCode keeps an edge labelled `label` in, on our
+/// body, if it keeps such edges. Its interactive settings also keep a strapless top above
+/// the armpits and a neckline's (`left_collar`, `right_collar`) sides within half the
+/// neck's width; its data-set simulations do not, nor do we (a neckline wider than the
+/// neck would be pinched in).
 fn hold_plane(label: &str, marks: &Landmarks) -> Option<(Vec3, f32)> {
-    let o = marks.garmentcode;
-    match label {
-        "lower_interface" => Some((Vec3::Y, GC_WAIST + o.y)),
-        "strapless_top" => Some((Vec3::Y, GC_UNDERARM + o.y)),
-        "right_collar" => Some((Vec3::X, o.x - GC_NECK_HALF)),
-        "left_collar" => Some((Vec3::X, o.x + GC_NECK_HALF)),
-        _ => None,
-    }
+    (label == "lower_interface").then_some((Vec3::Y, GC_WAIST + marks.garmentcode.y))
 }
 
 /// The holds of a panel (piece `piece`) whose `edges` run `ends` on its outline: one for
@@ -532,7 +524,7 @@ mod tests {
     }
 
     #[test]
-    fn labelled_waistbands_and_collars_are_held_where_garmentcode_holds_them() {
+    fn labelled_waistbands_are_held_where_garmentcode_holds_them() {
         let marks = Landmarks {
             axis: Vec2::ZERO,
             torso: Vec2::new(0.215, 0.175),
@@ -547,8 +539,8 @@ mod tests {
                 .holds
                 .is_empty()
         );
-        // The front's bottom (edge 0) a waistband, the back's right side (edge 1) a
-        // collar's left side; an unknown label is no hold.
+        // The front's bottom (edge 0) a waistband, the back's bottom an unknown label,
+        // the back's right side (edge 1) a neckline's left side: held only the first.
         let labelled = TWO_PANELS
             .replacen(
                 r#"{"endpoints": [0, 1]}"#,
@@ -566,7 +558,7 @@ mod tests {
                 1,
             );
         let spec = read_garmentcode(&labelled, &marks).unwrap();
-        assert_eq!(spec.holds.len(), 2, "{:?}", spec.holds);
+        assert_eq!(spec.holds.len(), 1, "{:?}", spec.holds);
         let waist = spec.holds.iter().find(|h| h.label == "lower_interface");
         let waist = waist.unwrap();
         // The back is piece 0, the front piece 1 (by name).
@@ -575,13 +567,6 @@ mod tests {
         assert!(waist.edge.to.abs_diff_eq(Vec2::new(0.5, 0.0), 1e-6));
         assert_eq!(waist.normal, Vec3::Y);
         assert!((waist.level - (1.0877 + GC_RAISE)).abs() < 1e-6);
-        let collar = spec
-            .holds
-            .iter()
-            .find(|h| h.label == "left_collar")
-            .unwrap();
-        assert_eq!((collar.edge.piece, collar.normal), (0, Vec3::X));
-        assert!((collar.level - (0.01 + 0.0847)).abs() < 1e-6);
     }
 
     #[test]

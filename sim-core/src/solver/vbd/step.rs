@@ -624,16 +624,16 @@ fn stitch_terms(
     }
 }
 
-/// A held vertex at `x`: a spring onto its plane along the normal, pulling no harder than
-/// its limit.
+/// A held vertex at `x`: past its plane, a spring back onto it along the normal, pulling
+/// no harder than its limit.
 fn hold_terms(hd: &crate::solver::stitch::Hold, x: Vec3, f: &mut Vec3, hess: &mut Mat3) {
     let k = crate::solver::stitch::HOLD_STIFFNESS;
-    let pull = -k * hd.off(x);
-    if !pull.is_finite() {
+    let pull = k * hd.past(x);
+    if !(pull > 0.0 && pull.is_finite()) {
         return;
     }
-    let scale = if pull.abs() > hd.max_force {
-        hd.max_force / pull.abs()
+    let scale = if pull > hd.max_force {
+        hd.max_force / pull
     } else {
         1.0
     };
