@@ -277,8 +277,9 @@ fn sleeve(
         return None;
     }
     let normal = rot * Vec3::Z;
-    let front = if turn == 0 {
-        // As hanging sleeves always were.
+    // In front of the arm or behind it, where the panel is. A panel level with the arm
+    // goes as hanging sleeves always did, by which way it faces.
+    let front = if turn == 0 && radial.y.abs() < SLEEVE_SIDE {
         normal.z * radial.y.signum() >= 0.0 || normal.z > 0.0
     } else {
         radial.y >= 0.0
@@ -297,6 +298,13 @@ fn sleeve(
         turn,
     })
 }
+
+/// How far in front of the body's axis (or behind it) a sleeve panel stands to be put in
+/// front of the arm (or behind it), m. GarmentCode puts front and back sleeve panels 17.5
+/// and 12.5 cm either side; its random designs' cuffs, whose way down the arm is their
+/// pattern's own, both faced the front, and both went in front of the arm, one through
+/// the other.
+const SLEEVE_SIDE: f32 = 0.05;
 
 /// How far down our arm a turned sleeve's top starts, m.
 const TURNED_SLEEVE_DOWN: f32 = 0.03;
@@ -567,6 +575,79 @@ mod tests {
         assert!(waist.edge.to.abs_diff_eq(Vec2::new(0.5, 0.0), 1e-6));
         assert_eq!(waist.normal, Vec3::Y);
         assert!((waist.level - (1.0877 + GC_RAISE)).abs() < 1e-6);
+    }
+
+    /// GarmentCode's own body's landmarks, as `Landmarks::of` gives them for `human`.
+    fn human_marks() -> Landmarks {
+        let arm = |x: f32| {
+            (
+                Vec3::new(x * 0.21, 1.33, -0.03),
+                Vec3::new(x * 0.52, 1.035, 0.02),
+                0.085,
+            )
+        };
+        Landmarks {
+            axis: Vec2::new(0.0, -0.005),
+            torso: Vec2::new(0.21, 0.20),
+            shoulders: 1.52,
+            lift: 0.08,
+            arms: Some([arm(1.0), arm(-1.0)]),
+            garmentcode: Vec3::ZERO,
+        }
+    }
+
+    /// A panel: its name, width and height (cm), translation and rotation.
+    type Panel<'a> = (&'a str, [f32; 2], [f32; 3], [f32; 3]);
+
+    /// A GarmentCode pattern of rectangular panels, no stitches.
+    fn panels(list: &[Panel]) -> String {
+        let panels: serde_json::Map<String, Value> = list
+            .iter()
+            .map(|&(name, [w, h], t, r)| {
+                let panel = serde_json::json!({
+                    "translation": t, "rotation": r,
+                    "vertices": [[0, 0], [w, 0], [w, h], [0, h]],
+                    "edges": [{"endpoints": [0, 1]}, {"endpoints": [1, 2]},
+                              {"endpoints": [2, 3]}, {"endpoints": [3, 0]}]
+                });
+                (name.to_string(), panel)
+            })
+            .collect();
+        serde_json::json!({"pattern": {"panels": panels, "stitches": []}}).to_string()
+    }
+
+    #[test]
+    fn front_and_back_cuffs_go_in_front_of_and_behind_the_arm() {
+        // A random design's left cuff: two 38 x 5.4 cm panels turned 44.5 degrees, their
+        // pattern's -y down the arm, both facing +z, 17.5 cm in front and 12.5 behind.
+        let spec = read_garmentcode(
+            &panels(&[
+                ("cuff_f", [38.0, 5.4], [55.1, 124.2, 17.5], [0.0, 0.0, 44.5]),
+                (
+                    "cuff_b",
+                    [38.0, 5.4],
+                    [55.1, 124.2, -12.5],
+                    [0.0, 0.0, 44.5],
+                ),
+            ]),
+            &human_marks(),
+        )
+        .unwrap();
+        let angle = |name: &str| match spec.pieces.iter().find(|p| p.name == name) {
+            Some(PieceSpec {
+                placement:
+                    Some(Placement::Arm {
+                        left: true,
+                        angle,
+                        turn: 0,
+                        ..
+                    }),
+                ..
+            }) => *angle,
+            other => panic!("{name}: {other:?}"),
+        };
+        assert_eq!(angle("cuff_f"), 0.0);
+        assert!((angle("cuff_b") - std::f32::consts::PI).abs() < 1e-6);
     }
 
     #[test]
