@@ -47,7 +47,8 @@ pub struct Design {
     /// Frames left in which the cloth floats (no gravity) while its seams pull
     /// ([`Design::float_while_sewing`]).
     pub(super) afloat: u32,
-    /// Vertices held to planes while the garment settles, and for how many more frames
+    /// Vertices kept on one side of planes while the garment settles, and for how many
+    /// more frames
     /// ([`Design::hold_while_draping`]).
     pub(super) holds: Vec<crate::solver::Hold>,
     pub(super) hold_frames: u32,

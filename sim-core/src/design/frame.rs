@@ -30,9 +30,9 @@ impl Design {
     }
 
     /// Holds `holds` for the next [`HOLD_FRAMES`] frames (replacing any held before):
-    /// a garment's waistband at the body's waist while the garment settles, so that it
-    /// does not slide down the body before friction takes it. A vertex a weld merges
-    /// away hands its hold to the vertex it merged into.
+    /// a garment's waistband kept from falling below the body's waist while the garment
+    /// settles, so that it does not slide down the body before friction takes it. A
+    /// vertex a weld merges away hands its hold to the vertex it merged into.
     pub fn hold_while_draping(&mut self, holds: Vec<Hold>) {
         self.hold_frames = if holds.is_empty() { 0 } else { HOLD_FRAMES };
         self.holds = holds;
@@ -163,10 +163,9 @@ mod tests {
     }
 
     /// The tube's cloth unsewn, under `model`, its first row held at or above its own
-    /// level, 1 m,
-    /// each vertex with up to 0.2 N: 9 x 0.05 N would carry the cloth's 0.37 N as forces,
-    /// but under xpbd the cloth's constraints, solved after the holds, take part of each
-    /// pull back (it sagged 4 cm in half a second).
+    /// level, 1 m, each vertex with up to 0.2 N: 9 x 0.05 N would carry the cloth's 0.37 N
+    /// as forces, but under xpbd the cloth's constraints, solved after the holds, take
+    /// part of each pull back (it sagged 4 cm in half a second).
     fn held_tube(model: ModelKind) -> Design {
         let mut d = tube_of(model);
         d.seams.clear();

@@ -48,7 +48,8 @@ pub enum StepError {
 pub struct Drive<'a, 'p> {
     pub grip: &'a mut Grip,
     pub stitches: &'a [Stitch],
-    /// Vertices held to planes (a waistband at the waist while a garment settles).
+    /// Vertices kept on one side of planes (a waistband above the waist while a garment
+    /// settles).
     pub holds: &'a [Hold],
     pub pen: &'a mut PenPath<'p>,
     /// The least largest stretch the strain limit holds a triangle to

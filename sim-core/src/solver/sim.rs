@@ -55,7 +55,7 @@ pub struct Simulation {
     pub(crate) grip: Grip,
     /// Open seam stitches, handed in by the design before each frame.
     pub stitches: Vec<Stitch>,
-    /// Vertices held to planes, handed in by the design before each frame.
+    /// Vertices kept on one side of planes, handed in by the design before each frame.
     pub holds: Vec<Hold>,
     /// The least stretch the xpbd model's strain limit holds a triangle to (0: its own
     /// limit): while tearing is on the design sets it a quarter past the tear threshold,

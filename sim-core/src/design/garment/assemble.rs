@@ -257,8 +257,8 @@ pub const HOLD_PULL: f32 = 0.05;
 /// vertices: every border vertex along each held stretch, pulled with at most
 /// [`HOLD_PULL`] N. For [`Design::hold_while_draping`].
 ///
-/// None unless the body is `human`: GarmentCode's planes are its body's waist, armpits
-/// and neck, and another body's are elsewhere. On the mannequin, held 10 cm above its
+/// None unless the body is `human`: GarmentCode's plane is its body's waist, and another
+/// body's waist is elsewhere. On the mannequin, held 10 cm above its
 /// own (`GC_RAISE`), GarmentCode's pencil dress and jumpsuit were still moving 100
 /// frames after the holds let go, at twice the frame time; they stay on it without.
 pub fn holds(design: &Design, spec: &PatternSpec) -> Vec<crate::solver::Hold> {

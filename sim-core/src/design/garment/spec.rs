@@ -38,9 +38,9 @@ pub struct SeamSpec {
     pub b: EdgeRef,
 }
 
-/// A stretch held onto a plane of the body's while the garment settles (see
-/// [`Design::hold_while_draping`](crate::design::Design::hold_while_draping)): the plane
-/// `normal . x = level`, in the body's coordinates.
+/// A stretch kept on one side of a plane of the body's while the garment settles (see
+/// [`Design::hold_while_draping`](crate::design::Design::hold_while_draping)): where
+/// `normal . x >= level`, in the body's coordinates.
 #[derive(Clone, Debug, PartialEq)]
 pub struct HoldSpec {
     /// What is held, as the file names it (GarmentCode's `lower_interface`, a skirt's or
