@@ -79,6 +79,7 @@ impl Place {
                 down: top,
                 mirrored: false,
                 turn: 0,
+                room: 0.0,
             },
         }
     }
@@ -112,6 +113,10 @@ pub enum Placement {
         mirrored: bool,
         #[serde(default)]
         turn: u8,
+        /// How much further out than the body's sleeve radius the piece starts, m: one
+        /// of two halves of a sleeve or cuff wider than half the way round the arm.
+        #[serde(default)]
+        room: f32,
     },
     /// The pattern plane (x, y, 0), in the piece's own coordinates, turned by `rotation`
     /// and moved by `translation` (m).
@@ -392,11 +397,13 @@ pub fn place(
             down,
             mirrored,
             turn,
+            room,
         } => {
             let Some(arms) = marks.arms else {
                 return Err(PlaceError::NoArms { piece: name.into() });
             };
             let (shoulder, wrist, r) = arms[usize::from(!left)];
+            let r = r + room.max(0.0);
             // The pattern turned, and measured from its turned bounds' top middle.
             let (a, b) = (quarter(lo, turn), quarter(hi, turn));
             let (lo, hi) = (a.min(b), a.max(b));

@@ -209,11 +209,21 @@ fn placement(outline: &[Vec2], rot: Mat3, trans: Vec3, marks: &Landmarks) -> Pla
     };
     let (xdir, up, normal) = (rot * Vec3::X, rot * Vec3::Y, rot * Vec3::Z);
     let radial = Vec2::new(centre.x - marks.axis.x, centre.z - marks.axis.y);
+    // Beside the torso: its middle well out, or (a short sleeve) out and reaching far.
+    let reach = (outline.iter())
+        .map(|&p| (world(p).x - marks.axis.x).abs())
+        .fold(0.0, f32::max);
+    let beside = radial.x.abs() > marks.torso.x + 0.05
+        || (radial.x.abs() > marks.torso.x && reach > marks.torso.x + SHORT_SLEEVE_REACH);
     if let Some(arms) = marks.arms
-        && radial.x.abs() > marks.torso.x + 0.05
+        && beside
         && normal.y.abs() < 0.7
     {
-        return sleeve(radial, top, rot, arms, (lo, hi)).unwrap_or(fixed);
+        // Their panel, where their body has it (unlifted).
+        let theirs: Vec<Vec3> = (outline.iter())
+            .map(|&p| world(p) - Vec3::Y * marks.lift)
+            .collect();
+        return sleeve(radial, top, rot, arms, (lo, hi), &theirs).unwrap_or(fixed);
     }
     if up.y < 0.7 {
         return fixed;
@@ -252,6 +262,7 @@ fn sleeve(
     rot: Mat3,
     arms: [(Vec3, Vec3, f32); 2],
     (lo, hi): (Vec2, Vec2),
+    theirs: &[Vec3],
 ) -> Option<Placement> {
     let left = radial.x > 0.0;
     let (shoulder, wrist, r) = arms[usize::from(!left)];
@@ -284,20 +295,35 @@ fn sleeve(
     } else {
         radial.y >= 0.0
     };
+    // How far down the arm their panel starts.
+    let start = (theirs.iter())
+        .map(|&p| (p - shoulder).dot(along))
+        .fold(f32::MAX, f32::min);
     Some(Placement::Arm {
         left,
         angle: if front { 0.0 } else { std::f32::consts::PI },
-        // A hanging sleeve where it hangs on their body; a turned one from just below
-        // the shoulder, clear of the shoulder's round.
-        down: if turn == 0 {
+        // A panel that starts well down their arm (a cuff at the end of its sleeve)
+        // where it starts there; otherwise a hanging sleeve where it hangs on their body,
+        // a turned one from just below the shoulder, clear of the shoulder's round.
+        down: if start > CUFF_START {
+            start
+        } else if turn == 0 {
             (shoulder.y - top).max(0.0)
         } else {
             TURNED_SLEEVE_DOWN
         },
+        // Each of a sleeve's two halves goes at most half way round the arm.
+        room: (width / (std::f32::consts::PI * 0.95) - r).max(0.0),
         mirrored: round.x * if front { 1.0 } else { -1.0 } < 0.0,
         turn,
     })
 }
+
+/// How far past the torso's side a panel whose middle is just beside it must reach to be
+/// a sleeve, m. GarmentCode's random designs' short sleeves have their middles 2.7 cm past
+/// the side and reach 20 cm past it; kept in their transform, they started through our
+/// arm and shoulder (128-304 crossing pairs).
+const SHORT_SLEEVE_REACH: f32 = 0.15;
 
 /// How far in front of the body's axis (or behind it) a sleeve panel stands to be put in
 /// front of the arm (or behind it), m. GarmentCode puts front and back sleeve panels 17.5
@@ -305,6 +331,11 @@ fn sleeve(
 /// pattern's own, both faced the front, and both went in front of the arm, one through
 /// the other.
 const SLEEVE_SIDE: f32 = 0.05;
+
+/// How far down their arm a panel starts for it to start as far down ours, m: a cuff
+/// (GarmentCode's random designs' cuffs start 23-48 cm down), not a sleeve (theirs start
+/// at most 10 cm down, beside the shoulder).
+const CUFF_START: f32 = 0.18;
 
 /// How far down our arm a turned sleeve's top starts, m.
 const TURNED_SLEEVE_DOWN: f32 = 0.03;
@@ -426,245 +457,4 @@ pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, St
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A front and a back rectangle in GarmentCode's form (cm), the front's top edge a
-    /// quadratic curve, the back turned half round; stitched at both sides.
-    const TWO_PANELS: &str = r#"{
-      "pattern": {
-        "panels": {
-          "front": {
-            "translation": [-25, 90, 30], "rotation": [0, 0, 0],
-            "vertices": [[0, 0], [50, 0], [50, 60], [0, 60]],
-            "edges": [
-              {"endpoints": [0, 1]}, {"endpoints": [1, 2]},
-              {"endpoints": [2, 3], "curvature": {"type": "quadratic", "params": [[0.5, 0.2]]}},
-              {"endpoints": [3, 0]}
-            ]
-          },
-          "back": {
-            "translation": [25, 90, -25], "rotation": [0, 180, 0],
-            "vertices": [[0, 0], [50, 0], [50, 60], [0, 60]],
-            "edges": [
-              {"endpoints": [0, 1]}, {"endpoints": [1, 2]}, {"endpoints": [2, 3]},
-              {"endpoints": [3, 0]}
-            ]
-          }
-        },
-        "stitches": [
-          [{"panel": "front", "edge": 1}, {"panel": "back", "edge": 3}],
-          [{"panel": "front", "edge": 3}, {"panel": "back", "edge": 1}]
-        ]
-      },
-      "properties": {"units_in_meter": 100, "curvature_coords": "relative"}
-    }"#;
-
-    #[test]
-    fn panels_stitches_and_placement_are_read() {
-        let marks = Landmarks {
-            axis: Vec2::ZERO,
-            torso: Vec2::new(0.215, 0.175),
-            shoulders: 1.53,
-            lift: 0.03,
-            arms: None,
-            garmentcode: Vec3::Y * GC_RAISE,
-        };
-        let spec = read_garmentcode(TWO_PANELS, &marks).unwrap();
-        assert_eq!(spec.pieces.len(), 2);
-        assert_eq!(spec.seams.len(), 2);
-        // Panels come in the order of their names (JSON objects have none).
-        let (fi, bi) = (1, 0);
-        let front = &spec.pieces[fi];
-        assert_eq!(front.name, "front");
-        // cm to m; the top edge, run right to left, curves to its left (down) by half
-        // its control point's 0.2 x 0.5 m.
-        let l = &front.outline.loops[0];
-        let top = l.iter().map(|p| p.y).fold(f32::MIN, f32::max);
-        let dip = l
-            .iter()
-            .filter(|p| (p.x - 0.25).abs() < 0.01 && p.y > 0.3)
-            .map(|p| p.y)
-            .fold(f32::MAX, f32::min);
-        assert!((top - 0.6).abs() < 1e-5, "{top}");
-        assert!((dip - 0.55).abs() < 2e-3, "{dip}");
-        // The front goes in front, the back (turned round) at the back, both reading
-        // the right way out; the tops 10 cm higher on our body, and the lift above.
-        match (front.placement, spec.pieces[bi].placement) {
-            (
-                Some(Placement::Around {
-                    angle: a,
-                    top: t,
-                    mirrored: false,
-                    ..
-                }),
-                Some(Placement::Around {
-                    angle: b,
-                    mirrored: false,
-                    ..
-                }),
-            ) => {
-                assert!(a.abs() < 0.05, "{a}");
-                assert!(
-                    (b.rem_euclid(std::f32::consts::TAU) - std::f32::consts::PI).abs() < 0.05,
-                    "{b}"
-                );
-                assert!((t - (0.9 + 0.6 + GC_RAISE + 0.03)).abs() < 2e-3, "{t}");
-            }
-            other => panic!("{other:?}"),
-        }
-        // The front's right side (edge 1, up) meets the back's edge 3.
-        let s = &spec.seams[0];
-        assert_eq!((s.a.piece, s.b.piece), (fi, bi));
-        assert!(s.a.from.abs_diff_eq(Vec2::new(0.5, 0.0), 1e-6), "{s:?}");
-        assert!(s.a.to.abs_diff_eq(Vec2::new(0.5, 0.6), 1e-6), "{s:?}");
-        assert!(
-            read_garmentcode("{}", &marks)
-                .unwrap_err()
-                .contains("pattern")
-        );
-        let broken = TWO_PANELS.replace("\"edge\": 3}", "\"edge\": 9}");
-        assert!(
-            read_garmentcode(&broken, &marks)
-                .unwrap_err()
-                .contains("edge 9")
-        );
-    }
-
-    #[test]
-    fn labelled_waistbands_are_held_where_garmentcode_holds_them() {
-        let marks = Landmarks {
-            axis: Vec2::ZERO,
-            torso: Vec2::new(0.215, 0.175),
-            shoulders: 1.53,
-            lift: 0.03,
-            arms: None,
-            garmentcode: Vec3::new(0.01, GC_RAISE, 0.0),
-        };
-        assert!(
-            read_garmentcode(TWO_PANELS, &marks)
-                .unwrap()
-                .holds
-                .is_empty()
-        );
-        // The front's bottom (edge 0) a waistband, the back's bottom an unknown label,
-        // the back's right side (edge 1) a neckline's left side: held only the first.
-        let labelled = TWO_PANELS
-            .replacen(
-                r#"{"endpoints": [0, 1]}"#,
-                r#"{"endpoints": [0, 1], "label": "lower_interface"}"#,
-                1,
-            )
-            .replacen(
-                r#"{"endpoints": [0, 1]}"#,
-                r#"{"endpoints": [0, 1], "label": "bogus"}"#,
-                1,
-            )
-            .replacen(
-                r#"{"endpoints": [1, 2]}, {"endpoints": [2, 3]}"#,
-                r#"{"endpoints": [1, 2], "label": "left_collar"}, {"endpoints": [2, 3]}"#,
-                1,
-            );
-        let spec = read_garmentcode(&labelled, &marks).unwrap();
-        assert_eq!(spec.holds.len(), 1, "{:?}", spec.holds);
-        let waist = spec.holds.iter().find(|h| h.label == "lower_interface");
-        let waist = waist.unwrap();
-        // The back is piece 0, the front piece 1 (by name).
-        assert_eq!(waist.edge.piece, 1);
-        assert!(waist.edge.from.abs_diff_eq(Vec2::ZERO, 1e-6));
-        assert!(waist.edge.to.abs_diff_eq(Vec2::new(0.5, 0.0), 1e-6));
-        assert_eq!(waist.normal, Vec3::Y);
-        assert!((waist.level - (1.0877 + GC_RAISE)).abs() < 1e-6);
-    }
-
-    /// GarmentCode's own body's landmarks, as `Landmarks::of` gives them for `human`.
-    fn human_marks() -> Landmarks {
-        let arm = |x: f32| {
-            (
-                Vec3::new(x * 0.21, 1.33, -0.03),
-                Vec3::new(x * 0.52, 1.035, 0.02),
-                0.085,
-            )
-        };
-        Landmarks {
-            axis: Vec2::new(0.0, -0.005),
-            torso: Vec2::new(0.21, 0.20),
-            shoulders: 1.52,
-            lift: 0.08,
-            arms: Some([arm(1.0), arm(-1.0)]),
-            garmentcode: Vec3::ZERO,
-        }
-    }
-
-    /// A panel: its name, width and height (cm), translation and rotation.
-    type Panel<'a> = (&'a str, [f32; 2], [f32; 3], [f32; 3]);
-
-    /// A GarmentCode pattern of rectangular panels, no stitches.
-    fn panels(list: &[Panel]) -> String {
-        let panels: serde_json::Map<String, Value> = list
-            .iter()
-            .map(|&(name, [w, h], t, r)| {
-                let panel = serde_json::json!({
-                    "translation": t, "rotation": r,
-                    "vertices": [[0, 0], [w, 0], [w, h], [0, h]],
-                    "edges": [{"endpoints": [0, 1]}, {"endpoints": [1, 2]},
-                              {"endpoints": [2, 3]}, {"endpoints": [3, 0]}]
-                });
-                (name.to_string(), panel)
-            })
-            .collect();
-        serde_json::json!({"pattern": {"panels": panels, "stitches": []}}).to_string()
-    }
-
-    #[test]
-    fn front_and_back_cuffs_go_in_front_of_and_behind_the_arm() {
-        // A random design's left cuff: two 38 x 5.4 cm panels turned 44.5 degrees, their
-        // pattern's -y down the arm, both facing +z, 17.5 cm in front and 12.5 behind.
-        let spec = read_garmentcode(
-            &panels(&[
-                ("cuff_f", [38.0, 5.4], [55.1, 124.2, 17.5], [0.0, 0.0, 44.5]),
-                (
-                    "cuff_b",
-                    [38.0, 5.4],
-                    [55.1, 124.2, -12.5],
-                    [0.0, 0.0, 44.5],
-                ),
-            ]),
-            &human_marks(),
-        )
-        .unwrap();
-        let angle = |name: &str| match spec.pieces.iter().find(|p| p.name == name) {
-            Some(PieceSpec {
-                placement:
-                    Some(Placement::Arm {
-                        left: true,
-                        angle,
-                        turn: 0,
-                        ..
-                    }),
-                ..
-            }) => *angle,
-            other => panic!("{name}: {other:?}"),
-        };
-        assert_eq!(angle("cuff_f"), 0.0);
-        assert!((angle("cuff_b") - std::f32::consts::PI).abs() < 1e-6);
-    }
-
-    #[test]
-    fn arcs_pass_through_their_ends_and_bulge_the_asked_way() {
-        let (p, q) = (Vec2::ZERO, Vec2::new(2.0, 0.0));
-        for (large, right) in [(false, false), (false, true), (true, false), (true, true)] {
-            let pts = arc(p, q, 1.5, large, right, 32);
-            let c = pts[15];
-            // Right of p -> q (going +x) is -y.
-            assert_eq!(c.y < 0.0, right, "{large} {right}");
-            let depth = pts.iter().map(|v| v.y.abs()).fold(0.0, f32::max);
-            let small = 1.5 - (1.5f32 * 1.5 - 1.0).sqrt();
-            let want = if large { 3.0 - small } else { small };
-            assert!(
-                (depth - want).abs() < 0.02,
-                "{large} {right}: {depth} {want}"
-            );
-        }
-    }
-}
+mod tests;

@@ -1,0 +1,279 @@
+//! The GarmentCode reader's tests.
+
+use super::*;
+
+/// A front and a back rectangle in GarmentCode's form (cm), the front's top edge a
+/// quadratic curve, the back turned half round; stitched at both sides.
+const TWO_PANELS: &str = r#"{
+  "pattern": {
+    "panels": {
+      "front": {
+        "translation": [-25, 90, 30], "rotation": [0, 0, 0],
+        "vertices": [[0, 0], [50, 0], [50, 60], [0, 60]],
+        "edges": [
+          {"endpoints": [0, 1]}, {"endpoints": [1, 2]},
+          {"endpoints": [2, 3], "curvature": {"type": "quadratic", "params": [[0.5, 0.2]]}},
+          {"endpoints": [3, 0]}
+        ]
+      },
+      "back": {
+        "translation": [25, 90, -25], "rotation": [0, 180, 0],
+        "vertices": [[0, 0], [50, 0], [50, 60], [0, 60]],
+        "edges": [
+          {"endpoints": [0, 1]}, {"endpoints": [1, 2]}, {"endpoints": [2, 3]},
+          {"endpoints": [3, 0]}
+        ]
+      }
+    },
+    "stitches": [
+      [{"panel": "front", "edge": 1}, {"panel": "back", "edge": 3}],
+      [{"panel": "front", "edge": 3}, {"panel": "back", "edge": 1}]
+    ]
+  },
+  "properties": {"units_in_meter": 100, "curvature_coords": "relative"}
+}"#;
+
+#[test]
+fn panels_stitches_and_placement_are_read() {
+    let marks = Landmarks {
+        axis: Vec2::ZERO,
+        torso: Vec2::new(0.215, 0.175),
+        shoulders: 1.53,
+        lift: 0.03,
+        arms: None,
+        garmentcode: Vec3::Y * GC_RAISE,
+    };
+    let spec = read_garmentcode(TWO_PANELS, &marks).unwrap();
+    assert_eq!(spec.pieces.len(), 2);
+    assert_eq!(spec.seams.len(), 2);
+    // Panels come in the order of their names (JSON objects have none).
+    let (fi, bi) = (1, 0);
+    let front = &spec.pieces[fi];
+    assert_eq!(front.name, "front");
+    // cm to m; the top edge, run right to left, curves to its left (down) by half
+    // its control point's 0.2 x 0.5 m.
+    let l = &front.outline.loops[0];
+    let top = l.iter().map(|p| p.y).fold(f32::MIN, f32::max);
+    let dip = l
+        .iter()
+        .filter(|p| (p.x - 0.25).abs() < 0.01 && p.y > 0.3)
+        .map(|p| p.y)
+        .fold(f32::MAX, f32::min);
+    assert!((top - 0.6).abs() < 1e-5, "{top}");
+    assert!((dip - 0.55).abs() < 2e-3, "{dip}");
+    // The front goes in front, the back (turned round) at the back, both reading
+    // the right way out; the tops 10 cm higher on our body, and the lift above.
+    match (front.placement, spec.pieces[bi].placement) {
+        (
+            Some(Placement::Around {
+                angle: a,
+                top: t,
+                mirrored: false,
+                ..
+            }),
+            Some(Placement::Around {
+                angle: b,
+                mirrored: false,
+                ..
+            }),
+        ) => {
+            assert!(a.abs() < 0.05, "{a}");
+            assert!(
+                (b.rem_euclid(std::f32::consts::TAU) - std::f32::consts::PI).abs() < 0.05,
+                "{b}"
+            );
+            assert!((t - (0.9 + 0.6 + GC_RAISE + 0.03)).abs() < 2e-3, "{t}");
+        }
+        other => panic!("{other:?}"),
+    }
+    // The front's right side (edge 1, up) meets the back's edge 3.
+    let s = &spec.seams[0];
+    assert_eq!((s.a.piece, s.b.piece), (fi, bi));
+    assert!(s.a.from.abs_diff_eq(Vec2::new(0.5, 0.0), 1e-6), "{s:?}");
+    assert!(s.a.to.abs_diff_eq(Vec2::new(0.5, 0.6), 1e-6), "{s:?}");
+    assert!(
+        read_garmentcode("{}", &marks)
+            .unwrap_err()
+            .contains("pattern")
+    );
+    let broken = TWO_PANELS.replace("\"edge\": 3}", "\"edge\": 9}");
+    assert!(
+        read_garmentcode(&broken, &marks)
+            .unwrap_err()
+            .contains("edge 9")
+    );
+}
+
+#[test]
+fn labelled_waistbands_are_held_where_garmentcode_holds_them() {
+    let marks = Landmarks {
+        axis: Vec2::ZERO,
+        torso: Vec2::new(0.215, 0.175),
+        shoulders: 1.53,
+        lift: 0.03,
+        arms: None,
+        garmentcode: Vec3::new(0.01, GC_RAISE, 0.0),
+    };
+    assert!(
+        read_garmentcode(TWO_PANELS, &marks)
+            .unwrap()
+            .holds
+            .is_empty()
+    );
+    // The front's bottom (edge 0) a waistband, the back's bottom an unknown label,
+    // the back's right side (edge 1) a neckline's left side: held only the first.
+    let labelled = TWO_PANELS
+        .replacen(
+            r#"{"endpoints": [0, 1]}"#,
+            r#"{"endpoints": [0, 1], "label": "lower_interface"}"#,
+            1,
+        )
+        .replacen(
+            r#"{"endpoints": [0, 1]}"#,
+            r#"{"endpoints": [0, 1], "label": "bogus"}"#,
+            1,
+        )
+        .replacen(
+            r#"{"endpoints": [1, 2]}, {"endpoints": [2, 3]}"#,
+            r#"{"endpoints": [1, 2], "label": "left_collar"}, {"endpoints": [2, 3]}"#,
+            1,
+        );
+    let spec = read_garmentcode(&labelled, &marks).unwrap();
+    assert_eq!(spec.holds.len(), 1, "{:?}", spec.holds);
+    let waist = spec.holds.iter().find(|h| h.label == "lower_interface");
+    let waist = waist.unwrap();
+    // The back is piece 0, the front piece 1 (by name).
+    assert_eq!(waist.edge.piece, 1);
+    assert!(waist.edge.from.abs_diff_eq(Vec2::ZERO, 1e-6));
+    assert!(waist.edge.to.abs_diff_eq(Vec2::new(0.5, 0.0), 1e-6));
+    assert_eq!(waist.normal, Vec3::Y);
+    assert!((waist.level - (1.0877 + GC_RAISE)).abs() < 1e-6);
+}
+
+/// GarmentCode's own body's landmarks, as `Landmarks::of` gives them for `human`.
+fn human_marks() -> Landmarks {
+    let arm = |x: f32| {
+        (
+            Vec3::new(x * 0.21, 1.33, -0.03),
+            Vec3::new(x * 0.52, 1.035, 0.02),
+            0.085,
+        )
+    };
+    Landmarks {
+        axis: Vec2::new(0.0, -0.005),
+        torso: Vec2::new(0.21, 0.20),
+        shoulders: 1.52,
+        lift: 0.08,
+        arms: Some([arm(1.0), arm(-1.0)]),
+        garmentcode: Vec3::ZERO,
+    }
+}
+
+/// A panel: its name, corners (cm), translation and rotation.
+type Panel<'a> = (&'a str, &'a [[f32; 2]], [f32; 3], [f32; 3]);
+
+/// A GarmentCode pattern of straight-edged panels, no stitches.
+fn panels(list: &[Panel]) -> String {
+    let panels: serde_json::Map<String, Value> = list
+        .iter()
+        .map(|&(name, corners, t, r)| {
+            let n = corners.len();
+            let edges: Vec<Value> = (0..n)
+                .map(|k| serde_json::json!({"endpoints": [k, (k + 1) % n]}))
+                .collect();
+            let panel = serde_json::json!({
+                "translation": t, "rotation": r, "vertices": corners, "edges": edges
+            });
+            (name.to_string(), panel)
+        })
+        .collect();
+    serde_json::json!({"pattern": {"panels": panels, "stitches": []}}).to_string()
+}
+
+#[test]
+fn front_and_back_cuffs_go_in_front_of_and_behind_the_arm() {
+    // A random design's left cuff: two 38 x 5.4 cm panels turned 44.5 degrees, their
+    // pattern's -y down the arm, both facing +z, 17.5 cm in front and 12.5 behind.
+    let cuff: &[[f32; 2]] = &[[0.0, 0.0], [38.0, 0.0], [38.0, 5.4], [0.0, 5.4]];
+    let spec = read_garmentcode(
+        &panels(&[
+            ("cuff_f", cuff, [55.1, 124.2, 17.5], [0.0, 0.0, 44.5]),
+            ("cuff_b", cuff, [55.1, 124.2, -12.5], [0.0, 0.0, 44.5]),
+        ]),
+        &human_marks(),
+    )
+    .unwrap();
+    let angle = |name: &str| match spec.pieces.iter().find(|p| p.name == name) {
+        Some(PieceSpec {
+            placement:
+                Some(Placement::Arm {
+                    left: true,
+                    angle,
+                    turn: 0,
+                    ..
+                }),
+            ..
+        }) => *angle,
+        other => panic!("{name}: {other:?}"),
+    };
+    assert_eq!(angle("cuff_f"), 0.0);
+    assert!((angle("cuff_b") - std::f32::consts::PI).abs() < 1e-6);
+}
+
+#[test]
+fn a_short_sleeve_goes_round_the_arm_and_its_cuff_at_its_end() {
+    // A random design's left short sleeve (its middle 2.7 cm past the torso's side, its
+    // halves 28.6 cm round) and cuff (starting 25 cm down its arm).
+    let sleeve: &[[f32; 2]] = &[[0.0, 0.0], [-27.1, 0.0], [-15.7, -28.6], [0.0, -11.6]];
+    let cuff: &[[f32; 2]] = &[[0.0, 0.0], [-8.3, 0.0], [-8.3, 5.4], [0.0, 5.4]];
+    let spec = read_garmentcode(
+        &panels(&[
+            ("sleeve_f", sleeve, [42.7, 120.0, 17.5], [0.0, 0.0, -45.5]),
+            ("cuff_f", cuff, [47.9, 114.7, 17.5], [0.0, 0.0, 44.5]),
+        ]),
+        &human_marks(),
+    )
+    .unwrap();
+    let arm = |name: &str| match spec.pieces.iter().find(|p| p.name == name) {
+        Some(PieceSpec {
+            placement:
+                Some(Placement::Arm {
+                    left: true,
+                    down,
+                    room,
+                    ..
+                }),
+            ..
+        }) => (*down, *room),
+        other => panic!("{name}: {other:?}"),
+    };
+    let (down, room) = arm("sleeve_f");
+    assert_eq!(down, TURNED_SLEEVE_DOWN);
+    // Half way round an arm 28.6 cm round at most, with 5% to spare.
+    let r = 0.085 + room;
+    assert!(
+        (std::f32::consts::PI * r * 0.95 - 0.286).abs() < 1e-3,
+        "{r}"
+    );
+    let (down, room) = arm("cuff_f");
+    assert!(down > CUFF_START && down < 0.3, "{down}");
+    assert_eq!(room, 0.0);
+}
+
+#[test]
+fn arcs_pass_through_their_ends_and_bulge_the_asked_way() {
+    let (p, q) = (Vec2::ZERO, Vec2::new(2.0, 0.0));
+    for (large, right) in [(false, false), (false, true), (true, false), (true, true)] {
+        let pts = arc(p, q, 1.5, large, right, 32);
+        let c = pts[15];
+        // Right of p -> q (going +x) is -y.
+        assert_eq!(c.y < 0.0, right, "{large} {right}");
+        let depth = pts.iter().map(|v| v.y.abs()).fold(0.0, f32::max);
+        let small = 1.5 - (1.5f32 * 1.5 - 1.0).sqrt();
+        let want = if large { 3.0 - small } else { small };
+        assert!(
+            (depth - want).abs() < 0.02,
+            "{large} {right}: {depth} {want}"
+        );
+    }
+}
