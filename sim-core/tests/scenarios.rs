@@ -142,6 +142,7 @@ fn a_garmentcode_seam_shorter_than_the_mesh_is_left_unsewn_with_a_notice() {
         )
     };
     let (r, dir) = drape_gc(
+        None,
         "tiny",
         &[("front", panel(-20.0, 0.0)), ("back", panel(20.0, 180.0))],
         &[
@@ -176,24 +177,21 @@ fn gc_panel(t: [f32; 3], r: [f32; 3], points: &[[f32; 2]]) -> serde_json::Value 
 /// One side of a GarmentCode stitch: a panel's name and one of its edges.
 type Side<'a> = (&'a str, usize);
 
-/// drape-pattern on a GarmentCode specification of `panels` and `stitches` (each a pair of
-/// (panel, edge)), written to a file in a fresh directory; the directory is returned for
-/// the outputs (under `out/`) and to be removed.
-fn drape_gc(
-    tag: &str,
-    panels: &[(&str, serde_json::Value)],
-    stitches: &[(Side, Side)],
-    edge: f32,
-    frames: u64,
-) -> (
-    Result<Report, sim_core::scenario::ScenarioError>,
-    std::path::PathBuf,
-) {
-    drape_gc_on(None, tag, panels, stitches, edge, frames)
+/// The highest point of the cloth a scenario in `dir` exported (`out/cloth.obj`), m.
+fn cloth_top(dir: &std::path::Path) -> f32 {
+    sim_core::mesh::obj::load_obj(&dir.join("out/cloth.obj"))
+        .unwrap()
+        .positions
+        .iter()
+        .map(|p| p.y)
+        .fold(f32::MIN, f32::max)
 }
 
-/// [`drape_gc`] on `body` (`None`: the scenario's own, the mannequin).
-fn drape_gc_on(
+/// drape-pattern on a GarmentCode specification of `panels` and `stitches` (each a pair of
+/// (panel, edge)), written to a file in a fresh directory, on `body` (`None`: the
+/// scenario's own, the mannequin); the directory is returned for the outputs (under
+/// `out/`) and to be removed.
+fn drape_gc(
     body: Option<sim_core::collision::BodyKind>,
     tag: &str,
     panels: &[(&str, serde_json::Value)],
@@ -260,6 +258,7 @@ fn a_garmentcode_top_on_straps_stays_on_the_mannequins_shoulders() {
     // The back is turned round: its edge 1 (x = 28.7) lies on the body's right, beside
     // the front's edge 8, and its straps' tops (edges 3 and 6) above the front's 6 and 3.
     let (r, dir) = drape_gc(
+        None,
         "straps",
         &[
             ("front", bodice(30.0, 0.0, 42.8)),
@@ -276,12 +275,7 @@ fn a_garmentcode_top_on_straps_stays_on_the_mannequins_shoulders() {
     );
     let r = r.unwrap();
     assert_eq!(r.ops.seams, Some(4), "{:?}", r.notices);
-    let top = sim_core::mesh::obj::load_obj(&dir.join("out/cloth.obj"))
-        .unwrap()
-        .positions
-        .iter()
-        .map(|p| p.y)
-        .fold(f32::MIN, f32::max);
+    let top = cloth_top(&dir);
     let coverage = r.ops.torso_coverage.unwrap();
     assert!(
         top > 1.40 && coverage > 0.8,
@@ -310,7 +304,7 @@ fn a_garmentcode_waistband_is_held_at_the_waist_while_the_skirt_settles() {
         p
     };
     let top_after = |tag: &str, waistband: bool| {
-        let (r, dir) = drape_gc_on(
+        let (r, dir) = drape_gc(
             Some(sim_core::collision::BodyKind::Human),
             tag,
             &[
@@ -325,12 +319,7 @@ fn a_garmentcode_waistband_is_held_at_the_waist_while_the_skirt_settles() {
         assert_eq!(r.body, "human");
         assert_eq!(r.ops.seams, Some(2), "{:?}", r.notices);
         assert_eq!((r.crossings_self, r.crossings_body), (0, 0));
-        let top = sim_core::mesh::obj::load_obj(&dir.join("out/cloth.obj"))
-            .unwrap()
-            .positions
-            .iter()
-            .map(|p| p.y)
-            .fold(f32::MIN, f32::max);
+        let top = cloth_top(&dir);
         std::fs::remove_dir_all(&dir).ok();
         (top, r.ops.held_vertices)
     };
@@ -346,6 +335,7 @@ fn a_garmentcode_waistband_is_held_at_the_waist_while_the_skirt_settles() {
     assert!(free < 0.95, "the free skirt's top is at {free} m");
     // Their waist is their body's: on the mannequin nothing is held.
     let (r, dir) = drape_gc(
+        None,
         "waistband-mannequin",
         &[
             ("front", panel(22.0, 0.0, true)),
@@ -382,6 +372,7 @@ fn a_garmentcode_top_that_would_start_through_the_arms_starts_lower() {
         )
     };
     let (r, dir) = drape_gc(
+        None,
         "armpits",
         &[("front", top(30.0, 0.0)), ("back", top(-25.0, 180.0))],
         &[(("front", 1), ("back", 5)), (("front", 5), ("back", 1))],
@@ -406,6 +397,7 @@ fn a_pattern_that_starts_through_the_body_is_refused_naming_the_piece() {
     // own transform: it lies flat).
     let square = |side: f32| [[0.0, 0.0], [side, 0.0], [side, side], [0.0, side]];
     let (r, dir) = drape_gc(
+        None,
         "belt",
         &[
             (

@@ -33,16 +33,21 @@ const TWO_PANELS: &str = r#"{
   "properties": {"units_in_meter": 100, "curvature_coords": "relative"}
 }"#;
 
-#[test]
-fn panels_stitches_and_placement_are_read() {
-    let marks = Landmarks {
+/// A body with no arms, GarmentCode's standing `garmentcode` from its origin.
+fn armless(garmentcode: Vec3) -> Landmarks {
+    Landmarks {
         axis: Vec2::ZERO,
         torso: Vec2::new(0.215, 0.175),
         shoulders: 1.53,
         lift: 0.03,
         arms: None,
-        garmentcode: Vec3::Y * GC_RAISE,
-    };
+        garmentcode,
+    }
+}
+
+#[test]
+fn panels_stitches_and_placement_are_read() {
+    let marks = armless(Vec3::Y * GC_RAISE);
     let spec = read_garmentcode(TWO_PANELS, &marks).unwrap();
     assert_eq!(spec.pieces.len(), 2);
     assert_eq!(spec.seams.len(), 2);
@@ -106,14 +111,7 @@ fn panels_stitches_and_placement_are_read() {
 
 #[test]
 fn labelled_waistbands_are_held_where_garmentcode_holds_them() {
-    let marks = Landmarks {
-        axis: Vec2::ZERO,
-        torso: Vec2::new(0.215, 0.175),
-        shoulders: 1.53,
-        lift: 0.03,
-        arms: None,
-        garmentcode: Vec3::new(0.01, GC_RAISE, 0.0),
-    };
+    let marks = armless(Vec3::new(0.01, GC_RAISE, 0.0));
     assert!(
         read_garmentcode(TWO_PANELS, &marks)
             .unwrap()
