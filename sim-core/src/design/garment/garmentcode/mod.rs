@@ -194,8 +194,14 @@ fn euler(d: Vec3) -> Mat3 {
         * Mat3::from_rotation_x(d.x.to_radians())
 }
 
-/// Where a panel starts on our body, from where GarmentCode put it on theirs.
-fn placement(outline: &[Vec2], rot: Mat3, trans: Vec3, marks: &Landmarks) -> Placement {
+/// Where a panel starts on our body, from where GarmentCode put it on theirs, and for a
+/// panel round an arm how far down their arm it starts, m.
+fn placement(
+    outline: &[Vec2],
+    rot: Mat3,
+    trans: Vec3,
+    marks: &Landmarks,
+) -> (Placement, Option<f32>) {
     let (lo, hi) = crate::mesh::bounds2(outline);
     let to_ours = marks.garmentcode + Vec3::Y * marks.lift;
     let world = |p: Vec2| rot * p.extend(0.0) + trans + to_ours;
@@ -209,24 +215,30 @@ fn placement(outline: &[Vec2], rot: Mat3, trans: Vec3, marks: &Landmarks) -> Pla
     };
     let (xdir, up, normal) = (rot * Vec3::X, rot * Vec3::Y, rot * Vec3::Z);
     let radial = Vec2::new(centre.x - marks.axis.x, centre.z - marks.axis.y);
-    // Beside the torso: its middle well out, or (a short sleeve) out and reaching far.
+    // Beside the torso: its middle well out. Or, near the torso's side and reaching far
+    // past it, a short sleeve if it runs down the arm (a trouser leg, which reaches as
+    // far, does not, and goes round the body as before).
     let reach = (outline.iter())
         .map(|&p| (world(p).x - marks.axis.x).abs())
         .fold(0.0, f32::max);
-    let beside = radial.x.abs() > marks.torso.x + 0.05
-        || (radial.x.abs() > marks.torso.x && reach > marks.torso.x + SHORT_SLEEVE_REACH);
+    let beside = radial.x.abs() > marks.torso.x + 0.05;
+    let short = radial.x.abs() > marks.torso.x - 0.05 && reach > marks.torso.x + SHORT_SLEEVE_REACH;
     if let Some(arms) = marks.arms
-        && beside
+        && (beside || short)
         && normal.y.abs() < 0.7
     {
         // Their panel, where their body has it (unlifted).
         let theirs: Vec<Vec3> = (outline.iter())
             .map(|&p| world(p) - Vec3::Y * marks.lift)
             .collect();
-        return sleeve(radial, top, rot, arms, (lo, hi), &theirs).unwrap_or(fixed);
+        match sleeve(radial, top, rot, arms, (lo, hi), &theirs) {
+            Some((p, start)) => return (p, Some(start)),
+            None if beside => return (fixed, None),
+            None => {}
+        }
     }
     if up.y < 0.7 {
-        return fixed;
+        return (fixed, None);
     }
     let mut out = Vec2::new(normal.x, normal.z);
     if out.dot(radial) < 0.0 {
@@ -238,12 +250,13 @@ fn placement(outline: &[Vec2], rot: Mat3, trans: Vec3, marks: &Landmarks) -> Pla
     let phi = out.x.atan2(out.y);
     let tangent = Vec2::new(phi.cos(), -phi.sin());
     let lateral = radial.dot(tangent);
-    Placement::Around {
+    let around = Placement::Around {
         angle: shift_angle(marks, phi, lateral),
         top,
         mirrored: Vec2::new(xdir.x, xdir.z).dot(tangent) < 0.0,
         out: 0.0,
-    }
+    };
+    (around, None)
 }
 
 /// How far (degrees) our arm may run from a sleeve's way down its pattern for the sleeve
@@ -263,7 +276,7 @@ fn sleeve(
     arms: [(Vec3, Vec3, f32); 2],
     (lo, hi): (Vec2, Vec2),
     theirs: &[Vec3],
-) -> Option<Placement> {
+) -> Option<(Placement, f32)> {
     let left = radial.x > 0.0;
     let (shoulder, wrist, r) = arms[usize::from(!left)];
     // The pattern's way down the arm: its axis (+-x, +-y) that runs most as our arm
@@ -299,7 +312,7 @@ fn sleeve(
     let start = (theirs.iter())
         .map(|&p| (p - shoulder).dot(along))
         .fold(f32::MAX, f32::min);
-    Some(Placement::Arm {
+    let placed = Placement::Arm {
         left,
         angle: if front { 0.0 } else { std::f32::consts::PI },
         // A panel that starts well down their arm (a cuff at the end of its sleeve)
@@ -316,13 +329,42 @@ fn sleeve(
         room: (width / (std::f32::consts::PI * 0.95) - r).max(0.0),
         mirrored: round.x * if front { 1.0 } else { -1.0 } < 0.0,
         turn,
-    })
+    };
+    Some((placed, start))
 }
 
-/// How far past the torso's side a panel whose middle is just beside it must reach to be
-/// a sleeve, m. GarmentCode's random designs' short sleeves have their middles 2.7 cm past
-/// the side and reach 20 cm past it; kept in their transform, they started through our
-/// arm and shoulder (128-304 crossing pairs).
+/// Each cuff (a panel that starts more than [`CUFF_START`] down their arm) moved down our
+/// arm by as much as the sleeve that starts highest on that arm was (a turned sleeve
+/// starts 3 cm down ours wherever it starts on theirs), so that it stays at the
+/// sleeve's end. `starts`: each piece's start down their arm, for those round an arm.
+fn keep_cuffs_at_their_sleeves(pieces: &mut [PieceSpec], starts: &[Option<f32>]) {
+    for side in [true, false] {
+        let on_side = |p: &PieceSpec| matches!(p.placement, Some(Placement::Arm { left, .. }) if left == side);
+        // The shift of the sleeve that starts highest on this arm.
+        let shift = (pieces.iter().zip(starts))
+            .filter(|(p, s)| on_side(p) && s.is_some_and(|s| s <= CUFF_START))
+            .filter_map(|(p, s)| match p.placement {
+                Some(Placement::Arm { down, .. }) => Some((s.unwrap_or(0.0), down)),
+                _ => None,
+            })
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .map(|(start, down)| down - start);
+        let Some(shift) = shift else { continue };
+        for (p, s) in pieces.iter_mut().zip(starts) {
+            if let (true, Some(s)) = (on_side(p), *s)
+                && s > CUFF_START
+                && let Some(Placement::Arm { down, .. }) = &mut p.placement
+            {
+                *down = s + shift;
+            }
+        }
+    }
+}
+
+/// How far past the torso's side a panel whose middle is near it (within 5 cm) must reach
+/// to be a short sleeve, m. GarmentCode's random designs' short sleeves have their
+/// middles 2.8 cm inside the side to 2.7 cm past it and reach 15-20 cm past it; kept in
+/// their transform, they started through our arm and shoulder (92-304 crossing pairs).
 const SHORT_SLEEVE_REACH: f32 = 0.15;
 
 /// How far in front of the body's axis (or behind it) a sleeve panel stands to be put in
@@ -366,6 +408,8 @@ pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, St
     let mut spec = PatternSpec::default();
     // Each panel's edges as (from, to) on its counter-clockwise outline.
     let mut edges_of: Vec<(String, Vec<(Vec2, Vec2)>)> = Vec::new();
+    // Each panel's start down their arm, for those round an arm.
+    let mut starts: Vec<Option<f32>> = Vec::new();
     for (name, panel) in panels {
         let err = |s: String| format!("panel {name}: {s}");
         let verts: Vec<Vec2> = panel
@@ -414,9 +458,11 @@ pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, St
         spec.holds.extend(holds(edges, &ends, piece, marks));
         let rot = euler(vec3(panel.get("rotation")).unwrap_or(Vec3::ZERO));
         let trans = vec3(panel.get("translation")).unwrap_or(Vec3::ZERO) * scale;
+        let (placed, start) = placement(&outline, rot, trans, marks);
+        starts.push(start);
         spec.pieces.push(PieceSpec {
             name: name.clone(),
-            placement: Some(placement(&outline, rot, trans, marks)),
+            placement: Some(placed),
             outline: Outline {
                 loops: vec![outline],
             },
@@ -425,6 +471,7 @@ pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, St
         });
         edges_of.push((name.clone(), ends));
     }
+    keep_cuffs_at_their_sleeves(&mut spec.pieces, &starts);
     let stitches = pattern
         .get("stitches")
         .and_then(Value::as_array)

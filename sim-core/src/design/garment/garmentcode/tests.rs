@@ -221,7 +221,7 @@ fn front_and_back_cuffs_go_in_front_of_and_behind_the_arm() {
 #[test]
 fn a_short_sleeve_goes_round_the_arm_and_its_cuff_at_its_end() {
     // A random design's left short sleeve (its middle 2.7 cm past the torso's side, its
-    // halves 28.6 cm round) and cuff (starting 25 cm down its arm).
+    // halves 28.6 cm round) and cuff.
     let sleeve: &[[f32; 2]] = &[[0.0, 0.0], [-27.1, 0.0], [-15.7, -28.6], [0.0, -11.6]];
     let cuff: &[[f32; 2]] = &[[0.0, 0.0], [-8.3, 0.0], [-8.3, 5.4], [0.0, 5.4]];
     let spec = read_garmentcode(
@@ -245,16 +245,19 @@ fn a_short_sleeve_goes_round_the_arm_and_its_cuff_at_its_end() {
         }) => (*down, *room),
         other => panic!("{name}: {other:?}"),
     };
-    let (down, room) = arm("sleeve_f");
-    assert_eq!(down, TURNED_SLEEVE_DOWN);
+    let (sleeve_down, room) = arm("sleeve_f");
+    assert_eq!(sleeve_down, TURNED_SLEEVE_DOWN);
     // Half way round an arm 28.6 cm round at most, with 5% to spare.
     let r = 0.085 + room;
     assert!(
         (std::f32::consts::PI * r * 0.95 - 0.286).abs() < 1e-3,
         "{r}"
     );
+    // The cuff as far below the sleeve's start as on their arm (28.6 cm: the sleeve
+    // starts at the shoulder there).
     let (down, room) = arm("cuff_f");
-    assert!(down > CUFF_START && down < 0.3, "{down}");
+    assert!(down > CUFF_START, "{down}");
+    assert!((down - sleeve_down - 0.286).abs() < 0.005, "{down}");
     assert_eq!(room, 0.0);
 }
 
