@@ -339,21 +339,20 @@ fn sleeve(
 /// sleeve's end. `starts`: each piece's start down their arm, for those round an arm.
 fn keep_cuffs_at_their_sleeves(pieces: &mut [PieceSpec], starts: &[Option<f32>]) {
     for side in [true, false] {
-        let on_side = |p: &PieceSpec| matches!(p.placement, Some(Placement::Arm { left, .. }) if left == side);
+        let arm_down = |p: &PieceSpec| match p.placement {
+            Some(Placement::Arm { left, down, .. }) if left == side => Some(down),
+            _ => None,
+        };
         // The shift of the sleeve that starts highest on this arm.
         let shift = (pieces.iter().zip(starts))
-            .filter(|(p, s)| on_side(p) && s.is_some_and(|s| s <= CUFF_START))
-            .filter_map(|(p, s)| match p.placement {
-                Some(Placement::Arm { down, .. }) => Some((s.unwrap_or(0.0), down)),
-                _ => None,
-            })
+            .filter_map(|(p, s)| Some((s.filter(|&s| s <= CUFF_START)?, arm_down(p)?)))
             .min_by(|a, b| a.0.total_cmp(&b.0))
             .map(|(start, down)| down - start);
         let Some(shift) = shift else { continue };
         for (p, s) in pieces.iter_mut().zip(starts) {
-            if let (true, Some(s)) = (on_side(p), *s)
-                && s > CUFF_START
-                && let Some(Placement::Arm { down, .. }) = &mut p.placement
+            if let Some(Placement::Arm { left, down, .. }) = &mut p.placement
+                && *left == side
+                && let Some(s) = s.filter(|&s| s > CUFF_START)
             {
                 *down = s + shift;
             }
