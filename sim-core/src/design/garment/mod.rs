@@ -1,12 +1,14 @@
 //! Garments: a pattern's pieces (read from SVG, DXF or GarmentCode JSON, or made by
 //! hand) arranged round the body, meshed, and sewn.
 //!
-//! Inside, bottom up: `place` (named places, placements, a body's landmarks) <- `spec`
+//! Inside, bottom up: `cone` (a fan rolled up on a cone round the body) <- `place`
+//! (named places, placements, a body's landmarks) <- `spec`
 //! (the pattern before it is cloth; arrangement by name) <- `assemble` (layout in the
 //! design's pattern plane, meshing, start positions; sewing) and `import` (pattern files
 //! in: `garmentcode`, and the SVG and DXF readers of `mesh`).
 
 mod assemble;
+mod cone;
 mod garmentcode;
 mod import;
 mod place;

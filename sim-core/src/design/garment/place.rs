@@ -12,6 +12,7 @@ use std::f32::consts::{FRAC_PI_2, PI, TAU};
 
 use glam::{Mat3, Vec2, Vec3};
 
+pub use super::cone::Profile;
 use crate::collision::Body;
 use crate::collision::body::{ARM_RADIUS, HUMAN, Pose};
 
@@ -121,6 +122,18 @@ pub enum Placement {
     /// The pattern plane (x, y, 0), in the piece's own coordinates, turned by `rotation`
     /// and moved by `translation` (m).
     Transform { rotation: Mat3, translation: Vec3 },
+    /// A fan (a circle skirt's panel) rolled up on a cone round the body's axis
+    /// ([`super::cone`]): its top arc, of radius `inner` round `centre` (the piece's own
+    /// pattern coordinates, m), a level circle at height `top`; the fan's middle at
+    /// `angle` round the body; `sine` of the cone's half angle (1: laid flat).
+    Cone {
+        angle: f32,
+        top: f32,
+        mirrored: bool,
+        centre: Vec2,
+        inner: f32,
+        sine: f32,
+    },
 }
 
 /// What arrangement needs of a body: its vertical axis, the elliptic cylinder round its
@@ -141,6 +154,9 @@ pub struct Landmarks {
     /// Where GarmentCode's average body stands on ours (its origin, between its feet):
     /// its patterns are placed for it. Zero on the `human` body, which is that body.
     pub garmentcode: Vec3,
+    /// The torso's and legs' widest reach from the axis at each height, for fans
+    /// started on cones.
+    pub profile: Profile,
 }
 
 /// GarmentCode's average body (our `human`) stands lower than the mannequin (the tops of
@@ -185,7 +201,7 @@ impl Landmarks {
     /// bounds (an ellipse round its box, no arms), or the floor's (a 1 m wide axis).
     pub fn of(body: Option<&Body>) -> Self {
         match body.map(|b| (b, Pose::of_body(&b.name))) {
-            Some((b, _)) if b.name == HUMAN => Self::human(),
+            Some((b, _)) if b.name == HUMAN => Self::human(&b.vertices),
             Some((b, Some(pose))) => {
                 let (mn, mx) = b.bounds();
                 let axis = Vec2::new(0.5 * (mn.x + mx.x), 0.5 * (mn.z + mx.z));
@@ -205,15 +221,17 @@ impl Landmarks {
                         ARM_RADIUS + room,
                     )
                 };
+                // Round the chest (0.18 x 0.11) with room for the shoulders, inside the
+                // arms (see dress-mannequin).
+                let torso = Vec2::new(0.215, 0.175);
                 Self {
                     axis,
-                    // Round the chest (0.18 x 0.11) with room for the shoulders, inside
-                    // the arms (see dress-mannequin).
-                    torso: Vec2::new(0.215, 0.175),
+                    torso,
                     shoulders: MANNEQUIN_TOPS,
                     lift: MANNEQUIN_TOPS - MANNEQUIN_SHOULDERS,
                     arms: Some([arm(1.0), arm(-1.0)]),
                     garmentcode: Vec3::new(axis.x, GC_RAISE, axis.y),
+                    profile: Profile::of(&b.vertices, axis, torso.x),
                 }
             }
             Some((b, None)) => {
@@ -228,6 +246,7 @@ impl Landmarks {
                     lift: 0.0,
                     arms: None,
                     garmentcode: Vec3::new(axis.x, GC_RAISE, axis.y),
+                    profile: Profile::uniform(mn.y, half.length()),
                 }
             }
             None => Self {
@@ -237,6 +256,7 @@ impl Landmarks {
                 lift: 0.0,
                 arms: None,
                 garmentcode: Vec3::Y * GC_RAISE,
+                profile: Profile::uniform(0.0, 0.0),
             },
         }
     }
@@ -245,7 +265,9 @@ impl Landmarks {
     /// shoulders' top 1.44 m up at 10-15 cm from the middle, the arms' axis 45 degrees
     /// below the horizontal from where it leaves the torso to the wrist, the upper arm
     /// 4-5 cm in radius.
-    fn human() -> Self {
+    fn human(vertices: &[Vec3]) -> Self {
+        let axis = Vec2::new(0.0, -0.005);
+        let torso = Vec2::new(0.21, 0.20);
         let arm = |s: f32| {
             let m = Vec3::new(s, 1.0, 1.0);
             (
@@ -255,16 +277,17 @@ impl Landmarks {
             )
         };
         Self {
-            axis: Vec2::new(0.0, -0.005),
+            axis,
             // Round the torso from the hips to the shoulders (0.39 m across the hips, about
             // 0.27 m deep at the seat and at the bust), inside the arms at least 4% of the
             // way in from the ellipse; its sides pass in front of and behind the arms
             // where they leave the torso.
-            torso: Vec2::new(0.21, 0.20),
+            torso,
             shoulders: HUMAN_SHOULDERS + HUMAN_LIFT,
             lift: HUMAN_LIFT,
             arms: Some([arm(1.0), arm(-1.0)]),
             garmentcode: Vec3::ZERO,
+            profile: Profile::of(vertices, axis, torso.x),
         }
     }
 
@@ -445,6 +468,24 @@ pub fn place(
             .iter()
             .map(|p| rotation * Vec3::new(p.x, p.y, 0.0) + translation)
             .collect()),
+        Placement::Cone {
+            angle,
+            top,
+            mirrored,
+            centre,
+            inner,
+            sine,
+        } => Ok(super::cone::on_cone(
+            pattern,
+            (lo, hi),
+            centre,
+            inner,
+            sine,
+            angle,
+            top,
+            mirrored,
+            marks.axis,
+        )),
     }
 }
 
@@ -463,6 +504,7 @@ mod tests {
                 (Vec3::new(-0.25, 1.4, 0.0), Vec3::new(-0.3, 0.9, 0.0), 0.07),
             ]),
             garmentcode: Vec3::ZERO,
+            profile: Profile::uniform(0.0, 0.1),
         }
     }
 

@@ -218,7 +218,7 @@ impl PatternSpec {
                         let r = marks.arms.map_or(0.07, |a| a[0].2);
                         *angle += centre / r;
                     }
-                    Placement::Transform { .. } => {}
+                    Placement::Transform { .. } | Placement::Cone { .. } => {}
                 }
                 self.pieces[i].placement = Some(placement);
             }
@@ -303,6 +303,7 @@ mod tests {
             lift: 0.0,
             arms: None,
             garmentcode: glam::Vec3::ZERO,
+            profile: super::super::cone::Profile::uniform(0.0, 0.1),
         };
         let mut s = PatternSpec {
             pieces: vec![

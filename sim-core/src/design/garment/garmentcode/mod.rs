@@ -14,6 +14,7 @@
 use glam::{Mat3, Vec2, Vec3};
 use serde_json::Value;
 
+use super::cone::{self, Fan};
 #[cfg(test)]
 use super::place::GC_RAISE;
 use super::place::{Landmarks, Placement};
@@ -159,12 +160,13 @@ fn curve(
     }
 }
 
-/// The circular arc from `p` to `q` of radius `r` (grown to half the chord if smaller),
-/// bulging to the right of `p -> q` when `right`, the long way round when `large`.
-fn arc(p: Vec2, q: Vec2, r: f32, large: bool, right: bool, n: usize) -> Vec<Vec2> {
+/// The circle of a circular arc from `p` to `q` of radius `r` (grown to half the chord if
+/// smaller), bulging to the right of `p -> q` when `right`, the long way round when
+/// `large`: its centre and radius. None for a chord of no length.
+fn circle(p: Vec2, q: Vec2, r: f32, large: bool, right: bool) -> Option<(Vec2, f32)> {
     let chord = (q - p).length();
     if chord < 1e-9 {
-        return Vec::new();
+        return None;
     }
     let r = r.abs().max(0.5 * chord);
     let h = (r * r - 0.25 * chord * chord).max(0.0).sqrt();
@@ -172,7 +174,17 @@ fn arc(p: Vec2, q: Vec2, r: f32, large: bool, right: bool, n: usize) -> Vec<Vec2
     // The arc's middle is on the bulge side; the centre is h from the chord's middle,
     // on the bulge side for a large arc, across for a small one.
     let bulge = if right { -left } else { left };
-    let centre = (p + q) * 0.5 + bulge * if large { h } else { -h };
+    Some(((p + q) * 0.5 + bulge * if large { h } else { -h }, r))
+}
+
+/// The points of the circular arc from `p` to `q` (see [`circle`]) after `p`, up to but
+/// not including `q`.
+fn arc(p: Vec2, q: Vec2, r: f32, large: bool, right: bool, n: usize) -> Vec<Vec2> {
+    let Some((centre, r)) = circle(p, q, r, large, right) else {
+        return Vec::new();
+    };
+    let left = Vec2::new(-(q - p).y, (q - p).x).normalize_or_zero();
+    let bulge = if right { -left } else { left };
     let a0 = (p - centre).to_angle();
     let a1 = (q - centre).to_angle();
     let mid = centre + bulge * r;
@@ -185,6 +197,20 @@ fn arc(p: Vec2, q: Vec2, r: f32, large: bool, right: bool, n: usize) -> Vec<Vec2
     (1..n)
         .map(|k| centre + Vec2::from_angle(a0 + sweep * k as f32 / n as f32) * r)
         .collect()
+}
+
+/// The circle (centre, radius; m) of an edge from `p` to `q` whose curvature `c` is a
+/// circular arc, in the file's units of `scale` m each.
+fn arc_circle(p: Vec2, q: Vec2, c: Option<&Value>, scale: f32) -> Option<(Vec2, f32)> {
+    let c = c?;
+    if c.get("type").and_then(Value::as_str) != Some("circle") {
+        return None;
+    }
+    let params = c.get("params").and_then(Value::as_array)?;
+    let r = params.first().and_then(num)?;
+    let large = params.get(1).and_then(Value::as_f64).unwrap_or(0.0) != 0.0;
+    let right = params.get(2).and_then(Value::as_f64).unwrap_or(1.0) != 0.0;
+    circle(p, q, r * scale, large, right)
 }
 
 /// Rotation from XYZ Euler degrees, as GarmentCode applies them (z · y · x).
@@ -201,6 +227,7 @@ fn placement(
     rot: Mat3,
     trans: Vec3,
     marks: &Landmarks,
+    fan: Option<Fan>,
 ) -> (Placement, Option<f32>) {
     let (lo, hi) = crate::mesh::bounds2(outline);
     let to_ours = marks.garmentcode + Vec3::Y * marks.lift;
@@ -250,13 +277,73 @@ fn placement(
     let phi = out.x.atan2(out.y);
     let tangent = Vec2::new(phi.cos(), -phi.sin());
     let lateral = radial.dot(tangent);
+    let mirrored = Vec2::new(xdir.x, xdir.z).dot(tangent) < 0.0;
+    let on_cone = fan.and_then(|f| {
+        let facing = Facing {
+            phi,
+            tangent,
+            mirrored,
+        };
+        cone_for(f, outline, (lo, hi), rot, &world, marks, facing)
+    });
+    if let Some(cone) = on_cone {
+        return (cone, None);
+    }
     let around = Placement::Around {
         angle: shift_angle(marks, phi, lateral),
         top,
-        mirrored: Vec2::new(xdir.x, xdir.z).dot(tangent) < 0.0,
+        mirrored,
         out: 0.0,
     };
     (around, None)
+}
+
+/// Which way a standing panel faces on our body: the angle round it its front faces
+/// (see `place`), the way round there, and whether its pattern's x runs against it.
+#[derive(Clone, Copy)]
+struct Facing {
+    phi: f32,
+    tangent: Vec2,
+    mirrored: bool,
+}
+
+/// A standing fan (a circle skirt's panel) that opens downward on their body, on the
+/// narrowest cone that clears ours ([`cone`]), its top arc level at the height of the
+/// top arc's ends on their body. None if the fan is narrower than [`cone::FAN_MIN`],
+/// does not open downward, or no cone clears our body (its top tighter than our waist).
+fn cone_for(
+    fan: Fan,
+    outline: &[Vec2],
+    bounds: (Vec2, Vec2),
+    rot: Mat3,
+    world: &dyn Fn(Vec2) -> Vec3,
+    marks: &Landmarks,
+    facing: Facing,
+) -> Option<Placement> {
+    let m = cone::middle(fan.centre, bounds);
+    if (rot * m.extend(0.0)).y > -0.9 {
+        return None;
+    }
+    let (angle, outer) = cone::extent(outline, fan.centre, m);
+    if angle < cone::FAN_MIN {
+        return None;
+    }
+    let top = (outline.iter())
+        .filter(|&&p| ((p - fan.centre).length() - fan.inner).abs() < 1e-3)
+        .map(|&p| world(p).y)
+        .fold(f32::NEG_INFINITY, f32::max);
+    let sine = cone::cone_sine(angle, fan.inner, outer, top, &marks.profile)?;
+    // The fan's middle stands this far round from `phi` on their body.
+    let c = world(fan.centre);
+    let lateral = Vec2::new(c.x - marks.axis.x, c.z - marks.axis.y).dot(facing.tangent);
+    Some(Placement::Cone {
+        angle: facing.phi + lateral / (fan.inner * sine),
+        top,
+        mirrored: facing.mirrored,
+        centre: fan.centre,
+        inner: fan.inner,
+        sine,
+    })
 }
 
 /// How far (degrees) our arm may run from a sleeve's way down its pattern for the sleeve
@@ -425,6 +512,7 @@ pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, St
             .ok_or_else(|| err("no edges".into()))?;
         let mut outline: Vec<Vec2> = Vec::new();
         let mut ends: Vec<(Vec2, Vec2)> = Vec::new();
+        let mut circles: Vec<(Vec2, f32)> = Vec::new();
         for (k, e) in edges.iter().enumerate() {
             let ep = e
                 .get("endpoints")
@@ -442,6 +530,7 @@ pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, St
                 .map_err(|s| err(format!("edge {k}: {s}")))?;
             outline.extend(pts);
             ends.push((p, q));
+            circles.extend(arc_circle(p, q, e.get("curvature"), scale));
         }
         if outline.len() < 3 {
             return Err(err("fewer than 3 points".into()));
@@ -457,7 +546,7 @@ pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, St
         spec.holds.extend(holds(edges, &ends, piece, marks));
         let rot = euler(vec3(panel.get("rotation")).unwrap_or(Vec3::ZERO));
         let trans = vec3(panel.get("translation")).unwrap_or(Vec3::ZERO) * scale;
-        let (placed, start) = placement(&outline, rot, trans, marks);
+        let (placed, start) = placement(&outline, rot, trans, marks, cone::fan_of(&circles));
         starts.push(start);
         spec.pieces.push(PieceSpec {
             name: name.clone(),

@@ -1,6 +1,7 @@
 //! The GarmentCode reader's tests.
 
 use super::*;
+use crate::design::garment::cone::Profile;
 
 /// A front and a back rectangle in GarmentCode's form (cm), the front's top edge a
 /// quadratic curve, the back turned half round; stitched at both sides.
@@ -42,6 +43,7 @@ fn armless(garmentcode: Vec3) -> Landmarks {
         lift: 0.03,
         arms: None,
         garmentcode,
+        profile: Profile::uniform(0.0, 0.15),
     }
 }
 
@@ -164,6 +166,7 @@ fn human_marks() -> Landmarks {
         lift: 0.08,
         arms: Some([arm(1.0), arm(-1.0)]),
         garmentcode: Vec3::ZERO,
+        profile: Profile::uniform(0.0, 0.15),
     }
 }
 
@@ -275,6 +278,70 @@ fn arcs_pass_through_their_ends_and_bulge_the_asked_way() {
         assert!(
             (depth - want).abs() < 0.02,
             "{large} {right}: {depth} {want}"
+        );
+    }
+}
+
+/// GarmentCode's circle skirt of a random design (`bench/gc_sample.py`, seed 7, design 9)
+/// on its own body: front and back fans of 99 degrees, 24.5 cm round their centre at the
+/// top and 103.3 cm at the hem, 1.57 m wide; the back as the front (not turned), 30 cm
+/// behind it. Its top, which their design put lower, is at their body's waist (108.8
+/// cm), labelled as their waistbands are.
+const CIRCLE_SKIRT: &str =
+    include_str!("../../../../tests/fixtures/gc-circle-skirt_specification.json");
+
+#[test]
+fn a_circle_skirts_fans_start_on_cones_clear_of_the_body() {
+    let body = crate::collision::BodyKind::Human.build().unwrap();
+    let marks = Landmarks::of(Some(&body));
+    let spec = read_garmentcode(CIRCLE_SKIRT, &marks).unwrap();
+    for (name, facing) in [("skirt_front", 0.0), ("skirt_back", std::f32::consts::PI)] {
+        let p = spec.pieces.iter().find(|p| p.name == name).unwrap();
+        let pl = p.placement.unwrap();
+        let Placement::Cone {
+            angle,
+            top,
+            mirrored,
+            inner,
+            sine,
+            ..
+        } = pl
+        else {
+            panic!("{name}: {pl:?}");
+        };
+        // Facing out at the front and at the back, the back's pattern running the other
+        // way round; the top arc's ends where their file puts them.
+        // (Their fans stand 7 mm to the body's right of its middle.)
+        let off = (angle - facing + std::f32::consts::PI).rem_euclid(std::f32::consts::TAU)
+            - std::f32::consts::PI;
+        assert!(off.abs() < 0.05, "{name}: {angle}");
+        assert_eq!(mirrored, facing != 0.0, "{name}");
+        assert!((top - (1.0877 + marks.lift)).abs() < 1e-3, "{name}: {top}");
+        assert!((inner - 0.24483).abs() < 1e-4, "{name}: {inner}");
+        assert!(sine > 0.5 && sine < 1.0, "{name}: {sine}");
+        let outline = &p.outline.loops[0];
+        let x =
+            super::super::place::place(name, outline, crate::mesh::bounds2(outline), &pl, &marks)
+                .unwrap();
+        for q in &x {
+            // Level at the top, and clear of the body below it by the cone's clearance.
+            assert!(q.y <= top + 1e-4 && q.y > 0.0, "{name}: {q}");
+            let k = ((q.y - marks.profile.base) / cone::BAND) as usize;
+            let r = Vec2::new(q.x - marks.axis.x, q.z - marks.axis.y).length();
+            assert!(r > marks.profile.radii[k], "{name}: {q} at {r}");
+            assert_eq!(body.penetration(*q), 0.0, "{name}: {q} is in the body");
+        }
+        // Round the body: each fan less than half way round, in front or behind.
+        let widest = (x.iter())
+            .map(|q| {
+                let a = (q.x - marks.axis.x).atan2(q.z - marks.axis.y) - angle;
+                (a + std::f32::consts::PI).rem_euclid(std::f32::consts::TAU) - std::f32::consts::PI
+            })
+            .fold(0.0f32, |m, a| m.max(a.abs()));
+        assert!(
+            widest < 0.5 * std::f32::consts::PI,
+            "{name} goes {} degrees from its middle",
+            widest.to_degrees()
         );
     }
 }
