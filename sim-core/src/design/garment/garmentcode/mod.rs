@@ -21,7 +21,7 @@ use super::place::{Landmarks, Placement};
 use super::spec::{
     DEFAULT_FABRIC, EdgeRef, HoldSpec, PatternSpec, PieceSpec, SeamSpec, shift_angle,
 };
-use crate::mesh::mesher::{Outline, signed_area2};
+use crate::mesh::mesher::{MeshError, Outline, signed_area2};
 
 /// The waist of GarmentCode's average body (`assets/bodies/mean_all.yaml`: `height -
 /// head_l - waist_line` = 108.77 cm), m, in that body's coordinates
@@ -468,6 +468,40 @@ const CUFF_START: f32 = 0.18;
 /// How far down our arm a turned sleeve's top starts, m.
 const TURNED_SLEEVE_DOWN: f32 = 0.03;
 
+/// Whether a panel's `outline` (m; the side from point `i` part of edge `owner[i]` of
+/// `edges`) keeps clear of itself; if not, which edges cross and where, in the file's
+/// units (`per_m` to the metre), as a designer can find them. GarmentCode's random
+/// designs cross most often where a deep neckline's arc runs through the armhole.
+/// (GarmentCode's own check, `_is_panel_self_intersecting`, draws the curves mirrored,
+/// as for a picture with y down, and misses these.)
+fn uncrossed(outline: &[Vec2], owner: &[usize], edges: &[Value], per_m: f32) -> Result<(), String> {
+    let whole = Outline {
+        loops: vec![outline.to_vec()],
+    };
+    let Err(MeshError::SelfIntersecting { a, b, .. }) = crate::mesh::mesher::check(&whole) else {
+        return Ok(());
+    };
+    let name = |i: usize| {
+        let k = owner.get(i).copied().unwrap_or(0);
+        match edges
+            .get(k)
+            .and_then(|e| e.get("label"))
+            .and_then(Value::as_str)
+        {
+            Some(label) => format!("edge {k} ({label})"),
+            None => format!("edge {k}"),
+        }
+    };
+    let at = outline[a] * per_m;
+    Err(format!(
+        "its outline crosses itself: {} runs across {} near ({:.1}, {:.1}) in the file's units; a panel whose sides cross encloses no one piece of cloth: redraw it so that they do not",
+        name(a),
+        name(b),
+        at.x,
+        at.y
+    ))
+}
+
 /// A GarmentCode pattern specification as a pattern to drape on a body with `marks`.
 pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, String> {
     let root: Value = serde_json::from_str(text).map_err(|e| format!("not JSON: {e}"))?;
@@ -513,6 +547,8 @@ pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, St
         let mut outline: Vec<Vec2> = Vec::new();
         let mut ends: Vec<(Vec2, Vec2)> = Vec::new();
         let mut circles: Vec<(Vec2, f32)> = Vec::new();
+        // The edge each outline point starts a side of.
+        let mut owner: Vec<usize> = Vec::new();
         for (k, e) in edges.iter().enumerate() {
             let ep = e
                 .get("endpoints")
@@ -529,12 +565,14 @@ pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, St
             let pts = curve(p, q, e.get("curvature"), absolute, scale)
                 .map_err(|s| err(format!("edge {k}: {s}")))?;
             outline.extend(pts);
+            owner.resize(outline.len(), k);
             ends.push((p, q));
             circles.extend(arc_circle(p, q, e.get("curvature"), scale));
         }
         if outline.len() < 3 {
             return Err(err("fewer than 3 points".into()));
         }
+        uncrossed(&outline, &owner, edges, per_m).map_err(err)?;
         // Their loops may run either way; ours run counter-clockwise.
         if signed_area2(&outline) < 0.0 {
             outline.reverse();

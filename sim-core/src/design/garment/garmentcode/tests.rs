@@ -345,3 +345,29 @@ fn a_circle_skirts_fans_start_on_cones_clear_of_the_body() {
         );
     }
 }
+
+#[test]
+fn a_panel_whose_curve_runs_across_another_side_is_refused_naming_both() {
+    // A 50 x 60 cm panel whose top edge, a neckline, dips through its bottom edge.
+    let text = serde_json::json!({"pattern": {"panels": {"back": {
+        "translation": [0, 100, -20], "rotation": [0, 0, 0],
+        "vertices": [[0, 0], [50, 0], [50, 60], [0, 60]],
+        "edges": [
+            {"endpoints": [0, 1]}, {"endpoints": [1, 2]},
+            {"endpoints": [2, 3], "label": "left_collar",
+             "curvature": {"type": "quadratic", "params": [[0.5, 3.0]]}},
+            {"endpoints": [3, 0]}
+        ]
+    }}, "stitches": []}})
+    .to_string();
+    let e = read_garmentcode(&text, &human_marks()).unwrap_err();
+    assert!(
+        e.starts_with("panel back: its outline crosses itself")
+            && e.contains("edge 0")
+            && e.contains("edge 2 (left_collar)"),
+        "{e}"
+    );
+    // Dipping to 10 cm above the bottom, it is read.
+    let fine = text.replace("3.0", "2.0");
+    assert!(read_garmentcode(&fine, &human_marks()).is_ok());
+}
