@@ -285,8 +285,8 @@ pub fn holds(design: &Design, spec: &PatternSpec) -> Vec<crate::solver::Hold> {
 }
 
 /// Sews every seam of `spec` (whose pieces are `design.pieces`, in order), each pulling
-/// `pull` N per metre of seam ([`Design::pair_pull`]); each seam's ends meet the way
-/// its sides start closer.
+/// `pull` N per metre of seam ([`Design::pair_pull`]); each seam's ends meet the way the
+/// file says, or else the way its sides start closer.
 pub fn sew(design: &mut Design, spec: &PatternSpec, pull: f32) -> Result<Sewn, GarmentError> {
     let mut sewn = Sewn::default();
     let edge = design.sim.cloth.live.mean_rest_side();
@@ -329,7 +329,8 @@ pub fn sew(design: &mut Design, spec: &PatternSpec, pull: f32) -> Result<Sewn, G
         let x = &design.sim.cloth.x;
         let d = |i: u32, j: u32| (x[i as usize] - x[j as usize]).length();
         let (a0, a1, b0, b1) = (a[0], a[a.len() - 1], b[0], b[b.len() - 1]);
-        if d(a0, b1) + d(a1, b0) < d(a0, b0) + d(a1, b1) {
+        let closer = d(a0, b1) + d(a1, b0) < d(a0, b0) + d(a1, b1);
+        if s.reversed.unwrap_or(closer) {
             b.reverse();
         }
         let m = (design.pattern_length(&a) - design.pattern_length(&b)).abs();

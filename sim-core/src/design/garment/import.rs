@@ -130,7 +130,12 @@ pub fn pattern_from_outlines(pieces: Vec<NamedOutline>) -> (PatternSpec, Vec<Str
                     gap * 1000.0
                 ));
             }
-            spec.seams.push(SeamSpec { label, a, b });
+            spec.seams.push(SeamSpec {
+                label,
+                a,
+                b,
+                reversed: None,
+            });
         } else {
             notices.push(format!(
                 "seam {label} is marked on {} stretches of outline, and a seam joins two: left unsewn",

@@ -29,13 +29,17 @@ pub struct EdgeRef {
     pub to: Vec2,
 }
 
-/// A seam between two stretches. Which ends meet is decided by where the pieces start:
-/// the pairing whose ends lie closer together.
+/// A seam between two stretches. Which ends meet is the file's where it says
+/// (`reversed`), otherwise decided by where the pieces start: the pairing whose ends lie
+/// closer together.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SeamSpec {
     pub label: String,
     pub a: EdgeRef,
     pub b: EdgeRef,
+    /// Whether `a.from` meets `b.to` (and `a.to` meets `b.from`), or `a.from` meets
+    /// `b.from`; `None`: the file does not say.
+    pub reversed: Option<bool>,
 }
 
 /// A stretch kept on one side of a plane of the body's while the garment settles (see
@@ -274,6 +278,7 @@ mod tests {
             to: Vec2::new(0.2, 0.0),
         };
         s.seams = vec![SeamSpec {
+            reversed: None,
             label: "A".into(),
             a: side,
             b: EdgeRef {

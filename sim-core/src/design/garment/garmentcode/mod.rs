@@ -526,8 +526,9 @@ pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, St
         == Some("absolute");
     let scale = 1.0 / per_m;
     let mut spec = PatternSpec::default();
-    // Each panel's edges as (from, to) on its counter-clockwise outline.
-    let mut edges_of: Vec<(String, Vec<(Vec2, Vec2)>)> = Vec::new();
+    // Each panel's edges as (from, to) on its counter-clockwise outline, and whether that
+    // runs against the file's order (the ends swapped).
+    let mut edges_of: Vec<(String, Vec<(Vec2, Vec2)>, bool)> = Vec::new();
     // Each panel's start down their arm, for those round an arm.
     let mut starts: Vec<Option<f32>> = Vec::new();
     for (name, panel) in panels {
@@ -574,7 +575,8 @@ pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, St
         }
         uncrossed(&outline, &owner, edges, per_m).map_err(err)?;
         // Their loops may run either way; ours run counter-clockwise.
-        if signed_area2(&outline) < 0.0 {
+        let flipped = signed_area2(&outline) < 0.0;
+        if flipped {
             outline.reverse();
             for e in &mut ends {
                 *e = (e.1, e.0);
@@ -595,7 +597,7 @@ pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, St
             fabric: DEFAULT_FABRIC.into(),
             grain: 0.0,
         });
-        edges_of.push((name.clone(), ends));
+        edges_of.push((name.clone(), ends, flipped));
     }
     keep_cuffs_at_their_sleeves(&mut spec.pieces, &starts);
     let stitches = pattern
@@ -605,7 +607,7 @@ pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, St
         .unwrap_or_default();
     for (i, st) in stitches.iter().enumerate() {
         let label = super::super::sewing_pattern::label(i);
-        let side = |k: usize| -> Result<EdgeRef, String> {
+        let side = |k: usize| -> Result<(EdgeRef, bool), String> {
             let s = st
                 .get(k)
                 .ok_or_else(|| format!("stitch {i} does not have two sides"))?;
@@ -613,17 +615,24 @@ pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, St
             let edge = s.get("edge").and_then(Value::as_u64).unwrap_or(u64::MAX) as usize;
             let piece = edges_of
                 .iter()
-                .position(|(n, _)| n == panel)
+                .position(|(n, _, _)| n == panel)
                 .ok_or_else(|| format!("stitch {i} names panel {panel:?}, which is not there"))?;
             let (from, to) = *edges_of[piece].1.get(edge).ok_or_else(|| {
                 format!("stitch {i} names edge {edge} of panel {panel}, which is not there")
             })?;
-            Ok(EdgeRef { piece, from, to })
+            Ok((EdgeRef { piece, from, to }, edges_of[piece].2))
         };
+        let ((a, flip_a), (b, flip_b)) = (side(0)?, side(1)?);
+        // GarmentCode sews the end of the first edge to the start of the second, in the
+        // file's directions (the right sides of the fabric together), unless the stitch
+        // says "right_wrong" (`pygarment/meshgen/boxmeshgen.py`, `Seam.swap`); an edge
+        // whose panel runs the other way here has its ends swapped.
+        let right_wrong = st.get(2).and_then(Value::as_str) == Some("right_wrong");
         spec.seams.push(SeamSpec {
             label,
-            a: side(0)?,
-            b: side(1)?,
+            a,
+            b,
+            reversed: Some(!right_wrong ^ flip_a ^ flip_b),
         });
     }
     Ok(spec)

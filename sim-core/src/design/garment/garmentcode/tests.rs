@@ -371,3 +371,42 @@ fn a_panel_whose_curve_runs_across_another_side_is_refused_naming_both() {
     let fine = text.replace("3.0", "2.0");
     assert!(read_garmentcode(&fine, &human_marks()).is_ok());
 }
+
+#[test]
+fn a_stitch_pairs_the_ends_garmentcode_pairs() {
+    let marks = armless(Vec3::Y * GC_RAISE);
+    // GarmentCode sews the end of a stitch's first edge to the start of its second (in
+    // the file's directions), unless the stitch says "right_wrong".
+    let spec = read_garmentcode(TWO_PANELS, &marks).unwrap();
+    assert!(spec.seams.iter().all(|s| s.reversed == Some(true)));
+    let wrong = TWO_PANELS.replace(
+        r#"{"panel": "back", "edge": 1}]"#,
+        r#"{"panel": "back", "edge": 1}, "right_wrong"]"#,
+    );
+    let spec = read_garmentcode(&wrong, &marks).unwrap();
+    assert_eq!(
+        spec.seams.iter().map(|s| s.reversed).collect::<Vec<_>>(),
+        [Some(true), Some(false)]
+    );
+    // A panel drawn clockwise runs the other way here (its ends swapped), and the
+    // pairing with it too, so that the ends GarmentCode sews meet: front (50, 60) with
+    // the back's (0, 0), the start of its edge 0, which runs up its left side.
+    let mut two: Value = serde_json::from_str(TWO_PANELS).unwrap();
+    let back = &mut two["pattern"]["panels"]["back"];
+    back["edges"] = serde_json::json!([
+        {"endpoints": [0, 3]}, {"endpoints": [3, 2]}, {"endpoints": [2, 1]}, {"endpoints": [1, 0]}
+    ]);
+    two["pattern"]["stitches"] = serde_json::json!([
+        [{"panel": "front", "edge": 1}, {"panel": "back", "edge": 0}]
+    ]);
+    let spec = read_garmentcode(&two.to_string(), &marks).unwrap();
+    let s = &spec.seams[0];
+    assert_eq!(spec.pieces[s.a.piece].name, "front");
+    assert!((s.a.to - Vec2::new(0.5, 0.6)).length() < 1e-6, "{:?}", s.a);
+    let meets_a_to = if s.reversed.unwrap() {
+        s.b.from
+    } else {
+        s.b.to
+    };
+    assert!(meets_a_to.length() < 1e-6, "{s:?}");
+}
