@@ -502,6 +502,9 @@ fn uncrossed(outline: &[Vec2], owner: &[usize], edges: &[Value], per_m: f32) -> 
     ))
 }
 
+/// A panel's edges as (from, to), m.
+type Ends = Vec<(Vec2, Vec2)>;
+
 /// A GarmentCode pattern specification as a pattern to drape on a body with `marks`.
 pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, String> {
     let root: Value = serde_json::from_str(text).map_err(|e| format!("not JSON: {e}"))?;
@@ -528,7 +531,7 @@ pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, St
     let mut spec = PatternSpec::default();
     // Each panel's edges as (from, to) on its counter-clockwise outline, and whether that
     // runs against the file's order (the ends swapped).
-    let mut edges_of: Vec<(String, Vec<(Vec2, Vec2)>, bool)> = Vec::new();
+    let mut edges_of: Vec<(String, Ends, bool)> = Vec::new();
     // Each panel's start down their arm, for those round an arm.
     let mut starts: Vec<Option<f32>> = Vec::new();
     for (name, panel) in panels {
