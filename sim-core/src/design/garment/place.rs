@@ -613,6 +613,21 @@ mod tests {
     }
 
     #[test]
+    fn a_cone_placement_is_saved_and_read_back() {
+        let cone = Placement::Cone {
+            angle: 3.1,
+            top: 1.12,
+            mirrored: true,
+            centre: Vec2::new(0.18, 0.16),
+            inner: 0.245,
+            sine: 0.7,
+        };
+        let text = serde_json::to_string(&cone).unwrap();
+        assert!(text.contains(r#""kind":"cone""#), "{text}");
+        assert_eq!(serde_json::from_str::<Placement>(&text).unwrap(), cone);
+    }
+
+    #[test]
     fn too_wide_or_no_arms_is_refused() {
         let mut m = marks();
         let wide = (Vec2::ZERO, Vec2::new(1.5, 0.2));

@@ -502,6 +502,45 @@ fn uncrossed(outline: &[Vec2], owner: &[usize], edges: &[Value], per_m: f32) -> 
     ))
 }
 
+/// The seams of `pattern.stitches`, between the panels `edges_of` lists (name, edges as
+/// (from, to) on the counter-clockwise outline, and whether that runs against the file).
+fn seams(pattern: &Value, edges_of: &[(String, Ends, bool)]) -> Result<Vec<SeamSpec>, String> {
+    let mut out = Vec::new();
+    let stitches: &[Value] =
+        (pattern.get("stitches").and_then(Value::as_array)).map_or(&[], Vec::as_slice);
+    for (i, st) in stitches.iter().enumerate() {
+        let label = super::super::sewing_pattern::label(i);
+        let side = |k: usize| -> Result<(EdgeRef, bool), String> {
+            let s = st
+                .get(k)
+                .ok_or_else(|| format!("stitch {i} does not have two sides"))?;
+            let panel = s.get("panel").and_then(Value::as_str).unwrap_or("");
+            let edge = s.get("edge").and_then(Value::as_u64).unwrap_or(u64::MAX) as usize;
+            let piece = edges_of
+                .iter()
+                .position(|(n, _, _)| n == panel)
+                .ok_or_else(|| format!("stitch {i} names panel {panel:?}, which is not there"))?;
+            let (from, to) = *edges_of[piece].1.get(edge).ok_or_else(|| {
+                format!("stitch {i} names edge {edge} of panel {panel}, which is not there")
+            })?;
+            Ok((EdgeRef { piece, from, to }, edges_of[piece].2))
+        };
+        let ((a, flip_a), (b, flip_b)) = (side(0)?, side(1)?);
+        // GarmentCode sews the end of the first edge to the start of the second, in the
+        // file's directions (the right sides of the fabric together), unless the stitch
+        // says "right_wrong" (`pygarment/meshgen/boxmeshgen.py`, `Seam.swap`); an edge
+        // whose panel runs the other way here has its ends swapped.
+        let right_wrong = st.get(2).and_then(Value::as_str) == Some("right_wrong");
+        out.push(SeamSpec {
+            label,
+            a,
+            b,
+            reversed: Some(!right_wrong ^ flip_a ^ flip_b),
+        });
+    }
+    Ok(out)
+}
+
 /// A panel's edges as (from, to), m.
 type Ends = Vec<(Vec2, Vec2)>;
 
@@ -603,41 +642,7 @@ pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, St
         edges_of.push((name.clone(), ends, flipped));
     }
     keep_cuffs_at_their_sleeves(&mut spec.pieces, &starts);
-    let stitches = pattern
-        .get("stitches")
-        .and_then(Value::as_array)
-        .cloned()
-        .unwrap_or_default();
-    for (i, st) in stitches.iter().enumerate() {
-        let label = super::super::sewing_pattern::label(i);
-        let side = |k: usize| -> Result<(EdgeRef, bool), String> {
-            let s = st
-                .get(k)
-                .ok_or_else(|| format!("stitch {i} does not have two sides"))?;
-            let panel = s.get("panel").and_then(Value::as_str).unwrap_or("");
-            let edge = s.get("edge").and_then(Value::as_u64).unwrap_or(u64::MAX) as usize;
-            let piece = edges_of
-                .iter()
-                .position(|(n, _, _)| n == panel)
-                .ok_or_else(|| format!("stitch {i} names panel {panel:?}, which is not there"))?;
-            let (from, to) = *edges_of[piece].1.get(edge).ok_or_else(|| {
-                format!("stitch {i} names edge {edge} of panel {panel}, which is not there")
-            })?;
-            Ok((EdgeRef { piece, from, to }, edges_of[piece].2))
-        };
-        let ((a, flip_a), (b, flip_b)) = (side(0)?, side(1)?);
-        // GarmentCode sews the end of the first edge to the start of the second, in the
-        // file's directions (the right sides of the fabric together), unless the stitch
-        // says "right_wrong" (`pygarment/meshgen/boxmeshgen.py`, `Seam.swap`); an edge
-        // whose panel runs the other way here has its ends swapped.
-        let right_wrong = st.get(2).and_then(Value::as_str) == Some("right_wrong");
-        spec.seams.push(SeamSpec {
-            label,
-            a,
-            b,
-            reversed: Some(!right_wrong ^ flip_a ^ flip_b),
-        });
-    }
+    spec.seams = seams(pattern, &edges_of)?;
     Ok(spec)
 }
 
