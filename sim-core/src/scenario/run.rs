@@ -96,6 +96,7 @@ fn run_frames(
     if let Some(spec) = spec {
         sew_pattern(cfg, design, spec, ops)?;
     }
+    let mut release = Release::watching(design);
     if fold.is_some() && cfg.frames < scripts::FOLD_FRAMES {
         eprintln!(
             "note: fold: {} frames end before the second fold has settled (it needs {})",
@@ -115,6 +116,7 @@ fn run_frames(
             design.pinch_move(scripts::tear_target(start, centre, t));
         }
         let stats = design.step()?;
+        release.after_frame(design, f + 1);
         if stats.torn > 0 && ops.first_tear_frame.is_none() && pull.is_some() {
             ops.first_tear_frame = Some(design.sim.frame);
         }
@@ -177,7 +179,62 @@ fn run_frames(
     if ops.seams.is_some() {
         ops.seam_pairs_open = Some(open_pairs(design));
     }
+    release.finish(design);
     Ok(frames)
+}
+
+/// How far a garment's highest point may drop after its holds let go before the run
+/// says it slid down the body, m.
+const SLID: f32 = 0.15;
+
+/// Watches a garment held while it settles ([`Design::hold_while_draping`]): where its
+/// highest point was when the holds let go, to say at the end whether it then slid
+/// down the body (GarmentCode's skirts, under xpbd, can slide off the hips:
+/// docs/garments.md).
+struct Release {
+    holding: bool,
+    /// The frame the holds let go after, and the cloth's top then, m.
+    at: Option<(u64, f32)>,
+}
+
+impl Release {
+    fn watching(design: &Design) -> Self {
+        Self {
+            holding: !design.held().0.is_empty(),
+            at: None,
+        }
+    }
+
+    fn after_frame(&mut self, design: &Design, frame: u64) {
+        if self.holding && design.held().0.is_empty() {
+            self.holding = false;
+            self.at = Some((frame, cloth_top(design)));
+        }
+    }
+
+    /// Says (and records in the design's notices) how far the garment slid, if it did.
+    fn finish(self, design: &mut Design) {
+        let Some((frame, top)) = self.at else {
+            return;
+        };
+        let drop = top - cloth_top(design);
+        if drop > SLID {
+            let n = format!(
+                "the garment slid {drop:.2} m down the body after its holds let go at frame {frame} (held up by its waist alone, the default solver's cloth can stretch over the hips; --model vbd holds it, docs/garments.md)"
+            );
+            eprintln!("note: {n}");
+            design.sim.notices.push(n);
+        }
+    }
+}
+
+/// The highest point of the cloth's live triangles, m.
+fn cloth_top(design: &Design) -> f32 {
+    let x = &design.sim.cloth.x;
+    (design.sim.cloth.live.iter())
+        .flat_map(|(_, t)| t.v)
+        .map(|v| x[v as usize].y)
+        .fold(f32::NEG_INFINITY, f32::max)
 }
 
 /// Sews a garment scenario's pattern into `design` (its seams' stitches), says what was
@@ -491,4 +548,48 @@ fn top_face_gap(design: &Design, body: &Body) -> f64 {
         })
         .map(|p| (p.y - rest_y).abs() as f64)
         .fold(0.0, f64::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A small cloth over the cube, held at two corners, the holds let go, then moved
+    /// down by `drop` m: what the run says.
+    fn said_after_dropping(drop: f32) -> Vec<String> {
+        let mut cfg = ScenarioConfig::new(ScenarioName::DrapeCube);
+        cfg.grid = 4;
+        let mut design = super::super::config::build_design(&cfg).unwrap();
+        let hold = |vertex| crate::solver::Hold {
+            vertex,
+            normal: Vec3::Y,
+            level: 0.0,
+            max_force: 0.05,
+        };
+        design.hold_while_draping(vec![hold(0), hold(24)]);
+        let mut release = Release::watching(&design);
+        release.after_frame(&design, 1);
+        assert_eq!(release.at, None, "still held");
+        design.hold_while_draping(Vec::new());
+        release.after_frame(&design, 2);
+        assert_eq!(release.at.map(|(f, _)| f), Some(2));
+        for x in &mut design.sim.cloth.x {
+            x.y -= drop;
+        }
+        let before = design.sim.notices.len();
+        release.finish(&mut design);
+        design.sim.notices[before..].to_vec()
+    }
+
+    #[test]
+    fn a_garment_that_slides_down_after_its_holds_let_go_is_said_to() {
+        let said = said_after_dropping(0.4);
+        assert_eq!(said.len(), 1, "{said:?}");
+        assert!(
+            said[0].contains("slid 0.40 m") && said[0].contains("frame 2"),
+            "{said:?}"
+        );
+        // Settling a few centimetres is not sliding off.
+        assert!(said_after_dropping(0.05).is_empty());
+    }
 }
