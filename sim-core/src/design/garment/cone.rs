@@ -23,6 +23,9 @@ pub const BANDS: usize = 48;
 /// How far a cone stays outside the body's widest reach at each height, m.
 pub const CLEARANCE: f32 = 0.015;
 
+/// The longest fan, and the highest top above the feet, a cone is sought for, m.
+const MOST: f32 = 10.0;
+
 /// How far round the body a fan may go, as a share of half the way: a circle skirt's
 /// front and back each go less than half way round, with a gap at either side.
 const HALF_ROUND: f32 = 0.95;
@@ -157,7 +160,10 @@ pub fn cone_sine(angle: f32, inner: f32, outer: f32, top: f32, profile: &Profile
         }
     };
     let least = angle / (HALF_ROUND * std::f32::consts::PI);
-    if !(inner > 0.0 && outer > inner && top.is_finite()) || least > 1.0 || !clears(1.0) {
+    // A fan longer, or a top higher above the feet, than any garment's (a file's
+    // nonsense) has no cone: and the bands walked down it stay few.
+    let sane = inner > 0.0 && outer > inner && outer - inner < MOST && top - profile.base < MOST;
+    if !sane || least > 1.0 || !clears(1.0) {
         return None;
     }
     // The clearance grows with the sine at every height: halve the interval.
@@ -312,6 +318,10 @@ mod tests {
         );
         // Longer than the fall to the floor on any cone.
         assert_eq!(cone_sine(1.0, 0.25, 3.0, 0.01, &p), None);
+        // A file's nonsense: a fan a kilometre long, or its top 100 km up.
+        assert_eq!(cone_sine(1.0, 0.25, 1000.0, 1.1, &p), None);
+        assert_eq!(cone_sine(1.0, 0.25, 0.8, 1e5, &p), None);
+        assert_eq!(cone_sine(1.0, 0.25, 0.8, f32::NAN, &p), None);
         // A wider top clears with a steeper cone.
         let a = cone_sine(1.0, 0.3, 0.8, 1.1, &p).unwrap();
         let b = cone_sine(1.0, 0.5, 0.8, 1.1, &p).unwrap();
