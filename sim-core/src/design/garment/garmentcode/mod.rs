@@ -148,12 +148,8 @@ fn curve(
             }))
         }
         "circle" => {
-            let r = params
-                .first()
-                .and_then(num)
-                .ok_or_else(|| bad("circle without a radius"))?;
-            let large = params.get(1).and_then(Value::as_f64).unwrap_or(0.0) != 0.0;
-            let right = params.get(2).and_then(Value::as_f64).unwrap_or(1.0) != 0.0;
+            let (r, large, right) =
+                circle_params(params).ok_or_else(|| bad("circle without a radius"))?;
             Ok(arc(p, q, r * scale, large, right, n))
         }
         other => Err(format!("unknown curvature type {other:?}")),
@@ -206,11 +202,17 @@ fn arc_circle(p: Vec2, q: Vec2, c: Option<&Value>, scale: f32) -> Option<(Vec2, 
     if c.get("type").and_then(Value::as_str) != Some("circle") {
         return None;
     }
-    let params = c.get("params").and_then(Value::as_array)?;
+    let (r, large, right) = circle_params(c.get("params").and_then(Value::as_array)?)?;
+    circle(p, q, r * scale, large, right)
+}
+
+/// A circular arc's `params` as GarmentCode writes them: its radius (in the file's
+/// units), whether it goes the long way round, whether it bulges to the right.
+fn circle_params(params: &[Value]) -> Option<(f32, bool, bool)> {
     let r = params.first().and_then(num)?;
     let large = params.get(1).and_then(Value::as_f64).unwrap_or(0.0) != 0.0;
     let right = params.get(2).and_then(Value::as_f64).unwrap_or(1.0) != 0.0;
-    circle(p, q, r * scale, large, right)
+    Some((r, large, right))
 }
 
 /// Rotation from XYZ Euler degrees, as GarmentCode applies them (z · y · x).
