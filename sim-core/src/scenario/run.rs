@@ -13,9 +13,9 @@ use crate::collision::crossings::Crossings;
 use crate::collision::{Body, BodyKind};
 use crate::design::Design;
 use crate::design::export::{export_glb, export_obj};
-use crate::design::garment::PatternSpec;
+use crate::design::garment::{PatternSpec, Waist};
 use crate::mesh::obj;
-use crate::solver::{Rest, SleepRule};
+use crate::solver::{ModelKind, Rest, SleepRule};
 
 /// What the frames of a run measured.
 #[derive(Default)]
@@ -188,45 +188,84 @@ fn run_frames(
 const SLID: f32 = 0.15;
 
 /// Watches a garment held while it settles ([`Design::hold_while_draping`]): where its
-/// highest point was when the holds let go, to say at the end whether it then slid
-/// down the body (GarmentCode's skirts, under xpbd, can slide off the hips:
-/// docs/garments.md).
+/// highest point was when the holds let go, and its waist against the body's hips then,
+/// to say at the end whether it slid down the body and why (GarmentCode's skirts can
+/// slide off the hips: docs/garments.md).
 struct Release {
-    holding: bool,
-    /// The frame the holds let go after, and the cloth's top then, m.
-    at: Option<(u64, f32)>,
+    /// The vertices held at the last frame they were.
+    held: Vec<u32>,
+    /// The frame the holds let go after, the cloth's top then (m), and its waist.
+    at: Option<(u64, f32, Option<Waist>)>,
 }
 
 impl Release {
     fn watching(design: &Design) -> Self {
         Self {
-            holding: !design.held().0.is_empty(),
+            held: design.held().0.iter().map(|h| h.vertex).collect(),
             at: None,
         }
     }
 
     fn after_frame(&mut self, design: &Design, frame: u64) {
-        if self.holding && design.held().0.is_empty() {
-            self.holding = false;
-            self.at = Some((frame, cloth_top(design)));
+        if self.held.is_empty() || self.at.is_some() {
+            return;
+        }
+        let holds = design.held().0;
+        if holds.is_empty() {
+            let waist = Waist::of(design, &self.held);
+            self.at = Some((frame, cloth_top(design), waist));
+        } else {
+            self.held.clear();
+            self.held.extend(holds.iter().map(|h| h.vertex));
         }
     }
 
-    /// Says (and records in the design's notices) how far the garment slid, if it did.
+    /// Says (and records in the design's notices) how far the garment slid, if it did,
+    /// and why.
     fn finish(self, design: &mut Design) {
-        let Some((frame, top)) = self.at else {
+        let Some((frame, top, waist)) = self.at else {
             return;
         };
         let drop = top - cloth_top(design);
         if drop > SLID {
+            let why = slid_because(waist, design.sim.model, design.sim.substeps);
             let n = format!(
-                "the garment slid {drop:.2} m down the body after its holds let go at frame {frame} (held up by its waist alone, the default solver's cloth can stretch over the hips; --model vbd holds it, docs/garments.md)"
+                "the garment slid {drop:.2} m down the body after its holds let go at frame {frame}: {why}"
             );
             eprintln!("note: {n}");
             design.sim.notices.push(n);
         }
     }
 }
+
+/// Why a garment held by its waist slid down once let go: a waist longer than the hips,
+/// or cloth that stretched over them (with what holds it under `model` at `substeps`).
+fn slid_because(waist: Option<Waist>, model: ModelKind, substeps: usize) -> String {
+    let Some(w) = waist.filter(|w| w.hangs) else {
+        return "its cloth stretched or slid over the body (docs/garments.md)".into();
+    };
+    let (round, hips) = (w.round, w.hips);
+    if w.falls_off() {
+        return format!(
+            "its waist is {round:.2} m round at rest, longer than the body's {hips:.2} m round the hips below it, so only friction could keep it up (a real body's too)"
+        );
+    }
+    let stretch = 100.0 * (hips / round - 1.0);
+    let remedy = if model == ModelKind::Xpbd && substeps < FIRM_SUBSTEPS {
+        format!(
+            "; the xpbd model's cloth gives that much under a garment's weight at {substeps} substeps: --substeps {FIRM_SUBSTEPS} or --model vbd hold it"
+        )
+    } else {
+        String::new()
+    };
+    format!(
+        "its waist ({round:.2} m round at rest) stretched {stretch:.0}% to pass the body's {hips:.2} m round the hips{remedy} (docs/garments.md)"
+    )
+}
+
+/// The substeps at which the xpbd model held GarmentCode's circle skirt (a waist of
+/// 0.85 m over hips of 1.04 m) on the hips; at 5 and 10 it slid off (docs/garments.md).
+const FIRM_SUBSTEPS: usize = 20;
 
 /// The highest point of the cloth's live triangles, m.
 fn cloth_top(design: &Design) -> f32 {
@@ -265,8 +304,12 @@ fn sew_pattern(
     // three unsettled, a benchmark's worth of frames moving (docs/garments.md).
     if cfg.scenario == ScenarioName::DrapePattern {
         design.float_while_sewing();
+        let before = design.sim.notices.len();
         if let Some(said) = hold_pattern(design, spec) {
             eprintln!("{}: {said}", cfg.scenario.name());
+        }
+        for n in &design.sim.notices[before..] {
+            eprintln!("note: {n}");
         }
         ops.held_vertices = Some(design.held().0.len());
     }
@@ -274,7 +317,8 @@ fn sew_pattern(
 }
 
 /// Holds what `spec` holds while the garment settles (a waistband at the waist), and says
-/// what (`None`: it holds nothing).
+/// what (`None`: it holds nothing); a waist too wide to stay up once let go is a notice
+/// of the design's.
 pub fn hold_pattern(design: &mut Design, spec: &PatternSpec) -> Option<String> {
     let holds = crate::design::garment::holds(design, spec);
     if holds.is_empty() {
@@ -288,7 +332,14 @@ pub fn hold_pattern(design: &mut Design, spec: &PatternSpec) -> Option<String> {
         what.join(", "),
         crate::design::HOLD_FRAMES
     );
+    let held: Vec<u32> = holds.iter().map(|h| h.vertex).collect();
     design.hold_while_draping(holds);
+    if let Some(w) = Waist::of(design, &held).filter(Waist::falls_off) {
+        design.sim.notices.push(format!(
+            "its waist is {:.2} m round at rest, longer than the body's {:.2} m round the hips below it: it will slide down once the holds let go",
+            w.round, w.hips
+        ));
+    }
     Some(said)
 }
 
@@ -572,7 +623,7 @@ mod tests {
         assert_eq!(release.at, None, "still held");
         design.hold_while_draping(Vec::new());
         release.after_frame(&design, 2);
-        assert_eq!(release.at.map(|(f, _)| f), Some(2));
+        assert_eq!(release.at.map(|(f, _, _)| f), Some(2));
         for x in &mut design.sim.cloth.x {
             x.y -= drop;
         }
@@ -591,5 +642,41 @@ mod tests {
         );
         // Settling a few centimetres is not sliding off.
         assert!(said_after_dropping(0.05).is_empty());
+    }
+
+    #[test]
+    fn why_a_garment_slid_names_its_waist_against_the_hips() {
+        let waist = |round| {
+            Some(Waist {
+                round,
+                height: 1.09,
+                hips: 1.04,
+                hangs: true,
+            })
+        };
+        let wide = slid_because(waist(1.11), ModelKind::Xpbd, 5);
+        assert!(
+            wide.contains("1.11 m round") && wide.contains("longer than the body's 1.04 m"),
+            "{wide}"
+        );
+        let stretched = slid_because(waist(0.85), ModelKind::Xpbd, 5);
+        assert!(
+            stretched.contains("stretched 22%") && stretched.contains("--substeps 20"),
+            "{stretched}"
+        );
+        // Under vbd, or at 20 substeps, there is no remedy to offer.
+        for (model, substeps) in [(ModelKind::Vbd, 1), (ModelKind::Xpbd, 20)] {
+            let s = slid_because(waist(0.85), model, substeps);
+            assert!(s.contains("stretched 22%") && !s.contains("--"), "{s}");
+        }
+        // A top's waistband hangs from the shoulders: its waist says nothing.
+        let top = waist(1.34).map(|w| Waist { hangs: false, ..w });
+        for w in [None, top] {
+            let s = slid_because(w, ModelKind::Xpbd, 5);
+            assert!(
+                !s.contains("waist") && s.contains("docs/garments.md"),
+                "{s}"
+            );
+        }
     }
 }

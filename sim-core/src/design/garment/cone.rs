@@ -42,6 +42,10 @@ pub struct Profile {
     /// The height of the lowest band's bottom (the body's feet), m.
     pub base: f32,
     pub radii: [f32; BANDS],
+    /// The way round the body in each band, m: the perimeter of the convex hull of its
+    /// vertices there seen from above, the shortest loop that goes round it (a waist
+    /// shorter than the hips' cannot pass them without stretching).
+    pub girths: [f32; BANDS],
 }
 
 impl Profile {
@@ -51,16 +55,27 @@ impl Profile {
         let base = vertices.iter().map(|v| v.y).fold(f32::INFINITY, f32::min);
         let base = if base.is_finite() { base } else { 0.0 };
         let mut radii = [0.0f32; BANDS];
+        let mut bands: Vec<Vec<Vec2>> = vec![Vec::new(); BANDS];
         for v in vertices {
             if (v.x - axis.x).abs() > half || !v.is_finite() {
                 continue;
             }
             let k = ((v.y - base) / BAND) as usize;
-            if let Some(r) = radii.get_mut(k) {
-                *r = r.max(Vec2::new(v.x - axis.x, v.z - axis.y).length());
+            if let (Some(r), Some(band)) = (radii.get_mut(k), bands.get_mut(k)) {
+                let p = Vec2::new(v.x - axis.x, v.z - axis.y);
+                *r = r.max(p.length());
+                band.push(p);
             }
         }
-        Self { base, radii }
+        let mut girths = [0.0f32; BANDS];
+        for (g, band) in girths.iter_mut().zip(&mut bands) {
+            *g = hull_perimeter(band);
+        }
+        Self {
+            base,
+            radii,
+            girths,
+        }
     }
 
     /// The same reach `r` at every height from `base` up.
@@ -68,7 +83,16 @@ impl Profile {
         Self {
             base,
             radii: [r; BANDS],
+            girths: [std::f32::consts::TAU * r; BANDS],
         }
+    }
+
+    /// The longest way round the body in the bands between heights `lo` and `hi`, m.
+    pub fn widest_girth(&self, lo: f32, hi: f32) -> f32 {
+        let band = |y: f32| ((y - self.base) / BAND).clamp(0.0, (BANDS - 1) as f32) as usize;
+        self.girths[band(lo)..=band(hi).max(band(lo))]
+            .iter()
+            .fold(0.0, |a, &b| a.max(b))
     }
 
     /// The widest reach in the bands between heights `lo` and `hi`.
@@ -101,6 +125,35 @@ pub fn fan_of(arcs: &[(Vec2, f32)]) -> Option<Fan> {
         let outer = round.iter().copied().fold(0.0, f32::max);
         (outer - inner > 0.05 && inner > 0.0 && r == inner).then_some(Fan { centre: c, inner })
     })
+}
+
+/// The perimeter of the convex hull of `points` (sorted in place), m: 0 for fewer than
+/// two. Andrew's monotone chain.
+fn hull_perimeter(points: &mut [Vec2]) -> f32 {
+    if points.len() < 2 {
+        return 0.0;
+    }
+    points.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    let turns_left = |h: &[Vec2], p: Vec2| {
+        let (o, a) = (h[h.len() - 2], h[h.len() - 1]);
+        (a - o).perp_dot(p - o) > 0.0
+    };
+    let mut hull: Vec<Vec2> = Vec::with_capacity(points.len() + 1);
+    for &p in points.iter() {
+        while hull.len() >= 2 && !turns_left(&hull, p) {
+            hull.pop();
+        }
+        hull.push(p);
+    }
+    let lower = hull.len() + 1;
+    for &p in points.iter().rev().skip(1) {
+        while hull.len() >= lower && !turns_left(&hull, p) {
+            hull.pop();
+        }
+        hull.push(p);
+    }
+    // The last point pushed is the first again.
+    hull.windows(2).map(|w| (w[1] - w[0]).length()).sum()
 }
 
 /// The unit direction from a fan's centre to the middle of the panel (its outline bounds
@@ -362,5 +415,35 @@ mod tests {
         assert!((p.radii[18] - Vec2::new(0.1, 0.05).length()).abs() < 1e-6);
         assert_eq!(p.radii[5], 0.0);
         assert!((p.widest(0.85, 1.1) - p.radii[21]).abs() < 1e-6);
+    }
+
+    #[test]
+    fn a_girth_goes_round_the_outside_of_a_band() {
+        // A 0.3 x 0.2 box with points inside and on its sides: 1.0 m round.
+        let mut pts = vec![
+            Vec2::new(0.1, 0.0),
+            Vec2::new(-0.15, -0.1),
+            Vec2::new(0.15, 0.1),
+            Vec2::new(0.0, 0.1),
+            Vec2::new(-0.15, 0.1),
+            Vec2::new(0.15, -0.1),
+            Vec2::new(0.0, 0.0),
+            Vec2::new(-0.15, 0.0),
+        ];
+        assert!((hull_perimeter(&mut pts) - 1.0).abs() < 1e-5);
+        assert_eq!(hull_perimeter(&mut [Vec2::ONE]), 0.0);
+        // Round a circle of 0.15 m at the hips, a narrower one at the waist above.
+        let ring = |r: f32, y: f32| {
+            (0..64).map(move |k| {
+                let a = k as f32 * std::f32::consts::TAU / 64.0;
+                Vec3::new(r * a.cos(), y, r * a.sin())
+            })
+        };
+        let v: Vec<Vec3> = ring(0.15, 0.87).chain(ring(0.12, 1.07)).collect();
+        let p = Profile::of(&v, Vec2::ZERO, 0.21);
+        let round = |r: f32| 128.0 * r * (std::f32::consts::PI / 64.0).sin();
+        assert!((p.widest_girth(0.8, 1.1) - round(0.15)).abs() < 1e-4);
+        assert!((p.widest_girth(1.0, 1.1) - round(0.12)).abs() < 1e-4);
+        assert_eq!(p.widest_girth(1.5, 1.6), 0.0);
     }
 }

@@ -5,7 +5,8 @@
 //! (named places, placements, a body's landmarks) <- `spec`
 //! (the pattern before it is cloth; arrangement by name) <- `assemble` (layout in the
 //! design's pattern plane, meshing, start positions; sewing) and `import` (pattern files
-//! in: `garmentcode`, and the SVG and DXF readers of `mesh`).
+//! in: `garmentcode`, and the SVG and DXF readers of `mesh`); `waist` (whether a held
+//! waist can stay up on the body once let go).
 
 mod assemble;
 mod cone;
@@ -13,6 +14,7 @@ mod garmentcode;
 mod import;
 mod place;
 mod spec;
+mod waist;
 
 pub use assemble::{Assembled, GarmentError, HOLD_PULL, Sewn, assemble, holds, sew};
 pub(crate) use assemble::{LAYER, PATTERN_GAP, SIMPLIFY};
@@ -20,3 +22,4 @@ pub use garmentcode::read_garmentcode;
 pub use import::{ImportError, load_pattern, own_body, pattern_from_outlines};
 pub use place::{GC_RAISE, Landmarks, Place, PlaceError, Placement, place};
 pub use spec::{DEFAULT_FABRIC, EdgeRef, HoldSpec, PatternSpec, PieceSpec, SeamSpec, SpecError};
+pub use waist::{HIPS_BELOW, Waist};
