@@ -94,6 +94,65 @@ fn a_reset_with_a_pattern_builds_the_garment() {
     assert_eq!(d.sim.cloth.len(), 5 * 5, "the design is as it was");
 }
 
+/// A GarmentCode skirt (two 60 x 50 cm panels, their tops at their body's waist,
+/// labelled as waistbands) as the file says it.
+fn gc_skirt(wide: f32) -> String {
+    let panel = |z: f32, turn: f32| {
+        format!(
+            r#"{{"vertices": [[-{h}, 0], [{h}, 0], [{h}, 50], [-{h}, 50]],
+                "edges": [{{"endpoints": [0, 1]}}, {{"endpoints": [1, 2]}},
+                          {{"endpoints": [2, 3], "label": "lower_interface"}}, {{"endpoints": [3, 0]}}],
+                "translation": [0, 58.8, {z}], "rotation": [0, {turn}, 0]}}"#,
+            h = wide / 2.0
+        )
+    };
+    format!(
+        r#"{{"pattern": {{"panels": {{"front": {}, "back": {}}},
+            "stitches": [[{{"panel": "front", "edge": 1}}, {{"panel": "back", "edge": 3}}],
+                         [{{"panel": "front", "edge": 3}}, {{"panel": "back", "edge": 1}}]]}},
+            "properties": {{"units_in_meter": 100}}}}"#,
+        panel(22.0, 0.0),
+        panel(-22.0, 180.0)
+    )
+}
+
+/// The studio's pattern scene says at once when a skirt is cut wider round than the
+/// human body's hips (it will slide down once its waist is let go), and not when it fits.
+#[test]
+fn a_skirt_wider_than_the_hips_is_said_to_fall_when_the_scene_is_built() {
+    let dir = std::env::temp_dir().join(format!("saiho-reset-skirt-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut cfg = ServiceConfig::new(shared::domain::Domain::new("skirt").unwrap());
+    cfg.autosave = dir.join("autosave.saiho");
+    cfg.scene.grid = 4;
+    cfg.scene.piece_edge = 0.04;
+    let mut d = build_design(&cfg.scene).unwrap();
+    let mut said_of = |wide: f32| {
+        let file = dir.join(format!("skirt{wide}_specification.json"));
+        std::fs::write(&file, gc_skirt(wide)).unwrap();
+        let reset = Command::Reset {
+            body: BodyChoice::Human,
+            grid: None,
+            material: shared::command::MaterialChange::default(),
+            substeps: None,
+            model: None,
+            pattern: Some(file.to_str().unwrap().into()),
+        };
+        replacement(&mut d, &reset, &cfg).unwrap().1
+    };
+    // 1.20 m round against the hips' 1.04 m; 0.90 m fits.
+    let (wide, fits) = (said_of(60.0), said_of(45.0));
+    let _ = std::fs::remove_dir_all(&dir);
+    for said in [&wide, &fits] {
+        assert!(said.contains("(lower_interface) held"), "{said}");
+    }
+    assert!(
+        wide.contains("its waist is 1.20 m round at rest") && wide.contains("slide down"),
+        "{wide}"
+    );
+    assert!(!fits.contains("slide down"), "{fits}");
+}
+
 /// A fabric by name replaces the measured values for the whole design and names
 /// every piece; an unknown one changes nothing; values edited by hand mark the pieces.
 #[test]
