@@ -486,7 +486,7 @@ pub fn new_design(scene: &ScenarioConfig) -> Result<(Design, Option<String>), St
     let sewn = sew(&mut d, &spec, SEAM_PULL).map_err(|e| e.to_string())?;
     d.float_while_sewing();
     let mut said = format!("{} seams stitched ({} pairs)", sewn.seams, sewn.pairs);
-    if let Some(held) = sim_core::scenario::hold_pattern(&mut d, &spec) {
+    if let Some(held) = sim_core::scenario::hold_pattern(&mut d, &spec, scene.substeps) {
         said += &format!("; {held}");
     }
     for n in d.sim.notices.iter().chain(&sewn.open) {

@@ -117,7 +117,8 @@ fn gc_skirt(wide: f32) -> String {
 }
 
 /// The studio's pattern scene says at once when a skirt is cut wider round than the
-/// human body's hips (it will slide down once its waist is let go), and not when it fits.
+/// human body's hips (it will slide down once its waist is let go), and not when it fits;
+/// one that fits hangs from its waist at 20 substeps under xpbd unless substeps are asked.
 #[test]
 fn a_skirt_wider_than_the_hips_is_said_to_fall_when_the_scene_is_built() {
     let dir = std::env::temp_dir().join(format!("saiho-reset-skirt-{}", std::process::id()));
@@ -127,30 +128,46 @@ fn a_skirt_wider_than_the_hips_is_said_to_fall_when_the_scene_is_built() {
     cfg.scene.grid = 4;
     cfg.scene.piece_edge = 0.04;
     let mut d = build_design(&cfg.scene).unwrap();
-    let mut said_of = |wide: f32| {
+    let mut said_of = |wide: f32, substeps: Option<u32>| {
         let file = dir.join(format!("skirt{wide}_specification.json"));
         std::fs::write(&file, gc_skirt(wide)).unwrap();
         let reset = Command::Reset {
             body: BodyChoice::Human,
             grid: None,
             material: shared::command::MaterialChange::default(),
-            substeps: None,
+            substeps,
             model: None,
             pattern: Some(file.to_str().unwrap().into()),
         };
-        replacement(&mut d, &reset, &cfg).unwrap().1
+        let (next, said, _) = replacement(&mut d, &reset, &cfg).unwrap();
+        (said, next.sim.substeps)
     };
     // 1.20 m round against the hips' 1.04 m; 0.90 m fits.
-    let (wide, fits) = (said_of(60.0), said_of(45.0));
+    let (wide, fits, asked) = (
+        said_of(60.0, None),
+        said_of(45.0, None),
+        said_of(45.0, Some(5)),
+    );
     let _ = std::fs::remove_dir_all(&dir);
-    for said in [&wide, &fits] {
+    for (said, _) in [&wide, &fits, &asked] {
         assert!(said.contains("(lower_interface) held"), "{said}");
     }
     assert!(
-        wide.contains("its waist is 1.20 m round at rest") && wide.contains("slide down"),
-        "{wide}"
+        wide.0.contains("its waist is 1.20 m round at rest") && wide.0.contains("slide down"),
+        "{wide:?}"
     );
-    assert!(!fits.contains("slide down"), "{fits}");
+    assert_eq!(
+        wide.1, 5,
+        "nothing holds a skirt wider than the hips: no more substeps"
+    );
+    assert!(!fits.0.contains("slide down"), "{fits:?}");
+    assert!(
+        fits.0.contains("xpbd at 20 substeps instead of 5"),
+        "{fits:?}"
+    );
+    assert_eq!(fits.1, 20);
+    assert!(!asked.0.contains("substeps"), "{asked:?}");
+    assert_eq!(asked.1, 5, "substeps asked for are kept");
 }
 
 /// A fabric by name replaces the measured values for the whole design and names

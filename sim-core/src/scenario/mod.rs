@@ -18,4 +18,4 @@ pub use config::{
 };
 pub use realtime::max_realtime_grid;
 pub use report::{OpsReport, Percentiles, Report};
-pub use run::{SCENARIO_ALLOWANCE_MM, hold_pattern, run_scenario};
+pub use run::{FIRM_SUBSTEPS, SCENARIO_ALLOWANCE_MM, hold_pattern, run_scenario};

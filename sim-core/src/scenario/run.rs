@@ -266,8 +266,9 @@ fn slid_because(waist: Option<Waist>, model: ModelKind, substeps: usize) -> Stri
 }
 
 /// The substeps at which the xpbd model held two of GarmentCode's random skirts on the
-/// hips that slid off at 5 (a third slid at 20 too; vbd held all three: docs/garments.md).
-const FIRM_SUBSTEPS: usize = 20;
+/// hips that slid off at 5 (a third slid at 20 too; vbd held all three), and the shipped
+/// circle skirt (docs/garments.md): a garment hanging from its waist runs at these.
+pub const FIRM_SUBSTEPS: usize = 20;
 
 /// The highest point of the cloth's live triangles, m.
 fn cloth_top(design: &Design) -> f32 {
@@ -307,7 +308,7 @@ fn sew_pattern(
     if cfg.scenario == ScenarioName::DrapePattern {
         design.float_while_sewing();
         let before = design.sim.notices.len();
-        if let Some(said) = hold_pattern(design, spec) {
+        if let Some(said) = hold_pattern(design, spec, cfg.substeps) {
             eprintln!("{}: {said}", cfg.scenario.name());
         }
         for n in &design.sim.notices[before..] {
@@ -320,15 +321,21 @@ fn sew_pattern(
 
 /// Holds what `spec` holds while the garment settles (a waistband at the waist), and says
 /// what (`None`: it holds nothing); a waist too wide to stay up once let go is a notice
-/// of the design's.
-pub fn hold_pattern(design: &mut Design, spec: &PatternSpec) -> Option<String> {
+/// of the design's. A garment that hangs from its waist under xpbd runs at
+/// [`FIRM_SUBSTEPS`] unless `asked` names the substeps: at 5, skirts whose waists fit the
+/// body slid over its hips once let go (docs/garments.md).
+pub fn hold_pattern(
+    design: &mut Design,
+    spec: &PatternSpec,
+    asked: Option<usize>,
+) -> Option<String> {
     let holds = crate::design::garment::holds(design, spec);
     if holds.is_empty() {
         return None;
     }
     let mut what: Vec<&str> = spec.holds.iter().map(|h| h.label.as_str()).collect();
     what.dedup();
-    let said = format!(
+    let mut said = format!(
         "{} vertices ({}) held for the first {} frames",
         holds.len(),
         what.join(", "),
@@ -336,11 +343,22 @@ pub fn hold_pattern(design: &mut Design, spec: &PatternSpec) -> Option<String> {
     );
     let held: Vec<u32> = holds.iter().map(|h| h.vertex).collect();
     design.hold_while_draping(holds);
-    if let Some(w) = Waist::of(design, &held).filter(Waist::falls_off) {
+    let waist = Waist::of(design, &held);
+    if let Some(w) = waist.filter(Waist::falls_off) {
         design.sim.notices.push(format!(
             "its waist is {:.2} m round at rest, longer than the body's {:.2} m round the hips below it: it will slide down once the holds let go",
             w.round, w.hips
         ));
+    } else if let Some(w) = waist.filter(|w| w.hangs)
+        && design.sim.model == ModelKind::Xpbd
+        && asked.is_none()
+        && design.sim.substeps < FIRM_SUBSTEPS
+    {
+        said += &format!(
+            "; it hangs from its waist ({:.2} m round, the hips {:.2} m): xpbd at {FIRM_SUBSTEPS} substeps instead of {}, so its cloth holds it up (--substeps to choose)",
+            w.round, w.hips, design.sim.substeps
+        );
+        design.sim.substeps = FIRM_SUBSTEPS;
     }
     Some(said)
 }
