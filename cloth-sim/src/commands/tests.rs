@@ -48,17 +48,24 @@ fn a_reset_takes_the_a_posed_mannequin() {
     assert_eq!(next.sim.cloth.len(), 7 * 7);
 }
 
+/// A studio service's set-up for RESET tests named `tag`: its own directory (the
+/// autosave's), a 4 x 4 square, pieces meshed at `edge` m, and the design it starts with.
+fn reset_scene(tag: &str, edge: f32) -> (std::path::PathBuf, ServiceConfig, Design) {
+    let dir = std::env::temp_dir().join(format!("saiho-reset-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut cfg = ServiceConfig::new(shared::domain::Domain::new(tag).unwrap());
+    cfg.autosave = dir.join("autosave.saiho");
+    cfg.scene.grid = 4;
+    cfg.scene.piece_edge = edge;
+    let d = build_design(&cfg.scene).unwrap();
+    (dir, cfg, d)
+}
+
 /// A reset with a pattern file builds the garment round the body, sewn, in place of
 /// the square; a file that is no pattern changes nothing and says why.
 #[test]
 fn a_reset_with_a_pattern_builds_the_garment() {
-    let dir = std::env::temp_dir().join(format!("saiho-reset-dress-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let mut cfg = ServiceConfig::new(shared::domain::Domain::new("dress").unwrap());
-    cfg.autosave = dir.join("autosave.saiho");
-    cfg.scene.grid = 4;
-    cfg.scene.piece_edge = 0.06;
-    let mut d = build_design(&cfg.scene).unwrap();
+    let (dir, cfg, mut d) = reset_scene("dress", 0.06);
     let dress = concat!(env!("CARGO_MANIFEST_DIR"), "/../sim-core/assets/dress.svg");
     let reset = |pattern: &str| Command::Reset {
         body: BodyChoice::Mannequin,
@@ -121,13 +128,7 @@ fn gc_skirt(wide: f32) -> String {
 /// one that fits hangs from its waist at 20 substeps under xpbd unless substeps are asked.
 #[test]
 fn a_skirt_wider_than_the_hips_is_said_to_fall_when_the_scene_is_built() {
-    let dir = std::env::temp_dir().join(format!("saiho-reset-skirt-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let mut cfg = ServiceConfig::new(shared::domain::Domain::new("skirt").unwrap());
-    cfg.autosave = dir.join("autosave.saiho");
-    cfg.scene.grid = 4;
-    cfg.scene.piece_edge = 0.04;
-    let mut d = build_design(&cfg.scene).unwrap();
+    let (dir, cfg, mut d) = reset_scene("skirt", 0.04);
     let mut said_of = |wide: f32, substeps: Option<u32>| {
         let file = dir.join(format!("skirt{wide}_specification.json"));
         std::fs::write(&file, gc_skirt(wide)).unwrap();

@@ -3,7 +3,7 @@
 //! down the body and why (docs/garments.md).
 
 use crate::design::Design;
-use crate::design::garment::{PatternSpec, Waist};
+use crate::design::garment::{PatternSpec, Waist, cloth_top};
 use crate::solver::ModelKind;
 
 /// How far a garment's highest point may drop after its holds let go before the run
@@ -92,15 +92,6 @@ fn slid_because(waist: Option<Waist>, model: ModelKind, substeps: usize) -> Stri
 /// hips that slid off at 5 (a third slid at 20 too; vbd held all three), and the shipped
 /// circle skirt (docs/garments.md): a garment hanging from its waist runs at these.
 pub const FIRM_SUBSTEPS: usize = 20;
-
-/// The highest point of the cloth's live triangles, m.
-fn cloth_top(design: &Design) -> f32 {
-    let x = &design.sim.cloth.x;
-    (design.sim.cloth.live.iter())
-        .flat_map(|(_, t)| t.v)
-        .map(|v| x[v as usize].y)
-        .fold(f32::NEG_INFINITY, f32::max)
-}
 
 /// Holds what `spec` holds while the garment settles (a waistband at the waist), and says
 /// what (`None`: it holds nothing); a waist too wide to stay up once let go is a notice

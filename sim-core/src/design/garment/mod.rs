@@ -22,4 +22,4 @@ pub use garmentcode::read_garmentcode;
 pub use import::{ImportError, load_pattern, own_body, pattern_from_outlines};
 pub use place::{GC_RAISE, Landmarks, Place, PlaceError, Placement, place};
 pub use spec::{DEFAULT_FABRIC, EdgeRef, HoldSpec, PatternSpec, PieceSpec, SeamSpec, SpecError};
-pub use waist::{HIPS_BELOW, Waist};
+pub use waist::{HIPS_BELOW, Waist, cloth_top};

@@ -72,10 +72,7 @@ impl Waist {
             return None;
         }
         let height = alive.iter().sum::<f32>() / alive.len() as f32;
-        let top = (live.iter())
-            .flat_map(|(_, t)| t.v)
-            .map(|v| x[v as usize].y)
-            .fold(f32::NEG_INFINITY, f32::max);
+        let top = cloth_top(design);
         let profile = Landmarks::of(design.sim.body.as_ref()).profile;
         let hips = profile.widest_girth(height - HIPS_BELOW, height);
         (hips > 0.0).then_some(Self {
@@ -91,6 +88,15 @@ impl Waist {
     pub fn falls_off(&self) -> bool {
         self.hangs && self.round > self.hips
     }
+}
+
+/// The highest point of the cloth's live triangles, m.
+pub fn cloth_top(design: &Design) -> f32 {
+    let x = &design.sim.cloth.x;
+    (design.sim.cloth.live.iter())
+        .flat_map(|(_, t)| t.v)
+        .map(|v| x[v as usize].y)
+        .fold(f32::NEG_INFINITY, f32::max)
 }
 
 #[cfg(test)]
