@@ -38,6 +38,8 @@ pub enum Action {
     ResetCamera,
     /// The camera fits the body and the cloth.
     FrameScene,
+    /// Show or hide the stretch map.
+    ToggleStretchMap,
     /// A line for the status bar.
     Status(String),
 }

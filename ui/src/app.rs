@@ -19,6 +19,7 @@ use crate::input;
 use crate::link::Link;
 use crate::panels::{MaterialPanel, PiecesPanel, ScenePanel, StatusPanel, ToolsPanel, ViewPanel};
 use crate::store::Store;
+use crate::stretch::{StretchMap, StretchView};
 use crate::tools::{tool_name, tool_sentence};
 use crate::view3d::Overlay;
 
@@ -70,6 +71,8 @@ pub struct App {
     pub pieces: PiecesPanel,
     pub status_panel: StatusPanel,
     pub view: ViewPanel,
+    /// Whether the view shows the stretch map, and at what scale.
+    pub stretch: StretchView,
     /// How long after start everything of the design had arrived.
     pub design_arrived: Option<Duration>,
     pub status: String,
@@ -102,6 +105,7 @@ impl App {
             pieces: PiecesPanel::default(),
             status_panel: StatusPanel::default(),
             view: ViewPanel::default(),
+            stretch: StretchView::default(),
             design_arrived: None,
             status: String::new(),
             framed: (0, false),
@@ -168,6 +172,7 @@ impl App {
                 } => self.click(tool, hit, shift, view_dir),
                 Action::ResetCamera => self.camera = Camera::default(),
                 Action::FrameScene => self.frame_scene(),
+                Action::ToggleStretchMap => self.stretch.on = !self.stretch.on,
                 Action::Status(s) => self.status = s,
             }
         }
@@ -330,14 +335,19 @@ impl App {
             self.opts.render_scale,
         );
         let current = self.current_tool();
+        let stretch_at = |v: u32| {
+            let s = self.store.stretch.as_ref()?.vertex.get(v as usize)?;
+            Some(format!(" · stretched {:.1}%", 100.0 * s))
+        };
         let resp = resp.on_hover_text_at_pointer(match &self.view.last_hit {
             Some(h) => format!(
-                "{} · vertex {} at ({:.3}, {:.3}, {:.3}) m",
+                "{} · vertex {} at ({:.3}, {:.3}, {:.3}) m{}",
                 tool_name(current),
                 h.vertex,
                 h.point.x,
                 h.point.y,
-                h.point.z
+                h.point.z,
+                stretch_at(h.vertex).unwrap_or_default()
             ),
             None => tool_name(current).to_string(),
         });
@@ -539,6 +549,29 @@ impl App {
         self.store.highlight = self.pieces.selected.and_then(|i| self.store.mesh_piece(i));
         ui.separator();
         ToolsPanel::view_section(ui, actions);
+        crate::stretch::controls(ui, &mut self.stretch, self.store.stretch.as_ref());
+    }
+
+    /// The stretch map of the newest frame while it is shown (worked out again when the
+    /// frame, the mesh or the scale changes), none while it is not.
+    pub fn update_stretch_map(&mut self) {
+        let s = &mut self.store;
+        if !self.stretch.on {
+            s.stretch = None;
+            return;
+        }
+        let of = (s.frame, s.mesh_generation);
+        let fresh = s.stretch.as_ref().is_some_and(|m| {
+            m.of == of && m.full == self.stretch.full && m.vertex.len() == s.x.len()
+        });
+        if fresh {
+            return;
+        }
+        s.stretch = s
+            .mesh
+            .as_ref()
+            .and_then(|m| StretchMap::of(m, &s.x, self.stretch.full))
+            .map(|m| StretchMap { of, ..m });
     }
 }
 
@@ -566,6 +599,7 @@ impl eframe::App for App {
         input::keyboard(&ctx, &self.tools.save_path, &mut actions);
         // Keys act before the panels are laid out, as a click on a panel would next frame.
         self.apply(std::mem::take(&mut actions));
+        self.update_stretch_map();
         let mut panel = egui::Frame::side_top_panel(ui.style());
         if self.opts.clear_panels {
             panel = panel.fill(egui::Color32::TRANSPARENT);

@@ -11,13 +11,14 @@ use crate::panels::{Drag, ViewPanel};
 use crate::store::Store;
 use crate::tools::TOOLS;
 
-/// The keyboard's shortcuts: a tool's key, undo, redo, save, home, F (frame the scene).
+/// The keyboard's shortcuts: a tool's key, undo, redo, save, home, F (frame the scene),
+/// M (the stretch map).
 pub fn keyboard(ctx: &egui::Context, save_path: &str, actions: &mut Vec<Action>) {
     if ctx.egui_wants_keyboard_input() {
         return;
     }
-    let (mut tool_key, mut undo, mut redo, mut save, mut home, mut frame) =
-        (None, false, false, false, false, false);
+    let (mut tool_key, mut undo, mut redo, mut save, mut home, mut frame, mut map) =
+        (None, false, false, false, false, false, false);
     ctx.input(|i| {
         for (t, _, key, _) in TOOLS {
             if i.key_pressed(key) && !i.modifiers.command {
@@ -30,6 +31,7 @@ pub fn keyboard(ctx: &egui::Context, save_path: &str, actions: &mut Vec<Action>)
         save = i.modifiers.command && i.key_pressed(egui::Key::S);
         home = i.key_pressed(egui::Key::Home);
         frame = i.key_pressed(egui::Key::F) && !i.modifiers.command;
+        map = i.key_pressed(egui::Key::M) && !i.modifiers.command;
     });
     if save {
         actions.push(Action::Path(PathOp::Save, save_path.to_string()));
@@ -47,6 +49,9 @@ pub fn keyboard(ctx: &egui::Context, save_path: &str, actions: &mut Vec<Action>)
     }
     if frame {
         actions.push(Action::FrameScene);
+    }
+    if map {
+        actions.push(Action::ToggleStretchMap);
     }
 }
 

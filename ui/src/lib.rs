@@ -8,7 +8,7 @@
 //! - `input`: the keyboard and the mouse in the 3D view, apart from drawing;
 //! - `link`: the iceoryx2 ports and the checks of what arrives; `store`: what arrived;
 //! - `camera`, `view3d`: the orbit camera, picking, and the wgpu renderer;
-//! - `tools`: the tool table.
+//! - `tools`: the tool table; `stretch`: the stretch map the view can colour the cloth by.
 
 pub mod action;
 pub mod app;
@@ -17,5 +17,6 @@ pub mod input;
 pub mod link;
 pub mod panels;
 pub mod store;
+pub mod stretch;
 pub mod tools;
 pub mod view3d;

@@ -265,6 +265,9 @@ pub struct Store {
     pub outline_total: u32,
     /// The mesh piece (`Mesh::piece_of`) the 3D view and pattern view highlight.
     pub highlight: Option<u32>,
+    /// The stretch map the 3D view colours the cloth by, when the designer shows it
+    /// (worked out here from the positions and the pattern: `stretch`).
+    pub stretch: Option<crate::stretch::StretchMap>,
 }
 
 impl Default for Store {
@@ -298,6 +301,7 @@ impl Default for Store {
             outline: Vec::new(),
             outline_total: 0,
             highlight: None,
+            stretch: None,
         }
     }
 }

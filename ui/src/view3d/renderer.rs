@@ -33,6 +33,8 @@ pub struct View3d {
     line_buf: Buf,
     marker: Buf,
     scratch: Vec<Vertex>,
+    /// The cloth is drawn in the stretch map's colours (untextured) this frame.
+    mapped: bool,
     target: Option<(wgpu::Texture, wgpu::Texture, [u32; 2])>,
     blit: Blit,
 }
@@ -169,6 +171,7 @@ impl View3d {
             line_buf: Buf::vertices(device, "saiho lines"),
             marker: Buf::vertices(device, "saiho markers"),
             scratch: Vec::new(),
+            mapped: false,
             target: None,
             blit: Blit::new(device),
         }
@@ -332,6 +335,7 @@ impl View3d {
             self.cloth_topology = key;
         }
         scene::cloth_vertices(&self.cloth_keys, store, &mut self.scratch);
+        self.mapped = store.stretch.is_some();
         self.cloth.upload(device, queue, &self.scratch);
         if self.body_version != store.body_version {
             scene::body_vertices(store, &mut self.scratch);
@@ -386,7 +390,11 @@ impl View3d {
             });
             pass.set_bind_group(0, &self.bind, &[]);
             if self.cloth.len > 0 && self.cloth_index.len > 0 {
-                pass.set_pipeline(&self.textured);
+                pass.set_pipeline(if self.mapped {
+                    &self.coloured
+                } else {
+                    &self.textured
+                });
                 pass.set_vertex_buffer(0, self.cloth.buf.slice(..));
                 pass.set_index_buffer(self.cloth_index.buf.slice(..), wgpu::IndexFormat::Uint32);
                 pass.draw_indexed(0..self.cloth_index.len, 0, 0..1);

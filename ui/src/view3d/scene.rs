@@ -61,14 +61,16 @@ pub(super) fn cloth_keys(mesh: Option<&Mesh>, keys: &mut Vec<(u32, [f32; 2])>) -
 }
 
 /// The cloth's vertices for `keys` at the store's positions; nothing when the positions
-/// belong to another mesh (drawing nothing beats drawing garbage).
+/// belong to another mesh (drawing nothing beats drawing garbage). With the stretch map
+/// shown, each takes its stretch's colour instead of the selection's tint.
 pub(super) fn cloth_vertices(keys: &[(u32, [f32; 2])], store: &Store, out: &mut Vec<Vertex>) {
     out.clear();
     let (x, n) = (&store.x, &store.normals);
     // The selected piece, tinted.
     let piece_of = store.mesh.as_ref().map(|m| &m.piece_of);
-    let tint = |v: u32, uv: [f32; 2]| match (store.highlight, piece_of) {
-        (Some(h), Some(p)) if p.get(&crate::store::key(v, uv)) == Some(&h) => HIGHLIGHT,
+    let tint = |v: u32, uv: [f32; 2]| match (&store.stretch, store.highlight, piece_of) {
+        (Some(map), _, _) => map.colour_of(v),
+        (None, Some(h), Some(p)) if p.get(&crate::store::key(v, uv)) == Some(&h) => HIGHLIGHT,
         _ => [1.0; 4],
     };
     for &(v, uv) in keys {

@@ -1,0 +1,105 @@
+//! The stretch map in the studio, driven by egui_kittest with no system behind it: M shows
+//! it, the cloth takes its colours in the rendered view, and the panel says how far the
+//! cloth is stretched.
+
+#![allow(clippy::unwrap_used)]
+
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use ui::app::{App, Options};
+use ui::store::Store;
+
+/// The studio over the demo cloth (1 m square, cut as it lies) stretched by `stretch`
+/// along x.
+fn harness(stretch: f32) -> Harness<'static, App> {
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1200.0, 900.0))
+        .wgpu()
+        .build_eframe(move |_cc| {
+            let mut app = App::new(Options::default());
+            let (mesh, x) = Store::demo_cloth(16, 0.4);
+            let x = x
+                .into_iter()
+                .map(|[a, b, c]| [a * (1.0 + stretch), b, c])
+                .collect();
+            app.store.mesh = Some(mesh);
+            app.store.set_positions(x);
+            app
+        });
+    h.run_steps(3);
+    h
+}
+
+/// The mean colour of the middle of the 3D view.
+fn view_colour(h: &mut Harness<'static, App>) -> [f32; 3] {
+    let img = h.render().unwrap();
+    let rect = h.state().view.rect.unwrap();
+    let (cx, cy) = (rect.center().x as u32, rect.center().y as u32);
+    let mut sum = [0.0f32; 3];
+    let mut n = 0.0;
+    for x in cx - 30..cx + 30 {
+        for y in cy - 30..cy + 30 {
+            let p = img.get_pixel(x, y).0;
+            for k in 0..3 {
+                sum[k] += p[k] as f32;
+            }
+            n += 1.0;
+        }
+    }
+    sum.map(|s| s / n)
+}
+
+#[test]
+fn the_stretch_map_shows_where_and_how_far_the_cloth_is_stretched() {
+    let mut h = harness(0.3);
+    // Off at first: the cloth's own off-white texture, and no summary.
+    let [r, g, b] = view_colour(&mut h);
+    assert!(r > 120.0 && g > 120.0 && b > 110.0, "{r} {g} {b}");
+    assert!(h.query_by_label_contains("of the cloth past").is_none());
+    assert!(h.state().store.stretch.is_none());
+
+    // M shows it: every triangle is stretched 30%, past the default red (20%).
+    h.key_press(egui::Key::M);
+    h.run_steps(3);
+    assert!(h.state().stretch.on);
+    let worst = h.state().store.stretch.as_ref().unwrap().worst;
+    assert!((worst - 0.3).abs() < 1e-3, "{worst}");
+    h.get_by_label("Worst 30% · 100.0% of the cloth past 20%");
+    let [r, g, b] = view_colour(&mut h);
+    assert!(
+        r > 2.0 * g && r > 2.0 * b,
+        "red where it is stretched: {r} {g} {b}"
+    );
+    // The cloth under the mouse says how far it is stretched there.
+    let centre = h.state().view.rect.unwrap().center();
+    h.hover_at(centre);
+    h.run_steps(30);
+    assert!(h.get_all_by_label_contains("stretched 30.0%").count() >= 1);
+
+    // Red at 60%: 30% is half way, between green and yellow.
+    h.state_mut().stretch.full = 0.6;
+    h.run_steps(3);
+    h.get_by_label("Worst 30% · 0.0% of the cloth past 60%");
+    let [r, g, b] = view_colour(&mut h);
+    assert!(
+        g > r && g > 1.5 * b,
+        "green-yellow at half the scale: {r} {g} {b}"
+    );
+
+    // M again hides it: the texture is back.
+    h.key_press(egui::Key::M);
+    h.run_steps(3);
+    assert!(h.state().store.stretch.is_none());
+    let [r, g, b] = view_colour(&mut h);
+    assert!(r > 120.0 && g > 120.0 && b > 110.0, "{r} {g} {b}");
+}
+
+#[test]
+fn cloth_as_cut_is_blue_on_the_map() {
+    let mut h = harness(0.0);
+    h.state_mut().stretch.on = true;
+    h.run_steps(3);
+    h.get_by_label("Worst 0% · 0.0% of the cloth past 20%");
+    let [r, g, b] = view_colour(&mut h);
+    assert!(b > 2.0 * r && b > g, "blue as cut: {r} {g} {b}");
+}
