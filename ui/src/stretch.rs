@@ -184,6 +184,24 @@ impl StretchMap {
     }
 }
 
+/// The map laid on the pattern: every triangle at its pattern places (`at` puts a place
+/// on the screen), its corners in their vertices' colours, for the pattern view to draw
+/// under its lines: where a piece pulls, and so where it wants more cloth.
+pub fn pattern_fill(
+    mesh: &Mesh,
+    map: &StretchMap,
+    at: impl Fn([f32; 2]) -> egui::Pos2,
+) -> egui::Shape {
+    let mut m = egui::Mesh::default();
+    for c in &mesh.corners {
+        let [r, g, b, _] = map.colour_of(c.vertex);
+        let i = m.vertices.len() as u32;
+        m.colored_vertex(at(c.pattern), egui::Rgba::from_rgb(r, g, b).into());
+        m.indices.push(i);
+    }
+    egui::Shape::mesh(m)
+}
+
 /// The map's controls under the view's: the switch (M), the stretch shown red, the colour
 /// bar and the summary of `map`.
 pub fn controls(ui: &mut egui::Ui, view: &mut StretchView, map: Option<&StretchMap>) {

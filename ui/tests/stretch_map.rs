@@ -103,3 +103,41 @@ fn cloth_as_cut_is_blue_on_the_map() {
     let [r, g, b] = view_colour(&mut h);
     assert!(b > 2.0 * r && b > g, "blue as cut: {r} {g} {b}");
 }
+
+#[test]
+fn the_pattern_view_shows_the_map_on_the_pieces() {
+    let mut h = harness(0.3);
+    h.state_mut().pieces.pattern_open = true;
+    h.run_steps(3);
+    // The pattern view's drawing area, under its hint (as the seam test finds it).
+    let hint = h
+        .get_by_label("Drag along a border, then along another: a seam joins them")
+        .rect();
+    let area = egui::Rect::from_min_size(
+        egui::pos2(hint.left(), hint.bottom() + 8.0),
+        egui::vec2(hint.width().max(300.0), 300.0),
+    );
+    let red = |h: &mut Harness<'static, App>| {
+        let img = h.render().unwrap();
+        let c = area.center();
+        let mut n = 0;
+        for x in (c.x - 50.0) as u32..(c.x + 50.0) as u32 {
+            for y in (c.y - 50.0) as u32..(c.y + 50.0) as u32 {
+                let p = img.get_pixel(x, y).0;
+                if p[0] > 150 && (p[1] as u32) * 2 < p[0] as u32 && (p[2] as u32) * 2 < p[0] as u32
+                {
+                    n += 1;
+                }
+            }
+        }
+        n
+    };
+    assert_eq!(red(&mut h), 0, "no map: the pieces are outlines on grey");
+    h.state_mut().stretch.on = true;
+    h.run_steps(3);
+    let n = red(&mut h);
+    assert!(
+        n > 9000,
+        "the stretched piece is red in the pattern: {n} of 10000 pixels"
+    );
+}
