@@ -80,8 +80,8 @@ pub(super) fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>
     eprintln!(
         "{}: {} model{}, {} vertices, {} frames x {} substeps: frame p50 {:.2} ms p99 {:.2} ms; \
          max penetration {:.2e} m; final kinetic energy {:.2e} J; settled {}; \
-         strain mean {:.1}% max {:.0}%; mesh valid {}; crossing pairs: {} cloth-cloth, {} \
-         cloth-body",
+         strain mean {:.1}% max {:.0}%; threads stretched {:.1}% (median) {:.1}% (p90); mesh \
+         valid {}; crossing pairs: {} cloth-cloth, {} cloth-body",
         r.scenario,
         r.model,
         if r.guard { " with its guard" } else { "" },
@@ -95,6 +95,8 @@ pub(super) fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>
         r.settled,
         r.strain_mean * 100.0,
         r.strain_max * 100.0,
+        r.thread_stretch_p50 * 100.0,
+        r.thread_stretch_p90 * 100.0,
         r.mesh_valid,
         r.crossings_self,
         r.crossings_body

@@ -47,30 +47,11 @@ impl Default for StretchView {
     }
 }
 
-/// How many times its length as cut each thread of a triangle now is, warp then weft:
-/// the triangle's corners are at `x`, were cut at `p` (pattern places, m) and have
-/// texture coordinates `uv`, whose u runs along the warp and v along the weft. None for a
-/// triangle with no area in the pattern or in the texture, or positions that are not
-/// finite.
+/// How many times its length as cut each thread of a triangle now is, warp then weft
+/// (`sim_core::mesh::thread_stretch`, which the scenario reports use too): corners at
+/// `x`, cut at `p` (pattern places, m), with texture coordinates `uv`.
 pub fn thread_stretch(x: [Vec3; 3], p: [Vec2; 3], uv: [Vec2; 3]) -> Option<[f32; 2]> {
-    let (t0, t1) = (uv[1] - uv[0], uv[2] - uv[0]);
-    let det = t0.perp_dot(t1);
-    let area = (p[1] - p[0]).perp_dot(p[2] - p[0]);
-    if !(det.abs() > 1e-12 && area.abs() > 1e-12) {
-        return None;
-    }
-    // Along u and along v: where the cloth is now (3D) and where it was cut (pattern),
-    // each through [t0 t1]^-1.
-    let along = |a0: Vec3, a1: Vec3| ((a0 * t1.y - a1 * t0.y) / det, (a1 * t0.x - a0 * t1.x) / det);
-    let (x0, x1) = (x[1] - x[0], x[2] - x[0]);
-    let (p0, p1) = (p[1] - p[0], p[2] - p[0]);
-    let (now_u, now_v) = along(x0, x1);
-    let (cut_u, cut_v) = along(p0.extend(0.0), p1.extend(0.0));
-    let s = [
-        now_u.length() / cut_u.length(),
-        now_v.length() / cut_v.length(),
-    ];
-    s.iter().all(|v| v.is_finite()).then_some(s)
+    sim_core::mesh::thread_stretch(x, p.map(|q| q.extend(0.0)), uv)
 }
 
 /// The colour of stretch `s` on a map whose red is `full`.
@@ -277,69 +258,15 @@ mod tests {
     use super::*;
     use shared::sim_to_ui::MeshCorner;
 
-    const CUT: [Vec2; 3] = [
-        Vec2::new(0.0, 0.0),
-        Vec2::new(0.1, 0.0),
-        Vec2::new(0.0, 0.1),
-    ];
-
-    fn placed(f: impl Fn(Vec2) -> Vec3) -> [Vec3; 3] {
-        CUT.map(f)
-    }
-
-    /// The threads' stretch with the warp along the pattern's x turned by `grain` rad.
-    fn threads(x: [Vec3; 3], grain: f32) -> [f32; 2] {
-        let uv = CUT.map(|p| Vec2::from_angle(-grain).rotate(p));
-        thread_stretch(x, CUT, uv).unwrap()
-    }
-
-    fn near(a: [f32; 2], b: [f32; 2]) -> bool {
-        (a[0] - b[0]).abs() < 1e-5 && (a[1] - b[1]).abs() < 1e-5
-    }
-
     #[test]
-    fn a_triangle_as_cut_moved_and_turned_is_not_stretched() {
-        let turn = glam::Quat::from_axis_angle(Vec3::new(1.0, 2.0, 0.5).normalize(), 1.1);
-        let x = placed(|p| turn * Vec3::new(p.x, p.y, 0.0) + Vec3::new(0.3, 1.2, -0.4));
-        assert!(near(threads(x, 0.0), [1.0, 1.0]));
-        assert!(near(threads(x, 0.7), [1.0, 1.0]));
-    }
-
-    #[test]
-    fn each_thread_is_measured_along_the_grain() {
-        // 10% along the pattern's x, 3% along its y: the warp and the weft.
-        let x = placed(|p| Vec3::new(1.1 * p.x, 0.0, 1.03 * p.y));
-        assert!(near(threads(x, 0.0), [1.1, 1.03]));
-        // Cut on the cross grain: the weft along x.
-        assert!(near(threads(x, std::f32::consts::FRAC_PI_2), [1.03, 1.1]));
-        // Pulled 25% along the bias: each thread by far less, unless cut on the bias.
-        let d = Vec2::new(1.0, 1.0).normalize();
-        let x = placed(|p| {
-            let q = p + d * (0.25 * p.dot(d));
-            Vec3::new(q.x, q.y, 0.0)
-        });
-        let straight = Vec2::new(1.125, 0.125).length();
-        assert!(near(threads(x, 0.0), [straight, straight]));
-        let bias = threads(x, std::f32::consts::FRAC_PI_4);
-        assert!((bias[0] - 1.25).abs() < 1e-5 && (bias[1] - 1.0).abs() < 1e-5);
-        // Shear stretches no thread along x, and the one along y by its slant.
-        let g = 0.3f32;
-        let x = placed(|p| Vec3::new(p.x + g * p.y, p.y, 0.0));
-        assert!(near(threads(x, 0.0), [1.0, (1.0 + g * g).sqrt()]));
-        // A texture at another scale than the pattern measures the same.
-        let uv = CUT.map(|p| 3.0 * p + Vec2::new(0.2, 0.1));
-        let x = placed(|p| Vec3::new(1.1 * p.x, 0.0, 0.9 * p.y));
-        assert!(near(thread_stretch(x, CUT, uv).unwrap(), [1.1, 0.9]));
-    }
-
-    #[test]
-    fn a_triangle_with_no_area_as_cut_has_no_stretch() {
+    fn a_stretched_triangle_is_measured_along_its_threads() {
+        // 10% along the pattern's x (the warp: u along x), 3% along its y.
+        let cut = [Vec2::ZERO, Vec2::new(0.1, 0.0), Vec2::new(0.0, 0.1)];
+        let x = cut.map(|p| Vec3::new(1.1 * p.x, 1.03 * p.y, 0.2));
+        let [warp, weft] = thread_stretch(x, cut, cut).unwrap();
+        assert!((warp - 1.1).abs() < 1e-5 && (weft - 1.03).abs() < 1e-5);
         let flat = [Vec2::ZERO, Vec2::new(0.1, 0.0), Vec2::new(0.2, 0.0)];
-        let x = [Vec3::ZERO, Vec3::X, Vec3::Y];
-        assert_eq!(thread_stretch(x, flat, CUT), None);
-        assert_eq!(thread_stretch(x, CUT, flat), None);
-        let x = [Vec3::ZERO, Vec3::NAN, Vec3::Y];
-        assert_eq!(thread_stretch(x, CUT, CUT), None);
+        assert_eq!(thread_stretch(x, flat, cut), None);
     }
 
     #[test]

@@ -386,6 +386,7 @@ fn report(
             .fold(0.0, f64::max)
     });
     let (strain_mean, strain_max) = sim.cloth.strain();
+    let threads = sim.cloth.thread_stretch();
     let crossings = sim.crossings();
     let seen = cfg.check_every.map(|_| {
         let m = frames.crossings_max.unwrap_or_default();
@@ -444,6 +445,9 @@ fn report(
             .cloth
             .worst_side()
             .map(|(a, b, _)| ((sim.cloth.x[a as usize] + sim.cloth.x[b as usize]) / 2.0).into()),
+        thread_stretch_p50: threads.p50,
+        thread_stretch_p90: threads.p90,
+        thread_stretch_max: threads.max,
         crossings_self: crossings.self_pairs,
         crossings_body: crossings.body_pairs,
         self_contacts: sim.self_contacts(),

@@ -210,6 +210,21 @@ impl Cloth {
         (sum / n as f64, max)
     }
 
+    /// How far the live triangles' threads are stretched from the pattern
+    /// ([`crate::mesh::stretch`]): each triangle's more stretched thread, warp or weft.
+    pub fn thread_stretch(&self) -> crate::mesh::ThreadStretch {
+        let s = self
+            .live
+            .iter()
+            .filter_map(|(_, t)| {
+                let x = t.v.map(|v| self.x[v as usize]);
+                let [warp, weft] = crate::mesh::thread_stretch(x, t.rest, t.uv)?;
+                Some(warp.max(weft) - 1.0)
+            })
+            .collect();
+        crate::mesh::ThreadStretch::of(s)
+    }
+
     /// The most stretched live triangle side (where [`Self::strain`]'s largest is): its
     /// two vertices and its stretch. None for no triangles.
     pub fn worst_side(&self) -> Option<(u32, u32, f64)> {
@@ -240,5 +255,43 @@ impl Cloth {
     pub fn in_scene(&self) -> bool {
         let max = crate::mesh::MAX_COORD;
         self.x.iter().all(|p| p.abs().max_element() <= max) && self.v.iter().all(|p| p.is_finite())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_cloth_pulled_along_its_warp_has_its_threads_stretched_and_not_its_bias() {
+        let mesh = ClothMesh::grid(1.0, 1.0, 8, 8, 1.0).unwrap();
+        let mut cloth = Cloth::new(mesh, &Material::default()).unwrap();
+        assert_eq!(cloth.thread_stretch().max, 0.0);
+        // 10% along x: every triangle's warp (the grid's u runs along x).
+        for p in &mut cloth.x {
+            p.x *= 1.1;
+        }
+        let t = cloth.thread_stretch();
+        assert!(
+            (t.p50 - 0.1).abs() < 1e-5 && (t.max - 0.1).abs() < 1e-5,
+            "{t:?}"
+        );
+        // Sheared instead: the sides along the bias stretch, no thread by more than the
+        // slant.
+        let mut cloth = Cloth::new(
+            ClothMesh::grid(1.0, 1.0, 8, 8, 1.0).unwrap(),
+            &Material::default(),
+        )
+        .unwrap();
+        for p in &mut cloth.x {
+            p.x += 0.2 * p.z;
+        }
+        let t = cloth.thread_stretch();
+        let slant = (1.0f64 + 0.04).sqrt() - 1.0;
+        assert!((t.max - slant).abs() < 1e-5, "{t:?}");
+        assert!(
+            cloth.strain().1 > t.max,
+            "a side across the shear stretches more"
+        );
     }
 }
