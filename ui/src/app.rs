@@ -336,8 +336,12 @@ impl App {
         );
         let current = self.current_tool();
         let stretch_at = |v: u32| {
-            let s = self.store.stretch.as_ref()?.vertex.get(v as usize)?;
-            Some(format!(" · stretched {:.1}%", 100.0 * s))
+            let s = 100.0 * self.store.stretch.as_ref()?.vertex.get(v as usize)?;
+            Some(if s >= 0.0 {
+                format!(" · stretched {s:.1}%")
+            } else {
+                format!(" · {:.1}% shorter than cut", -s)
+            })
         };
         let resp = resp.on_hover_text_at_pointer(match &self.view.last_hit {
             Some(h) => format!(

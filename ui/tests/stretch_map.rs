@@ -141,3 +141,27 @@ fn the_pattern_view_shows_the_map_on_the_pieces() {
         "the stretched piece is red in the pattern: {n} of 10000 pixels"
     );
 }
+
+#[test]
+fn cloth_squeezed_shorter_than_cut_says_so_under_the_mouse() {
+    // 10% shorter both ways: both threads, so the longer of them too.
+    let mut h = harness(-0.1);
+    let x: Vec<[f32; 3]> = h
+        .state()
+        .store
+        .x
+        .iter()
+        .map(|&[a, b, c]| [a, b, 0.9 * c])
+        .collect();
+    h.state_mut().store.set_positions(x);
+    h.state_mut().stretch.on = true;
+    h.run_steps(3);
+    let centre = h.state().view.rect.unwrap().center();
+    h.hover_at(centre);
+    h.run_steps(30);
+    assert!(
+        h.get_all_by_label_contains("10.0% shorter than cut")
+            .count()
+            >= 1
+    );
+}
