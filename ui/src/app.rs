@@ -574,7 +574,7 @@ impl App {
         s.stretch = s
             .mesh
             .as_ref()
-            .and_then(|m| StretchMap::of(m, &s.x, self.stretch.full))
+            .and_then(|m| StretchMap::of(&m.corners, m.vertices, &s.x, self.stretch.full))
             .map(|m| StretchMap { of, ..m });
     }
 }

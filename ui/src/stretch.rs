@@ -12,8 +12,7 @@
 //! smooth field across seams; the worst triangle is reported as it is.
 
 use glam::{Vec2, Vec3};
-
-use crate::store::Mesh;
+use shared::sim_to_ui::MeshCorner;
 
 /// The stretch shown red unless the designer chooses another: 20%, what the default
 /// strain limit holds a woven under (cloth-sim's `--strain-limit` 0.2).
@@ -95,17 +94,18 @@ pub struct StretchMap {
 }
 
 impl StretchMap {
-    /// The map of the cloth at `x` over `mesh`; None when the positions are another
-    /// mesh's (a frame that has not caught up with an edit).
-    pub fn of(mesh: &Mesh, x: &[[f32; 3]], full: f32) -> Option<Self> {
-        if x.len() != mesh.vertices {
+    /// The map of the cloth at `x` over the mesh of `corners` (three a triangle) and
+    /// `vertices`; None when the positions are another mesh's (a frame that has not
+    /// caught up with an edit).
+    pub fn of(corners: &[MeshCorner], vertices: usize, x: &[[f32; 3]], full: f32) -> Option<Self> {
+        if x.len() != vertices {
             return None;
         }
         let mut sum = vec![0.0f32; x.len()];
         let mut weight = vec![0.0f32; x.len()];
         let (mut worst, mut worst_at) = (0.0f32, None);
         let (mut area, mut over) = (0.0f32, 0.0f32);
-        for t in mesh.corners.chunks_exact(3) {
+        for t in corners.chunks_exact(3) {
             let v = [t[0].vertex, t[1].vertex, t[2].vertex].map(|v| v as usize);
             if v.iter().any(|&i| i >= x.len()) {
                 return None;
@@ -169,12 +169,12 @@ impl StretchMap {
 /// on the screen), its corners in their vertices' colours, for the pattern view to draw
 /// under its lines: where a piece pulls, and so where it wants more cloth.
 pub fn pattern_fill(
-    mesh: &Mesh,
+    corners: &[MeshCorner],
     map: &StretchMap,
     at: impl Fn([f32; 2]) -> egui::Pos2,
 ) -> egui::Shape {
     let mut m = egui::Mesh::default();
-    for c in &mesh.corners {
+    for c in corners {
         let [r, g, b, _] = map.colour_of(c.vertex);
         let i = m.vertices.len() as u32;
         m.colored_vertex(at(c.pattern), egui::Rgba::from_rgb(r, g, b).into());
@@ -215,7 +215,13 @@ pub fn controls(ui: &mut egui::Ui, view: &mut StretchView, map: Option<&StretchM
     colour_bar(ui, view.full);
     match map {
         Some(m) => {
-            ui.label(m.summary());
+            let label = ui.label(m.summary());
+            if let Some(p) = m.worst_at {
+                label.on_hover_text(format!(
+                    "The most stretched triangle is at ({:.3}, {:.3}, {:.3}) m",
+                    p.x, p.y, p.z
+                ));
+            }
         }
         None => {
             ui.label("No cloth to map yet");
@@ -256,7 +262,6 @@ fn colour_bar(ui: &mut egui::Ui, full: f32) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use shared::sim_to_ui::MeshCorner;
 
     #[test]
     fn a_stretched_triangle_is_measured_along_its_threads() {
@@ -284,7 +289,7 @@ mod tests {
     }
 
     /// A 1 m square of two triangles, the corner (1, 1) pulled out by `pull` m along x.
-    fn square(pull: f32) -> (Mesh, Vec<[f32; 3]>) {
+    fn square(pull: f32) -> (Vec<MeshCorner>, Vec<[f32; 3]>) {
         let corner = |vertex: u32, p: [f32; 2]| MeshCorner {
             vertex,
             u: p[0],
@@ -305,18 +310,18 @@ mod tests {
             [0.0, 1.0, 0.0],
             [1.0 + pull, 1.0, 0.0],
         ];
-        (Mesh::new(1, 4, corners), x)
+        (corners, x)
     }
 
     #[test]
     fn the_map_finds_the_stretched_triangle_and_shares_it_out() {
-        let (mesh, x) = square(0.0);
-        let m = StretchMap::of(&mesh, &x, 0.2).unwrap();
+        let (corners, x) = square(0.0);
+        let m = StretchMap::of(&corners, 4, &x, 0.2).unwrap();
         assert!(m.worst.abs() < 1e-6 && m.over == 0.0);
         assert!(m.vertex.iter().all(|s| s.abs() < 1e-6));
 
-        let (mesh, x) = square(0.5);
-        let m = StretchMap::of(&mesh, &x, 0.2).unwrap();
+        let (corners, x) = square(0.5);
+        let m = StretchMap::of(&corners, 4, &x, 0.2).unwrap();
         // The warp of the pulled triangle (corners 1, 3, 2): its side from 2 to 3.
         assert!((m.worst - 0.5).abs() < 1e-6, "{}", m.worst);
         // The worst triangle is the one with the pulled corner: its middle.
@@ -333,6 +338,6 @@ mod tests {
                 .starts_with(&format!("Worst {:.0}%", 100.0 * m.worst))
         );
         // Positions of another mesh: no map.
-        assert_eq!(StretchMap::of(&mesh, &x[..3], 0.2), None);
+        assert_eq!(StretchMap::of(&corners, 4, &x[..3], 0.2), None);
     }
 }

@@ -490,7 +490,9 @@ impl PatternFrame {
         selected: Option<usize>,
     ) {
         if let Some(map) = &store.stretch {
-            painter.add(crate::stretch::pattern_fill(mesh, map, |p| self.at(p)));
+            painter.add(crate::stretch::pattern_fill(&mesh.corners, map, |p| {
+                self.at(p)
+            }));
         }
         let bar = egui::pos2(self.rect.left() + 8.0, self.rect.bottom() - 10.0);
         let grey = egui::Color32::from_gray(140);
