@@ -17,9 +17,10 @@ use crate::action::{Action, Emitted, PathOp};
 use crate::camera::{Camera, Hit};
 use crate::input;
 use crate::link::Link;
+use crate::mapper::Mapper;
 use crate::panels::{MaterialPanel, PiecesPanel, ScenePanel, StatusPanel, ToolsPanel, ViewPanel};
 use crate::store::Store;
-use crate::stretch::{StretchMap, StretchView};
+use crate::stretch::StretchView;
 use crate::tools::{tool_name, tool_sentence};
 use crate::view3d::Overlay;
 
@@ -71,8 +72,10 @@ pub struct App {
     pub pieces: PiecesPanel,
     pub status_panel: StatusPanel,
     pub view: ViewPanel,
-    /// Whether the view shows the stretch map, and at what scale.
+    /// Whether the view shows the stretch or ease map, and at what scale.
     pub stretch: StretchView,
+    /// Keeps the map the view shows current.
+    mapper: Mapper,
     /// How long after start everything of the design had arrived.
     pub design_arrived: Option<Duration>,
     pub status: String,
@@ -106,6 +109,7 @@ impl App {
             status_panel: StatusPanel::default(),
             view: ViewPanel::default(),
             stretch: StretchView::default(),
+            mapper: Mapper::default(),
             design_arrived: None,
             status: String::new(),
             framed: (0, false),
@@ -335,14 +339,7 @@ impl App {
             self.opts.render_scale,
         );
         let current = self.current_tool();
-        let stretch_at = |v: u32| {
-            let s = 100.0 * self.store.stretch.as_ref()?.vertex.get(v as usize)?;
-            Some(if s >= 0.0 {
-                format!(" · stretched {s:.1}%")
-            } else {
-                format!(" · {:.1}% shorter than cut", -s)
-            })
-        };
+        let stretch_at = |v: u32| self.store.stretch.as_ref()?.at_vertex(v);
         let resp = resp.on_hover_text_at_pointer(match &self.view.last_hit {
             Some(h) => format!(
                 "{} · vertex {} at ({:.3}, {:.3}, {:.3}) m{}",
@@ -555,28 +552,6 @@ impl App {
         ToolsPanel::view_section(ui, actions);
         crate::stretch::controls(ui, &mut self.stretch, self.store.stretch.as_ref());
     }
-
-    /// The stretch map of the newest frame while it is shown (worked out again when the
-    /// frame, the mesh or the scale changes), none while it is not.
-    pub fn update_stretch_map(&mut self) {
-        let s = &mut self.store;
-        if !self.stretch.on {
-            s.stretch = None;
-            return;
-        }
-        let of = (s.frame, s.mesh_generation);
-        let fresh = s.stretch.as_ref().is_some_and(|m| {
-            m.of == of && m.full == self.stretch.full && m.vertex.len() == s.x.len()
-        });
-        if fresh {
-            return;
-        }
-        s.stretch = s
-            .mesh
-            .as_ref()
-            .and_then(|m| StretchMap::of(&m.corners, m.vertices, &s.x, self.stretch.full))
-            .map(|m| StretchMap { of, ..m });
-    }
 }
 
 /// Writes an egui screenshot as an RGBA PNG.
@@ -603,7 +578,7 @@ impl eframe::App for App {
         input::keyboard(&ctx, &self.tools.save_path, &mut actions);
         // Keys act before the panels are laid out, as a click on a panel would next frame.
         self.apply(std::mem::take(&mut actions));
-        self.update_stretch_map();
+        self.mapper.update(&mut self.store, self.stretch);
         let mut panel = egui::Frame::side_top_panel(ui.style());
         if self.opts.clear_panels {
             panel = panel.fill(egui::Color32::TRANSPARENT);

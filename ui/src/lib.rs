@@ -8,13 +8,15 @@
 //! - `input`: the keyboard and the mouse in the 3D view, apart from drawing;
 //! - `link`: the iceoryx2 ports and the checks of what arrives; `store`: what arrived;
 //! - `camera`, `view3d`: the orbit camera, picking, and the wgpu renderer;
-//! - `tools`: the tool table; `stretch`: the stretch map the view can colour the cloth by.
+//! - `tools`: the tool table; `stretch`: the maps the view can colour the cloth by (the
+//!   threads' stretch, the ease), which `mapper` keeps current.
 
 pub mod action;
 pub mod app;
 pub mod camera;
 pub mod input;
 pub mod link;
+pub mod mapper;
 pub mod panels;
 pub mod store;
 pub mod stretch;

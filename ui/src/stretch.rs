@@ -10,6 +10,11 @@
 //! a thread pulled longer does, which is where a garment pulls. Each vertex shows the mean
 //! of its triangles' (weighted by their area in the pattern), so the map reads as a
 //! smooth field across seams; the worst triangle is reported as it is.
+//!
+//! The same view can colour the cloth by its ease instead: each vertex's distance from
+//! the body (red on it, blue at a chosen distance or more), measured against the body
+//! mesh cloth-sim sent, through `sim_core`'s OBB tree. Stretched and on the body is tight;
+//! stretched and off it is hanging from somewhere.
 
 use glam::{Vec2, Vec3};
 use shared::sim_to_ui::MeshCorner;
@@ -30,18 +35,52 @@ const RAMP: [[f32; 3]; 4] = [
     [0.90, 0.08, 0.05],
 ];
 
-/// Whether the map is shown, and what stretch is red.
+/// The ease shown blue unless the designer chooses another: 3 cm from the body, m.
+pub const DEFAULT_EASE_SCALE: f32 = 0.03;
+
+/// The ease scales a designer may choose, m (2 mm to 30 cm).
+pub const EASE_SCALE_RANGE: (f32, f32) = (0.002, 0.3);
+
+/// Cloth within this of the body counts as on it, m: three times the default contact
+/// thickness (1 mm), where the cloth rests.
+pub const ON_THE_BODY: f32 = 0.003;
+
+/// What the map colours the cloth by.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MapKind {
+    /// How far the threads are stretched from the pattern.
+    Stretch,
+    /// How far the cloth is from the body.
+    Ease,
+}
+
+/// Whether the map is shown, what it shows, the stretch shown red and the ease shown
+/// blue.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StretchView {
     pub on: bool,
+    pub kind: MapKind,
     pub full: f32,
+    pub ease_full: f32,
 }
 
 impl Default for StretchView {
     fn default() -> Self {
         Self {
             on: false,
+            kind: MapKind::Stretch,
             full: DEFAULT_FULL_SCALE,
+            ease_full: DEFAULT_EASE_SCALE,
+        }
+    }
+}
+
+impl StretchView {
+    /// The scale of the map shown: the stretch shown red, or the ease shown blue.
+    pub fn scale(&self) -> f32 {
+        match self.kind {
+            MapKind::Stretch => self.full,
+            MapKind::Ease => self.ease_full,
         }
     }
 }
@@ -78,19 +117,24 @@ pub fn colour(s: f32, full: f32) -> [f32; 4] {
 }
 
 /// The map of one frame of the cloth.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct StretchMap {
-    /// Per vertex: the mean stretch of its triangles, by their area in the pattern.
+    pub kind: MapKind,
+    /// Per vertex: the mean stretch of its triangles, by their area in the pattern; or
+    /// its distance from the body (m, at most `full`).
     pub vertex: Vec<f32>,
-    /// The most stretched triangle's stretch and its middle now (m).
+    /// The most stretched triangle's stretch and its middle now (m); for the ease, the
+    /// median vertex's distance.
     pub worst: f32,
     pub worst_at: Option<Vec3>,
-    /// The share of the cloth (by its area as cut) stretched past `full`.
+    /// The share of the cloth (by its area as cut) stretched past `full`; for the ease,
+    /// the share of its vertices on the body ([`ON_THE_BODY`]).
     pub over: f32,
-    /// The stretch shown red.
+    /// The stretch shown red, or the ease shown blue.
     pub full: f32,
-    /// Which frame and mesh it is of (`Store::frame`, `Store::mesh_generation`).
-    pub of: (u64, u64),
+    /// Which frame, mesh and body it is of (`Store::frame`, `Store::mesh_generation`,
+    /// `Store::body_version`).
+    pub of: (u64, u64, u64),
 }
 
 impl StretchMap {
@@ -137,31 +181,96 @@ impl StretchMap {
             .map(|(&s, &w)| if w > 0.0 { s / w } else { 0.0 })
             .collect();
         Some(Self {
+            kind: MapKind::Stretch,
             vertex,
             worst,
             worst_at,
             over: if area > 0.0 { over / area } else { 0.0 },
             full,
-            of: (0, 0),
+            of: (0, 0, 0),
         })
+    }
+
+    /// The ease map of the cloth at `x`: each vertex's distance from `body` (0 inside
+    /// it), searched up to `full` and shown blue from there on.
+    pub fn ease(body: &sim_core::collision::Body, x: &[[f32; 3]], full: f32) -> Self {
+        let vertex: Vec<f32> = x
+            .iter()
+            .map(|&p| {
+                let p = Vec3::from(p);
+                // The body's clearance grid bounds the distance without a search: most of
+                // a loose garment is known to be far enough at once.
+                if body.outside_by(p).0 >= full {
+                    return full;
+                }
+                match body.signed_distance(p, full) {
+                    Some(d) => d.clamp(0.0, full),
+                    // Farther than `full` from the surface: outside, or deep inside (cloth
+                    // that crossed the body, which the guard does not let happen).
+                    None if body.penetration(p) > 0.0 => 0.0,
+                    None => full,
+                }
+            })
+            .collect();
+        let on = vertex.iter().filter(|&&d| d <= ON_THE_BODY).count();
+        let mut sorted = vertex.clone();
+        sorted.sort_by(f32::total_cmp);
+        Self {
+            kind: MapKind::Ease,
+            worst: sorted.get(sorted.len() / 2).copied().unwrap_or(full),
+            worst_at: None,
+            over: if vertex.is_empty() {
+                0.0
+            } else {
+                on as f32 / vertex.len() as f32
+            },
+            vertex,
+            full,
+            of: (0, 0, 0),
+        }
     }
 
     /// The colour of vertex `v`.
     pub fn colour_of(&self, v: u32) -> [f32; 4] {
-        colour(
-            self.vertex.get(v as usize).copied().unwrap_or(0.0),
-            self.full,
-        )
+        let s = self.vertex.get(v as usize).copied().unwrap_or(0.0);
+        match self.kind {
+            MapKind::Stretch => colour(s, self.full),
+            // Red on the body, blue at `full` from it.
+            MapKind::Ease => colour(self.full - s, self.full),
+        }
     }
 
-    /// One line for the panel: the worst stretch and how much of the cloth is past red.
+    /// One line for the panel: the worst stretch and how much of the cloth is past red;
+    /// or how much of it is on the body and how far off the median vertex is.
     pub fn summary(&self) -> String {
-        format!(
-            "Worst {:.0}% · {:.1}% of the cloth past {:.0}%",
-            100.0 * self.worst,
-            100.0 * self.over,
-            100.0 * self.full
-        )
+        match self.kind {
+            MapKind::Stretch => format!(
+                "Worst {:.0}% · {:.1}% of the cloth past {:.0}%",
+                100.0 * self.worst,
+                100.0 * self.over,
+                100.0 * self.full
+            ),
+            MapKind::Ease => format!(
+                "{:.0}% of the cloth on the body · half of it within {:.1} cm{}",
+                100.0 * self.over,
+                100.0 * self.worst,
+                if self.worst >= self.full { "+" } else { "" }
+            ),
+        }
+    }
+
+    /// What the tooltip adds for vertex `v`.
+    pub fn at_vertex(&self, v: u32) -> Option<String> {
+        let s = *self.vertex.get(v as usize)?;
+        Some(match self.kind {
+            MapKind::Stretch if s >= 0.0 => format!(" · stretched {:.1}%", 100.0 * s),
+            MapKind::Stretch => format!(" · {:.1}% shorter than cut", -100.0 * s),
+            MapKind::Ease if s <= ON_THE_BODY => " · on the body".to_string(),
+            MapKind::Ease if s >= self.full => {
+                format!(" · {:.1} cm or more from the body", 100.0 * s)
+            }
+            MapKind::Ease => format!(" · {:.1} cm from the body", 100.0 * s),
+        })
     }
 }
 
@@ -183,36 +292,31 @@ pub fn pattern_fill(
     egui::Shape::mesh(m)
 }
 
-/// The map's controls under the view's: the switch (M), the stretch shown red, the colour
-/// bar and the summary of `map`.
+/// The map's controls under the view's: the switch (M), what it shows, its scale, the
+/// colour bar and the summary of `map`.
 pub fn controls(ui: &mut egui::Ui, view: &mut StretchView, map: Option<&StretchMap>) {
     ui.horizontal(|ui| {
-        ui.checkbox(&mut view.on, "Stretch map (M)").on_hover_text(
-            "Colour the cloth by how far its threads (warp or weft, whichever more) are \
-             stretched from the pattern: blue as cut or eased, red at the stretch set \
-             beside. Where a garment pulls, it is red; shear, which cloth takes easily, \
-             does not show.",
+        ui.checkbox(&mut view.on, "Map (M)").on_hover_text(
+            "Colour the cloth by how far its threads are stretched from the pattern, or by \
+             how far it is from the body",
         );
-        let mut percent = 100.0 * view.full;
-        let (lo, hi) = FULL_SCALE_RANGE;
-        if ui
-            .add(
-                egui::DragValue::new(&mut percent)
-                    .range(100.0 * lo..=100.0 * hi)
-                    .speed(0.5)
-                    .max_decimals(0)
-                    .suffix(" %"),
-            )
-            .on_hover_text("The stretch shown red (and anything past it)")
-            .changed()
-        {
-            view.full = (percent / 100.0).clamp(lo, hi);
-        }
+        ui.selectable_value(&mut view.kind, MapKind::Stretch, "Stretch")
+            .on_hover_text(
+                "How far the threads (warp or weft, whichever more) are stretched from the \
+                 pattern: blue as cut or eased, red at the stretch set beside. Where a \
+                 garment pulls, it is red; shear, which cloth takes easily, does not show.",
+            );
+        ui.selectable_value(&mut view.kind, MapKind::Ease, "Ease")
+            .on_hover_text(
+                "How far the cloth is from the body: red on it, blue at the distance set beside \
+             or more. Stretched and on the body is tight.",
+            );
+        scale(ui, view);
     });
     if !view.on {
         return;
     }
-    colour_bar(ui, view.full);
+    colour_bar(ui, view.kind, view.scale());
     match map {
         Some(m) => {
             let label = ui.label(m.summary());
@@ -223,14 +327,55 @@ pub fn controls(ui: &mut egui::Ui, view: &mut StretchView, map: Option<&StretchM
                 ));
             }
         }
+        None if view.kind == MapKind::Ease => {
+            ui.label("No cloth or no body to measure against yet");
+        }
         None => {
             ui.label("No cloth to map yet");
         }
     }
 }
 
+/// The map's scale: the stretch shown red (percent) or the ease shown blue (cm).
+fn scale(ui: &mut egui::Ui, view: &mut StretchView) {
+    // Percent in whole numbers, centimetres to a millimetre; both are hundredths.
+    let k = 100.0;
+    let (value, (lo, hi), suffix, decimals, speed, hint) = match view.kind {
+        MapKind::Stretch => (
+            &mut view.full,
+            FULL_SCALE_RANGE,
+            " %",
+            0,
+            0.5,
+            "The stretch shown red (and anything past it)",
+        ),
+        MapKind::Ease => (
+            &mut view.ease_full,
+            EASE_SCALE_RANGE,
+            " cm",
+            1,
+            0.05,
+            "The distance from the body shown blue (and anything farther)",
+        ),
+    };
+    let mut shown = k * *value;
+    if ui
+        .add(
+            egui::DragValue::new(&mut shown)
+                .range(k * lo..=k * hi)
+                .speed(speed)
+                .max_decimals(decimals)
+                .suffix(suffix),
+        )
+        .on_hover_text(hint)
+        .changed()
+    {
+        *value = (shown / k).clamp(lo, hi);
+    }
+}
+
 /// The colour bar from 0 to `full`, with its ends and middle marked.
-fn colour_bar(ui: &mut egui::Ui, full: f32) {
+fn colour_bar(ui: &mut egui::Ui, kind: MapKind, full: f32) {
     let width = ui.available_width().clamp(120.0, 220.0);
     let (rect, _) = ui.allocate_exact_size(egui::vec2(width, 12.0), egui::Sense::hover());
     let steps = 32;
@@ -238,20 +383,33 @@ fn colour_bar(ui: &mut egui::Ui, full: f32) {
     for k in 0..steps {
         let t0 = k as f32 / steps as f32;
         let t1 = (k + 1) as f32 / steps as f32;
-        let [r, g, b, _] = colour(full * (t0 + t1) * 0.5, full);
-        let c = egui::Rgba::from_rgb(r, g, b);
+        let s = full * (t0 + t1) * 0.5;
+        let [r, g, b, _] = match kind {
+            MapKind::Stretch => colour(s, full),
+            MapKind::Ease => colour(full - s, full),
+        };
         let cell = egui::Rect::from_min_max(
             egui::pos2(rect.left() + t0 * rect.width(), rect.top()),
             egui::pos2(rect.left() + t1 * rect.width(), rect.bottom()),
         );
-        painter.rect_filled(cell, 0.0, c);
+        painter.rect_filled(cell, 0.0, egui::Rgba::from_rgb(r, g, b));
     }
+    let (start, mid, end) = match kind {
+        MapKind::Stretch => (
+            "0%".to_string(),
+            format!("{:.0}%", 50.0 * full),
+            format!("{:.0}%+", 100.0 * full),
+        ),
+        MapKind::Ease => (
+            "on the body".to_string(),
+            format!("{:.1} cm", 50.0 * full),
+            format!("{:.1} cm+", 100.0 * full),
+        ),
+    };
     ui.horizontal(|ui| {
         ui.set_width(width);
-        ui.small("0%");
-        let mid = format!("{:.0}%", 50.0 * full);
-        let end = format!("{:.0}%+", 100.0 * full);
-        ui.add_space((width * 0.5 - 30.0).max(0.0));
+        ui.small(start);
+        ui.add_space((width * 0.5 - 60.0).max(0.0));
         ui.small(mid);
         ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
             ui.small(end);
@@ -311,6 +469,39 @@ mod tests {
             [1.0 + pull, 1.0, 0.0],
         ];
         (corners, x)
+    }
+
+    #[test]
+    fn the_ease_map_measures_each_vertex_from_the_body() {
+        // A 0.4 m cube round the origin (top at 0.2 m); vertices on it, above it, inside
+        // it and far off.
+        let body = sim_core::collision::body::cube(Vec3::ZERO, 0.2, 4).unwrap();
+        let x = [
+            [0.0, 0.2, 0.0],
+            [0.05, 0.215, 0.0],
+            [0.0, 0.1, 0.0],
+            [0.0, 0.5, 0.0],
+        ];
+        let m = StretchMap::ease(&body, &x, 0.03);
+        assert_eq!(m.kind, MapKind::Ease);
+        assert!(
+            m.vertex[0].abs() < 1e-5 && m.vertex[2] == 0.0,
+            "{:?}",
+            m.vertex
+        );
+        assert!((m.vertex[1] - 0.015).abs() < 1e-5 && m.vertex[3] == 0.03);
+        // Two of four on the body; red there, blue at the scale or beyond.
+        assert!((m.over - 0.5).abs() < 1e-6);
+        assert_eq!(m.colour_of(0), colour(1.0, 1.0));
+        assert_eq!(m.colour_of(3), colour(0.0, 1.0));
+        assert_eq!(m.at_vertex(0).unwrap(), " · on the body");
+        assert_eq!(m.at_vertex(1).unwrap(), " · 1.5 cm from the body");
+        assert_eq!(m.at_vertex(3).unwrap(), " · 3.0 cm or more from the body");
+        assert!(
+            m.summary().starts_with("50% of the cloth on the body"),
+            "{}",
+            m.summary()
+        );
     }
 
     #[test]

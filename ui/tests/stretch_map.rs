@@ -165,3 +165,56 @@ fn cloth_squeezed_shorter_than_cut_says_so_under_the_mouse() {
             >= 1
     );
 }
+
+#[test]
+fn the_ease_map_shows_how_far_the_cloth_is_from_the_body() {
+    let mut h = harness(0.0);
+    // A 0.4 m cube under the middle of the cloth, its top 1 cm below it.
+    let cube = sim_core::collision::body::cube(glam::Vec3::new(0.0, 0.19, 0.0), 0.2, 2).unwrap();
+    let verts = cube.vertices.iter().map(|v| v.to_array()).collect();
+    h.state_mut().store.body = Some((verts, cube.triangles.clone()));
+    h.state_mut().store.body_version += 1;
+    h.state_mut().stretch.on = true;
+    h.state_mut().stretch.kind = ui::stretch::MapKind::Ease;
+    h.run_steps(3);
+    let map = h.state().store.stretch.clone().unwrap();
+    assert_eq!(map.kind, ui::stretch::MapKind::Ease);
+    // The middle of the cloth is 1 cm off the cube's top; its edges are far from it.
+    let centre = (SIDE * SIDE) / 2;
+    assert!(
+        (map.vertex[centre] - 0.01).abs() < 1e-4,
+        "{}",
+        map.vertex[centre]
+    );
+    assert_eq!(map.vertex[0], 0.03);
+    h.get_by_label("0% of the cloth on the body · half of it within 3.0 cm+");
+    let at = h.state().view.rect.unwrap().center();
+    h.hover_at(at);
+    h.run_steps(30);
+    // The tooltip says how far the cloth under the mouse is from the body.
+    assert!(h.query_all_by_label_contains("from the body").count() >= 1);
+    // Lowered onto it, the middle is on the body, red.
+    let x: Vec<[f32; 3]> = h
+        .state()
+        .store
+        .x
+        .iter()
+        .map(|&[a, _, c]| [a, 0.3905, c])
+        .collect();
+    h.state_mut().store.set_positions(x);
+    h.state_mut().store.frame += 1;
+    h.run_steps(3);
+    let map = h.state().store.stretch.clone().unwrap();
+    assert!(map.vertex[centre] < 1e-3, "{}", map.vertex[centre]);
+    let [r, g, b, _] = map.colour_of(centre as u32);
+    assert!(r > 4.0 * g && r > 4.0 * b, "red: {r} {g} {b}");
+    // The cube's top is a sixth of the cloth: so much of it lies on the body.
+    assert!((0.1..0.3).contains(&map.over), "{}", map.over);
+    assert!(
+        h.query_by_label_contains("of the cloth on the body")
+            .is_some()
+    );
+}
+
+/// The demo cloth's vertices a side.
+const SIDE: usize = 17;
