@@ -30,6 +30,12 @@ struct ExportReport {
     kinetic_energy_final_j: f64,
     settled: bool,
     mesh_valid: bool,
+    /// How far the threads are stretched from the pattern (`sim_core::mesh::stretch`, as
+    /// in the scenario reports and the studio's stretch map): the median triangle's, the
+    /// ninetieth percentile's and the most, `length / cut - 1`.
+    thread_stretch_p50: f64,
+    thread_stretch_p90: f64,
+    thread_stretch_max: f64,
     /// Exact counts (`collision::crossings`): intersecting pairs of cloth triangles
     /// (sharing no vertex); intersecting (cloth, body) triangle pairs, and the cloth
     /// triangles among them.
@@ -110,6 +116,7 @@ pub(crate) fn export(
         files.push(path);
     }
     let ke = sim.cloth.kinetic_energy();
+    let threads = sim.cloth.thread_stretch();
     let crossings = sim.crossings();
     let mass: f64 = sim.cloth.mass.iter().map(|&m| m as f64).sum();
     let report = ExportReport {
@@ -127,6 +134,9 @@ pub(crate) fn export(
         kinetic_energy_final_j: ke,
         settled: ke <= 0.5 * mass * 0.01f64.powi(2),
         mesh_valid: design.validate().is_ok(),
+        thread_stretch_p50: threads.p50,
+        thread_stretch_p90: threads.p90,
+        thread_stretch_max: threads.max,
         crossings_self: crossings.self_pairs,
         crossings_body: crossings.body_pairs,
         crossings_body_triangles: crossings.body_triangles,

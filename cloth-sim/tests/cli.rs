@@ -110,6 +110,17 @@ fn drape_cube_writes_report_and_meshes() {
         strain.abs() < 0.1 && strain_max >= strain,
         "strain {strain}, max {strain_max}"
     );
+    // The threads' stretch: its percentiles in order.
+    let t = |k: &str| report[k].as_f64().unwrap();
+    let (p50, p90, most) = (
+        t("thread_stretch_p50"),
+        t("thread_stretch_p90"),
+        t("thread_stretch_max"),
+    );
+    assert!(
+        p50 <= p90 && p90 <= most && most < 1.0,
+        "{p50} {p90} {most}"
+    );
     assert_eq!(report["vertices"], 169);
     assert_eq!(report["frames"], 30);
     assert_eq!(report["mesh_valid"], true);
