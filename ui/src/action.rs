@@ -38,7 +38,7 @@ pub enum Action {
     ResetCamera,
     /// The camera fits the body and the cloth.
     FrameScene,
-    /// Show or hide the stretch map.
+    /// Show or hide the map (the threads' stretch or the ease).
     ToggleStretchMap,
     /// A line for the status bar.
     Status(String),

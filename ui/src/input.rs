@@ -12,7 +12,7 @@ use crate::store::Store;
 use crate::tools::TOOLS;
 
 /// The keyboard's shortcuts: a tool's key, undo, redo, save, home, F (frame the scene),
-/// M (the stretch map).
+/// M (the map: the threads' stretch or the ease).
 pub fn keyboard(ctx: &egui::Context, save_path: &str, actions: &mut Vec<Action>) {
     if ctx.egui_wants_keyboard_input() {
         return;

@@ -265,8 +265,8 @@ pub struct Store {
     pub outline_total: u32,
     /// The mesh piece (`Mesh::piece_of`) the 3D view and pattern view highlight.
     pub highlight: Option<u32>,
-    /// The stretch map the 3D view colours the cloth by, when the designer shows it
-    /// (worked out here from the positions and the pattern: `stretch`).
+    /// The map the 3D view and the pattern view colour the cloth by (the threads' stretch
+    /// or the ease), while the designer shows it; kept current by `mapper`.
     pub stretch: Option<crate::stretch::StretchMap>,
 }
 

@@ -1,5 +1,6 @@
-//! The stretch map: how far the cloth is stretched from its pattern, as the 3D view
-//! colours it (the fit map a designer reads to see where a garment pulls). Worked out
+//! The maps the 3D view and the pattern view colour the cloth by. First the stretch map:
+//! how far the cloth is stretched from its pattern (what a designer reads to see where a
+//! garment pulls). Worked out
 //! here from what cloth-sim already sends: each triangle's corners where they are now
 //! and where they lie in the pattern, which is the cloth as cut.
 //!

@@ -33,7 +33,7 @@ pub struct View3d {
     line_buf: Buf,
     marker: Buf,
     scratch: Vec<Vertex>,
-    /// The cloth is drawn in the stretch map's colours (untextured) this frame.
+    /// The cloth is drawn in the map's colours (untextured) this frame.
     mapped: bool,
     target: Option<(wgpu::Texture, wgpu::Texture, [u32; 2])>,
     blit: Blit,

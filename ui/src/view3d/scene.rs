@@ -61,8 +61,8 @@ pub(super) fn cloth_keys(mesh: Option<&Mesh>, keys: &mut Vec<(u32, [f32; 2])>) -
 }
 
 /// The cloth's vertices for `keys` at the store's positions; nothing when the positions
-/// belong to another mesh (drawing nothing beats drawing garbage). With the stretch map
-/// shown, each takes its stretch's colour instead of the selection's tint.
+/// belong to another mesh (drawing nothing beats drawing garbage). With a map shown, each
+/// takes the map's colour instead of the selection's tint.
 pub(super) fn cloth_vertices(keys: &[(u32, [f32; 2])], store: &Store, out: &mut Vec<Vertex>) {
     out.clear();
     let (x, n) = (&store.x, &store.normals);
