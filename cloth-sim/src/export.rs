@@ -30,7 +30,7 @@ struct ExportReport {
     kinetic_energy_final_j: f64,
     settled: bool,
     mesh_valid: bool,
-    /// How far the threads are stretched from the pattern (`sim_core::mesh::stretch`, as
+    /// How far the threads are stretched from the pattern (`sim_core::solver::thread_stretch`, as
     /// in the scenario reports and the studio's stretch map): the median triangle's, the
     /// ninetieth percentile's and the most, `length / cut - 1`.
     thread_stretch_p50: f64,

@@ -87,10 +87,10 @@ impl StretchView {
 }
 
 /// How many times its length as cut each thread of a triangle now is, warp then weft
-/// (`sim_core::mesh::thread_stretch`, which the scenario reports use too): corners at
+/// (`sim_core::solver::thread_stretch`, which the scenario reports use too): corners at
 /// `x`, cut at `p` (pattern places, m), with texture coordinates `uv`.
 pub fn thread_stretch(x: [Vec3; 3], p: [Vec2; 3], uv: [Vec2; 3]) -> Option<[f32; 2]> {
-    sim_core::mesh::thread_stretch(x, p.map(|q| q.extend(0.0)), uv)
+    sim_core::solver::thread_stretch(x, p.map(|q| q.extend(0.0)), uv)
 }
 
 /// The colour of stretch `s` on a map whose red is `full`.

@@ -16,7 +16,6 @@ pub mod mesher;
 pub mod obj;
 pub mod png;
 pub mod sets;
-pub mod stretch;
 pub mod svg;
 mod topology;
 
@@ -29,5 +28,4 @@ pub use bounds::{bounds, bounds2};
 pub use cloth_mesh::{ClothMesh, MAX_VERTICES};
 pub use edge::{edge_ends, edge_key};
 pub use live::{LiveMesh, NONE, Tri, warp_of};
-pub use stretch::{ThreadStretch, thread_stretch};
 pub use topology::{Edge, Hinge, Topology};

@@ -154,7 +154,7 @@ pub struct Report {
     pub strain_max: f64,
     /// Where the most stretched side is (its midpoint, m), for a look at it.
     pub strain_max_at: Option<[f32; 3]>,
-    /// How far the threads are stretched at the end (`mesh::stretch`: each triangle's
+    /// How far the threads are stretched at the end (`solver::thread_stretch`: each triangle's
     /// more stretched thread, warp or weft, `length / cut - 1`): the median triangle's, the
     /// ninetieth percentile's and the most. Shear, which the sides' strain counts as
     /// stretch, is not in it, nor does compression cancel it; the studio's stretch map

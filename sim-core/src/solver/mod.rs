@@ -17,6 +17,7 @@ mod seed;
 mod sim;
 mod state;
 mod stitch;
+mod stretch;
 mod vbd;
 mod xpbd;
 mod zones;
@@ -35,6 +36,7 @@ pub use sim::{
 };
 pub use state::Cloth;
 pub use stitch::{HOLD_STIFFNESS, Hold, STITCH_STIFFNESS, Stitch};
+pub use stretch::{ThreadStretch, thread_stretch};
 pub use vbd::{CONTACT_STIFFNESS, DEFAULT_ITERATIONS, Vbd};
 pub use xpbd::Xpbd;
 pub use zones::{MaterialZones, Scales, Zone};

@@ -211,18 +211,18 @@ impl Cloth {
     }
 
     /// How far the live triangles' threads are stretched from the pattern
-    /// ([`crate::mesh::stretch`]): each triangle's more stretched thread, warp or weft.
-    pub fn thread_stretch(&self) -> crate::mesh::ThreadStretch {
+    /// (`solver::stretch`): each triangle's more stretched thread, warp or weft.
+    pub fn thread_stretch(&self) -> super::ThreadStretch {
         let s = self
             .live
             .iter()
             .filter_map(|(_, t)| {
                 let x = t.v.map(|v| self.x[v as usize]);
-                let [warp, weft] = crate::mesh::thread_stretch(x, t.rest, t.uv)?;
+                let [warp, weft] = super::thread_stretch(x, t.rest, t.uv)?;
                 Some(warp.max(weft) - 1.0)
             })
             .collect();
-        crate::mesh::ThreadStretch::of(s)
+        super::ThreadStretch::of(s)
     }
 
     /// The most stretched live triangle side (where [`Self::strain`]'s largest is): its

@@ -1,6 +1,7 @@
 //! How far a triangle's threads are stretched: the warp and the weft, each as many times
-//! its length as cut. The threads run along the texture's u and v, as in the solver's
-//! material frame (the membranes' `F_u`, `F_v`). Shear, which a woven takes easily and a
+//! its length as cut, measured in the membranes' own material frame (`membrane_of`: the
+//! warp along the texture's u, the weft across it), so exactly the `|F_u|`, `|F_v|` the
+//! xpbd model's stretch constraints hold at 1. Shear, which a woven takes easily and a
 //! draped garment shows everywhere, stretches no thread; a triangle side along the bias
 //! does stretch under it, so the sides' strain (`Cloth::strain`) reads shear as stretch
 //! and its mean lets compressed sides cancel stretched ones. The studio's stretch map and
@@ -8,26 +9,22 @@
 
 use glam::{Vec2, Vec3};
 
+use super::constraints::membrane_of;
+
 /// How many times its length as cut each thread of a triangle now is, warp then weft:
 /// its corners are at `x`, lay at `rest` as cut (any plane) and have texture coordinates
-/// `uv`, whose u runs along the warp and v along the weft. None for a triangle with no
-/// area as cut or in the texture, or positions that are not finite.
+/// `uv`, whose u runs along the warp. None for a triangle with no area as cut or in the
+/// texture, or positions that are not finite.
 pub fn thread_stretch(x: [Vec3; 3], rest: [Vec3; 3], uv: [Vec2; 3]) -> Option<[f32; 2]> {
-    let (t0, t1) = (uv[1] - uv[0], uv[2] - uv[0]);
-    let det = t0.perp_dot(t1);
-    let (r0, r1) = (rest[1] - rest[0], rest[2] - rest[0]);
-    if !(det.abs() > 1e-12 && r0.cross(r1).length() > 1e-12) {
+    let texture = (uv[1] - uv[0]).perp_dot(uv[2] - uv[0]);
+    let cut = (rest[1] - rest[0]).cross(rest[2] - rest[0]).length();
+    if !(texture.abs() > 1e-12 && cut > 1e-12) {
         return None;
     }
-    // Along u and along v: where the cloth is now and where it was cut, each through
-    // [t0 t1]^-1.
-    let along = |a0: Vec3, a1: Vec3| ((a0 * t1.y - a1 * t0.y) / det, (a1 * t0.x - a0 * t1.x) / det);
-    let (now_u, now_v) = along(x[1] - x[0], x[2] - x[0]);
-    let (cut_u, cut_v) = along(r0, r1);
-    let s = [
-        now_u.length() / cut_u.length(),
-        now_v.length() / cut_v.length(),
-    ];
+    let m = membrane_of([0, 1, 2], 0, rest, uv);
+    let fu = x[0] * m.c[0] + x[1] * m.c[1] + x[2] * m.c[2];
+    let fv = x[0] * m.d[0] + x[1] * m.d[1] + x[2] * m.d[2];
+    let s = [fu.length(), fv.length()];
     s.iter().all(|v| v.is_finite()).then_some(s)
 }
 
