@@ -78,6 +78,19 @@ impl ClothMesh {
         self.positions.len()
     }
 
+    /// The smallest angle of the triangles, degrees (180 for none).
+    pub fn min_angle_deg(&self) -> f32 {
+        let mut worst = 180.0f32;
+        for t in &self.triangles {
+            let p = t.map(|i| self.positions[i as usize]);
+            for k in 0..3 {
+                let (a, b, c) = (p[k], p[(k + 1) % 3], p[(k + 2) % 3]);
+                worst = worst.min((b - a).angle_between(c - a).to_degrees());
+            }
+        }
+        worst
+    }
+
     /// Checks everything a solver relies on: finite coordinates, indices in range, no
     /// degenerate triangle, every edge in at most two triangles.
     pub fn validate(&self) -> Result<(), GeometryError> {

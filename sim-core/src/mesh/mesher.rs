@@ -327,6 +327,28 @@ pub fn estimate_vertices(outline: &Outline, edge: f32) -> usize {
 
 /// Meshes `outline` with triangles of about `edge` metres a side (see the module doc).
 pub fn mesh_outline(outline: &Outline, edge: f32) -> Result<ClothMesh, MeshError> {
+    mesh_outline_as(outline, edge, Border::Refine)
+}
+
+/// What the meshing may do to an outline's border.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Border {
+    /// Split each side into equal parts no longer than the edge, and more where the
+    /// refinement needs it.
+    Refine,
+    /// Keep the outline's points as the border's vertices and split each side only into
+    /// equal parts no longer than the edge: the refinement adds no border point (the
+    /// two sides of a seam, resampled alike, must stay alike). Triangles beside a tight
+    /// corner may then stay thinner than [`MIN_ANGLE_DEG`].
+    Keep,
+}
+
+/// [`mesh_outline`], its border as `border` says.
+pub fn mesh_outline_as(
+    outline: &Outline,
+    edge: f32,
+    border: Border,
+) -> Result<ClothMesh, MeshError> {
     if !(EDGE_RANGE.0..=EDGE_RANGE.1).contains(&edge) {
         return Err(MeshError::EdgeLength(edge));
     }
@@ -346,7 +368,11 @@ pub fn mesh_outline(outline: &Outline, edge: f32) -> Result<ClothMesh, MeshError
         let first = points.len();
         for i in 0..l.len() {
             let (a, b) = (l[i], l[(i + 1) % l.len()]);
-            let parts = (((b - a).length() / edge).ceil() as usize).max(1);
+            let parts = match border {
+                Border::Refine => (((b - a).length() / edge).ceil() as usize).max(1),
+                // A side at the edge's length to within rounding stays whole.
+                Border::Keep => (((b - a).length() / edge - 1e-3).ceil() as usize).max(1),
+            };
             for k in 0..parts {
                 let p = a.lerp(b, k as f32 / parts as f32);
                 points.push(Point2::new(p.x as f64, p.y as f64));
@@ -370,14 +396,16 @@ pub fn mesh_outline(outline: &Outline, edge: f32) -> Result<ClothMesh, MeshError
     }
     let max_area = 0.5 * 0.433 * 2.0 * (edge as f64).powi(2);
     let budget = estimate.saturating_mul(3).clamp(1000, MAX_VERTICES);
-    let refined = cdt.refine(
-        RefinementParameters::<f64>::new()
-            .exclude_outer_faces(true)
-            .with_angle_limit(AngleLimit::from_deg(MIN_ANGLE_DEG))
-            .with_max_allowed_area(max_area)
-            .with_min_required_area(max_area * 1e-4)
-            .with_max_additional_vertices(budget),
-    );
+    let mut params = RefinementParameters::<f64>::new()
+        .exclude_outer_faces(true)
+        .with_angle_limit(AngleLimit::from_deg(MIN_ANGLE_DEG))
+        .with_max_allowed_area(max_area)
+        .with_min_required_area(max_area * 1e-4)
+        .with_max_additional_vertices(budget);
+    if border == Border::Keep {
+        params = params.keep_constraint_edges();
+    }
+    let refined = cdt.refine(params);
     if cdt.num_vertices() > MAX_VERTICES {
         return Err(MeshError::TooLarge {
             vertices: cdt.num_vertices(),
@@ -436,13 +464,15 @@ pub fn mesh_outline(outline: &Outline, edge: f32) -> Result<ClothMesh, MeshError
 /// the pieces together (the square of their bounds), so paint on one never shows on
 /// another.
 pub fn mesh_pieces(outlines: &[Outline], edge: f32) -> Result<ClothMesh, MeshError> {
-    Ok(mesh_pieces_ranged(outlines, edge)?.0)
+    Ok(mesh_pieces_ranged(outlines, edge, Border::Refine)?.0)
 }
 
-/// [`mesh_pieces`], with each outline's range of vertices in the cloth.
+/// [`mesh_pieces`], with each outline's range of vertices in the cloth, their borders as
+/// `border` says.
 pub fn mesh_pieces_ranged(
     outlines: &[Outline],
     edge: f32,
+    border: Border,
 ) -> Result<(ClothMesh, Vec<std::ops::Range<usize>>), MeshError> {
     let mut ranges = Vec::with_capacity(outlines.len());
     let mut out = ClothMesh {
@@ -451,7 +481,7 @@ pub fn mesh_pieces_ranged(
         triangles: Vec::new(),
     };
     for o in outlines {
-        let m = mesh_outline(o, edge)?;
+        let m = mesh_outline_as(o, edge, border)?;
         let base = out.positions.len() as u32;
         out.positions.extend(m.positions);
         ranges.push(base as usize..out.positions.len());

@@ -3,10 +3,11 @@
 
 use glam::{Vec2, Vec3};
 
+use super::conform::{self, SeamSides, arc, project};
 use super::place::{Landmarks, Place, PlaceError, Placement, place};
 use super::spec::{EdgeRef, PatternSpec, PieceSpec, SpecError};
 use crate::design::{Design, EditError, PieceRecord};
-use crate::mesh::mesher::{self, MeshError, Outline};
+use crate::mesh::mesher::{self, Border, MeshError, Outline};
 use crate::mesh::{ClothMesh, bounds2};
 
 /// Space between pieces in the design's pattern plane, m.
@@ -50,9 +51,7 @@ pub fn assemble(
     marks: &Landmarks,
     edge: f32,
 ) -> Result<Assembled, GarmentError> {
-    let mut outlines = Vec::with_capacity(spec.pieces.len());
-    let mut records = Vec::with_capacity(spec.pieces.len());
-    let mut cursor = 0.0f32;
+    let mut simplified = Vec::with_capacity(spec.pieces.len());
     for (i, p) in spec.pieces.iter().enumerate() {
         mesher::check(&p.outline).map_err(|source| GarmentError::Mesh {
             piece: p.name.clone(),
@@ -67,32 +66,26 @@ pub fn assemble(
             .filter(|side| side.piece == i)
             .flat_map(|side| [side.from, side.to])
             .collect();
-        let outline = mesher::simplify(&p.outline, SIMPLIFY * edge, &ends);
-        let (lo, hi) = bounds2(&outline.loops[0]);
-        let offset = Vec2::new(cursor - lo.x, -hi.y);
-        cursor += hi.x - lo.x + PATTERN_GAP;
-        outlines.push(Outline {
-            loops: outline
-                .loops
-                .iter()
-                .map(|l| l.iter().map(|&q| q + offset).collect())
-                .collect(),
-        });
-        records.push(PieceRecord {
+        simplified.push(mesher::simplify(&p.outline, SIMPLIFY * edge, &ends));
+    }
+    // Each seam's two sides with their border points at the same places (`conform`).
+    let placements = layered(spec, marks);
+    let seams = seam_sides(spec, &simplified, &placements, marks)?;
+    let (mesh, ranges, offsets, outlines) = mesh_conformed(&simplified, &seams, edge)?;
+    let mut records: Vec<PieceRecord> = spec
+        .pieces
+        .iter()
+        .zip(outlines)
+        .zip(&offsets)
+        .map(|((p, outline), &offset)| PieceRecord {
             name: p.name.clone(),
             fabric: p.fabric.clone(),
             grain: p.grain,
             placement: p.placement,
             offset,
             outline,
-        });
-    }
-    let (mesh, ranges) =
-        mesher::mesh_pieces_ranged(&outlines, edge).map_err(|source| GarmentError::Mesh {
-            piece: "(all)".into(),
-            source,
-        })?;
-    let placements = layered(spec, marks);
+        })
+        .collect();
     let mut starts = vec![Vec3::ZERO; mesh.positions.len()];
     for (((p, r), range), placement) in spec
         .pieces
@@ -121,6 +114,133 @@ pub fn assemble(
         records,
         ranges,
     })
+}
+
+/// Each seam of `spec` as the meshing sees it; which of its ends meet is the file's, or
+/// else decided as [`sew`] decides it, from where the placements start them.
+fn seam_sides(
+    spec: &PatternSpec,
+    outlines: &[Outline],
+    placements: &[Placement],
+    marks: &Landmarks,
+) -> Result<Vec<SeamSides>, PlaceError> {
+    let ends = |e: &EdgeRef| -> Result<Vec<Vec3>, PlaceError> {
+        let bounds = bounds2(&outlines[e.piece].loops[0]);
+        let name = &spec.pieces[e.piece].name;
+        place(name, &[e.from, e.to], bounds, &placements[e.piece], marks)
+    };
+    spec.seams
+        .iter()
+        .map(|s| {
+            let reversed = match s.reversed {
+                Some(r) => r,
+                None => {
+                    let (a, b) = (ends(&s.a)?, ends(&s.b)?);
+                    let d = |p: Vec3, q: Vec3| p.distance(q);
+                    d(a[0], b[1]) + d(a[1], b[0]) < d(a[0], b[0]) + d(a[1], b[1])
+                }
+            };
+            Ok(SeamSides {
+                a: s.a,
+                b: s.b,
+                reversed,
+            })
+        })
+        .collect()
+}
+
+/// The smallest angle a garment's triangle may have, degrees (the mesher's own aim is
+/// [`mesher::MIN_ANGLE_DEG`]; its border kept as given, it reaches 21 on the dress).
+const GARMENT_MIN_ANGLE_DEG: f32 = 20.0;
+
+/// The pieces' `simplified` outlines meshed with every seam's sides conforming (see
+/// `conform`): the cloth, each piece's vertices, how far each was moved when laid out,
+/// and the outlines as meshed (the seams' sides resampled).
+///
+/// First with the resampled borders kept as they are (no point added to them). Should
+/// that leave a triangle with an angle under [`GARMENT_MIN_ANGLE_DEG`] (the refinement
+/// may not split a border side, so a tight corner can keep a thin triangle): meshed with
+/// the borders refined, the points that adds shared between each seam's sides, and
+/// meshed again with those kept. Should that fail too, the refined meshing (its seams'
+/// sides then differ, and sewing eases them).
+#[allow(clippy::type_complexity)]
+fn mesh_conformed(
+    simplified: &[Outline],
+    seams: &[SeamSides],
+    edge: f32,
+) -> Result<
+    (
+        ClothMesh,
+        Vec<std::ops::Range<usize>>,
+        Vec<Vec2>,
+        Vec<Outline>,
+    ),
+    GarmentError,
+> {
+    let mesh_all = |outlines: &[Outline], border| {
+        let (laid, offsets) = laid_out(outlines);
+        let (mesh, ranges) = mesher::mesh_pieces_ranged(&laid, edge, border).map_err(|source| {
+            GarmentError::Mesh {
+                piece: "(all)".into(),
+                source,
+            }
+        })?;
+        Ok::<_, GarmentError>((mesh, ranges, offsets))
+    };
+    let good = |m: &ClothMesh| m.min_angle_deg() >= GARMENT_MIN_ANGLE_DEG;
+    let mut outlines = simplified.to_vec();
+    conform::conform(&mut outlines, seams, edge);
+    if sane(&mut outlines, simplified) == 0
+        && let Ok((mesh, ranges, offsets)) = mesh_all(&outlines, Border::Keep)
+        && good(&mesh)
+    {
+        return Ok((mesh, ranges, offsets, outlines));
+    }
+    let (mesh, ranges, offsets) = mesh_all(&outlines, Border::Refine)?;
+    let mut kept = outlines.clone();
+    conform::agree(&mut kept, seams, edge, (&mesh, &ranges, &offsets));
+    if sane(&mut kept, &outlines) == 0
+        && let Ok((m, r, o)) = mesh_all(&kept, Border::Keep)
+        && good(&m)
+    {
+        return Ok((m, r, o, kept));
+    }
+    Ok((mesh, ranges, offsets, outlines))
+}
+
+/// Puts back `simplified`'s outline for every piece of `outlines` that crosses itself (a
+/// side resampled across a tight curve); how many.
+fn sane(outlines: &mut [Outline], simplified: &[Outline]) -> usize {
+    let mut n = 0;
+    for (o, s) in outlines.iter_mut().zip(simplified) {
+        if mesher::check(o).is_err() {
+            o.clone_from(s);
+            n += 1;
+        }
+    }
+    n
+}
+
+/// The pieces laid side by side in the design's pattern plane, left to right, tops level
+/// at 0: each outline moved, and by how much.
+fn laid_out(pieces: &[Outline]) -> (Vec<Outline>, Vec<Vec2>) {
+    let mut cursor = 0.0f32;
+    pieces
+        .iter()
+        .map(|o| {
+            let (lo, hi) = bounds2(&o.loops[0]);
+            let offset = Vec2::new(cursor - lo.x, -hi.y);
+            cursor += hi.x - lo.x + PATTERN_GAP;
+            let moved = Outline {
+                loops: o
+                    .loops
+                    .iter()
+                    .map(|l| l.iter().map(|&q| q + offset).collect())
+                    .collect(),
+            };
+            (moved, offset)
+        })
+        .unzip()
 }
 
 /// Space between layers of pieces that would start in one place, m.
@@ -182,33 +302,6 @@ pub struct Sewn {
     pub mismatch_m: f32,
     /// Seams left open, and why.
     pub open: Vec<String>,
-}
-
-/// Arc length of each point of closed loop `l` from its first.
-pub(crate) fn arc(l: &[Vec2]) -> Vec<f32> {
-    let mut out = Vec::with_capacity(l.len() + 1);
-    out.push(0.0);
-    for i in 0..l.len() {
-        let d = (l[(i + 1) % l.len()] - l[i]).length();
-        out.push(out[i] + d);
-    }
-    out
-}
-
-/// Where `p` projects on closed loop `l` (arc lengths `cum`): its arc length and its
-/// distance from the loop.
-pub(crate) fn project(l: &[Vec2], cum: &[f32], p: Vec2) -> (f32, f32) {
-    let mut best = (0.0, f32::INFINITY);
-    for i in 0..l.len() {
-        let (a, b) = (l[i], l[(i + 1) % l.len()]);
-        let ab = b - a;
-        let t = ((p - a).dot(ab) / ab.length_squared().max(1e-20)).clamp(0.0, 1.0);
-        let d = (a + ab * t - p).length();
-        if d < best.1 {
-            best = (cum[i] + t * (cum[i + 1] - cum[i]), d);
-        }
-    }
-    best
 }
 
 /// The border vertices of piece `side.piece` along the stretch, in order, and the

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use glam::Vec2;
 
-use super::assemble::{arc, project};
+use super::conform::{arc, project};
 use super::garmentcode::read_garmentcode;
 use super::place::Landmarks;
 use super::spec::{DEFAULT_FABRIC, EdgeRef, PatternSpec, PieceSpec, SeamSpec, SpecError};

@@ -10,6 +10,7 @@
 
 mod assemble;
 mod cone;
+mod conform;
 mod garmentcode;
 mod import;
 mod place;

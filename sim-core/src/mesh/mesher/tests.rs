@@ -36,19 +36,6 @@ fn off_outline(o: &Outline, p: Vec2) -> f32 {
     d
 }
 
-/// The smallest angle of the mesh's triangles, degrees.
-fn min_angle(m: &ClothMesh) -> f32 {
-    let mut worst = 180.0f32;
-    for t in &m.triangles {
-        let p = t.map(|i| m.positions[i as usize]);
-        for k in 0..3 {
-            let (a, b, c) = (p[k], p[(k + 1) % 3], p[(k + 2) % 3]);
-            worst = worst.min((b - a).angle_between(c - a).to_degrees());
-        }
-    }
-    worst
-}
-
 /// Checks what the issue asks of any simple outline: a valid mesh whose boundary lies on
 /// the outline and covers its length, no angle under 20 degrees, sides near `edge`.
 fn check_mesh(o: &Outline, edge: f32) -> ClothMesh {
@@ -80,7 +67,7 @@ fn check_mesh(o: &Outline, edge: f32) -> ClothMesh {
         (blen - per).abs() < 1e-4 * per,
         "boundary {blen} against outline {per}"
     );
-    assert!(min_angle(&m) >= 20.0, "min angle {}", min_angle(&m));
+    assert!(m.min_angle_deg() >= 20.0, "min angle {}", m.min_angle_deg());
     // Winding: every triangle's normal points +Y.
     for t in &m.triangles {
         let [a, b, c] = t.map(|i| m.positions[i as usize]);
