@@ -432,7 +432,8 @@ fn lab_headless_dress_mannequin_sews_pulls_and_cuts_across_the_processes() {
         "{r}"
     );
     assert_eq!(r["seams"], 4, "{r}");
-    assert!(r["seam_pairs_welded"].as_u64().unwrap() >= 100, "{r}");
+    // Of the 90 pairs the dress's conforming mesh has at its 3 cm edges, all but two.
+    assert!(r["seam_pairs_welded"].as_u64().unwrap() >= 88, "{r}");
     let s = &r["stand_in"];
     assert!(s["pen_vertex_at"][1].as_f64().unwrap() > 1.2, "{s}");
     assert!(s["pen_pulled_m"].as_f64().unwrap() > 0.005, "{s}");
