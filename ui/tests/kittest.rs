@@ -364,6 +364,8 @@ fn a_fabric_is_chosen_by_name() {
     h.state_mut().store.sim_tel = tel([0.15, 2000.0, 40.0, 1e-5, 0.4]);
     h.run_steps(2);
     assert_eq!(h.state().material.current_fabric(), None);
+    // cloth-sim's default material, which is none of the library's, by its own name.
+    assert_eq!(h.state().material.shown_fabric(), "cotton (default)");
     press(&mut h, "Fabric");
     press(&mut h, "denim");
     let c = *commands(&h).last().unwrap();
@@ -383,6 +385,7 @@ fn a_fabric_is_chosen_by_name() {
     ]);
     h.run_steps(2);
     assert_eq!(h.state().material.current_fabric(), Some("denim"));
+    assert_eq!(h.state().material.shown_fabric(), "denim");
     // Edited by hand, it is no longer denim.
     h.state_mut().store.sim_tel = tel([
         denim.density,
@@ -393,6 +396,7 @@ fn a_fabric_is_chosen_by_name() {
     ]);
     h.run_steps(2);
     assert_eq!(h.state().material.current_fabric(), None);
+    assert_eq!(h.state().material.shown_fabric(), "custom");
 }
 
 /// A peer from another build: the UI rejects its messages, says why over the view, and

@@ -7,6 +7,9 @@ use shared::telemetry::SimTelemetry;
 
 use crate::action::Action;
 
+/// The chooser's name for the design's default material.
+const DEFAULT_SHOWN: &str = "cotton (default)";
+
 /// A material and substep count as the panel shows them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MaterialChoice {
@@ -144,9 +147,28 @@ impl MaterialPanel {
             .map(|f| f.name.as_str())
     }
 
+    /// What the fabric chooser shows: the library's fabric the design has, the design's
+    /// own default material (cloth-sim's cotton-like woven, which the Pieces panel calls
+    /// by the same name), or "custom" for values of neither.
+    pub fn shown_fabric(&self) -> &str {
+        let default = MaterialChoice::default().values;
+        let close = |a: f32, b: f32| (a - b).abs() <= 1e-3 * a.abs().max(b.abs());
+        let is_default = |m: &MaterialChoice| {
+            m.values[..5]
+                .iter()
+                .zip(&default)
+                .all(|(a, b)| close(*a, *b))
+        };
+        match (self.current_fabric(), self.seen) {
+            (Some(name), _) => name,
+            (None, Some(m)) if is_default(&m) => DEFAULT_SHOWN,
+            _ => "custom",
+        }
+    }
+
     /// The fabric chooser: a name picked sends it for the whole design.
     fn chooser(&self, ui: &mut egui::Ui, actions: &mut Vec<Action>) {
-        let shown = self.current_fabric().unwrap_or("custom");
+        let shown = self.shown_fabric();
         egui::ComboBox::from_label("Fabric")
             .selected_text(shown)
             .show_ui(ui, |ui| {
@@ -169,7 +191,8 @@ impl MaterialPanel {
             .on_hover_text(
                 "A measured fabric for the whole design, in place: its weight, stretch, shear, \
                  bending (warp, weft, bias), friction and thickness (docs/fabrics.md lists the \
-                 sources). 'custom' when the values are not one of the library's.",
+                 sources). 'cotton (default)' for the design's own default material, \
+                 'custom' when the values are neither.",
             );
     }
 
