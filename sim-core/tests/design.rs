@@ -525,6 +525,25 @@ fn the_guard_is_kept_and_a_false_claim_refused() {
     );
 }
 
+/// The `drape-pattern` scene of SVG pattern `svg` (written to a temporary file named
+/// after `tag`), its seams sewn; `edge` the pieces' triangle edge, or the default.
+fn sewn_pattern(svg: &str, tag: &str, edge: Option<f32>) -> Design {
+    let name = format!("saiho-{tag}-{}.svg", std::process::id());
+    let path = std::env::temp_dir().join(name);
+    std::fs::write(&path, svg).unwrap();
+    let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
+    cfg.pattern = Some(path.clone());
+    if let Some(edge) = edge {
+        cfg.piece_edge = edge;
+    }
+    let built = sim_core::scenario::build_scene(&cfg);
+    std::fs::remove_file(&path).unwrap();
+    let (mut d, spec) = built.unwrap();
+    let pull = sim_core::scenario::garment::SEAM_PULL;
+    sim_core::design::garment::sew(&mut d, &spec.unwrap(), pull).unwrap();
+    d
+}
+
 /// A seam eased 20 mm keeps its two sides' lengths in the seam list once its pairs
 /// weld: each side is read on its own piece's triangles, not on whichever triangle held
 /// the welded edge first (which showed the two sides equal).
@@ -547,20 +566,7 @@ fn an_eased_seam_keeps_its_sides_lengths_as_it_welds() {
             "x1=\"980.0\" y1=\"240.0\" x2=\"980.0\" y2=\"790.0\"",
         );
     assert_eq!(svg.matches("790.0").count(), 4, "the back made longer");
-    let path = std::env::temp_dir().join(format!("saiho-eased-{}.svg", std::process::id()));
-    std::fs::write(&path, svg).unwrap();
-    let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
-    cfg.pattern = Some(path.clone());
-    cfg.piece_edge = 0.06;
-    let built = sim_core::scenario::build_scene(&cfg);
-    std::fs::remove_file(&path).unwrap();
-    let (mut d, spec) = built.unwrap();
-    sim_core::design::garment::sew(
-        &mut d,
-        &spec.unwrap(),
-        sim_core::scenario::garment::SEAM_PULL,
-    )
-    .unwrap();
+    let mut d = sewn_pattern(&svg, "eased", Some(0.06));
     let names: Vec<char> = (0..d.seams.len())
         .map(|i| (b'A' + i as u8) as char)
         .collect();
@@ -610,19 +616,7 @@ fn every_stitch_pairs_vertices_at_the_same_place_along_both_sides() {
         .replace("x2=\"980.0\" y2=\"770.0\"", "x2=\"980.0\" y2=\"790.0\"");
     assert_ne!(eased, shipped, "the back made longer");
     for (k, svg) in [shipped, eased].into_iter().enumerate() {
-        let path = std::env::temp_dir().join(format!("saiho-pairs-{k}-{}.svg", std::process::id()));
-        std::fs::write(&path, svg).unwrap();
-        let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
-        cfg.pattern = Some(path.clone());
-        let built = sim_core::scenario::build_scene(&cfg);
-        std::fs::remove_file(&path).unwrap();
-        let (mut d, spec) = built.unwrap();
-        sim_core::design::garment::sew(
-            &mut d,
-            &spec.unwrap(),
-            sim_core::scenario::garment::SEAM_PULL,
-        )
-        .unwrap();
+        let d = sewn_pattern(&svg, &format!("pairs-{k}"), None);
         let places = d.sim.cloth.live.pattern_places(d.sim.cloth.len());
         // Each vertex's share of its side's length in the pattern.
         let shares = |side: &[u32]| -> Vec<f32> {
