@@ -148,8 +148,8 @@ impl MaterialPanel {
     }
 
     /// What the fabric chooser shows: the library's fabric the design has, the design's
-    /// own default material (cloth-sim's cotton-like woven, which the Pieces panel calls
-    /// by the same name), or "custom" for values of neither.
+    /// own default material (cloth-sim's cotton-like woven, which the Pieces panel lists
+    /// as "cotton", a piece's fabric when none is given), or "custom" for values of neither.
     pub fn shown_fabric(&self) -> &str {
         let default = MaterialChoice::default().values;
         let close = |a: f32, b: f32| (a - b).abs() <= 1e-3 * a.abs().max(b.abs());
