@@ -10,6 +10,11 @@ use crate::action::Action;
 /// The chooser's name for the design's default material.
 const DEFAULT_SHOWN: &str = "cotton (default)";
 
+/// Whether two material values agree to a thousandth of the larger.
+fn close(a: f32, b: f32) -> bool {
+    (a - b).abs() <= 1e-3 * a.abs().max(b.abs())
+}
+
 /// A material and substep count as the panel shows them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MaterialChoice {
@@ -135,7 +140,6 @@ impl MaterialPanel {
     /// The library's fabric whose measured values the design has now, if one does.
     pub fn current_fabric(&self) -> Option<&str> {
         let seen = self.seen?;
-        let close = |a: f32, b: f32| (a - b).abs() <= 1e-3 * a.abs().max(b.abs());
         self.fabrics
             .iter()
             .find(|f| {
@@ -152,7 +156,6 @@ impl MaterialPanel {
     /// as "cotton", a piece's fabric when none is given), or "custom" for values of neither.
     pub fn shown_fabric(&self) -> &str {
         let default = MaterialChoice::default().values;
-        let close = |a: f32, b: f32| (a - b).abs() <= 1e-3 * a.abs().max(b.abs());
         let is_default = |m: &MaterialChoice| {
             m.values[..5]
                 .iter()
