@@ -25,6 +25,11 @@ pub const MIN_ANGLE_DEG: f64 = 25.0;
 /// The edge lengths a piece may be meshed with, m.
 pub const EDGE_RANGE: (f32, f32) = (0.001, 0.5);
 
+/// The most a pattern piece may span in either direction, m: a theatre curtain, not a
+/// mistyped number. A sliver kilometres long (found by fuzzing, 2026-12-01) passed the
+/// vertex estimate at a long edge and took the triangulation 20-25 s.
+pub const MAX_SPAN: f32 = 10.0;
+
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum MeshError {
     #[error("an outline needs at least 3 points; loop {looped} has {points}")]
@@ -46,6 +51,11 @@ pub enum MeshError {
     EdgeLength(f32),
     #[error("the piece would have {vertices} vertices, more than {max}: use a longer edge")]
     TooLarge { vertices: usize, max: usize },
+    #[error(
+        "the outline spans {0:.1} m, more than the {max} m a pattern piece may (another unit, or a damaged file?)",
+        max = MAX_SPAN
+    )]
+    Span(f32),
     #[error("triangulation failed: {0}")]
     Triangulation(String),
     #[error(
@@ -163,6 +173,17 @@ pub fn check(outline: &Outline) -> Result<(), MeshError> {
             looped: 0,
             points: 0,
         });
+    }
+    let (lo, hi) = outline
+        .loops
+        .iter()
+        .flatten()
+        .fold((Vec2::MAX, Vec2::MIN), |(lo, hi), &p| {
+            (lo.min(p), hi.max(p))
+        });
+    let span = (hi - lo).max_element();
+    if span > MAX_SPAN {
+        return Err(MeshError::Span(span));
     }
     // All pairs, pruned by bounding boxes on a sort by x (outlines are small).
     let mut order: Vec<usize> = (0..segs.len()).collect();

@@ -8,7 +8,7 @@ use super::place::{Landmarks, Place, PlaceError, Placement, place};
 use super::spec::{EdgeRef, PatternSpec, PieceSpec, SpecError};
 use crate::design::{Design, EditError, PieceRecord};
 use crate::mesh::mesher::{self, Border, MeshError, Outline};
-use crate::mesh::{ClothMesh, bounds2};
+use crate::mesh::{ClothMesh, MAX_VERTICES, bounds2};
 
 /// Space between pieces in the design's pattern plane, m.
 pub(crate) const PATTERN_GAP: f32 = 0.05;
@@ -51,12 +51,33 @@ pub fn assemble(
     marks: &Landmarks,
     edge: f32,
 ) -> Result<Assembled, GarmentError> {
+    let mesh_error = |piece: &str, source| GarmentError::Mesh {
+        piece: piece.into(),
+        source,
+    };
+    // The edge and the size before any work: resampling the seams' sides below splits
+    // them into parts of `edge`, so a piece kilometres wide (a mistyped number in a
+    // file) would ask for more points than memory holds.
+    if !(mesher::EDGE_RANGE.0..=mesher::EDGE_RANGE.1).contains(&edge) {
+        return Err(mesh_error("(all)", MeshError::EdgeLength(edge)));
+    }
+    let mut total = 0usize;
+    for p in &spec.pieces {
+        mesher::check(&p.outline).map_err(|source| mesh_error(&p.name, source))?;
+        let own = mesher::estimate_vertices(&p.outline, edge);
+        total = total.saturating_add(own);
+        if total > MAX_VERTICES {
+            let (piece, vertices) = if own > MAX_VERTICES {
+                (p.name.as_str(), own)
+            } else {
+                ("(all)", total)
+            };
+            let max = MAX_VERTICES;
+            return Err(mesh_error(piece, MeshError::TooLarge { vertices, max }));
+        }
+    }
     let mut simplified = Vec::with_capacity(spec.pieces.len());
     for (i, p) in spec.pieces.iter().enumerate() {
-        mesher::check(&p.outline).map_err(|source| GarmentError::Mesh {
-            piece: p.name.clone(),
-            source,
-        })?;
         // Points much closer than the edge length would mesh as tiny stiff triangles;
         // the seams' ends stay where they are.
         let ends: Vec<Vec2> = spec

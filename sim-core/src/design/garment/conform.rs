@@ -20,8 +20,8 @@
 use glam::Vec2;
 
 use super::spec::EdgeRef;
-use crate::mesh::ClothMesh;
 use crate::mesh::mesher::Outline;
+use crate::mesh::{ClothMesh, MAX_VERTICES};
 
 /// Arc length of each point of closed loop `l` from its first.
 pub(crate) fn arc(l: &[Vec2]) -> Vec<f32> {
@@ -168,7 +168,9 @@ fn filled(fixed: &[f32], len: f32, edge: f32) -> Vec<f32> {
     bounds.extend_from_slice(fixed);
     bounds.push(1.0);
     for w in bounds.windows(2) {
-        let parts = (((w[1] - w[0]) * len / edge).ceil() as usize).max(1);
+        // `assemble` has bounded the pieces' size over the edge; the clamp keeps a
+        // count from a non-finite length from asking for all memory all the same.
+        let parts = (((w[1] - w[0]) * len / edge).ceil() as usize).clamp(1, MAX_VERTICES);
         out.extend((1..parts).map(|k| w[0] + (w[1] - w[0]) * k as f32 / parts as f32));
         if w[1] < 1.0 {
             out.push(w[1]);

@@ -105,6 +105,28 @@ fn slivers_are_refused_not_a_panic() {
     }
 }
 
+/// Found by fuzzing (pattern-mesh, 2026-12-01): a DXF piece 60 km tall and 0.4 m wide
+/// (a mistyped vertex) estimated under the vertex limit at a 0.5 m edge, and its
+/// triangulation took 20 s. Beyond the span a piece may have, it is refused before any
+/// work, whatever the edge; at the span it meshes.
+#[test]
+fn a_piece_beyond_the_span_is_refused_before_meshing() {
+    let sliver = |h: f32| Outline {
+        loops: vec![vec![
+            Vec2::ZERO,
+            Vec2::new(0.4, 0.0),
+            Vec2::new(0.4, h),
+            Vec2::new(0.0, 0.6),
+        ]],
+    };
+    let e = check(&sliver(60_000.0)).unwrap_err();
+    assert_eq!(e, MeshError::Span(60_000.0));
+    assert!(e.to_string().contains("more than the 10 m"), "{e}");
+    assert_eq!(mesh_outline(&sliver(60_000.0), 0.5), Err(e));
+    let m = mesh_outline(&sliver(MAX_SPAN), 0.5).unwrap();
+    assert!(m.validate().is_ok());
+}
+
 #[test]
 fn rectangles_ellipses_and_l_shapes_mesh_well() {
     let m = check_mesh(&Outline::rectangle(1.0, 0.5), 0.05);

@@ -410,3 +410,38 @@ fn a_stitch_pairs_the_ends_garmentcode_pairs() {
     };
     assert!(meets_a_to.length() < 1e-6, "{s:?}");
 }
+
+#[test]
+fn a_panel_too_large_to_mesh_is_refused_before_any_work() {
+    // Found by the pattern-mesh fuzz target: the back panel 5.6e17 m wide (a mistyped
+    // number). Resampling its seams' sides asked for a 4.4e18-byte allocation and
+    // aborted; now its span is checked first and the error names the piece.
+    let marks = Landmarks::of(None);
+    let back_sized = |x: &str, y: &str| {
+        let (front, back) = TWO_PANELS.split_once(r#""back""#).unwrap();
+        let sized = format!("[{x}, 0], [{x}, {y}], [0, {y}]");
+        let back = back.replacen("[50, 0], [50, 60], [0, 60]", &sized, 1);
+        let mut spec = read_garmentcode(&format!(r#"{front}"back"{back}"#), &marks).unwrap();
+        spec.normalise().unwrap();
+        spec.arrange(&marks);
+        spec
+    };
+    let assemble = crate::design::garment::assemble;
+    let e = assemble(&back_sized("55555555555555555550", "60"), &marks, 0.5)
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(e.starts_with("piece back: the outline spans"), "{e}");
+    // Within the span (1 x 9 m) but too many vertices at the edge asked for: refused
+    // by the estimate before the seams' sides are resampled.
+    let e = assemble(&back_sized("100", "900"), &marks, 0.001)
+        .err()
+        .expect("refused")
+        .to_string();
+    assert!(
+        e.starts_with("piece back: the piece would have") && e.contains("more than 4000000"),
+        "{e}"
+    );
+    // At its own size the same pattern meshes.
+    assert!(assemble(&back_sized("50", "60"), &marks, 0.05).is_ok());
+}
