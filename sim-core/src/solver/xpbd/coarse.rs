@@ -36,6 +36,8 @@ pub(super) struct Blend {
     inv_sum: Vec<f32>,
     /// The links in node slots.
     links: Vec<Limit>,
+    /// Each link's rest path through the edges: its length while a seam is sewn.
+    loose: Vec<f32>,
 }
 
 impl Blend {
@@ -44,6 +46,7 @@ impl Blend {
         g: &impl Graph,
         node: &[bool],
         links: &[Limit],
+        loose: &[f32],
         spacing: f32,
         search: &mut Bounded,
     ) -> Self {
@@ -69,7 +72,7 @@ impl Blend {
             b.sum[u as usize] += w;
         }
         b.inv_sum = b.sum.iter().map(|&t| inverse(t)).collect();
-        b.relink(links);
+        b.relink(links, loose);
         b
     }
 
@@ -82,6 +85,7 @@ impl Blend {
         g: &impl Graph,
         n: usize,
         links: &[Limit],
+        loose: &[f32],
         near: &[(u32, f32)],
         search: &mut Bounded,
     ) {
@@ -134,19 +138,18 @@ impl Blend {
         for u in changed {
             self.inv_sum[u as usize] = inverse(self.sum[u as usize]);
         }
-        self.relink(links);
+        self.relink(links, loose);
     }
 
-    /// The links in node slots.
-    fn relink(&mut self, links: &[Limit]) {
+    /// The links in node slots, with their `loose` lengths.
+    fn relink(&mut self, links: &[Limit], loose: &[f32]) {
         let slot = &self.slot;
-        self.links = links
+        let of = |v: u32| slot.get(v as usize).copied().filter(|&s| s != u32::MAX);
+        (self.links, self.loose) = links
             .iter()
-            .filter_map(|&(a, b, r)| {
-                let (sa, sb) = (*slot.get(a as usize)?, *slot.get(b as usize)?);
-                (sa != u32::MAX && sb != u32::MAX).then_some((sa, sb, r))
-            })
-            .collect();
+            .zip(loose)
+            .filter_map(|(&(a, b, r), &l)| Some(((of(a)?, of(b)?, r), l)))
+            .unzip();
     }
 
     /// The nodes' inverse masses from the vertices' (`w`): a patch's mass is the blended
@@ -166,15 +169,17 @@ impl Blend {
         }));
     }
 
-    /// One pass over the level's links on its nodes; then every vertex that moves (`w` >
-    /// 0) takes the blend of the moved nodes' corrections. `node_w` from `node_weights`;
-    /// `q` is scratch.
+    /// One pass over the level's links on its nodes, each as long as its rest (or, when
+    /// `loose`, its rest path through the edges) times `scale`; then every vertex that
+    /// moves (`w` > 0) takes the blend of the moved nodes' corrections. `node_w` from
+    /// `node_weights`; `q` is scratch.
     pub(super) fn solve(
         &self,
         scale: f32,
         x: &mut [Vec3],
         w: &[f32],
         node_w: &[f32],
+        loose: bool,
         q: &mut Vec<Vec3>,
     ) {
         let n = x.len().min(w.len()).min(self.inv_sum.len());
@@ -184,9 +189,9 @@ impl Blend {
         q.clear();
         q.resize(self.nodes.len(), Vec3::ZERO);
         let mut moved = false;
-        for &(a, b, rest) in &self.links {
-            let max = rest * scale;
+        for (&(a, b, rest), &path) in self.links.iter().zip(&self.loose) {
             let (a, b) = (a as usize, b as usize);
+            let max = if loose { path } else { rest } * scale;
             let (pa, pb) = (self.nodes[a] as usize, self.nodes[b] as usize);
             if pa >= n || pb >= n {
                 continue;

@@ -34,6 +34,7 @@ mod settle;
 mod simd;
 mod solver;
 mod step;
+mod straight;
 mod strain_limit;
 mod tethers;
 

@@ -332,7 +332,10 @@ impl Xpbd {
             &mut self.link_w,
         );
         let mut coarse = std::mem::take(&mut self.coarse);
-        self.limits.node_weights(&self.link_w, &mut coarse);
+        // While a seam is being sewn its stitches pull the cloth across, and the links take
+        // their loose lengths (`limits`).
+        let sewing = !drive.stitches.is_empty();
+        (self.limits).node_weights(&self.link_w, sewing, &mut coarse);
         let searches = self
             .guard
             .as_ref()
