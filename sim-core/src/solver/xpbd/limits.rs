@@ -70,8 +70,8 @@ const REACH: f32 = 1.5;
 
 /// How much farther than a link's reach, along the edges, an edit looks for the ends of
 /// links to find again: a straight link's line can cross what an edit touched at a
-/// straight distance that the edge paths zigzag past (by up to about 15% on the
-/// mesher's triangles; a cut's other side is not on the way).
+/// straight distance that the edge paths zigzag past (on the shipped dress they run 5.5%
+/// longer than the line at the median, 8% at p90; a cut's other side is not on the way).
 const STRAIGHT_REACH: f32 = 1.5;
 
 /// A vertex lying on the body passes this share of its inverse mass to the links (the
@@ -229,11 +229,13 @@ impl StretchLimits {
     /// A link whose shortest path changed had that path run through a touched vertex, so
     /// both its ends lie within its length of one. A link whose straight line crossed a
     /// touched triangle has its ends within its length of a touched vertex in a straight
-    /// line, and within [`STRAIGHT_REACH`] times that along the edges. The stretch of path from an end to the
-    /// first touched vertex on it survives the edit (an edge leaves or changes only with a
-    /// triangle, and then both its ends are touched), so a search from the touched
-    /// vertices through the edited mesh finds every such end. Their links are dropped and
-    /// found again from the edited mesh; the nodes stay where they were.
+    /// line, and so within [`STRAIGHT_REACH`] times that along the edges wherever the
+    /// edge paths run no more than that much longer than the line (on the shipped dress,
+    /// vertices 8-27 cm apart: 1.055 at the median, 1.08 at p90). The stretch of path
+    /// from an end to the first touched vertex on it survives the edit (an edge leaves or
+    /// changes only with a triangle, and then both its ends are touched), so a search
+    /// from the touched vertices through the edited mesh finds every such end. Their links
+    /// are dropped and found again from the edited mesh; the nodes stay where they were.
     pub(super) fn update(&mut self, cloth: &Cloth, touched: &[u32]) {
         if self.levels.is_empty() {
             return;
