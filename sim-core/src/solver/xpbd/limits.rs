@@ -528,30 +528,24 @@ mod tests {
     }
 
     /// A 0.6 m square meshed with triangles that point every way (the mesher's, 3 cm),
-    /// flat at rest, and its warp and weft there.
-    fn meshed() -> (Cloth, Vec3, Vec3) {
+    /// flat at rest.
+    fn meshed() -> Cloth {
         let outline = crate::mesh::mesher::Outline::rectangle(0.6, 0.6);
         let mesh = crate::mesh::mesher::mesh_outline(&outline, 0.03).unwrap();
-        let c = Cloth::new(mesh, &Material::default()).unwrap();
-        let t = c.live.iter().next().unwrap().1;
-        let warp = crate::mesh::live::warp_of(t.rest, t.uv);
-        let n = (t.rest[1] - t.rest[0])
-            .cross(t.rest[2] - t.rest[0])
-            .normalize();
-        (c, warp, n.cross(warp))
+        Cloth::new(mesh, &Material::default()).unwrap()
     }
 
-    /// Each vertex of `c` put where the map `(along warp, along weft) -> place` takes its
-    /// rest place.
+    /// The warp and weft of a flat cloth at rest.
+    fn threads(c: &Cloth) -> (Vec3, Vec3) {
+        let t = c.live.iter().next().unwrap().1;
+        let warp = crate::mesh::live::warp_of(t.rest, t.uv);
+        let n = (t.rest[1] - t.rest[0]).cross(t.rest[2] - t.rest[0]);
+        (warp, n.normalize().cross(warp))
+    }
+
+    /// Each vertex of `c` put where `f` takes its rest place's (warp, weft) coordinates.
     fn deform(c: &mut Cloth, f: impl Fn(f32, f32) -> Vec3) {
-        let (warp, weft) = {
-            let t = c.live.iter().next().unwrap().1;
-            let w = crate::mesh::live::warp_of(t.rest, t.uv);
-            let n = (t.rest[1] - t.rest[0])
-                .cross(t.rest[2] - t.rest[0])
-                .normalize();
-            (w, n.cross(w))
-        };
+        let (warp, weft) = threads(c);
         let places = c.live.pattern_places(c.len());
         for (x, r) in c.x.iter_mut().zip(places) {
             *x = f(r.dot(warp), r.dot(weft));
@@ -566,7 +560,7 @@ mod tests {
     #[test]
     fn a_meshed_piece_is_held_at_its_straight_rest_distances() {
         const PASSES: usize = 4;
-        let (c, _, _) = meshed();
+        let c = meshed();
         let l = StretchLimits::build(&c, 0.0);
         let places = c.live.pattern_places(c.len());
         let straight = |a: u32, b: u32| (places[a as usize] - places[b as usize]).length();
@@ -598,7 +592,8 @@ mod tests {
         // Stretched 4% along the warp, then a few coarse passes: each link's ends as far
         // apart as they are, over their straight rest distance.
         let over = |sewing: bool| {
-            let (mut c, warp, weft) = meshed();
+            let mut c = meshed();
+            let (warp, weft) = threads(&c);
             deform(&mut c, |u, v| warp * u * 1.04 + weft * v);
             for _ in 0..PASSES {
                 let mut scratch = CoarseScratch::default();
