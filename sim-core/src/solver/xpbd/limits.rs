@@ -275,11 +275,12 @@ impl StretchLimits {
                     && !affected[a as usize]
                     && !affected[b as usize]
             };
-            let kept: Vec<bool> = lv.links.iter().map(keep).collect();
-            let mut k = kept.iter();
-            lv.loose.retain(|_| k.next().copied().unwrap_or(false));
-            let mut k = kept.iter();
-            lv.links.retain(|_| k.next().copied().unwrap_or(false));
+            let mut i = 0;
+            lv.loose.retain(|_| {
+                i += 1;
+                keep(&lv.links[i - 1])
+            });
+            lv.links.retain(keep);
             for &a in &redo {
                 search.run(&g, a, r, |b, d| {
                     let found_twice = affected[b as usize] && b < a;
