@@ -169,17 +169,17 @@ impl Blend {
         }));
     }
 
-    /// One pass over the level's links on its nodes, each as long as its rest (or, when
-    /// `loose`, its rest path through the edges) times `scale`; then every vertex that
-    /// moves (`w` > 0) takes the blend of the moved nodes' corrections. `node_w` from
-    /// `node_weights`; `q` is scratch.
+    /// One pass over the level's links on its nodes, each as long as its rest, or `loose`
+    /// (0 to 1) of the way from it to its rest path through the edges, times `scale`;
+    /// then every vertex that moves (`w` > 0) takes the blend of the moved nodes'
+    /// corrections. `node_w` from `node_weights`; `q` is scratch.
     pub(super) fn solve(
         &self,
         scale: f32,
         x: &mut [Vec3],
         w: &[f32],
         node_w: &[f32],
-        loose: bool,
+        loose: f32,
         q: &mut Vec<Vec3>,
     ) {
         let n = x.len().min(w.len()).min(self.inv_sum.len());
@@ -191,7 +191,7 @@ impl Blend {
         let mut moved = false;
         for (&(a, b, rest), &path) in self.links.iter().zip(&self.loose) {
             let (a, b) = (a as usize, b as usize);
-            let max = if loose { path } else { rest } * scale;
+            let max = (rest + (path - rest) * loose) * scale;
             let (pa, pb) = (self.nodes[a] as usize, self.nodes[b] as usize);
             if pa >= n || pb >= n {
                 continue;

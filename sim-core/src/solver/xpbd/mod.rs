@@ -17,7 +17,7 @@
 //! membranes.
 //!
 //! Inside: `coloring` and `simd` <- `groups` (the packed constraint groups) and `limits`
-//! (stretch limits) <- `tethers`, `strain_limit` (the optional hard limit per triangle)
+//! (stretch limits) <- `tethers`, `sewing` (whether a seam still closes), `strain_limit` (the optional hard limit per triangle)
 //! and `settle` (an edit's stretch taken up without becoming speed) <- `step` (the
 //! solver's state and its frame) <- `edit` (keeping it in step with an edited cloth, and
 //! `rebuild` after a material change) <- `solver` (the `Solver` trait's methods).
@@ -31,6 +31,7 @@ mod guard;
 mod guard_pass;
 mod limits;
 mod settle;
+mod sewing;
 mod simd;
 mod solver;
 mod step;

@@ -8,6 +8,7 @@ use super::groups::{Compliance, Group, Loc, solve_bending, solve_membranes, spli
 use super::guard::Guard;
 use super::limits::{CoarseScratch, StretchLimits};
 use super::settle::Settle;
+use super::sewing::SewingWatch;
 use super::strain_limit::{credit_moves, limit_membranes};
 use super::tethers::{solve_tethers, stretch_limits, tethers};
 use crate::collision::contact::StaticFriction;
@@ -91,6 +92,8 @@ pub struct Xpbd {
     pub(super) guard: Option<Guard>,
     /// Frames after an edit whose stretch is taken up without becoming speed.
     pub(super) settle: Settle,
+    /// Whether the seams' stitches still draw their pairs together (`sewing`).
+    sewing: SewingWatch,
 }
 
 impl Xpbd {
@@ -164,6 +167,7 @@ impl Xpbd {
             built: cloth.len(),
             guard: None,
             settle: Settle::default(),
+            sewing: SewingWatch::default(),
         }
     }
 
@@ -333,9 +337,9 @@ impl Xpbd {
         );
         let mut coarse = std::mem::take(&mut self.coarse);
         // While a seam is being sewn its stitches pull the cloth across, and the links take
-        // their loose lengths (`limits`).
-        let sewing = !drive.stitches.is_empty();
-        (self.limits).node_weights(&self.link_w, sewing, &mut coarse);
+        // their loose lengths (`limits`); not once every open pair has stopped closing.
+        let loose = self.sewing.looseness(drive.stitches, &cloth.x);
+        (self.limits).node_weights(&self.link_w, loose, &mut coarse);
         let searches = self
             .guard
             .as_ref()
