@@ -17,10 +17,11 @@
 //! membranes.
 //!
 //! Inside: `coloring` and `simd` <- `groups` (the packed constraint groups) and `limits`
-//! (stretch limits) <- `tethers`, `sewing` (whether a seam still closes), `strain_limit` (the optional hard limit per triangle)
-//! and `settle` (an edit's stretch taken up without becoming speed) <- `step` (the
-//! solver's state and its frame) <- `edit` (keeping it in step with an edited cloth, and
-//! `rebuild` after a material change) <- `solver` (the `Solver` trait's methods).
+//! (stretch limits) <- `tethers`, `sewing` (whether a seam still closes), `strain_limit`
+//! (the optional hard limit per triangle) and `settle` (an edit's stretch taken up
+//! without becoming speed) <- `step` (the solver's state and its frame) <- `edit`
+//! (keeping it in step with an edited cloth, and `rebuild` after a material change) <-
+//! `solver` (the `Solver` trait's methods).
 
 mod coarse;
 mod coloring;

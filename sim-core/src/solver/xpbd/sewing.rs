@@ -39,6 +39,8 @@ pub(super) const TIGHTEN_FRAMES: u32 = 60;
 #[derive(Clone, Debug, Default)]
 pub(super) struct SewingWatch {
     least: HashMap<(u32, u32), f32>,
+    /// Scratch for the next frame's `least` (kept, so a frame allocates nothing).
+    next: HashMap<(u32, u32), f32>,
     /// Frames since the last progress; `STALL_FRAMES` or more: stalled.
     quiet: u32,
 }
@@ -64,7 +66,8 @@ impl SewingWatch {
             return false;
         }
         let mut progress = false;
-        let mut next = HashMap::with_capacity_and_hasher(stitches.len(), Default::default());
+        let next = &mut self.next;
+        next.clear();
         for s in stitches {
             let (Some(a), Some(b)) = (x.get(s.a as usize), x.get(s.b as usize)) else {
                 continue;
@@ -82,7 +85,7 @@ impl SewingWatch {
         }
         // Every pair was known: the same set unless a known one went (welded).
         progress |= next.len() != self.least.len();
-        self.least = next;
+        std::mem::swap(&mut self.least, &mut self.next);
         self.quiet = if progress {
             0
         } else {
