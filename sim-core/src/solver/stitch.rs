@@ -3,6 +3,7 @@
 //! unbounded sewing forces do). The design decides which pairs are stitched (its seams).
 
 use glam::Vec3;
+use rustc_hash::FxHashMap as HashMap;
 
 /// Stiffness of a seam stitch, N/m (its force is also capped per seam).
 pub const STITCH_STIFFNESS: f32 = 100.0;
@@ -37,6 +38,65 @@ pub fn stitch(x: &mut [Vec3], w: &[f32], s: &Stitch, inv_h2: f32) {
     let n = d / len;
     x[a] += n * (wa * dl);
     x[b] -= n * (wb * dl);
+}
+
+/// How much nearer than its least distance so far a stitched pair must come to count as
+/// closing (m).
+pub const CLOSING_STEP: f32 = 1e-3;
+
+/// Whether stitched pairs are still closing: each open pair's least distance so far, and
+/// the frames since some pair last came [`CLOSING_STEP`] nearer than that or the set of
+/// open pairs changed (a weld, a new seam, an edit). Least distances only fall, by at
+/// least a step each time, so a pair can count as closing only finitely often: whatever
+/// a watcher does once the pairs stall cannot set it swinging. The xpbd model's links
+/// (`xpbd::sewing`) and the design (`design::stalls`, to tell the designer) each keep one.
+#[derive(Clone, Debug, Default)]
+pub struct ClosingWatch {
+    least: HashMap<(u32, u32), f32>,
+    /// Scratch for the next frame's `least` (kept, so a frame allocates nothing).
+    next: HashMap<(u32, u32), f32>,
+    quiet: u32,
+}
+
+impl ClosingWatch {
+    /// Looks at this frame's open `pairs` at `x` and returns the frames since one last
+    /// closed: 0 when one came nearer (or a pair was new, or one went). With no pairs,
+    /// forgets them all (0).
+    pub fn observe(&mut self, pairs: impl Iterator<Item = (u32, u32)>, x: &[Vec3]) -> u32 {
+        let mut progress = false;
+        let next = &mut self.next;
+        next.clear();
+        for (a, b) in pairs {
+            let (Some(pa), Some(pb)) = (x.get(a as usize), x.get(b as usize)) else {
+                continue;
+            };
+            let d = pa.distance(*pb);
+            let least = match self.least.get(&(a, b)) {
+                Some(&l) if d > l - CLOSING_STEP => l,
+                // Nearer, or a pair not seen before.
+                _ => {
+                    progress = true;
+                    d
+                }
+            };
+            next.insert((a, b), least);
+        }
+        // Every pair was known: the same set unless a known one went (welded).
+        progress |= next.len() != self.least.len();
+        std::mem::swap(&mut self.least, &mut self.next);
+        self.quiet = if progress || self.least.is_empty() {
+            0
+        } else {
+            self.quiet.saturating_add(1)
+        };
+        self.quiet
+    }
+
+    /// Forgets every pair: the next frame starts the count afresh.
+    pub fn reset(&mut self) {
+        self.least.clear();
+        self.quiet = 0;
+    }
 }
 
 /// Stiffness of a hold, N/m per held vertex (its force is also capped).

@@ -7,25 +7,21 @@
 //! weld there would cross) kept every link of the garment loose for as long as it stayed
 //! open, that is for good: the 2 x 8k dress's threads hung 8.6% longer than cut, where
 //! a sewn dress's hang 1.5%. So a seam counts as sewn only while some pair is still
-//! closing: within the last [`STALL_FRAMES`] frames a pair came [`PROGRESS`] nearer than
+//! closing: within the last [`STALL_FRAMES`] frames a pair came a millimetre nearer than
 //! it had ever been, or the set of open pairs changed (a weld, a new seam, an edit). When
 //! no pair has closed further for that long, the links go back to their
 //! straight distances over [`TIGHTEN_FRAMES`] (all at once, the garment shrank by the
 //! paths' few per cent in a frame and had to come to rest again), while the stitches
-//! keep pulling. A pair closing again loosens them at once (loosening adds no motion).
+//! keep pulling (and the designer is told, `design::stalls`). A pair closing again
+//! loosens them at once (loosening adds no motion).
 //!
-//! The least distances only fall, by at least `PROGRESS` each time, so a pair can wake
-//! the links only finitely often: tightened links that draw a stalled pair nearer do not
-//! set them swinging between the two lengths.
+//! The least distances only fall, by at least a millimetre each time (`ClosingWatch`),
+//! so a pair can wake the links only finitely often: tightened links that draw a stalled
+//! pair nearer do not set them swinging between the two lengths.
 
 use glam::Vec3;
-use rustc_hash::FxHashMap as HashMap;
 
-use crate::solver::stitch::Stitch;
-
-/// How much nearer than its least distance so far a pair must come to count as closing
-/// (m).
-pub(super) const PROGRESS: f32 = 1e-3;
+use crate::solver::stitch::{ClosingWatch, Stitch};
 
 /// Frames without a pair closing after which a seam is no longer being sewn: one second
 /// at 60 Hz.
@@ -35,14 +31,10 @@ pub(super) const STALL_FRAMES: u32 = 60;
 /// stall: one second at 60 Hz.
 pub(super) const TIGHTEN_FRAMES: u32 = 60;
 
-/// Each open pair's least distance, and the frames since a pair last came nearer.
+/// Whether the open stitches still close (`ClosingWatch`).
 #[derive(Clone, Debug, Default)]
 pub(super) struct SewingWatch {
-    least: HashMap<(u32, u32), f32>,
-    /// Scratch for the next frame's `least` (kept, so a frame allocates nothing).
-    next: HashMap<(u32, u32), f32>,
-    /// Frames since the last progress; `STALL_FRAMES` or more: stalled.
-    quiet: u32,
+    closing: ClosingWatch,
 }
 
 impl SewingWatch {
@@ -50,48 +42,13 @@ impl SewingWatch {
     /// links are to be: 1 while the seams are being sewn, then down to 0 over
     /// `TIGHTEN_FRAMES` once no pair closes; 0 with no stitches.
     pub(super) fn looseness(&mut self, stitches: &[Stitch], x: &[Vec3]) -> f32 {
-        if !self.sewing(stitches, x) {
+        if stitches.is_empty() {
+            self.closing.reset();
             return 0.0;
         }
-        let tightening = self.quiet.saturating_sub(STALL_FRAMES);
+        let quiet = self.closing.observe(stitches.iter().map(|s| (s.a, s.b)), x);
+        let tightening = quiet.saturating_sub(STALL_FRAMES);
         1.0 - (tightening as f32 / TIGHTEN_FRAMES as f32).min(1.0)
-    }
-
-    /// Whether the seams have stitches, noting which pairs came nearer (`quiet`: frames
-    /// since any did).
-    fn sewing(&mut self, stitches: &[Stitch], x: &[Vec3]) -> bool {
-        if stitches.is_empty() {
-            self.least.clear();
-            self.quiet = 0;
-            return false;
-        }
-        let mut progress = false;
-        let next = &mut self.next;
-        next.clear();
-        for s in stitches {
-            let (Some(a), Some(b)) = (x.get(s.a as usize), x.get(s.b as usize)) else {
-                continue;
-            };
-            let d = a.distance(*b);
-            let least = match self.least.get(&(s.a, s.b)) {
-                Some(&l) if d > l - PROGRESS => l,
-                // Nearer, or a pair not seen before.
-                _ => {
-                    progress = true;
-                    d
-                }
-            };
-            next.insert((s.a, s.b), least);
-        }
-        // Every pair was known: the same set unless a known one went (welded).
-        progress |= next.len() != self.least.len();
-        std::mem::swap(&mut self.least, &mut self.next);
-        self.quiet = if progress {
-            0
-        } else {
-            self.quiet.saturating_add(1)
-        };
-        true
     }
 }
 
