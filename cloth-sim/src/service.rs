@@ -520,6 +520,7 @@ impl Service<'_> {
         self.design.sim.sleep = self.cfg.sleep.then(SleepRule::default);
         let pinching = self.design.sim.pinch().is_some();
         let frame = self.design.sim.frame;
+        let told = self.design.sim.notices.len();
         let (feed, cfg, seq) = (&mut self.feed, self.cfg, &mut self.seq_model);
         let spring = (cfg.pinch_stiffness, self.workspace);
         let mut out = ModelOut {
@@ -547,6 +548,10 @@ impl Service<'_> {
                 Some(input)
             })
             .map_err(|e| format!("the simulation failed: {e}"))?;
+        // What the frame found to tell (pairs that stopped closing, `design::stalls`).
+        for n in self.design.sim.notices.get(told..).unwrap_or_default() {
+            log(&format!("note: {n}"));
+        }
         Ok(fs)
     }
     /// Counts the frame, and sends the telemetry once a second.

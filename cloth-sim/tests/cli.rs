@@ -888,6 +888,7 @@ fn dress_mannequin_sews_two_panels_round_the_torso_without_crossing() {
     assert_eq!(open.len() as u64, pairs - welded, "{r}");
     for o in open {
         assert!(o["gap_m"].as_f64().unwrap() > 0.0, "{o}");
+        assert!(o["stalled"].is_boolean(), "{o}");
         assert!(
             ["A", "B", "C", "D"].contains(&o["seam"].as_str().unwrap()),
             "{o}"

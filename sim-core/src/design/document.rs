@@ -52,6 +52,8 @@ pub struct Design {
     /// ([`Design::hold_while_draping`]).
     pub(super) holds: Vec<crate::solver::Hold>,
     pub(super) hold_frames: u32,
+    /// Whether the open stitched pairs still close (`stalls`).
+    pub(super) stalls: super::stalls::Stalls,
 }
 
 impl Design {
@@ -76,6 +78,7 @@ impl Design {
             afloat: 0,
             holds: Vec::new(),
             hold_frames: 0,
+            stalls: Default::default(),
         }
     }
 

@@ -75,6 +75,7 @@ impl Design {
         let t0 = Instant::now();
         self.sim.stitches.clear();
         self.sim.stitches.extend(open_stitches(&self.seams));
+        self.watch_stalls();
         // With tearing on, the strain limit lets every side stretch past the tear
         // threshold (a quarter beyond it: a side no longer than the limit never passes
         // it): held under 1.2x, a cloth pulled by the pen followed it and never tore.

@@ -10,7 +10,8 @@
 //!
 //! Inside, bottom up: `error`, `texture`, `parts` (seams, tearing settings) <- `prim`
 //! <- `history` <- `document` (the `Design`) <- `transaction` <- the operations (`cut`,
-//! `tear`, `sew`, `seam`, `paint`, `pin`, `pinch`, `pattern`) <- `frame`; `export`,
+//! `tear`, `sew`, `seam`, `paint`, `pin`, `pinch`, `pattern`) <- `stalls` (open pairs
+//! that stopped closing, told) <- `frame`; `export`,
 //! `sewing_pattern` (the pieces' outlines as SVG and AAMA DXF) and `file` read a design;
 //! `pieces` (named pieces and the list of the cloth's parts), `fabrics` (each piece's
 //! fabric handed to the solver as a material zone) and `garment` (a pattern's pieces
@@ -40,6 +41,7 @@ mod seam;
 mod seam_lengths;
 mod sew;
 pub mod sewing_pattern;
+mod stalls;
 mod stroke;
 mod tear;
 mod texture;
@@ -58,6 +60,7 @@ pub use piece_list::PieceInfo;
 pub use pieces::{MAX_NAME, PieceRecord};
 pub use prim::{Between, Edit, MergeAt, Prim};
 pub use seam::SEAM_MISMATCH;
+pub use stalls::STALL_TOLD_AFTER;
 pub use texture::{PaintPatch, TILE, Texture};
 
 /// A design of `mesh` under `model` with no gravity and no floor: the cloth stays where

@@ -283,6 +283,8 @@ impl Design {
     }
 
     fn sync(&mut self, touched: &mut Touched) {
+        // The cloth changed: stalled pairs may close now (`stalls`).
+        self.stalls.reset();
         if touched.pieces {
             // Each piece's fabric first: the masses and elements below are its.
             let said = match self.apply_fabrics() {

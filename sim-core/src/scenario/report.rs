@@ -31,14 +31,16 @@ impl Percentiles {
 }
 
 /// A stitched pair left open: its seam's label (the letter the pattern marks it by), its
-/// place in the seam (0 at the seam's start), the gap between its two ends (m) and where
-/// its first end lies (m).
+/// place in the seam (0 at the seam's start), the gap between its two ends (m), where
+/// its first end lies (m), and whether the open pairs had stopped closing (none a
+/// millimetre nearer for `STALL_TOLD_AFTER` frames; `design::stalls`).
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct OpenPair {
     pub seam: String,
     pub pair: usize,
     pub gap_m: f32,
     pub at: [f32; 3],
+    pub stalled: bool,
 }
 
 /// The operation scenarios' part of the report.

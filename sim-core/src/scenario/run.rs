@@ -116,7 +116,12 @@ fn run_frames(
             let t = (f - f0) as f32 * cfg.frame_dt;
             design.pinch_move(scripts::tear_target(start, centre, t));
         }
+        let told = design.sim.notices.len();
         let stats = design.step()?;
+        // What the frame found to tell (pairs that stopped closing), said as it happens.
+        for n in design.sim.notices.get(told..).unwrap_or_default() {
+            eprintln!("note: {n}");
+        }
         release.after_frame(design, f + 1);
         if stats.torn > 0 && ops.first_tear_frame.is_none() && pull.is_some() {
             ops.first_tear_frame = Some(design.sim.frame);
@@ -236,6 +241,7 @@ fn open_pairs(design: &Design) -> Vec<super::report::OpenPair> {
                     pair: k,
                     gap_m: (xa - xb).length(),
                     at: xa.to_array(),
+                    stalled: design.stitches_stalled(),
                 });
             }
         }
