@@ -18,6 +18,13 @@ pub const STRAY_MAX: f32 = 0.02;
 /// Held vertices may stray this far from the pen's predicted path, m.
 pub const STRAY_HELD: f32 = 0.02;
 
+/// As many fast vertices as this, and no more, still take one search a frame
+/// ([`Motion::searches`]). The 2 x 8k dress, at rest but for a few hundred vertices
+/// swinging at the shoulders (up to 0.3 m/s, the constraint pass and the strain limit at
+/// odds there each substep), searched once a substep in most frames, each search an
+/// update over its 150,000-400,000 pairs (docs/performance.md).
+pub const FEW_FAST: usize = 64;
+
 #[derive(Clone, Debug, Default)]
 pub struct Motion {
     /// How far each vertex may stray from its predicted path, m.
@@ -39,12 +46,13 @@ impl Motion {
         self.held.resize(n, u32::MAX);
     }
 
-    /// Searches a frame takes: one, or one per substep when some free vertex is about to
-    /// move more than half a mean edge. The motion boxes of a fast cloth are long, the
-    /// boxes of neighbours in the pattern then overlap along the way, and each such pair
-    /// becomes a no-crossing bound the guard must keep (a 128 x 128 cloth landing on the
-    /// mannequin listed a million pairs a frame with one search, a tenth of that with one
-    /// per substep); a cloth at rest needs only one.
+    /// Searches a frame takes: one, or one per substep when more than [`FEW_FAST`] free
+    /// vertices are about to move more than half a mean edge. The motion boxes of a fast
+    /// cloth are long, the boxes of neighbours in the pattern then overlap along the way,
+    /// and each such pair becomes a no-crossing bound the guard must keep (a 128 x 128
+    /// cloth landing on the mannequin listed a million pairs a frame with one search, a
+    /// tenth of that with one per substep); a cloth at rest needs only one, and so does
+    /// one where a few vertices swing: their frame-long boxes add few pairs.
     pub fn searches(
         cloth: &Cloth,
         free: &[bool],
@@ -54,11 +62,14 @@ impl Motion {
     ) -> usize {
         let t = env.frame_dt;
         let far = (0.5 * mean_edge).max(1e-4);
-        let fast = (0..cloth.len()).any(|i| {
-            free.get(i) == Some(&true)
-                && (cloth.v[i] * t + env.gravity * (0.5 * t * t)).length() > far
-        });
-        if fast { substeps.max(1) } else { 1 }
+        let fast = (0..cloth.len())
+            .filter(|&i| {
+                free.get(i) == Some(&true)
+                    && (cloth.v[i] * t + env.gravity * (0.5 * t * t)).length() > far
+            })
+            .take(FEW_FAST + 1)
+            .count();
+        if fast > FEW_FAST { substeps.max(1) } else { 1 }
     }
 
     /// The motion boxes for the next `t` seconds into `boxes` (one per vertex; a vertex
