@@ -18,8 +18,9 @@ pub const STRAY_MAX: f32 = 0.02;
 /// Held vertices may stray this far from the pen's predicted path, m.
 pub const STRAY_HELD: f32 = 0.02;
 
-/// As many fast vertices as this, and no more, still take one search a frame
-/// ([`Motion::searches`]). The 2 x 8k dress, at rest but for a few hundred vertices
+/// Under the xpbd model's guard, as many fast vertices as this, and no more, still take
+/// one search a frame ([`Motion::searches`]; vbd searches once a substep as soon as one
+/// vertex is fast, its rule unmeasured against this one). The 2 x 8k dress, at rest but for a few hundred vertices
 /// swinging at the shoulders (up to 0.3 m/s, the constraint pass and the strain limit at
 /// odds there each substep), searched once a substep in most frames, each search an
 /// update over its 150,000-400,000 pairs (docs/performance.md).
@@ -46,8 +47,8 @@ impl Motion {
         self.held.resize(n, u32::MAX);
     }
 
-    /// Searches a frame takes: one, or one per substep when more than [`FEW_FAST`] free
-    /// vertices are about to move more than half a mean edge. The motion boxes of a fast
+    /// Searches a frame takes: one, or one per substep when more than `few` free vertices
+    /// (xpbd's guard: [`FEW_FAST`]) are about to move more than half a mean edge. The motion boxes of a fast
     /// cloth are long, the boxes of neighbours in the pattern then overlap along the way,
     /// and each such pair becomes a no-crossing bound the guard must keep (a 128 x 128
     /// cloth landing on the mannequin listed a million pairs a frame with one search, a
@@ -59,6 +60,7 @@ impl Motion {
         mean_edge: f32,
         env: &Environment,
         substeps: usize,
+        few: usize,
     ) -> usize {
         let t = env.frame_dt;
         let far = (0.5 * mean_edge).max(1e-4);
@@ -67,9 +69,9 @@ impl Motion {
                 free.get(i) == Some(&true)
                     && (cloth.v[i] * t + env.gravity * (0.5 * t * t)).length() > far
             })
-            .take(FEW_FAST + 1)
+            .take(few + 1)
             .count();
-        if fast > FEW_FAST { substeps.max(1) } else { 1 }
+        if fast > few { substeps.max(1) } else { 1 }
     }
 
     /// The motion boxes for the next `t` seconds into `boxes` (one per vertex; a vertex

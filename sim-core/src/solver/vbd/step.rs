@@ -239,7 +239,7 @@ impl Vbd {
 
     /// How many searches this frame takes ([`Motion::searches`]).
     pub(super) fn search_groups(&self, cloth: &Cloth, env: &Environment, substeps: usize) -> usize {
-        Motion::searches(cloth, &self.free, self.mean_edge, env, substeps)
+        Motion::searches(cloth, &self.free, self.mean_edge, env, substeps, 0)
     }
 
     /// The proximity search for the next `span` seconds: motion boxes, then pairs.

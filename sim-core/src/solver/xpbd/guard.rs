@@ -21,7 +21,7 @@ use crate::collision::proximity::{
 };
 use crate::mesh::{edge_ends, edge_key};
 use crate::solver::model::{ContactStats, Drive, Environment};
-use crate::solver::motion::Motion;
+use crate::solver::motion::{FEW_FAST, Motion};
 use crate::solver::state::Cloth;
 
 /// The least separation every pair keeps, m.
@@ -224,7 +224,7 @@ impl Guard {
 
     /// Searches this frame takes ([`Motion::searches`]).
     pub fn searches(&self, cloth: &Cloth, env: &Environment, substeps: usize) -> usize {
-        Motion::searches(cloth, &self.free, self.mean_edge, env, substeps)
+        Motion::searches(cloth, &self.free, self.mean_edge, env, substeps, FEW_FAST)
     }
 
     /// The pairs for the next `span` seconds: motion boxes, then a search (or an update
@@ -551,5 +551,30 @@ impl Guard {
         self.stats.skipped += c.skipped;
         self.stats.projected += c.projected;
         self.stats.shortened += c.shortened;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::ClothMesh;
+    use crate::solver::Material;
+
+    /// The guard searches once a frame while at most `FEW_FAST` vertices are fast, once a
+    /// substep past that; vbd's rule (one fast vertex is enough) is its own test.
+    #[test]
+    fn a_few_fast_vertices_take_one_search_a_frame_and_more_one_a_substep() {
+        let mesh = ClothMesh::grid(0.5, 0.5, 16, 16, 1.0).expect("grid");
+        let mut cloth = Cloth::new(mesh, &Material::default()).expect("cloth");
+        let guard = Guard::new(&cloth);
+        let env = Environment::default();
+        assert_eq!(guard.searches(&cloth, &env, 5), 1, "at rest");
+        // 1 m/s: 1.7 cm in a frame, more than half of a 3.1 cm edge.
+        for i in 0..FEW_FAST {
+            cloth.v[i] = Vec3::new(0.0, -1.0, 0.0);
+        }
+        assert_eq!(guard.searches(&cloth, &env, 5), 1, "{FEW_FAST} fast");
+        cloth.v[FEW_FAST] = Vec3::new(0.0, -1.0, 0.0);
+        assert_eq!(guard.searches(&cloth, &env, 5), 5, "one more");
     }
 }
