@@ -53,7 +53,7 @@ pub struct Design {
     pub(super) holds: Vec<crate::solver::Hold>,
     pub(super) hold_frames: u32,
     /// Whether the open stitched pairs still close (`stalls`).
-    pub(super) stalls: super::stalls::Stalls,
+    pub(super) stalls: super::parts::Stalls,
 }
 
 impl Design {

@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use crate::solver::Stitch;
+use crate::solver::{ClosingWatch, Stitch};
 
 #[derive(Clone, Debug, PartialEq)]
 pub struct Seam {
@@ -74,5 +74,24 @@ impl Default for TearSettings {
             mode: TearMode::Delete,
             max_per_frame: 16,
         }
+    }
+}
+
+/// The design's watch over its open stitched pairs (`stalls`).
+#[derive(Clone, Debug, Default)]
+pub(super) struct Stalls {
+    pub(super) closing: ClosingWatch,
+    /// Frames since an open pair last closed.
+    pub(super) quiet: u32,
+    /// The designer has been told of these stalled pairs.
+    pub(super) told: bool,
+}
+
+impl Stalls {
+    /// Forgets what it saw: the pairs are watched afresh.
+    pub(super) fn reset(&mut self) {
+        self.closing.reset();
+        self.quiet = 0;
+        self.told = false;
     }
 }

@@ -18,30 +18,10 @@
 
 use super::document::Design;
 use super::sewing_pattern::seam_label;
-use crate::solver::ClosingWatch;
 
 /// Frames without a pair closing after which the open pairs count as stalled: three
 /// seconds at 60 Hz (the xpbd links tighten over the first two, `xpbd::sewing`).
 pub const STALL_TOLD_AFTER: u32 = 180;
-
-/// The design's watch over its open stitched pairs.
-#[derive(Clone, Debug, Default)]
-pub(super) struct Stalls {
-    closing: ClosingWatch,
-    /// Frames since an open pair last closed.
-    quiet: u32,
-    /// The designer has been told of these stalled pairs.
-    told: bool,
-}
-
-impl Stalls {
-    /// Forgets what it saw: the pairs are watched afresh.
-    pub(super) fn reset(&mut self) {
-        self.closing.reset();
-        self.quiet = 0;
-        self.told = false;
-    }
-}
 
 impl Design {
     /// Watches the open pairs for a frame, and tells the designer once when they have
