@@ -529,6 +529,43 @@ mod tests {
         assert!(c.x[right].x < before[right].x - 0.01, "not pulled in");
     }
 
+    /// A hole cut in a meshed piece (every triangle round the 30 vertices nearest its
+    /// middle): the update gives the links a relink of every node gives, and undo gives
+    /// the links back.
+    #[test]
+    fn a_hole_in_a_meshed_piece_relinks_as_a_relink_of_every_node() {
+        let mut c = meshed();
+        let mut limits = StretchLimits::build(&c, 0.0);
+        let original = sorted(&limits);
+        let centre = c.x.iter().copied().sum::<Vec3>() / c.len() as f32;
+        let mut middle: Vec<u32> = (0..c.len() as u32).collect();
+        let off = |v: u32| c.x[v as usize].distance(centre);
+        middle.sort_by(|&a, &b| off(a).total_cmp(&off(b)));
+        let hole: Vec<(u32, Tri)> = c
+            .live
+            .iter()
+            .filter(|(_, t)| t.v.iter().any(|v| middle[..30].contains(v)))
+            .map(|(slot, t)| (slot, *t))
+            .collect();
+        let mut touched: Vec<u32> = hole.iter().flat_map(|(_, t)| t.v).collect();
+        touched.sort_unstable();
+        touched.dedup();
+        for (slot, _) in &hole {
+            c.live.set(*slot, None).unwrap();
+        }
+        limits.update(&c, &touched);
+        let mut all = limits.clone();
+        let every: Vec<u32> = (0..c.len() as u32).collect();
+        all.update(&c, &every);
+        assert_same(&limits, &sorted(&all));
+        assert_ne!(sorted(&limits), original, "the hole changed no link");
+        for (slot, t) in &hole {
+            c.live.set(*slot, Some(*t)).unwrap();
+        }
+        limits.update(&c, &touched);
+        assert_same(&limits, &original);
+    }
+
     /// A 0.6 m square meshed with triangles that point every way (the mesher's, 3 cm),
     /// flat at rest.
     fn meshed() -> Cloth {
