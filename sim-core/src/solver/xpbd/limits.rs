@@ -451,6 +451,22 @@ mod tests {
         assert!(!differ, "{} links, {} expected", got.len(), want.len());
     }
 
+    /// Takes out of `c` every triangle with a corner for which `out` holds: the triangles
+    /// taken (slot, triangle) and their corners, sorted, once each.
+    fn cut_out(c: &mut Cloth, out: impl Fn(u32) -> bool) -> (Vec<(u32, Tri)>, Vec<u32>) {
+        let cut: Vec<(u32, Tri)> = (c.live.iter())
+            .filter(|(_, t)| t.v.iter().any(|&v| out(v)))
+            .map(|(slot, t)| (slot, *t))
+            .collect();
+        let mut touched: Vec<u32> = cut.iter().flat_map(|(_, t)| t.v).collect();
+        touched.sort_unstable();
+        touched.dedup();
+        for (slot, _) in &cut {
+            c.live.set(*slot, None).unwrap();
+        }
+        (cut, touched)
+    }
+
     #[test]
     fn a_cut_frees_what_it_separates_and_undo_brings_it_back() {
         let n = 24;
@@ -462,18 +478,7 @@ mod tests {
         // Cut the cloth in two along the middle column of vertices.
         let mid = (n / 2) as u32;
         let on_cut = |v: u32| v % (n as u32 + 1) == mid;
-        let cut: Vec<(u32, Tri)> = c
-            .live
-            .iter()
-            .filter(|(_, t)| t.v.iter().any(|&v| on_cut(v)))
-            .map(|(slot, t)| (slot, *t))
-            .collect();
-        let mut touched: Vec<u32> = cut.iter().flat_map(|(_, t)| t.v).collect();
-        touched.sort_unstable();
-        touched.dedup();
-        for (slot, _) in &cut {
-            c.live.set(*slot, None).unwrap();
-        }
+        let (cut, touched) = cut_out(&mut c, on_cut);
         limits.update(&c, &touched);
         let side = |v: u32| v % (n as u32 + 1) < mid;
         assert!(!limits.is_empty());
@@ -541,18 +546,7 @@ mod tests {
         let mut middle: Vec<u32> = (0..c.len() as u32).collect();
         let off = |v: u32| c.x[v as usize].distance(centre);
         middle.sort_by(|&a, &b| off(a).total_cmp(&off(b)));
-        let hole: Vec<(u32, Tri)> = c
-            .live
-            .iter()
-            .filter(|(_, t)| t.v.iter().any(|v| middle[..30].contains(v)))
-            .map(|(slot, t)| (slot, *t))
-            .collect();
-        let mut touched: Vec<u32> = hole.iter().flat_map(|(_, t)| t.v).collect();
-        touched.sort_unstable();
-        touched.dedup();
-        for (slot, _) in &hole {
-            c.live.set(*slot, None).unwrap();
-        }
+        let (hole, touched) = cut_out(&mut c, |v| middle[..30].contains(&v));
         limits.update(&c, &touched);
         let mut all = limits.clone();
         let every: Vec<u32> = (0..c.len() as u32).collect();
