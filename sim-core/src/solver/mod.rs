@@ -35,7 +35,7 @@ pub use sim::{
     XPBD_DEFAULT_SUBSTEPS,
 };
 pub use state::Cloth;
-pub use stitch::{CLOSING_STEP, ClosingWatch, HOLD_STIFFNESS, Hold, STITCH_STIFFNESS, Stitch};
+pub use stitch::{ClosingWatch, HOLD_STIFFNESS, Hold, STITCH_STIFFNESS, Stitch};
 pub use stretch::{ThreadStretch, thread_stretch};
 pub use vbd::{CONTACT_STIFFNESS, DEFAULT_ITERATIONS, Vbd};
 pub use xpbd::Xpbd;

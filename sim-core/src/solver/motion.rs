@@ -20,8 +20,8 @@ pub const STRAY_HELD: f32 = 0.02;
 
 /// Under the xpbd model's guard, as many fast vertices as this, and no more, still take
 /// one search a frame ([`Motion::searches`]; vbd searches once a substep as soon as one
-/// vertex is fast, its rule unmeasured against this one). The 2 x 8k dress, at rest but for a few hundred vertices
-/// swinging at the shoulders (up to 0.3 m/s, the constraint pass and the strain limit at
+/// vertex is fast, its rule unmeasured against this one). The 2 x 8k dress, at rest but
+/// for a few hundred vertices swinging at the shoulders (up to 0.3 m/s, the constraint pass and the strain limit at
 /// odds there each substep), searched once a substep in most frames, each search an
 /// update over its 150,000-400,000 pairs (docs/performance.md).
 pub const FEW_FAST: usize = 64;
@@ -48,12 +48,13 @@ impl Motion {
     }
 
     /// Searches a frame takes: one, or one per substep when more than `few` free vertices
-    /// (xpbd's guard: [`FEW_FAST`]) are about to move more than half a mean edge. The motion boxes of a fast
-    /// cloth are long, the boxes of neighbours in the pattern then overlap along the way,
-    /// and each such pair becomes a no-crossing bound the guard must keep (a 128 x 128
-    /// cloth landing on the mannequin listed a million pairs a frame with one search, a
-    /// tenth of that with one per substep); a cloth at rest needs only one, and so does
-    /// one where a few vertices swing: their frame-long boxes add few pairs.
+    /// (xpbd's guard: [`FEW_FAST`]) are about to move more than half a mean edge. The
+    /// motion boxes of a fast cloth are long, the boxes of neighbours in the pattern then
+    /// overlap along the way, and each such pair becomes a no-crossing bound the guard
+    /// must keep (a 128 x 128 cloth landing on the mannequin listed a million pairs a
+    /// frame with one search, a tenth of that with one per substep); a cloth at rest needs
+    /// only one, and so does one where a few vertices swing: their frame-long boxes add
+    /// few pairs.
     pub fn searches(
         cloth: &Cloth,
         free: &[bool],
