@@ -24,6 +24,13 @@ fn help_and_clear_errors() {
     assert!(!out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("no cloth-lab is running"), "{err}");
+    // The domain given before the subcommand names the same lab as one after it.
+    let out = Command::new(env!("CARGO_BIN_EXE_cloth-lab"))
+        .args(["--domain", &domain, "stop"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains(&format!("domain '{domain}'")), "{err}");
     let out = Command::new(env!("CARGO_BIN_EXE_cloth-lab"))
         .args(["--headless", "--scenario", "nope", "--out", "/tmp"])
         .output()

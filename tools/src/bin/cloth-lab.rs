@@ -559,11 +559,16 @@ fn run_headless(cli: &Cli) -> Result<(), String> {
 
 fn main() -> ExitCode {
     let cli: Cli = shared::cli::parse();
+    // `cloth-lab --domain D stop` and `cloth-lab stop --domain D` name the same lab.
+    fn of<'a>(d: &'a Option<String>, lab: &'a Option<String>) -> Option<&'a str> {
+        d.as_deref().or(lab.as_deref())
+    }
+    let lab = &cli.domain;
     let r = match &cli.command {
         Some(Cmd::Restart { role, domain }) => Role::parse(role)
-            .and_then(|r| control(&format!("restart {}", r.name()), domain.as_deref())),
-        Some(Cmd::Status { domain }) => control("status", domain.as_deref()),
-        Some(Cmd::Stop { domain }) => control("stop", domain.as_deref()),
+            .and_then(|r| control(&format!("restart {}", r.name()), of(domain, lab))),
+        Some(Cmd::Status { domain }) => control("status", of(domain, lab)),
+        Some(Cmd::Stop { domain }) => control("stop", of(domain, lab)),
         Some(Cmd::Soak(a)) => run_soak(a),
         None if cli.headless => run_headless(&cli),
         None if !have_display() && !cli.no_ui => {
