@@ -285,6 +285,7 @@ pub(crate) fn piece_list(design: &Design, seq: &mut u64) -> PieceList {
         let label_len = put_text(&mut label, &seam_label(i));
         let mut name = [0u8; shared::sim_to_ui::SEAM_NAME_LEN];
         let name_len = put_text(&mut name, &s.name);
+        let (stalled, lo, hi) = design.stalled_in(i).unwrap_or_default();
         *e = SeamEntry {
             label,
             label_len,
@@ -293,6 +294,8 @@ pub(crate) fn piece_list(design: &Design, seq: &mut u64) -> PieceList {
             lengths: [a, b],
             name_len,
             name,
+            stalled: stalled as u32,
+            stalled_gap: [lo, hi],
         };
     }
     // The pattern as the export makes it: each seam's sides and each piece's lines.
@@ -426,6 +429,42 @@ mod tests {
         }
         l.outline_count = l.outline_total + 1;
         assert!(shared::sim_to_ui::check_outline(&l).is_err());
+    }
+
+    /// A seam whose pairs stopped closing is listed so: a cloth hung from two corners
+    /// 0.5 m apart, stitched together, which can never close. Before the watch's three
+    /// seconds the list says nothing stalled; after them, both pairs and their gaps.
+    #[test]
+    fn the_list_marks_the_pairs_that_stopped_closing() {
+        use sim_core::design::{Design, STALL_TOLD_AFTER};
+        use sim_core::mesh::ClothMesh;
+        use sim_core::solver::{Cloth, Environment, Material, ModelKind, Simulation};
+        let n = 8u32;
+        let mesh = ClothMesh::grid(0.5, 0.5, n as usize, n as usize, 1.0).unwrap();
+        let m = Material::default();
+        let cloth = Cloth::new(mesh, &m).unwrap();
+        let env = Environment {
+            floor: None,
+            ..Environment::default()
+        };
+        let sim = Simulation::new(cloth, None, ModelKind::Xpbd, m, env, None).unwrap();
+        let mut d = Design::new(sim);
+        d.sim.pin(0);
+        d.sim.pin(n as usize);
+        d.add_seam(&[0, 1], &[n, n - 1], 0.5).unwrap();
+        let stalled = |d: &Design| {
+            let l = piece_list(d, &mut 0);
+            let s = shared::sim_to_ui::check_seams(&l).unwrap()[0];
+            (s.open, s.stalled, s.stalled_gap)
+        };
+        d.step().unwrap();
+        assert_eq!(stalled(&d), (2, 0, [0.0; 2]));
+        for _ in 0..STALL_TOLD_AFTER + 60 {
+            d.step().unwrap();
+        }
+        let (open, n, [lo, hi]) = stalled(&d);
+        assert_eq!((open, n), (2, 2));
+        assert!(0.0 < lo && lo <= hi && (hi - 0.5).abs() < 1e-3, "{lo} {hi}");
     }
 
     /// The local model carries the scene's workspace: on the mannequin it reaches the

@@ -47,7 +47,7 @@ struct Service<'a> {
     tool_sent: Option<ToolState>,
     /// The mesh version, piece and seam counts and open stitches the last piece list was
     /// sent for.
-    pieces_sent: Option<(u64, usize, usize, usize, u64)>,
+    pieces_sent: Option<(u64, usize, usize, usize, bool, u64)>,
     seq_pieces: u64,
     tile_cursor: usize,
     threads: usize,
@@ -433,8 +433,8 @@ impl Service<'_> {
         }
     }
 
-    /// The piece list, when the mesh, the pieces or their fabrics changed (the history
-    /// gives a late UI the last one).
+    /// The piece list, when the mesh, the pieces, their fabrics or the seams' open or
+    /// stalled pairs changed (the history gives a late UI the last one).
     fn publish_pieces(&mut self) {
         use std::hash::{Hash, Hasher};
         let d = &self.design;
@@ -450,6 +450,7 @@ impl Service<'_> {
                 .iter()
                 .map(|s| s.open_pairs().count())
                 .sum::<usize>(),
+            d.stitches_stalled(),
             fabrics.finish(),
         );
         let _ = self.ports.pieces.update_connections();

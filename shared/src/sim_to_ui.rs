@@ -300,6 +300,12 @@ pub struct SeamEntry {
     /// What the designer calls it (empty: nothing but its label).
     pub name_len: u32,
     pub name: [u8; SEAM_NAME_LEN],
+    /// Of the open pairs, those that stopped closing (since version 16): none has come a
+    /// millimetre nearer for three seconds; their stitches still pull.
+    pub stalled: u32,
+    /// The least and the most distance between a stalled pair's two vertices, m (0 when
+    /// none is stalled).
+    pub stalled_gap: [f32; 2],
 }
 
 /// Most seam segments a [`PieceList`] carries.
@@ -458,7 +464,9 @@ pub fn check_seams(l: &PieceList) -> Result<Vec<SeamEntry>, MessageError> {
     let seams = &l.seams[..n];
     if seams.iter().any(|s| {
         s.open > s.pairs
+            || s.stalled > s.open
             || !s.lengths.iter().all(|v| v.is_finite() && *v >= 0.0)
+            || !s.stalled_gap.iter().all(|v| v.is_finite() && *v >= 0.0)
             || s.label
                 .get(..s.label_len as usize)
                 .and_then(|t| std::str::from_utf8(t).ok())
@@ -642,5 +650,36 @@ mod tests {
         let mut bad = l;
         bad.segment_count = MAX_SEAM_SEGMENTS as u32 + 1;
         assert!(check_seam_segments(&bad).is_err());
+    }
+
+    /// A seam whose counts hold (stalled within open within pairs, gaps finite) passes;
+    /// more stalled than open pairs, or a gap that is not a distance, is refused.
+    #[test]
+    fn seams_are_checked() {
+        let mut l = PieceList {
+            seam_total: 1,
+            seam_count: 1,
+            ..PieceList::default()
+        };
+        l.seams[0] = SeamEntry {
+            label: *b"A\0\0\0",
+            label_len: 1,
+            pairs: 12,
+            open: 3,
+            lengths: [0.24, 0.24],
+            stalled: 3,
+            stalled_gap: [0.015, 0.041],
+            ..SeamEntry::default()
+        };
+        assert_eq!(check_seams(&l).unwrap()[0].stalled, 3);
+        let mut bad = l;
+        bad.seams[0].stalled = 4;
+        assert!(check_seams(&bad).is_err());
+        let mut bad = l;
+        bad.seams[0].stalled_gap[1] = f32::INFINITY;
+        assert!(check_seams(&bad).is_err());
+        let mut bad = l;
+        bad.seams[0].stalled_gap[0] = -0.01;
+        assert!(check_seams(&bad).is_err());
     }
 }

@@ -638,6 +638,12 @@ fn seam_rows(h: &mut Harness<'static, App>) {
     );
     assert_eq!(h.state().pieces.naming, None);
     h.get_by_label("B · 12 pairs, 3 pulling · 300 / 200 mm");
+    // Pairs that stopped closing are said, with how far apart they stay.
+    assert!(h.query_by_label_contains("stopped closing").is_none());
+    h.state_mut().store.seams[1].stalled = 3;
+    h.state_mut().store.seams[1].stalled_gap = [0.0152, 0.0408];
+    h.run_steps(2);
+    h.get_by_label("3 stopped closing, 15-41 mm apart");
     let removes = h.get_all_by_label("Remove").count();
     assert_eq!(removes, 2);
     h.get_all_by_label("Remove").nth(1).unwrap().scroll_to_me();

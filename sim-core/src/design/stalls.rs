@@ -54,26 +54,37 @@ impl Design {
         self.stalls.quiet >= STALL_TOLD_AFTER
     }
 
-    /// The open pairs, seam by seam: "3 pairs of seam A (15-41 mm apart)".
-    fn stalled_pairs(&self) -> String {
+    /// Seam `seam`'s stalled pairs: how many, and the least and the most distance
+    /// between a pair's two vertices, m; `None` while the pairs are closing (or the seam
+    /// has none open).
+    pub fn stalled_in(&self, seam: usize) -> Option<(usize, f32, f32)> {
+        if !self.stitches_stalled() {
+            return None;
+        }
         let x = &self.sim.cloth.x;
         let gap = |(a, b): (u32, u32)| match (x.get(a as usize), x.get(b as usize)) {
-            (Some(p), Some(q)) => p.distance(*q) * 1e3,
+            (Some(p), Some(q)) => p.distance(*q),
             _ => 0.0,
         };
-        let mut said = Vec::new();
-        for (i, seam) in self.seams.iter().enumerate() {
-            let gaps: Vec<f32> = seam.open_pairs().map(gap).collect();
-            let (lo, hi) = gaps
-                .iter()
-                .fold((f32::MAX, 0.0f32), |(lo, hi), &g| (lo.min(g), hi.max(g)));
-            let label = seam_label(i);
-            said.push(match gaps.len() {
-                0 => continue,
-                1 => format!("1 pair of seam {label} ({hi:.0} mm apart)"),
-                n => format!("{n} pairs of seam {label} ({lo:.0}-{hi:.0} mm apart)"),
-            });
-        }
+        let gaps = self.seams.get(seam)?.open_pairs().map(gap);
+        let (n, lo, hi) = gaps.fold((0, f32::MAX, 0.0f32), |(n, lo, hi), g| {
+            (n + 1, lo.min(g), hi.max(g))
+        });
+        (n > 0).then_some((n, lo, hi))
+    }
+
+    /// The stalled pairs, seam by seam: "3 pairs of seam A (15-41 mm apart)".
+    fn stalled_pairs(&self) -> String {
+        let said: Vec<String> = (0..self.seams.len())
+            .filter_map(|i| {
+                let (n, lo, hi) = self.stalled_in(i)?;
+                let (lo, hi, label) = (lo * 1e3, hi * 1e3, seam_label(i));
+                Some(match n {
+                    1 => format!("1 pair of seam {label} ({hi:.0} mm apart)"),
+                    n => format!("{n} pairs of seam {label} ({lo:.0}-{hi:.0} mm apart)"),
+                })
+            })
+            .collect();
         said.join(", ")
     }
 }
@@ -119,9 +130,16 @@ mod tests {
         );
         assert_eq!(d.sim.stitches.len(), 2);
         assert!(d.sim.stitches.iter().all(|s| s.max_force == 0.5));
+        // The studio's seam list reads the same pairs: two, the pinned corners' 0.5 m
+        // apart the farthest.
+        let (n, lo, hi) = d.stalled_in(0).expect("seam A's pairs are stalled");
+        assert_eq!(n, 2);
+        assert!(0.0 < lo && lo <= hi && (hi - 0.5).abs() < 1e-3, "{lo} {hi}");
+        assert_eq!(d.stalled_in(1), None, "there is no seam B");
         // An edit elsewhere: watched afresh, not told again at once.
         d.cut_vertex(40, Vec3::X).unwrap();
         assert!(!d.stitches_stalled());
+        assert_eq!(d.stalled_in(0), None);
         d.step().unwrap();
         assert!(!d.stitches_stalled());
         assert_eq!(d.sim.notices.len(), 1);

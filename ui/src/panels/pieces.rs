@@ -407,13 +407,32 @@ fn seam_row(ui: &mut egui::Ui, i: usize, s: &shared::sim_to_ui::SeamEntry) {
         1000.0 * b
     );
     let label = if warn {
-        ui.colored_label(egui::Color32::from_rgb(240, 170, 60), text)
+        ui.colored_label(WARN, text)
             .on_hover_text("Its sides differ by more than a fifth: the longer will gather")
     } else {
         ui.label(text)
     };
     label.on_hover_text("Pairs already sewn stay sewn when the seam is removed");
+    if s.stalled > 0 {
+        let [lo, hi] = s.stalled_gap.map(|g| 1000.0 * g);
+        let apart = match s.stalled {
+            1 => format!("{hi:.0} mm"),
+            _ => format!("{lo:.0}-{hi:.0} mm"),
+        };
+        ui.colored_label(
+            WARN,
+            format!("{} stopped closing, {apart} apart", s.stalled),
+        )
+        .on_hover_text(
+            "These pairs have come no nearer for three seconds: the body or the cloth \
+                 holds them apart. Their stitches still pull; a cut, a pin moved, or a \
+                 pinch that carries the cloth over may let them close",
+        );
+    }
 }
+
+/// What a seam row that needs the designer's eye is written in.
+const WARN: egui::Color32 = egui::Color32::from_rgb(240, 170, 60);
 
 /// Seam `i`'s colour (the 3D view's, [`crate::view3d::seam_colour`]).
 pub fn seam_colour(i: usize) -> egui::Color32 {
