@@ -45,8 +45,8 @@ struct Service<'a> {
     /// When the telemetry was last sent, and the frame then.
     tel_at: (Instant, u64),
     tool_sent: Option<ToolState>,
-    /// The mesh version, piece and seam counts and open stitches the last piece list was
-    /// sent for.
+    /// The mesh version, piece and seam counts, open stitches, whether they stalled and
+    /// the fabrics the last piece list was sent for.
     pieces_sent: Option<(u64, usize, usize, usize, bool, u64)>,
     seq_pieces: u64,
     tile_cursor: usize,
