@@ -578,7 +578,13 @@ impl Service<'_> {
             tel.pinned = sim.cloth.pinned.iter().filter(|&&p| p).count() as u32;
             let m = &sim.material;
             tel.material = [
-                m.density, m.stretch, m.shear, m.bending, m.friction, m.damping,
+                m.density,
+                m.stretch,
+                m.shear,
+                m.bending,
+                m.friction,
+                m.damping,
+                m.shear_damping,
             ];
             (tel.body, tel.grid) = scene_of(&self.design);
             tel.model = model_code(sim.model);

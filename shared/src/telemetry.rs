@@ -243,8 +243,9 @@ pub struct SimTelemetry {
     /// The design's substeps per frame.
     pub substeps: u32,
     /// Its material: density kg/m^2, stretch N/m, shear N/m, bending N m, friction,
-    /// damping 1/s (the order of a RESET's `uv`).
-    pub material: [f32; 6],
+    /// damping 1/s, shear damping s (the order of a RESET's `uv`; the seventh since
+    /// protocol 17).
+    pub material: [f32; 7],
     /// The body it drapes over ([`scene_body`]).
     pub body: u32,
     /// Cells a side of the cloth it was made from (0: not a square grid, or not known).
@@ -262,6 +263,9 @@ pub struct SimTelemetry {
     /// edit or a setting wakes it; else 0. It took the place of padding, so an older
     /// cloth-sim sends 0 and an older studio ignores it.
     pub asleep: u32,
+    /// Padding to the header's 8-byte alignment (the material's seventh value took 4
+    /// bytes in protocol 17); 0.
+    pub _pad: u32,
 }
 
 /// [`SimTelemetry::model`] values.

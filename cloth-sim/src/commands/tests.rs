@@ -287,3 +287,46 @@ fn mismatched_seam_sides_are_a_warning() {
     );
     assert_eq!(mismatch_warning(0.0, 0.0), "");
 }
+
+/// The studio's internal damping: a shear damping set in place changes only that (the
+/// pieces still hang as their fabric, so their names stay), and one past its range is
+/// refused with the range and changes nothing.
+#[test]
+fn shear_damping_is_set_in_place_and_checked() {
+    let mut scene = ScenarioConfig::new(ScenarioName::DrapeCube);
+    scene.grid = 4;
+    let mut d = build_design(&scene).unwrap();
+    let shape = PieceShape::Rectangle { w: 0.2, h: 0.3 };
+    add_piece(&mut d, &shape, shared::ui_to_sim::place::FRONT, 0.05).unwrap();
+    carry_out(
+        &mut d,
+        &Command::SetFabric {
+            name: "denim".into(),
+        },
+    )
+    .unwrap();
+    assert!(!d.pieces.is_empty());
+    let before = d.sim.material;
+    let set = |s: f32| Command::SetMaterial {
+        material: MaterialChange {
+            shear_damping: Some(s),
+            ..MaterialChange::default()
+        },
+        substeps: None,
+    };
+    // 20 ms as the studio sends it (its slider holds ms).
+    let said = carry_out(&mut d, &set(20.0 * 1e-3)).unwrap();
+    assert!(said.contains("shear damping 20 ms"), "{said}");
+    assert_eq!(
+        d.sim.material,
+        Material {
+            shear_damping: 20.0 * 1e-3,
+            ..before
+        }
+    );
+    assert!(d.pieces.iter().all(|p| p.fabric == "denim"));
+    let before = d.sim.material;
+    let err = carry_out(&mut d, &set(5.0)).unwrap_err();
+    assert!(err.contains("shear damping"), "{err}");
+    assert_eq!(d.sim.material, before);
+}

@@ -34,6 +34,9 @@ pub struct MaterialChange {
     pub friction: Option<f32>,
     /// Velocity damping, 1/s.
     pub damping: Option<f32>,
+    /// Shear damping time, s: the weave's internal damping in shear (CLO and Marvelous
+    /// Designer call it internal damping). Since protocol 17.
+    pub shear_damping: Option<f32>,
 }
 
 /// Automatic tearing of overstretched edges.
@@ -206,7 +209,7 @@ pub enum CommandError {
 }
 
 impl MaterialChange {
-    fn to_wire(self) -> [f32; 6] {
+    fn to_wire(self) -> [f32; 7] {
         [
             self.density,
             self.stretch,
@@ -214,6 +217,7 @@ impl MaterialChange {
             self.bending,
             self.friction,
             self.damping,
+            self.shear_damping,
         ]
         .map(|v| v.unwrap_or(0.0))
     }
@@ -228,6 +232,7 @@ impl MaterialChange {
             bending: v(u[3]),
             friction: v(u[4]),
             damping: v(u[5]),
+            shear_damping: v(u[6]),
         }
     }
 }
@@ -356,11 +361,11 @@ impl Command {
                 };
                 c.a = grid.unwrap_or(0);
                 c.mode = substeps.unwrap_or(0);
-                c.uv[..6].copy_from_slice(&material.to_wire());
+                c.uv[..7].copy_from_slice(&material.to_wire());
             }
             Self::SetMaterial { material, substeps } => {
                 c.a = substeps.unwrap_or(0);
-                c.uv[..6].copy_from_slice(&material.to_wire());
+                c.uv[..7].copy_from_slice(&material.to_wire());
             }
             Self::AddPiece {
                 shape: s,

@@ -9,6 +9,7 @@ fn every_variant() -> Vec<Command> {
         bending: Some(2e-5),
         friction: None,
         damping: Some(0.5),
+        shear_damping: Some(0.02),
     };
     vec![
         Command::CutVertex {
