@@ -162,7 +162,7 @@ impl ClothSearch {
             .clamp(1, 16)
             .min(c.edges.len() / PER_THREAD_MIN)
             .max(1);
-        self.overlapping_edges(threads);
+        self.overlapping_edges(c, threads);
         // In edge order, whatever the tree's shape and the threads.
         let mut candidates = std::mem::take(&mut self.candidates);
         let lists = self.found[..threads]
@@ -228,7 +228,7 @@ impl ClothSearch {
         for &a in dirty {
             let b = edge_box(c, &c.edges[a as usize], reach);
             self.edge_tree.query(&b, stack, |f| {
-                if f != a && !(f < a && is_dirty(f)) {
+                if f != a && !(f < a && is_dirty(f)) && may_pair(c, a, f) {
                     candidates.push((a.min(f), a.max(f)));
                 }
             });
@@ -317,17 +317,22 @@ fn in_order<'a>(
 }
 
 impl ClothSearch {
-    /// The edge pairs whose (refitted) boxes overlap, into `found[..threads]`'s lists:
-    /// the tree's node pairs dealt out to the threads in turn.
-    fn overlapping_edges(&mut self, threads: usize) {
+    /// The edge pairs whose (refitted) boxes overlap and that may be a pair, into
+    /// `found[..threads]`'s lists: the tree's node pairs dealt out to the threads in turn.
+    fn overlapping_edges(&mut self, c: &ClothView<'_>, threads: usize) {
         if self.found.len() < threads {
             self.found.resize_with(threads, Default::default);
         }
         let tree = &self.edge_tree;
+        let may = |a: u32, b: u32| may_pair(c, a, b);
         if threads == 1 {
             let (list, stack) = &mut self.found[0];
             list.clear();
-            tree.self_pairs(stack, |a, b| list.push((a, b)));
+            tree.self_pairs(stack, |a, b| {
+                if may(a, b) {
+                    list.push((a, b))
+                }
+            });
             return;
         }
         tree.self_pair_tasks(16 * threads, &mut self.tasks);
@@ -338,7 +343,11 @@ impl ClothSearch {
                     let mine: Vec<(u32, u32)> =
                         tasks.iter().skip(k).step_by(threads).copied().collect();
                     list.clear();
-                    tree.self_pairs_from(&mine, stack, |a, b| list.push((a, b)));
+                    tree.self_pairs_from(&mine, stack, |a, b| {
+                        if may(a, b) {
+                            list.push((a, b))
+                        }
+                    });
                 });
             }
         });
@@ -431,10 +440,15 @@ fn vertex_face(
     // Neighbours in the pattern carry no energy, so they are pairs only where their boxes
     // meet: most of the candidates in a smooth stretch of cloth, dropped before the
     // distances are worked out.
+    // So are the vertex's own triangles, and those whose corners are all held with it
+    // (`vertex_tri` refuses them: dropped before their distances too).
+    let held = !c.free[i];
     found.retain(|&t| {
         let tri = &c.tris[t as usize];
-        !(boxes_apart(c.boxes, &[i as u32], tri, p.delta)
-            && c.rest_near(&[i as u32], tri, p.rest_exclusion))
+        !(tri.contains(&(i as u32))
+            || (held && tri.iter().all(|&v| !c.free[v as usize]))
+            || (boxes_apart(c.boxes, &[i as u32], tri, p.delta)
+                && c.rest_near(&[i as u32], tri, p.rest_exclusion)))
     });
     near.extend(found.iter().map(|&t| {
         let [a, bb, cc] = c.tris[t as usize].map(|v| c.x[v as usize]);
@@ -504,14 +518,19 @@ fn vertex_tri(
     })
 }
 
-/// Edge pairs `found` (their boxes overlap) tested and listed.
+/// Whether edges `a` and `b` may be a pair: they share no vertex, and one of their
+/// vertices is free. The candidates are sifted by this as the trees find them (a smooth
+/// cloth's neighbouring edges, which share a vertex, are half of its candidates).
+fn may_pair(c: &ClothView<'_>, a: u32, b: u32) -> bool {
+    let (e, g) = (c.edges[a as usize], c.edges[b as usize]);
+    !(e.iter().any(|v| g.contains(v)) || e.iter().chain(&g).all(|&v| !c.free[v as usize]))
+}
+
+/// Edge pairs `found` (their boxes overlap, and [`may_pair`]) tested and listed.
 fn edge_edge(c: &ClothView<'_>, p: &ProximityParams, found: &[(u32, u32)], part: &mut Part) {
     for &(a, f) in found {
         let e = c.edges[a as usize];
         let g = c.edges[f as usize];
-        if e.iter().any(|v| g.contains(v)) || e.iter().chain(&g).all(|&v| !c.free[v as usize]) {
-            continue;
-        }
         let near = c.rest_near(&e, &g, p.rest_exclusion);
         if near && boxes_apart(c.boxes, &e, &g, p.delta) {
             continue;
