@@ -328,11 +328,7 @@ impl ClothSearch {
         if threads == 1 {
             let (list, stack) = &mut self.found[0];
             list.clear();
-            tree.self_pairs(stack, |a, b| {
-                if may(a, b) {
-                    list.push((a, b))
-                }
-            });
+            tree.self_pairs(stack, |a, b| list.extend(may(a, b).then_some((a, b))));
             return;
         }
         tree.self_pair_tasks(16 * threads, &mut self.tasks);
@@ -343,11 +339,8 @@ impl ClothSearch {
                     let mine: Vec<(u32, u32)> =
                         tasks.iter().skip(k).step_by(threads).copied().collect();
                     list.clear();
-                    tree.self_pairs_from(&mine, stack, |a, b| {
-                        if may(a, b) {
-                            list.push((a, b))
-                        }
-                    });
+                    let keep = |a, b| list.extend(may(a, b).then_some((a, b)));
+                    tree.self_pairs_from(&mine, stack, keep);
                 });
             }
         });
@@ -440,8 +433,7 @@ fn vertex_face(
     // Neighbours in the pattern carry no energy, so they are pairs only where their boxes
     // meet: most of the candidates in a smooth stretch of cloth, dropped before the
     // distances are worked out.
-    // So are the vertex's own triangles, and those whose corners are all held with it
-    // (`vertex_tri` refuses them: dropped before their distances too).
+    // So are those `vertex_tri` refuses (its own, all held with it).
     let held = !c.free[i];
     found.retain(|&t| {
         let tri = &c.tris[t as usize];
@@ -518,9 +510,8 @@ fn vertex_tri(
     })
 }
 
-/// Whether edges `a` and `b` may be a pair: they share no vertex, and one of their
-/// vertices is free. The candidates are sifted by this as the trees find them (a smooth
-/// cloth's neighbouring edges, which share a vertex, are half of its candidates).
+/// Whether edges `a` and `b` may be a pair (no shared vertex, one free), sifted as the
+/// trees find them: edges sharing a vertex are half a smooth cloth's candidates.
 fn may_pair(c: &ClothView<'_>, a: u32, b: u32) -> bool {
     let (e, g) = (c.edges[a as usize], c.edges[b as usize]);
     !(e.iter().any(|v| g.contains(v)) || e.iter().chain(&g).all(|&v| !c.free[v as usize]))
