@@ -590,7 +590,7 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
     ));
     let stats = cloth_sim::run(design, &cfg, stop, &mut log)?;
     log(&format!(
-        "stopped after {} frames: {} device samples ({} rejected), {} applied forces, {} pinches ({} substeps read the pen, {} coupled to the rendered force, {} pulled at its limit, largest pull {:.2} N), {} autosaves, {} failed (longest hold-up {:.1} ms)",
+        "stopped after {} frames: {} device samples ({} rejected), {} applied forces, {} pinches ({} substeps read the pen, {} coupled to the rendered force, {} pulled at its limit, largest pull {:.2} N), {} touch models sent mid-frame, {} autosaves, {} failed (longest hold-up {:.1} ms)",
         stats.frames,
         stats.samples,
         stats.rejected,
@@ -600,6 +600,7 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
         stats.coupled_substeps,
         stats.force_limited_substeps,
         stats.pinch_force_max_n,
+        stats.mid_frame_models,
         stats.autosaves,
         stats.autosave_failures,
         stats.autosave_ms_max

@@ -10,9 +10,10 @@ use shared::sim_to_ui::{
     BodyMeshHeader, ClothFrameHeader, MAX_LISTED, MeshCorner, MeshHeader, OutlineSegment,
     PieceList, SeamEntry, SeamSegment, TextureTile, outline, put_text,
 };
+use sim_core::collision::Body;
 use sim_core::design::sewing_pattern::seam_label;
 use sim_core::design::{Design, TILE, Texture};
-use sim_core::solver::Held;
+use sim_core::solver::{Cloth, Held};
 
 fn port_error(e: impl std::fmt::Debug) -> String {
     format!("{e:?}")
@@ -38,7 +39,7 @@ pub(crate) fn local_model(
     tip: Vec3,
     pen_sent_ns: u64,
     seq: &mut u64,
-    (stiffness, workspace): (f32, [f32; 4]),
+    spring: (f32, [f32; 4]),
 ) -> LocalModel {
     let sim = &design.sim;
     if let Some(p) = sim.pinch() {
@@ -47,39 +48,64 @@ pub(crate) fn local_model(
             position: sim.cloth.x[i],
             velocity: sim.cloth.v[i],
         };
-        return pinch_model(sim.frame, held, pen_sent_ns, seq, (stiffness, workspace));
+        return pinch_model(sim.frame, held, pen_sent_ns, seq, spring);
     }
+    let floor = sim.env.floor;
+    let m = touch_model(
+        sim.body.as_ref(),
+        &sim.cloth,
+        floor,
+        tip,
+        pen_sent_ns,
+        seq,
+        spring,
+    );
+    LocalModel {
+        frame: sim.frame,
+        ..m
+    }
+}
+
+/// The local model of a pen at `tip` that pinches nothing: the body's surface within
+/// 5 cm, a plane through the vertex of `cloth` nearest the tip (within 3 cm) facing it,
+/// and the floor, each `(normal, offset)` with free space on the normal's side. cloth-sim
+/// sends it before and after each frame, and in the middle of a slow one from the cloth
+/// as the substeps so far left it (its caller sets the frame).
+pub(crate) fn touch_model(
+    body: Option<&Body>,
+    cloth: &Cloth,
+    floor: Option<f32>,
+    tip: Vec3,
+    pen_sent_ns: u64,
+    seq: &mut u64,
+    (stiffness, workspace): (f32, [f32; 4]),
+) -> LocalModel {
     let mut m = LocalModel {
         header: Header::next(seq),
-        frame: sim.frame,
         pen_sent_ns,
         stiffness,
         workspace,
         ..Default::default()
     };
-    let mut planes = Vec::with_capacity(MAX_PLANES);
-    if let Some(body) = &sim.body
-        && let Some(c) = body.contact(tip, 0.05, u32::MAX)
-    {
-        planes.push([c.normal.x, c.normal.y, c.normal.z, c.normal.dot(c.point)]);
-    }
-    // The cloth near the tip: a plane through the nearest vertex, facing the tip.
-    if let Some(v) = sim.cloth.nearest_vertex(tip, 0.03) {
-        let x = sim.cloth.x[v as usize];
-        let mut n = sim.cloth.vertex_normal(v);
+    let body_plane = body
+        .and_then(|b| b.contact(tip, 0.05, u32::MAX))
+        .map(|c| [c.normal.x, c.normal.y, c.normal.z, c.normal.dot(c.point)]);
+    let cloth_plane = cloth.nearest_vertex(tip, 0.03).and_then(|v| {
+        let x = cloth.x[v as usize];
+        let mut n = cloth.vertex_normal(v);
         if n.dot(tip - x) < 0.0 {
             n = -n;
         }
-        if n != Vec3::ZERO {
-            planes.push([n.x, n.y, n.z, n.dot(x)]);
-        }
-    }
-    if let Some(f) = sim.env.floor {
-        planes.push([0.0, 1.0, 0.0, f]);
-    }
-    m.plane_count = planes.len().min(MAX_PLANES) as u32;
-    for (k, p) in planes.into_iter().take(MAX_PLANES).enumerate() {
-        m.planes[k] = p;
+        (n != Vec3::ZERO).then(|| [n.x, n.y, n.z, n.dot(x)])
+    });
+    let floor_plane = floor.map(|f| [0.0, 1.0, 0.0, f]);
+    for p in [body_plane, cloth_plane, floor_plane]
+        .into_iter()
+        .flatten()
+        .take(MAX_PLANES)
+    {
+        m.planes[m.plane_count as usize] = p;
+        m.plane_count += 1;
     }
     m
 }

@@ -29,7 +29,7 @@ use crate::config::{ServiceConfig, ServiceStats};
 use crate::export::export;
 use crate::pen::{PenFeed, Tools, pen_acts};
 use crate::publish::{
-    ClothOut, local_model, pinch_model, publish_body, publish_tile, scene_workspace,
+    ClothOut, local_model, pinch_model, publish_body, publish_tile, scene_workspace, touch_model,
 };
 
 /// The running service: its design, ports and everything it keeps between frames.
@@ -72,6 +72,10 @@ struct Service<'a> {
 const SLOW_MODEL_GAP: Duration = Duration::from_millis(30);
 /// A gap between models this long is a stall (the soak's limit): always logged.
 const STALL_GAP: Duration = Duration::from_millis(50);
+/// In a frame that has taken this long since the last local model, the next substep
+/// sends another (the cloth as the substeps so far left it): frames slower than the
+/// haptic loop's 20 ms limit (a cloth landing, a 16k-vertex drape) keep the pen's touch.
+const MID_FRAME_MODEL: Duration = Duration::from_millis(5);
 
 /// Where the time between two local models goes: the time since the last mark, per named
 /// part (and notes such as how late a sleep woke, which are not parts of the sum).
@@ -301,11 +305,19 @@ impl Service<'_> {
         // tip): a 60 Hz frame that takes 8-12 ms would otherwise leave gaps near the
         // haptic loop's 20 ms staleness limit between models.
         self.send_local_model(log);
+        // The newest pen sample that goes into this frame: while pinching, those the
+        // substeps read; otherwise the one its operations acted on (a slow frame reads
+        // newer ones for the touch models it sends, which do not move the cloth).
+        let (pinching, (_, acted_ns)) = (self.design.sim.pinch().is_some(), self.feed.tip());
         let fs = self.step(log)?;
         self.laps.mark("step");
         self.record(&fs, autosave);
         self.stats.frames += 1;
-        let (_, pen_sent_ns) = self.feed.tip();
+        let pen_sent_ns = if pinching {
+            self.feed.tip().1
+        } else {
+            acted_ns
+        };
         if let Err(e) = self.cloth_out.publish(
             &self.design,
             &self.ports.frame,
@@ -512,9 +524,11 @@ impl Service<'_> {
 
     /// Steps one frame; while pinching, the pen is read again before each substep, so
     /// samples that arrive while the frame is computed join the path, and the pinched
-    /// vertex goes to the haptic loop as its local model before each substep: a frame
-    /// slower than the loop's 20 ms staleness limit (a 16k-vertex cloth under the guard
-    /// takes 30-150 ms) then lets the pen's force fade less often while it pulls.
+    /// vertex goes to the haptic loop as its local model before each substep. Not
+    /// pinching, a frame slower than [`MID_FRAME_MODEL`] sends the touch planes between
+    /// its substeps. A frame slower than the loop's 20 ms staleness limit (a 16k-vertex
+    /// cloth under the guard takes 20-150 ms, a cloth landing on one core 30-90) then lets
+    /// the pen's force fade less often.
     fn step(&mut self, log: &mut dyn FnMut(&str)) -> Result<FrameStats, String> {
         // Every design the service holds (a new scene, a loaded file) sleeps at rest
         // unless `--no-sleep`.
@@ -522,6 +536,7 @@ impl Service<'_> {
         let pinching = self.design.sim.pinch().is_some();
         let frame = self.design.sim.frame;
         let told = self.design.sim.notices.len();
+        let floor = self.design.sim.env.floor;
         let (feed, cfg, seq) = (&mut self.feed, self.cfg, &mut self.seq_model);
         let spring = (cfg.pinch_stiffness, self.workspace);
         let mut out = ModelOut {
@@ -532,16 +547,26 @@ impl Service<'_> {
         };
         let fs = self
             .design
-            .step_with(&mut |k, n, held| {
+            .step_with(&mut |b| {
                 if !pinching {
+                    if out.laps.start.elapsed() >= MID_FRAME_MODEL {
+                        out.laps.mark("step so far");
+                        // The newest pen (its buttons act at the next frame, as ever).
+                        feed.drain(&out.ports.device, &out.ports.applied, out.stats);
+                        let (tip, sent_ns) = feed.tip();
+                        let m = touch_model(b.body, b.cloth, floor, tip, sent_ns, seq, spring);
+                        out.send(LocalModel { frame, ..m }, log);
+                        out.stats.mid_frame_models += 1;
+                    }
                     return None;
                 }
                 feed.drain(&out.ports.device, &out.ports.applied, out.stats);
-                if let Some(held) = held {
+                if let Some(held) = b.held {
                     let (_, sent_ns) = feed.tip();
+                    out.laps.mark("step so far");
                     out.send(pinch_model(frame, held, sent_ns, seq, spring), log);
                 }
-                let input = feed.input(k, n, cfg)?;
+                let input = feed.input(b.substep, b.substeps, cfg)?;
                 out.stats.pen_substeps += 1;
                 if input.force_limit.is_some() {
                     out.stats.coupled_substeps += 1;

@@ -335,8 +335,8 @@ impl Tick {
         if hold != self.hold_was {
             log(match hold {
                 Hold::None => "local model fresh: rendering force",
-                Hold::Stale => "local model stale (cloth-sim not sending): force ramped to zero",
-                Hold::Expired => "local model expired (cloth-sim gone 30 ms): force zero",
+                Hold::Stale => "local model stale (no new model for 20 ms): force ramped to zero",
+                Hold::Expired => "local model expired (no new model for 30 ms): force zero",
                 Hold::Gone => "cloth-sim exited: force ramped to zero within 2 ms",
                 Hold::DeviceError => "device error: force ramped to zero",
             });

@@ -1,13 +1,15 @@
-//! The pen path a caller gives a frame (`Simulation::step_with`): asked before every
-//! substep while the pen pinches, and told where the pinched vertex is then. cloth-sim
-//! sends the haptic loop its local model from that, so a frame slower than the loop's
-//! 20 ms staleness limit still feeds the pen.
+//! The pen path a caller gives a frame (`Simulation::step_with`): told before every
+//! substep where the cloth is, and while the pen pinches where the pinched vertex is.
+//! cloth-sim sends the haptic loop its local model from that, so a frame slower than the
+//! loop's 20 ms staleness limit still feeds the pen.
 
 #![allow(clippy::unwrap_used)]
 
 use glam::Vec3;
 use sim_core::mesh::ClothMesh;
-use sim_core::solver::{Cloth, Environment, Held, Material, ModelKind, Pinch, Simulation};
+use sim_core::solver::{
+    Cloth, Environment, Held, Material, ModelKind, PenInput, Pinch, Simulation,
+};
 
 fn hanging(model: ModelKind) -> Simulation {
     let material = Material::default();
@@ -18,17 +20,37 @@ fn hanging(model: ModelKind) -> Simulation {
 }
 
 #[test]
-fn the_pen_is_told_where_the_pinched_vertex_is_before_every_substep() {
+fn the_pen_is_told_where_the_cloth_and_the_pinched_vertex_are_before_every_substep() {
     for model in [ModelKind::Xpbd, ModelKind::Vbd] {
         let mut sim = hanging(model);
-        // Not pinching: the pen is never asked.
-        let mut asked = 0;
-        sim.step_with(&mut |_, _, _| {
-            asked += 1;
-            None
+        // Not pinching: told before every substep where the cloth falls, nothing held,
+        // and a pointer given then changes nothing.
+        let mut lowest: Vec<(usize, usize, f32)> = Vec::new();
+        let before = sim.cloth.x.clone();
+        sim.step_with(&mut |b| {
+            assert!(b.held.is_none(), "{model:?}");
+            let y = b.cloth.x.iter().map(|p| p.y).fold(f32::INFINITY, f32::min);
+            lowest.push((b.substep, b.substeps, y));
+            Some(PenInput {
+                target: Vec3::new(0.0, 5.0, 0.0),
+                force_limit: None,
+            })
         })
         .unwrap();
-        assert_eq!(asked, 0, "{model:?}");
+        let n = sim.substeps;
+        let told: Vec<(usize, usize)> = lowest.iter().map(|&(k, m, _)| (k, m)).collect();
+        assert_eq!(
+            told,
+            (0..n).map(|k| (k, n)).collect::<Vec<_>>(),
+            "{model:?}"
+        );
+        let y0 = before.iter().map(|p| p.y).fold(f32::INFINITY, f32::min);
+        assert_eq!(lowest[0].2, y0, "{model:?}: the first is the frame's start");
+        assert!(
+            lowest[n - 1].2 < y0,
+            "{model:?}: the last is after some falling"
+        );
+        assert!(sim.pinch().is_none(), "{model:?}");
         // Pinch the middle vertex and pull it 10 cm up.
         let v = 6 * 13 + 6;
         let target = sim.cloth.x[v] + Vec3::new(0.0, 0.1, 0.0);
@@ -41,12 +63,11 @@ fn the_pen_is_told_where_the_pinched_vertex_is_before_every_substep() {
         }));
         let (x0, v0) = (sim.cloth.x[v], sim.cloth.v[v]);
         let mut told: Vec<(usize, usize, Option<Held>)> = Vec::new();
-        sim.step_with(&mut |k, n, held| {
-            told.push((k, n, held));
+        sim.step_with(&mut |b| {
+            told.push((b.substep, b.substeps, b.held));
             None
         })
         .unwrap();
-        let n = sim.substeps;
         assert_eq!(told.len(), n, "{model:?}: asked {} times", told.len());
         let held: Vec<Held> = told
             .iter()

@@ -64,11 +64,12 @@ impl Design {
 
     /// Steps one frame. On divergence the error says so; the state is then not usable.
     pub fn step(&mut self) -> Result<FrameStats, StepError> {
-        self.step_with(&mut |_, _, _| None)
+        self.step_with(&mut |_| None)
     }
 
-    /// Steps one frame, asking `pen(substep, substeps, held)` before each substep where the
-    /// pinch's pointer is and how hard it may pull (`None`: unchanged); then tears what
+    /// Steps one frame, telling `pen` before each substep where the frame is and asking
+    /// it where the pinch's pointer is and how hard it may pull (`None`: unchanged; see
+    /// [`Simulation::step_with`](crate::solver::Simulation::step_with)); then tears what
     /// is overstretched (when tearing is on) and welds stitches that closed, each as an
     /// undoable edit.
     pub fn step_with(&mut self, pen: &mut PenPath<'_>) -> Result<FrameStats, StepError> {

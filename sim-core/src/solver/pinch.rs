@@ -6,6 +6,9 @@
 
 use glam::Vec3;
 
+use super::state::Cloth;
+use crate::collision::Body;
+
 /// The pinch: the pointer holds the vertex nearest to it (the paper's pinch) and, with a
 /// grip radius, the vertices around it too, each by a spring to the pointer plus its
 /// offset at the moment of grabbing. The springs share the stiffness.
@@ -42,9 +45,25 @@ pub struct Held {
     pub velocity: Vec3,
 }
 
-/// Where the pen is before each substep: `pen(substep, substeps, held)`, `None` for
-/// unchanged. Asked only while pinching; `held` is the pinched vertex now.
-pub type PenPath<'a> = dyn FnMut(usize, usize, Option<Held>) -> Option<PenInput> + 'a;
+/// The frame before one of its substeps, as a [`PenPath`] is told it.
+#[derive(Clone, Copy, Debug)]
+pub struct Between<'a> {
+    /// This substep (from 0) and the frame's count.
+    pub substep: usize,
+    pub substeps: usize,
+    /// The pinched vertex now; `None` while the pen pinches nothing.
+    pub held: Option<Held>,
+    /// The cloth as the substeps before this one left it (positions, velocities, mesh).
+    pub cloth: &'a Cloth,
+    /// The body.
+    pub body: Option<&'a Body>,
+}
+
+/// Asked before every substep of a frame where the pen is: `None` for unchanged, and
+/// taken only while pinching. A caller may also report from it at substep rate:
+/// cloth-sim keeps the haptic loop's model fresh through a frame slower than the loop's
+/// 20 ms staleness limit (the pinched vertex, or the cloth the pen may touch).
+pub type PenPath<'a> = dyn FnMut(&Between<'_>) -> Option<PenInput> + 'a;
 
 /// The pinch while it lasts, and what it pulled with in the last frame.
 #[derive(Clone, Debug, Default)]
@@ -63,17 +82,31 @@ impl Grip {
         self.limited = 0;
     }
 
-    /// Before substep `k` of `n`: while pinching, moves the pointer end to where the pen
-    /// is (`pen` is asked only then, and told where the pinched vertex is in `x` and how
-    /// fast it moves in `v`).
-    pub fn follow(&mut self, k: usize, n: usize, pen: &mut PenPath<'_>, x: &[Vec3], v: &[Vec3]) {
+    /// Before substep `k` of `n`: tells `pen` where the frame is, and while pinching
+    /// moves the pointer end to where the pen is.
+    pub fn follow(
+        &mut self,
+        k: usize,
+        n: usize,
+        pen: &mut PenPath<'_>,
+        cloth: &Cloth,
+        body: Option<&Body>,
+    ) {
+        let held = self.pinch.as_ref().and_then(|p| {
+            let i = p.vertex as usize;
+            let (&position, &velocity) = cloth.x.get(i).zip(cloth.v.get(i))?;
+            Some(Held { position, velocity })
+        });
+        let between = Between {
+            substep: k,
+            substeps: n,
+            held,
+            cloth,
+            body,
+        };
+        let input = pen(&between);
         let Some(p) = &mut self.pinch else { return };
-        let i = p.vertex as usize;
-        let held = x
-            .get(i)
-            .zip(v.get(i))
-            .map(|(&position, &velocity)| Held { position, velocity });
-        if let Some(input) = pen(k, n, held)
+        if let Some(input) = input
             && input.target.is_finite()
         {
             p.target = input.target;

@@ -188,7 +188,7 @@ impl Simulation {
 
     /// Steps one frame. On divergence the error says so; the state is then not usable.
     pub fn step(&mut self) -> Result<FrameStats, StepError> {
-        self.step_with(&mut |_, _, _| None)
+        self.step_with(&mut |_| None)
     }
 
     /// Whether the model's contact is never crossed (vbd, and xpbd with its guard).
@@ -207,9 +207,10 @@ impl Simulation {
         self.solver.editable()
     }
 
-    /// Steps one frame, asking `pen(substep, substeps, held)` before each substep where the
-    /// pinch's pointer is and how hard it may pull (`None`: unchanged). This is how
-    /// cloth-sim follows the pen at substep rate.
+    /// Steps one frame, telling `pen` before each substep where the frame is
+    /// ([`Between`](super::Between)) and asking it where the pinch's pointer is and how
+    /// hard it may pull (`None`: unchanged). This is how cloth-sim follows the pen at
+    /// substep rate (xpbd and vbd; the other models do not ask).
     pub fn step_with(&mut self, pen: &mut PenPath<'_>) -> Result<FrameStats, StepError> {
         let t0 = Instant::now();
         let mut stats = FrameStats::default();

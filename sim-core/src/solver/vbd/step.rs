@@ -226,9 +226,7 @@ impl Vbd {
             let steps = (g + 1) * substeps / groups - g * substeps / groups;
             self.search(cloth, body, env, drive, steps as f32 * h);
             for _ in 0..steps {
-                drive
-                    .grip
-                    .follow(k, substeps, &mut *drive.pen, &cloth.x, &cloth.v);
+                drive.grip.follow(k, substeps, &mut *drive.pen, cloth, body);
                 self.substep(cloth, env, h, drive);
                 k += 1;
             }

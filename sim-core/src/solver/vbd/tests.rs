@@ -50,7 +50,7 @@ fn converged_step_is_the_implicit_step() {
     vbd.iterations = 3000;
     vbd.contact = false;
     let mut grip = Grip::default();
-    let mut pen = |_: usize, _: usize, _: Option<crate::solver::Held>| None;
+    let mut pen = |_: &crate::solver::Between<'_>| None;
     let mut drive = Drive {
         grip: &mut grip,
         stitches: &[],

@@ -358,9 +358,7 @@ impl Xpbd {
                 let span = ((group + 1) * substeps / searches - k) as f32 * h;
                 g.search(cloth, body, env, drive, span, m.thickness, self.threads);
             }
-            drive
-                .grip
-                .follow(k, substeps, &mut *drive.pen, &cloth.x, &cloth.v);
+            drive.grip.follow(k, substeps, &mut *drive.pen, cloth, body);
             if let Some(g) = &mut self.guard {
                 g.begin_substep(&cloth.x);
             }
