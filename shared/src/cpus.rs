@@ -20,6 +20,22 @@ pub fn plan() -> Option<(usize, Vec<usize>)> {
     (!rest.is_empty()).then(|| (haptic, rest.to_vec()))
 }
 
+/// Whether a process started from this one may take SCHED_FIFO at `priority`: CAP_SYS_NICE
+/// in its effective set (root's, unless a container dropped it), or an RLIMIT_RTPRIO of
+/// `priority` or more (a user in a real-time group; docs in the README, "Real time").
+pub fn fifo_permitted(priority: u32) -> bool {
+    const CAP_SYS_NICE: u32 = 23;
+    let caps = std::fs::read_to_string("/proc/self/status")
+        .ok()
+        .and_then(|s| {
+            let hex = s.lines().find_map(|l| l.strip_prefix("CapEff:"))?;
+            u64::from_str_radix(hex.trim(), 16).ok()
+        })
+        .unwrap_or(0);
+    let limit = rustix::process::getrlimit(rustix::process::Resource::Rtprio).current;
+    caps & (1 << CAP_SYS_NICE) != 0 || limit.is_none_or(|l| l >= u64::from(priority))
+}
+
 /// Parses a CPU list such as `0`, `0,2` or `0-3`.
 pub fn parse_list(s: &str) -> Result<Vec<usize>, String> {
     let mut out = Vec::new();

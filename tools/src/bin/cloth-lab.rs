@@ -279,13 +279,27 @@ fn threads_for(cpus: usize) -> usize {
     if cpus >= 2 { 2 } else { 1 }
 }
 
-/// cloth-sim's threads under the lab's plan (one without a CPU plan: with real time off
-/// or one CPU, the haptic loop shares them all).
-fn sim_threads(cli: &Cli) -> usize {
-    cpu_plan(cli).map_or(1, |(_, rest)| threads_for(rest.len()))
+/// cloth-sim's CPUs under the lab's plan: those off the haptic loop's; where that leaves
+/// one (a two-CPU machine) and the loop will get SCHED_FIFO, the loop's too, for the
+/// second solver thread, which the loop preempts whenever it ticks (on this 2-CPU VM the
+/// loop missed no more ticks, and a landing 128 x 128 cloth stepped 40% more frames:
+/// docs/performance.md, "Two CPUs"). None without a CPU plan (real time off, or one CPU:
+/// the haptic loop shares them all).
+fn sim_cpus(cli: &Cli) -> Option<Vec<usize>> {
+    let (haptic, mut cpus) = cpu_plan(cli)?;
+    if cpus.len() == 1 && shared::cpus::fifo_permitted(cli.rt_priority) {
+        cpus.push(haptic);
+        cpus.sort_unstable();
+    }
+    Some(cpus)
 }
 
-/// `--cpus LIST` for cloth-sim and cloth-ui: off the haptic loop's CPU.
+/// cloth-sim's threads under the lab's plan (one without a CPU plan).
+fn sim_threads(cli: &Cli) -> usize {
+    sim_cpus(cli).map_or(1, |cpus| threads_for(cpus.len()))
+}
+
+/// `--cpus LIST` for cloth-ui: off the haptic loop's CPU.
 fn other_cpus(cli: &Cli) -> Vec<String> {
     cpu_plan(cli).map_or_else(Vec::new, |(_, rest)| {
         vec!["--cpus".into(), shared::cpus::format_list(&rest)]
@@ -324,7 +338,9 @@ fn sim_args(cli: &Cli, domain: &Domain, autosave: Option<&PathBuf>) -> Vec<Strin
     if let Some(p) = autosave {
         a.extend(["--autosave".into(), p.display().to_string()]);
     }
-    a.extend(other_cpus(cli));
+    if let Some(cpus) = sim_cpus(cli) {
+        a.extend(["--cpus".into(), shared::cpus::format_list(&cpus)]);
+    }
     let threads = sim_threads(cli);
     if threads > 1 {
         a.extend(["--threads".into(), threads.to_string()]);
@@ -334,16 +350,29 @@ fn sim_args(cli: &Cli, domain: &Domain, autosave: Option<&PathBuf>) -> Vec<Strin
 
 /// What the lab tells the user about real time, in one line.
 fn real_time_line(cli: &Cli) -> String {
-    match cpu_plan(cli) {
+    match (cpu_plan(cli), sim_cpus(cli)) {
         _ if cli.no_rt => "real-time off (--no-rt): haptic ticks may be late under load".into(),
-        Some((h, rest)) => format!(
-            "asking real-time for haptic-loop (SCHED_FIFO {} on CPU {h}); cloth-sim ({} thread{}) and cloth-ui on CPU {}",
-            cli.rt_priority,
-            threads_for(rest.len()),
-            if rest.len() >= 2 { "s" } else { "" },
-            shared::cpus::format_list(&rest)
-        ),
-        None => format!(
+        (Some((h, rest)), Some(sim)) => {
+            let threads = threads_for(sim.len());
+            let plural = if threads > 1 { "s" } else { "" };
+            let sim_line = if sim.contains(&h) {
+                format!(
+                    "cloth-sim ({threads} thread{plural}) on CPUs {}, below the loop on CPU {h}",
+                    shared::cpus::format_list(&sim)
+                )
+            } else {
+                format!(
+                    "cloth-sim ({threads} thread{plural}) on CPU {}",
+                    shared::cpus::format_list(&sim)
+                )
+            };
+            format!(
+                "asking real-time for haptic-loop (SCHED_FIFO {} on CPU {h}); {sim_line}; cloth-ui on CPU {}",
+                cli.rt_priority,
+                shared::cpus::format_list(&rest)
+            )
+        }
+        _ => format!(
             "asking real-time for haptic-loop (SCHED_FIFO {}); one CPU, shared by all",
             cli.rt_priority
         ),
@@ -676,7 +705,8 @@ mod tests {
     }
 
     /// cloth-sim gets two solver threads where it has two CPUs or more off the haptic
-    /// loop's, one where it has one or shares them all (real time off).
+    /// loop's, or one off it and the loop's below the loop's SCHED_FIFO; one where it
+    /// shares them all (real time off).
     #[test]
     fn cloth_sim_gets_two_threads_where_it_has_two_cpus() {
         assert_eq!(threads_for(1), 1);
@@ -691,7 +721,21 @@ mod tests {
                 .map_or(1, |i| a[i + 1].parse::<usize>().unwrap())
         };
         assert_eq!(threads(&["cloth-lab", "--no-rt"]), 1);
-        let here = shared::cpus::plan().map_or(1, |(_, rest)| threads_for(rest.len()));
+        let allowed = shared::cpus::allowed();
+        let here = match allowed.len() {
+            1 => 1,
+            2 if !shared::cpus::fifo_permitted(80) => 1,
+            _ => 2,
+        };
         assert_eq!(threads(&["cloth-lab"]), here);
+        // Never cloth-ui on the loop's CPU.
+        if let Some((h, _)) = shared::cpus::plan() {
+            let cli = Cli::try_parse_from(["cloth-lab"]).unwrap();
+            let ui = other_cpus(&cli);
+            assert!(
+                !shared::cpus::parse_list(&ui[1]).unwrap().contains(&h),
+                "{ui:?}"
+            );
+        }
     }
 }
