@@ -589,7 +589,19 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
         if resumed { " (resumed)" } else { "" }
     ));
     let stats = cloth_sim::run(design, &cfg, stop, &mut log)?;
-    log(&format!(
+    log(&stopped_line(&stats));
+    if stats.model_send_failures > 0 {
+        log(&format!(
+            "{} of the pen's models could not be sent to haptic-loop",
+            stats.model_send_failures
+        ));
+    }
+    Ok(())
+}
+
+/// The service's last line: what it did.
+fn stopped_line(stats: &cloth_sim::ServiceStats) -> String {
+    format!(
         "stopped after {} frames: {} device samples ({} rejected), {} applied forces, {} pinches ({} substeps read the pen, {} coupled to the rendered force, {} pulled at its limit, largest pull {:.2} N), {} touch models sent mid-frame, {} autosaves, {} failed (longest hold-up {:.1} ms)",
         stats.frames,
         stats.samples,
@@ -604,14 +616,7 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
         stats.autosaves,
         stats.autosave_failures,
         stats.autosave_ms_max
-    ));
-    if stats.model_send_failures > 0 {
-        log(&format!(
-            "{} of the pen's models could not be sent to haptic-loop",
-            stats.model_send_failures
-        ));
-    }
-    Ok(())
+    )
 }
 
 /// `--guard` or `--no-guard` as asked (`None`: neither), refused with a model other than

@@ -11,6 +11,7 @@ use std::time::{Duration, Instant};
 use clap::{Parser, Subcommand};
 use shared::cli::whole_in;
 use shared::domain::Domain;
+use tools::cpu_plan::Plan;
 use tools::lab::{Role, Supervisor, have_display, request, sibling};
 
 #[derive(Parser)]
@@ -214,20 +215,9 @@ fn control(line: &str, domain: Option<&str>) -> Result<(), String> {
     }
 }
 
-/// The CPUs for the haptic loop and for the rest, unless real time is off or there is
-/// only one CPU.
-fn cpu_plan(cli: &Cli) -> Option<(usize, Vec<usize>)> {
-    if cli.no_rt {
-        return None;
-    }
-    let allowed = shared::cpus::allowed();
-    match cli.cpu {
-        Some(c) => {
-            let rest: Vec<usize> = allowed.into_iter().filter(|&x| x != c).collect();
-            (!rest.is_empty()).then_some((c, rest))
-        }
-        None => shared::cpus::plan(),
-    }
+/// The lab's CPUs ([`Plan`]), unless real time is off or there is only one CPU.
+fn cpu_plan(cli: &Cli) -> Option<Plan> {
+    Plan::new(cli.no_rt, cli.cpu, cli.rt_priority)
 }
 
 /// Every flag checked before anything starts: one line with the accepted range.
@@ -261,48 +251,21 @@ fn haptic_args(cli: &Cli, domain: &Domain, script: Option<&PathBuf>) -> Vec<Stri
     }
     match cpu_plan(cli) {
         _ if cli.no_rt => a.push("--no-rt".into()),
-        Some((cpu, _)) => a.extend([
+        Some(plan) => a.extend([
             "--rt-priority".into(),
             cli.rt_priority.to_string(),
             "--cpu".into(),
-            cpu.to_string(),
+            plan.haptic.to_string(),
         ]),
         None => a.extend(["--rt-priority".into(), cli.rt_priority.to_string()]),
     }
     a
 }
 
-/// cloth-sim's solver threads for the CPUs it shares with cloth-ui: two (its most) when
-/// it has two or more, else one. Its frame is the same on either count; a sewn 2 x 8k
-/// dress at rest takes a third less time on two.
-fn threads_for(cpus: usize) -> usize {
-    if cpus >= 2 { 2 } else { 1 }
-}
-
-/// cloth-sim's CPUs under the lab's plan: those off the haptic loop's; where that leaves
-/// one (a two-CPU machine) and the loop will get SCHED_FIFO, the loop's too, for the
-/// second solver thread, which the loop preempts whenever it ticks (on this 2-CPU VM the
-/// loop missed no more ticks, and a landing 128 x 128 cloth stepped 40% more frames:
-/// docs/performance.md, "Two CPUs"). None without a CPU plan (real time off, or one CPU:
-/// the haptic loop shares them all).
-fn sim_cpus(cli: &Cli) -> Option<Vec<usize>> {
-    let (haptic, mut cpus) = cpu_plan(cli)?;
-    if cpus.len() == 1 && shared::cpus::fifo_permitted(cli.rt_priority) {
-        cpus.push(haptic);
-        cpus.sort_unstable();
-    }
-    Some(cpus)
-}
-
-/// cloth-sim's threads under the lab's plan (one without a CPU plan).
-fn sim_threads(cli: &Cli) -> usize {
-    sim_cpus(cli).map_or(1, |cpus| threads_for(cpus.len()))
-}
-
 /// `--cpus LIST` for cloth-ui: off the haptic loop's CPU.
 fn other_cpus(cli: &Cli) -> Vec<String> {
-    cpu_plan(cli).map_or_else(Vec::new, |(_, rest)| {
-        vec!["--cpus".into(), shared::cpus::format_list(&rest)]
+    cpu_plan(cli).map_or_else(Vec::new, |p| {
+        vec!["--cpus".into(), shared::cpus::format_list(&p.others)]
     })
 }
 
@@ -338,41 +301,21 @@ fn sim_args(cli: &Cli, domain: &Domain, autosave: Option<&PathBuf>) -> Vec<Strin
     if let Some(p) = autosave {
         a.extend(["--autosave".into(), p.display().to_string()]);
     }
-    if let Some(cpus) = sim_cpus(cli) {
-        a.extend(["--cpus".into(), shared::cpus::format_list(&cpus)]);
-    }
-    let threads = sim_threads(cli);
-    if threads > 1 {
-        a.extend(["--threads".into(), threads.to_string()]);
+    if let Some(plan) = cpu_plan(cli) {
+        a.extend(["--cpus".into(), shared::cpus::format_list(&plan.sim)]);
+        if plan.sim_threads() > 1 {
+            a.extend(["--threads".into(), plan.sim_threads().to_string()]);
+        }
     }
     a
 }
 
 /// What the lab tells the user about real time, in one line.
 fn real_time_line(cli: &Cli) -> String {
-    match (cpu_plan(cli), sim_cpus(cli)) {
+    match cpu_plan(cli) {
         _ if cli.no_rt => "real-time off (--no-rt): haptic ticks may be late under load".into(),
-        (Some((h, rest)), Some(sim)) => {
-            let threads = threads_for(sim.len());
-            let plural = if threads > 1 { "s" } else { "" };
-            let sim_line = if sim.contains(&h) {
-                format!(
-                    "cloth-sim ({threads} thread{plural}) on CPUs {}, below the loop on CPU {h}",
-                    shared::cpus::format_list(&sim)
-                )
-            } else {
-                format!(
-                    "cloth-sim ({threads} thread{plural}) on CPU {}",
-                    shared::cpus::format_list(&sim)
-                )
-            };
-            format!(
-                "asking real-time for haptic-loop (SCHED_FIFO {} on CPU {h}); {sim_line}; cloth-ui on CPU {}",
-                cli.rt_priority,
-                shared::cpus::format_list(&rest)
-            )
-        }
-        _ => format!(
+        Some(plan) => plan.line(cli.rt_priority),
+        None => format!(
             "asking real-time for haptic-loop (SCHED_FIFO {}); one CPU, shared by all",
             cli.rt_priority
         ),
@@ -704,38 +647,27 @@ mod tests {
         assert!(Cli::try_parse_from(["cloth-lab", "--model", "blender"]).is_err());
     }
 
-    /// cloth-sim gets two solver threads where it has two CPUs or more off the haptic
-    /// loop's, or one off it and the loop's below the loop's SCHED_FIFO; one where it
-    /// shares them all (real time off).
+    /// cloth-sim's `--cpus` and `--threads` are the plan's (`tools::cpu_plan`), and
+    /// cloth-ui's CPUs are off the loop's; no CPU list and one thread with real time off.
     #[test]
-    fn cloth_sim_gets_two_threads_where_it_has_two_cpus() {
-        assert_eq!(threads_for(1), 1);
-        assert_eq!(threads_for(2), 2);
-        assert_eq!(threads_for(15), 2);
+    fn cloth_sim_and_cloth_ui_get_the_plans_cpus() {
         let domain = Domain::new("labthreads").unwrap();
-        let threads = |args: &[&str]| {
-            let cli = Cli::try_parse_from(args).unwrap();
-            let a = sim_args(&cli, &domain, None);
-            a.iter()
-                .position(|s| s == "--threads")
-                .map_or(1, |i| a[i + 1].parse::<usize>().unwrap())
-        };
-        assert_eq!(threads(&["cloth-lab", "--no-rt"]), 1);
-        let allowed = shared::cpus::allowed();
-        let here = match allowed.len() {
-            1 => 1,
-            2 if !shared::cpus::fifo_permitted(80) => 1,
-            _ => 2,
-        };
-        assert_eq!(threads(&["cloth-lab"]), here);
-        // Never cloth-ui on the loop's CPU.
-        if let Some((h, _)) = shared::cpus::plan() {
-            let cli = Cli::try_parse_from(["cloth-lab"]).unwrap();
-            let ui = other_cpus(&cli);
-            assert!(
-                !shared::cpus::parse_list(&ui[1]).unwrap().contains(&h),
-                "{ui:?}"
-            );
-        }
+        let value =
+            |a: &[String], flag: &str| a.iter().position(|s| s == flag).map(|i| a[i + 1].clone());
+        let cli = Cli::try_parse_from(["cloth-lab", "--no-rt"]).unwrap();
+        let a = sim_args(&cli, &domain, None);
+        assert_eq!((value(&a, "--threads"), value(&a, "--cpus")), (None, None));
+        let cli = Cli::try_parse_from(["cloth-lab"]).unwrap();
+        let a = sim_args(&cli, &domain, None);
+        let Some(plan) = cpu_plan(&cli) else { return };
+        let threads = value(&a, "--threads").map_or(1, |t| t.parse().unwrap());
+        assert_eq!(threads, plan.sim_threads());
+        assert_eq!(
+            value(&a, "--cpus"),
+            Some(shared::cpus::format_list(&plan.sim))
+        );
+        let ui = other_cpus(&cli);
+        let ui = shared::cpus::parse_list(&ui[1]).unwrap();
+        assert!(!ui.contains(&plan.haptic), "{ui:?}");
     }
 }

@@ -1,0 +1,108 @@
+//! Which CPUs cloth-lab gives its processes: the haptic loop one of its own (the highest
+//! allowed, or `--cpu`), cloth-ui the others, cloth-sim the others too and two solver
+//! threads where they are two or more. Where they are one (a two-CPU machine) and the
+//! loop will get SCHED_FIFO, cloth-sim gets the loop's CPU as well, for its second
+//! thread, which the loop preempts whenever it ticks: on this 2-CPU VM the loop missed no
+//! more ticks, and a landing 128 x 128 cloth stepped 40-55% more frames
+//! (docs/performance.md, "Two CPUs").
+
+/// The lab's CPUs, when real time is on and there are two or more.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Plan {
+    /// The haptic loop's CPU.
+    pub haptic: usize,
+    /// cloth-ui's (every allowed CPU but the loop's).
+    pub others: Vec<usize>,
+    /// cloth-sim's.
+    pub sim: Vec<usize>,
+}
+
+impl Plan {
+    /// The plan for the CPUs this process may use: none with real time off (`no_rt`) or
+    /// one CPU; the loop on `cpu` if given (checked by the caller) or the highest.
+    pub fn new(no_rt: bool, cpu: Option<usize>, rt_priority: u32) -> Option<Self> {
+        if no_rt {
+            return None;
+        }
+        let allowed = shared::cpus::allowed();
+        let (haptic, others) = match cpu {
+            Some(c) => (
+                c,
+                allowed.into_iter().filter(|&x| x != c).collect::<Vec<_>>(),
+            ),
+            None => shared::cpus::plan()?,
+        };
+        if others.is_empty() {
+            return None;
+        }
+        let mut sim = others.clone();
+        if sim.len() == 1 && shared::cpus::fifo_permitted(rt_priority) {
+            sim.push(haptic);
+            sim.sort_unstable();
+        }
+        Some(Self {
+            haptic,
+            others,
+            sim,
+        })
+    }
+
+    /// cloth-sim's solver threads.
+    pub fn sim_threads(&self) -> usize {
+        threads_for(self.sim.len())
+    }
+
+    /// What the lab says about it, in one line.
+    pub fn line(&self, rt_priority: u32) -> String {
+        let threads = self.sim_threads();
+        let plural = if threads > 1 { "s" } else { "" };
+        let sim = shared::cpus::format_list(&self.sim);
+        let h = self.haptic;
+        let sim_line = if self.sim.contains(&h) {
+            format!("cloth-sim ({threads} thread{plural}) on CPUs {sim}, below the loop on CPU {h}")
+        } else {
+            format!("cloth-sim ({threads} thread{plural}) on CPU {sim}")
+        };
+        format!(
+            "asking real-time for haptic-loop (SCHED_FIFO {rt_priority} on CPU {h}); {sim_line}; cloth-ui on CPU {}",
+            shared::cpus::format_list(&self.others)
+        )
+    }
+}
+
+/// cloth-sim's solver threads for `cpus` CPUs: two (its most) when it has two or more,
+/// else one. Its frame is the same on either count; a sewn 2 x 8k dress at rest takes a
+/// third less time on two.
+pub fn threads_for(cpus: usize) -> usize {
+    if cpus >= 2 { 2 } else { 1 }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cloth_sim_shares_the_loops_cpu_only_where_it_would_have_one() {
+        assert_eq!(threads_for(1), 1);
+        assert_eq!(threads_for(2), 2);
+        assert_eq!(threads_for(15), 2);
+        assert_eq!(Plan::new(true, None, 80), None);
+        let allowed = shared::cpus::allowed();
+        let Some(p) = Plan::new(false, None, 80) else {
+            assert_eq!(allowed.len(), 1, "no plan on {allowed:?}");
+            return;
+        };
+        assert_eq!(p.haptic, *allowed.last().unwrap());
+        assert!(!p.others.contains(&p.haptic), "{p:?}");
+        let shares = allowed.len() == 2 && shared::cpus::fifo_permitted(80);
+        assert_eq!(p.sim.contains(&p.haptic), shares, "{p:?}");
+        assert_eq!(
+            p.sim_threads(),
+            if allowed.len() == 2 && !shares { 1 } else { 2 }
+        );
+        // The loop on the lowest CPU instead: the same, round it.
+        let q = Plan::new(false, Some(allowed[0]), 80).unwrap();
+        assert_eq!(q.haptic, allowed[0]);
+        assert!(!q.others.contains(&allowed[0]), "{q:?}");
+    }
+}
