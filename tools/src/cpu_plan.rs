@@ -1,10 +1,12 @@
 //! Which CPUs cloth-lab gives its processes: the haptic loop one of its own (the highest
 //! allowed, or `--cpu`), cloth-ui the others, cloth-sim the others too and two solver
-//! threads where they are two or more. Where they are one (a two-CPU machine) and the
-//! loop will get SCHED_FIFO, cloth-sim gets the loop's CPU as well, for its second
-//! thread, which the loop preempts whenever it ticks: on this 2-CPU VM the loop missed no
-//! more ticks, and a landing 128 x 128 cloth stepped 40-55% more frames
-//! (docs/performance.md, "Two CPUs").
+//! threads where they are two or more. Where they are one (a two-CPU machine), the studio
+//! is not running and the loop will get SCHED_FIFO, cloth-sim gets the loop's CPU as
+//! well, for its second thread, which the loop preempts whenever it ticks: on this 2-CPU
+//! VM the loop missed no more ticks, and a landing 128 x 128 cloth stepped 40-55% more
+//! frames. Beside the studio it stepped 35% fewer: its threads, started for each parallel
+//! pass, waited behind the software-rendered UI on the other CPU (docs/performance.md,
+//! "Two CPUs").
 
 /// The lab's CPUs, when real time is on and there are two or more.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -19,8 +21,9 @@ pub struct Plan {
 
 impl Plan {
     /// The plan for the CPUs this process may use: none with real time off (`no_rt`) or
-    /// one CPU; the loop on `cpu` if given (checked by the caller) or the highest.
-    pub fn new(no_rt: bool, cpu: Option<usize>, rt_priority: u32) -> Option<Self> {
+    /// one CPU; the loop on `cpu` if given (checked by the caller) or the highest;
+    /// cloth-sim on the loop's CPU too only where it may `share` it (no studio).
+    pub fn new(no_rt: bool, cpu: Option<usize>, rt_priority: u32, share: bool) -> Option<Self> {
         if no_rt {
             return None;
         }
@@ -36,7 +39,7 @@ impl Plan {
             return None;
         }
         let mut sim = others.clone();
-        if sim.len() == 1 && shared::cpus::fifo_permitted(rt_priority) {
+        if share && sim.len() == 1 && shared::cpus::fifo_permitted(rt_priority) {
             sim.push(haptic);
             sim.sort_unstable();
         }
@@ -82,13 +85,13 @@ mod tests {
     use super::*;
 
     #[test]
-    fn cloth_sim_shares_the_loops_cpu_only_where_it_would_have_one() {
+    fn cloth_sim_shares_the_loops_cpu_only_where_it_would_have_one_and_no_studio() {
         assert_eq!(threads_for(1), 1);
         assert_eq!(threads_for(2), 2);
         assert_eq!(threads_for(15), 2);
-        assert_eq!(Plan::new(true, None, 80), None);
+        assert_eq!(Plan::new(true, None, 80, true), None);
         let allowed = shared::cpus::allowed();
-        let Some(p) = Plan::new(false, None, 80) else {
+        let Some(p) = Plan::new(false, None, 80, true) else {
             assert_eq!(allowed.len(), 1, "no plan on {allowed:?}");
             return;
         };
@@ -100,8 +103,11 @@ mod tests {
             p.sim_threads(),
             if allowed.len() == 2 && !shares { 1 } else { 2 }
         );
+        // Beside the studio, never on the loop's CPU.
+        let q = Plan::new(false, None, 80, false).unwrap();
+        assert_eq!((&q.others, &q.sim), (&p.others, &p.others), "{q:?}");
         // The loop on the lowest CPU instead: the same, round it.
-        let q = Plan::new(false, Some(allowed[0]), 80).unwrap();
+        let q = Plan::new(false, Some(allowed[0]), 80, true).unwrap();
         assert_eq!(q.haptic, allowed[0]);
         assert!(!q.others.contains(&allowed[0]), "{q:?}");
     }

@@ -215,9 +215,11 @@ fn control(line: &str, domain: Option<&str>) -> Result<(), String> {
     }
 }
 
-/// The lab's CPUs ([`Plan`]), unless real time is off or there is only one CPU.
+/// The lab's CPUs ([`Plan`]), unless real time is off or there is only one CPU. Beside
+/// the studio cloth-sim keeps off the loop's CPU even on two.
 fn cpu_plan(cli: &Cli) -> Option<Plan> {
-    Plan::new(cli.no_rt, cli.cpu, cli.rt_priority)
+    let studio = !cli.headless && !cli.no_ui && have_display();
+    Plan::new(cli.no_rt, cli.cpu, cli.rt_priority, !studio)
 }
 
 /// Every flag checked before anything starts: one line with the accepted range.
