@@ -3,6 +3,7 @@
 //! force safety ([`safety`]), and never waits on another process.
 
 pub mod device;
+pub mod hold_log;
 pub mod looper;
 pub mod proxy;
 pub mod record;

@@ -14,6 +14,7 @@ use shared::telemetry::LoopTelemetry;
 use shared::{Checked, Header};
 
 use crate::device::{DeviceError, DeviceState, HapticDevice, PointerTarget, Workspace};
+use crate::hold_log::HoldLog;
 use crate::proxy::{ProxyParams, proxy_force};
 use crate::rt;
 use crate::safety::{ForceSafety, Hold, SafetyLimits};
@@ -62,7 +63,7 @@ struct Tick {
     seq_sample: u64,
     seq_applied: u64,
     seq_tel: u64,
-    hold_was: Hold,
+    hold_log: HoldLog,
     error_logged: Option<DeviceError>,
     reject_logged: u64,
     /// When the watcher first said cloth-sim had exited (0: it has not), ns: a model sent
@@ -96,7 +97,7 @@ pub fn run<D: HapticDevice + PointerTarget>(
         seq_sample: 0,
         seq_applied: 0,
         seq_tel: 0,
-        hold_was: Hold::Stale,
+        hold_log: HoldLog::new(Hold::Stale),
         error_logged: None,
         reject_logged: 0,
         gone_since: 0,
@@ -332,16 +333,7 @@ impl Tick {
             ));
             self.workspace_logged = self.workspace;
         }
-        if hold != self.hold_was {
-            log(match hold {
-                Hold::None => "local model fresh: rendering force",
-                Hold::Stale => "local model stale (no new model for 20 ms): force ramped to zero",
-                Hold::Expired => "local model expired (no new model for 30 ms): force zero",
-                Hold::Gone => "cloth-sim exited: force ramped to zero within 2 ms",
-                Hold::DeviceError => "device error: force ramped to zero",
-            });
-            self.hold_was = hold;
-        }
+        self.hold_log.note(hold, self.stats.telemetry.ticks, log);
         if self.stats.rejected > self.reject_logged {
             log(&format!(
                 "rejected {} malformed messages (first: {})",
