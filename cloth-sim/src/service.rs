@@ -70,7 +70,8 @@ struct Service<'a> {
 /// Two local models further apart than this are logged with where the time went (the
 /// haptic loop lets the force fade once its model is 20 ms old).
 const SLOW_MODEL_GAP: Duration = Duration::from_millis(30);
-/// A gap between models this long is a stall (the soak's limit): always logged.
+/// A gap between models this long is a stall (the soak's limit): logged at most once a
+/// second.
 const STALL_GAP: Duration = Duration::from_millis(50);
 /// In a frame that has taken this long since the last local model, the next substep
 /// sends another (the cloth as the substeps so far left it): frames slower than the

@@ -131,7 +131,7 @@ pub fn applied_force(node: &Node<ipc::Service>) -> Result<Factory<AppliedForce>,
 /// loop and the studio take 1, the newest; an observer that judges the gaps between models
 /// (the soak) takes all 64, so that being held up itself does not look like cloth-sim
 /// stalling. With 8 (65 ms), a soak held up 66-89 ms while a UI restarted beside it read
-/// three stalls that cloth-sim's own log, which lists every gap of 50 ms, did not have.
+/// three stalls that cloth-sim's own log, which then listed every gap of 50 ms, did not have.
 pub fn local_model(node: &Node<ipc::Service>) -> Result<Factory<LocalModel>, ServiceError> {
     open(node, LOCAL_MODEL, 1, 64)
 }
