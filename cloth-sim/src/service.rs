@@ -530,13 +530,17 @@ impl Service<'_> {
     /// samples that arrive while the frame is computed join the path, and the pinched
     /// vertex goes to the haptic loop as its local model before each substep. Not
     /// pinching, a frame slower than [`MID_FRAME_MODEL`] sends the touch planes between
-    /// its substeps. A frame slower than the loop's 20 ms staleness limit (a 16k-vertex
-    /// cloth under the guard takes 20-150 ms, a cloth landing on one core 30-90) then lets
-    /// the pen's force fade less often.
+    /// its substeps; and while a long contact search runs (on a thread of its own), the
+    /// model goes out every [`MID_FRAME_MODEL`] (the solver's heartbeat). A frame slower
+    /// than the loop's 20 ms staleness limit (a 16k-vertex cloth under the guard takes
+    /// 20-150 ms, a cloth landing on one core 30-90) then lets the pen's force fade less
+    /// often.
     fn step(&mut self, log: &mut dyn FnMut(&str)) -> Result<FrameStats, String> {
         // Every design the service holds (a new scene, a loaded file) sleeps at rest
         // unless `--no-sleep`.
         self.design.sim.sleep = self.cfg.sleep.then(SleepRule::default);
+        // A long contact search tells the pen path, which sends the model from it.
+        self.design.sim.heartbeat = Some(MID_FRAME_MODEL);
         let pinching = self.design.sim.pinch().is_some();
         let frame = self.design.sim.frame;
         let told = self.design.sim.notices.len();
@@ -552,14 +556,21 @@ impl Service<'_> {
         let fs = self
             .design
             .step_with(&mut |b| {
-                if !pinching {
+                if !pinching || b.heartbeat {
                     if out.laps.start.elapsed() >= MID_FRAME_MODEL {
                         out.laps.mark("step so far");
                         // The newest pen (its buttons act at the next frame, as ever).
                         feed.drain(&out.ports.device, &out.ports.applied, out.stats);
                         let (tip, sent_ns) = feed.tip();
-                        let m = touch_model(b.body, b.cloth, floor, tip, sent_ns, seq, spring);
-                        out.send(LocalModel { frame, ..m }, log);
+                        let m = match b.held {
+                            Some(held) => pinch_model(frame, held, sent_ns, seq, spring),
+                            None => {
+                                let m =
+                                    touch_model(b.body, b.cloth, floor, tip, sent_ns, seq, spring);
+                                LocalModel { frame, ..m }
+                            }
+                        };
+                        out.send(m, log);
                         out.stats.mid_frame_models += 1;
                     }
                     return None;

@@ -89,3 +89,46 @@ fn the_pen_is_told_where_the_cloth_and_the_pinched_vertex_are_before_every_subst
         assert!(sim.cloth.x[v].y > held[n - 1].position.y, "{model:?}");
     }
 }
+
+/// While a long contact search runs on a thread of its own, the pen path hears the
+/// frame's heartbeat: the cloth as it stands (nothing moves during a search), nothing
+/// held, the answer not taken; and the cloth comes out the same to the bit as without.
+#[test]
+fn a_long_search_beats_for_the_pen_and_changes_nothing() {
+    use sim_core::scenario::{ScenarioConfig, ScenarioName, build_design};
+    let landing = |beat: Option<std::time::Duration>| {
+        let mut scene = ScenarioConfig::new(ScenarioName::DrapeCube);
+        scene.grid = 48;
+        let mut d = build_design(&scene).unwrap();
+        d.sim.heartbeat = beat;
+        let (mut beats, mut last) = (0, None::<Vec<Vec3>>);
+        for _ in 0..30 {
+            d.step_with(&mut |b| {
+                if b.heartbeat {
+                    beats += 1;
+                    assert!(b.held.is_none());
+                    if let Some(x) = &last {
+                        assert!(*x == b.cloth.x, "the cloth moved during a search");
+                    }
+                } else {
+                    last = None;
+                }
+                if b.heartbeat && last.is_none() {
+                    last = Some(b.cloth.x.clone());
+                }
+                // Taken only while pinching, and never from a heartbeat.
+                Some(PenInput {
+                    target: Vec3::new(0.0, 5.0, 0.0),
+                    force_limit: None,
+                })
+            })
+            .unwrap();
+        }
+        (beats, d.sim.cloth.x.clone())
+    };
+    let (none, plain) = landing(None);
+    assert_eq!(none, 0);
+    let (beats, beaten) = landing(Some(std::time::Duration::from_micros(100)));
+    assert!(beats > 0, "no heartbeat in 30 landing frames");
+    assert!(plain == beaten, "the heartbeat changed the cloth");
+}

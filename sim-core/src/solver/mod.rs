@@ -26,7 +26,7 @@ pub use constraints::{BendConstraint, Membrane, bending_energy, build_bending, b
 pub use implicit::{EarlyStop, Implicit, ImplicitError};
 pub use material::{DEFAULT_SHEAR_DAMPING, DEFAULT_THICKNESS, Material, ModelKind};
 pub use model::{ContactStats, Drive, Environment, FrameInput, Solver, StepError};
-pub use pinch::{Between, Grip, Held, PenInput, PenPath, Pinch};
+pub use pinch::{Between, Grip, Held, PenInput, PenPath, Pinch, beating};
 pub(crate) use rest::Rest;
 pub use rest::SleepRule;
 pub use seed::{Seed, seed_safe_step, seed_stable_step};

@@ -52,6 +52,9 @@ pub struct Drive<'a, 'p> {
     /// settles).
     pub holds: &'a [Hold],
     pub pen: &'a mut PenPath<'p>,
+    /// While a long contact search runs, tell `pen` this often that the frame is busy
+    /// ([`Between::heartbeat`](super::Between)); `None`: never (scenarios, tests).
+    pub heartbeat: Option<std::time::Duration>,
     /// The least largest stretch the strain limit holds a triangle to
     /// ([`Simulation::stretch_floor`](super::Simulation::stretch_floor)).
     pub stretch_floor: f32,

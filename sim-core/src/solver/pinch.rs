@@ -57,6 +57,10 @@ pub struct Between<'a> {
     pub cloth: &'a Cloth,
     /// The body.
     pub body: Option<&'a Body>,
+    /// Told while the frame is busy before this substep (a long contact search, on
+    /// another thread): nothing has moved since the last telling, and the answer is not
+    /// taken. A caller may report from it (the pen's model) all the same.
+    pub heartbeat: bool,
 }
 
 /// Asked before every substep of a frame where the pen is: `None` for unchanged, and
@@ -103,6 +107,7 @@ impl Grip {
             held,
             cloth,
             body,
+            heartbeat: false,
         };
         let input = pen(&between);
         let Some(p) = &mut self.pinch else { return };
@@ -115,6 +120,30 @@ impl Grip {
                 .filter(|f| f.is_finite())
                 .map(|f| f.max(0.0));
         }
+    }
+
+    /// While substep `k` of `n` waits for a long contact search: tells `pen` so
+    /// ([`Between::heartbeat`]), the pinched vertex where it is.
+    pub fn heartbeat(
+        &self,
+        (k, n): (usize, usize),
+        pen: &mut PenPath<'_>,
+        cloth: &Cloth,
+        body: Option<&Body>,
+    ) {
+        let held = self.pinch.as_ref().and_then(|p| {
+            let i = p.vertex as usize;
+            let (&position, &velocity) = cloth.x.get(i).zip(cloth.v.get(i))?;
+            Some(Held { position, velocity })
+        });
+        let _ = pen(&Between {
+            substep: k,
+            substeps: n,
+            held,
+            cloth,
+            body,
+            heartbeat: true,
+        });
     }
 
     /// The springs' pass of one substep (`inv_h2` = 1 / h^2), recording their force.
@@ -151,4 +180,30 @@ impl Grip {
         }
         self.forces.push(force * scale);
     }
+}
+
+/// Runs `work` on a thread of its own while this one calls `beat` every `every`, until
+/// the work is done (a panic in it is this thread's): a contact search of hundreds of
+/// milliseconds on a 16k-vertex cloth then still lets the pen hear from the frame.
+pub fn beating<R: Send>(
+    work: impl FnOnce() -> R + Send,
+    mut beat: impl FnMut(),
+    every: std::time::Duration,
+) -> R {
+    use std::sync::mpsc::{RecvTimeoutError, channel};
+    std::thread::scope(|s| {
+        let (done, finished) = channel();
+        let worker = s.spawn(move || {
+            let r = work();
+            // The receiver outlives the scope's threads: the send cannot fail.
+            let _ = done.send(());
+            r
+        });
+        while let Err(RecvTimeoutError::Timeout) = finished.recv_timeout(every) {
+            beat();
+        }
+        worker
+            .join()
+            .unwrap_or_else(|e| std::panic::resume_unwind(e))
+    })
 }

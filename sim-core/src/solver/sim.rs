@@ -64,6 +64,10 @@ pub struct Simulation {
     /// When the cloth falls asleep once it has come to rest (`solver::rest`); `None`, the
     /// default here, simulates every frame. cloth-sim's service turns it on.
     pub sleep: Option<SleepRule>,
+    /// How often a long contact search tells the pen path that the frame is busy
+    /// ([`Drive::heartbeat`]); `None`, the default here, never. cloth-sim's service sets
+    /// it, and sends the pen's model from it.
+    pub heartbeat: Option<std::time::Duration>,
     pub(crate) rest: Rest,
     pub(crate) contacts: ContactCache,
     pub(crate) solver: Box<dyn Solver>,
@@ -180,6 +184,7 @@ impl Simulation {
             holds: Vec::new(),
             stretch_floor: 0.0,
             sleep: None,
+            heartbeat: None,
             rest: Rest::default(),
             contacts,
             solver,
@@ -248,6 +253,7 @@ impl Simulation {
             holds: &self.holds,
             pen,
             stretch_floor: self.stretch_floor,
+            heartbeat: self.heartbeat,
         };
         let frame = FrameInput {
             cloth: &mut self.cloth,

@@ -57,6 +57,7 @@ fn converged_step_is_the_implicit_step() {
         holds: &[],
         pen: &mut pen,
         stretch_floor: 0.0,
+        heartbeat: None,
     };
     vbd.frame(&mut a, None, &env, 1, &mut drive);
     let mut im = Implicit::new(&b, &m);

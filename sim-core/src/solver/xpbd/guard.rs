@@ -40,6 +40,9 @@ const REUSE_MARGIN: f32 = 0.002;
 const REUSE_MARGIN_PER_EDGE: f32 = 1.0 / 7.0;
 /// Searches that only look again where vertices left their boxes, between two full ones.
 const MAX_UPDATES: usize = 16;
+/// A search after one that took this long, µs, runs beside the pen's heartbeat
+/// (`Drive::heartbeat`): 2 ms, a tenth of the haptic loop's staleness limit.
+const SLOW_SEARCH_US: u64 = 2_000;
 
 #[derive(Clone, Debug, Default)]
 pub struct Guard {
@@ -79,6 +82,8 @@ pub struct Guard {
     /// had left their boxes ([`Guard::follow_edit`]).
     edited: Vec<bool>,
     pub stats: ContactStats,
+    /// How long the last search or update took, µs.
+    last_search_us: u64,
 }
 
 impl Guard {
@@ -227,26 +232,47 @@ impl Guard {
         Motion::searches(cloth, &self.free, self.mean_edge, env, substeps, FEW_FAST)
     }
 
-    /// The pairs for the next `span` seconds: motion boxes, then a search (or an update
-    /// where vertices left their boxes) unless the last one's boxes hold them all.
-    #[allow(clippy::too_many_arguments)]
-    pub fn search(
+    /// Each vertex's motion box for the next `span` seconds (the pen's, the stitches' and
+    /// the holds' pulls in `drive`), the first half of a search; [`Guard::search_boxes`]
+    /// the second, which needs nothing of `drive` and so can run on another thread.
+    pub fn motion_boxes(
         &mut self,
         cloth: &Cloth,
-        body: Option<&Body>,
         env: &Environment,
         drive: &Drive<'_, '_>,
         span: f32,
         thickness: f32,
-        threads: usize,
     ) {
         if self.free.len() != cloth.len() {
             self.rebuild(cloth);
         }
-        let exclusion = 2.0 * thickness + 2.0 * self.mean_edge;
-        self.follow_bridges(cloth, exclusion);
+        self.follow_bridges(cloth, self.exclusion(thickness));
         self.motion
             .boxes(&mut self.need, cloth, &self.free, env, drive, span);
+    }
+
+    /// Neighbours nearer than this in the pattern carry no energy.
+    fn exclusion(&self, thickness: f32) -> f32 {
+        2.0 * thickness + 2.0 * self.mean_edge
+    }
+
+    /// Whether the last search (or update) took long enough that the pen should hear
+    /// from the frame while the next one runs ([`SLOW_SEARCH_US`]).
+    pub fn slow_search(&self) -> bool {
+        self.last_search_us >= SLOW_SEARCH_US
+    }
+
+    /// The pairs for the motion boxes of [`Guard::motion_boxes`]: a search (or an update
+    /// where vertices left their boxes) unless the last one's boxes hold them all.
+    pub fn search_boxes(
+        &mut self,
+        cloth: &Cloth,
+        body: Option<&Body>,
+        env: &Environment,
+        thickness: f32,
+        threads: usize,
+    ) {
+        let exclusion = self.exclusion(thickness);
         let inside = |a: &Aabb, b: &Aabb| b.lo.cmple(a.lo).all() && a.hi.cmple(b.hi).all();
         let margin = REUSE_MARGIN.min(REUSE_MARGIN_PER_EDGE * self.mean_edge);
         let searched = self.boxes.len() == self.need.len();
@@ -342,7 +368,8 @@ impl Guard {
             self.stats.searches += 1;
         }
         self.stats.pairs = self.prox.counts;
-        self.stats.detect_us += t0.elapsed().as_micros() as u64;
+        self.last_search_us = t0.elapsed().as_micros() as u64;
+        self.stats.detect_us += self.last_search_us;
     }
 
     /// Starts a frame's counts (the pairs' counts stay those of the last search).
