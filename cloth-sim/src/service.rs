@@ -539,8 +539,10 @@ impl Service<'_> {
         // Every design the service holds (a new scene, a loaded file) sleeps at rest
         // unless `--no-sleep`.
         self.design.sim.sleep = self.cfg.sleep.then(SleepRule::default);
-        // A long contact search tells the pen path, which sends the model from it.
-        self.design.sim.heartbeat = Some(MID_FRAME_MODEL);
+        // A long contact search tells the pen path, which sends the model from it; only
+        // with a second solver thread's CPU to run it beside: on one CPU shared with the
+        // studio, cloth-sim stepped a fifth fewer frames (docs/performance.md).
+        self.design.sim.heartbeat = (self.design.sim.threads() > 1).then_some(MID_FRAME_MODEL);
         let pinching = self.design.sim.pinch().is_some();
         let frame = self.design.sim.frame;
         let told = self.design.sim.notices.len();
