@@ -13,7 +13,7 @@ use shared::sim_to_ui::{
 use sim_core::collision::Body;
 use sim_core::design::sewing_pattern::seam_label;
 use sim_core::design::{Design, TILE, Texture};
-use sim_core::solver::{Cloth, Held};
+use sim_core::solver::{Between, Cloth, Held};
 
 fn port_error(e: impl std::fmt::Debug) -> String {
     format!("{e:?}")
@@ -108,6 +108,39 @@ pub(crate) fn touch_model(
         m.plane_count += 1;
     }
     m
+}
+
+/// The haptic loop extrapolates a pinched vertex with its velocity this far at most, s
+/// (`ProxyParams::max_extrapolation_s`).
+const MAX_LEAD_S: f32 = 0.05;
+
+/// The local model sent in the middle of frame `frame` (the scene's `floor`), between
+/// substeps or beside a long search (`b`), for the pen at `tip` (its sample sent at
+/// `sent_ns`), the pinched vertex having last gone out `since` ago: the touch planes, or
+/// the pinched vertex. Beside a search the cloth stands still, so the vertex goes out
+/// where the loop's extrapolation has got it by now (at most its 50 ms) and at rest: the
+/// pull does not saw back at each beat.
+pub(crate) fn mid_frame_model(
+    b: &Between<'_>,
+    (frame, floor): (u64, Option<f32>),
+    ((tip, sent_ns), since): ((Vec3, u64), std::time::Duration),
+    seq: &mut u64,
+    spring: (f32, [f32; 4]),
+) -> LocalModel {
+    match b.held {
+        Some(held) => {
+            let lead = since.as_secs_f32().min(MAX_LEAD_S);
+            let still = Held {
+                position: held.position + held.velocity * lead,
+                velocity: Vec3::ZERO,
+            };
+            pinch_model(frame, still, sent_ns, seq, spring)
+        }
+        None => LocalModel {
+            frame,
+            ..touch_model(b.body, b.cloth, floor, tip, sent_ns, seq, spring)
+        },
+    }
 }
 
 /// The local model of a pinch in the middle of frame `frame`, from the pinched vertex as
@@ -460,6 +493,53 @@ mod tests {
     /// A seam whose pairs stopped closing is listed so: a cloth hung from two corners
     /// 0.5 m apart, stitched together, which can never close. Before the watch's three
     /// seconds the list says nothing stalled; after them, both pairs and their gaps.
+    /// Beside a long search the pinched vertex goes out at rest where the loop's
+    /// extrapolation has got it (at most 50 ms on); not pinching, the touch planes.
+    #[test]
+    fn the_mid_frame_model_holds_a_pinched_vertex_still_beside_a_search() {
+        use sim_core::mesh::ClothMesh;
+        use sim_core::solver::{Cloth, Material};
+        let mesh = ClothMesh::grid(0.2, 0.2, 4, 4, 0.5).unwrap();
+        let cloth = Cloth::new(mesh, &Material::default()).unwrap();
+        let held = Held {
+            position: Vec3::new(0.0, 0.5, 0.0),
+            velocity: Vec3::new(1.0, 0.0, 0.0),
+        };
+        let b = Between {
+            substep: 2,
+            substeps: 5,
+            held: Some(held),
+            cloth: &cloth,
+            body: None,
+            heartbeat: true,
+        };
+        let at = |ms: u64| {
+            let since = std::time::Duration::from_millis(ms);
+            let m = mid_frame_model(
+                &b,
+                (7, Some(0.0)),
+                ((Vec3::ZERO, 9), since),
+                &mut 0,
+                (100.0, [0.0; 4]),
+            );
+            assert_eq!((m.pinching, m.frame, m.pen_sent_ns), (1, 7, 9));
+            assert_eq!(m.vertex_velocity, [0.0; 3]);
+            m.vertex_position[0]
+        };
+        assert!((at(20) - 0.02).abs() < 1e-6 && (at(400) - 0.05).abs() < 1e-6);
+        let b = Between { held: None, ..b };
+        let tip = Vec3::new(0.0, 0.5, 0.0);
+        let m = mid_frame_model(
+            &b,
+            (7, Some(0.0)),
+            ((tip, 9), Default::default()),
+            &mut 0,
+            (100.0, [0.0; 4]),
+        );
+        // The cloth's plane through its vertex under the tip, and the floor.
+        assert_eq!((m.pinching, m.plane_count, m.frame), (0, 2, 7));
+    }
+
     #[test]
     fn the_list_marks_the_pairs_that_stopped_closing() {
         use sim_core::design::{Design, STALL_TOLD_AFTER};

@@ -29,7 +29,8 @@ use crate::config::{ServiceConfig, ServiceStats};
 use crate::export::export;
 use crate::pen::{PenFeed, Tools, pen_acts};
 use crate::publish::{
-    ClothOut, local_model, pinch_model, publish_body, publish_tile, scene_workspace, touch_model,
+    ClothOut, local_model, mid_frame_model, pinch_model, publish_body, publish_tile,
+    scene_workspace,
 };
 
 /// The running service: its design, ports and everything it keeps between frames.
@@ -555,6 +556,8 @@ impl Service<'_> {
             laps: &mut self.laps,
             slow_logged: &mut self.slow_logged,
         };
+        // When the pinched vertex last went out as the substeps left it.
+        let mut told_at = Instant::now();
         let fs = self
             .design
             .step_with(&mut |b| {
@@ -563,16 +566,8 @@ impl Service<'_> {
                         out.laps.mark("step so far");
                         // The newest pen (its buttons act at the next frame, as ever).
                         feed.drain(&out.ports.device, &out.ports.applied, out.stats);
-                        let (tip, sent_ns) = feed.tip();
-                        let m = match b.held {
-                            Some(held) => pinch_model(frame, held, sent_ns, seq, spring),
-                            None => {
-                                let m =
-                                    touch_model(b.body, b.cloth, floor, tip, sent_ns, seq, spring);
-                                LocalModel { frame, ..m }
-                            }
-                        };
-                        out.send(m, log);
+                        let pen = (feed.tip(), told_at.elapsed());
+                        out.send(mid_frame_model(b, (frame, floor), pen, seq, spring), log);
                         out.stats.mid_frame_models += 1;
                     }
                     return None;
@@ -582,6 +577,7 @@ impl Service<'_> {
                     let (_, sent_ns) = feed.tip();
                     out.laps.mark("step so far");
                     out.send(pinch_model(frame, held, sent_ns, seq, spring), log);
+                    told_at = Instant::now();
                 }
                 let input = feed.input(b.substep, b.substeps, cfg)?;
                 out.stats.pen_substeps += 1;

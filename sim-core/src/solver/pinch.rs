@@ -86,6 +86,13 @@ impl Grip {
         self.limited = 0;
     }
 
+    /// The pinched vertex in `cloth` now (`None` while nothing is pinched).
+    fn held(&self, cloth: &Cloth) -> Option<Held> {
+        let i = self.pinch.as_ref()?.vertex as usize;
+        let (&position, &velocity) = cloth.x.get(i).zip(cloth.v.get(i))?;
+        Some(Held { position, velocity })
+    }
+
     /// Before substep `k` of `n`: tells `pen` where the frame is, and while pinching
     /// moves the pointer end to where the pen is.
     pub fn follow(
@@ -96,11 +103,7 @@ impl Grip {
         cloth: &Cloth,
         body: Option<&Body>,
     ) {
-        let held = self.pinch.as_ref().and_then(|p| {
-            let i = p.vertex as usize;
-            let (&position, &velocity) = cloth.x.get(i).zip(cloth.v.get(i))?;
-            Some(Held { position, velocity })
-        });
+        let held = self.held(cloth);
         let between = Between {
             substep: k,
             substeps: n,
@@ -131,11 +134,7 @@ impl Grip {
         cloth: &Cloth,
         body: Option<&Body>,
     ) {
-        let held = self.pinch.as_ref().and_then(|p| {
-            let i = p.vertex as usize;
-            let (&position, &velocity) = cloth.x.get(i).zip(cloth.v.get(i))?;
-            Some(Held { position, velocity })
-        });
+        let held = self.held(cloth);
         let _ = pen(&Between {
             substep: k,
             substeps: n,

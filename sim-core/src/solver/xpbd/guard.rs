@@ -22,6 +22,7 @@ use crate::collision::proximity::{
 use crate::mesh::{edge_ends, edge_key};
 use crate::solver::model::{ContactStats, Drive, Environment};
 use crate::solver::motion::{FEW_FAST, Motion};
+use crate::solver::pinch::beating;
 use crate::solver::state::Cloth;
 
 /// The least separation every pair keeps, m.
@@ -230,6 +231,31 @@ impl Guard {
     /// Searches this frame takes ([`Motion::searches`]).
     pub fn searches(&self, cloth: &Cloth, env: &Environment, substeps: usize) -> usize {
         Motion::searches(cloth, &self.free, self.mean_edge, env, substeps, FEW_FAST)
+    }
+
+    /// The pairs for the next `span` seconds, searched with `thickness` on `threads`
+    /// ([`Guard::motion_boxes`], then [`Guard::search_boxes`]) before substep `k` of `n`;
+    /// after a slow search, on a thread of its own beside the pen's heartbeat
+    /// ([`Drive::heartbeat`]).
+    pub fn search(
+        &mut self,
+        cloth: &Cloth,
+        body: Option<&Body>,
+        env: &Environment,
+        drive: &mut Drive<'_, '_>,
+        (span, thickness, threads): (f32, f32, usize),
+        (k, n): (usize, usize),
+    ) {
+        self.motion_boxes(cloth, env, drive, span, thickness);
+        let slow = self.slow_search();
+        let mut search = || self.search_boxes(cloth, body, env, thickness, threads);
+        match drive.heartbeat.filter(|_| slow) {
+            Some(every) => {
+                let (grip, pen) = (&*drive.grip, &mut *drive.pen);
+                beating(search, || grip.heartbeat((k, n), pen, cloth, body), every);
+            }
+            None => search(),
+        }
     }
 
     /// Each vertex's motion box for the next `span` seconds (the pen's, the stitches' and

@@ -16,7 +16,6 @@ use crate::collision::{Body, ContactCache};
 use crate::solver::constraints::{BendConstraint, Elements, HingeShares, Membrane, elements_of};
 use crate::solver::material::Material;
 use crate::solver::model::{Drive, Environment};
-use crate::solver::pinch::beating;
 use crate::solver::state::Cloth;
 use crate::solver::stitch::{hold, stitch};
 
@@ -357,18 +356,8 @@ impl Xpbd {
                 && k == group * substeps / searches
             {
                 let span = ((group + 1) * substeps / searches - k) as f32 * h;
-                g.motion_boxes(cloth, env, drive, span, m.thickness);
-                let (threads, slow) = (self.threads, g.slow_search());
-                let mut search = || g.search_boxes(cloth, body, env, m.thickness, threads);
-                match drive.heartbeat.filter(|_| slow) {
-                    // A long search beside the pen's heartbeat (`Drive::heartbeat`).
-                    Some(every) => {
-                        let (grip, pen) = (&*drive.grip, &mut *drive.pen);
-                        let beat = || grip.heartbeat((k, substeps), pen, cloth, body);
-                        beating(search, beat, every);
-                    }
-                    None => search(),
-                }
+                let (th, threads) = (m.thickness, self.threads);
+                g.search(cloth, body, env, drive, (span, th, threads), (k, substeps));
             }
             drive.grip.follow(k, substeps, &mut *drive.pen, cloth, body);
             if let Some(g) = &mut self.guard {
