@@ -286,6 +286,11 @@ impl Service<'_> {
         self.feed.next_frame();
         self.feed
             .drain(&self.ports.device, &self.ports.applied, &mut self.stats);
+        // After the pacing sleep (most of a frame at rest), the model again before the
+        // commands, which can take tens of ms (a cut, a new piece) on top of it.
+        if self.laps.start.elapsed() >= MID_FRAME_MODEL {
+            self.send_local_model(log);
+        }
         self.serve_commands(log);
         self.laps.mark("commands");
         if self.feed.let_go_if_gone() {
