@@ -59,16 +59,20 @@ impl Plan {
     pub fn line(&self, rt_priority: u32) -> String {
         let threads = self.sim_threads();
         let plural = if threads > 1 { "s" } else { "" };
-        let sim = shared::cpus::format_list(&self.sim);
+        let cpus = |list: &[usize]| {
+            let s = if list.len() > 1 { "s" } else { "" };
+            format!("CPU{s} {}", shared::cpus::format_list(list))
+        };
         let h = self.haptic;
-        let sim_line = if self.sim.contains(&h) {
-            format!("cloth-sim ({threads} thread{plural}) on CPUs {sim}, below the loop on CPU {h}")
+        let below = if self.sim.contains(&h) {
+            format!(", below the loop on CPU {h}")
         } else {
-            format!("cloth-sim ({threads} thread{plural}) on CPU {sim}")
+            String::new()
         };
         format!(
-            "asking real-time for haptic-loop (SCHED_FIFO {rt_priority} on CPU {h}); {sim_line}; cloth-ui on CPU {}",
-            shared::cpus::format_list(&self.others)
+            "asking real-time for haptic-loop (SCHED_FIFO {rt_priority} on CPU {h}); cloth-sim ({threads} thread{plural}) on {}{below}; cloth-ui on {}",
+            cpus(&self.sim),
+            cpus(&self.others)
         )
     }
 }
