@@ -109,7 +109,8 @@ pub struct ServiceStats {
     pub autosave_ms_max: f64,
     /// Local models that could not be sent to the haptic loop.
     pub model_send_failures: u64,
-    /// Touch models sent between the substeps of a slow frame (`MID_FRAME_MODEL`).
+    /// Local models sent within a slow frame (`MID_FRAME_MODEL`): the touch planes between
+    /// substeps, and the touch planes or the pinched vertex beside a long contact search.
     pub mid_frame_models: u64,
     pub resumed: bool,
 }

@@ -602,7 +602,7 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
 /// The service's last line: what it did.
 fn stopped_line(stats: &cloth_sim::ServiceStats) -> String {
     format!(
-        "stopped after {} frames: {} device samples ({} rejected), {} applied forces, {} pinches ({} substeps read the pen, {} coupled to the rendered force, {} pulled at its limit, largest pull {:.2} N), {} touch models sent mid-frame, {} autosaves, {} failed (longest hold-up {:.1} ms)",
+        "stopped after {} frames: {} device samples ({} rejected), {} applied forces, {} pinches ({} substeps read the pen, {} coupled to the rendered force, {} pulled at its limit, largest pull {:.2} N), {} models sent within slow frames, {} autosaves, {} failed (longest hold-up {:.1} ms)",
         stats.frames,
         stats.samples,
         stats.rejected,
