@@ -144,7 +144,7 @@ pub(crate) fn export(
         seam_pairs_welded: stats.welds,
         fit_gap_mean_m: gap.map(|g| g.0),
         fit_gap_max_m: gap.map(|g| g.1),
-        undo_depth: design.history.undo_len(),
+        undo_depth: design.history.undo_steps(),
         exported: files.iter().map(|p| p.display().to_string()).collect(),
     };
     let path = dir.join("sim-report.json");

@@ -368,7 +368,7 @@ impl Service<'_> {
                 Header::next(&mut self.seq_reply),
                 wire.header.seq,
                 ok,
-                self.design.history.undo_len(),
+                self.design.history.undo_steps(),
                 &msg,
             );
             let _ = req.send_copy(reply);
@@ -492,8 +492,8 @@ impl Service<'_> {
             tool: self.tools.tool,
             rgba: self.tools.rgba,
             brush_m: self.tools.brush_m,
-            undo_depth: self.design.history.undo_len() as u32,
-            redo_depth: self.design.history.redo_len() as u32,
+            undo_depth: self.design.history.undo_steps() as u32,
+            redo_depth: self.design.history.redo_steps() as u32,
             sew_first: self.tools.sew_first.unwrap_or(u32::MAX),
         };
         // Late subscribers get the history (last tool state, mesh, body, telemetry) when a

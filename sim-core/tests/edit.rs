@@ -420,10 +420,52 @@ fn a_seam_pulls_two_cut_pieces_together_and_welds_them() {
     assert_eq!(pieces(&s), 1);
     assert!(s.seams[0].pairs.iter().all(|(p, q)| p == q));
     s.validate().unwrap();
-    // Undo the last weld: that pair is open again.
-    assert_eq!(s.undo().unwrap(), "weld");
-    assert_eq!(s.seams[0].pairs.iter().filter(|(p, q)| p != q).count(), 1);
+    let sewn = snapshot(&s);
+    // One undo takes the seam back with every weld it made (a weld undone alone closed
+    // again in the next frame, so the designer's undo seemed to do nothing): the two
+    // halves apart, no seam, and nothing sews them in the frames after.
+    assert_eq!(s.history.undo_steps(), 2, "the cut and the seam");
+    assert_eq!(s.undo().unwrap(), "seam");
+    assert!(s.seams.is_empty());
+    assert_eq!(s.sim.cloth.live.triangles(), before.0);
+    assert_eq!(s.history.undo_steps(), 1);
     s.validate().unwrap();
+    for _ in 0..30 {
+        assert_eq!(s.step().unwrap().welded, 0);
+    }
+    assert_eq!(pieces(&s), 2);
+    // One redo brings the seam back with its welds.
+    assert_eq!(s.redo().unwrap(), "seam");
+    assert_eq!(snapshot(&s).0, sewn.0);
+    assert!(s.seams[0].pairs.iter().all(|(p, q)| p == q));
+    assert_eq!(pieces(&s), 1);
+    s.validate().unwrap();
+}
+
+/// With only a seam's welds left to undo (its seam forgotten by the history's bound, as
+/// a pattern's seams are not the designer's), an undo refuses and changes nothing: a weld
+/// undone alone would close again in the next frame.
+#[test]
+fn only_welds_left_to_undo_is_refused() {
+    let n = 12;
+    let (mut s, a, b) = cut_in_two(n, 0.015, 0.03);
+    s.add_seam(&a, &b, 0.05).unwrap();
+    s.history.max_edits = 4;
+    let mut welded = 0;
+    for _ in 0..120 {
+        welded += s.step().unwrap().welded;
+    }
+    assert_eq!(welded, n + 1);
+    assert_eq!((s.history.undo_len(), s.history.undo_steps()), (4, 0));
+    let sewn = snapshot(&s);
+    assert_eq!(s.undo(), Err(EditError::OnlyWeldsToUndo));
+    assert_eq!(snapshot(&s), sewn);
+    assert_eq!(s.history.undo_len(), 4);
+    assert!(
+        EditError::OnlyWeldsToUndo
+            .to_string()
+            .contains("Remove a seam")
+    );
 }
 
 /// One random operation, as the property test draws it.

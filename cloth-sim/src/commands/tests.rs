@@ -93,6 +93,27 @@ fn a_reset_with_a_pattern_builds_the_garment() {
         .map(|p| p.y)
         .fold(f32::MIN, f32::max);
     assert!(top > 1.5, "{top}");
+    // Its seams close on their own; an undo takes back the newest seam the scene made
+    // together with the welds made since (it used to open the newest weld alone, which
+    // closed again in the next frame).
+    let mut next = next;
+    let mut welded = 0;
+    for _ in 0..300 {
+        welded += next.step().unwrap().welded;
+        if welded > 0 {
+            break;
+        }
+    }
+    assert!(welded > 0, "no weld in 300 frames");
+    let steps = next.history.undo_steps();
+    assert_eq!(
+        carry_out(&mut next, &Command::Undo).unwrap(),
+        "Undone: seam"
+    );
+    assert_eq!(next.seams.len(), 3);
+    assert_eq!(next.history.undo_steps(), steps - 1);
+    assert!(!next.history.undo_top_is_auto());
+    next.validate().unwrap();
     let bad = dir.join("not-a-pattern.svg");
     std::fs::write(&bad, "<svg xmlns=\"http://www.w3.org/2000/svg\"/>").unwrap();
     let err = replacement(&mut d, &reset(bad.to_str().unwrap()), &cfg).unwrap_err();

@@ -88,6 +88,10 @@ pub enum EditError {
     GuardBuiltIn,
     #[error("nothing to undo")]
     NothingToUndo,
+    #[error(
+        "nothing to undo but the seams' own welds, which would close again at once (Remove a seam in the Seams list to stop it sewing)"
+    )]
+    OnlyWeldsToUndo,
     #[error("nothing to redo")]
     NothingToRedo,
 }

@@ -79,6 +79,57 @@ impl History {
         self.redo.len()
     }
 
+    /// The designer's operations that can be undone, each an undo step (with the
+    /// automatic edits over it: [`Edit::auto`]).
+    pub fn undo_steps(&self) -> usize {
+        self.undo.iter().filter(|e| !e.auto).count()
+    }
+
+    /// The operations that can be redone, each a redo step (with the automatic edits that
+    /// follow it).
+    pub fn redo_steps(&self) -> usize {
+        self.redo.iter().filter(|e| !e.auto).count()
+    }
+
+    /// Whether the newest operation on the undo stack is automatic.
+    pub fn undo_top_is_auto(&self) -> bool {
+        self.undo.back().is_some_and(|e| e.auto)
+    }
+
+    /// How many operations one undo takes back: the automatic ones on top and the
+    /// designer's under them (all of them, automatic, when there is none).
+    pub fn undo_group(&self) -> usize {
+        let autos = self.undo.iter().rev().take_while(|e| e.auto).count();
+        (autos + 1).min(self.undo.len())
+    }
+
+    /// How many operations one redo brings back: the next one and the automatic ones
+    /// after it.
+    pub fn redo_group(&self) -> usize {
+        let autos = self
+            .redo
+            .iter()
+            .rev()
+            .skip(1)
+            .take_while(|e| e.auto)
+            .count();
+        (autos + 1).min(self.redo.len())
+    }
+
+    /// The newest `k` operations on the undo stack, newest first; the last is the
+    /// designer's when `k` is an [`undo_group`](Self::undo_group) that holds one, and
+    /// none is yielded for a group of automatic operations alone.
+    pub fn undo_edits(&self, k: usize) -> impl Iterator<Item = &Edit> + Clone + '_ {
+        let group = self.undo.iter().rev().take(k);
+        let designers = group.clone().any(|e| !e.auto);
+        group.filter(move |_| designers)
+    }
+
+    /// The next `k` operations on the redo stack, in the order they are redone.
+    pub fn redo_edits(&self, k: usize) -> impl Iterator<Item = &Edit> + '_ {
+        self.redo.iter().rev().take(k)
+    }
+
     /// Labels of the operations that can be undone, oldest first.
     pub fn labels(&self) -> impl Iterator<Item = &'static str> + '_ {
         self.undo.iter().map(|e| e.label)
@@ -113,6 +164,7 @@ mod tests {
     fn edit(n: usize) -> Edit {
         Edit {
             label: "move",
+            auto: false,
             prims: vec![
                 Prim::Move {
                     vertex: 0,
@@ -143,5 +195,32 @@ mod tests {
         assert_eq!(h.redo_len(), 0);
         assert_eq!(h.undo_len(), 3);
         assert_eq!(h.bytes(), 2 * edit(10).bytes() + edit(1).bytes());
+    }
+
+    #[test]
+    fn an_undo_takes_the_automatic_edits_on_top_with_the_designers_under_them() {
+        let mut h = History::default();
+        let op = |label, auto| Edit {
+            auto,
+            label,
+            ..edit(1)
+        };
+        h.push(op("weld", true));
+        assert_eq!((h.undo_group(), h.undo_edits(1).count()), (1, 0));
+        h.push(op("cut", false));
+        h.push(op("weld", true));
+        h.push(op("weld", true));
+        assert_eq!((h.undo_len(), h.undo_steps()), (4, 1));
+        assert_eq!(h.undo_group(), 3);
+        let labels: Vec<_> = h.undo_edits(3).map(|e| e.label).collect();
+        assert_eq!(labels, ["weld", "weld", "cut"]);
+        for _ in 0..3 {
+            let e = h.pop_undo().unwrap();
+            h.push_redo(e);
+        }
+        assert_eq!((h.redo_group(), h.redo_steps()), (3, 1));
+        assert_eq!(h.redo_edits(3).next().unwrap().label, "cut");
+        // Only automatic edits left: nothing of the designer's to undo.
+        assert_eq!((h.undo_group(), h.undo_edits(1).count()), (1, 0));
     }
 }

@@ -251,6 +251,10 @@ impl Prim {
 pub struct Edit {
     pub label: &'static str,
     pub prims: Vec<Prim>,
+    /// Made by the design itself, not asked for: a seam's weld as its stitches close. An
+    /// undo takes these back together with the designer's operation under them (undone
+    /// alone, a weld closes again in the next frame), and a redo brings them back with it.
+    pub auto: bool,
 }
 
 impl Edit {

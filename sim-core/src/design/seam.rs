@@ -320,7 +320,7 @@ impl Design {
                         });
                     }
                 }
-                if self.commit("weld", prims).is_ok() {
+                if self.commit_auto("weld", prims).is_ok() {
                     self.hand_hold(b, a);
                     welded += 1;
                     zipped |= gap > near;

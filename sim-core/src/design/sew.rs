@@ -160,10 +160,15 @@ mod tests {
             assert_eq!(live.tris_of(0).len(), 3);
             d.validate().unwrap();
             d.step().unwrap();
-            d.undo().unwrap();
-            assert_eq!(d.history.undo_len(), edits);
+            // The weld is undone with the seam that made it; redone with it.
+            assert_eq!(d.undo().unwrap(), "seam");
+            assert_eq!(d.history.undo_len(), edits - 1);
             assert_eq!(d.sim.cloth.live.tri_count(), tris);
-            assert_eq!(d.seams[0].pairs, vec![(0, 1), (3, 2)]);
+            assert!(d.seams.is_empty());
+            assert_eq!(d.redo().unwrap(), "seam");
+            assert_eq!(d.history.undo_len(), edits + 1);
+            assert_eq!(d.seams[0].pairs, vec![(0, 0), (3, 2)]);
+            assert_eq!(d.sim.cloth.live.tri_count(), tris - 1);
         }
     }
 

@@ -273,6 +273,7 @@ impl Design {
         self.history.push(Edit {
             label,
             prims: applied,
+            auto: false,
         });
     }
 
@@ -318,6 +319,25 @@ impl Design {
         label: &'static str,
         prims: Vec<Prim>,
     ) -> Result<(), EditError> {
+        self.commit_as(label, prims, false)
+    }
+
+    /// [`commit`](Self::commit) for an edit the design makes itself (a seam's weld):
+    /// undone and redone with the designer's operation under it ([`Edit::auto`]).
+    pub(super) fn commit_auto(
+        &mut self,
+        label: &'static str,
+        prims: Vec<Prim>,
+    ) -> Result<(), EditError> {
+        self.commit_as(label, prims, true)
+    }
+
+    fn commit_as(
+        &mut self,
+        label: &'static str,
+        prims: Vec<Prim>,
+        auto: bool,
+    ) -> Result<(), EditError> {
         let mut prims = prims;
         self.apply_prims(&prims)?;
         prims.append(&mut self.parting);
@@ -328,25 +348,40 @@ impl Design {
             let _ = self.apply_prims(&inverse);
             return Err(EditError::LastCloth);
         }
-        self.history.push(Edit { label, prims });
+        self.history.push(Edit { label, prims, auto });
         Ok(())
     }
 
-    /// Undoes the last operation; returns its label. Refused, the operation kept for a
-    /// later undo, when that would make a vbd cloth cross itself or the body.
+    /// Undoes the designer's last operation, and first the welds the seams made since
+    /// (undone alone, a weld closes again in the next frame, so a designer's undo seemed
+    /// to do nothing while a seam zipped); returns its label. Refused, the operation kept
+    /// for a later undo, when that would make a vbd cloth cross itself or the body. With
+    /// only welds to undo (a pattern's seams closing on their own), nothing is undone.
     pub fn undo(&mut self) -> Result<&'static str, EditError> {
-        let edit = self.history.pop_undo().ok_or(EditError::NothingToUndo)?;
-        let inverse: Vec<Prim> = edit.prims.iter().rev().map(Prim::inverse).collect();
-        if let Err(e) = self.history_check(&inverse, ["undoing", "undo"], edit.label) {
-            self.history.push_after_redo(edit);
-            return Err(e);
+        let group = self.history.undo_group();
+        let Some(label) = self.history.undo_edits(group).last().map(|e| e.label) else {
+            return Err(if self.history.undo_len() > 0 {
+                EditError::OnlyWeldsToUndo
+            } else {
+                EditError::NothingToUndo
+            });
+        };
+        // The whole group is checked before any of it is undone, newest first.
+        let inverse: Vec<Prim> = (self.history.undo_edits(group))
+            .flat_map(|e| e.prims.iter().rev().map(Prim::inverse))
+            .collect();
+        self.history_check(&inverse, ["undoing", "undo"], label)?;
+        for _ in 0..group {
+            let Some(edit) = self.history.pop_undo() else {
+                break;
+            };
+            let inverse: Vec<Prim> = edit.prims.iter().rev().map(Prim::inverse).collect();
+            if let Err(e) = self.apply_prims(&inverse) {
+                self.history.clear();
+                return Err(e);
+            }
+            self.history.push_redo(edit);
         }
-        if let Err(e) = self.apply_prims(&inverse) {
-            self.history.clear();
-            return Err(e);
-        }
-        let label = edit.label;
-        self.history.push_redo(edit);
         Ok(label)
     }
 
@@ -373,19 +408,27 @@ impl Design {
         }
     }
 
-    /// Redoes the last undone operation; returns its label.
+    /// Redoes the last undone operation, and the welds that followed it; returns its
+    /// label. (A weld made since the undo clears the redo stack, as any new edit does.)
     pub fn redo(&mut self) -> Result<&'static str, EditError> {
-        let edit = self.history.pop_redo().ok_or(EditError::NothingToRedo)?;
-        if let Err(e) = self.history_check(&edit.prims, ["redoing", "redo"], edit.label) {
-            self.history.push_redo(edit);
-            return Err(e);
+        let group = self.history.redo_group();
+        let Some(label) = self.history.redo_edits(group).next().map(|e| e.label) else {
+            return Err(EditError::NothingToRedo);
+        };
+        let prims: Vec<Prim> = (self.history.redo_edits(group))
+            .flat_map(|e| e.prims.iter().cloned())
+            .collect();
+        self.history_check(&prims, ["redoing", "redo"], label)?;
+        for _ in 0..group {
+            let Some(edit) = self.history.pop_redo() else {
+                break;
+            };
+            if let Err(e) = self.apply_prims(&edit.prims) {
+                self.history.clear();
+                return Err(e);
+            }
+            self.history.push_after_redo(edit);
         }
-        if let Err(e) = self.apply_prims(&edit.prims) {
-            self.history.clear();
-            return Err(e);
-        }
-        let label = edit.label;
-        self.history.push_after_redo(edit);
         Ok(label)
     }
 

@@ -113,7 +113,7 @@ impl Design {
                     old: Some(old),
                     new: Some(new),
                 });
-                if self.commit("weld", prims).is_ok() {
+                if self.commit_auto("weld", prims).is_ok() {
                     zipped += 1;
                 }
             }
@@ -185,12 +185,13 @@ mod tests {
             for _ in 0..5 {
                 d.step().unwrap();
             }
-            for _ in 0..5 {
-                d.undo().unwrap();
-            }
-            assert_eq!(d.history.undo_len(), edits);
+            // One undo takes back the seam with its five welds and zips.
+            assert_eq!(d.undo().unwrap(), "seam");
+            assert_eq!(d.history.undo_len(), edits - 1);
             assert_eq!(d.sim.cloth.live.tri_count(), tris);
-            assert!(d.seams[0].pairs.iter().all(|(p, q)| p != q));
+            assert!(d.seams.is_empty());
+            assert_eq!(d.history.redo_steps(), 1);
+            d.validate().unwrap();
         }
     }
 

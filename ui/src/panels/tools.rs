@@ -87,7 +87,7 @@ impl ToolsPanel {
             if ui
                 .add_enabled(u > 0 || !linked, egui::Button::new("Undo"))
                 .on_hover_text(format!(
-                    "Undo the last operation (Ctrl+Z); {u} can be undone"
+                    "Undo your last operation (Ctrl+Z), with the welds its seams made since; {u} can be undone"
                 ))
                 .clicked()
             {
