@@ -807,3 +807,46 @@ fn a_files_eased_triangles_are_checked_and_strays_stay_out_of_the_pattern() {
     let loaded = with(stray).unwrap();
     assert_eq!(pattern_perimeters(&loaded), cut);
 }
+
+/// The dress sewn and draped, then its last seam undone: the seam goes with every weld
+/// it made, the welds opening where the cloth lies (put back as far apart as they were
+/// found, from where the cloth had turned since, they went through the layers round the
+/// seam and the undo was refused), and the garment crosses nothing in the frames after.
+#[test]
+fn a_draped_seam_is_undone_with_its_welds_crossing_nothing() {
+    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+    cfg.piece_edge = 0.06;
+    let (mut d, spec) = sim_core::scenario::build_scene(&cfg).unwrap();
+    let pull = sim_core::scenario::garment::SEAM_PULL;
+    sim_core::design::garment::sew(&mut d, &spec.unwrap(), pull).unwrap();
+    let mut welded = 0;
+    for _ in 0..240 {
+        welded += d.step().unwrap().welded;
+    }
+    let pairs = |d: &Design| d.seams.iter().map(|s| s.pairs.len()).sum::<usize>();
+    assert!(welded * 10 >= pairs(&d) * 9, "{welded} of {}", pairs(&d));
+    let (seams, steps) = (d.seams.len(), d.history.undo_steps());
+    let open = d.seams[seams - 1]
+        .pairs
+        .iter()
+        .filter(|(a, b)| a == b)
+        .count();
+    assert!(open > 3, "the last seam welded {open} pairs");
+    assert_eq!(d.undo().unwrap(), "seam");
+    assert_eq!(
+        (d.seams.len(), d.history.undo_steps()),
+        (seams - 1, steps - 1)
+    );
+    d.validate().unwrap();
+    let cross = |d: &Design| {
+        let tris: Vec<[u32; 3]> = d.sim.cloth.live.iter().map(|(_, t)| t.v).collect();
+        let c = sim_core::collision::crossings::count(&d.sim.cloth.x, &tris, d.sim.body.as_ref());
+        (c.self_pairs, c.body_pairs)
+    };
+    assert_eq!(cross(&d), (0, 0));
+    for _ in 0..60 {
+        d.step().unwrap();
+    }
+    assert_eq!(cross(&d), (0, 0));
+    d.validate().unwrap();
+}

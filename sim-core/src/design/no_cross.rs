@@ -61,6 +61,12 @@ impl Design {
                     if let Prim::AddVertex { index, .. } = prim {
                         added.insert(*index);
                     }
+                    // A weld opened in place: its two sides meet there as a cut's do.
+                    if let Prim::Unmerge { a, b, apart, .. } = prim
+                        && *apart == [Vec3::ZERO; 2]
+                    {
+                        origin.entry(*b).or_insert(*a);
+                    }
                 }
                 Prim::Tri {
                     slot,

@@ -320,6 +320,16 @@ impl Design {
                         });
                     }
                 }
+                // Undone, a weld opens where it stands, its two vertices together and
+                // then parted as a cut's sides are: put back as far apart as they lay,
+                // from where the sewn vertex stands once the garment has turned, they
+                // went through the layers round the seam (a draped dress's side seam
+                // could not be undone: 82 new crossing pairs).
+                for p in &mut prims {
+                    if let Prim::Merge { apart, .. } = p {
+                        *apart = [Vec3::ZERO; 2];
+                    }
+                }
                 if self.commit_auto("weld", prims).is_ok() {
                     self.hand_hold(b, a);
                     welded += 1;

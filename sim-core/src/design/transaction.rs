@@ -187,7 +187,15 @@ impl Design {
             | Prim::MoveOff { .. }
             | Prim::Merge { .. }
             | Prim::Unmerge { .. }
-            | Prim::Nudge { .. } => move_vertices(cloth, p)?,
+            | Prim::Nudge { .. } => {
+                move_vertices(cloth, p)?;
+                // A weld opened in place: its two sides parted as a fresh cut's.
+                if let Prim::Unmerge { a, b, apart, .. } = p
+                    && *apart == [glam::Vec3::ZERO; 2]
+                {
+                    touched.copies.push((*b, *a));
+                }
+            }
             Prim::Pin { vertex, new, .. } => {
                 let i = *vertex as usize;
                 if i >= cloth.len() {
