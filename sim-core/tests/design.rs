@@ -808,12 +808,8 @@ fn a_files_eased_triangles_are_checked_and_strays_stay_out_of_the_pattern() {
     assert_eq!(pattern_perimeters(&loaded), cut);
 }
 
-/// The dress sewn and draped, then its last seam undone: the seam goes with every weld
-/// it made, the welds opening where the cloth lies (put back as far apart as they were
-/// found, from where the cloth had turned since, they went through the layers round the
-/// seam and the undo was refused), and the garment crosses nothing in the frames after.
-#[test]
-fn a_draped_seam_is_undone_with_its_welds_crossing_nothing() {
+/// The shipped dress at 6 cm edges, its seams sewn for 240 frames on the mannequin.
+fn sewn_dress() -> Design {
     let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
     cfg.piece_edge = 0.06;
     let (mut d, spec) = sim_core::scenario::build_scene(&cfg).unwrap();
@@ -823,30 +819,161 @@ fn a_draped_seam_is_undone_with_its_welds_crossing_nothing() {
     for _ in 0..240 {
         welded += d.step().unwrap().welded;
     }
-    let pairs = |d: &Design| d.seams.iter().map(|s| s.pairs.len()).sum::<usize>();
-    assert!(welded * 10 >= pairs(&d) * 9, "{welded} of {}", pairs(&d));
+    let pairs = d.seams.iter().map(|s| s.pairs.len()).sum::<usize>();
+    assert!(welded * 10 >= pairs * 9, "{welded} of {pairs}");
+    d
+}
+
+fn crossings(d: &Design) -> (usize, usize) {
+    let tris: Vec<[u32; 3]> = d.sim.cloth.live.iter().map(|(_, t)| t.v).collect();
+    let c = sim_core::collision::crossings::count(&d.sim.cloth.x, &tris, d.sim.body.as_ref());
+    (c.self_pairs, c.body_pairs)
+}
+
+/// The dress sewn and draped, then its last seam undone: the seam goes with every weld
+/// it made, the welds opening where the cloth lies (put back as far apart as they were
+/// found, from where the cloth had turned since, they went through the layers round the
+/// seam and the undo was refused), and the garment crosses nothing in the frames after.
+/// The other seams keep their welds; a weld made after the undo keeps its redo (it used to
+/// clear it), and the redo brings the seam back welded.
+#[test]
+fn a_draped_seam_is_undone_and_redone_with_its_welds_crossing_nothing() {
+    let mut d = sewn_dress();
     let (seams, steps) = (d.seams.len(), d.history.undo_steps());
-    let open = d.seams[seams - 1]
+    let welded_before: usize = (d.seams.iter().flat_map(|s| &s.pairs))
+        .filter(|(a, b)| a == b)
+        .count();
+    let sewn = d.seams[seams - 1]
         .pairs
         .iter()
         .filter(|(a, b)| a == b)
         .count();
-    assert!(open > 3, "the last seam welded {open} pairs");
+    assert!(sewn > 3, "the last seam welded {sewn} pairs");
     assert_eq!(d.undo().unwrap(), "seam");
     assert_eq!(
         (d.seams.len(), d.history.undo_steps()),
         (seams - 1, steps - 1)
     );
     d.validate().unwrap();
-    let cross = |d: &Design| {
-        let tris: Vec<[u32; 3]> = d.sim.cloth.live.iter().map(|(_, t)| t.v).collect();
-        let c = sim_core::collision::crossings::count(&d.sim.cloth.x, &tris, d.sim.body.as_ref());
-        (c.self_pairs, c.body_pairs)
+    assert_eq!(crossings(&d), (0, 0));
+    let all = |d: &Design| -> usize {
+        let s = d.seams.iter().flat_map(|s| &s.pairs);
+        s.filter(|(a, b)| a == b).count()
     };
-    assert_eq!(cross(&d), (0, 0));
+    // The other seams were welded in the same frames, but keep their welds (they used to
+    // open with it: all four seams of the dress, sewn together).
+    assert_eq!(all(&d), welded_before - sewn);
+    let mut rewelded = 0;
     for _ in 0..60 {
+        rewelded += d.step().unwrap().welded;
+    }
+    assert_eq!(crossings(&d), (0, 0));
+    d.validate().unwrap();
+    // A weld made since (a pair that had stalled closes) keeps the redo (it used to clear
+    // it); the redo takes it back before it brings the seam back with its welds.
+    assert_eq!((rewelded, d.history.autos_over_redo()), (1, 1));
+    assert_eq!(d.history.redo_steps(), 1);
+    assert_eq!(d.redo().unwrap(), "seam");
+    assert_eq!((d.seams.len(), d.history.undo_steps()), (seams, steps));
+    let closed = |d: &Design| {
+        d.seams[seams - 1]
+            .pairs
+            .iter()
+            .filter(|(a, b)| a == b)
+            .count()
+    };
+    assert_eq!((closed(&d), all(&d)), (sewn, welded_before));
+    d.validate().unwrap();
+    assert_eq!(crossings(&d), (0, 0));
+    for _ in 0..120 {
         d.step().unwrap();
     }
-    assert_eq!(cross(&d), (0, 0));
+    assert_eq!(crossings(&d), (0, 0));
+    // And undone again, the seam before it too, and both redone in turn.
+    assert_eq!(d.undo().unwrap(), "seam");
+    assert_eq!(d.seams.len(), seams - 1);
+    for _ in 0..30 {
+        d.step().unwrap();
+    }
+    assert_eq!(d.undo().unwrap(), "seam");
+    assert_eq!((d.seams.len(), d.history.redo_steps()), (seams - 2, 2));
     d.validate().unwrap();
+    assert_eq!(d.redo().unwrap(), "seam");
+    assert_eq!(d.redo().unwrap(), "seam");
+    assert_eq!((d.seams.len(), d.history.undo_steps()), (seams, steps));
+    d.validate().unwrap();
+    assert_eq!(crossings(&d), (0, 0));
+}
+
+/// A seam undone, and its side pulled away from the body by the pen before the redo:
+/// welding its pairs where they now lie would cross, so the redo brings the seam back
+/// without its welds, says so, and the stitches pull the sides together and weld them
+/// again; nothing crosses on the way.
+#[test]
+fn a_redo_after_the_cloth_moved_leaves_the_welds_to_the_stitches() {
+    let mut d = sewn_dress();
+    let seams = d.seams.len();
+    assert_eq!(d.undo().unwrap(), "seam");
+    let pairs = match d.history.redo_edits(1).next().unwrap().prims.as_slice() {
+        [sim_core::design::Prim::Seam { new: Some(s), .. }, ..] => s.pairs.clone(),
+        p => panic!("{p:?}"),
+    };
+    let (_, b) = pairs[pairs.len() / 2];
+    let at = d.sim.cloth.x[b as usize];
+    let out = Vec3::new(at.x, 0.0, at.z).normalize_or_zero();
+    d.pinch_begin(at, 0.01, 0.08, 200.0).unwrap();
+    for f in 1..=40 {
+        d.pinch_move(at + out * (0.3 * f as f32 / 40.0));
+        d.step().unwrap();
+    }
+    d.pinch_end();
+    let (a, _) = pairs[pairs.len() / 2];
+    let gap = (d.sim.cloth.x[a as usize] - d.sim.cloth.x[b as usize]).length();
+    assert!(gap > 0.05, "the pen moved the side {gap} m");
+    let told = d.sim.notices.len();
+    assert_eq!(d.redo().unwrap(), "seam");
+    let said = &d.sim.notices[told..];
+    assert!(
+        said.len() == 1 && said[0].starts_with("Redone: seam, but not the 10 welds"),
+        "{said:?}"
+    );
+    assert_eq!((d.seams.len(), d.history.redo_steps()), (seams, 0));
+    d.validate().unwrap();
+    assert_eq!(crossings(&d), (0, 0));
+    let mut welded = 0;
+    for _ in 0..200 {
+        welded += d.step().unwrap().welded;
+    }
+    let closed = d.seams[seams - 1]
+        .pairs
+        .iter()
+        .filter(|(a, b)| a == b)
+        .count();
+    assert_eq!((welded, closed), (pairs.len(), pairs.len()));
+    assert_eq!(crossings(&d), (0, 0));
+    d.validate().unwrap();
+}
+
+/// A weld made after an undo is taken back, and not kept for a redo, by the next undo:
+/// the redo further down must find the design as the first undo left it (redone over
+/// that weld, the seam's own welds would find their vertices gone).
+#[test]
+fn an_undo_takes_back_the_welds_made_since_the_last_undo() {
+    let mut d = sewn_dress();
+    let (seams, steps) = (d.seams.len(), d.history.undo_steps());
+    assert_eq!(d.undo().unwrap(), "seam");
+    let mut rewelded = 0;
+    for _ in 0..60 {
+        rewelded += d.step().unwrap().welded;
+    }
+    assert_eq!((rewelded, d.history.autos_over_redo()), (1, 1));
+    assert_eq!(d.undo().unwrap(), "seam");
+    assert_eq!(d.history.autos_over_redo(), 0);
+    assert_eq!((d.seams.len(), d.history.redo_steps()), (seams - 2, 2));
+    d.validate().unwrap();
+    assert_eq!(d.redo().unwrap(), "seam");
+    assert_eq!(d.redo().unwrap(), "seam");
+    assert_eq!((d.seams.len(), d.history.undo_steps()), (seams, steps));
+    d.validate().unwrap();
+    assert_eq!(crossings(&d), (0, 0));
 }

@@ -85,7 +85,15 @@ pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
         Command::SetFabric { name } => set_fabric(design, name),
         Command::SetPieceFabric { piece, name } => set_piece_fabric(design, *piece, name),
         Command::Undo => design.undo().map(|l| format!("Undone: {l}")).map_err(e),
-        Command::Redo => design.redo().map(|l| format!("Redone: {l}")).map_err(e),
+        Command::Redo => {
+            // A redo without its welds says so (`Design::redo`).
+            let told = design.sim.notices.len();
+            let redone = design.redo().map_err(e)?;
+            Ok(match design.sim.notices.get(told..) {
+                Some([.., said]) => said.clone(),
+                _ => format!("Redone: {redone}"),
+            })
+        }
         Command::SetTearing(t) => set_tearing(design, *t),
         Command::SetGuard { on } => design.set_guard(*on).map_err(e),
         Command::SetStrainLimit { limit } => set_strain_limit(design, *limit),

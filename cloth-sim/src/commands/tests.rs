@@ -94,8 +94,8 @@ fn a_reset_with_a_pattern_builds_the_garment() {
         .fold(f32::MIN, f32::max);
     assert!(top > 1.5, "{top}");
     // Its seams close on their own; an undo takes back the newest seam the scene made
-    // together with the welds made since (it used to open the newest weld alone, which
-    // closed again in the next frame).
+    // together with its welds (it used to open the newest weld alone, which closed again
+    // in the next frame).
     let mut next = next;
     let mut welded = 0;
     for _ in 0..300 {
@@ -106,13 +106,24 @@ fn a_reset_with_a_pattern_builds_the_garment() {
     }
     assert!(welded > 0, "no weld in 300 frames");
     let steps = next.history.undo_steps();
+    let closed = |d: &Design| -> Vec<usize> {
+        let shut = |s: &sim_core::design::Seam| s.pairs.iter().filter(|(a, b)| a == b).count();
+        d.seams.iter().map(shut).collect()
+    };
+    let sewn = closed(&next);
     assert_eq!(
         carry_out(&mut next, &Command::Undo).unwrap(),
         "Undone: seam"
     );
     assert_eq!(next.seams.len(), 3);
     assert_eq!(next.history.undo_steps(), steps - 1);
-    assert!(!next.history.undo_top_is_auto());
+    // The other seams keep their welds.
+    assert_eq!(closed(&next), sewn[..3]);
+    next.validate().unwrap();
+    // The redo brings it back, welded again at once or left to its stitches (and said).
+    let redone = carry_out(&mut next, &Command::Redo).unwrap();
+    assert!(redone.starts_with("Redone: seam"), "{redone}");
+    assert_eq!(next.seams.len(), 4);
     next.validate().unwrap();
     let bad = dir.join("not-a-pattern.svg");
     std::fs::write(&bad, "<svg xmlns=\"http://www.w3.org/2000/svg\"/>").unwrap();

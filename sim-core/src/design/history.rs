@@ -9,6 +9,11 @@ use super::prim::{Edit, Prim};
 pub struct History {
     undo: VecDeque<Edit>,
     redo: Vec<Edit>,
+    /// The automatic edits on top of the undo stack made since the last undo while there
+    /// is something to redo: a redo takes them back first ([`autos_over_redo`]).
+    ///
+    /// [`autos_over_redo`]: Self::autos_over_redo
+    autos_over_redo: usize,
     bytes: usize,
     /// Most bytes the two stacks may hold together.
     pub max_bytes: usize,
@@ -21,6 +26,7 @@ impl Default for History {
         Self {
             undo: VecDeque::new(),
             redo: Vec::new(),
+            autos_over_redo: 0,
             bytes: 0,
             max_bytes: 256 << 20,
             max_edits: 10_000,
@@ -29,10 +35,18 @@ impl Default for History {
 }
 
 impl History {
-    /// A new operation: it can be undone, and what was undone can no longer be redone.
+    /// A new operation: it can be undone, and what was undone can no longer be redone;
+    /// except after an automatic one ([`Edit::auto`], a seam's weld), which a redo takes
+    /// back first: undoing a seam reopens the pairs of the seams sharing its corners,
+    /// which weld again within a frame, and the redo must not be lost to that.
     pub fn push(&mut self, e: Edit) {
-        for r in self.redo.drain(..) {
-            self.bytes -= r.bytes();
+        if e.auto && !self.redo.is_empty() {
+            self.autos_over_redo += 1;
+        } else {
+            for r in self.redo.drain(..) {
+                self.bytes -= r.bytes();
+            }
+            self.autos_over_redo = 0;
         }
         self.push_after_redo(e);
     }
@@ -46,12 +60,13 @@ impl History {
         {
             self.bytes -= old.bytes();
         }
+        self.autos_over_redo = self.autos_over_redo.min(self.undo.len());
     }
 
+    /// The newest operation off the undo stack, for the redo stack. (The automatic edits
+    /// over the redo stack are not redone: [`drop_newest`](Self::drop_newest).)
     pub fn pop_undo(&mut self) -> Option<Edit> {
-        let e = self.undo.pop_back()?;
-        self.bytes -= e.bytes();
-        Some(e)
+        self.remove_newest(0)
     }
 
     pub fn push_redo(&mut self, e: Edit) {
@@ -65,9 +80,43 @@ impl History {
         Some(e)
     }
 
+    /// How many automatic edits (welds) were made since the last undo while there is
+    /// something to redo: the newest on the undo stack. A redo takes them back before it
+    /// redoes, so the design is again what it was before the undo.
+    pub fn autos_over_redo(&self) -> usize {
+        self.autos_over_redo
+    }
+
+    /// The newest `k` operations on the undo stack, newest first (the automatic ones over
+    /// the redo stack: [`autos_over_redo`](Self::autos_over_redo)).
+    pub fn newest(&self, k: usize) -> impl Iterator<Item = &Edit> + '_ {
+        self.undo.iter().rev().take(k)
+    }
+
+    /// Drops the newest operation on the undo stack, taken back and never to be redone (an
+    /// automatic edit over the redo stack: it followed from an undo, and what is redone
+    /// later must find the design as that undo left it).
+    pub fn drop_newest(&mut self) -> Option<Edit> {
+        self.remove_newest(0)
+    }
+
+    /// Takes the `n`-th newest operation (0: the newest) off the undo stack, the others
+    /// keeping their order: an undo takes a designer's operation with the welds that
+    /// depend on it, and leaves those that commute with them (`commute`).
+    pub fn remove_newest(&mut self, n: usize) -> Option<Edit> {
+        let at = self.undo.len().checked_sub(n + 1)?;
+        let e = self.undo.remove(at)?;
+        self.bytes -= e.bytes();
+        if n < self.autos_over_redo {
+            self.autos_over_redo -= 1;
+        }
+        Some(e)
+    }
+
     pub fn clear(&mut self) {
         self.undo.clear();
         self.redo.clear();
+        self.autos_over_redo = 0;
         self.bytes = 0;
     }
 
@@ -222,5 +271,17 @@ mod tests {
         assert_eq!(h.redo_edits(3).next().unwrap().label, "cut");
         // Only automatic edits left: nothing of the designer's to undo.
         assert_eq!((h.undo_group(), h.undo_edits(1).count()), (1, 0));
+        // A weld after the undo keeps the redo stack, and is counted for the redo to take
+        // back; a designer's edit clears both.
+        h.push(op("weld", true));
+        h.push(op("weld", true));
+        assert_eq!((h.redo_steps(), h.autos_over_redo()), (1, 2));
+        assert_eq!(h.newest(2).count(), 2);
+        assert!(h.drop_newest().is_some());
+        assert_eq!((h.autos_over_redo(), h.undo_len()), (1, 2));
+        h.push(op("cut", false));
+        assert_eq!((h.redo_len(), h.autos_over_redo()), (0, 0));
+        let bytes: usize = h.newest(h.undo_len()).map(Edit::bytes).sum();
+        assert_eq!(h.bytes(), bytes);
     }
 }

@@ -18,6 +18,7 @@
 //! placed round the body, meshed, sewn; the pattern files read in) sit beside them.
 
 mod atlas;
+mod commute;
 mod cut;
 mod document;
 mod error;

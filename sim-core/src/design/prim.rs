@@ -252,8 +252,9 @@ pub struct Edit {
     pub label: &'static str,
     pub prims: Vec<Prim>,
     /// Made by the design itself, not asked for: a seam's weld as its stitches close. An
-    /// undo takes these back together with the designer's operation under them (undone
-    /// alone, a weld closes again in the next frame), and a redo brings them back with it.
+    /// undo takes those that depend on the designer's operation under them back with it
+    /// (undone alone, a weld closes again in the next frame; `commute`), and a redo
+    /// brings them back with it.
     pub auto: bool,
 }
 

@@ -6,8 +6,10 @@
 //! vertices' masses, the solver's constraints for the touched triangles and edges
 //! ([`Solver::sync`](crate::solver::Solver::sync)), and the contact cache's size.
 
+use super::commute;
 use super::document::Design;
 use super::error::EditError;
+use super::history::History;
 use super::parts::Seam;
 use super::pieces::PieceRecord;
 use super::prim::{Edit, Prim};
@@ -360,11 +362,13 @@ impl Design {
         Ok(())
     }
 
-    /// Undoes the designer's last operation, and first the welds the seams made since
-    /// (undone alone, a weld closes again in the next frame, so a designer's undo seemed
-    /// to do nothing while a seam zipped); returns its label. Refused, the operation kept
-    /// for a later undo, when that would make a vbd cloth cross itself or the body. With
-    /// only welds to undo (a pattern's seams closing on their own), nothing is undone.
+    /// Undoes the designer's last operation, and first the welds made since that depend
+    /// on it (its own seam's, and those sharing their vertices or seams: undone alone, a
+    /// weld closes again in the next frame, so a designer's undo seemed to do nothing
+    /// while a seam zipped); the welds of other seams stay (`commute`). Returns its label.
+    /// Refused, the operation kept for a later undo, when that would make a vbd cloth cross
+    /// itself or the body. With only welds to undo (a pattern's seams closing on their
+    /// own), nothing is undone.
     pub fn undo(&mut self) -> Result<&'static str, EditError> {
         let group = self.history.undo_group();
         let Some(label) = self.history.undo_edits(group).last().map(|e| e.label) else {
@@ -374,13 +378,25 @@ impl Design {
                 EditError::NothingToUndo
             });
         };
-        // The whole group is checked before any of it is undone, newest first.
-        let inverse: Vec<Prim> = (self.history.undo_edits(group))
-            .flat_map(|e| e.prims.iter().rev().map(Prim::inverse))
+        // What goes, newest first: the welds made since the last undo (taken back and not
+        // redone: a redo further down the stack must find the design as that undo left
+        // it), then the operation and the welds that depend on it.
+        let dropped = self.history.autos_over_redo().min(group - 1);
+        let mut older: Vec<&Edit> = self.history.newest(group).skip(dropped).collect();
+        older.reverse();
+        let goes: Vec<bool> = std::iter::repeat_n(true, dropped)
+            .chain(commute::dependents(&older).into_iter().rev())
+            .collect();
+        // All of it is checked before any of it is undone, newest first.
+        let inverse: Vec<Prim> = (self.history.newest(group).zip(&goes))
+            .filter(|(_, go)| **go)
+            .flat_map(|(e, _)| e.prims.iter().rev().map(Prim::inverse))
             .collect();
         self.history_check(&inverse, ["undoing", "undo"], label)?;
-        for _ in 0..group {
-            let Some(edit) = self.history.pop_undo() else {
+        let going = (0..goes.len()).filter(|&i| goes[i]);
+        // Each one removed moves those under it one place up.
+        for (removed, i) in going.enumerate() {
+            let Some(edit) = self.history.remove_newest(i - removed) else {
                 break;
             };
             let inverse: Vec<Prim> = edit.prims.iter().rev().map(Prim::inverse).collect();
@@ -388,7 +404,9 @@ impl Design {
                 self.history.clear();
                 return Err(e);
             }
-            self.history.push_redo(edit);
+            if i >= dropped {
+                self.history.push_redo(edit);
+            }
         }
         Ok(label)
     }
@@ -416,26 +434,64 @@ impl Design {
         }
     }
 
-    /// Redoes the last undone operation, and the welds that followed it; returns its
-    /// label. (A weld made since the undo clears the redo stack, as any new edit does.)
+    /// Redoes the last undone operation, and the welds undone with it; returns its
+    /// label. The welds made since the undo (a stalled pair of another seam closing) are
+    /// taken back first, so the operation finds the design as it was undone, and the whole is checked before any of it is applied. Where its welds
+    /// would now cross (the cloth has moved since: a seam's two sides hang apart) and
+    /// nothing older waits to be redone, the operation is redone without them: a seam
+    /// pulls its sides together again and welds them as they meet.
     pub fn redo(&mut self) -> Result<&'static str, EditError> {
         let group = self.history.redo_group();
         let Some(label) = self.history.redo_edits(group).next().map(|e| e.label) else {
             return Err(EditError::NothingToRedo);
         };
-        let prims: Vec<Prim> = (self.history.redo_edits(group))
-            .flat_map(|e| e.prims.iter().cloned())
-            .collect();
-        self.history_check(&prims, ["redoing", "redo"], label)?;
-        for _ in 0..group {
+        let since = self.history.autos_over_redo();
+        let prims = |h: &History, k: usize| -> Vec<Prim> {
+            (h.newest(since))
+                .flat_map(|e| e.prims.iter().rev().map(Prim::inverse))
+                .chain((h.redo_edits(k)).flat_map(|e| e.prims.iter().cloned()))
+                .collect()
+        };
+        let mut redone = group;
+        if let Err(e) = self.history_check(&prims(&self.history, group), ["redoing", "redo"], label)
+        {
+            // Without the welds, when no older redo needs the design as they left it.
+            if group == 1 || group < self.history.redo_len() {
+                return Err(e);
+            }
+            self.history_check(&prims(&self.history, 1), ["redoing", "redo"], label)?;
+            redone = 1;
+        }
+        for _ in 0..since {
+            let Some(edit) = self.history.drop_newest() else {
+                break;
+            };
+            let inverse: Vec<Prim> = edit.prims.iter().rev().map(Prim::inverse).collect();
+            if let Err(e) = self.apply_prims(&inverse) {
+                self.history.clear();
+                return Err(e);
+            }
+        }
+        for i in 0..group {
             let Some(edit) = self.history.pop_redo() else {
                 break;
             };
+            if i >= redone {
+                continue;
+            }
             if let Err(e) = self.apply_prims(&edit.prims) {
                 self.history.clear();
                 return Err(e);
             }
             self.history.push_after_redo(edit);
+        }
+        if redone < group {
+            self.sim.notices.push(format!(
+                "Redone: {label}, but not the {} welds made after it (the cloth has moved \
+                 since the undo): the seams' stitches pull their sides together and weld \
+                 them again",
+                group - redone
+            ));
         }
         Ok(label)
     }

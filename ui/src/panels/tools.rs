@@ -87,7 +87,7 @@ impl ToolsPanel {
             if ui
                 .add_enabled(u > 0 || !linked, egui::Button::new("Undo"))
                 .on_hover_text(format!(
-                    "Undo your last operation (Ctrl+Z), with the welds its seams made since; {u} can be undone"
+                    "Undo your last operation (Ctrl+Z), with the welds of its seam; {u} can be undone"
                 ))
                 .clicked()
             {
