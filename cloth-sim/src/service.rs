@@ -66,6 +66,10 @@ struct Service<'a> {
     /// The pen's workspace in the design's scene (`scene_workspace`; a new scene's
     /// replaces it).
     workspace: [f32; 4],
+    /// The simulation is paused (SET_SIMULATING): frames step nothing, edits still apply.
+    paused: bool,
+    /// The telemetry goes out at the next frame, not a second after the last (a pause).
+    tel_due: bool,
 }
 
 /// Two local models further apart than this are logged with where the time went (the
@@ -195,6 +199,8 @@ pub fn run(
         laps: Laps::start(),
         slow_logged: (None, 0),
         workspace: [0.0; 4],
+        paused: false,
+        tel_due: false,
     };
     s.workspace = scene_workspace(&s.design);
     let mut autosave = Autosave::start(&cfg.autosave, cfg.autosave_every_s)?;
@@ -319,10 +325,15 @@ impl Service<'_> {
         // substeps read; otherwise the one its operations acted on (a slow frame reads
         // newer ones for the touch models it sends, which do not move the cloth).
         let (pinching, (_, acted_ns)) = (self.design.sim.pinch().is_some(), self.feed.tip());
-        let fs = self.step(log)?;
+        // Paused, nothing moves: the cloth goes out as the edits leave it.
+        let fs = if self.paused {
+            None
+        } else {
+            Some(self.step(log)?)
+        };
         self.laps.mark("step");
-        self.record(&fs, autosave);
-        self.stats.frames += 1;
+        self.record(fs.as_ref(), autosave);
+        self.stats.frames += u64::from(fs.is_some());
         let pen_sent_ns = if pinching {
             self.feed.tip().1
         } else {
@@ -427,8 +438,14 @@ impl Service<'_> {
                     } if !self.design.seams.is_empty() => seam_tip(&self.design),
                     _ => "",
                 };
+                // First, where a reply's 200 bytes cannot cut it off.
+                let paused = if self.paused {
+                    "Paused (simulate to drape it). "
+                } else {
+                    ""
+                };
                 let m = format!(
-                    "{what}{tip}; the previous design is saved in {}",
+                    "{paused}{what}{tip}; the previous design is saved in {}",
                     saved.display()
                 );
                 // The new design counts its own frames (a loaded one may be behind): the
@@ -451,7 +468,38 @@ impl Service<'_> {
                 &self.tel,
                 &self.stats,
             ),
+            Command::SetSimulating { on } => Ok(self.set_simulating(*on)),
             other => carry_out(&mut self.design, other),
+        }
+    }
+
+    /// Pauses the simulation or runs it again; the sentence says what that means.
+    fn set_simulating(&mut self, on: bool) -> String {
+        self.tel_due = true;
+        match (on, self.paused) {
+            (false, true) => "Paused already: edits apply, the cloth stays where it is".into(),
+            (false, false) => {
+                self.paused = true;
+                "Paused: the cloth stays where it is while you place, cut and sew pieces; \
+                 nothing falls and no stitch pulls until you simulate again"
+                    .into()
+            }
+            (true, false) => "Simulating already".into(),
+            (true, true) => {
+                self.paused = false;
+                // Seams made while paused close before their pieces fall, as a pattern's
+                // do (`Design::float_while_sewing`).
+                let fresh = (self.design.seams.iter())
+                    .any(|s| !s.pairs.is_empty() && s.pairs.iter().all(|(a, b)| a != b));
+                if fresh {
+                    self.design.float_while_sewing();
+                    "Simulating: the new seams pull their pieces together before they fall \
+                     (at most a second)"
+                        .into()
+                } else {
+                    "Simulating".into()
+                }
+            }
         }
     }
 
@@ -599,17 +647,20 @@ impl Service<'_> {
         Ok(fs)
     }
     /// Counts the frame, and sends the telemetry once a second.
-    fn record(&mut self, fs: &FrameStats, autosave: &Autosave) {
+    /// (`None`: paused, no frame stepped.)
+    fn record(&mut self, fs: Option<&FrameStats>, autosave: &Autosave) {
         let sim = &self.design.sim;
-        self.stats.welds += fs.welded as u64;
-        self.stats.force_limited_substeps += sim.pinch_limited_substeps() as u64;
-        for f in sim.pinch_forces() {
-            self.stats.pinch_force_max_n = self.stats.pinch_force_max_n.max(f.length());
-        }
         let tel = &mut self.tel;
-        tel.frame_time.record((fs.wall_ms * 1e6) as u64);
-        tel.collision_time.record((fs.collision_ms * 1e6) as u64);
-        if self.tel_at.0.elapsed().as_secs_f64() >= 1.0 {
+        if let Some(fs) = fs {
+            self.stats.welds += fs.welded as u64;
+            self.stats.force_limited_substeps += sim.pinch_limited_substeps() as u64;
+            for f in sim.pinch_forces() {
+                self.stats.pinch_force_max_n = self.stats.pinch_force_max_n.max(f.length());
+            }
+            tel.frame_time.record((fs.wall_ms * 1e6) as u64);
+            tel.collision_time.record((fs.collision_ms * 1e6) as u64);
+        }
+        if std::mem::take(&mut self.tel_due) || self.tel_at.0.elapsed().as_secs_f64() >= 1.0 {
             let frames = sim.frame.saturating_sub(self.tel_at.1);
             tel.header = Header::next(&mut self.seq_tel);
             tel.frame = sim.frame;
@@ -634,6 +685,7 @@ impl Service<'_> {
             tel.never_crosses = u32::from(sim.never_crosses());
             tel.strain_limit = sim.material.strain_limit;
             tel.asleep = u32::from(sim.asleep());
+            tel.paused = u32::from(self.paused);
             let _ = self.ports.telemetry.send_copy(**tel);
             self.tel_at = (Instant::now(), sim.frame);
         }

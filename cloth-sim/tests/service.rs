@@ -53,8 +53,8 @@ fn commands_are_carried_out_and_answered() {
     drop(states);
     STOP.store(true, Ordering::Relaxed);
     let stats = handle.join().unwrap();
-    assert_eq!(stats.commands, 38);
-    assert_eq!(stats.rejected, 10);
+    assert_eq!(stats.commands, 42);
+    assert_eq!(stats.rejected, 11);
     let _ = std::fs::remove_file(&path);
     // The autosave, its previous good version, and the design the load replaced.
     let replaced = autosave.with_extension("before-reset.saiho");
@@ -570,6 +570,13 @@ fn new_scenes(node: &Node, ask: Ask<'_>) {
         |what: &str, want: &dyn Fn(&SimTelemetry) -> bool| await_telemetry(&telemetry, what, want);
     // A new scene of a pattern's pieces round the mannequin, sewn (protocol 11); with
     // the limit off the reply says what closes the seams.
+    // Paused first (protocol 18): the new scene waits where it is placed.
+    let r = ask(simulating(0));
+    assert!(
+        r.ok == 1 && r.message().starts_with("Paused:"),
+        "{}",
+        r.message()
+    );
     let dress = concat!(env!("CARGO_MANIFEST_DIR"), "/../sim-core/assets/dress.svg");
     let mut pattern = ToolCommand {
         op: op::RESET,
@@ -581,14 +588,15 @@ fn new_scenes(node: &Node, ask: Ask<'_>) {
     let m = r.message();
     assert!(
         r.ok == 1
+            && m.starts_with("Paused (simulate to drape it). New design")
             && m.contains("2 pieces of")
-            && m.contains("4 seams stitched")
-            && m.contains("tip: if a seam stays open, try Hold stretch under"),
+            && m.contains("4 seams stitched"),
         "{m}"
     );
-    wait_for("the dress", &|t| {
-        t.grid == 0 && t.body == shared::telemetry::scene_body::MANNEQUIN
+    wait_for("the dress, paused", &|t| {
+        t.grid == 0 && t.body == shared::telemetry::scene_body::MANNEQUIN && t.paused == 1
     });
+    paused_then_run(&telemetry, ask);
     // A new scene under another model.
     let mut vbd = ToolCommand {
         op: op::RESET,
@@ -611,6 +619,63 @@ fn new_scenes(node: &Node, ask: Ask<'_>) {
     assert!(r.ok == 0 && r.message().contains("vbd"), "{}", r.message());
     let r = ask(limit(0.2));
     assert!(r.ok == 0 && r.message().contains("vbd"), "{}", r.message());
+}
+
+/// While paused no frame is stepped (the telemetry's frame stays), a second pause is
+/// said to be one, a bad mode is refused; run again, the dress's fresh seams float it
+/// while they pull, and the frames go on.
+fn paused_then_run(telemetry: &services::Sub<SimTelemetry>, ask: Ask<'_>) {
+    let newest = || {
+        let mut last = None;
+        while let Some(t) = telemetry.receive().unwrap() {
+            last = Some(*t);
+        }
+        last
+    };
+    // The frame of the next telemetry (a second after the one that said paused).
+    let deadline = Instant::now() + Duration::from_secs(5);
+    let frame = loop {
+        if let Some(t) = newest() {
+            break t.frame;
+        }
+        assert!(Instant::now() < deadline, "no telemetry while paused");
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    std::thread::sleep(Duration::from_millis(2200));
+    let later = newest().expect("telemetry while paused");
+    assert_eq!((later.paused, later.frame), (1, frame));
+    let r = ask(simulating(0));
+    assert!(
+        r.ok == 1 && r.message().contains("Paused already"),
+        "{}",
+        r.message()
+    );
+    let r = ask(simulating(2));
+    assert!(
+        r.ok == 0 && r.message().contains("simulating 2"),
+        "{}",
+        r.message()
+    );
+    let r = ask(simulating(1));
+    assert!(
+        r.ok == 1
+            && r.message()
+                .contains("the new seams pull their pieces together"),
+        "{}",
+        r.message()
+    );
+    await_telemetry(telemetry, "running again", &|t| {
+        t.paused == 0 && t.frame > frame
+    });
+}
+
+/// SET_SIMULATING: 1 runs, 0 pauses.
+fn simulating(mode: u32) -> ToolCommand {
+    ToolCommand {
+        op: op::SET_SIMULATING,
+        mode,
+        ..Default::default()
+    }
 }
 
 /// SET_GUARD: `on` 1 or 0.

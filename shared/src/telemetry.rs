@@ -157,7 +157,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn sim_telemetry_says_whether_the_cloth_sleeps_and_nothing_else() {
+    fn sim_telemetry_says_whether_the_cloth_sleeps_or_is_paused_and_nothing_else() {
         let tel = |asleep| SimTelemetry {
             asleep,
             ..Default::default()
@@ -166,6 +166,13 @@ mod tests {
         assert!(tel(1).check_body().is_ok());
         let e = tel(7).check_body().unwrap_err();
         assert!(e.contains("sleep 7"), "{e}");
+        let paused = |paused| SimTelemetry {
+            paused,
+            ..Default::default()
+        };
+        assert!(paused(1).check_body().is_ok());
+        let e = paused(2).check_body().unwrap_err();
+        assert!(e.contains("pause 2"), "{e}");
     }
 
     #[test]
@@ -263,9 +270,10 @@ pub struct SimTelemetry {
     /// edit or a setting wakes it; else 0. It took the place of padding, so an older
     /// cloth-sim sends 0 and an older studio ignores it.
     pub asleep: u32,
-    /// Padding to the header's 8-byte alignment (the material's seventh value took 4
-    /// bytes in protocol 17); 0.
-    pub _pad: u32,
+    /// 1 while the simulation is paused (SET_SIMULATING): no frame is stepped and the
+    /// cloth stays where it is while edits apply; else 0. Since protocol 18, in the place
+    /// of padding.
+    pub paused: u32,
 }
 
 /// [`SimTelemetry::model`] values.
@@ -312,10 +320,14 @@ impl Checked for SimTelemetry {
         if self.body > scene_body::LAST {
             return Err(format!("unknown body {}", self.body));
         }
-        if self.model > scene_model::LAST || self.never_crosses > 1 || self.asleep > 1 {
+        if self.model > scene_model::LAST
+            || self.never_crosses > 1
+            || self.asleep > 1
+            || self.paused > 1
+        {
             return Err(format!(
-                "unknown model {}, contact {} or sleep {}",
-                self.model, self.never_crosses, self.asleep
+                "unknown model {}, contact {}, sleep {} or pause {}",
+                self.model, self.never_crosses, self.asleep, self.paused
             ));
         }
         Ok(())

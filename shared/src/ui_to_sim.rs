@@ -87,7 +87,13 @@ pub mod op {
     /// [`STRAIN_LIMIT`](super::STRAIN_LIMIT), or 0 for none. Refused for the other models.
     /// Since protocol 10.
     pub const SET_STRAIN_LIMIT: u32 = 26;
-    pub const LAST: u32 = SET_STRAIN_LIMIT;
+    /// `mode` 0 pauses the simulation, 1 runs it again: paused, the cloth stays where it
+    /// is (no frame is stepped, no stitch pulls, nothing falls) while every edit still
+    /// applies, so that pieces can be placed round the body and sewn before they drape.
+    /// Run again with a seam none of whose pairs has closed yet, the cloth floats while
+    /// the seams pull (as a pattern's pieces do), then falls. Since protocol 18.
+    pub const SET_SIMULATING: u32 = 27;
+    pub const LAST: u32 = SET_SIMULATING;
 }
 
 /// [`ToolCommand::b`] of a RESET: the body.
@@ -224,6 +230,9 @@ impl Checked for ToolCommand {
             && self.text().is_none_or(str::is_empty)
         {
             return Err("save, load and export need a UTF-8 path".into());
+        }
+        if self.op == op::SET_SIMULATING && self.mode > 1 {
+            return Err(format!("simulating {} (0 paused, 1 running)", self.mode));
         }
         if self.op == op::SET_GUARD && self.mode > 1 {
             return Err(format!("guard {} (0 off, 1 on)", self.mode));

@@ -40,6 +40,8 @@ pub enum Action {
     FrameScene,
     /// Show or hide the map (the threads' stretch or the ease).
     ToggleStretchMap,
+    /// Pause the simulation, or run it again (Space).
+    ToggleSimulating,
     /// A line for the status bar.
     Status(String),
 }

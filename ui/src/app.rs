@@ -84,6 +84,9 @@ pub struct App {
     opts: Options,
     started: Instant,
     screenshot_asked: bool,
+    /// The pause last asked for (true: paused), shown until cloth-sim's telemetry reports
+    /// it or a few seconds pass.
+    pause_asked: Option<(bool, Instant)>,
     screenshot_rx: Option<std::sync::mpsc::Receiver<std::sync::Arc<egui::ColorImage>>>,
 }
 
@@ -116,6 +119,7 @@ impl App {
             opts,
             started: Instant::now(),
             screenshot_asked: false,
+            pause_asked: None,
             screenshot_rx: None,
         };
         app.connect();
@@ -155,6 +159,18 @@ impl App {
         self.emit(Emitted::Command(c));
     }
 
+    /// Whether the simulation is paused: as last asked for, until cloth-sim's telemetry
+    /// says so or a few seconds pass; then as it says.
+    pub fn paused(&self) -> bool {
+        let told = self.store.sim_tel.as_ref().map(|t| t.paused == 1);
+        match self.pause_asked {
+            Some((asked, at)) if told != Some(asked) && at.elapsed() < Duration::from_secs(3) => {
+                asked
+            }
+            _ => told.unwrap_or(false),
+        }
+    }
+
     /// The current tool: cloth-sim's when it has told us.
     pub fn current_tool(&self) -> u32 {
         self.store.tool.map_or(self.tool, |t| t.tool)
@@ -177,6 +193,11 @@ impl App {
                 Action::ResetCamera => self.camera = Camera::default(),
                 Action::FrameScene => self.frame_scene(),
                 Action::ToggleStretchMap => self.stretch.on = !self.stretch.on,
+                Action::ToggleSimulating => {
+                    let paused = self.paused();
+                    self.pause_asked = Some((!paused, Instant::now()));
+                    self.command(Command::SetSimulating { on: paused });
+                }
                 Action::Status(s) => self.status = s,
             }
         }
@@ -524,6 +545,11 @@ impl App {
                 ui.separator();
                 ui.label(format!("undo {} · redo {}", t.undo_depth, t.redo_depth));
             }
+            if self.paused() {
+                ui.separator();
+                ui.colored_label(egui::Color32::from_rgb(230, 160, 40), "paused")
+                    .on_hover_text("Nothing moves until you simulate again (Space)");
+            }
         });
     }
 
@@ -535,7 +561,9 @@ impl App {
             .map_or((0, 0), |t| (t.undo_depth, t.redo_depth));
         let current = self.current_tool();
         let linked = self.link.is_some();
-        self.tools.ui(ui, current, depths, linked, actions);
+        let paused = self.paused();
+        self.tools
+            .ui(ui, current, (depths, paused), linked, actions);
         ui.separator();
         self.material.ui(ui, self.store.sim_tel.as_deref(), actions);
         ui.separator();

@@ -12,13 +12,14 @@ use crate::store::Store;
 use crate::tools::TOOLS;
 
 /// The keyboard's shortcuts: a tool's key, undo, redo, save, home, F (frame the scene),
-/// M (the map: the threads' stretch or the ease).
+/// M (the map: the threads' stretch or the ease), Space (pause or simulate).
 pub fn keyboard(ctx: &egui::Context, save_path: &str, actions: &mut Vec<Action>) {
     if ctx.egui_wants_keyboard_input() {
         return;
     }
     let (mut tool_key, mut undo, mut redo, mut save, mut home, mut frame, mut map) =
         (None, false, false, false, false, false, false);
+    let mut pause = false;
     ctx.input(|i| {
         for (t, _, key, _) in TOOLS {
             if i.key_pressed(key) && !i.modifiers.command {
@@ -32,6 +33,7 @@ pub fn keyboard(ctx: &egui::Context, save_path: &str, actions: &mut Vec<Action>)
         home = i.key_pressed(egui::Key::Home);
         frame = i.key_pressed(egui::Key::F) && !i.modifiers.command;
         map = i.key_pressed(egui::Key::M) && !i.modifiers.command;
+        pause = i.key_pressed(egui::Key::Space) && !i.modifiers.command;
     });
     if save {
         actions.push(Action::Path(PathOp::Save, save_path.to_string()));
@@ -52,6 +54,10 @@ pub fn keyboard(ctx: &egui::Context, save_path: &str, actions: &mut Vec<Action>)
     }
     if map {
         actions.push(Action::ToggleStretchMap);
+    }
+    // A focused button takes Space as a click of its own.
+    if pause && ctx.memory(|m| m.focused()).is_none() {
+        actions.push(Action::ToggleSimulating);
     }
 }
 

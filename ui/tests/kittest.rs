@@ -860,3 +860,39 @@ fn a_new_scene_can_be_a_pattern() {
     assert_eq!((c.op, c.text()), (op::RESET, Some("")));
     assert_eq!(c.a, 64, "the grid again");
 }
+
+/// Pause and Simulate: the button and Space send SET_SIMULATING, the button and the top
+/// bar show the pause at once, and cloth-sim's telemetry decides what they show after.
+#[test]
+fn the_simulation_is_paused_and_run_again() {
+    use shared::telemetry::SimTelemetry;
+    let mut h = harness();
+    let tel = |paused| {
+        Some(Box::new(SimTelemetry {
+            paused,
+            ..Default::default()
+        }))
+    };
+    h.state_mut().store.sim_tel = tel(0);
+    h.run_steps(2);
+    assert!(h.query_by_label("paused").is_none());
+    press(&mut h, "Pause");
+    let c = *commands(&h).last().unwrap();
+    assert_eq!((c.op, c.mode), (op::SET_SIMULATING, 0));
+    // Shown as asked before cloth-sim says so.
+    assert!(h.state().paused());
+    assert!(h.query_by_label("paused").is_some());
+    assert!(h.query_by_label("Simulate").is_some());
+    h.state_mut().store.sim_tel = tel(1);
+    h.run_steps(2);
+    // Space runs it again.
+    h.key_press(egui::Key::Space);
+    h.run_steps(2);
+    let c = *commands(&h).last().unwrap();
+    assert_eq!((c.op, c.mode), (op::SET_SIMULATING, 1));
+    assert!(!h.state().paused());
+    h.state_mut().store.sim_tel = tel(0);
+    h.run_steps(2);
+    assert!(h.query_by_label("paused").is_none());
+    assert!(h.query_by_label("Pause").is_some());
+}

@@ -32,8 +32,8 @@ fn mismatch_warning(la: f32, lb: f32) -> String {
     }
 }
 
-/// Carries out a command on the design itself (not SET_TOOL, RESET, LOAD or EXPORT, which
-/// the service handles); the message says what happened or why not.
+/// Carries out a command on the design itself (not SET_TOOL, RESET, LOAD, EXPORT or
+/// SET_SIMULATING, which the service handles); the message says what happened or why not.
 pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
     let e = |e: EditError| e.to_string();
     match c {
@@ -147,7 +147,8 @@ pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
         Command::SetTool { .. }
         | Command::Reset { .. }
         | Command::Load { .. }
-        | Command::Export { .. } => Err(format!("operation {} is the service's", c.op())),
+        | Command::Export { .. }
+        | Command::SetSimulating { .. } => Err(format!("operation {} is the service's", c.op())),
     }
 }
 

@@ -199,6 +199,11 @@ pub enum Command {
     SetStrainLimit {
         limit: f32,
     },
+    /// Pause the simulation (`on == false`: the cloth stays where it is while edits
+    /// apply) or run it again (since protocol 18).
+    SetSimulating {
+        on: bool,
+    },
 }
 
 /// Why a command cannot be put on the wire.
@@ -275,6 +280,7 @@ impl Command {
             Self::NameSeam { .. } => op::NAME_SEAM,
             Self::SetGuard { .. } => op::SET_GUARD,
             Self::SetStrainLimit { .. } => op::SET_STRAIN_LIMIT,
+            Self::SetSimulating { .. } => op::SET_SIMULATING,
         }
     }
 
@@ -297,7 +303,7 @@ impl Command {
             Self::Sew { a, b } => (c.a, c.b) = (*a, *b),
             Self::Tear { a, b, split } => (c.a, c.b, c.mode) = (*a, *b, u32::from(*split)),
             Self::Pin { vertex, pinned } => (c.a, c.mode) = (*vertex, u32::from(*pinned)),
-            Self::SetGuard { on } => c.mode = u32::from(*on),
+            Self::SetGuard { on } | Self::SetSimulating { on } => c.mode = u32::from(*on),
             Self::SetStrainLimit { limit } => c.value = *limit,
             Self::Paint {
                 point,
@@ -496,6 +502,7 @@ impl Command {
                 name: text(c),
             },
             op::SET_GUARD => Self::SetGuard { on: c.mode == 1 },
+            op::SET_SIMULATING => Self::SetSimulating { on: c.mode == 1 },
             op::SET_STRAIN_LIMIT => Self::SetStrainLimit { limit: c.value },
             op::SEAM_PLANE => Self::SeamPlane {
                 a: [[u[0], u[1]], [u[2], u[3]]],

@@ -162,6 +162,8 @@ fn piece_variants() -> Vec<Command> {
         },
         Command::SetGuard { on: true },
         Command::SetGuard { on: false },
+        Command::SetSimulating { on: true },
+        Command::SetSimulating { on: false },
         Command::SetStrainLimit { limit: 0.2 },
         Command::SetStrainLimit { limit: 0.0 },
     ]
@@ -197,6 +199,12 @@ fn a_bad_record_is_refused_and_a_long_path_is_not_sent() {
         .unwrap();
     wire.mode = 2;
     assert!(Command::from_wire(&wire).is_err(), "guard 2");
+    let mut wire = Command::SetSimulating { on: false }
+        .to_wire(Header::next(&mut seq))
+        .unwrap();
+    wire.mode = 3;
+    let e = Command::from_wire(&wire).unwrap_err().to_string();
+    assert!(e.contains("simulating 3"), "{e}");
     let mut wire = Command::Reset {
         body: BodyChoice::Cube,
         grid: None,

@@ -87,10 +87,14 @@ impl StatusPanel {
             ));
         }
         if let Some(s) = &store.sim_tel {
+            let rate = if s.paused == 1 {
+                "paused".to_string()
+            } else {
+                format!("{:.0} Hz", s.rate_hz)
+            };
             ui.label(format!(
-                "sim: {} vertices · {:.0} Hz\nframe p50 {:.2} ms · p99 {:.2} ms",
+                "sim: {} vertices · {rate}\nframe p50 {:.2} ms · p99 {:.2} ms",
                 s.vertices,
-                s.rate_hz,
                 s.frame_time.quantile_ns(0.5) as f64 * 1e-6,
                 s.frame_time.quantile_ns(0.99) as f64 * 1e-6
             ));

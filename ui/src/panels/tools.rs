@@ -45,7 +45,7 @@ impl ToolsPanel {
         &mut self,
         ui: &mut egui::Ui,
         current: u32,
-        depths: (u32, u32),
+        (depths, paused): ((u32, u32), bool),
         linked: bool,
         actions: &mut Vec<Action>,
     ) {
@@ -99,6 +99,22 @@ impl ToolsPanel {
                 .clicked()
             {
                 actions.push(Action::Command(Command::Redo));
+            }
+            let (label, hint) = if paused {
+                (
+                    "Simulate",
+                    "Run the simulation again (Space); seams made while paused pull their \
+                     pieces together before they fall",
+                )
+            } else {
+                (
+                    "Pause",
+                    "Pause the simulation (Space): the cloth stays where it is while you add, \
+                     place, cut and sew pieces",
+                )
+            };
+            if ui.selectable_label(paused, label).on_hover_text(hint).clicked() {
+                actions.push(Action::ToggleSimulating);
             }
         });
         ui.separator();
