@@ -303,6 +303,47 @@ fn dress_and_rectangle(
     (build_design(&cfg).unwrap(), spec)
 }
 
+/// Two rectangles' sides seamed by drags as a designer makes them in the pattern view:
+/// from a little inside one corner to a little inside the other, with the view's 8-pixel
+/// tolerance wider than an edge. The seam follows each side from corner to corner (the
+/// corners too); sorted along the drag, the first vertex round the far corner came before
+/// the corner and the seam was refused ("not an edge on the cloth's border").
+#[test]
+fn a_drag_near_the_corners_seams_the_whole_side() {
+    use sim_core::design::garment::Place;
+    let (mut d, front) = dress_and_rectangle("front piece", 0.4, 0.5);
+    let back = sim_core::design::garment::PieceSpec {
+        name: "back piece".into(),
+        ..front.clone()
+    };
+    d.add_piece(&front, Place::Front, 0.03).unwrap();
+    d.add_piece(&back, Place::Back, 0.03).unwrap();
+    let side = |r: &sim_core::design::PieceRecord, right: bool| {
+        let l = &r.outline.loops[0];
+        let (lo, hi) = l
+            .iter()
+            .fold((glam::Vec2::MAX, glam::Vec2::MIN), |(a, b), p| {
+                (a.min(*p), b.max(*p))
+            });
+        let x = if right { hi.x } else { lo.x };
+        // 2 cm in from each corner, top to bottom.
+        [
+            glam::Vec2::new(x, hi.y - 0.02) + r.offset,
+            glam::Vec2::new(x, lo.y + 0.02) + r.offset,
+        ]
+    };
+    let n = d.pieces.len();
+    let (a, b) = (side(&d.pieces[n - 2], false), side(&d.pieces[n - 1], true));
+    let tol = 0.044;
+    let pa = d.plane_path(a[0], a[1], tol);
+    assert!(pa.len() >= 17, "{} vertices along a 50 cm side", pa.len());
+    let pairs = d.seam_on_plane(a, b, tol).unwrap();
+    assert_eq!(pairs, pa.len());
+    // Both corners are in it: its ends lie 50 cm apart in the pattern.
+    let ends = d.pattern_length(&pa);
+    assert!((ends - 0.5).abs() < 0.005, "{ends}");
+}
+
 /// A pocket added to the dress starts a layer out from the front, crossing nothing;
 /// placed at the back it goes there; deleted, it leaves the list; undo takes each back.
 #[test]
