@@ -29,6 +29,9 @@ pub struct ServiceConfig {
     pub guard_forced: Option<bool>,
     /// Let a cloth at rest fall asleep (`--no-sleep`: never), whatever design is loaded.
     pub sleep: bool,
+    /// The pattern file the first design was made from (`--pattern` on a new design; not
+    /// a resumed one): the studio's Scene panel shows it (`PieceList::source`).
+    pub source: Option<PathBuf>,
 }
 
 impl ServiceConfig {
@@ -49,6 +52,7 @@ impl ServiceConfig {
             scene: ScenarioConfig::new(ScenarioName::DrapeCube),
             guard_forced: None,
             sleep: true,
+            source: None,
         }
     }
 }

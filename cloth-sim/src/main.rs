@@ -541,6 +541,7 @@ fn run_service(a: RunArgs) -> Result<(), Box<dyn std::error::Error>> {
     } else {
         resume_or(&cfg, build, &mut log)?
     };
+    cfg.source = a.pattern.clone().filter(|_| !resumed);
     for n in &design.sim.notices {
         log(&format!("note: {n}"));
     }

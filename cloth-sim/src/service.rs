@@ -70,6 +70,8 @@ struct Service<'a> {
     paused: bool,
     /// The telemetry goes out at the next frame, not a second after the last (a pause).
     tel_due: bool,
+    /// The pattern file the design was made from (empty: none known), for the piece list.
+    source: String,
 }
 
 /// Two local models further apart than this are logged with where the time went (the
@@ -201,6 +203,7 @@ pub fn run(
         workspace: [0.0; 4],
         paused: false,
         tel_due: false,
+        source: (cfg.source.as_ref()).map_or(String::new(), |p| p.display().to_string()),
     };
     s.workspace = scene_workspace(&s.design);
     let mut autosave = Autosave::start(&cfg.autosave, cfg.autosave_every_s)?;
@@ -419,6 +422,12 @@ impl Service<'_> {
                     .map(|m| m.strain_limit);
                 let (next, what, saved) = replacement(&mut self.design, c, self.cfg)?;
                 self.design = next;
+                self.source = match c {
+                    Command::Reset {
+                        pattern: Some(p), ..
+                    } => p.clone(),
+                    _ => String::new(),
+                };
                 self.workspace = scene_workspace(&self.design);
                 self.design.sim.set_threads(self.threads);
                 if let Some(on) = guard {
@@ -527,7 +536,8 @@ impl Service<'_> {
         if self.pieces_sent == Some(key) {
             return;
         }
-        let list = crate::publish::piece_list(&self.design, &mut self.seq_pieces);
+        let mut list = crate::publish::piece_list(&self.design, &mut self.seq_pieces);
+        list.source_len = shared::sim_to_ui::put_text(&mut list.source, &self.source);
         if self.ports.pieces.send_copy(list).is_ok() {
             self.pieces_sent = Some(key);
         }

@@ -596,6 +596,22 @@ fn new_scenes(node: &Node, ask: Ask<'_>) {
     wait_for("the dress, paused", &|t| {
         t.grid == 0 && t.body == shared::telemetry::scene_body::MANNEQUIN && t.paused == 1
     });
+    // The piece list names the pattern the design was made from (protocol 18).
+    let lists: services::Sub<shared::sim_to_ui::PieceList> =
+        ports::subscriber(node, services::pieces, None).unwrap();
+    let source = |want: &str| {
+        let deadline = Instant::now() + Duration::from_secs(5);
+        loop {
+            if let Some(l) = lists.receive().unwrap()
+                && shared::sim_to_ui::check_source(&l).unwrap() == want
+            {
+                return;
+            }
+            assert!(Instant::now() < deadline, "no piece list from {want:?}");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    };
+    source(dress);
     paused_then_run(&telemetry, ask);
     // A new scene under another model.
     let mut vbd = ToolCommand {
@@ -614,6 +630,7 @@ fn new_scenes(node: &Node, ask: Ask<'_>) {
     wait_for("the vbd scene", &|t| {
         t.model == scene_model::VBD && t.never_crosses == 1
     });
+    source("");
     // Under vbd there is no guard to switch off, and no strain limit.
     let r = ask(guard(0));
     assert!(r.ok == 0 && r.message().contains("vbd"), "{}", r.message());

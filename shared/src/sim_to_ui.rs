@@ -386,8 +386,43 @@ pub struct PieceList {
     pub outline_total: u32,
     pub outline_count: u32,
     pub outline: [OutlineSegment; MAX_OUTLINE_SEGMENTS],
-    /// Explicit padding: every byte of a message is a field.
-    pub _pad: u32,
+    /// The pattern file the design was made from (a RESET's, or `--pattern` at start),
+    /// the first `source_len` bytes; empty for a square cloth, a loaded design or one
+    /// resumed from its autosave. Since protocol 18: the studio's Scene panel shows it,
+    /// so that New scene makes that design again.
+    pub source_len: u32,
+    pub source: [u8; SOURCE_LEN],
+}
+
+/// Bytes of [`PieceList::source`]: a command's path (RESET's text).
+pub const SOURCE_LEN: usize = crate::ui_to_sim::TEXT_LEN;
+
+impl PieceList {
+    /// The pattern file the design was made from (empty: none; checked to be UTF-8 text
+    /// by [`check_source`]).
+    pub fn source(&self) -> &str {
+        self.source
+            .get(..self.source_len as usize)
+            .and_then(|t| std::str::from_utf8(t).ok())
+            .unwrap_or("")
+    }
+}
+
+/// Checks a received list's pattern file and returns it.
+pub fn check_source(l: &PieceList) -> Result<String, MessageError> {
+    l.source
+        .get(..l.source_len as usize)
+        .and_then(|t| std::str::from_utf8(t).ok())
+        .map(str::to_string)
+        .ok_or_else(|| {
+            malformed(
+                "piece list",
+                format!(
+                    "its pattern file ({} bytes) is not UTF-8 text",
+                    l.source_len
+                ),
+            )
+        })
 }
 
 impl Default for PieceList {
@@ -406,7 +441,8 @@ impl Default for PieceList {
             outline_total: 0,
             outline_count: 0,
             outline: [OutlineSegment::default(); MAX_OUTLINE_SEGMENTS],
-            _pad: 0,
+            source_len: 0,
+            source: [0; SOURCE_LEN],
         }
     }
 }
@@ -681,5 +717,25 @@ mod tests {
         let mut bad = l;
         bad.seams[0].stalled_gap[0] = -0.01;
         assert!(check_seams(&bad).is_err());
+    }
+
+    /// The pattern file a design was made from goes in whole up to the command's 240
+    /// bytes; a length past them or bytes that are not UTF-8 are refused.
+    #[test]
+    fn the_source_is_checked() {
+        let mut l = PieceList::default();
+        assert_eq!(check_source(&l).unwrap(), "");
+        l.source_len = put_text(&mut l.source, "patterns/dress.svg");
+        assert_eq!(
+            (check_source(&l).unwrap().as_str(), l.source()),
+            ("patterns/dress.svg", "patterns/dress.svg")
+        );
+        let mut bad = l;
+        bad.source_len = SOURCE_LEN as u32 + 1;
+        assert!(check_source(&bad).is_err());
+        let mut bad = l;
+        bad.source[0] = 0xff;
+        let e = check_source(&bad).unwrap_err().to_string();
+        assert!(e.contains("pattern file"), "{e}");
     }
 }

@@ -567,6 +567,7 @@ impl App {
         ui.separator();
         self.material.ui(ui, self.store.sim_tel.as_deref(), actions);
         ui.separator();
+        self.scene.follow_source(&self.store.source);
         self.scene.ui(
             ui,
             self.store.sim_tel.as_deref(),

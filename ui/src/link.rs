@@ -11,7 +11,7 @@ use shared::domain::Domain;
 use shared::ports::UiPorts;
 use shared::sim_to_ui::{
     check_body, check_frame, check_mesh, check_outline, check_pieces, check_seam_segments,
-    check_seams, check_tile, frame_stitches,
+    check_seams, check_source, check_tile, frame_stitches,
 };
 use shared::ui_to_haptic::PointerInput;
 use shared::ui_to_sim::{CommandReply, ToolCommand};
@@ -141,11 +141,12 @@ impl Link {
                     p,
                     check_seams(&l)?,
                     check_seam_segments(&l)?,
-                    check_outline(&l)?,
+                    (check_outline(&l)?, check_source(&l)?),
                 ))
             });
             match checked {
-                Ok((list, seams, segments, outline)) => {
+                Ok((list, seams, segments, (outline, source))) => {
+                    store.source = source;
                     store.pieces = list;
                     store.pieces_total = l.total;
                     store.seams = seams;

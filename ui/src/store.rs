@@ -263,6 +263,8 @@ pub struct Store {
     /// draws the mesh's own outline instead).
     pub outline: Vec<OutlineSegment>,
     pub outline_total: u32,
+    /// The pattern file the design was made from, as cloth-sim lists it (empty: none).
+    pub source: String,
     /// The mesh piece (`Mesh::piece_of`) the 3D view and pattern view highlight.
     pub highlight: Option<u32>,
     /// The map the 3D view and the pattern view colour the cloth by (the threads' stretch
@@ -298,6 +300,7 @@ impl Default for Store {
             seams: Vec::new(),
             seams_total: 0,
             seam_segments: Vec::new(),
+            source: String::new(),
             outline: Vec::new(),
             outline_total: 0,
             highlight: None,

@@ -859,6 +859,18 @@ fn a_new_scene_can_be_a_pattern() {
     let c = *commands(&h).last().unwrap();
     assert_eq!((c.op, c.text()), (op::RESET, Some("")));
     assert_eq!(c.a, 64, "the grid again");
+    // cloth-sim lists the pattern its design was made from (a lab started with
+    // --pattern): the field takes it, so New scene makes the garment again; a path typed
+    // since stays until cloth-sim lists another.
+    h.state_mut().store.source = "sim-core/assets/dress.svg".into();
+    h.run_steps(2);
+    assert_eq!(h.state().scene.pattern, "sim-core/assets/dress.svg");
+    h.state_mut().scene.pattern = "mine.svg".into();
+    h.run_steps(2);
+    assert_eq!(h.state().scene.pattern, "mine.svg");
+    h.state_mut().store.source.clear();
+    h.run_steps(2);
+    assert_eq!(h.state().scene.pattern, "");
 }
 
 /// Pause and Simulate: the button and Space send SET_SIMULATING, the button and the top

@@ -24,6 +24,8 @@ pub struct ScenePanel {
     reset_armed: Option<Instant>,
     /// The running design's body, grid and model, as cloth-sim last reported them.
     running: Option<(u32, u32, u32)>,
+    /// The pattern file the running design was made from, as cloth-sim last listed it.
+    running_source: Option<String>,
     /// The guard last asked for, shown until cloth-sim's telemetry (once a second)
     /// reports it or a few seconds pass.
     guard_asked: Option<(bool, Instant)>,
@@ -45,6 +47,7 @@ impl Default for ScenePanel {
             model: None,
             reset_armed: None,
             running: None,
+            running_source: None,
             guard_asked: None,
             limit_asked: None,
             limit_ratio: 1.2,
@@ -83,6 +86,17 @@ fn body_name(code: u32) -> &'static str {
 }
 
 impl ScenePanel {
+    /// Follows the pattern file the running design was made from: when cloth-sim lists
+    /// another (a lab started with `--pattern`, a new scene, a load), the next scene is
+    /// made from it (New scene makes the same garment again, not a square); a path being
+    /// typed stays until then.
+    pub fn follow_source(&mut self, source: &str) {
+        if self.running_source.as_deref() != Some(source) {
+            self.running_source = Some(source.to_string());
+            self.pattern = source.to_string();
+        }
+    }
+
     /// Follows the running design: when cloth-sim reports another body or grid (a reset,
     /// a load, a restart), the next scene starts from it.
     fn follow(&mut self, tel: Option<&SimTelemetry>) {
