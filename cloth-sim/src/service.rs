@@ -24,7 +24,7 @@ use sim_core::design::{Design, TILE};
 use sim_core::solver::{FrameStats, ModelKind, SleepRule};
 
 use crate::autosave::Autosave;
-use crate::commands::{carry_out, model_code, replacement, seam_tip, set_strain_limit};
+use crate::commands::{carry_out, replacement, seam_tip, set_strain_limit};
 use crate::config::{ServiceConfig, ServiceStats};
 use crate::export::export;
 use crate::pen::{PenFeed, Tools, pen_acts};
@@ -32,6 +32,8 @@ use crate::publish::{
     ClothOut, local_model, mid_frame_model, pinch_model, publish_body, publish_tile,
     scene_workspace,
 };
+
+mod telemetry;
 
 /// The running service: its design, ports and everything it keeps between frames.
 struct Service<'a> {
@@ -656,51 +658,6 @@ impl Service<'_> {
         }
         Ok(fs)
     }
-    /// Counts the frame, and sends the telemetry once a second.
-    /// (`None`: paused, no frame stepped.)
-    fn record(&mut self, fs: Option<&FrameStats>, autosave: &Autosave) {
-        let sim = &self.design.sim;
-        let tel = &mut self.tel;
-        if let Some(fs) = fs {
-            self.stats.welds += fs.welded as u64;
-            self.stats.force_limited_substeps += sim.pinch_limited_substeps() as u64;
-            for f in sim.pinch_forces() {
-                self.stats.pinch_force_max_n = self.stats.pinch_force_max_n.max(f.length());
-            }
-            tel.frame_time.record((fs.wall_ms * 1e6) as u64);
-            tel.collision_time.record((fs.collision_ms * 1e6) as u64);
-        }
-        if std::mem::take(&mut self.tel_due) || self.tel_at.0.elapsed().as_secs_f64() >= 1.0 {
-            let frames = sim.frame.saturating_sub(self.tel_at.1);
-            tel.header = Header::next(&mut self.seq_tel);
-            tel.frame = sim.frame;
-            tel.vertices = sim.cloth.len() as u32;
-            tel.triangles = sim.cloth.live.tri_count() as u32;
-            tel.rate_hz = (frames as f64 / self.tel_at.0.elapsed().as_secs_f64()) as f32;
-            tel.autosave_ms_max = autosave.hold_max_ms() as f32;
-            tel.substeps = sim.substeps as u32;
-            tel.pinned = sim.cloth.pinned.iter().filter(|&&p| p).count() as u32;
-            let m = &sim.material;
-            tel.material = [
-                m.density,
-                m.stretch,
-                m.shear,
-                m.bending,
-                m.friction,
-                m.damping,
-                m.shear_damping,
-            ];
-            (tel.body, tel.grid) = scene_of(&self.design);
-            tel.model = model_code(sim.model);
-            tel.never_crosses = u32::from(sim.never_crosses());
-            tel.strain_limit = sim.material.strain_limit;
-            tel.asleep = u32::from(sim.asleep());
-            tel.paused = u32::from(self.paused);
-            let _ = self.ports.telemetry.send_copy(**tel);
-            self.tel_at = (Instant::now(), sim.frame);
-        }
-    }
-
     /// Texture: changed tiles now, and 8 more round-robin so a late viewer fills in.
     fn publish_texture(&mut self, log: &mut dyn FnMut(&str)) {
         let tex = &mut self.design.texture;
@@ -717,32 +674,4 @@ impl Service<'_> {
             }
         }
     }
-}
-
-/// The running design's body (`shared::telemetry::scene_body`) and, when its pattern is
-/// a square grid, that grid's cells a side (0 otherwise): what the UI's Scene panel shows.
-fn scene_of(design: &Design) -> (u32, u32) {
-    use shared::telemetry::scene_body;
-    let body = match design.sim.body.as_ref().map(|b| b.name.as_str()) {
-        None => scene_body::NONE,
-        Some("cube") => scene_body::CUBE,
-        Some("sphere") => scene_body::SPHERE,
-        Some("mannequin") => scene_body::MANNEQUIN,
-        Some("mannequin-apose") => scene_body::MANNEQUIN_APOSE,
-        Some("human") => scene_body::HUMAN,
-        Some(_) => scene_body::FILE,
-    };
-    let rest = &design.sim.cloth.rest;
-    let side = (rest.positions.len() as f64).sqrt().round() as usize;
-    let grid = match side.checked_sub(1) {
-        Some(g)
-            if g >= 1
-                && side * side == rest.positions.len()
-                && rest.triangles.len() == 2 * g * g =>
-        {
-            g as u32
-        }
-        _ => 0,
-    };
-    (body, grid)
 }

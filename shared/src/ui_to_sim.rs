@@ -143,6 +143,8 @@ pub const PIECE_EDGE: (f32, f32) = (0.005, 0.5);
 /// The strain limits SET_STRAIN_LIMIT accepts besides 0 (the material's own range).
 pub const STRAIN_LIMIT: (f32, f32) = (0.01, 10.0);
 pub const TEXT_LEN: usize = 240;
+// A design's pattern file comes back in its piece list whole.
+const _: () = assert!(TEXT_LEN == crate::sim_to_ui::SOURCE_LEN);
 pub const MESSAGE_LEN: usize = 200;
 
 #[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable)]

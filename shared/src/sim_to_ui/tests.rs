@@ -1,0 +1,86 @@
+//! Checks of the messages cloth-sim sends viewers.
+
+use super::*;
+
+/// Segments of listed seams with finite ends pass; one naming a seam past the list,
+/// one not finite, or more than fit are refused.
+#[test]
+fn seam_segments_are_checked() {
+    let mut l = PieceList {
+        seam_total: 2,
+        seam_count: 2,
+        segment_count: 2,
+        ..PieceList::default()
+    };
+    l.segments[0] = SeamSegment {
+        seam: 0,
+        a: [0.0, 0.1],
+        b: [0.0, 0.2],
+    };
+    l.segments[1] = SeamSegment {
+        seam: 1,
+        a: [0.5, 0.1],
+        b: [0.5, 0.2],
+    };
+    assert_eq!(check_seam_segments(&l).unwrap().len(), 2);
+    let mut bad = l;
+    bad.segments[1].seam = 2;
+    assert!(check_seam_segments(&bad).is_err());
+    let mut bad = l;
+    bad.segments[0].b[1] = f32::NAN;
+    assert!(check_seam_segments(&bad).is_err());
+    let mut bad = l;
+    bad.segment_count = MAX_SEAM_SEGMENTS as u32 + 1;
+    assert!(check_seam_segments(&bad).is_err());
+}
+
+/// A seam whose counts hold (stalled within open within pairs, gaps finite) passes;
+/// more stalled than open pairs, or a gap that is not a distance, is refused.
+#[test]
+fn seams_are_checked() {
+    let mut l = PieceList {
+        seam_total: 1,
+        seam_count: 1,
+        ..PieceList::default()
+    };
+    l.seams[0] = SeamEntry {
+        label: *b"A\0\0\0",
+        label_len: 1,
+        pairs: 12,
+        open: 3,
+        lengths: [0.24, 0.24],
+        stalled: 3,
+        stalled_gap: [0.015, 0.041],
+        ..SeamEntry::default()
+    };
+    assert_eq!(check_seams(&l).unwrap()[0].stalled, 3);
+    let mut bad = l;
+    bad.seams[0].stalled = 4;
+    assert!(check_seams(&bad).is_err());
+    let mut bad = l;
+    bad.seams[0].stalled_gap[1] = f32::INFINITY;
+    assert!(check_seams(&bad).is_err());
+    let mut bad = l;
+    bad.seams[0].stalled_gap[0] = -0.01;
+    assert!(check_seams(&bad).is_err());
+}
+
+/// The pattern file a design was made from goes in whole up to the command's 240
+/// bytes; a length past them or bytes that are not UTF-8 are refused.
+#[test]
+fn the_source_is_checked() {
+    let mut l = PieceList::default();
+    assert_eq!(check_source(&l).unwrap(), "");
+    l.source_len = put_text(&mut l.source, "patterns/dress.svg");
+    assert_eq!(
+        (check_source(&l).unwrap().as_str(), l.source()),
+        ("patterns/dress.svg", "patterns/dress.svg")
+    );
+    let mut bad = l;
+    bad.source_len = SOURCE_LEN as u32 + 1;
+    assert!(check_source(&bad).is_err());
+    let mut bad = l;
+    bad.source[0] = 0xff;
+    let e = check_source(&bad).unwrap_err().to_string();
+    assert!(e.contains("pattern file"), "{e}");
+}
