@@ -113,7 +113,11 @@ impl ToolsPanel {
                      place, cut and sew pieces",
                 )
             };
-            if ui.selectable_label(paused, label).on_hover_text(hint).clicked() {
+            if ui
+                .add(egui::Button::new(label).selected(paused))
+                .on_hover_text(hint)
+                .clicked()
+            {
                 actions.push(Action::ToggleSimulating);
             }
         });
