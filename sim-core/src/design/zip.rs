@@ -230,6 +230,8 @@ mod tests {
             off > 0.0 && off <= 1.01 * crate::design::cut::PART_M,
             "{off}"
         );
+        // Not back where it lay, 5 mm off the edge.
+        assert!(d.sim.cloth.x[p].distance(before[p] + shift) > 1e-3);
         moved(&mut d);
         while d.redo().is_ok() {}
         // (Within the 40 µm by which the undone welds' sides were parted, as a cut's.)
