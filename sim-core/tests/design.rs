@@ -972,7 +972,7 @@ fn a_redo_after_the_cloth_moved_leaves_the_welds_to_the_stitches() {
     assert_eq!(d.redo().unwrap(), "seam");
     let said = &d.sim.notices[told..];
     assert!(
-        said.len() == 1 && said[0].starts_with("Redone: seam, but not the 10 welds"),
+        said.len() == 1 && said[0].starts_with("Redone: seam, but not its 10 welds"),
         "{said:?}"
     );
     assert_eq!((d.seams.len(), d.history.redo_steps()), (seams, 0));

@@ -60,13 +60,13 @@ impl Design {
     }
 
     /// The border vertices with a place (of those `places` gives) within `tol` of segment
-    /// `a -> b`, in order from `a` to `b`: the border walked from the one nearest `a` to
-    /// the one nearest `b`, through those near the segment. (Sorted by how far along the
-    /// segment they lie, as until 2026-12-03, a drag ending near a corner took the first
-    /// vertex round it, along the next side, before the corner itself: a studio drag along
-    /// a 40 x 50 cm rectangle's side at 3 cm edges was refused as "not an edge on the
-    /// cloth's border"; and every vertex within `tol` of the start was left out, so a
-    /// seam drawn from a corner left the corner open.) Where the border does not join
+    /// `a -> b`, in order from `a` to `b`: the border walked from the vertex at `a` to
+    /// the one at `b` (`border_walk`), through those near the segment. (Sorted by how far
+    /// along the segment they lie, as until 2026-12-03, a drag ending near a corner took
+    /// the first vertex round it, along the next side, before the corner itself: a studio
+    /// drag along a 40 x 50 cm rectangle's side at 3 cm edges was refused as "not an edge
+    /// on the cloth's border"; and every vertex within `tol` of the start was left out, so
+    /// a seam drawn from a corner left the corner open.) Where the border does not join
     /// them, in that sorted order, and the seam says which pair is not a border edge.
     fn path_near(&self, a: Vec2, b: Vec2, tol: f32, places: impl Fn(u32) -> Vec<Vec2>) -> Vec<u32> {
         let d = b - a;

@@ -436,10 +436,11 @@ impl Design {
 
     /// Redoes the last undone operation, and the welds undone with it; returns its
     /// label. The welds made since the undo (a stalled pair of another seam closing) are
-    /// taken back first, so the operation finds the design as it was undone, and the whole is checked before any of it is applied. Where its welds
-    /// would now cross (the cloth has moved since: a seam's two sides hang apart) and
-    /// nothing older waits to be redone, the operation is redone without them: a seam
-    /// pulls its sides together again and welds them as they meet.
+    /// taken back first, so the operation finds the design as it was undone, and the
+    /// whole is checked before any of it is applied. Where its welds would now cross (the
+    /// cloth has moved since: a seam's two sides hang apart) and nothing older waits to be
+    /// redone, the operation is redone without them, and a notice says so: a seam pulls
+    /// its sides together again and welds them as they meet.
     pub fn redo(&mut self) -> Result<&'static str, EditError> {
         let group = self.history.redo_group();
         let Some(label) = self.history.redo_edits(group).next().map(|e| e.label) else {
@@ -487,9 +488,8 @@ impl Design {
         }
         if redone < group {
             self.sim.notices.push(format!(
-                "Redone: {label}, but not the {} welds made after it (the cloth has moved \
-                 since the undo): the seams' stitches pull their sides together and weld \
-                 them again",
+                "Redone: {label}, but not its {} welds (the cloth has moved since the \
+                 undo): the stitches pull the sides together and weld them again",
                 group - redone
             ));
         }
