@@ -48,6 +48,10 @@ pub struct Options {
     pub launched: Option<Instant>,
 }
 
+/// The status while the pinch drags a paused cloth.
+pub const PAUSED_PINCH: &str =
+    "Paused: the cloth holds still under the pen; Simulate (Space) to let it move";
+
 /// The frame rate the UI keeps to on a software renderer.
 pub const SOFTWARE_FPS: f32 = 30.0;
 
@@ -183,7 +187,13 @@ impl App {
                 Action::Command(c) => self.command(c),
                 Action::Path(op, path) => self.path_command(op, path),
                 Action::SetTool(t) => self.set_tool(t),
-                Action::Pointer(p, b) => self.emit(Emitted::Pointer(p, b)),
+                Action::Pointer(p, b) => {
+                    // The pen grips the cloth, but nothing moves while paused: say why.
+                    if b != 0 && self.paused() && self.current_tool() == tool::PINCH {
+                        self.status = PAUSED_PINCH.to_string();
+                    }
+                    self.emit(Emitted::Pointer(p, b));
+                }
                 Action::Click {
                     tool,
                     hit,

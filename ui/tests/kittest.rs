@@ -897,6 +897,10 @@ fn the_simulation_is_paused_and_run_again() {
     assert!(h.query_by_label("Simulate").is_some());
     h.state_mut().store.sim_tel = tel(1);
     h.run_steps(2);
+    // A pinch while paused is told why nothing moves.
+    let centre = view_centre(&h);
+    assert!(!drag_up(&mut h, centre).is_empty());
+    assert_eq!(h.state().status, ui::app::PAUSED_PINCH);
     // Space runs it again.
     h.key_press(egui::Key::Space);
     h.run_steps(2);
