@@ -37,8 +37,9 @@ impl Default for History {
 impl History {
     /// A new operation: it can be undone, and what was undone can no longer be redone;
     /// except after an automatic one ([`Edit::auto`], a seam's weld), which a redo takes
-    /// back first: undoing a seam reopens the pairs of the seams sharing its corners,
-    /// which weld again within a frame, and the redo must not be lost to that.
+    /// back first: the seams left go on welding after an undo (a stalled pair closes,
+    /// a pair of a seam sharing a corner with the undone one), and the redo must not be
+    /// lost to that.
     pub fn push(&mut self, e: Edit) {
         if e.auto && !self.redo.is_empty() {
             self.autos_over_redo += 1;
