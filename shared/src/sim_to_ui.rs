@@ -387,7 +387,7 @@ pub struct PieceList {
     pub outline_count: u32,
     pub outline: [OutlineSegment; MAX_OUTLINE_SEGMENTS],
     /// The pattern file the design was made from (a RESET's, or `--pattern` at start),
-    /// the first `source_len` bytes; empty for a square cloth, a loaded design or one
+    /// the first `source_len` bytes ([`check_source`]); empty for a square cloth, a loaded design or one
     /// resumed from its autosave. Since protocol 18: the studio's Scene panel shows it,
     /// so that New scene makes that design again.
     pub source_len: u32,
@@ -398,22 +398,15 @@ pub struct PieceList {
 /// which checks the two agree).
 pub const SOURCE_LEN: usize = 240;
 
-impl PieceList {
-    /// The pattern file the design was made from (empty: none; checked to be UTF-8 text
-    /// by [`check_source`]).
-    pub fn source(&self) -> &str {
-        self.source
-            .get(..self.source_len as usize)
-            .and_then(|t| std::str::from_utf8(t).ok())
-            .unwrap_or("")
-    }
+/// The first `len` bytes of `buf` as text (`None`: past the buffer, or not UTF-8).
+fn text_in(buf: &[u8], len: u32) -> Option<&str> {
+    buf.get(..len as usize)
+        .and_then(|t| std::str::from_utf8(t).ok())
 }
 
 /// Checks a received list's pattern file and returns it.
 pub fn check_source(l: &PieceList) -> Result<String, MessageError> {
-    l.source
-        .get(..l.source_len as usize)
-        .and_then(|t| std::str::from_utf8(t).ok())
+    text_in(&l.source, l.source_len)
         .map(str::to_string)
         .ok_or_else(|| {
             malformed(
@@ -471,18 +464,12 @@ pub fn put_text(buf: &mut [u8], s: &str) -> u32 {
 impl SeamEntry {
     /// The label (checked to be UTF-8 by [`check_seams`]).
     pub fn label(&self) -> &str {
-        self.label
-            .get(..self.label_len as usize)
-            .and_then(|t| std::str::from_utf8(t).ok())
-            .unwrap_or("?")
+        text_in(&self.label, self.label_len).unwrap_or("?")
     }
 
     /// The designer's name for it (checked to be UTF-8 by [`check_seams`]).
     pub fn name(&self) -> &str {
-        self.name
-            .get(..self.name_len as usize)
-            .and_then(|t| std::str::from_utf8(t).ok())
-            .unwrap_or("")
+        text_in(&self.name, self.name_len).unwrap_or("")
     }
 }
 
@@ -504,14 +491,8 @@ pub fn check_seams(l: &PieceList) -> Result<Vec<SeamEntry>, MessageError> {
             || s.stalled > s.open
             || !s.lengths.iter().all(|v| v.is_finite() && *v >= 0.0)
             || !s.stalled_gap.iter().all(|v| v.is_finite() && *v >= 0.0)
-            || s.label
-                .get(..s.label_len as usize)
-                .and_then(|t| std::str::from_utf8(t).ok())
-                .is_none()
-            || s.name
-                .get(..s.name_len as usize)
-                .and_then(|t| std::str::from_utf8(t).ok())
-                .is_none()
+            || text_in(&s.label, s.label_len).is_none()
+            || text_in(&s.name, s.name_len).is_none()
     }) {
         return Err(malformed(
             "piece list",
@@ -585,9 +566,7 @@ pub fn check_pieces(l: &PieceList) -> Result<Vec<ListedPiece>, MessageError> {
         ));
     }
     let text = |b: &[u8], len: u32, what: &str| -> Result<String, MessageError> {
-        let len = len as usize;
-        b.get(..len)
-            .and_then(|t| std::str::from_utf8(t).ok())
+        text_in(b, len)
             .map(str::to_string)
             .ok_or_else(|| malformed("piece list", format!("a piece's {what} is not UTF-8 text")))
     };
