@@ -387,9 +387,9 @@ pub struct PieceList {
     pub outline_count: u32,
     pub outline: [OutlineSegment; MAX_OUTLINE_SEGMENTS],
     /// The pattern file the design was made from (a RESET's, or `--pattern` at start),
-    /// the first `source_len` bytes ([`check_source`]); empty for a square cloth, a loaded design or one
-    /// resumed from its autosave. Since protocol 18: the studio's Scene panel shows it,
-    /// so that New scene makes that design again.
+    /// the first `source_len` bytes ([`check_source`]); empty for a square cloth, a
+    /// loaded design or one resumed from its autosave. Since protocol 18: the studio's
+    /// Scene panel shows it, so that New scene makes that design again.
     pub source_len: u32,
     pub source: [u8; SOURCE_LEN],
 }
