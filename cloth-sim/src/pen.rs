@@ -33,6 +33,10 @@ pub(crate) struct Tools {
     was_down: bool,
     stroke: Vec<Vec3>,
     tear_was: bool,
+    /// How many of the pen's operations have been answered, and the last answer (done,
+    /// message), for the studio's status line.
+    pub(crate) said: u32,
+    pub(crate) last_said: (bool, String),
 }
 
 impl Default for Tools {
@@ -45,6 +49,8 @@ impl Default for Tools {
             was_down: false,
             stroke: Vec::new(),
             tear_was: false,
+            said: 0,
+            last_said: (true, String::new()),
         }
     }
 }
@@ -191,9 +197,20 @@ pub(crate) fn pen_acts(
     let down = p.buttons & BUTTON_1 != 0;
     let (pressed, released) = (down && !t.was_down, !down && t.was_down);
     t.was_down = down;
-    let mut report = |r: Result<String, EditError>| match r {
-        Ok(m) => log(&m),
-        Err(e) => log(&format!("The pen's operation was refused: {e}")),
+    // The studio shows a refusal as "Refused: " and the message.
+    let mut report = |t: &mut Tools, what: &str, r: Result<String, EditError>| {
+        let (ok, m) = match r {
+            Ok(m) => {
+                log(&m);
+                (true, m)
+            }
+            Err(e) => {
+                log(&format!("The pen's {what} was refused: {e}"));
+                (false, format!("{what} by the pen: {e}"))
+            }
+        };
+        t.said = t.said.wrapping_add(1).max(1);
+        t.last_said = (ok, m);
     };
     match t.tool {
         tool::PINCH | tool::TEAR => {
@@ -223,6 +240,8 @@ pub(crate) fn pen_acts(
             } else if released {
                 let stroke = std::mem::take(&mut t.stroke);
                 report(
+                    t,
+                    "cut stroke",
                     design
                         .cut_stroke(&stroke, 0.02)
                         .map(|n| format!("Cut: {n} vertices split along the pen's stroke")),
@@ -238,6 +257,8 @@ pub(crate) fn pen_acts(
                 match t.sew_first.take() {
                     None => t.sew_first = Some(v),
                     Some(a) => report(
+                        t,
+                        "sew",
                         design
                             .sew(a, v)
                             .map(|_| format!("Sew: vertices {a} and {v} joined by the pen")),
@@ -248,10 +269,14 @@ pub(crate) fn pen_acts(
         tool::PIN => {
             if pressed && let Some(v) = design.sim.cloth.nearest_vertex(tip, cfg.pinch_radius) {
                 let on = !design.sim.cloth.is_pinned(v as usize);
-                report(design.set_pin(v, on).map(|_| {
-                    let what = if on { "pinned" } else { "freed" };
-                    format!("Pin: vertex {v} {what} by the pen")
-                }));
+                report(
+                    t,
+                    "pin",
+                    design.set_pin(v, on).map(|_| {
+                        let what = if on { "pinned" } else { "freed" };
+                        format!("Pin: vertex {v} {what} by the pen")
+                    }),
+                );
             }
         }
         _ => {}

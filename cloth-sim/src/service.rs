@@ -16,7 +16,7 @@ use iceoryx2::port::update_connections::UpdateConnections;
 use shared::command::Command;
 use shared::ports::{SimPorts, SimSizes};
 use shared::sim_to_haptic::LocalModel;
-use shared::sim_to_ui::ToolState;
+use shared::sim_to_ui::{ToolState, put_text};
 use shared::telemetry::SimTelemetry;
 use shared::ui_to_sim::CommandReply;
 use shared::{Header, services};
@@ -547,7 +547,7 @@ impl Service<'_> {
 
     /// The tool state, when it changed (a late UI gets it from the history).
     fn publish_tool_state(&mut self) {
-        let state = ToolState {
+        let mut state = ToolState {
             header: Header::default(),
             tool: self.tools.tool,
             rgba: self.tools.rgba,
@@ -555,7 +555,11 @@ impl Service<'_> {
             undo_depth: self.design.history.undo_steps() as u32,
             redo_depth: self.design.history.redo_steps() as u32,
             sew_first: self.tools.sew_first.unwrap_or(u32::MAX),
+            pen_said: self.tools.said,
+            pen_ok: u32::from(self.tools.last_said.0),
+            ..ToolState::default()
         };
+        state.pen_message_len = put_text(&mut state.pen_message, &self.tools.last_said.1);
         // Late subscribers get the history (last tool state, mesh, body, telemetry) when a
         // publisher updates its connections; these send on change or once a second, so do
         // it every frame: a restarted viewer then has everything within a frame or two.

@@ -968,6 +968,25 @@ fn cut_by_pen(rig: &mut PenRig, ask: Ask<'_>) {
         h0.vertices,
         h1.vertices
     );
+    // The studio is told what the stroke did (the tool state carries the pen's answer),
+    // and why a stroke far from the cloth did nothing.
+    let said =
+        |s: &shared::sim_to_ui::ToolState| shared::sim_to_ui::check_tool_state(s).unwrap().unwrap();
+    let s = rig.tool_state();
+    let (ok, m) = said(&s);
+    assert!(ok && m.starts_with("Cut: ") && m.contains("split"), "{m}");
+    let far = [5.0, 5.0, 5.0];
+    for _ in 0..3 {
+        rig.send(far, true);
+        rig.next_frame();
+    }
+    rig.send(far, false);
+    rig.next_frame();
+    rig.next_frame();
+    let s2 = rig.tool_state();
+    let (ok, m) = said(&s2);
+    assert!(s2.pen_said > s.pen_said && !ok, "{m}");
+    assert!(m.starts_with("cut stroke by the pen: "), "{m}");
 }
 
 fn sew_by_pen(rig: &mut PenRig, ask: Ask<'_>) {

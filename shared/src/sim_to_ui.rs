@@ -224,9 +224,7 @@ pub mod tool {
 
 /// The current tool and its settings, owned by cloth-sim (so a restarted UI and the pen's
 /// buttons see the same), with the undo and redo depth.
-#[derive(
-    Clone, Copy, Debug, Default, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable,
-)]
+#[derive(Clone, Copy, Debug, PartialEq, ZeroCopySend, bytemuck::Pod, bytemuck::Zeroable)]
 #[repr(C)]
 #[type_name("saiho::ToolState")]
 pub struct ToolState {
@@ -239,6 +237,55 @@ pub struct ToolState {
     pub redo_depth: u32,
     /// The vertex picked by the first press of a sew, or u32::MAX.
     pub sew_first: u32,
+    /// Since version 19: how many operations of the pen's button (a cut stroke, a sew or
+    /// pin by the pen) cloth-sim has answered since it started, the last one's answer
+    /// (1 done, 0 refused) and its message (the first `pen_message_len` bytes), so that
+    /// the studio says what a stroke of the mouse did or why it was refused.
+    pub pen_said: u32,
+    pub pen_ok: u32,
+    pub pen_message_len: u32,
+    pub pen_message: [u8; PEN_MESSAGE_LEN],
+    /// Explicit padding: every byte of a message is a field.
+    pub _pad: u32,
+}
+
+/// Bytes of [`ToolState::pen_message`] (a longer message is cut at a character).
+pub const PEN_MESSAGE_LEN: usize = 160;
+
+impl Default for ToolState {
+    fn default() -> Self {
+        Self {
+            header: Header::default(),
+            tool: 0,
+            rgba: [0; 4],
+            brush_m: 0.0,
+            undo_depth: 0,
+            redo_depth: 0,
+            sew_first: 0,
+            pen_said: 0,
+            pen_ok: 0,
+            pen_message_len: 0,
+            pen_message: [0; PEN_MESSAGE_LEN],
+            _pad: 0,
+        }
+    }
+}
+
+/// Checks a received tool state and returns the pen's last answer (`None` before the
+/// first): whether it was done, and its message.
+pub fn check_tool_state(s: &ToolState) -> Result<Option<(bool, String)>, MessageError> {
+    s.header.check()?;
+    let bad = |why: String| Err(malformed("tool state", why));
+    if s.pen_ok > 1 {
+        return bad(format!("the pen's answer is {} (0 or 1)", s.pen_ok));
+    }
+    let Some(text) = text_in(&s.pen_message, s.pen_message_len) else {
+        return bad(format!(
+            "the pen's message ({} bytes) is not UTF-8 text",
+            s.pen_message_len
+        ));
+    };
+    Ok((s.pen_said > 0).then(|| (s.pen_ok == 1, text.to_string())))
 }
 
 /// Most pieces a [`PieceList`] carries; a design with more lists the first ones and says

@@ -102,16 +102,42 @@ pub fn view_mouse(
         || resp.clicked_by(egui::PointerButton::Primary);
     // A drag with pinch, tear or a cut stroke moves the simulated pen, button held.
     let pen_tool = matches!(t, tool::PINCH | tool::TEAR | tool::CUT | tool::PAINT);
+    // Scissors and brush may start beside the cloth, as scissors start beside the fabric
+    // to cut across it: the stroke begins where it meets the cloth.
+    let from_beside = matches!(t, tool::CUT | tool::PAINT);
     if resp.drag_started_by(egui::PointerButton::Primary) && pen_tool {
         if let Some(h) = hit {
             let depth = (h.point - o).dot(dir);
             view.drag = Some(Drag { depth, pen: true });
             actions.push(Action::Pointer(h.point.to_array(), 1));
+        } else if from_beside {
+            view.stroke_from = Some(local);
         } else {
             actions.push(Action::Status(format!(
                 "{}: nothing under the mouse to grab; point at the cloth",
                 crate::tools::tool_name(t)
             )));
+        }
+    } else if let Some(from) = view.stroke_from {
+        if !resp.dragged_by(egui::PointerButton::Primary) {
+            view.stroke_from = None;
+            actions.push(Action::Status(format!(
+                "{}: the stroke never crossed the cloth",
+                crate::tools::tool_name(t)
+            )));
+        } else if let Some(h) = hit {
+            // The pen goes down just beside the cloth's border, so that the cut starts
+            // across it rather than a mouse step inside.
+            let start = border_point(camera, store, size, from, local)
+                .map(|b| b + (b - h.point).normalize_or_zero() * BESIDE_M)
+                .unwrap_or(h.point);
+            let depth = (h.point - o).dot(dir);
+            view.drag = Some(Drag { depth, pen: true });
+            view.stroke_from = None;
+            actions.push(Action::Pointer(start.to_array(), 1));
+            actions.push(Action::Pointer(h.point.to_array(), 1));
+        } else {
+            view.stroke_from = Some(local);
         }
     } else if let Some(dr) = &mut view.drag {
         // Scissors and brush ride the cloth under the mouse (a stroke at the press's
@@ -141,4 +167,34 @@ pub fn view_mouse(
             view_dir: dir,
         });
     }
+}
+
+/// How far beside the border a stroke begun beside the cloth puts the pen down, along
+/// the stroke (cloth-sim takes a stroke's points within 2 cm to the cloth's surface), m.
+const BESIDE_M: f32 = 0.003;
+
+/// Where on the cloth the screen segment from `off` (beside the cloth) to `on` (over it)
+/// first meets it, to a tenth of a pixel: where a stroke begun beside the cloth crosses
+/// its border.
+fn border_point(
+    camera: &Camera,
+    store: &Store,
+    size: Vec2,
+    off: Vec2,
+    on: Vec2,
+) -> Option<glam::Vec3> {
+    let mesh = store.mesh.as_ref()?;
+    let hit = |p: Vec2| {
+        let (o, dir) = camera.ray(p, size);
+        pick(o, dir, &mesh.corners, &store.x).map(|h| h.point)
+    };
+    let (mut off, mut on, mut point) = (off, on, hit(on)?);
+    while off.distance(on) > 0.1 {
+        let mid = 0.5 * (off + on);
+        match hit(mid) {
+            Some(p) => (on, point) = (mid, p),
+            None => off = mid,
+        }
+    }
+    Some(point)
 }

@@ -11,7 +11,7 @@ use shared::domain::Domain;
 use shared::ports::UiPorts;
 use shared::sim_to_ui::{
     check_body, check_frame, check_mesh, check_outline, check_pieces, check_seam_segments,
-    check_seams, check_source, check_tile, frame_stitches,
+    check_seams, check_source, check_tile, check_tool_state, frame_stitches,
 };
 use shared::ui_to_haptic::PointerInput;
 use shared::ui_to_sim::{CommandReply, ToolCommand};
@@ -26,6 +26,9 @@ pub struct Link {
     _node: Node<ipc::Service>,
     ports: UiPorts,
     pending: Vec<(u32, Pending, std::time::Instant)>,
+    /// The pen's answers (a cut stroke, a sew or pin by the pen) that came with the tool
+    /// state since the last poll: what the mouse's stroke did, for the status line.
+    pen_answers: Vec<Answer>,
     seq_cmd: u64,
     seq_ptr: u64,
     /// Last, so dropped after the node and ports: a clean stop leaves nothing behind.
@@ -35,6 +38,7 @@ pub struct Link {
 /// A reply to a command the UI sent, or that none came.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Answer {
+    /// The command's op; for an answer of the pen, `SET_TOOL` (the tool it acted with).
     pub op: u32,
     pub ok: bool,
     pub message: String,
@@ -51,6 +55,7 @@ impl Link {
             _node: node,
             domain: domain.clone(),
             pending: Vec::new(),
+            pen_answers: Vec::new(),
             seq_cmd: 0,
             seq_ptr: 0,
             _release: services::ReleaseOnDrop(domain.clone()),
@@ -159,8 +164,21 @@ impl Link {
             }
         }
         while let Ok(Some(s)) = p.tools.receive() {
-            match s.header.check() {
-                Ok(()) => store.tool = Some(*s),
+            match check_tool_state(&s) {
+                Ok(said) => {
+                    // A new answer of the pen (not the one a newly started studio finds).
+                    let before = store.tool.map(|t| t.pen_said);
+                    if let (Some((ok, message)), Some(b)) = (said, before)
+                        && b != s.pen_said
+                    {
+                        self.pen_answers.push(Answer {
+                            op: shared::ui_to_sim::op::SET_TOOL,
+                            ok,
+                            message,
+                        });
+                    }
+                    store.tool = Some(*s);
+                }
                 Err(x) => store.record(&x),
             }
         }
@@ -203,7 +221,7 @@ impl Link {
 
     /// The replies that came in, and the commands that waited too long for one.
     fn answers(&mut self) -> Vec<Answer> {
-        let mut answers = Vec::new();
+        let mut answers = std::mem::take(&mut self.pen_answers);
         self.pending.retain(|(op, p, sent)| match p.receive() {
             Ok(Some(r)) => {
                 answers.push(match r.check() {

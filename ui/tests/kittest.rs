@@ -912,3 +912,149 @@ fn the_simulation_is_paused_and_run_again() {
     assert!(h.query_by_label("paused").is_none());
     assert!(h.query_by_label("Pause").is_some());
 }
+
+/// Scissors started beside the cloth, as scissors start beside the fabric to cut across
+/// it: the pen goes down at the cloth's border (not a mouse step inside it, where the cut
+/// would leave the border whole) and follows the stroke over the cloth; a stroke that
+/// never meets the cloth is said to, and sends nothing.
+#[test]
+fn a_cut_stroke_begun_beside_the_cloth_starts_at_its_border() {
+    let mut h = harness();
+    h.get_by_label("Cut  (C)").click();
+    h.run_steps(2);
+    let rect = h.state().view.rect.unwrap();
+    let size = glam::Vec2::new(rect.width(), rect.height());
+    // The demo cloth's left border (x = -0.5) on the screen, through its middle.
+    let edge = h
+        .state()
+        .camera
+        .to_screen(glam::Vec3::new(-0.5, 0.4, 0.0), size)
+        .unwrap();
+    let at = |dx: f32| rect.min + egui::vec2(edge.x + dx, edge.y);
+    assert!(
+        at(-60.0).x > rect.min.x + 5.0,
+        "the view shows beside the cloth"
+    );
+    let before = h.state().emitted.len();
+    h.hover_at(at(-60.0));
+    h.run_steps(1);
+    h.drag_at(at(-60.0));
+    h.run_steps(1);
+    // Mouse steps of 25 px: the first over the cloth lands 15 px inside its border.
+    for k in 1..=6 {
+        h.hover_at(at(-60.0 + 25.0 * k as f32));
+        h.run_steps(1);
+    }
+    h.drop_at(at(90.0));
+    h.run_steps(2);
+    let pen: Vec<([f32; 3], u32)> = (h.state().emitted[before..].iter())
+        .filter_map(|e| match e {
+            Emitted::Pointer(p, b) => Some((*p, *b)),
+            _ => None,
+        })
+        .collect();
+    assert!(pen.len() >= 4, "{pen:?}");
+    assert_eq!(pen[0].1, 1, "{pen:?}");
+    assert_eq!(pen.last().unwrap().1, 0, "{pen:?}");
+    let first = glam::Vec3::from(pen[0].0);
+    assert!(
+        (-0.504..-0.4995).contains(&first.x) && (first.y - 0.4).abs() < 1e-3,
+        "the pen goes down just beside the border (x = -0.5): {first}"
+    );
+    assert!(pen[1].0[0] > -0.49, "then over the cloth: {pen:?}");
+
+    // A stroke beside the cloth all along sends nothing.
+    let before = h.state().emitted.len();
+    let corner = rect.min + egui::vec2(5.0, 5.0);
+    h.hover_at(corner);
+    h.run_steps(1);
+    h.drag_at(corner);
+    h.run_steps(1);
+    h.hover_at(corner + egui::vec2(0.0, 30.0));
+    h.run_steps(1);
+    h.drop_at(corner + egui::vec2(0.0, 40.0));
+    h.run_steps(2);
+    assert!(
+        (h.state().emitted[before..].iter()).all(|e| !matches!(e, Emitted::Pointer(..))),
+        "nothing sent"
+    );
+    h.get_by_label("Cut: the stroke never crossed the cloth");
+}
+
+/// What the pen's button did (a cut stroke drawn with the mouse, say) reaches the status
+/// line with the tool state, done or refused; the answer a newly started studio finds is
+/// not news, and is not shown.
+#[test]
+fn the_pens_answers_reach_the_status_line() {
+    use shared::domain::ScratchDomain;
+    use shared::sim_to_ui::{ToolState, put_text};
+    use shared::{Header, services};
+
+    let domain = ScratchDomain::new(&format!("kt-pen-said-{}", std::process::id())).unwrap();
+    let node = services::node(&domain, "test-sim").unwrap();
+    let publisher = ports::publisher(&node, services::tool_state).unwrap();
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1200.0, 760.0))
+        .wgpu()
+        .build_eframe(|_cc| {
+            App::new(Options {
+                domain: Some(domain.0.clone()),
+                ..Options::default()
+            })
+        });
+    let mut seq = 0;
+    let mut state = |said: u32, ok: bool, m: &str| {
+        let mut s = ToolState {
+            header: Header::next(&mut seq),
+            tool: tool::CUT,
+            sew_first: u32::MAX,
+            pen_said: said,
+            pen_ok: u32::from(ok),
+            ..ToolState::default()
+        };
+        s.pen_message_len = put_text(&mut s.pen_message, m);
+        s
+    };
+    let mut shown = |h: &mut Harness<'_, App>, s: ToolState, text: &str| {
+        for _ in 0..200 {
+            publisher.send_copy(s).unwrap();
+            h.run_steps(1);
+            if h.query_all_by_label_contains(text).next().is_some() {
+                return true;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        false
+    };
+    // The first state carries an old answer: the studio takes the tool, not the news.
+    let old = state(4, true, "Cut: 3 vertices split along the pen's stroke");
+    for _ in 0..200 {
+        publisher.send_copy(old).unwrap();
+        h.run_steps(1);
+        if h.state().store.tool.is_some() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    assert_eq!(h.state().store.tool.map(|t| t.pen_said), Some(4));
+    assert!(
+        !h.state().status.contains("3 vertices"),
+        "{}",
+        h.state().status
+    );
+    let done = state(5, true, "Cut: 40 vertices split along the pen's stroke");
+    assert!(shown(&mut h, done, "Cut: 40 vertices split"));
+    let refused = state(
+        6,
+        false,
+        "cut stroke by the pen: the stroke missed the cloth",
+    );
+    assert!(shown(
+        &mut h,
+        refused,
+        "Refused: cut stroke by the pen: the stroke"
+    ));
+    drop(h);
+    drop(publisher);
+    drop(node);
+}

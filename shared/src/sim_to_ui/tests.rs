@@ -81,3 +81,45 @@ fn the_source_is_checked() {
     let e = check_source(&bad).unwrap_err().to_string();
     assert!(e.contains("pattern file"), "{e}");
 }
+
+/// The pen's last answer comes with the tool state: none before the first; an answer
+/// other than 0 or 1, a message past its buffer or not UTF-8, or another protocol's
+/// header is refused.
+#[test]
+fn the_pens_answer_is_checked() {
+    let mut s = ToolState {
+        header: Header::next(&mut 0),
+        ..ToolState::default()
+    };
+    assert_eq!(check_tool_state(&s).unwrap(), None);
+    s.pen_said = 3;
+    s.pen_message_len = put_text(&mut s.pen_message, "Cut: 12 vertices split");
+    assert_eq!(
+        check_tool_state(&s).unwrap(),
+        Some((false, "Cut: 12 vertices split".to_string()))
+    );
+    s.pen_ok = 1;
+    assert!(check_tool_state(&s).unwrap().unwrap().0);
+    let mut bad = s;
+    bad.pen_ok = 2;
+    assert!(
+        check_tool_state(&bad)
+            .unwrap_err()
+            .to_string()
+            .contains("answer")
+    );
+    let mut bad = s;
+    bad.pen_message_len = PEN_MESSAGE_LEN as u32 + 1;
+    assert!(check_tool_state(&bad).is_err());
+    let mut bad = s;
+    bad.pen_message[0] = 0xff;
+    assert!(
+        check_tool_state(&bad)
+            .unwrap_err()
+            .to_string()
+            .contains("message")
+    );
+    let mut bad = s;
+    bad.header.protocol += 1;
+    assert!(check_tool_state(&bad).is_err());
+}

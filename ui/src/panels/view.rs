@@ -29,6 +29,9 @@ pub struct ViewPanel {
     pub last_hit: Option<Hit>,
     /// A drag in progress.
     pub drag: Option<Drag>,
+    /// A scissors or brush stroke begun beside the cloth: where the mouse was last seen
+    /// off it (view pixels from the view's corner), until the stroke meets the cloth.
+    pub stroke_from: Option<glam::Vec2>,
 }
 
 impl ViewPanel {
