@@ -53,7 +53,7 @@ fn commands_are_carried_out_and_answered() {
     drop(states);
     STOP.store(true, Ordering::Relaxed);
     let stats = handle.join().unwrap();
-    assert_eq!(stats.commands, 42);
+    assert_eq!(stats.commands, 44);
     assert_eq!(stats.rejected, 11);
     let _ = std::fs::remove_file(&path);
     // The autosave, its previous good version, and the design the load replaced.
@@ -162,6 +162,23 @@ fn edits_refusals_and_save(ask: Ask<'_>, path: &std::path::Path, autosave: &std:
         ..Default::default()
     });
     assert!(r.ok == 1 && r.message() == "Undone: cut" && r.undo_depth == 0);
+    // Scissors in the pattern plane: a line across the whole square cuts it in two.
+    let across = shared::command::Command::CutPlane {
+        from: [-0.7, 0.06],
+        to: [0.7, 0.06],
+    };
+    let r = ask(across.to_wire(Header::default()).unwrap());
+    assert_eq!(r.ok, 1, "{}", r.message());
+    assert!(
+        r.message().ends_with("the cloth is 2 pieces now"),
+        "{}",
+        r.message()
+    );
+    let r = ask(ToolCommand {
+        op: op::UNDO,
+        ..Default::default()
+    });
+    assert!(r.ok == 1 && r.message() == "Undone: cut line" && r.undo_depth == 0);
     let mut save = ToolCommand {
         op: op::SAVE,
         ..Default::default()

@@ -93,7 +93,12 @@ pub mod op {
     /// Run again with a seam none of whose pairs has closed yet, the cloth floats while
     /// the seams pull (as a pattern's pieces do), then falls. Since protocol 18.
     pub const SET_SIMULATING: u32 = 27;
-    pub const LAST: u32 = SET_SIMULATING;
+    /// Scissors in the pattern: the cloth cut along the straight line from (`uv[0]`,
+    /// `uv[1]`) to (`uv[2]`, `uv[3]`) in the design's pattern plane (m), exactly along it
+    /// on every piece it crosses; a line from beside a piece to beside it cuts the piece
+    /// in two. Undoable. Since protocol 19.
+    pub const CUT_PLANE: u32 = 28;
+    pub const LAST: u32 = CUT_PLANE;
 }
 
 /// [`ToolCommand::b`] of a RESET: the body.
@@ -159,7 +164,7 @@ pub struct ToolCommand {
     pub vec: [f32; 3],
     pub value: f32,
     pub rgba: [u8; 4],
-    /// Pattern coordinates for REMOVE_REGION and SEAM.
+    /// Pattern coordinates for REMOVE_REGION, SEAM, SEAM_PLANE and CUT_PLANE.
     pub uv: [f32; 8],
     pub text_len: u32,
     pub text: [u8; TEXT_LEN],

@@ -285,6 +285,40 @@ fn cutting_a_piece_in_two_lists_two_pieces() {
     assert_eq!(names, ["front", "front 2", "back"], "{names:?}");
 }
 
+/// Scissors in the pattern view: a straight line from beside the sewn, draped front to
+/// beside it cuts the front in two (listed as two pieces), as one undoable operation;
+/// the garment crosses nothing in the frames after. A line of no length is refused and
+/// changes nothing.
+#[test]
+fn a_line_across_a_piece_in_the_pattern_cuts_it_in_two() {
+    let mut d = sewn_dress();
+    let steps = d.history.undo_steps();
+    let front = &d.pieces[0];
+    let (lo, hi) = outline_box(front);
+    let y = 0.5 * (lo.y + hi.y);
+    let (a, b) = (
+        glam::Vec2::new(lo.x - 0.02, y) + front.offset,
+        glam::Vec2::new(hi.x + 0.02, y) + front.offset,
+    );
+    assert!(d.cut_line(a, a).is_err());
+    assert_eq!(
+        d.history.undo_steps(),
+        steps,
+        "a refused cut changes nothing"
+    );
+    let split = d.cut_line(a, b).unwrap();
+    assert!(split >= 5, "{split} vertices split");
+    let names: Vec<String> = d.piece_list().into_iter().map(|p| p.name).collect();
+    assert_eq!(names, ["front", "front 2", "back"], "{names:?}");
+    assert_eq!(d.history.undo_steps(), steps + 1);
+    for _ in 0..120 {
+        d.step().unwrap();
+    }
+    assert_eq!(crossings(&d), (0, 0));
+    assert_eq!(d.undo().unwrap(), "cut line");
+    assert_eq!(d.piece_list().len(), 2);
+}
+
 /// The dress at 6 cm triangles and a `w` x `h` m rectangle named `name` to add to it.
 fn dress_and_rectangle(
     name: &str,

@@ -641,7 +641,8 @@ impl eframe::App for App {
             .show(ui, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| self.left_column(ui, &mut actions));
             });
-        self.pieces.pattern_window(&ctx, &self.store, &mut actions);
+        let cutting = self.current_tool() == tool::CUT;
+        (self.pieces).pattern_window(&ctx, &self.store, cutting, &mut actions);
         egui::Panel::right("status panel")
             .frame(panel)
             .default_size(300.0)

@@ -600,6 +600,37 @@ fn the_pieces_panel_lists_selects_adds_places_and_deletes() {
     assert!(h.state().pieces.pattern_open);
     h.get_by_label("Pattern");
     seam_by_two_drags(&mut h);
+    cut_by_a_drag(&mut h);
+}
+
+/// With the Cut tool, one drag in the pattern view is a cut along its line (sent in the
+/// pattern plane), not a seam's side.
+fn cut_by_a_drag(h: &mut Harness<'static, App>) {
+    // By its key: the pattern window lies over the tools.
+    h.key_press(egui::Key::C);
+    h.run_steps(2);
+    let hint = h
+        .get_by_label("Cut tool: drag a line across a piece to cut it along the line")
+        .rect();
+    let n = commands(h).len();
+    let c = egui::pos2(hint.center().x, hint.bottom() + 158.0);
+    let (a, b) = (c + egui::vec2(-120.0, 0.0), c + egui::vec2(120.0, 0.0));
+    h.hover_at(a);
+    h.run_steps(1);
+    h.drag_at(a);
+    h.run_steps(2);
+    h.hover_at(b);
+    h.run_steps(2);
+    h.drop_at(b);
+    h.run_steps(2);
+    let sent = commands(h);
+    assert_eq!(sent.len(), n + 1, "one cut");
+    let s = sent.last().unwrap();
+    assert_eq!(s.op, op::CUT_PLANE);
+    // Left to right across the view, level: pattern x grows, y stays.
+    assert!(s.uv[0] + 0.1 < s.uv[2], "{:?}", s.uv);
+    assert!((s.uv[1] - s.uv[3]).abs() < 1e-3, "{:?}", s.uv);
+    assert!(h.state().pieces.seam_sides.is_empty());
 }
 
 /// The seam rows: two seams listed (the second's sides 30% apart), the second removed.
@@ -1015,7 +1046,7 @@ fn the_pens_answers_reach_the_status_line() {
         s.pen_message_len = put_text(&mut s.pen_message, m);
         s
     };
-    let mut shown = |h: &mut Harness<'_, App>, s: ToolState, text: &str| {
+    let shown = |h: &mut Harness<'_, App>, s: ToolState, text: &str| {
         for _ in 0..200 {
             publisher.send_copy(s).unwrap();
             h.run_steps(1);

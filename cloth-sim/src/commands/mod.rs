@@ -79,6 +79,16 @@ pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
             .remove_region(Vec2::from_array(*min), Vec2::from_array(*max))
             .map(|n| format!("Cut away: {n} triangles removed from the pattern"))
             .map_err(e),
+        Command::CutPlane { from, to } => design
+            .cut_line(Vec2::from_array(*from), Vec2::from_array(*to))
+            .map(|n| {
+                let pieces = match design.piece_list().len() {
+                    1 => "1 piece".to_string(),
+                    k => format!("{k} pieces"),
+                };
+                format!("Cut: {n} vertices split along the line; the cloth is {pieces} now")
+            })
+            .map_err(e),
         Command::Seam { a, b, tolerance } => seam(design, a, b, *tolerance, false),
         Command::SeamPlane { a, b, tolerance_m } => seam(design, a, b, *tolerance_m, true),
         Command::SetMaterial { material, substeps } => set_material(design, material, *substeps),

@@ -204,6 +204,12 @@ pub enum Command {
     SetSimulating {
         on: bool,
     },
+    /// Scissors along the straight line `from`-`to` in the design's pattern plane (m),
+    /// on every piece it crosses (since protocol 19).
+    CutPlane {
+        from: [f32; 2],
+        to: [f32; 2],
+    },
 }
 
 /// Why a command cannot be put on the wire.
@@ -281,6 +287,7 @@ impl Command {
             Self::SetGuard { .. } => op::SET_GUARD,
             Self::SetStrainLimit { .. } => op::SET_STRAIN_LIMIT,
             Self::SetSimulating { .. } => op::SET_SIMULATING,
+            Self::CutPlane { .. } => op::CUT_PLANE,
         }
     }
 
@@ -331,7 +338,7 @@ impl Command {
                 rgba,
                 brush_m,
             } => (c.a, c.rgba, c.value) = (*tool, *rgba, *brush_m),
-            Self::RemoveRegion { min, max } => {
+            Self::RemoveRegion { min, max } | Self::CutPlane { from: min, to: max } => {
                 c.uv[..4].copy_from_slice(&[min[0], min[1], max[0], max[1]])
             }
             Self::Seam { a, b, tolerance }
@@ -504,6 +511,10 @@ impl Command {
             op::SET_GUARD => Self::SetGuard { on: c.mode == 1 },
             op::SET_SIMULATING => Self::SetSimulating { on: c.mode == 1 },
             op::SET_STRAIN_LIMIT => Self::SetStrainLimit { limit: c.value },
+            op::CUT_PLANE => Self::CutPlane {
+                from: [u[0], u[1]],
+                to: [u[2], u[3]],
+            },
             op::SEAM_PLANE => Self::SeamPlane {
                 a: [[u[0], u[1]], [u[2], u[3]]],
                 b: [[u[4], u[5]], [u[6], u[7]]],

@@ -166,6 +166,10 @@ fn piece_variants() -> Vec<Command> {
         Command::SetSimulating { on: false },
         Command::SetStrainLimit { limit: 0.2 },
         Command::SetStrainLimit { limit: 0.0 },
+        Command::CutPlane {
+            from: [-0.05, -0.3],
+            to: [0.45, -0.32],
+        },
     ]
 }
 

@@ -31,6 +31,26 @@ fn ccw(a: Vec2, b: Vec2) -> f32 {
     }
 }
 
+/// How far past a piece's band of the pattern plane a cut line is taken, so that it
+/// starts beside the piece's border rather than on it, m.
+const BAND_MARGIN_M: f32 = 0.001;
+
+/// The part of segment `a`-`b` whose x lies within `lo..=hi` (`None`: none of it).
+fn clip_to_band(a: Vec2, b: Vec2, lo: f32, hi: f32) -> Option<(Vec2, Vec2)> {
+    let d = b - a;
+    let (mut t0, mut t1) = (0.0f32, 1.0f32);
+    if d.x.abs() < 1e-9 {
+        if a.x < lo || a.x > hi {
+            return None;
+        }
+    } else {
+        let (u, w) = ((lo - a.x) / d.x, (hi - a.x) / d.x);
+        t0 = t0.max(u.min(w));
+        t1 = t1.min(u.max(w));
+    }
+    (t1 - t0 > 1e-6).then(|| (a + d * t0, a + d * t1))
+}
+
 /// Barycentric coordinates of `p` (on the triangle's plane) in triangle `a`, `b`, `c`;
 /// the centre for a degenerate triangle.
 fn barycentric(p: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Vec3 {
@@ -59,10 +79,45 @@ impl Design {
         }
         self.check_editable()?;
         let runs = self.stroke_runs(points, radius);
+        self.cut_runs(&runs, "cut stroke")
+    }
+
+    /// Scissors in the pattern: cuts the cloth along the straight line from `a` to `b`
+    /// in the design's pattern plane (m), as one undoable operation ("cut line"), exactly
+    /// along it on each piece it crosses (the line taken piece by piece, within each
+    /// piece's band of the plane). A line from beside a piece to beside it cuts the piece
+    /// in two; one that starts or ends on a piece cuts a slit. Returns how many vertices
+    /// were split.
+    pub fn cut_line(&mut self, a: Vec2, b: Vec2) -> Result<usize, EditError> {
+        if !(a.is_finite() && b.is_finite()) || a.distance(b) < 1e-4 {
+            return Err(EditError::BadValue {
+                name: "cut line",
+                rule: "two finite points at least 0.1 mm apart",
+                value: format!("{a} to {b}"),
+            });
+        }
+        self.check_editable()?;
+        let runs: Vec<Vec<Vec2>> = if self.pieces.is_empty() {
+            vec![vec![a, b]]
+        } else {
+            (self.pieces.iter())
+                .filter_map(|r| {
+                    let (lo, hi) = r.band();
+                    clip_to_band(a, b, lo - BAND_MARGIN_M, hi + BAND_MARGIN_M)
+                })
+                .map(|(p, q)| vec![p, q])
+                .collect()
+        };
+        self.cut_runs(&runs, "cut line")
+    }
+
+    /// Splits the cloth along each run (pattern plane, one piece each) as one undoable
+    /// operation named `what`; nothing changes unless a vertex is split.
+    fn cut_runs(&mut self, runs: &[Vec<Vec2>], what: &'static str) -> Result<usize, EditError> {
         let mut applied = Vec::new();
         let mut batch = Batch::default();
         let mut splits = 0;
-        for run in &runs {
+        for run in runs {
             let done = self
                 .split_along(run, &mut applied, &mut batch)
                 .and_then(|chain| self.split_chain(&chain, run, &mut applied, &mut batch));
@@ -78,7 +133,7 @@ impl Design {
             self.abandon_batch(&applied, batch);
             return Err(EditError::EmptyStroke);
         }
-        self.record_batch("cut stroke", applied, batch);
+        self.record_batch(what, applied, batch);
         Ok(splits)
     }
 

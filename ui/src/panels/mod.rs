@@ -1,9 +1,10 @@
 //! The studio's panels, each its own struct: `tools` (left, top), `material`, `scene` and
-//! `pieces` (left, below; `pieces` also opens the pattern view), `status` (right), `view` (the 3D view in the middle). A panel draws
+//! `pieces` (left, below; `pieces` also opens the pattern view, which `pattern` draws), `status` (right), `view` (the 3D view in the middle). A panel draws
 //! itself from the store and returns what the user asked for as `Action`s; the app
 //! applies them after the frame is laid out.
 
 mod material;
+mod pattern;
 mod pieces;
 mod scene;
 mod status;

@@ -6,12 +6,11 @@
 //! the stitches still pulling.
 
 use shared::command::{Command, PieceShape};
-use shared::sim_to_ui::{OutlineSegment, outline};
 use shared::ui_to_sim::{PIECE_EDGE, PIECE_SIZE, place, shape};
 
+use super::pattern::{CUT_LINE, PatternFrame, SIDE, seam_colour};
 use crate::action::Action;
 use crate::store::Store;
-use crate::view3d::HIGHLIGHT;
 
 /// What the panel holds between frames: the selection and the new piece's settings.
 pub struct PiecesPanel {
@@ -248,22 +247,37 @@ impl PiecesPanel {
     }
 
     /// The pattern view's window, when open.
+    /// With `cutting` (the Cut tool), a drag is a cut along its line instead of a seam's
+    /// side.
     pub fn pattern_window(
         &mut self,
         ctx: &egui::Context,
         store: &Store,
+        cutting: bool,
         actions: &mut Vec<Action>,
     ) {
         let mut open = self.pattern_open;
+        if cutting {
+            self.seam_sides.clear();
+        }
         egui::Window::new("Pattern")
             .open(&mut open)
             .default_size([420.0, 440.0])
             .show(ctx, |ui| {
-                ui.label("Drag along a border, then along another: a seam joins them")
-                    .on_hover_text(
-                        "Each side from its start to its end; right-click forgets a first side",
-                    );
-                self.pattern_view(ui, store, actions);
+                if cutting {
+                    ui.label("Cut tool: drag a line across a piece to cut it along the line")
+                        .on_hover_text(
+                            "From beside a piece to beside it cuts it in two; choose another \
+                             tool to make seams here",
+                        );
+                } else {
+                    ui.label("Drag along a border, then along another: a seam joins them")
+                        .on_hover_text(
+                            "Each side from its start to its end; right-click forgets a first \
+                             side; with the Cut tool a drag cuts instead",
+                        );
+                }
+                self.pattern_view(ui, store, cutting, actions);
             });
         self.pattern_open = open;
     }
@@ -271,7 +285,13 @@ impl PiecesPanel {
     /// Every piece's outline in the design's pattern plane, the highlighted piece bright, a
     /// line for each stitch still pulling between the places it joins, and a 10 cm scale;
     /// two drags make a seam between the borders they follow.
-    fn pattern_view(&mut self, ui: &mut egui::Ui, store: &Store, actions: &mut Vec<Action>) {
+    fn pattern_view(
+        &mut self,
+        ui: &mut egui::Ui,
+        store: &Store,
+        cutting: bool,
+        actions: &mut Vec<Action>,
+    ) {
         let Some(mesh) = &store.mesh else {
             ui.label("No cloth heard from cloth-sim yet");
             return;
@@ -293,10 +313,15 @@ impl PiecesPanel {
         }
         if let (Some(a), Some(p)) = (self.drag_from, response.interact_pointer_pos()) {
             let b = frame.to_plane(p);
-            painter.line_segment([frame.at(a), frame.at(b)], egui::Stroke::new(2.0, SIDE));
+            let colour = if cutting { CUT_LINE } else { SIDE };
+            painter.line_segment([frame.at(a), frame.at(b)], egui::Stroke::new(2.0, colour));
             if response.drag_stopped() {
                 self.drag_from = None;
-                self.seam_sides.push([a, b]);
+                if cutting {
+                    actions.push(Action::Command(Command::CutPlane { from: a, to: b }));
+                } else {
+                    self.seam_sides.push([a, b]);
+                }
             }
         }
         if response.secondary_clicked() {
@@ -433,250 +458,3 @@ fn seam_row(ui: &mut egui::Ui, i: usize, s: &shared::sim_to_ui::SeamEntry) {
 
 /// What a seam row that needs the designer's eye is written in.
 const WARN: egui::Color32 = egui::Color32::from_rgb(240, 170, 60);
-
-/// Seam `i`'s colour (the 3D view's, [`crate::view3d::seam_colour`]).
-pub fn seam_colour(i: usize) -> egui::Color32 {
-    colour(crate::view3d::seam_colour(i))
-}
-
-/// What a drawn seam side looks like.
-const SIDE: egui::Color32 = egui::Color32::from_rgb(90, 220, 120);
-
-/// The pattern plane fitted into a rectangle of the screen.
-struct PatternFrame {
-    rect: egui::Rect,
-    centre: [f32; 2],
-    /// Pixels per metre.
-    scale: f32,
-}
-
-/// Whether the pattern view draws cloth-sim's pattern lines (the export's outlines, notches
-/// and grain lines): when it sent them all; otherwise the mesh's own outline.
-fn pattern_lines(store: &Store) -> Option<&[OutlineSegment]> {
-    let all = !store.outline.is_empty() && store.outline.len() == store.outline_total as usize;
-    all.then_some(&store.outline[..])
-}
-
-impl PatternFrame {
-    fn of(mesh: &crate::store::Mesh, store: &Store, rect: egui::Rect) -> Option<Self> {
-        let (mut lo, mut hi) = ([f32::MAX; 2], [f32::MIN; 2]);
-        let ends: Vec<[f32; 2]> = match pattern_lines(store) {
-            Some(lines) => lines.iter().flat_map(|g| [g.a, g.b]).collect(),
-            None => mesh.outline.iter().flat_map(|(a, b, _)| [*a, *b]).collect(),
-        };
-        for p in ends {
-            for k in 0..2 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
-        if lo[0] > hi[0] {
-            return None;
-        }
-        let span = (hi[0] - lo[0]).max(hi[1] - lo[1]).max(1e-6);
-        Some(Self {
-            rect,
-            centre: [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])],
-            scale: 0.92 * rect.width().min(rect.height()) / span,
-        })
-    }
-
-    /// A pattern place on the screen (pattern y is up, the screen's down).
-    fn at(&self, p: [f32; 2]) -> egui::Pos2 {
-        self.rect.center()
-            + egui::vec2(
-                (p[0] - self.centre[0]) * self.scale,
-                -(p[1] - self.centre[1]) * self.scale,
-            )
-    }
-
-    /// The pattern place under a screen point.
-    fn to_plane(&self, q: egui::Pos2) -> [f32; 2] {
-        let d = q - self.rect.center();
-        [
-            self.centre[0] + d.x / self.scale,
-            self.centre[1] - d.y / self.scale,
-        ]
-    }
-
-    /// The outlines, each seam in its colour with its label, the stitches still pulling
-    /// and the scale bar.
-    fn draw(
-        &self,
-        painter: &egui::Painter,
-        mesh: &crate::store::Mesh,
-        store: &Store,
-        selected: Option<usize>,
-    ) {
-        if let Some(map) = &store.stretch {
-            painter.add(crate::stretch::pattern_fill(&mesh.corners, map, |p| {
-                self.at(p)
-            }));
-        }
-        let bar = egui::pos2(self.rect.left() + 8.0, self.rect.bottom() - 10.0);
-        let grey = egui::Color32::from_gray(140);
-        painter.line_segment(
-            [bar, bar + egui::vec2(0.1 * self.scale, 0.0)],
-            egui::Stroke::new(2.0, grey),
-        );
-        painter.text(
-            bar + egui::vec2(0.0, -4.0),
-            egui::Align2::LEFT_BOTTOM,
-            "10 cm",
-            egui::FontId::proportional(11.0),
-            grey,
-        );
-        let line = |bright: bool| {
-            if bright {
-                egui::Stroke::new(2.0, colour(HIGHLIGHT))
-            } else {
-                egui::Stroke::new(1.0, egui::Color32::from_gray(190))
-            }
-        };
-        let mut notches: Vec<(egui::Pos2, egui::Pos2)> = Vec::new();
-        match pattern_lines(store) {
-            Some(lines) => {
-                // Each run of joined segments as one path: drawn segment by segment, the
-                // joins of a line at a fraction of a pixel look dashed.
-                let mut run: Vec<egui::Pos2> = Vec::new();
-                for (k, g) in lines.iter().enumerate() {
-                    let bright = selected.is_some_and(|i| i as u32 == g.piece);
-                    let (a, b) = (self.at(g.a), self.at(g.b));
-                    if g.kind == outline::GRAIN {
-                        grain_arrow(painter, a, b, bright);
-                        continue;
-                    }
-                    if g.kind == outline::NOTCH {
-                        // Drawn over the seams below, at least 7 pixels long.
-                        notches.push((a, b));
-                        continue;
-                    }
-                    if run.is_empty() {
-                        run.push(a);
-                    }
-                    run.push(b);
-                    let next = lines.get(k + 1);
-                    let joined =
-                        next.is_some_and(|n| n.a == g.b && n.piece == g.piece && n.kind == g.kind);
-                    if !joined {
-                        painter.add(egui::Shape::line(std::mem::take(&mut run), line(bright)));
-                    }
-                }
-            }
-            None => {
-                for (a, b, piece) in &mesh.outline {
-                    let bright = store.highlight == Some(*piece);
-                    painter.line_segment([self.at(*a), self.at(*b)], line(bright));
-                }
-            }
-        }
-        // Each seam's sides in its colour, its label where each run of its edges starts.
-        let segments = &store.seam_segments;
-        let mut run: Vec<egui::Pos2> = Vec::new();
-        for (k, g) in segments.iter().enumerate() {
-            let (a, b) = (self.at(g.a), self.at(g.b));
-            let c = seam_colour(g.seam as usize);
-            if run.is_empty() {
-                run.push(a);
-            }
-            run.push(b);
-            let joined = |h: &shared::sim_to_ui::SeamSegment,
-                          next: &shared::sim_to_ui::SeamSegment| {
-                h.seam == next.seam && h.b == next.a
-            };
-            if !segments.get(k + 1).is_some_and(|n| joined(g, n)) {
-                painter.add(egui::Shape::line(
-                    std::mem::take(&mut run),
-                    egui::Stroke::new(3.0, c),
-                ));
-            }
-            // A run's label where it starts; a run a loop's start cut in two (the same
-            // seam's segment ends where it starts) is labelled once.
-            let starts_run =
-                (k == 0 || !joined(&segments[k - 1], g)) && !segments.iter().any(|h| joined(h, g));
-            if starts_run && let Some(s) = store.seams.get(g.seam as usize) {
-                painter.text(
-                    a + egui::vec2(4.0, -4.0),
-                    egui::Align2::LEFT_BOTTOM,
-                    s.label(),
-                    egui::FontId::proportional(12.0),
-                    c,
-                );
-            }
-        }
-        for (a, b) in notches {
-            let d = (b - a).normalized() * (b - a).length().max(7.0);
-            painter.line_segment([a, a + d], egui::Stroke::new(1.5, egui::Color32::WHITE));
-        }
-        // A stitch joins two vertices; each is drawn at its first place in the pattern.
-        let mut place_of: std::collections::HashMap<u32, [f32; 2]> = Default::default();
-        for c in &mesh.corners {
-            place_of.entry(c.vertex).or_insert(c.pattern);
-        }
-        for [a, b, seam] in &store.stitches {
-            if let (Some(pa), Some(pb)) = (place_of.get(a), place_of.get(b)) {
-                let stitch =
-                    egui::Stroke::new(1.0, seam_colour(*seam as usize).gamma_multiply(0.6));
-                painter.line_segment([self.at(*pa), self.at(*pb)], stitch);
-            }
-        }
-    }
-}
-
-/// A grain line: a thin line with an arrowhead at each end (the warp runs along it).
-fn grain_arrow(painter: &egui::Painter, a: egui::Pos2, b: egui::Pos2, bright: bool) {
-    let c = if bright {
-        colour(HIGHLIGHT).gamma_multiply(0.7)
-    } else {
-        egui::Color32::from_gray(110)
-    };
-    let stroke = egui::Stroke::new(1.0, c);
-    painter.line_segment([a, b], stroke);
-    let d = (b - a).normalized() * 6.0;
-    let side = egui::vec2(-d.y, d.x) * 0.5;
-    for (tip, back) in [(a, d), (b, -d)] {
-        painter.line_segment([tip, tip + back + side], stroke);
-        painter.line_segment([tip, tip + back - side], stroke);
-    }
-}
-
-fn colour(c: [f32; 4]) -> egui::Color32 {
-    let b = |v: f32| (v.clamp(0.0, 1.0) * 255.0) as u8;
-    egui::Color32::from_rgb(b(c[0]), b(c[1]), b(c[2]))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The view fits and draws cloth-sim's pattern lines when it has them all, and the
-    /// mesh's own outline when it has none or only some of them.
-    #[test]
-    fn the_pattern_view_draws_cloth_sims_lines_and_falls_back_to_the_mesh() {
-        let (mesh, _) = Store::demo_cloth(4, 1.0);
-        let mut store = Store::default();
-        let rect = egui::Rect::from_min_size(egui::pos2(0.0, 0.0), egui::vec2(400.0, 400.0));
-        let mesh_centre = PatternFrame::of(&mesh, &store, rect).unwrap().centre;
-        // A square 1 m across round (5.5, 5.5), far from the demo cloth's pattern.
-        let corners = [[5.0, 5.0], [6.0, 5.0], [6.0, 6.0], [5.0, 6.0]];
-        store.outline = (0..4)
-            .map(|i| OutlineSegment {
-                piece: 0,
-                kind: outline::SEWING_LINE,
-                a: corners[i],
-                b: corners[(i + 1) % 4],
-            })
-            .collect();
-        store.outline_total = 4;
-        let frame = PatternFrame::of(&mesh, &store, rect).unwrap();
-        assert_eq!(frame.centre, [5.5, 5.5]);
-        assert!((frame.scale - 0.92 * 400.0).abs() < 1e-3, "{}", frame.scale);
-        // Cut short (more lines than sent): the mesh's outline.
-        store.outline_total = 5;
-        assert_eq!(
-            PatternFrame::of(&mesh, &store, rect).unwrap().centre,
-            mesh_centre
-        );
-        assert_ne!(mesh_centre, [5.5, 5.5]);
-    }
-}
