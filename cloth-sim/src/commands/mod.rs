@@ -79,16 +79,7 @@ pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
             .remove_region(Vec2::from_array(*min), Vec2::from_array(*max))
             .map(|n| format!("Cut away: {n} triangles removed from the pattern"))
             .map_err(e),
-        Command::CutPlane { from, to } => design
-            .cut_line(Vec2::from_array(*from), Vec2::from_array(*to))
-            .map(|n| {
-                let pieces = match design.piece_list().len() {
-                    1 => "1 piece".to_string(),
-                    k => format!("{k} pieces"),
-                };
-                format!("Cut: {n} vertices split along the line; the cloth is {pieces} now")
-            })
-            .map_err(e),
+        Command::CutPlane { from, to } => cut_line(design, from, to),
         Command::Seam { a, b, tolerance } => seam(design, a, b, *tolerance, false),
         Command::SeamPlane { a, b, tolerance_m } => seam(design, a, b, *tolerance_m, true),
         Command::SetMaterial { material, substeps } => set_material(design, material, *substeps),
@@ -264,6 +255,20 @@ pub(crate) fn seam_tip(design: &Design) -> &'static str {
 
 /// A seam between the border paths along two segments, in UV or (`plane`) in the
 /// design's pattern plane, with a warning when their lengths do not match.
+/// Scissors along a line in the pattern plane; the reply says how many pieces the cloth
+/// is now.
+fn cut_line(design: &mut Design, from: &[f32; 2], to: &[f32; 2]) -> Result<String, String> {
+    let n = (design.cut_line(Vec2::from_array(*from), Vec2::from_array(*to)))
+        .map_err(|x| x.to_string())?;
+    let pieces = match design.piece_list().len() {
+        1 => "1 piece".to_string(),
+        k => format!("{k} pieces"),
+    };
+    Ok(format!(
+        "Cut: {n} vertices split along the line; the cloth is {pieces} now"
+    ))
+}
+
 fn seam(
     design: &mut Design,
     a: &[[f32; 2]; 2],
