@@ -311,6 +311,23 @@ fn a_line_across_a_piece_in_the_pattern_cuts_it_in_two() {
     let names: Vec<String> = d.piece_list().into_iter().map(|p| p.name).collect();
     assert_eq!(names, ["front", "front 2", "back"], "{names:?}");
     assert_eq!(d.history.undo_steps(), steps + 1);
+    // The pattern out: each side seam the cut crossed is marked by its two stretches
+    // (front to back above the cut, lower front to back below), each label on two
+    // pieces, as a pattern pairs its seams (the back's whole side said "B" to both).
+    let pattern = sim_core::design::sewing_pattern::pieces(&d);
+    let mut on: std::collections::BTreeMap<String, Vec<String>> = Default::default();
+    for p in &pattern {
+        for (label, ..) in &p.seams {
+            let e = on.entry(label.clone()).or_default();
+            if !e.contains(&p.name) {
+                e.push(p.name.clone());
+            }
+        }
+    }
+    let labels: Vec<&String> = on.keys().collect();
+    assert_eq!(labels, ["A", "B1", "B2", "C", "D1", "D2"], "{on:?}");
+    assert!(on.values().all(|pieces| pieces.len() == 2), "{on:?}");
+    assert!(on["B2"].contains(&"front 2".to_string()), "{on:?}");
     for _ in 0..120 {
         d.step().unwrap();
     }

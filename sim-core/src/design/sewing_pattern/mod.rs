@@ -231,7 +231,7 @@ fn pieces_in(
         .collect();
     let live = &design.sim.cloth.live;
     let names = design.describe(parts);
-    let seam_of = seam_labels(design);
+    let seam_of = seam_labels(design, parts);
     let eased: Vec<[Vec3; 3]> = design
         .seams
         .iter()
@@ -285,7 +285,9 @@ fn pieces_in(
         let grain = (mid - dir * half, mid + dir * half);
         let mut seam_names: Vec<(String, String)> = Vec::new();
         for (label, _, _) in &seams {
-            if let Some(name) = seam_names_of.get(label)
+            // A seam's stretch ("B2") carries the seam's name ("B").
+            let base = label.trim_end_matches(|c: char| c.is_ascii_digit());
+            if let Some(name) = seam_names_of.get(base)
                 && !seam_names.iter().any(|(l, _)| l == label)
             {
                 seam_names.push((label.clone(), name.clone()));
@@ -446,21 +448,89 @@ fn seam_segments(
         .collect()
 }
 
-/// The seams' labels ("A", "B", ...) of each vertex in them.
-fn seam_labels(design: &Design) -> HashMap<u32, Vec<String>> {
+/// The seams' labels ("A", "B", ...) of each vertex in them. A seam whose sides run
+/// over more than two of the pieces `parts` (a side cut across, say: the front cut at the
+/// waist leaves the back's side seam joined to the front above and to the lower front
+/// below) is labelled by its stretches between one pair of pieces, "B1", "B2", ..., in
+/// the seam's order, so that each label marks exactly two stretches of outline, as a
+/// pattern pairs its seams.
+fn seam_labels(design: &Design, parts: &[Vec<u32>]) -> HashMap<u32, Vec<String>> {
+    let live = &design.sim.cloth.live;
+    let mut parts_of: HashMap<u32, Vec<u32>> = HashMap::default();
+    for (p, part) in parts.iter().enumerate() {
+        for t in part.iter().filter_map(|&slot| live.tri(slot)) {
+            for v in t.v {
+                let e = parts_of.entry(v).or_default();
+                if !e.contains(&(p as u32)) {
+                    e.push(p as u32);
+                }
+            }
+        }
+    }
     let mut m: HashMap<u32, Vec<String>> = HashMap::default();
     for (i, s) in design.seams.iter().enumerate() {
-        let label = label(i);
-        for &(a, b) in &s.pairs {
-            for v in [a, b] {
-                let e = m.entry(v).or_default();
-                if !e.contains(&label) {
-                    e.push(label.clone());
+        let runs = stretch_runs(&s.pairs, &parts_of);
+        let count = runs.iter().flatten().max().map_or(0, |&r| r + 1);
+        for (&(a, b), runs) in s.pairs.iter().zip(&runs) {
+            for r in runs {
+                let label = if count > 1 {
+                    format!("{}{}", label(i), r + 1)
+                } else {
+                    label(i)
+                };
+                for v in [a, b] {
+                    let e = m.entry(v).or_default();
+                    if !e.contains(&label) {
+                        e.push(label.clone());
+                    }
                 }
             }
         }
     }
     m
+}
+
+/// Each pair's stretch of its seam: consecutive pairs between the same pieces (the parts
+/// their two vertices lie on, `parts_of`) are one stretch. A pair on more pieces than
+/// its neighbours (where a cut crosses the seam) belongs to the stretches either side;
+/// a pair on none (its vertices gone) to none.
+fn stretch_runs(pairs: &[(u32, u32)], parts_of: &HashMap<u32, Vec<u32>>) -> Vec<Vec<usize>> {
+    let on = |&(a, b): &(u32, u32)| {
+        let mut k: Vec<u32> = [a, b]
+            .iter()
+            .flat_map(|v| parts_of.get(v).into_iter().flatten().copied())
+            .collect();
+        k.sort_unstable();
+        k.dedup();
+        k
+    };
+    let keys: Vec<Vec<u32>> = pairs.iter().map(on).collect();
+    let common = |k: &[u32]| k.len() <= 2;
+    let mut runs: Vec<Vec<usize>> = vec![Vec::new(); pairs.len()];
+    let mut last: Option<(&[u32], usize)> = None;
+    for (k, key) in keys.iter().enumerate() {
+        if key.is_empty() || !common(key) {
+            continue;
+        }
+        let r = match last {
+            Some((l, r)) if l == &key[..] => r,
+            Some((_, r)) => r + 1,
+            None => 0,
+        };
+        runs[k].push(r);
+        last = Some((key, r));
+    }
+    // A crossing: the stretches of the nearest pairs before and after it.
+    for k in 0..pairs.len() {
+        if keys[k].is_empty() || common(&keys[k]) {
+            continue;
+        }
+        let before = (0..k).rev().find_map(|j| runs[j].first().copied());
+        let after = (k + 1..pairs.len()).find_map(|j| runs[j].first().copied());
+        runs[k] = before.into_iter().chain(after).collect();
+        runs[k].dedup();
+    }
+    runs
 }
 
 /// Seam `i`'s label in the pattern out: "A".."Z", then "AA", "AB", ...
