@@ -141,7 +141,8 @@ impl PatternSpec {
     /// or "right" (a side), "sleeve" or "arm" with "left" or "right" (an arm, when the
     /// body has them); otherwise front and back in turn. Pieces at one place stand side
     /// by side there, 2 cm apart, in the order a viewer facing them reads the body's
-    /// right and left. Tops start at the shoulders, sleeves at the shoulder.
+    /// right and left, in rows no wider than half the way round the torso, each row 2 cm
+    /// below the one before. Tops start at the shoulders, sleeves at the shoulder.
     pub fn arrange(&mut self, marks: &Landmarks) {
         let mut at: Vec<Option<Place>> = Vec::with_capacity(self.pieces.len());
         let mut turn = 0;
@@ -199,41 +200,85 @@ impl PatternSpec {
                 let n = self.pieces[i].name.to_ascii_lowercase();
                 (!n.contains(first_word), i)
             });
-            let widths: Vec<f32> = group
-                .iter()
-                .map(|&i| width(&self.pieces[i].outline))
-                .collect();
+            let arm = matches!(place, Place::LeftArm | Place::RightArm);
             let gap = 0.02;
-            let total: f32 =
-                widths.iter().sum::<f32>() + gap * widths.len().saturating_sub(1) as f32;
-            let mut s = -0.5 * total;
-            for (&i, w) in group.iter().zip(&widths) {
-                let centre = s + 0.5 * w;
-                s += w + gap;
-                let mut placement = place.at(match place {
-                    Place::LeftArm | Place::RightArm => 0.0,
-                    _ => marks.shoulders,
-                });
-                match &mut placement {
-                    Placement::Around { angle, .. } => {
-                        *angle = shift_angle(marks, *angle, centre);
-                    }
-                    Placement::Arm { angle, .. } => {
-                        let r = marks.arms.map_or(0.07, |a| a[0].2);
-                        *angle += centre / r;
-                    }
-                    Placement::Transform { .. } | Placement::Cone { .. } => {}
+            // Rows no wider than half the way round the torso, each below the last: side
+            // by side further, they would reach round into the arms (a front cut in two
+            // at the waist, exported and imported again, started through the body).
+            let round = if arm {
+                f32::INFINITY
+            } else {
+                half_round(marks.torso)
+            };
+            let mut top = if arm { 0.0 } else { marks.shoulders };
+            for row in rows_within(&group, |i| size(&self.pieces[i].outline), gap, round) {
+                let total: f32 =
+                    row.iter().map(|r| r.1.x).sum::<f32>() + gap * (row.len() - 1) as f32;
+                let mut s = -0.5 * total;
+                for &(i, size) in &row {
+                    let centre = s + 0.5 * size.x;
+                    s += size.x + gap;
+                    self.pieces[i].placement = Some(around_at(marks, place.at(top), centre));
                 }
-                self.pieces[i].placement = Some(placement);
+                top -= row.iter().map(|r| r.1.y).fold(0.0, f32::max) + gap;
             }
         }
     }
 }
 
-/// The width of an outline's outer loop, m.
-fn width(o: &Outline) -> f32 {
+/// `place` moved `centre` m round the torso (or its arm) from its middle.
+fn around_at(marks: &Landmarks, mut placement: Placement, centre: f32) -> Placement {
+    match &mut placement {
+        Placement::Around { angle, .. } => {
+            *angle = shift_angle(marks, *angle, centre);
+        }
+        Placement::Arm { angle, .. } => {
+            let r = marks.arms.map_or(0.07, |a| a[0].2);
+            *angle += centre / r;
+        }
+        Placement::Transform { .. } | Placement::Cone { .. } => {}
+    }
+    placement
+}
+
+/// Half the way round an ellipse of semi-axes `torso` (Ramanujan's perimeter), m.
+fn half_round(torso: Vec2) -> f32 {
+    let (a, b) = (torso.x, torso.y);
+    let h = ((a - b) / (a + b)).powi(2);
+    0.5 * std::f32::consts::PI * (a + b) * (1.0 + 3.0 * h / (10.0 + (4.0 - 3.0 * h).sqrt()))
+}
+
+/// The pieces `group` (each with its size, `size`) in rows, in order: a row takes pieces
+/// while they fit side by side, `gap` apart, within `wide`; a piece wider than that has a
+/// row of its own.
+fn rows_within(
+    group: &[usize],
+    size: impl Fn(usize) -> Vec2,
+    gap: f32,
+    wide: f32,
+) -> Vec<Vec<(usize, Vec2)>> {
+    let mut rows: Vec<Vec<(usize, Vec2)>> = Vec::new();
+    let mut used = 0.0;
+    for &i in group {
+        let s = size(i);
+        match rows.last_mut() {
+            Some(row) if used + gap + s.x <= wide => {
+                row.push((i, s));
+                used += gap + s.x;
+            }
+            _ => {
+                rows.push(vec![(i, s)]);
+                used = s.x;
+            }
+        }
+    }
+    rows
+}
+
+/// The size of an outline's outer loop (width, height), m.
+fn size(o: &Outline) -> Vec2 {
     let (lo, hi) = crate::mesh::bounds2(o.loops.first().map_or(&[], |l| &l[..]));
-    (hi.x - lo.x).max(0.0)
+    (hi - lo).max(Vec2::ZERO)
 }
 
 /// The angle `ds` m of arc round the torso cylinder on from `angle` (in small steps,
@@ -334,5 +379,43 @@ mod tests {
         assert!((angle(2) - std::f32::consts::PI).abs() < 1e-6);
         // No arms on this body: the sleeve goes to the body's left side.
         assert!((angle(3) - std::f32::consts::FRAC_PI_2).abs() < 1e-6);
+    }
+
+    /// Two pieces at the front wider together than half the way round the torso (a front
+    /// cut in two at the waist and imported again) go in two rows, the second below the
+    /// first, each in the middle; side by side they reached round into the arms.
+    #[test]
+    fn a_row_too_wide_for_the_front_goes_on_below() {
+        let marks = Landmarks {
+            axis: Vec2::ZERO,
+            torso: Vec2::new(0.17, 0.12),
+            shoulders: 1.5,
+            lift: 0.0,
+            arms: None,
+            garmentcode: glam::Vec3::ZERO,
+            profile: super::super::cone::Profile::uniform(0.0, 0.1),
+        };
+        assert!((half_round(Vec2::splat(0.1)) - 0.1 * std::f32::consts::PI).abs() < 1e-6);
+        let mut s = PatternSpec {
+            pieces: vec![
+                piece("front", 0.4),
+                piece("front 2", 0.4),
+                piece("back", 0.4),
+            ],
+            ..Default::default()
+        };
+        s.arrange(&marks);
+        let at = |i: usize| match s.pieces[i].placement {
+            Some(Placement::Around { angle, top, .. }) => (angle, top),
+            ref p => panic!("{p:?}"),
+        };
+        assert_eq!(at(0), (0.0, 1.5));
+        let (angle, top) = at(1);
+        assert!(
+            angle.abs() < 1e-6 && (top - (1.5 - 0.5 - 0.02)).abs() < 1e-6,
+            "{:?}",
+            at(1)
+        );
+        assert_eq!(at(2).1, 1.5);
     }
 }
