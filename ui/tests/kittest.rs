@@ -1089,3 +1089,38 @@ fn the_pens_answers_reach_the_status_line() {
     drop(publisher);
     drop(node);
 }
+
+/// The texture lands on the cloth where cloth-sim paints it: its row `(1 - v) * height`
+/// (the OBJ export's convention, and the brush's) is drawn where the cloth's `v` is. The
+/// view drew it mirrored: a stroke across the dress's chest showed near its hem.
+#[test]
+fn paint_shows_where_it_was_painted() {
+    let mut h = harness();
+    // The demo cloth's v runs with z (v = z + 0.5): the texture's top half is v > 0.5,
+    // the cloth's z > 0.
+    {
+        let t = &mut h.state_mut().store.texture;
+        let (w, ht) = (t.width, t.height);
+        let red = [200u8, 20, 20, 255].repeat(w * ht / 2);
+        t.apply(w, ht, [0, 0, w, ht / 2], &red);
+    }
+    h.run_steps(2);
+    let img = h.render().unwrap();
+    let rect = h.state().view.rect.unwrap();
+    let size = glam::Vec2::new(rect.width(), rect.height());
+    let colour = |z: f32| {
+        let s = (h.state().camera)
+            .to_screen(glam::Vec3::new(0.0, 0.4, z), size)
+            .unwrap();
+        let p = img
+            .get_pixel((rect.min.x + s.x) as u32, (rect.min.y + s.y) as u32)
+            .0;
+        (p[0], p[1])
+    };
+    let (painted, plain) = (colour(0.25), colour(-0.25));
+    assert!(
+        painted.0 > 100 && painted.1 < 80,
+        "z = 0.25 is painted: {painted:?}"
+    );
+    assert!(plain.1 > 100, "z = -0.25 is unpainted: {plain:?}");
+}

@@ -82,7 +82,9 @@ pub(super) fn cloth_vertices(keys: &[(u32, [f32; 2])], store: &Store, out: &mut 
         out.push(Vertex {
             pos: *p,
             nrm: *nn,
-            uv,
+            // cloth-sim's texture coordinates run up the image (row `(1 - v) * height`,
+            // as the OBJ export writes them); the GPU's run down it.
+            uv: [uv[0], 1.0 - uv[1]],
             col: tint(v, uv),
         });
     }
