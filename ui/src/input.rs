@@ -126,11 +126,16 @@ pub fn view_mouse(
                 crate::tools::tool_name(t)
             )));
         } else if let Some(h) = hit {
-            // The pen goes down just beside the cloth's border, so that the cut starts
-            // across it rather than a mouse step inside.
-            let start = border_point(camera, store, size, from, local)
-                .map(|b| b + (b - h.point).normalize_or_zero() * BESIDE_M)
-                .unwrap_or(h.point);
+            // Scissors go down just beside the cloth's border, so that the cut starts
+            // across it rather than a mouse step inside; the brush where it met the cloth
+            // (beside it, its dab would go to the nearest cloth, wherever that is).
+            let start = if t == tool::CUT {
+                border_point(camera, store, size, from, local)
+                    .map(|b| b + (b - h.point).normalize_or_zero() * BESIDE_M)
+                    .unwrap_or(h.point)
+            } else {
+                h.point
+            };
             let depth = (h.point - o).dot(dir);
             view.drag = Some(Drag { depth, pen: true });
             view.stroke_from = None;
