@@ -28,6 +28,20 @@ fn harness() -> Harness<'static, App> {
     h
 }
 
+/// A studio with nothing in it yet, listening on `domain` (a test publishes there).
+fn connected_harness(domain: &shared::domain::ScratchDomain) -> Harness<'static, App> {
+    let name = domain.0.clone();
+    Harness::builder()
+        .with_size(egui::vec2(1200.0, 760.0))
+        .wgpu()
+        .build_eframe(move |_cc| {
+            App::new(Options {
+                domain: Some(name),
+                ..Options::default()
+            })
+        })
+}
+
 fn view_centre(h: &Harness<'_, App>) -> egui::Pos2 {
     h.state().view.rect.unwrap().center()
 }
@@ -410,15 +424,7 @@ fn a_peer_of_another_protocol_version_gets_a_banner() {
     let domain = ScratchDomain::new(&format!("kt-mismatch-{}", std::process::id())).unwrap();
     let node = services::node(&domain, "test-peer").unwrap();
     let publisher = ports::publisher(&node, services::tool_state).unwrap();
-    let mut h = Harness::builder()
-        .with_size(egui::vec2(1200.0, 760.0))
-        .wgpu()
-        .build_eframe(|_cc| {
-            App::new(Options {
-                domain: Some(domain.0.clone()),
-                ..Options::default()
-            })
-        });
+    let mut h = connected_harness(&domain);
     let mut seq = 0;
     let mut shown = false;
     for _ in 0..200 {
@@ -1024,15 +1030,7 @@ fn the_pens_answers_reach_the_status_line() {
     let domain = ScratchDomain::new(&format!("kt-pen-said-{}", std::process::id())).unwrap();
     let node = services::node(&domain, "test-sim").unwrap();
     let publisher = ports::publisher(&node, services::tool_state).unwrap();
-    let mut h = Harness::builder()
-        .with_size(egui::vec2(1200.0, 760.0))
-        .wgpu()
-        .build_eframe(|_cc| {
-            App::new(Options {
-                domain: Some(domain.0.clone()),
-                ..Options::default()
-            })
-        });
+    let mut h = connected_harness(&domain);
     let mut seq = 0;
     let mut state = |said: u32, ok: bool, m: &str| {
         let mut s = ToolState {
