@@ -301,6 +301,10 @@ fn a_line_across_a_piece_in_the_pattern_cuts_it_in_two() {
         glam::Vec2::new(hi.x + 0.02, y) + front.offset,
     );
     assert!(d.cut_line(a, a).is_err());
+    // 30 cm above the front's top: no cloth along it.
+    let above = glam::Vec2::new(0.0, hi.y - lo.y);
+    let e = d.cut_line(a + above, b + above).unwrap_err().to_string();
+    assert!(e.contains("no cloth along the line"), "{e}");
     assert_eq!(
         d.history.undo_steps(),
         steps,

@@ -108,7 +108,12 @@ impl Design {
                 .map(|(p, q)| vec![p, q])
                 .collect()
         };
-        self.cut_runs(&runs, "cut line")
+        self.cut_runs(&runs, "cut line").map_err(|e| match e {
+            EditError::EmptyStroke => EditError::NothingOnPattern {
+                what: "cloth along the line",
+            },
+            e => e,
+        })
     }
 
     /// Splits the cloth along each run (pattern plane, one piece each) as one undoable
