@@ -470,14 +470,17 @@ fn seam_labels(design: &Design, parts: &[Vec<u32>]) -> HashMap<u32, Vec<String>>
     let mut m: HashMap<u32, Vec<String>> = HashMap::default();
     for (i, s) in design.seams.iter().enumerate() {
         let runs = stretch_runs(&s.pairs, &parts_of);
-        let count = runs.iter().flatten().max().map_or(0, |&r| r + 1);
+        let split = runs.iter().flatten().any(|&r| r > 0);
         for (&(a, b), runs) in s.pairs.iter().zip(&runs) {
-            for r in runs {
-                let label = if count > 1 {
-                    format!("{}{}", label(i), r + 1)
-                } else {
-                    label(i)
-                };
+            // Not split: every pair the seam's own label, as before there were stretches.
+            let labels: Vec<String> = if split {
+                runs.iter()
+                    .map(|r| format!("{}{}", label(i), r + 1))
+                    .collect()
+            } else {
+                vec![label(i)]
+            };
+            for label in labels {
                 for v in [a, b] {
                     let e = m.entry(v).or_default();
                     if !e.contains(&label) {
