@@ -332,6 +332,34 @@ fn a_line_across_a_piece_in_the_pattern_cuts_it_in_two() {
     assert_eq!(labels, ["A", "B1", "B2", "C", "D1", "D2"], "{on:?}");
     assert!(on.values().all(|pieces| pieces.len() == 2), "{on:?}");
     assert!(on["B2"].contains(&"front 2".to_string()), "{on:?}");
+    // The lower front (the part without the shoulders) deleted: the back's side below
+    // the cut is sewn to nothing and is marked as no seam; above it, the seams are whole
+    // again (the back's lower side said B2 on one piece alone).
+    let lower = (pattern.iter())
+        .find(|p| p.name.starts_with("front") && p.seams.iter().all(|(l, ..)| l != "A"))
+        .map(|p| p.name.clone())
+        .unwrap();
+    let k = (d.piece_list().iter())
+        .position(|p| p.name == lower)
+        .unwrap();
+    d.delete_piece(k).unwrap();
+    let labels = |d: &Design| {
+        let mut on: std::collections::BTreeMap<String, usize> = Default::default();
+        for p in sim_core::design::sewing_pattern::pieces(d) {
+            let mine: std::collections::BTreeSet<String> =
+                p.seams.iter().map(|(l, ..)| l.clone()).collect();
+            for l in mine {
+                *on.entry(l).or_default() += 1;
+            }
+        }
+        on
+    };
+    let after = labels(&d);
+    assert_eq!(
+        after.into_iter().collect::<Vec<_>>(),
+        [("A", 2), ("B", 2), ("C", 2), ("D", 2)].map(|(l, n)| (l.to_string(), n)),
+    );
+    d.undo().unwrap();
     for _ in 0..120 {
         d.step().unwrap();
     }

@@ -471,12 +471,16 @@ fn seam_labels(design: &Design, parts: &[Vec<u32>]) -> HashMap<u32, Vec<String>>
     for (i, s) in design.seams.iter().enumerate() {
         let runs = stretch_runs(&s.pairs, &parts_of);
         let split = runs.iter().flatten().any(|&r| r > 0);
+        let any = runs.iter().any(|r| !r.is_empty());
         for (&(a, b), runs) in s.pairs.iter().zip(&runs) {
-            // Not split: every pair the seam's own label, as before there were stretches.
+            // Split, each stretch its own label; whole, the seam's; a pair in no stretch
+            // (a side whose other side was cut away) none, unless no pair is in one.
             let labels: Vec<String> = if split {
                 runs.iter()
                     .map(|r| format!("{}{}", label(i), r + 1))
                     .collect()
+            } else if runs.is_empty() && any {
+                Vec::new()
             } else {
                 vec![label(i)]
             };
@@ -495,8 +499,9 @@ fn seam_labels(design: &Design, parts: &[Vec<u32>]) -> HashMap<u32, Vec<String>>
 
 /// Each pair's stretch of its seam: consecutive pairs between the same pieces (the parts
 /// their two vertices lie on, `parts_of`) are one stretch. A pair on more pieces than
-/// its neighbours (where a cut crosses the seam) belongs to the stretches either side;
-/// a pair on none (its vertices gone) to none.
+/// its neighbours (where a cut crosses the seam) belongs to the stretches either side; a
+/// pair on none (its vertices gone), or on one piece where others join two (its other
+/// side was cut away: a seam on one piece is a dart only if all of it is), to none.
 fn stretch_runs(pairs: &[(u32, u32)], parts_of: &HashMap<u32, Vec<u32>>) -> Vec<Vec<usize>> {
     let on = |&(a, b): &(u32, u32)| {
         let mut k: Vec<u32> = [a, b]
@@ -508,7 +513,9 @@ fn stretch_runs(pairs: &[(u32, u32)], parts_of: &HashMap<u32, Vec<u32>>) -> Vec<
         k
     };
     let keys: Vec<Vec<u32>> = pairs.iter().map(on).collect();
-    let common = |k: &[u32]| k.len() <= 2;
+    let joins_two = keys.iter().any(|k| k.len() == 2);
+    let common = |k: &[u32]| k.len() == 2 || (k.len() == 1 && !joins_two);
+    let orphan = |k: &[u32]| k.len() == 1 && joins_two;
     let mut runs: Vec<Vec<usize>> = vec![Vec::new(); pairs.len()];
     let mut last: Option<(&[u32], usize)> = None;
     for (k, key) in keys.iter().enumerate() {
@@ -525,7 +532,7 @@ fn stretch_runs(pairs: &[(u32, u32)], parts_of: &HashMap<u32, Vec<u32>>) -> Vec<
     }
     // A crossing: the stretches of the nearest pairs before and after it.
     for k in 0..pairs.len() {
-        if keys[k].is_empty() || common(&keys[k]) {
+        if keys[k].is_empty() || common(&keys[k]) || orphan(&keys[k]) {
             continue;
         }
         let before = (0..k).rev().find_map(|j| runs[j].first().copied());
