@@ -1,0 +1,117 @@
+//! The seams' labels in the pattern out: "A", "B", ... by the seam's place in the design,
+//! and "B1", "B2", ... for the stretches of a seam whose sides run over more than two
+//! pieces.
+
+use rustc_hash::FxHashMap as HashMap;
+
+use crate::design::document::Design;
+
+/// The seams' labels ("A", "B", ...) of each vertex in them. A seam whose sides run
+/// over more than two of the pieces `parts` (a side cut across, say: the front cut at the
+/// waist leaves the back's side seam joined to the front above and to the lower front
+/// below) is labelled by its stretches between one pair of pieces, "B1", "B2", ..., in
+/// the seam's order, so that each label marks exactly two stretches of outline, as a
+/// pattern pairs its seams.
+pub(super) fn seam_labels(design: &Design, parts: &[Vec<u32>]) -> HashMap<u32, Vec<String>> {
+    let live = &design.sim.cloth.live;
+    let mut parts_of: HashMap<u32, Vec<u32>> = HashMap::default();
+    for (p, part) in parts.iter().enumerate() {
+        for t in part.iter().filter_map(|&slot| live.tri(slot)) {
+            for v in t.v {
+                let e = parts_of.entry(v).or_default();
+                if !e.contains(&(p as u32)) {
+                    e.push(p as u32);
+                }
+            }
+        }
+    }
+    let mut m: HashMap<u32, Vec<String>> = HashMap::default();
+    for (i, s) in design.seams.iter().enumerate() {
+        let runs = stretch_runs(&s.pairs, &parts_of);
+        let split = runs.iter().flatten().any(|&r| r > 0);
+        let any = runs.iter().any(|r| !r.is_empty());
+        for (&(a, b), runs) in s.pairs.iter().zip(&runs) {
+            // Split, each stretch its own label; whole, the seam's; a pair in no stretch
+            // (a side whose other side was cut away) none, unless no pair is in one.
+            let labels: Vec<String> = if split {
+                runs.iter()
+                    .map(|r| format!("{}{}", label(i), r + 1))
+                    .collect()
+            } else if runs.is_empty() && any {
+                Vec::new()
+            } else {
+                vec![label(i)]
+            };
+            for label in labels {
+                for v in [a, b] {
+                    let e = m.entry(v).or_default();
+                    if !e.contains(&label) {
+                        e.push(label.clone());
+                    }
+                }
+            }
+        }
+    }
+    m
+}
+
+/// Each pair's stretch of its seam: consecutive pairs between the same pieces (the parts
+/// their two vertices lie on, `parts_of`) are one stretch. A pair on more pieces than
+/// its neighbours (where a cut crosses the seam) belongs to the stretches either side; a
+/// pair on none (its vertices gone), or on one piece where others join two (its other
+/// side was cut away: a seam on one piece is a dart only if all of it is), to none.
+fn stretch_runs(pairs: &[(u32, u32)], parts_of: &HashMap<u32, Vec<u32>>) -> Vec<Vec<usize>> {
+    let on = |&(a, b): &(u32, u32)| {
+        let mut k: Vec<u32> = [a, b]
+            .iter()
+            .flat_map(|v| parts_of.get(v).into_iter().flatten().copied())
+            .collect();
+        k.sort_unstable();
+        k.dedup();
+        k
+    };
+    let keys: Vec<Vec<u32>> = pairs.iter().map(on).collect();
+    let joins_two = keys.iter().any(|k| k.len() == 2);
+    let common = |k: &[u32]| k.len() == 2 || (k.len() == 1 && !joins_two);
+    let orphan = |k: &[u32]| k.len() == 1 && joins_two;
+    let mut runs: Vec<Vec<usize>> = vec![Vec::new(); pairs.len()];
+    let mut last: Option<(&[u32], usize)> = None;
+    for (k, key) in keys.iter().enumerate() {
+        if key.is_empty() || !common(key) {
+            continue;
+        }
+        let r = match last {
+            Some((l, r)) if l == &key[..] => r,
+            Some((_, r)) => r + 1,
+            None => 0,
+        };
+        runs[k].push(r);
+        last = Some((key, r));
+    }
+    // A crossing: the stretches of the nearest pairs before and after it.
+    for k in 0..pairs.len() {
+        if keys[k].is_empty() || common(&keys[k]) || orphan(&keys[k]) {
+            continue;
+        }
+        let before = (0..k).rev().find_map(|j| runs[j].first().copied());
+        let after = (k + 1..pairs.len()).find_map(|j| runs[j].first().copied());
+        runs[k] = before.into_iter().chain(after).collect();
+        runs[k].dedup();
+    }
+    runs
+}
+
+/// Seam `i`'s label in the pattern out: "A".."Z", then "AA", "AB", ...
+pub fn seam_label(i: usize) -> String {
+    label(i)
+}
+
+/// "A".."Z", then "AA", "AB", ...
+pub(crate) fn label(i: usize) -> String {
+    let letter = |k: usize| char::from(b'A' + (k % 26) as u8);
+    if i < 26 {
+        letter(i).to_string()
+    } else {
+        format!("{}{}", letter(i / 26 - 1), letter(i))
+    }
+}
