@@ -140,7 +140,9 @@ pub fn view_mouse(
             view.drag = Some(Drag { depth, pen: true });
             view.stroke_from = None;
             actions.push(Action::Pointer(start.to_array(), 1));
-            actions.push(Action::Pointer(h.point.to_array(), 1));
+            if start != h.point {
+                actions.push(Action::Pointer(h.point.to_array(), 1));
+            }
         } else {
             view.stroke_from = Some(local);
         }
