@@ -360,6 +360,22 @@ fn a_line_across_a_piece_in_the_pattern_cuts_it_in_two() {
         [("A", 2), ("B", 2), ("C", 2), ("D", 2)].map(|(l, n)| (l.to_string(), n)),
     );
     d.undo().unwrap();
+    // The upper front (the shoulders) deleted instead: the back's shoulders are sewn to
+    // nothing and have no label (they said A and C on the back alone); the sides below
+    // the cut are whole seams between the lower front and the back.
+    let upper = (pattern.iter())
+        .find(|p| p.name.starts_with("front") && p.name != lower)
+        .map(|p| p.name.clone())
+        .unwrap();
+    let k = (d.piece_list().iter())
+        .position(|p| p.name == upper)
+        .unwrap();
+    d.delete_piece(k).unwrap();
+    assert_eq!(
+        labels(&d).into_iter().collect::<Vec<_>>(),
+        [("B", 2), ("D", 2)].map(|(l, n)| (l.to_string(), n)),
+    );
+    d.undo().unwrap();
     for _ in 0..120 {
         d.step().unwrap();
     }

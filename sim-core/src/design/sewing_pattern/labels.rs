@@ -11,22 +11,39 @@ use crate::design::document::Design;
 /// waist leaves the back's side seam joined to the front above and to the lower front
 /// below) is labelled by its stretches between one pair of pieces, "B1", "B2", ..., in
 /// the seam's order, so that each label marks exactly two stretches of outline, as a
-/// pattern pairs its seams.
+/// pattern pairs its seams. A seam with one side left in every pair (the piece across it
+/// deleted: the back's shoulders once the front is gone) is sewn to nothing and has no
+/// label; a dart, a seam on one piece, keeps both its sides.
 pub(super) fn seam_labels(design: &Design, parts: &[Vec<u32>]) -> HashMap<u32, Vec<String>> {
     let live = &design.sim.cloth.live;
     let mut parts_of: HashMap<u32, Vec<u32>> = HashMap::default();
+    // Each vertex's places in the pattern (a welded pair's vertex has one on each side).
+    let mut places: HashMap<u32, Vec<[u32; 3]>> = HashMap::default();
     for (p, part) in parts.iter().enumerate() {
         for t in part.iter().filter_map(|&slot| live.tri(slot)) {
-            for v in t.v {
+            for (v, rest) in t.v.into_iter().zip(t.rest) {
                 let e = parts_of.entry(v).or_default();
                 if !e.contains(&(p as u32)) {
                     e.push(p as u32);
                 }
+                let e = places.entry(v).or_default();
+                let bits = rest.to_array().map(f32::to_bits);
+                if !e.contains(&bits) {
+                    e.push(bits);
+                }
             }
         }
     }
+    let two_sided = |&(a, b): &(u32, u32)| {
+        let at = |v| places.get(&v).map_or(&[][..], Vec::as_slice);
+        let (pa, pb) = (at(a), at(b));
+        pa.len() + pb.iter().filter(|q| !pa.contains(q)).count() >= 2
+    };
     let mut m: HashMap<u32, Vec<String>> = HashMap::default();
     for (i, s) in design.seams.iter().enumerate() {
+        if !s.pairs.iter().any(two_sided) {
+            continue;
+        }
         let runs = stretch_runs(&s.pairs, &parts_of);
         let split = runs.iter().flatten().any(|&r| r > 0);
         let any = runs.iter().any(|r| !r.is_empty());
