@@ -6,6 +6,22 @@ use shared::haptic_to_sim::{BUTTON_1, BUTTON_2};
 
 use super::{DeviceError, DeviceState, HapticDevice, PointerTarget, Workspace};
 
+/// A press of the pointer's button 1 reaches the pen once the pen is at the pointer
+/// ([`PRESS_AT_M`]), or has come to rest this near it, m (within the cloth's 5 cm grab
+/// radius, and beyond the 2 cm a contact's rendered force can hold the pen off its
+/// hand's target), or after [`PRESS_WAIT_S`]: a hand moves to a place, then presses.
+/// Pressed at once, the mouse's pinch grabbed where the pen had been left (a dress's hem
+/// 50 cm below the point pressed, or nothing), and a cut stroke began with the pen's trip
+/// there.
+pub const PRESS_REACH_M: f32 = 0.03;
+/// Nearer than this to the pointer, m, the pen is there, however fast it moves.
+pub const PRESS_AT_M: f32 = 0.005;
+/// Slower than this, m/s, the pen has come to rest.
+const PRESS_REST_M_S: f32 = 0.1;
+/// The longest a press waits for the pen to reach the pointer, s (a pen the rendered
+/// force keeps further off presses anyway).
+pub const PRESS_WAIT_S: f64 = 0.3;
+
 /// Where the simulated pen's hand wants to be.
 pub trait TargetSource {
     /// The hand target and buttons at `t` seconds since start.
@@ -28,6 +44,8 @@ pub struct SimDevice<T: TargetSource> {
     buttons: u32,
     /// The UI's pointer, when it drives the pen (overrides the source).
     pointer: Option<([f32; 3], u32)>,
+    /// How long the pointer's press has waited for the pen to reach it, s.
+    press_wait: f64,
 }
 
 impl<T: TargetSource> PointerTarget for SimDevice<T> {
@@ -53,6 +71,29 @@ impl<T: TargetSource> SimDevice<T> {
             force: [0.0; 3],
             buttons,
             pointer: None,
+            press_wait: 0.0,
+        }
+    }
+}
+
+impl<T: TargetSource> SimDevice<T> {
+    /// The pointer's `buttons` as the pen reports them: a new press of button 1 held
+    /// back until the pen is at `target` or at rest near it ([`PRESS_REACH_M`]), or has waited
+    /// [`PRESS_WAIT_S`]; a press under way and a release at once.
+    fn press_when_there(&mut self, buttons: u32, target: [f32; 3], dt: f32) -> u32 {
+        if buttons & BUTTON_1 == 0 || self.buttons & BUTTON_1 != 0 {
+            self.press_wait = 0.0;
+            return buttons;
+        }
+        let d2: f32 = (0..3).map(|i| (self.x[i] - target[i]).powi(2)).sum();
+        let v2: f32 = self.v.iter().map(|v| v * v).sum();
+        let at_rest = d2 <= PRESS_REACH_M * PRESS_REACH_M && v2 <= PRESS_REST_M_S * PRESS_REST_M_S;
+        if d2 <= PRESS_AT_M * PRESS_AT_M || at_rest || self.press_wait >= PRESS_WAIT_S {
+            self.press_wait = 0.0;
+            buttons
+        } else {
+            self.press_wait += dt as f64;
+            buttons & !BUTTON_1
         }
     }
 }
@@ -74,7 +115,7 @@ impl<T: TargetSource> HapticDevice for SimDevice<T> {
             None => self.source.target(self.t),
         };
         let target = self.workspace.clamp(target);
-        self.buttons = buttons & (BUTTON_1 | BUTTON_2);
+        let buttons = buttons & (BUTTON_1 | BUTTON_2);
         // Semi-implicit Euler: hand spring-damper plus the rendered force.
         for i in 0..3 {
             let a = (self.hand_stiffness * (target[i] - self.x[i]) - self.hand_damping * self.v[i]
@@ -90,6 +131,11 @@ impl<T: TargetSource> HapticDevice for SimDevice<T> {
             }
         }
         self.x = clamped;
+        self.buttons = if self.pointer.is_some() {
+            self.press_when_there(buttons, target, dt)
+        } else {
+            buttons
+        };
         Ok(DeviceState {
             position: self.x,
             velocity: self.v,
@@ -207,6 +253,57 @@ mod tests {
         }
         let s = d.read(0.001).unwrap();
         assert!((s.position[1] - 0.61).abs() < 5e-4, "{:?}", s.position);
+    }
+
+    /// The pointer pressed 10 cm or more from where the pen rests: the press reaches the pen
+    /// once the pen is within 5 mm of it (it used to press at once, where the pen was);
+    /// held 4 cm off by a force, the press comes after 0.3 s anyway, and at once where the
+    /// pen rests within 3 cm; a release is at once.
+    #[test]
+    fn a_press_waits_for_the_pen_to_get_there() {
+        let mut d = SimDevice::new(Still([0.0, 0.6, 0.0], 0), Workspace::default());
+        for _ in 0..500 {
+            d.read(0.001).unwrap();
+        }
+        // As far up as the workspace lets the pen go.
+        let there = d.workspace.clamp([0.0, 1.1, 0.0]);
+        assert!(there[1] > 0.7, "{there:?}");
+        d.set_pointer(there, BUTTON_1);
+        let first = d.read(0.001).unwrap();
+        assert_eq!(first.buttons & BUTTON_1, 0, "pressed 50 cm away");
+        let mut ms = 1;
+        let pressed = loop {
+            let s = d.read(0.001).unwrap();
+            ms += 1;
+            if s.buttons & BUTTON_1 != 0 {
+                break s;
+            }
+            assert!(ms < 400, "never pressed");
+        };
+        let off = (pressed.position[1] - there[1]).abs();
+        assert!(off <= PRESS_AT_M, "pressed {off} m from the pointer");
+        assert!(ms < 300, "{ms} ms to get there");
+        d.set_pointer(there, 0);
+        assert_eq!(d.read(0.001).unwrap().buttons, 0);
+        // A force holding the pen 4 cm off (6 N against the hand's 150 N/m): pressed
+        // after the wait.
+        d.write_force([0.0, -6.0, 0.0]).unwrap();
+        for _ in 0..1000 {
+            d.read(0.001).unwrap();
+        }
+        d.set_pointer(there, BUTTON_1);
+        let waited = (0..1000)
+            .position(|_| d.read(0.001).unwrap().buttons & BUTTON_1 != 0)
+            .unwrap();
+        assert!((299..=301).contains(&waited), "pressed after {waited} ms");
+        // Held 2 cm off (3 N), at rest there: pressed at once.
+        d.set_pointer(there, 0);
+        d.write_force([0.0, -3.0, 0.0]).unwrap();
+        for _ in 0..1000 {
+            d.read(0.001).unwrap();
+        }
+        d.set_pointer(there, BUTTON_1);
+        assert_eq!(d.read(0.001).unwrap().buttons & BUTTON_1, BUTTON_1);
     }
 
     #[test]
