@@ -90,11 +90,7 @@ pub fn view_mouse(
         return;
     };
     let local = Vec2::new(pos.x - rect.min.x, pos.y - rect.min.y);
-    let (o, dir) = camera.ray(local, size);
-    let hit = store
-        .mesh
-        .as_ref()
-        .and_then(|m| pick(o, dir, &m.corners, &store.x));
+    let (o, dir, hit) = ray_hit(camera, store, size, local);
     if resp.hovered() {
         view.last_hit = hit;
     }
@@ -106,12 +102,19 @@ pub fn view_mouse(
     // to cut across it: the stroke begins where it meets the cloth.
     let from_beside = matches!(t, tool::CUT | tool::PAINT);
     if resp.drag_started_by(egui::PointerButton::Primary) && pen_tool {
+        // The drag begins where the button went down: a slow frame (the software
+        // renderer at 2 fps under load) sees it start a long mouse step later, off the
+        // cloth ("nothing under the mouse") or on another part of it.
+        let from = ctx
+            .input(|i| i.pointer.press_origin())
+            .map_or(local, |p| Vec2::new(p.x - rect.min.x, p.y - rect.min.y));
+        let (o, dir, hit) = ray_hit(camera, store, size, from);
         if let Some(h) = hit {
             let depth = (h.point - o).dot(dir);
             view.drag = Some(Drag { depth, pen: true });
             actions.push(Action::Pointer(h.point.to_array(), 1));
         } else if from_beside {
-            view.stroke_from = Some(local);
+            view.stroke_from = Some(from);
         } else {
             actions.push(Action::Status(format!(
                 "{}: nothing under the mouse to grab; point at the cloth",
@@ -179,6 +182,19 @@ pub fn view_mouse(
 /// How far beside the border a stroke begun beside the cloth puts the pen down, along
 /// the stroke (cloth-sim takes a stroke's points within 2 cm to the cloth's surface), m.
 const BESIDE_M: f32 = 0.003;
+
+/// The ray through view point `p` (its origin and direction) and where it meets the
+/// cloth.
+fn ray_hit(
+    camera: &Camera,
+    store: &Store,
+    size: Vec2,
+    p: Vec2,
+) -> (glam::Vec3, glam::Vec3, Option<crate::camera::Hit>) {
+    let (o, dir) = camera.ray(p, size);
+    let hit = (store.mesh.as_ref()).and_then(|m| pick(o, dir, &m.corners, &store.x));
+    (o, dir, hit)
+}
 
 /// Where on the cloth the screen segment from `off` (beside the cloth) to `on` (over it)
 /// first meets it, to a tenth of a pixel: where a stroke begun beside the cloth crosses

@@ -1018,6 +1018,47 @@ fn a_cut_stroke_begun_beside_the_cloth_starts_at_its_border() {
     h.get_by_label("Cut: the stroke never crossed the cloth");
 }
 
+/// A pinch whose first frame finds the mouse already off the cloth (a press and a long
+/// mouse step in one frame, as the software renderer at 2 fps under load sees them) grabs
+/// where the button went down; the studio said "nothing under the mouse to grab".
+#[test]
+fn a_pinch_grabs_where_the_button_went_down() {
+    let mut h = harness();
+    h.get_by_label("Pinch  (P)").click();
+    h.run_steps(2);
+    let rect = h.state().view.rect.unwrap();
+    let size = glam::Vec2::new(rect.width(), rect.height());
+    let middle = h
+        .state()
+        .camera
+        .to_screen(glam::Vec3::new(0.0, 0.4, 0.0), size)
+        .unwrap();
+    let middle = rect.min + egui::vec2(middle.x, middle.y);
+    let corner = rect.min + egui::vec2(5.0, 5.0);
+    let before = h.state().emitted.len();
+    h.hover_at(middle);
+    h.run_steps(1);
+    h.drag_at(middle);
+    h.hover_at(corner);
+    h.run_steps(1);
+    h.drop_at(corner);
+    h.run_steps(2);
+    let pen: Vec<([f32; 3], u32)> = (h.state().emitted[before..].iter())
+        .filter_map(|e| match e {
+            Emitted::Pointer(p, b) => Some((*p, *b)),
+            _ => None,
+        })
+        .collect();
+    assert!(!pen.is_empty(), "nothing grabbed");
+    let first = glam::Vec3::from(pen[0].0);
+    assert_eq!(pen[0].1, 1, "{pen:?}");
+    assert!(
+        first.distance(glam::Vec3::new(0.0, 0.4, 0.0)) < 0.02,
+        "grabbed at {first}, not where the button went down"
+    );
+    assert_eq!(pen.last().unwrap().1, 0, "{pen:?}");
+}
+
 /// What the pen's button did (a cut stroke drawn with the mouse, say) reaches the status
 /// line with the tool state, done or refused; the answer a newly started studio finds is
 /// not news, and is not shown.
