@@ -18,6 +18,11 @@ const APPLIED_STALE_S: f64 = 0.02;
 /// A pen with no sample for this long (haptic-loop stopped or killed) is let go: its
 /// buttons read as released, so a pinch ends and the cloth hangs free where it was.
 pub(crate) const PEN_GONE_S: f64 = 0.1;
+/// A tear by the pen tears (and lets the cloth stretch far enough to tear) only this
+/// close to the vertex it holds, m: the cloth tears where the hand pulls. Tearing on
+/// everywhere, a pull at a sewn dress's hem tore holes at its shoulders and seams, the
+/// sides stretched most under the loosened limit.
+pub(crate) const PEN_TEAR_REACH: f32 = 0.08;
 
 pub(crate) fn v3(a: [f32; 3]) -> Vec3 {
     Vec3::from_array(a)
@@ -32,7 +37,8 @@ pub(crate) struct Tools {
     pub(crate) sew_first: Option<u32>,
     was_down: bool,
     stroke: Vec<Vec3>,
-    tear_was: bool,
+    /// The design's tearing (on, where) before the pen's tear began.
+    tear_was: (bool, Option<f32>),
     /// How many of the pen's operations have been answered, and the last answer (done,
     /// message), for the studio's status line.
     pub(crate) said: u32,
@@ -48,10 +54,28 @@ impl Default for Tools {
             sew_first: None,
             was_down: false,
             stroke: Vec::new(),
-            tear_was: false,
+            tear_was: (false, None),
             said: 0,
             last_said: (true, String::new()),
         }
+    }
+}
+
+impl Tools {
+    /// Takes up `tool`. A pinch or tear the pen is holding ends first (its button then
+    /// let go would reach the new tool, and the cloth stayed held, tearing on).
+    pub(crate) fn switch(&mut self, design: &mut Design, tool: u32, rgba: [u8; 4], brush_m: f32) {
+        if self.was_down && matches!(self.tool, tool::PINCH | tool::TEAR) {
+            design.pinch_end();
+            if self.tool == tool::TEAR {
+                (design.tear.enabled, design.tear.near_pinch) = self.tear_was;
+            }
+        }
+        self.stroke.clear();
+        self.tool = tool;
+        self.rgba = rgba;
+        self.brush_m = brush_m;
+        self.sew_first = None;
     }
 }
 
@@ -216,21 +240,28 @@ pub(crate) fn pen_acts(
         tool::PINCH | tool::TEAR => {
             if pressed {
                 if t.tool == tool::TEAR {
-                    t.tear_was = design.tear.enabled;
+                    t.tear_was = (design.tear.enabled, design.tear.near_pinch);
                     design.tear.enabled = true;
+                    design.tear.near_pinch = Some(PEN_TEAR_REACH);
                 }
-                if design
-                    .pinch_begin(tip, cfg.pinch_radius, 0.0, cfg.pinch_stiffness)
-                    .is_ok()
-                {
-                    stats.pinches += 1;
+                // A grab that finds no cloth says so (a held vertex shows by itself).
+                match design.pinch_begin(tip, cfg.pinch_radius, 0.0, cfg.pinch_stiffness) {
+                    Ok(_) => stats.pinches += 1,
+                    Err(e) => {
+                        let what = if t.tool == tool::TEAR {
+                            "tear"
+                        } else {
+                            "pinch"
+                        };
+                        report(t, what, Err(e));
+                    }
                 }
             } else if down {
                 design.pinch_move(tip);
             } else if released {
                 design.pinch_end();
                 if t.tool == tool::TEAR {
-                    design.tear.enabled = t.tear_was;
+                    (design.tear.enabled, design.tear.near_pinch) = t.tear_was;
                 }
             }
         }

@@ -399,10 +399,7 @@ impl Service<'_> {
                 rgba,
                 brush_m,
             } => {
-                self.tools.tool = *tool;
-                self.tools.rgba = *rgba;
-                self.tools.brush_m = *brush_m;
-                self.tools.sew_first = None;
+                (self.tools).switch(&mut self.design, *tool, *rgba, *brush_m);
                 Ok(shared::sim_to_ui::tool::sentence(*tool).to_string())
             }
             Command::Reset { .. } | Command::Load { .. } => {

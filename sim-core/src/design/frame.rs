@@ -77,14 +77,7 @@ impl Design {
         self.sim.stitches.clear();
         self.sim.stitches.extend(open_stitches(&self.seams));
         self.watch_stalls();
-        // With tearing on, the strain limit lets every side stretch past the tear
-        // threshold (a quarter beyond it: a side no longer than the limit never passes
-        // it): held under 1.2x, a cloth pulled by the pen followed it and never tore.
-        self.sim.stretch_floor = if self.tear.enabled {
-            1.25 * self.tear.threshold
-        } else {
-            0.0
-        };
+        self.sim.stretch_floor = self.tear_floor();
         self.sim.holds.clear();
         if self.hold_frames > 0 {
             self.hold_frames -= 1;

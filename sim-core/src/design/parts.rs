@@ -64,6 +64,10 @@ pub struct TearSettings {
     pub mode: TearMode,
     /// Most tears per frame (the most stretched first).
     pub max_per_frame: usize,
+    /// Tear only within this distance of the pinched vertex, and nothing while nothing is
+    /// pinched (`None`: anywhere). A tear by the pen sets it: a designer tears where the
+    /// hand pulls, not wherever a seam happens to be stretched most. Not saved.
+    pub near_pinch: Option<f32>,
 }
 
 impl Default for TearSettings {
@@ -73,6 +77,7 @@ impl Default for TearSettings {
             threshold: 1.6,
             mode: TearMode::Delete,
             max_per_frame: 16,
+            near_pinch: None,
         }
     }
 }

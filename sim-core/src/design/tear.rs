@@ -2,10 +2,13 @@
 //! frame when tearing is on (the paper's tear deletes the two triangles beside the edge;
 //! the split mode separates the material as NVIDIA Flex does).
 
+use glam::Vec3;
+
 use super::document::Design;
 use super::error::EditError;
 use super::parts::TearMode;
 use super::prim::Prim;
+use crate::solver::StretchFloor;
 
 impl Design {
     /// Tears edge `(a, b)` by hand, in `mode`.
@@ -39,18 +42,58 @@ impl Design {
         }
     }
 
-    /// Tears the most overstretched edges (called after each frame when tearing is on).
-    /// Returns how many tore.
-    pub(super) fn tear_overstretched(&mut self) -> usize {
+    /// Where tearing may happen this frame: everywhere (`None`), within a distance of a
+    /// point, or nowhere (tearing off, or a tear near the pinch with nothing pinched).
+    fn tear_zone(&self) -> Option<Option<(Vec3, f32)>> {
         let s = self.tear;
         if !s.enabled || !self.sim.editable() {
-            return 0;
+            return None;
         }
+        match s.near_pinch {
+            None => Some(None),
+            Some(r) => {
+                let v = self.sim.pinch()?.vertex as usize;
+                Some(Some((*self.sim.cloth.x.get(v)?, r)))
+            }
+        }
+    }
+
+    /// The strain limit's floor this frame: with tearing on, a side may stretch past the
+    /// tear threshold where tearing may happen (a quarter beyond it: a side no longer
+    /// than the limit never passes it; held under 1.2x, a cloth pulled by the pen
+    /// followed it and never tore); elsewhere each triangle keeps its own limit.
+    pub(super) fn tear_floor(&self) -> StretchFloor {
+        match self.tear_zone() {
+            None => StretchFloor::NONE,
+            Some(within) => StretchFloor {
+                ratio: 1.25 * self.tear.threshold,
+                within,
+            },
+        }
+    }
+
+    /// Tears the most overstretched edges where tearing may happen (called after each
+    /// frame when tearing is on). Returns how many tore.
+    pub(super) fn tear_overstretched(&mut self) -> usize {
+        let s = self.tear;
+        let Some(zone) = self.tear_zone() else {
+            return 0;
+        };
         let x = &self.sim.cloth.x;
+        let near = |a: u32, b: u32| {
+            zone.is_none_or(|(c, r)| {
+                [a, b]
+                    .iter()
+                    .any(|&i| x[i as usize].distance_squared(c) <= r * r)
+            })
+        };
         let mut over: Vec<(f32, u32, u32)> = Vec::new();
         for (_, t) in self.sim.cloth.live.iter() {
             for k in 0..3 {
                 let (a, b) = (t.v[k], t.v[(k + 1) % 3]);
+                if !near(a, b) {
+                    continue;
+                }
                 let rest = (t.rest[k] - t.rest[(k + 1) % 3]).length();
                 let r = (x[a as usize] - x[b as usize]).length() / rest.max(1e-12);
                 if r > s.threshold {

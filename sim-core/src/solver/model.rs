@@ -57,7 +57,45 @@ pub struct Drive<'a, 'p> {
     pub heartbeat: Option<std::time::Duration>,
     /// The least largest stretch the strain limit holds a triangle to
     /// ([`Simulation::stretch_floor`](super::Simulation::stretch_floor)).
-    pub stretch_floor: f32,
+    pub stretch_floor: StretchFloor,
+}
+
+/// The least largest stretch the strain limit holds a triangle to, and where: a tear by
+/// the pen loosens the limit around the grip alone, so that the cloth it pulls can
+/// stretch far enough to tear there while the rest keeps its limit (loosened everywhere,
+/// a sewn dress sagged at its seams and tore there, far from the pen).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StretchFloor {
+    /// The least limit (0: each triangle its own).
+    pub ratio: f32,
+    /// Only triangles with a corner within this distance of this point (`None`: every
+    /// triangle).
+    pub within: Option<(Vec3, f32)>,
+}
+
+impl StretchFloor {
+    /// None at all: each triangle keeps its own limit.
+    pub const NONE: Self = Self {
+        ratio: 0.0,
+        within: None,
+    };
+
+    /// The least limit of a triangle with corners `p`.
+    #[inline]
+    pub fn at(&self, p: &[Vec3; 3]) -> f32 {
+        match self.within {
+            _ if self.ratio <= 0.0 => 0.0,
+            None => self.ratio,
+            Some((c, r)) if p.iter().any(|q| q.distance_squared(c) <= r * r) => self.ratio,
+            Some(_) => 0.0,
+        }
+    }
+
+    /// The same bits (the sleep watch compares the scene by its bits).
+    pub fn bits(&self) -> [u32; 5] {
+        let (c, r) = self.within.unwrap_or((Vec3::NAN, f32::NAN));
+        [self.ratio, c.x, c.y, c.z, r].map(f32::to_bits)
+    }
 }
 
 /// One frame's work for a model: the cloth, this frame's contact planes, the world, and

@@ -19,7 +19,7 @@
 use glam::Vec3;
 
 use super::material::Material;
-use super::model::Environment;
+use super::model::{Environment, StretchFloor};
 use super::stitch::Stitch;
 use crate::collision::Body;
 
@@ -63,7 +63,7 @@ pub struct Stillness {
     substeps: usize,
     material: Material,
     stitches: Vec<Stitch>,
-    stretch_floor: f32,
+    stretch_floor: [u32; 5],
     /// The body's name, vertex count and the address of its vertices (a body replaced
     /// or reloaded has another).
     body: Option<(String, usize, usize)>,
@@ -79,7 +79,7 @@ pub struct Scene<'a> {
     pub substeps: usize,
     pub material: &'a Material,
     pub stitches: &'a [Stitch],
-    pub stretch_floor: f32,
+    pub stretch_floor: StretchFloor,
     pub body: Option<&'a Body>,
     /// The pen holds the cloth.
     pub pinched: bool,
@@ -110,7 +110,7 @@ impl Scene<'_> {
             substeps: self.substeps,
             material: *self.material,
             stitches: self.stitches.to_vec(),
-            stretch_floor: self.stretch_floor,
+            stretch_floor: self.stretch_floor.bits(),
             body: body_print(self.body),
         }
     }
@@ -128,7 +128,7 @@ impl Scene<'_> {
             && self.substeps == s.substeps
             && *self.material == s.material
             && self.stitches == s.stitches.as_slice()
-            && self.stretch_floor.to_bits() == s.stretch_floor.to_bits()
+            && self.stretch_floor.bits() == s.stretch_floor
             && body_print(self.body) == s.body
     }
 }

@@ -8,7 +8,7 @@ use glam::Vec3;
 
 use super::implicit::Implicit;
 use super::material::{Material, ModelKind};
-use super::model::{Drive, Environment, FrameInput, Solver, StepError};
+use super::model::{Drive, Environment, FrameInput, Solver, StepError, StretchFloor};
 use super::pinch::{Grip, PenPath, Pinch};
 use super::rest::{Rest, Scene, SleepRule};
 use super::seed::{Seed, seed_safe_step, seed_stable_step};
@@ -57,10 +57,11 @@ pub struct Simulation {
     pub stitches: Vec<Stitch>,
     /// Vertices kept on one side of planes, handed in by the design before each frame.
     pub holds: Vec<Hold>,
-    /// The least stretch the xpbd model's strain limit holds a triangle to (0: its own
-    /// limit): while tearing is on the design sets it a quarter past the tear threshold,
-    /// so that a side can stretch far enough to tear.
-    pub stretch_floor: f32,
+    /// The least stretch the xpbd model's strain limit holds a triangle to, and where
+    /// (none: each its own limit): while tearing is on the design sets it a quarter past
+    /// the tear threshold, so that a side can stretch far enough to tear (around the
+    /// pen's grip alone when the pen tears).
+    pub stretch_floor: StretchFloor,
     /// When the cloth falls asleep once it has come to rest (`solver::rest`); `None`, the
     /// default here, simulates every frame. cloth-sim's service turns it on.
     pub sleep: Option<SleepRule>,
@@ -182,7 +183,7 @@ impl Simulation {
             grip: Grip::default(),
             stitches: Vec::new(),
             holds: Vec::new(),
-            stretch_floor: 0.0,
+            stretch_floor: StretchFloor::NONE,
             sleep: None,
             heartbeat: None,
             rest: Rest::default(),

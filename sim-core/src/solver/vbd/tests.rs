@@ -56,7 +56,7 @@ fn converged_step_is_the_implicit_step() {
         stitches: &[],
         holds: &[],
         pen: &mut pen,
-        stretch_floor: 0.0,
+        stretch_floor: crate::solver::StretchFloor::NONE,
         heartbeat: None,
     };
     vbd.frame(&mut a, None, &env, 1, &mut drive);

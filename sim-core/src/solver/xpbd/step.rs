@@ -15,7 +15,7 @@ use crate::collision::contact::StaticFriction;
 use crate::collision::{Body, ContactCache};
 use crate::solver::constraints::{BendConstraint, Elements, HingeShares, Membrane, elements_of};
 use crate::solver::material::Material;
-use crate::solver::model::{Drive, Environment};
+use crate::solver::model::{Drive, Environment, StretchFloor};
 use crate::solver::state::Cloth;
 use crate::solver::stitch::{hold, stitch};
 
@@ -68,7 +68,7 @@ pub struct Xpbd {
     friction_left: StaticFriction,
     before_limit: Vec<Vec3>,
     /// This frame's least limit on a triangle's stretch (`Drive::stretch_floor`).
-    stretch_floor: f32,
+    stretch_floor: StretchFloor,
     /// The membranes the strain limit's pass projected, in the whole cloth's indices
     /// (scratch for its passes again).
     active: [Vec<Membrane>; 2],
@@ -156,7 +156,7 @@ impl Xpbd {
             start: Vec::new(),
             friction_left: StaticFriction::default(),
             before_limit: Vec::new(),
-            stretch_floor: 0.0,
+            stretch_floor: StretchFloor::NONE,
             active: [Vec::new(), Vec::new()],
             groups,
             membrane_loc,

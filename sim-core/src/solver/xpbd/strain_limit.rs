@@ -24,9 +24,10 @@ use glam::Vec3;
 
 use super::guard_pass::credited;
 use crate::solver::constraints::Membrane;
+use crate::solver::model::StretchFloor;
 
 /// Projects every membrane of `membranes` (vertex indices into `x` and `w`) whose largest
-/// principal stretch exceeds its own `s_max` (or `floor`, if more) onto it (`relax` of the
+/// principal stretch exceeds its own `s_max` (or `floor`'s there, if more) onto it (`relax` of the
 /// way: 1 for all of it), in
 /// order, adds the corners it moves (plus `off`: where `x` starts in the cloth) to `moved`
 /// and the membranes it projected (their vertices plus `off`) to `active`.
@@ -34,17 +35,17 @@ pub(super) fn limit_membranes(
     membranes: &[Membrane],
     x: &mut [Vec3],
     w: &[f32],
-    (floor, relax): (f32, f32),
+    (floor, relax): (StretchFloor, f32),
     (off, moved, active): (u32, &mut Vec<u32>, &mut Vec<Membrane>),
 ) {
     for m in membranes {
         // A triangle within rounding of the limit (as the projection leaves it) is at it:
         // moved again by rounding alone, each vertex so moved would be checked by the
         // guard once more every substep. No limit: infinite, never over.
-        let s_max = m.s_max.max(floor);
-        let s2 = s_max * s_max * (1.0 + 1e-5);
         let [i0, i1, i2] = m.v.map(|i| i as usize);
         let p = [x[i0], x[i1], x[i2]];
+        let s_max = m.s_max.max(floor.at(&p));
+        let s2 = s_max * s_max * (1.0 + 1e-5);
         let fu = p[0] * m.c[0] + p[1] * m.c[1] + p[2] * m.c[2];
         let fv = p[0] * m.d[0] + p[1] * m.d[1] + p[2] * m.d[2];
         let (a, b, c) = (fu.dot(fu), fu.dot(fv), fv.dot(fv));
@@ -167,7 +168,13 @@ mod tests {
 
     /// One whole pass of the limit at 1.2 over `ms`.
     fn limit_all(ms: &[Membrane], x: &mut [Vec3], w: &[f32]) {
-        limit_membranes(ms, x, w, (0.0, 1.0), (0, &mut Vec::new(), &mut Vec::new()));
+        limit_membranes(
+            ms,
+            x,
+            w,
+            (StretchFloor::NONE, 1.0),
+            (0, &mut Vec::new(), &mut Vec::new()),
+        );
     }
 
     fn principal(m: &Membrane, x: &[Vec3]) -> (f32, f32) {
@@ -285,7 +292,13 @@ mod tests {
             .collect();
         // As the second half of a split cloth: vertex indices offset by 5 in `active`.
         let (off, mut moved, mut active) = (5, Vec::new(), Vec::new());
-        limit_membranes(&ms, &mut x, &w, (0.0, 1.0), (off, &mut moved, &mut active));
+        limit_membranes(
+            &ms,
+            &mut x,
+            &w,
+            (StretchFloor::NONE, 1.0),
+            (off, &mut moved, &mut active),
+        );
         let once = worst(&x);
         assert!(once > 1.21, "one pass leaves {once}");
         assert_eq!(active.len(), 2, "both triangles were projected");
@@ -306,7 +319,13 @@ mod tests {
             .collect();
         for _ in 0..2 {
             let mut next = Vec::new();
-            limit_membranes(&active, &mut x, &w, (0.0, 1.0), (0, &mut moved, &mut next));
+            limit_membranes(
+                &active,
+                &mut x,
+                &w,
+                (StretchFloor::NONE, 1.0),
+                (0, &mut moved, &mut next),
+            );
             active = next;
         }
         let thrice = worst(&x);
@@ -324,18 +343,46 @@ mod tests {
             &[m],
             &mut x,
             &[1.0; 3],
-            (1.6, 1.0),
+            (floor(1.6, None), 1.0),
             (0, &mut moved, &mut active),
         );
         assert_eq!(x, stretched, "1.5x is under the floor of 1.6x");
+        // A floor around the pen's grip: a triangle with a corner within it may
+        // stretch to it, one outside keeps its own limit.
+        let near = Some((stretched[1] + Vec3::X * 0.09, 0.1));
         limit_membranes(
             &[m],
             &mut x,
             &[1.0; 3],
-            (1.4, 1.0),
+            (floor(1.6, near), 1.0),
+            (0, &mut moved, &mut active),
+        );
+        assert_eq!(x, stretched, "a corner within the floor's reach");
+        let far = Some((stretched[1] + Vec3::X * 0.2, 0.1));
+        let mut y = stretched.clone();
+        limit_membranes(
+            &[m],
+            &mut y,
+            &[1.0; 3],
+            (floor(1.6, far), 1.0),
+            (0, &mut moved, &mut active),
+        );
+        assert!(
+            (principal(&m, &y).0 - m.s_max).abs() < 1e-4,
+            "its own limit"
+        );
+        limit_membranes(
+            &[m],
+            &mut x,
+            &[1.0; 3],
+            (floor(1.4, None), 1.0),
             (0, &mut moved, &mut active),
         );
         assert!((principal(&m, &x).0 - 1.4).abs() < 1e-4);
+    }
+
+    fn floor(ratio: f32, within: Option<(Vec3, f32)>) -> StretchFloor {
+        StretchFloor { ratio, within }
     }
 
     /// A triangle of a fabric without a limit (a knit piece) is never projected.
@@ -353,7 +400,7 @@ mod tests {
             &[m],
             &mut x,
             &[1.0; 3],
-            (0.0, 1.0),
+            (StretchFloor::NONE, 1.0),
             (0, &mut moved, &mut active),
         );
         assert_eq!(x, before);
@@ -366,7 +413,13 @@ mod tests {
         let mut x: Vec<Vec3> = rest.iter().map(|p| *p * 1.5).collect();
         let w = [1.0; 3];
         let (mut moved, mut active) = (Vec::new(), Vec::new());
-        limit_membranes(&[m], &mut x, &w, (0.0, 0.3), (0, &mut moved, &mut active));
+        limit_membranes(
+            &[m],
+            &mut x,
+            &w,
+            (StretchFloor::NONE, 0.3),
+            (0, &mut moved, &mut active),
+        );
         let s = principal(&m, &x).0;
         // A uniform stretch scales about the centroid: 0.3 of the way from 1.5 to 1.2.
         assert!((s - (1.5 - 0.3 * 0.3)).abs() < 1e-4, "{s}");
