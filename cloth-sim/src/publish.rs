@@ -7,8 +7,8 @@ use shared::Header;
 use shared::services::SlicePub;
 use shared::sim_to_haptic::{LocalModel, MAX_PLANES, workspace_covering};
 use shared::sim_to_ui::{
-    BodyMeshHeader, ClothFrameHeader, MAX_LISTED, MeshCorner, MeshHeader, OutlineSegment,
-    PieceList, SeamEntry, SeamSegment, TextureTile, outline, put_text,
+    BodyMeshHeader, ClothFrameHeader, MAX_LISTED, MAX_SEAM_STRETCH, MeshCorner, MeshHeader,
+    OutlineSegment, PieceList, SeamEntry, SeamSegment, TextureTile, outline, put_text,
 };
 use sim_core::collision::Body;
 use sim_core::design::sewing_pattern::seam_label;
@@ -357,20 +357,30 @@ pub(crate) fn piece_list(design: &Design, seq: &mut u64) -> PieceList {
             stalled_gap: [lo, hi],
         };
     }
-    // The pattern as the export makes it: each seam's sides and each piece's lines.
+    // The pattern as the export makes it: each seam's sides and each piece's lines, a
+    // seam's stretches ("B1", "B2": its sides run over more than two pieces) by number.
     let seam_index: std::collections::HashMap<String, usize> = (0..design.seams.len())
         .map(|i| (seam_label(i), i))
         .collect();
+    let of_label = |label: &str| {
+        let base = label.trim_end_matches(|c: char| c.is_ascii_digit());
+        let stretch = match &label[base.len()..] {
+            "" => 0,
+            k => k.parse::<u32>().ok().filter(|&k| k <= MAX_SEAM_STRETCH)?,
+        };
+        Some((*seam_index.get(base)?, stretch))
+    };
     let listed = view
         .iter()
         .flat_map(|p| &p.seams)
-        .filter_map(|(label, a, b)| Some((*seam_index.get(label)?, a, b)))
-        .filter(|(seam, ..)| *seam < MAX_LISTED);
-    for (g, (seam, a, b)) in l.segments.iter_mut().zip(listed) {
+        .filter_map(|(label, a, b)| Some((of_label(label)?, a, b)))
+        .filter(|((seam, _), ..)| *seam < MAX_LISTED);
+    for (g, ((seam, stretch), a, b)) in l.segments.iter_mut().zip(listed) {
         *g = SeamSegment {
             seam: seam as u32,
             a: a.as_vec2().to_array(),
             b: b.as_vec2().to_array(),
+            stretch,
         };
         l.segment_count += 1;
     }
@@ -488,6 +498,53 @@ mod tests {
         }
         l.outline_count = l.outline_total + 1;
         assert!(shared::sim_to_ui::check_outline(&l).is_err());
+    }
+
+    /// The front cut across at the waist: each side seam is drawn by its two stretches,
+    /// numbered as the pattern out labels them (B1 front to back, B2 lower front to back),
+    /// and drawn as long as before the cut but for the cut's own edges (the view dropped
+    /// a split seam's every segment: "B1" named no seam).
+    #[test]
+    fn a_seam_cut_across_is_drawn_by_its_stretches() {
+        let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+        cfg.piece_edge = 0.06;
+        let (mut d, spec) = build_scene(&cfg).unwrap();
+        sim_core::design::garment::sew(&mut d, &spec.unwrap(), SEAM_PULL).unwrap();
+        let drawn = |l: &PieceList, seam: u32, stretch: u32| -> f32 {
+            let segments = shared::sim_to_ui::check_seam_segments(l).unwrap();
+            (segments.iter())
+                .filter(|g| g.seam == seam && g.stretch == stretch)
+                .map(|g| glam::Vec2::from(g.a).distance(glam::Vec2::from(g.b)))
+                .sum()
+        };
+        let before = piece_list(&d, &mut 0);
+        let whole = [1, 3].map(|s| drawn(&before, s, 0));
+        let (lo, hi) = sim_core::mesh::bounds2(&d.pieces[0].outline.loops[0]);
+        let y = 0.5 * (lo.y + hi.y);
+        let off = d.pieces[0].offset;
+        let (a, b) = (
+            glam::Vec2::new(lo.x - 0.02, y) + off,
+            glam::Vec2::new(hi.x + 0.02, y) + off,
+        );
+        d.cut_line(a, b).unwrap();
+        let l = piece_list(&d, &mut 0);
+        for (k, seam) in [1, 3].into_iter().enumerate() {
+            let parts = [0, 1, 2].map(|s| drawn(&l, seam, s));
+            assert_eq!(parts[0], 0.0, "seam {seam} drawn whole: {parts:?}");
+            assert!(parts[1] > 0.1 && parts[2] > 0.1, "seam {seam}: {parts:?}");
+            let sum = parts[1] + parts[2];
+            assert!(
+                sum <= whole[k] + 1e-3 && sum >= whole[k] - 4.0 * cfg.piece_edge,
+                "seam {seam}: {sum} m drawn, {} before the cut",
+                whole[k]
+            );
+        }
+        let a = (shared::sim_to_ui::check_seam_segments(&l)
+            .unwrap()
+            .into_iter())
+        .find(|g| g.seam == 1 && g.stretch == 2)
+        .unwrap();
+        assert_eq!(a.label("B"), "B2");
     }
 
     /// A seam whose pairs stopped closing is listed so: a cloth hung from two corners

@@ -370,6 +370,22 @@ pub struct SeamSegment {
     pub seam: u32,
     pub a: [f32; 2],
     pub b: [f32; 2],
+    /// 0: the whole seam; `k` (up to [`MAX_SEAM_STRETCH`]): its `k`-th stretch, labelled
+    /// "B1", "B2" where its sides run over more than two pieces (since version 20).
+    pub stretch: u32,
+}
+
+/// The highest stretch number a [`SeamSegment`] carries.
+pub const MAX_SEAM_STRETCH: u32 = 99;
+
+impl SeamSegment {
+    /// Its label in the pattern: the seam's, and its stretch's number if any ("B2").
+    pub fn label(&self, seam_label: &str) -> String {
+        match self.stretch {
+            0 => seam_label.to_string(),
+            k => format!("{seam_label}{k}"),
+        }
+    }
 }
 
 /// Most pattern outline segments a [`PieceList`] carries (a 1 m square cut at 5 mm edges
@@ -550,7 +566,7 @@ pub fn check_seams(l: &PieceList) -> Result<Vec<SeamEntry>, MessageError> {
 }
 
 /// Checks a received list's seam segments and returns them: at most
-/// [`MAX_SEAM_SEGMENTS`], each of a listed seam, with finite ends.
+/// [`MAX_SEAM_SEGMENTS`], each of a listed seam and stretch, with finite ends.
 pub fn check_seam_segments(l: &PieceList) -> Result<Vec<SeamSegment>, MessageError> {
     let n = l.segment_count as usize;
     if n > MAX_SEAM_SEGMENTS {
@@ -560,13 +576,14 @@ pub fn check_seam_segments(l: &PieceList) -> Result<Vec<SeamSegment>, MessageErr
         ));
     }
     let segments = &l.segments[..n];
-    if let Some(k) = segments
-        .iter()
-        .position(|g| g.seam >= l.seam_count || !g.a.iter().chain(&g.b).all(|c| c.is_finite()))
-    {
+    if let Some(k) = segments.iter().position(|g| {
+        g.seam >= l.seam_count
+            || g.stretch > MAX_SEAM_STRETCH
+            || !g.a.iter().chain(&g.b).all(|c| c.is_finite())
+    }) {
         return Err(malformed(
             "piece list",
-            format!("seam segment {k} names no listed seam or is not finite"),
+            format!("seam segment {k} names no listed seam or stretch, or is not finite"),
         ));
     }
     Ok(segments.to_vec())

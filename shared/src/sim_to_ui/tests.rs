@@ -16,15 +16,23 @@ fn seam_segments_are_checked() {
         seam: 0,
         a: [0.0, 0.1],
         b: [0.0, 0.2],
+        stretch: 0,
     };
     l.segments[1] = SeamSegment {
         seam: 1,
         a: [0.5, 0.1],
         b: [0.5, 0.2],
+        stretch: MAX_SEAM_STRETCH,
     };
-    assert_eq!(check_seam_segments(&l).unwrap().len(), 2);
+    let segments = check_seam_segments(&l).unwrap();
+    assert_eq!(segments.len(), 2);
+    assert_eq!(segments[0].label("A"), "A");
+    assert_eq!(segments[1].label("B"), "B99");
     let mut bad = l;
     bad.segments[1].seam = 2;
+    assert!(check_seam_segments(&bad).is_err());
+    let mut bad = l;
+    bad.segments[1].stretch = MAX_SEAM_STRETCH + 1;
     assert!(check_seam_segments(&bad).is_err());
     let mut bad = l;
     bad.segments[0].b[1] = f32::NAN;

@@ -158,7 +158,7 @@ impl PatternFrame {
             run.push(b);
             let joined = |h: &shared::sim_to_ui::SeamSegment,
                           next: &shared::sim_to_ui::SeamSegment| {
-                h.seam == next.seam && h.b == next.a
+                h.seam == next.seam && h.stretch == next.stretch && h.b == next.a
             };
             if !segments.get(k + 1).is_some_and(|n| joined(g, n)) {
                 painter.add(egui::Shape::line(
@@ -174,7 +174,7 @@ impl PatternFrame {
                 painter.text(
                     a + egui::vec2(4.0, -4.0),
                     egui::Align2::LEFT_BOTTOM,
-                    s.label(),
+                    g.label(s.label()),
                     egui::FontId::proportional(12.0),
                     c,
                 );
