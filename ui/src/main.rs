@@ -129,6 +129,7 @@ fn main() -> ExitCode {
         native.wgpu_options.surface.present_mode = egui_wgpu::wgpu::PresentMode::AutoNoVsync;
     }
     report_a_lost_display();
+    watch_the_display();
     let run = std::panic::catch_unwind(AssertUnwindSafe(|| {
         eframe::run_native(
             "Saiho",
@@ -183,6 +184,48 @@ fn report_a_lost_display() {
     }));
 }
 
+/// The local X display's socket (`DISPLAY` `:N`, `:N.S` or `unix:N`); `None` for any
+/// other (a remote display, Wayland).
+fn x_socket(display: &str) -> Option<PathBuf> {
+    let n = display
+        .strip_prefix("unix:")
+        .or(display.strip_prefix(':'))?;
+    let n = n.split('.').next()?;
+    n.parse::<u32>().ok()?;
+    Some(PathBuf::from(format!("/tmp/.X11-unix/X{n}")))
+}
+
+/// Watches the local X server cloth-ui draws on: once it no longer takes connections,
+/// cloth-ui says so and exits 1 within 2 s if the window system has not ended it by
+/// then. The software renderer can block in a put-image to the dead connection for
+/// 30-60 s before winit sees it (seen under Xvfb, `gdb`: `xcb_put_image` from Mesa's
+/// EGL), and a studio that hangs a minute is not one that reports a lost display.
+fn watch_the_display() {
+    let Some(socket) = std::env::var("DISPLAY").ok().as_deref().and_then(x_socket) else {
+        return;
+    };
+    let watch = move || {
+        let mut seen = false;
+        loop {
+            std::thread::sleep(Duration::from_millis(500));
+            match std::os::unix::net::UnixStream::connect(&socket) {
+                Ok(_) => seen = true,
+                Err(_) if seen => break,
+                Err(_) => {}
+            }
+        }
+        std::thread::sleep(Duration::from_secs(2));
+        if !DISPLAY_LOST.swap(true, Ordering::SeqCst) {
+            let x = socket.display();
+            eprintln!("error: cloth-ui lost its display (its X server at {x} is gone); {SAFE}");
+        }
+        std::process::exit(1);
+    };
+    let _ = std::thread::Builder::new()
+        .name("display-watch".into())
+        .spawn(watch);
+}
+
 /// Whether a panic at source `file` is the window system's (winit's) own.
 fn from_window_system(file: &str) -> bool {
     file.replace('\\', "/")
@@ -192,6 +235,16 @@ fn from_window_system(file: &str) -> bool {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_local_display_has_a_socket_to_watch() {
+        let x = |d: &str| super::x_socket(d).map(|p| p.display().to_string());
+        assert_eq!(x(":99").as_deref(), Some("/tmp/.X11-unix/X99"));
+        assert_eq!(x(":0.1").as_deref(), Some("/tmp/.X11-unix/X0"));
+        assert_eq!(x("unix:3").as_deref(), Some("/tmp/.X11-unix/X3"));
+        assert_eq!(x("host:0"), None);
+        assert_eq!(x(":x"), None);
+    }
+
     #[test]
     fn a_panic_inside_winit_is_the_window_systems() {
         let x11 = "/root/.cargo/registry/src/index.crates.io-1949cf8c6b5b557f/winit-0.30.13/src/platform_impl/linux/x11/window.rs";
