@@ -1144,7 +1144,11 @@ fn pull_the_hem(near_pinch: Option<f32>) -> (usize, f32) {
     for _ in 0..30 {
         d.step().unwrap();
     }
-    assert_eq!(crossings(&d), (0, 0), "torn and let go, the dress crosses nothing");
+    assert_eq!(
+        crossings(&d),
+        (0, 0),
+        "torn and let go, the dress crosses nothing"
+    );
     (torn, farthest)
 }
 

@@ -215,8 +215,12 @@ fn drag_up(h: &mut Harness<'static, App>, centre: egui::Pos2) -> Vec<([f32; 3], 
     }
     h.drop_at(centre + egui::vec2(0.0, -60.0));
     h.run_steps(2);
-    h.state().emitted[before..]
-        .iter()
+    pen_since(h, before)
+}
+
+/// The pen's points (position, buttons) the studio sent since its `before`-th emission.
+fn pen_since(h: &Harness<'static, App>, before: usize) -> Vec<([f32; 3], u32)> {
+    (h.state().emitted[before..].iter())
         .filter_map(|e| match e {
             Emitted::Pointer(p, b) => Some((*p, *b)),
             _ => None,
@@ -984,12 +988,7 @@ fn a_cut_stroke_begun_beside_the_cloth_starts_at_its_border() {
     }
     h.drop_at(at(90.0));
     h.run_steps(2);
-    let pen: Vec<([f32; 3], u32)> = (h.state().emitted[before..].iter())
-        .filter_map(|e| match e {
-            Emitted::Pointer(p, b) => Some((*p, *b)),
-            _ => None,
-        })
-        .collect();
+    let pen = pen_since(&h, before);
     assert!(pen.len() >= 4, "{pen:?}");
     assert_eq!(pen[0].1, 1, "{pen:?}");
     assert_eq!(pen.last().unwrap().1, 0, "{pen:?}");
@@ -1043,12 +1042,7 @@ fn a_pinch_grabs_where_the_button_went_down() {
     h.run_steps(1);
     h.drop_at(corner);
     h.run_steps(2);
-    let pen: Vec<([f32; 3], u32)> = (h.state().emitted[before..].iter())
-        .filter_map(|e| match e {
-            Emitted::Pointer(p, b) => Some((*p, *b)),
-            _ => None,
-        })
-        .collect();
+    let pen = pen_since(&h, before);
     assert!(!pen.is_empty(), "nothing grabbed");
     let first = glam::Vec3::from(pen[0].0);
     assert_eq!(pen[0].1, 1, "{pen:?}");
