@@ -511,14 +511,18 @@ impl Service<'_> {
         }
     }
 
-    /// The piece list, when the mesh, the pieces, their fabrics or the seams' open or
-    /// stalled pairs changed (the history gives a late UI the last one).
+    /// The piece list, when the mesh, the pieces, their names or fabrics, the seams'
+    /// names or their open or stalled pairs changed (the history gives a late UI the
+    /// last one).
     fn publish_pieces(&mut self) {
         use std::hash::{Hash, Hasher};
         let d = &self.design;
-        let mut fabrics = std::collections::hash_map::DefaultHasher::new();
+        let mut records = std::collections::hash_map::DefaultHasher::new();
         for p in &d.pieces {
-            p.fabric.hash(&mut fabrics);
+            (&p.name, &p.fabric).hash(&mut records);
+        }
+        for s in &d.seams {
+            s.name.hash(&mut records);
         }
         let key = (
             d.sim.cloth.live.version(),
@@ -529,7 +533,7 @@ impl Service<'_> {
                 .map(|s| s.open_pairs().count())
                 .sum::<usize>(),
             d.stitches_stalled(),
-            fabrics.finish(),
+            records.finish(),
         );
         let _ = self.ports.pieces.update_connections();
         if self.pieces_sent == Some(key) {

@@ -1298,6 +1298,104 @@ fn a_piece_gets_its_own_fabric_over_the_protocol() {
     stop.finish();
 }
 
+/// A piece and a seam named over the protocol: the list says so at once (it did not
+/// for a seam's name before protocol 21: the list went out again only when its counts
+/// or fabrics changed), another piece's name and an empty one are refused, and undo
+/// takes a piece's name back.
+#[test]
+fn a_piece_and_a_seam_named_over_the_protocol_are_listed_at_once() {
+    let (d, stop) = dress_service("svcn");
+    let node = services::node(&d, "ui").unwrap();
+    let mut ask = asker(ports::command_client(&node).unwrap());
+    let lists: services::Sub<shared::sim_to_ui::PieceList> =
+        ports::subscriber(&node, services::pieces, None).unwrap();
+    // Waits for a list whose pieces and first seam (if any) are called so.
+    let listed = |pieces: &[&str], seam: Option<&str>| {
+        let deadline = Instant::now() + Duration::from_secs(10);
+        let mut seen = String::new();
+        loop {
+            while let Some(l) = lists.receive().unwrap() {
+                let p = shared::sim_to_ui::check_pieces(&l).unwrap();
+                let s = shared::sim_to_ui::check_seams(&l).unwrap();
+                seen = format!(
+                    "{:?} {:?}",
+                    p.iter().map(|p| &p.name).collect::<Vec<_>>(),
+                    s.iter().map(|s| s.name()).collect::<Vec<_>>()
+                );
+                if p.iter().map(|p| p.name.as_str()).eq(pieces.iter().copied())
+                    && s.first().map(|s| s.name()) == seam
+                {
+                    return;
+                }
+            }
+            assert!(
+                Instant::now() < deadline,
+                "no list with pieces {pieces:?} and seam A {seam:?}; the last: {seen}"
+            );
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    };
+    listed(&["front", "back"], None);
+    let named = |op: u32, a: u32, name: &str| {
+        let mut c = ToolCommand {
+            op,
+            a,
+            ..Default::default()
+        };
+        assert!(c.set_text(name));
+        c
+    };
+    let r = ask(named(op::NAME_PIECE, 0, "back"));
+    assert!(
+        r.ok == 0 && r.message().contains("a piece is called back already"),
+        "{}",
+        r.message()
+    );
+    let r = ask(named(op::NAME_PIECE, 0, " "));
+    assert!(r.ok == 0 && r.message().contains("name"), "{}", r.message());
+    let r = ask(named(op::NAME_PIECE, 0, "bodice front"));
+    assert!(
+        r.ok == 1 && r.message().contains("front is now called bodice front"),
+        "{}",
+        r.message()
+    );
+    listed(&["bodice front", "back"], None);
+    let r = ask(ToolCommand {
+        op: op::UNDO,
+        ..Default::default()
+    });
+    assert!(
+        r.ok == 1 && r.message().contains("name piece"),
+        "{}",
+        r.message()
+    );
+    listed(&["front", "back"], None);
+    let r = ask(ToolCommand {
+        op: op::REDO,
+        ..Default::default()
+    });
+    assert_eq!(r.ok, 1, "{}", r.message());
+    listed(&["bodice front", "back"], None);
+    // The shipped dress pattern again: two more pieces and their seams.
+    let mut file = ToolCommand {
+        op: op::ADD_PIECE,
+        mode: shared::ui_to_sim::shape::FILE,
+        a: shared::ui_to_sim::place::FRONT,
+        value: 0.08,
+        ..Default::default()
+    };
+    let dress = concat!(env!("CARGO_MANIFEST_DIR"), "/../sim-core/assets/dress.svg");
+    assert!(file.set_text(dress));
+    let r = ask(file);
+    assert_eq!(r.ok, 1, "{}", r.message());
+    let four = ["bodice front", "back", "front", "back (2)"];
+    listed(&four, Some(""));
+    let r = ask(named(op::NAME_SEAM, 0, "right shoulder"));
+    assert_eq!(r.ok, 1, "{}", r.message());
+    listed(&four, Some("right shoulder"));
+    stop.finish();
+}
+
 /// cloth-sim's service on its own thread over the dress (0.08 m triangles), in a scratch
 /// domain named for `tag`, for at most a minute.
 struct Service {

@@ -98,7 +98,11 @@ pub mod op {
     /// on every piece it crosses; a line from beside a piece to beside it cuts the piece
     /// in two. Undoable. Since protocol 19.
     pub const CUT_PLANE: u32 = 28;
-    pub const LAST: u32 = CUT_PLANE;
+    /// Piece `a` (as `saiho/pieces` lists them) named `text` (UTF-8, 1 to 120
+    /// characters, a name no other piece has), undoably: the list, the pattern view and
+    /// the pattern out call it so. Since protocol 21.
+    pub const NAME_PIECE: u32 = 29;
+    pub const LAST: u32 = NAME_PIECE;
 }
 
 /// [`ToolCommand::b`] of a RESET: the body.
@@ -255,6 +259,9 @@ impl Checked for ToolCommand {
         }
         if self.op == op::NAME_SEAM && self.text().is_none() {
             return Err("a seam's name must be UTF-8 text".into());
+        }
+        if self.op == op::NAME_PIECE && self.text().is_none_or(|t| t.trim().is_empty()) {
+            return Err("a piece's name must be UTF-8 text, not empty".into());
         }
         if matches!(self.op, op::SET_FABRIC | op::SET_PIECE_FABRIC)
             && self.text().is_none_or(|t| t.trim().is_empty())

@@ -1167,3 +1167,53 @@ fn the_pens_tear_tears_where_it_pulls() {
     eprintln!("everywhere: {torn} torn, the farthest {farthest} m");
     assert!(farthest > 0.3, "everywhere, the shoulders tear too");
 }
+
+/// A piece named by the designer: undoable, kept by the design file, and what the list
+/// and the pattern out call it; a name that is empty, too long, has control characters
+/// or another piece's name, and a cloth not made as a pattern piece, are refused and
+/// change nothing.
+#[test]
+fn pieces_are_named_undoably_and_the_pattern_out_calls_them_so() {
+    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+    cfg.piece_edge = 0.08;
+    let (mut d, _) = sim_core::scenario::build_scene(&cfg).unwrap();
+    let names =
+        |d: &Design| -> Vec<String> { d.piece_list().into_iter().map(|p| p.name).collect() };
+    let before = names(&d);
+    let front = before.iter().position(|n| n == "front").unwrap();
+    let undo = d.history.undo_steps();
+    assert_eq!(d.name_piece(front, "  bodice front ").unwrap(), "front");
+    assert_eq!(d.history.undo_steps(), undo + 1);
+    assert!(
+        names(&d).contains(&"bodice front".to_string()),
+        "{:?}",
+        names(&d)
+    );
+    assert!(!names(&d).contains(&"front".to_string()));
+    use sim_core::design::sewing_pattern::{dxf_string, pieces, svg_string};
+    let out = pieces(&d);
+    assert!(out.iter().any(|p| p.name == "bodice front"));
+    assert!(svg_string(&out).contains("bodice front"));
+    assert!(dxf_string(&out).contains("bodice front"));
+    d.undo().unwrap();
+    assert_eq!(names(&d), before);
+    d.redo().unwrap();
+    let loaded = Design::load_design(&d.save_design().unwrap()).unwrap();
+    assert!(names(&loaded).contains(&"bodice front".to_string()));
+    // The same name again is no edit.
+    d.name_piece(front, "bodice front").unwrap();
+    assert_eq!(d.history.undo_steps(), undo + 1);
+    let now = names(&d);
+    let long = "x".repeat(121);
+    for bad in ["", "   ", "back", long.as_str(), "bodice\nfront"] {
+        assert!(d.name_piece(front, bad).is_err(), "{bad:?}");
+        assert_eq!(names(&d), now, "{bad:?}");
+    }
+    assert!(d.name_piece(9, "nowhere").is_err());
+    assert_eq!(d.history.undo_steps(), undo + 1);
+    // The square cloth of a drape was not made as a piece: it has no name to change.
+    let (mut square, _) =
+        sim_core::scenario::build_scene(&ScenarioConfig::new(ScenarioName::DrapeCube)).unwrap();
+    let e = square.name_piece(0, "front").unwrap_err().to_string();
+    assert!(e.contains("not made as a pattern piece"), "{e}");
+}

@@ -133,6 +133,13 @@ pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
                 })
                 .map_err(e)
         }
+        Command::NamePiece { piece, name } => {
+            let was = piece_name(design, *piece);
+            design
+                .name_piece(*piece as usize, name)
+                .map(|_| format!("{was} is now called {} (undo takes it back)", name.trim()))
+                .map_err(e)
+        }
         Command::RemoveSeam { seam } => {
             let label = sim_core::design::sewing_pattern::seam_label(*seam as usize);
             design

@@ -190,6 +190,11 @@ pub enum Command {
         seam: u32,
         name: String,
     },
+    /// Piece `piece` (in `saiho/pieces` order) named `name`.
+    NamePiece {
+        piece: u32,
+        name: String,
+    },
     /// The xpbd model's guard against crossing on or off.
     SetGuard {
         on: bool,
@@ -284,6 +289,7 @@ impl Command {
             Self::SetFabric { .. } => op::SET_FABRIC,
             Self::SetPieceFabric { .. } => op::SET_PIECE_FABRIC,
             Self::NameSeam { .. } => op::NAME_SEAM,
+            Self::NamePiece { .. } => op::NAME_PIECE,
             Self::SetGuard { .. } => op::SET_GUARD,
             Self::SetStrainLimit { .. } => op::SET_STRAIN_LIMIT,
             Self::SetSimulating { .. } => op::SET_SIMULATING,
@@ -329,7 +335,9 @@ impl Command {
                 set_text(&mut c, dir)?;
                 c.value = *allowance_mm;
             }
-            Self::SetPieceFabric { piece: a, name } | Self::NameSeam { seam: a, name } => {
+            Self::SetPieceFabric { piece: a, name }
+            | Self::NameSeam { seam: a, name }
+            | Self::NamePiece { piece: a, name } => {
                 c.a = *a;
                 set_text(&mut c, name)?;
             }
@@ -506,6 +514,10 @@ impl Command {
             },
             op::NAME_SEAM => Self::NameSeam {
                 seam: c.a,
+                name: text(c),
+            },
+            op::NAME_PIECE => Self::NamePiece {
+                piece: c.a,
                 name: text(c),
             },
             op::SET_GUARD => Self::SetGuard { on: c.mode == 1 },

@@ -160,6 +160,10 @@ fn piece_variants() -> Vec<Command> {
             seam: 2,
             name: "left side, 1 cm".into(),
         },
+        Command::NamePiece {
+            piece: 1,
+            name: "back bodice".into(),
+        },
         Command::SetGuard { on: true },
         Command::SetGuard { on: false },
         Command::SetSimulating { on: true },

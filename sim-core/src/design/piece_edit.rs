@@ -289,6 +289,61 @@ impl Design {
         let slots = self.piece_slots(index)?;
         self.remove_labelled("delete piece", &slots)
     }
+
+    /// Names piece `index` of [`Design::piece_list`] `name` (trimmed), undoably: the
+    /// list, the pattern view and the pattern out call it so. The name belongs to the
+    /// piece as made, so the parts a cut left of it take it too (the smaller ones
+    /// numbered after it, as before). Refused: an empty name, one longer than
+    /// [`MAX_NAME`](super::MAX_NAME) characters or with control characters, one another
+    /// piece has, and a cloth that was not made as a pattern piece. Returns the old name.
+    pub fn name_piece(&mut self, index: usize, name: &str) -> Result<String, EditError> {
+        let list = self.piece_list();
+        let info = list.get(index).ok_or(EditError::NoPiece {
+            index,
+            count: list.len(),
+        })?;
+        let Some(k) = info.record else {
+            return Err(EditError::Piece(format!(
+                "{} was not made as a pattern piece, so it has no name of its own to change; \
+                 add a piece (Pieces: Add piece, or a pattern file) to name it",
+                info.name
+            )));
+        };
+        let name = name.trim();
+        if name.is_empty()
+            || name.chars().count() > super::MAX_NAME
+            || name.chars().any(char::is_control)
+        {
+            return Err(EditError::BadValue {
+                name: "piece name",
+                rule: "1 to 120 characters, none of them control characters",
+                value: format!("{name:?}"),
+            });
+        }
+        let old = self.pieces[k].clone();
+        if old.name == name {
+            return Ok(old.name);
+        }
+        if self.pieces.iter().any(|r| r.name == name) || list.iter().any(|p| p.name == name) {
+            return Err(EditError::Piece(format!(
+                "a piece is called {name} already; give {} another name",
+                old.name
+            )));
+        }
+        let new = PieceRecord {
+            name: name.to_string(),
+            ..old.clone()
+        };
+        self.commit(
+            "name piece",
+            vec![Prim::Piece {
+                index: k as u32,
+                old: Some(old.clone()),
+                new: Some(new),
+            }],
+        )?;
+        Ok(old.name)
+    }
 }
 
 /// Where a piece starts at `at`: tops at the shoulders, sleeves at the shoulder.

@@ -211,6 +211,10 @@ fn command_seeds(dir: &Path) -> std::io::Result<()> {
             seam: 0,
             name: "left side".into(),
         },
+        Command::NamePiece {
+            piece: 0,
+            name: "front".into(),
+        },
         Command::SetGuard { on: true },
         Command::SetStrainLimit { limit: 0.2 },
         Command::RemoveRegion {
