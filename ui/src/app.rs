@@ -546,7 +546,7 @@ impl App {
                 ui.separator();
                 ui.label(format!(
                     "{} vertices · {} triangles · frame {}",
-                    self.store.x.len(),
+                    m.used,
                     m.triangles(),
                     self.store.frame
                 ));

@@ -17,6 +17,9 @@ use shared::telemetry::{LoopTelemetry, SimTelemetry};
 pub struct Mesh {
     pub topology: u64,
     pub vertices: usize,
+    /// The vertices some triangle uses: a deleted piece's stay in `vertices` (an undo
+    /// brings them back) but are no cloth.
+    pub used: usize,
     pub corners: Vec<MeshCorner>,
     /// Edges with one triangle: the cloth's border and its cuts.
     pub border: Vec<[u32; 2]>,
@@ -125,9 +128,16 @@ impl Mesh {
         border.sort_unstable();
         sewn.sort_unstable();
         let (piece_of, outline) = pieces_of(&corners);
+        let mut seen = vec![false; vertices];
+        for c in &corners {
+            if let Some(s) = seen.get_mut(c.vertex as usize) {
+                *s = true;
+            }
+        }
         Self {
             topology,
             vertices,
+            used: seen.iter().filter(|&&s| s).count(),
             corners,
             border,
             sewn,

@@ -586,6 +586,22 @@ fn the_pieces_panel_lists_selects_adds_places_and_deletes() {
         (c.op, c.a, c.text()),
         (op::SET_PIECE_FABRIC, 0, Some("jersey-interlock"))
     );
+    // Naming it: Name opens the field with its name so far; OK sends the new one.
+    h.get_all_by_label("Name").next().unwrap().click();
+    h.run_steps(2);
+    assert_eq!(
+        h.state().pieces.piece_naming,
+        Some((0, "front".to_string()))
+    );
+    h.state_mut().pieces.piece_naming = Some((0, " bodice front ".into()));
+    h.run_steps(1);
+    press(&mut h, "OK");
+    let c = *commands(&h).last().unwrap();
+    assert_eq!(
+        (c.op, c.a, c.text()),
+        (op::NAME_PIECE, 0, Some("bodice front"))
+    );
+    assert_eq!(h.state().pieces.piece_naming, None);
     press(&mut h, "Delete");
     let c = *commands(&h).last().unwrap();
     assert_eq!((c.op, c.a), (op::DELETE_PIECE, 0));
@@ -663,7 +679,8 @@ fn seam_rows(h: &mut Harness<'static, App>) {
     h.state_mut().store.seams = vec![named, seam(b"B", [0.3, 0.2])];
     h.state_mut().store.seams_total = 2;
     h.run_steps(2);
-    h.get_by_label("A (left side) · 12 pairs, 3 pulling · 240 / 240 mm");
+    h.get_by_label("A (left side)");
+    h.get_by_label("12 pairs, 3 pulling · 240 / 240 mm");
     // Naming B: its row's Name opens the field with its name so far; OK sends it.
     h.get_all_by_label("Name").nth(1).unwrap().scroll_to_me();
     h.run_steps(20);
@@ -679,13 +696,18 @@ fn seam_rows(h: &mut Harness<'static, App>) {
         (op::NAME_SEAM, 1, Some("right side"))
     );
     assert_eq!(h.state().pieces.naming, None);
-    h.get_by_label("B · 12 pairs, 3 pulling · 300 / 200 mm");
+    h.get_by_label("B");
+    h.get_by_label("12 pairs, 3 pulling · 300 / 200 mm");
     // Pairs that stopped closing are said, with how far apart they stay.
     assert!(h.query_by_label_contains("stopped closing").is_none());
     h.state_mut().store.seams[1].stalled = 3;
     h.state_mut().store.seams[1].stalled_gap = [0.0152, 0.0408];
     h.run_steps(2);
     h.get_by_label("3 stopped closing, 15-41 mm apart");
+    // On a line of its own: the tools panel keeps its width (beside it, it went to 600
+    // px and squeezed the view).
+    let left = h.state().view.rect.unwrap().left();
+    assert!(left < 320.0, "the view starts {left} px in");
     let removes = h.get_all_by_label("Remove").count();
     assert_eq!(removes, 2);
     h.get_all_by_label("Remove").nth(1).unwrap().scroll_to_me();

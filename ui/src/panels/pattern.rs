@@ -138,8 +138,10 @@ impl PatternFrame {
                         painter.add(egui::Shape::line(std::mem::take(&mut run), line(bright)));
                     }
                 }
+                self.names(painter, lines, store, selected);
             }
             None => {
+                // (The mesh's pieces are not numbered as the list's: no names here.)
                 for (a, b, piece) in &mesh.outline {
                     let bright = store.highlight == Some(*piece);
                     painter.line_segment([self.at(*a), self.at(*b)], line(bright));
@@ -199,6 +201,63 @@ impl PatternFrame {
     }
 }
 
+impl PatternFrame {
+    /// Each listed piece's name over the middle of its outline (the grain line's), so
+    /// that pieces cut alike can be told apart.
+    fn names(
+        &self,
+        painter: &egui::Painter,
+        lines: &[OutlineSegment],
+        store: &Store,
+        selected: Option<usize>,
+    ) {
+        for (piece, middle) in name_places(lines) {
+            let Some(p) = store.pieces.get(piece as usize) else {
+                continue;
+            };
+            let c = if selected == Some(piece as usize) {
+                colour(HIGHLIGHT)
+            } else {
+                egui::Color32::from_gray(170)
+            };
+            painter.text(
+                self.at(middle) + egui::vec2(0.0, -8.0),
+                egui::Align2::CENTER_BOTTOM,
+                &p.name,
+                egui::FontId::proportional(12.0),
+                c,
+            );
+        }
+    }
+}
+
+/// Where each piece's name goes: the middle of the box round its outline (its sewing or
+/// cut line), in the order the pieces first appear.
+pub(super) fn name_places(lines: &[OutlineSegment]) -> Vec<(u32, [f32; 2])> {
+    let mut boxes: Vec<(u32, [f32; 2], [f32; 2])> = Vec::new();
+    for g in lines
+        .iter()
+        .filter(|g| g.kind != outline::GRAIN && g.kind != outline::NOTCH)
+    {
+        let k = match boxes.iter().position(|b| b.0 == g.piece) {
+            Some(k) => k,
+            None => {
+                boxes.push((g.piece, [f32::MAX; 2], [f32::MIN; 2]));
+                boxes.len() - 1
+            }
+        };
+        for p in [g.a, g.b] {
+            for d in 0..2 {
+                boxes[k].1[d] = boxes[k].1[d].min(p[d]);
+                boxes[k].2[d] = boxes[k].2[d].max(p[d]);
+            }
+        }
+    }
+    (boxes.into_iter())
+        .map(|(piece, lo, hi)| (piece, [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])]))
+        .collect()
+}
+
 /// A grain line: a thin line with an arrowhead at each end (the warp runs along it).
 fn grain_arrow(painter: &egui::Painter, a: egui::Pos2, b: egui::Pos2, bright: bool) {
     let c = if bright {
@@ -254,5 +313,42 @@ mod tests {
             mesh_centre
         );
         assert_ne!(mesh_centre, [5.5, 5.5]);
+    }
+
+    /// A piece's name goes in the middle of its outline, whatever its grain line and
+    /// notches; each piece gets one place.
+    #[test]
+    fn each_pieces_name_goes_in_the_middle_of_its_outline() {
+        let square = |piece: u32, x0: f32| {
+            let c = [[x0, 0.0], [x0 + 0.4, 0.0], [x0 + 0.4, 0.5], [x0, 0.5]];
+            (0..4).map(move |i| OutlineSegment {
+                piece,
+                kind: outline::SEWING_LINE,
+                a: c[i],
+                b: c[(i + 1) % 4],
+            })
+        };
+        let mut lines: Vec<OutlineSegment> = square(0, 0.0).chain(square(1, 0.6)).collect();
+        // A grain line and a notch that reach past the outline do not move the name.
+        for (kind, a, b) in [
+            (outline::GRAIN, [-1.0, 0.25], [1.0, 0.25]),
+            (outline::NOTCH, [0.6, 0.5], [0.6, 0.9]),
+        ] {
+            lines.push(OutlineSegment {
+                piece: 1,
+                kind,
+                a,
+                b,
+            });
+        }
+        let places = name_places(&lines);
+        assert_eq!(places.len(), 2, "{places:?}");
+        for ((piece, at), want) in places.iter().zip([(0, [0.2, 0.25]), (1, [0.8, 0.25])]) {
+            assert_eq!(*piece, want.0);
+            assert!(
+                (at[0] - want.1[0]).abs() < 1e-6 && (at[1] - want.1[1]).abs() < 1e-6,
+                "{at:?}"
+            );
+        }
     }
 }

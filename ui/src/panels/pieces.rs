@@ -32,6 +32,8 @@ pub struct PiecesPanel {
     fabrics: Vec<(String, String)>,
     /// The seam being named and the name typed so far.
     pub naming: Option<(usize, String)>,
+    /// The piece being named and the name typed so far.
+    pub piece_naming: Option<(usize, String)>,
 }
 
 /// The fabric chooser's entries.
@@ -61,6 +63,7 @@ impl Default for PiecesPanel {
             drag_from: None,
             fabrics: fabric_entries(),
             naming: None,
+            piece_naming: None,
         }
     }
 }
@@ -111,6 +114,32 @@ fn fabric_combo(
 }
 
 impl PiecesPanel {
+    /// The selected piece's name being typed, and sent on OK or Enter.
+    fn piece_name_row(&mut self, ui: &mut egui::Ui, selected: usize, actions: &mut Vec<Action>) {
+        let Some((i, name)) = self.piece_naming.as_mut().filter(|(i, _)| *i == selected) else {
+            self.piece_naming = None;
+            return;
+        };
+        let piece = *i as u32;
+        match name_row(
+            ui,
+            "Piece",
+            name,
+            "The piece's name, as the pattern will call it",
+        ) {
+            Some(true) => {
+                // An empty name is sent too: cloth-sim's refusal says why.
+                actions.push(Action::Command(Command::NamePiece {
+                    piece,
+                    name: name.trim().to_string(),
+                }));
+                self.piece_naming = None;
+            }
+            Some(false) => self.piece_naming = None,
+            None => {}
+        }
+    }
+
     pub fn ui(&mut self, ui: &mut egui::Ui, store: &Store, actions: &mut Vec<Action>) {
         ui.label("Pieces");
         if self.selected.is_some_and(|i| i >= store.pieces.len()) {
@@ -159,7 +188,19 @@ impl PiecesPanel {
                     actions.push(Action::Command(Command::DeletePiece { piece: i as u32 }));
                     self.selected = None;
                 }
+                if ui
+                    .button("Name")
+                    .on_hover_text(
+                        "Give the selected piece a name of your own: the pattern view and \
+                         the pattern out call it so (undo takes it back)",
+                    )
+                    .clicked()
+                {
+                    let now = store.pieces.get(i).map(|p| p.name.clone());
+                    self.piece_naming = Some((i, now.unwrap_or_default()));
+                }
             });
+            self.piece_name_row(ui, i, actions);
             if let Some(p) = store.pieces.get(i) {
                 fabric_combo(ui, i as u32, &p.fabric, &self.fabrics, actions);
             }
@@ -345,10 +386,10 @@ impl PiecesPanel {
     }
 }
 
-/// The seams: label, pairs (still pulling), the sides' lengths with a warning when they
-/// differ by more than a fifth, and a Remove button each.
-/// The seam list: each seam's colour, label and name, pairs, both sides' lengths (a
-/// warning colour past a fifth apart), Name and Remove; and the name being typed.
+/// The seam list: each seam's colour, label and name with Name and Remove, then its
+/// pairs and both sides' lengths (a warning colour past a fifth apart) and the pairs
+/// that stopped closing, each on a line of its own so that the panel keeps its width;
+/// and the name being typed.
 fn seams_section(
     ui: &mut egui::Ui,
     store: &Store,
@@ -362,7 +403,14 @@ fn seams_section(
     ui.label("Seams");
     for (i, s) in store.seams.iter().enumerate() {
         ui.horizontal(|ui| {
-            seam_row(ui, i, s);
+            // The seam's colour, as the views draw it.
+            let (swatch, _) = ui.allocate_exact_size(egui::vec2(10.0, 10.0), egui::Sense::hover());
+            ui.painter().rect_filled(swatch, 2.0, seam_colour(i));
+            let named = match s.name() {
+                "" => String::new(),
+                n => format!(" ({n})"),
+            };
+            ui.label(format!("{}{named}", s.label()));
             if ui
                 .small_button("Name")
                 .on_hover_text("Give this seam a name of your own (the pattern keeps its letter)")
@@ -378,6 +426,7 @@ fn seams_section(
                 actions.push(Action::Command(Command::RemoveSeam { seam: i as u32 }));
             }
         });
+        ui.indent(("seam", i), |ui| seam_lines(ui, s));
     }
     if store.seams_total as usize > store.seams.len() {
         ui.label(format!(
@@ -390,42 +439,53 @@ fn seams_section(
         return;
     };
     let seam = *i as u32;
-    let mut done = false;
-    ui.horizontal(|ui| {
-        ui.label(format!("Seam {}", store.seams[*i].label()));
-        ui.add(egui::TextEdit::singleline(name).desired_width(120.0))
-            .on_hover_text("Empty: the seam goes by its letter again");
-        if ui.button("OK").clicked() {
+    let title = format!("Seam {}", store.seams[*i].label());
+    match name_row(ui, &title, name, "Empty: the seam goes by its letter again") {
+        Some(true) => {
             actions.push(Action::Command(Command::NameSeam {
                 seam,
                 name: name.trim().to_string(),
             }));
-            done = true;
+            *naming = None;
         }
-        if ui.button("Cancel").clicked() {
-            done = true;
-        }
-    });
-    if done {
-        *naming = None;
+        Some(false) => *naming = None,
+        None => {}
     }
 }
 
-/// One seam's swatch and text.
-fn seam_row(ui: &mut egui::Ui, i: usize, s: &shared::sim_to_ui::SeamEntry) {
+/// A name being typed for `title`: the field, OK (or Enter) and Cancel. `Some(true)`
+/// once it is to be sent, `Some(false)` once cancelled.
+pub(super) fn name_row(
+    ui: &mut egui::Ui,
+    title: &str,
+    name: &mut String,
+    hint: &str,
+) -> Option<bool> {
+    let mut out = None;
+    ui.horizontal(|ui| {
+        ui.label(title);
+        let field = ui
+            .add(egui::TextEdit::singleline(name).desired_width(120.0))
+            .on_hover_text(hint);
+        if ui.button("OK").clicked()
+            || (field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)))
+        {
+            out = Some(true);
+        }
+        if ui.button("Cancel").clicked() {
+            out = Some(false);
+        }
+    });
+    out
+}
+
+/// One seam's pairs and sides' lengths, and the pairs that stopped closing.
+fn seam_lines(ui: &mut egui::Ui, s: &shared::sim_to_ui::SeamEntry) {
     let [a, b] = s.lengths;
     let long = a.max(b);
     let warn = long > 0.0 && (a - b).abs() > 0.2 * long;
-    // The seam's colour, as the views draw it.
-    let (swatch, _) = ui.allocate_exact_size(egui::vec2(10.0, 10.0), egui::Sense::hover());
-    ui.painter().rect_filled(swatch, 2.0, seam_colour(i));
-    let named = match s.name() {
-        "" => String::new(),
-        n => format!(" ({n})"),
-    };
     let text = format!(
-        "{}{named} · {} pairs, {} pulling · {:.0} / {:.0} mm",
-        s.label(),
+        "{} pairs, {} pulling · {:.0} / {:.0} mm",
         s.pairs,
         s.open,
         1000.0 * a,
@@ -450,8 +510,9 @@ fn seam_row(ui: &mut egui::Ui, i: usize, s: &shared::sim_to_ui::SeamEntry) {
         )
         .on_hover_text(
             "These pairs have come no nearer for three seconds: the body or the cloth \
-                 holds them apart. Their stitches still pull; a cut, a pin moved, or a \
-                 pinch that carries the cloth over may let them close",
+                 holds them apart (pieces too small to close round the body stop so). \
+                 Their stitches still pull; a cut, a pin moved, or a pinch that carries \
+                 the cloth over may let them close",
         );
     }
 }
