@@ -72,8 +72,6 @@ struct Service<'a> {
     paused: bool,
     /// The telemetry goes out at the next frame, not a second after the last (a pause).
     tel_due: bool,
-    /// The pattern file the design was made from (empty: none known), for the piece list.
-    source: String,
 }
 
 /// Two local models further apart than this are logged with where the time went (the
@@ -205,8 +203,11 @@ pub fn run(
         workspace: [0.0; 4],
         paused: false,
         tel_due: false,
-        source: (cfg.source.as_ref()).map_or(String::new(), |p| p.display().to_string()),
     };
+    // A new design from `--pattern` names it; a resumed one keeps what its file says.
+    if let Some(p) = &cfg.source {
+        s.design.source = p.display().to_string();
+    }
     s.workspace = scene_workspace(&s.design);
     let mut autosave = Autosave::start(&cfg.autosave, cfg.autosave_every_s)?;
     let period = Duration::from_secs_f64(1.0 / cfg.rate_hz.clamp(1.0, 1000.0));
@@ -421,12 +422,14 @@ impl Service<'_> {
                     .map(|m| m.strain_limit);
                 let (next, what, saved) = replacement(&mut self.design, c, self.cfg)?;
                 self.design = next;
-                self.source = match c {
+                // A loaded design names its own pattern (its file keeps it).
+                match c {
                     Command::Reset {
                         pattern: Some(p), ..
-                    } => p.clone(),
-                    _ => String::new(),
-                };
+                    } => self.design.source = p.clone(),
+                    Command::Reset { .. } => self.design.source.clear(),
+                    _ => {}
+                }
                 self.workspace = scene_workspace(&self.design);
                 self.design.sim.set_threads(self.threads);
                 if let Some(on) = guard {
@@ -540,7 +543,7 @@ impl Service<'_> {
             return;
         }
         let mut list = crate::publish::piece_list(&self.design, &mut self.seq_pieces);
-        list.source_len = shared::sim_to_ui::put_text(&mut list.source, &self.source);
+        list.source_len = shared::sim_to_ui::put_text(&mut list.source, &self.design.source);
         if self.ports.pieces.send_copy(list).is_ok() {
             self.pieces_sent = Some(key);
         }

@@ -1396,6 +1396,57 @@ fn a_piece_and_a_seam_named_over_the_protocol_are_listed_at_once() {
     stop.finish();
 }
 
+/// A resumed design names the pattern it was made from (its file keeps it): the piece
+/// list says so, so that the studio's New scene drapes the pattern again, and a design
+/// saved and loaded again still names it (before, both named none).
+#[test]
+fn a_resumed_or_loaded_design_names_its_pattern() {
+    let dress = concat!(env!("CARGO_MANIFEST_DIR"), "/../sim-core/assets/dress.svg");
+    let (d, stop) = dress_service_with("svcs", dress);
+    let node = services::node(&d, "ui").unwrap();
+    let mut ask = asker(ports::command_client(&node).unwrap());
+    let lists: services::Sub<shared::sim_to_ui::PieceList> =
+        ports::subscriber(&node, services::pieces, None).unwrap();
+    let source = |want: &str| {
+        let deadline = Instant::now() + Duration::from_secs(10);
+        loop {
+            if let Some(l) = lists.receive().unwrap()
+                && shared::sim_to_ui::check_source(&l).unwrap() == want
+            {
+                return;
+            }
+            assert!(Instant::now() < deadline, "no piece list from {want:?}");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    };
+    source(dress);
+    let file = std::env::temp_dir().join(format!("saiho-src-{}.saiho", std::process::id()));
+    let path = |op: u32| {
+        let mut c = ToolCommand {
+            op,
+            ..Default::default()
+        };
+        assert!(c.set_text(&file.display().to_string()));
+        c
+    };
+    let r = ask(path(op::SAVE));
+    assert_eq!(r.ok, 1, "{}", r.message());
+    // A square scene names none; the saved dress, loaded, names its pattern again.
+    let r = ask(ToolCommand {
+        op: op::RESET,
+        a: 8,
+        b: shared::ui_to_sim::body::CUBE,
+        ..Default::default()
+    });
+    assert_eq!(r.ok, 1, "{}", r.message());
+    source("");
+    let r = ask(path(op::LOAD));
+    assert_eq!(r.ok, 1, "{}", r.message());
+    source(dress);
+    let _ = std::fs::remove_file(&file);
+    stop.finish();
+}
+
 /// cloth-sim's service on its own thread over the dress (0.08 m triangles), in a scratch
 /// domain named for `tag`, for at most a minute.
 struct Service {
@@ -1416,6 +1467,13 @@ impl Service {
 }
 
 fn dress_service(tag: &str) -> (ScratchDomain, Service) {
+    dress_service_with(tag, "")
+}
+
+/// [`dress_service`] over a dress whose design names `source` as its pattern, as a
+/// resumed autosave does.
+fn dress_service_with(tag: &str, source: &str) -> (ScratchDomain, Service) {
+    let source = source.to_string();
     let pid = std::process::id();
     let d = ScratchDomain::new(&format!("{tag}{pid}")).unwrap();
     let mut cfg = ServiceConfig::new(d.0.clone());
@@ -1430,7 +1488,8 @@ fn dress_service(tag: &str) -> (ScratchDomain, Service) {
     let handle = std::thread::spawn(move || {
         let mut scene = ScenarioConfig::new(ScenarioName::DressMannequin);
         scene.piece_edge = 0.08;
-        let sim = build_design(&scene).unwrap();
+        let mut sim = build_design(&scene).unwrap();
+        sim.source = source;
         run(sim, &cfg, &stop2, &mut |_| {}).unwrap();
     });
     (

@@ -248,11 +248,24 @@ fn pieces_round_trip_and_format_1_files_still_load() {
     // A dress: two named pieces, placed round the mannequin.
     let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
     cfg.piece_edge = 0.06;
-    let d = build_design(&cfg).unwrap();
+    let mut d = build_design(&cfg).unwrap();
     let names: Vec<String> = d.piece_list().into_iter().map(|p| p.name).collect();
     assert_eq!(names, ["front", "back"]);
+    d.source = "patterns/dress.svg".into();
     let t = Design::load_design(&d.save_design().unwrap()).unwrap();
     assert_eq!(t.pieces, d.pieces);
+    assert_eq!(t.source, "patterns/dress.svg");
+    // A pattern named with control characters is no path: left out, said, the design
+    // whole.
+    d.source = "dress\u{0}.svg".into();
+    let t = Design::load_design(&d.save_design().unwrap()).unwrap();
+    assert_eq!((t.source.as_str(), t.pieces.len()), ("", 2));
+    assert!(
+        t.sim.notices.iter().any(|n| n.contains("not a path")),
+        "{:?}",
+        t.sim.notices
+    );
+    d.source.clear();
     assert!(t.pieces.iter().all(|p| p.placement.is_some()));
     // A file written in format 1 (before pieces), kept as it was written.
     let bytes = include_bytes!("fixtures/format1-drape-cube-grid8.saiho");
@@ -260,6 +273,7 @@ fn pieces_round_trip_and_format_1_files_still_load() {
     const { assert!(FORMAT >= 2) };
     let old = Design::load_design(bytes).unwrap();
     assert!(old.pieces.is_empty());
+    assert!(old.source.is_empty());
     assert!(!old.guarded(), "a file without the field has no guard");
     assert_eq!(old.sim.cloth.len(), 81);
     let list = old.piece_list();

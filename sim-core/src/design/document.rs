@@ -31,6 +31,10 @@ pub struct Design {
     /// The pieces as named when the design was made from a pattern (empty for a cloth
     /// made otherwise); see `pieces`.
     pub pieces: Vec<PieceRecord>,
+    /// The pattern file the design was made from, as its maker named it (empty: none
+    /// known): the design file keeps it, so that a resumed or loaded design can be
+    /// draped again from it.
+    pub source: String,
     /// The texture as PNG for design files, with the texture version it encodes.
     pub(super) png_cache: Option<(u64, Vec<u8>)>,
     /// Frames since each seam (by index) last welded a pair: a seam stalled that long
@@ -71,6 +75,7 @@ impl Design {
             tear: TearSettings::default(),
             seams: Vec::new(),
             pieces: Vec::new(),
+            source: String::new(),
             png_cache: None,
             seam_idle: Vec::new(),
             weld_refused: Vec::new(),

@@ -515,6 +515,10 @@ pub fn build_scene(cfg: &ScenarioConfig) -> Result<(Design, Option<PatternSpec>)
     sim.notices.extend(notices);
     let mut design = Design::new(sim);
     design.pieces = records;
+    // The pattern draped (`drape-pattern`): its design file names it.
+    if let Some(p) = &cfg.pattern {
+        design.source = p.display().to_string();
+    }
     Ok((design, spec))
 }
 

@@ -92,6 +92,10 @@ pub struct Header {
     /// The named pieces (format 2; none in format 1).
     #[serde(default)]
     pub pieces: Vec<crate::design::PieceRecord>,
+    /// The pattern file the design was made from (`Design::source`); files written
+    /// before it was kept (2026-12-03) have none.
+    #[serde(default)]
+    pub source: String,
 }
 
 pub(super) fn fnv1a(bytes: &[u8]) -> u64 {

@@ -15,6 +15,8 @@ use crate::solver::{Cloth, Environment, MAX_FRAME_SUBSTEPS, ModelKind, Simulatio
 /// ones are slowed to it (a velocity of 1e30 m/s sent the first frame's contact boxes
 /// over billions of grid cells).
 const MAX_SPEED: f32 = 1000.0;
+/// Longest pattern path a design file may name, bytes (Linux's PATH_MAX).
+const MAX_SOURCE: usize = 4096;
 
 impl Design {
     pub fn load_design_file(path: &std::path::Path) -> Result<Self, DesignError> {
@@ -83,6 +85,16 @@ impl Design {
         let mut design = Design::with_texture(sim, texture);
         design.seams = read_seams(h)?;
         design.pieces = h.pieces.clone();
+        // A path, or nothing: anything else is left out, the design loads.
+        if h.source.len() <= MAX_SOURCE && !h.source.chars().any(char::is_control) {
+            design.source = h.source.clone();
+        } else {
+            design.sim.notices.push(format!(
+                "the design file names its pattern with {} bytes that are not a path; \
+                 left out (the design is whole)",
+                h.source.len()
+            ));
+        }
         design.sim.notices.extend(fabric_notes);
         design.tear = read_tear(h)?;
         let crossed = design.sim.crossings();

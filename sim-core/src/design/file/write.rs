@@ -99,6 +99,7 @@ impl Design {
             texture_height: self.texture.height,
             sections: table,
             pieces: self.pieces.clone(),
+            source: self.source.clone(),
         };
         let json = serde_json::to_vec(&header).map_err(|e| corrupt(e.to_string()))?;
         let mut out = Vec::with_capacity(24 + json.len() + offset as usize);
