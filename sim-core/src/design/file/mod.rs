@@ -16,7 +16,8 @@
 //! Sections: `x` and `v` (f32 x 3 per vertex), `tris` (per triangle: 3 u32 indices, 3 x 3
 //! f32 rest corners, 3 x 2 f32 UVs), `body_vertices` (f32 x 3), `body_triangles` (u32 x 3),
 //! `texture` (PNG, RGBA8). The header's `pieces` (format 2) name the pieces (see
-//! `PieceRecord`); a format 1 file has none and loads with its parts unnamed. A reader refuses a newer format, a bad checksum, or any count,
+//! `PieceRecord`); a format 1 file has none and loads with its parts unnamed. Its `source`
+//! names the pattern file the design was made from (absent in older files: none). A reader refuses a newer format, a bad checksum, or any count,
 //! index or value out of range, and builds nothing in that case.
 //!
 //! Inside: `format` (container, header, readers) <- `write` and `read`.
