@@ -237,11 +237,7 @@ impl Checked for ToolCommand {
         if !self.uv.iter().all(|c| c.is_finite()) {
             return Err("pattern coordinates are not finite".into());
         }
-        if matches!(self.op, op::SAVE | op::EXPORT | op::LOAD)
-            && self.text().is_none_or(str::is_empty)
-        {
-            return Err("save, load and export need a UTF-8 path".into());
-        }
+        self.check_texts()?;
         if self.op == op::SET_SIMULATING && self.mode > 1 {
             return Err(format!("simulating {} (0 paused, 1 running)", self.mode));
         }
@@ -256,17 +252,6 @@ impl Checked for ToolCommand {
                 "strain limit {} (0 for none, else {} to {})",
                 self.value, STRAIN_LIMIT.0, STRAIN_LIMIT.1
             ));
-        }
-        if self.op == op::NAME_SEAM && self.text().is_none() {
-            return Err("a seam's name must be UTF-8 text".into());
-        }
-        if self.op == op::NAME_PIECE && self.text().is_none_or(|t| t.trim().is_empty()) {
-            return Err("a piece's name must be UTF-8 text, not empty".into());
-        }
-        if matches!(self.op, op::SET_FABRIC | op::SET_PIECE_FABRIC)
-            && self.text().is_none_or(|t| t.trim().is_empty())
-        {
-            return Err("a fabric needs a UTF-8 name".into());
         }
         if self.op == op::SET_MATERIAL {
             if self.a > 100 {
@@ -335,6 +320,29 @@ impl Checked for ToolCommand {
                 "a seam needs a positive tolerance, got {}",
                 self.value
             ));
+        }
+        Ok(())
+    }
+}
+
+impl ToolCommand {
+    /// The paths and names a command's `text` must carry.
+    fn check_texts(&self) -> Result<(), String> {
+        if matches!(self.op, op::SAVE | op::EXPORT | op::LOAD)
+            && self.text().is_none_or(str::is_empty)
+        {
+            return Err("save, load and export need a UTF-8 path".into());
+        }
+        if self.op == op::NAME_SEAM && self.text().is_none() {
+            return Err("a seam's name must be UTF-8 text".into());
+        }
+        if self.op == op::NAME_PIECE && self.text().is_none_or(|t| t.trim().is_empty()) {
+            return Err("a piece's name must be UTF-8 text, not empty".into());
+        }
+        if matches!(self.op, op::SET_FABRIC | op::SET_PIECE_FABRIC)
+            && self.text().is_none_or(|t| t.trim().is_empty())
+        {
+            return Err("a fabric needs a UTF-8 name".into());
         }
         Ok(())
     }

@@ -123,23 +123,7 @@ pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
                 .map(|n| format!("Deleted {name} ({n} triangles)"))
                 .map_err(e)
         }
-        Command::NameSeam { seam, name } => {
-            let label = sim_core::design::sewing_pattern::seam_label(*seam as usize);
-            design
-                .name_seam(*seam as usize, name)
-                .map(|_| match name.trim() {
-                    "" => format!("Seam {label} goes by its letter again"),
-                    n => format!("Seam {label} is now called \"{n}\" (undo takes it back)"),
-                })
-                .map_err(e)
-        }
-        Command::NamePiece { piece, name } => {
-            let was = piece_name(design, *piece);
-            design
-                .name_piece(*piece as usize, name)
-                .map(|_| format!("{was} is now called {} (undo takes it back)", name.trim()))
-                .map_err(e)
-        }
+        Command::NameSeam { .. } | Command::NamePiece { .. } => name_one(design, c),
         Command::RemoveSeam { seam } => {
             let label = sim_core::design::sewing_pattern::seam_label(*seam as usize);
             design
@@ -388,6 +372,31 @@ fn fabric_notes(r: Result<Vec<String>, sim_core::error::ConfigError>) -> String 
 }
 
 /// Piece `piece` made of the library's fabric `name` (or the design's material).
+/// A seam or a piece named (`NAME_SEAM`, `NAME_PIECE`), with the reply that says so.
+fn name_one(design: &mut Design, c: &Command) -> Result<String, String> {
+    let e = |x: EditError| x.to_string();
+    match c {
+        Command::NameSeam { seam, name } => {
+            let label = sim_core::design::sewing_pattern::seam_label(*seam as usize);
+            design
+                .name_seam(*seam as usize, name)
+                .map(|_| match name.trim() {
+                    "" => format!("Seam {label} goes by its letter again"),
+                    n => format!("Seam {label} is now called \"{n}\" (undo takes it back)"),
+                })
+                .map_err(e)
+        }
+        Command::NamePiece { piece, name } => {
+            let was = piece_name(design, *piece);
+            design
+                .name_piece(*piece as usize, name)
+                .map(|_| format!("{was} is now called {} (undo takes it back)", name.trim()))
+                .map_err(e)
+        }
+        _ => Err("not a name".into()),
+    }
+}
+
 fn set_piece_fabric(design: &mut Design, piece: u32, name: &str) -> Result<String, String> {
     let name = name.trim();
     let piece_name = design

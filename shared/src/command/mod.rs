@@ -467,20 +467,7 @@ impl Command {
                 dir: text(c),
                 allowance_mm: c.value,
             },
-            op::RESET => Self::Reset {
-                body: match c.b {
-                    body::SPHERE => BodyChoice::Sphere,
-                    body::MANNEQUIN => BodyChoice::Mannequin,
-                    body::MANNEQUIN_APOSE => BodyChoice::MannequinAPose,
-                    body::HUMAN => BodyChoice::Human,
-                    _ => BodyChoice::Cube,
-                },
-                grid: some_nonzero(c.a),
-                material: MaterialChange::from_wire(u),
-                substeps: some_nonzero(c.mode),
-                model: u32::from(c.rgba[0]).checked_sub(1),
-                pattern: Some(text(c)).filter(|t| !t.is_empty()),
-            },
+            op::RESET => reset_from_wire(c),
             op::LOAD => Self::Load { path: text(c) },
             op::SET_MATERIAL => Self::SetMaterial {
                 material: MaterialChange::from_wire(u),
@@ -539,6 +526,24 @@ impl Command {
                 });
             }
         })
+    }
+}
+
+/// A RESET record's new scene (checked already).
+fn reset_from_wire(c: &ToolCommand) -> Command {
+    Command::Reset {
+        body: match c.b {
+            body::SPHERE => BodyChoice::Sphere,
+            body::MANNEQUIN => BodyChoice::Mannequin,
+            body::MANNEQUIN_APOSE => BodyChoice::MannequinAPose,
+            body::HUMAN => BodyChoice::Human,
+            _ => BodyChoice::Cube,
+        },
+        grid: some_nonzero(c.a),
+        material: MaterialChange::from_wire(&c.uv),
+        substeps: some_nonzero(c.mode),
+        model: u32::from(c.rgba[0]).checked_sub(1),
+        pattern: Some(text(c)).filter(|t| !t.is_empty()),
     }
 }
 

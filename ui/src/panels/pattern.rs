@@ -148,7 +148,29 @@ impl PatternFrame {
                 }
             }
         }
-        // Each seam's sides in its colour, its label where each run of its edges starts.
+        self.seams(painter, store);
+        for (a, b) in notches {
+            let d = (b - a).normalized() * (b - a).length().max(7.0);
+            painter.line_segment([a, a + d], egui::Stroke::new(1.5, egui::Color32::WHITE));
+        }
+        // A stitch joins two vertices; each is drawn at its first place in the pattern.
+        let mut place_of: std::collections::HashMap<u32, [f32; 2]> = Default::default();
+        for c in &mesh.corners {
+            place_of.entry(c.vertex).or_insert(c.pattern);
+        }
+        for [a, b, seam] in &store.stitches {
+            if let (Some(pa), Some(pb)) = (place_of.get(a), place_of.get(b)) {
+                let stitch =
+                    egui::Stroke::new(1.0, seam_colour(*seam as usize).gamma_multiply(0.6));
+                painter.line_segment([self.at(*pa), self.at(*pb)], stitch);
+            }
+        }
+    }
+}
+
+impl PatternFrame {
+    /// Each seam's sides in its colour, its label where each run of its edges starts.
+    fn seams(&self, painter: &egui::Painter, store: &Store) {
         let segments = &store.seam_segments;
         let mut run: Vec<egui::Pos2> = Vec::new();
         for (k, g) in segments.iter().enumerate() {
@@ -182,26 +204,8 @@ impl PatternFrame {
                 );
             }
         }
-        for (a, b) in notches {
-            let d = (b - a).normalized() * (b - a).length().max(7.0);
-            painter.line_segment([a, a + d], egui::Stroke::new(1.5, egui::Color32::WHITE));
-        }
-        // A stitch joins two vertices; each is drawn at its first place in the pattern.
-        let mut place_of: std::collections::HashMap<u32, [f32; 2]> = Default::default();
-        for c in &mesh.corners {
-            place_of.entry(c.vertex).or_insert(c.pattern);
-        }
-        for [a, b, seam] in &store.stitches {
-            if let (Some(pa), Some(pb)) = (place_of.get(a), place_of.get(b)) {
-                let stitch =
-                    egui::Stroke::new(1.0, seam_colour(*seam as usize).gamma_multiply(0.6));
-                painter.line_segment([self.at(*pa), self.at(*pb)], stitch);
-            }
-        }
     }
-}
 
-impl PatternFrame {
     /// Each listed piece's name over the middle of its outline (the grain line's), so
     /// that pieces cut alike can be told apart.
     fn names(
