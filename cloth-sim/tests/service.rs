@@ -616,18 +616,7 @@ fn new_scenes(node: &Node, ask: Ask<'_>) {
     // The piece list names the pattern the design was made from (protocol 18).
     let lists: services::Sub<shared::sim_to_ui::PieceList> =
         ports::subscriber(node, services::pieces, None).unwrap();
-    let source = |want: &str| {
-        let deadline = Instant::now() + Duration::from_secs(5);
-        loop {
-            if let Some(l) = lists.receive().unwrap()
-                && shared::sim_to_ui::check_source(&l).unwrap() == want
-            {
-                return;
-            }
-            assert!(Instant::now() < deadline, "no piece list from {want:?}");
-            std::thread::sleep(Duration::from_millis(20));
-        }
-    };
+    let source = |want: &str| wait_for_source(&lists, want);
     source(dress);
     paused_then_run(&telemetry, ask);
     // A new scene under another model.
@@ -1407,18 +1396,7 @@ fn a_resumed_or_loaded_design_names_its_pattern() {
     let mut ask = asker(ports::command_client(&node).unwrap());
     let lists: services::Sub<shared::sim_to_ui::PieceList> =
         ports::subscriber(&node, services::pieces, None).unwrap();
-    let source = |want: &str| {
-        let deadline = Instant::now() + Duration::from_secs(10);
-        loop {
-            if let Some(l) = lists.receive().unwrap()
-                && shared::sim_to_ui::check_source(&l).unwrap() == want
-            {
-                return;
-            }
-            assert!(Instant::now() < deadline, "no piece list from {want:?}");
-            std::thread::sleep(Duration::from_millis(20));
-        }
-    };
+    let source = |want: &str| wait_for_source(&lists, want);
     source(dress);
     let file = std::env::temp_dir().join(format!("saiho-src-{}.saiho", std::process::id()));
     let path = |op: u32| {
@@ -1445,6 +1423,20 @@ fn a_resumed_or_loaded_design_names_its_pattern() {
     source(dress);
     let _ = std::fs::remove_file(&file);
     stop.finish();
+}
+
+/// Waits (10 s at most) for a piece list naming `want` as the design's pattern.
+fn wait_for_source(lists: &services::Sub<shared::sim_to_ui::PieceList>, want: &str) {
+    let deadline = Instant::now() + Duration::from_secs(10);
+    loop {
+        if let Some(l) = lists.receive().unwrap()
+            && shared::sim_to_ui::check_source(&l).unwrap() == want
+        {
+            return;
+        }
+        assert!(Instant::now() < deadline, "no piece list from {want:?}");
+        std::thread::sleep(Duration::from_millis(20));
+    }
 }
 
 /// cloth-sim's service on its own thread over the dress (0.08 m triangles), in a scratch
