@@ -13,7 +13,6 @@ use super::document::Design;
 use super::error::EditError;
 use super::garment::DEFAULT_FABRIC;
 use super::pieces::PieceRecord;
-use super::prim::Prim;
 use crate::error::ConfigError;
 use crate::fabric::Library;
 use crate::solver::{Material, MaterialZones, Zone};
@@ -86,40 +85,24 @@ impl Design {
     /// of one pattern piece (a piece cut in two) share its fabric. Returns the piece's
     /// name as its record has it.
     pub fn set_piece_fabric(&mut self, index: usize, name: &str) -> Result<String, EditError> {
-        let list = self.piece_list();
-        let info = list.get(index).ok_or(EditError::NoPiece {
+        let (k, _) = self.own_record(
             index,
-            count: list.len(),
-        })?;
-        let Some(k) = info.record else {
-            return Err(EditError::Piece(format!(
-                "{} was not made as a pattern piece, so it has no fabric of its own; set the \
-                 design's fabric instead",
-                info.name
-            )));
-        };
+            "no fabric of its own; set the design's fabric instead",
+        )?;
         let name = name.trim();
         if name != DEFAULT_FABRIC {
             Library::builtin()
                 .get(name)
                 .map_err(|e| EditError::Piece(e.to_string()))?;
         }
-        let old = self.pieces[k].clone();
+        let old = &self.pieces[k];
         if old.fabric == name {
-            return Ok(old.name);
+            return Ok(old.name.clone());
         }
         let new = PieceRecord {
             fabric: name.to_string(),
             ..old.clone()
         };
-        self.commit(
-            "piece fabric",
-            vec![Prim::Piece {
-                index: k as u32,
-                old: Some(old.clone()),
-                new: Some(new),
-            }],
-        )?;
-        Ok(old.name)
+        self.replace_record("piece fabric", k, new)
     }
 }

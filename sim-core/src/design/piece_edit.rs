@@ -297,18 +297,11 @@ impl Design {
     /// [`MAX_NAME`](super::MAX_NAME) characters or with control characters, one another
     /// piece has, and a cloth that was not made as a pattern piece. Returns the old name.
     pub fn name_piece(&mut self, index: usize, name: &str) -> Result<String, EditError> {
-        let list = self.piece_list();
-        let info = list.get(index).ok_or(EditError::NoPiece {
+        let (k, list) = self.own_record(
             index,
-            count: list.len(),
-        })?;
-        let Some(k) = info.record else {
-            return Err(EditError::Piece(format!(
-                "{} was not made as a pattern piece, so it has no name of its own to change; \
-                 add a piece (Pieces: Add piece, or a pattern file) to name it",
-                info.name
-            )));
-        };
+            "no name of its own to change; add a piece (Pieces: Add piece, or a pattern file) \
+             to name it",
+        )?;
         let name = name.trim();
         if name.is_empty()
             || name.chars().count() > super::MAX_NAME
@@ -320,9 +313,9 @@ impl Design {
                 value: format!("{name:?}"),
             });
         }
-        let old = self.pieces[k].clone();
+        let old = &self.pieces[k];
         if old.name == name {
-            return Ok(old.name);
+            return Ok(old.name.clone());
         }
         if self.pieces.iter().any(|r| r.name == name) || list.iter().any(|p| p.name == name) {
             return Err(EditError::Piece(format!(
@@ -334,15 +327,7 @@ impl Design {
             name: name.to_string(),
             ..old.clone()
         };
-        self.commit(
-            "name piece",
-            vec![Prim::Piece {
-                index: k as u32,
-                old: Some(old.clone()),
-                new: Some(new),
-            }],
-        )?;
-        Ok(old.name)
+        self.replace_record("name piece", k, new)
     }
 }
 

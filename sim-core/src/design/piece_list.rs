@@ -7,8 +7,9 @@ use std::collections::HashMap;
 use glam::Vec2;
 
 use super::document::Design;
-#[cfg(doc)]
+use super::error::EditError;
 use super::pieces::PieceRecord;
+use super::prim::Prim;
 
 /// A piece as the cloth has it now.
 #[derive(Clone, Debug, PartialEq)]
@@ -25,6 +26,48 @@ pub struct PieceInfo {
 }
 
 impl Design {
+    /// The record of piece `index` of [`Design::piece_list`], with the list; a cloth not
+    /// made as a pattern piece is refused, `what` saying what it has none of.
+    pub(super) fn own_record(
+        &self,
+        index: usize,
+        what: &str,
+    ) -> Result<(usize, Vec<PieceInfo>), EditError> {
+        let list = self.piece_list();
+        let info = list.get(index).ok_or(EditError::NoPiece {
+            index,
+            count: list.len(),
+        })?;
+        match info.record {
+            Some(k) => Ok((k, list)),
+            None => Err(EditError::Piece(format!(
+                "{} was not made as a pattern piece, so it has {what}",
+                info.name
+            ))),
+        }
+    }
+
+    /// Record `k` replaced by `new` as one undoable edit labelled `label`; returns the
+    /// name it had.
+    pub(super) fn replace_record(
+        &mut self,
+        label: &'static str,
+        k: usize,
+        new: PieceRecord,
+    ) -> Result<String, EditError> {
+        let old = self.pieces[k].clone();
+        let name = old.name.clone();
+        self.commit(
+            label,
+            vec![Prim::Piece {
+                index: k as u32,
+                old: Some(old),
+                new: Some(new),
+            }],
+        )?;
+        Ok(name)
+    }
+
     /// The record of the piece whose band holds pattern point `p` (the design's pattern
     /// x and -z).
     pub fn record_at(&self, p: Vec2) -> Option<usize> {
