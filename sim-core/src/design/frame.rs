@@ -77,6 +77,7 @@ impl Design {
         self.sim.stitches.clear();
         self.sim.stitches.extend(open_stitches(&self.seams));
         self.watch_stalls();
+        self.sim.stitches_stalled = self.stitches_stalled();
         self.sim.stretch_floor = self.tear_floor();
         self.sim.holds.clear();
         if self.hold_frames > 0 {

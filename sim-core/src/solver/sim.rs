@@ -55,6 +55,9 @@ pub struct Simulation {
     pub(crate) grip: Grip,
     /// Open seam stitches, handed in by the design before each frame.
     pub stitches: Vec<Stitch>,
+    /// The open stitches have stopped closing (the design's watch, `design::stalls`):
+    /// they no longer keep the cloth from sleeping once it has come to rest.
+    pub stitches_stalled: bool,
     /// Vertices kept on one side of planes, handed in by the design before each frame.
     pub holds: Vec<Hold>,
     /// The least stretch the xpbd model's strain limit holds a triangle to, and where
@@ -182,6 +185,7 @@ impl Simulation {
             frame: 0,
             grip: Grip::default(),
             stitches: Vec::new(),
+            stitches_stalled: false,
             holds: Vec::new(),
             stretch_floor: StretchFloor::NONE,
             sleep: None,
@@ -300,11 +304,14 @@ impl Simulation {
     }
 
     /// After a frame: puts the cloth to sleep once it has been still for the rule's
-    /// frames (its velocities zeroed; see `solver::rest`), unless the pen holds it or a
-    /// seam stitch is open (a seam is never left half sewn).
+    /// frames (its velocities zeroed; see `solver::rest`), unless the pen holds it, a
+    /// vertex is held, or a seam stitch is open and still closing (a seam is never left
+    /// half sewn while it closes; one whose pairs stopped closing, which the designer has
+    /// been told of, lets a cloth at rest sleep: it cost a core for nothing before).
     fn watch_rest(&mut self, stats: &FrameStats) {
         let Some(rule) = self.sleep else { return };
-        let held = self.grip.pinch.is_some() || !self.stitches.is_empty() || !self.holds.is_empty();
+        let sewing = !self.stitches.is_empty() && !self.stitches_stalled;
+        let held = self.grip.pinch.is_some() || sewing || !self.holds.is_empty();
         if self
             .rest
             .watch(&rule, &self.cloth.x, &self.cloth.inv_mass, held)
