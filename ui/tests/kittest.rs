@@ -610,7 +610,7 @@ fn the_pieces_panel_lists_selects_adds_places_and_deletes() {
     press(&mut h, "Add piece");
     let c = *commands(&h).last().unwrap();
     assert_eq!((c.op, c.mode, c.a), (op::ADD_PIECE, 0, place::BACK));
-    assert_eq!(&c.vec[..2], &[0.4, 0.5]);
+    assert_eq!(&c.vec[..2], &[0.6, 0.6]);
     // From a file with no path: nothing goes out, the status says why.
     let n = commands(&h).len();
     press(&mut h, "From file");

@@ -36,6 +36,12 @@ pub struct PiecesPanel {
     pub piece_naming: Option<(usize, String)>,
 }
 
+/// What the new piece's size row says: how big a piece must be to go round the body.
+const SIZE_HELP: &str = "The new piece's width and height, metres. The mannequin is about 1.0 m \
+     round at the chest and hips: a front and a back 0.6 m wide close round it with room to \
+     spare (0.4 m ones cannot, and their side seams stop closing). 0.6 m high reaches from the \
+     shoulders to the hips.";
+
 /// The fabric chooser's entries.
 fn fabric_entries() -> Vec<(String, String)> {
     let own = sim_core::design::garment::DEFAULT_FABRIC;
@@ -54,7 +60,7 @@ impl Default for PiecesPanel {
         Self {
             selected: None,
             shape: shape::RECTANGLE,
-            size: [0.4, 0.5],
+            size: [0.6, 0.6],
             path: String::new(),
             place: place::FRONT,
             edge: 0.03,
@@ -245,7 +251,8 @@ impl PiecesPanel {
                             .range(PIECE_SIZE.0..=PIECE_SIZE.1)
                             .speed(0.01)
                             .suffix(" m"),
-                    );
+                    )
+                    .on_hover_text(SIZE_HELP);
                 }
             });
         }
