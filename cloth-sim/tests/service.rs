@@ -1171,7 +1171,7 @@ fn pieces_are_added_placed_listed_and_deleted_over_the_protocol() {
         ..Default::default()
     });
     assert!(
-        r.ok == 0 && r.message().contains("no piece 9"),
+        r.ok == 0 && r.message().contains("there is no piece 9"),
         "{}",
         r.message()
     );
@@ -1287,6 +1287,37 @@ fn a_piece_gets_its_own_fabric_over_the_protocol() {
     stop.finish();
 }
 
+/// Waits for a piece list whose pieces and first seam (if any) are called so.
+fn wait_for_names(
+    lists: &services::Sub<shared::sim_to_ui::PieceList>,
+    pieces: &[&str],
+    seam: Option<&str>,
+) {
+    let deadline = Instant::now() + Duration::from_secs(10);
+    let mut seen = String::new();
+    loop {
+        while let Some(l) = lists.receive().unwrap() {
+            let p = shared::sim_to_ui::check_pieces(&l).unwrap();
+            let s = shared::sim_to_ui::check_seams(&l).unwrap();
+            seen = format!(
+                "{:?} {:?}",
+                p.iter().map(|p| &p.name).collect::<Vec<_>>(),
+                s.iter().map(|s| s.name()).collect::<Vec<_>>()
+            );
+            if p.iter().map(|p| p.name.as_str()).eq(pieces.iter().copied())
+                && s.first().map(|s| s.name()) == seam
+            {
+                return;
+            }
+        }
+        assert!(
+            Instant::now() < deadline,
+            "no list with pieces {pieces:?} and seam A {seam:?}; the last: {seen}"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
+}
+
 /// A piece and a seam named over the protocol: the list says so at once (it did not
 /// for a seam's name before protocol 21: the list went out again only when its counts
 /// or fabrics changed), another piece's name and an empty one are refused, and undo
@@ -1298,32 +1329,7 @@ fn a_piece_and_a_seam_named_over_the_protocol_are_listed_at_once() {
     let mut ask = asker(ports::command_client(&node).unwrap());
     let lists: services::Sub<shared::sim_to_ui::PieceList> =
         ports::subscriber(&node, services::pieces, None).unwrap();
-    // Waits for a list whose pieces and first seam (if any) are called so.
-    let listed = |pieces: &[&str], seam: Option<&str>| {
-        let deadline = Instant::now() + Duration::from_secs(10);
-        let mut seen = String::new();
-        loop {
-            while let Some(l) = lists.receive().unwrap() {
-                let p = shared::sim_to_ui::check_pieces(&l).unwrap();
-                let s = shared::sim_to_ui::check_seams(&l).unwrap();
-                seen = format!(
-                    "{:?} {:?}",
-                    p.iter().map(|p| &p.name).collect::<Vec<_>>(),
-                    s.iter().map(|s| s.name()).collect::<Vec<_>>()
-                );
-                if p.iter().map(|p| p.name.as_str()).eq(pieces.iter().copied())
-                    && s.first().map(|s| s.name()) == seam
-                {
-                    return;
-                }
-            }
-            assert!(
-                Instant::now() < deadline,
-                "no list with pieces {pieces:?} and seam A {seam:?}; the last: {seen}"
-            );
-            std::thread::sleep(Duration::from_millis(10));
-        }
-    };
+    let listed = |pieces: &[&str], seam: Option<&str>| wait_for_names(&lists, pieces, seam);
     listed(&["front", "back"], None);
     let named = |op: u32, a: u32, name: &str| {
         let mut c = ToolCommand {
@@ -1382,6 +1388,61 @@ fn a_piece_and_a_seam_named_over_the_protocol_are_listed_at_once() {
     let r = ask(named(op::NAME_SEAM, 0, "right shoulder"));
     assert_eq!(r.ok, 1, "{}", r.message());
     listed(&four, Some("right shoulder"));
+    stop.finish();
+}
+
+/// A piece copied over the protocol (protocol 22), turned over and lower down: listed at
+/// once under a new name, said where it went; a piece that is not there and a drop past
+/// the knees are refused with nothing added; undo takes the copy away.
+#[test]
+fn a_copied_piece_is_listed_at_once_and_undo_takes_it_away() {
+    let (d, stop) = dress_service("svcc");
+    let node = services::node(&d, "ui").unwrap();
+    let mut ask = asker(ports::command_client(&node).unwrap());
+    let lists: services::Sub<shared::sim_to_ui::PieceList> =
+        ports::subscriber(&node, services::pieces, None).unwrap();
+    let two = ["front", "back"];
+    wait_for_names(&lists, &two, None);
+    let copy = |a: u32, drop: f32| ToolCommand {
+        op: op::DUPLICATE_PIECE,
+        a,
+        b: shared::ui_to_sim::place::BACK,
+        mode: 1,
+        value: 0.08,
+        vec: [0.0, 0.0, drop],
+        ..Default::default()
+    };
+    let r = ask(copy(9, 0.0));
+    assert!(
+        r.ok == 0 && r.message().contains("there is no piece 9"),
+        "{}",
+        r.message()
+    );
+    let r = ask(copy(1, 1.5));
+    assert!(
+        r.ok == 0 && r.message().contains("1.5 m below"),
+        "{}",
+        r.message()
+    );
+    let r = ask(copy(1, 0.1));
+    assert!(
+        r.ok == 1
+            && r.message()
+                .contains("Copied back as back (2) at the back, 0.10 m lower"),
+        "{}",
+        r.message()
+    );
+    wait_for_names(&lists, &["front", "back", "back (2)"], None);
+    let r = ask(ToolCommand {
+        op: op::UNDO,
+        ..Default::default()
+    });
+    assert!(
+        r.ok == 1 && r.message().contains("copy piece"),
+        "{}",
+        r.message()
+    );
+    wait_for_names(&lists, &two, None);
     stop.finish();
 }
 

@@ -56,9 +56,11 @@ pub mod op {
     pub const SET_MATERIAL: u32 = 16;
     /// A new piece (`mode`: 0 rectangle, 1 ellipse of `vec[0]` x `vec[1]` m; 2 from the
     /// pattern file at `text`), meshed with edges of `value` m, started at place `a`
-    /// (see [`place`](super::place)).
+    /// (see [`place`](super::place)), its top `vec[2]` m below the place's start
+    /// ([`PIECE_DROP`](super::PIECE_DROP); since protocol 22).
     pub const ADD_PIECE: u32 = 17;
-    /// Piece `a` (as `saiho/pieces` lists them) moved to place `b`.
+    /// Piece `a` (as `saiho/pieces` lists them) moved to place `b`, its top `vec[2]` m
+    /// below the place's start (since protocol 22).
     pub const PLACE_PIECE: u32 = 18;
     /// Piece `a` deleted.
     pub const DELETE_PIECE: u32 = 19;
@@ -102,7 +104,13 @@ pub mod op {
     /// characters, a name no other piece has), undoably: the list, the pattern view and
     /// the pattern out call it so. Since protocol 21.
     pub const NAME_PIECE: u32 = 29;
-    pub const LAST: u32 = NAME_PIECE;
+    /// A copy of piece `a` (as `saiho/pieces` lists them) as it is now (its outline after
+    /// cuts and tears), of its fabric, meshed with edges of `value` m and started at place
+    /// `b` (its top `vec[2]` m below the place's start); `mode` 1 turns it over (a mirror
+    /// image: a left front from a right one), 0 not.
+    /// Its seams, paint and pins are not copied. Undoable. Since protocol 22.
+    pub const DUPLICATE_PIECE: u32 = 30;
+    pub const LAST: u32 = DUPLICATE_PIECE;
 }
 
 /// [`ToolCommand::b`] of a RESET: the body.
@@ -148,6 +156,10 @@ pub mod shape {
 /// A new piece's size, each side, m, and its mesh's edge length, m.
 pub const PIECE_SIZE: (f32, f32) = (0.01, 3.0);
 pub const PIECE_EDGE: (f32, f32) = (0.005, 0.5);
+/// How far below its place's own start (the shoulders; for an arm, the shoulder, down
+/// the arm) a piece's top may start, m: ADD_PIECE's, PLACE_PIECE's and DUPLICATE_PIECE's
+/// `vec[2]`. Since protocol 22 (0 before: the place's own start).
+pub const PIECE_DROP: f32 = 1.0;
 
 /// The strain limits SET_STRAIN_LIMIT accepts besides 0 (the material's own range).
 pub const STRAIN_LIMIT: (f32, f32) = (0.01, 10.0);
@@ -284,6 +296,41 @@ impl Checked for ToolCommand {
                 return Err("material values must not be negative".into());
             }
         }
+        if matches!(
+            self.op,
+            op::ADD_PIECE | op::PLACE_PIECE | op::DUPLICATE_PIECE
+        ) {
+            self.check_piece()?;
+        }
+        if matches!(self.op, op::SEAM | op::SEAM_PLANE)
+            && self.value.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+        {
+            return Err(format!(
+                "a seam needs a positive tolerance, got {}",
+                self.value
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl ToolCommand {
+    /// ADD_PIECE's, PLACE_PIECE's and DUPLICATE_PIECE's own fields.
+    fn check_piece(&self) -> Result<(), String> {
+        if !(0.0..=PIECE_DROP).contains(&self.vec[2]) {
+            return Err(format!(
+                "a piece's top {} m below its place's start (0 to {PIECE_DROP} m)",
+                self.vec[2]
+            ));
+        }
+        if matches!(self.op, op::ADD_PIECE | op::DUPLICATE_PIECE)
+            && !(PIECE_EDGE.0..=PIECE_EDGE.1).contains(&self.value)
+        {
+            return Err(format!(
+                "edge length {} m (between {} and {} m)",
+                self.value, PIECE_EDGE.0, PIECE_EDGE.1
+            ));
+        }
         if self.op == op::ADD_PIECE {
             if self.mode > shape::LAST || self.a > place::LAST {
                 return Err(format!(
@@ -291,12 +338,6 @@ impl Checked for ToolCommand {
                     self.mode,
                     self.a,
                     place::LAST
-                ));
-            }
-            if !(PIECE_EDGE.0..=PIECE_EDGE.1).contains(&self.value) {
-                return Err(format!(
-                    "edge length {} m (between {} and {} m)",
-                    self.value, PIECE_EDGE.0, PIECE_EDGE.1
                 ));
             }
             let sized = |v: f32| (PIECE_SIZE.0..=PIECE_SIZE.1).contains(&v);
@@ -313,19 +354,17 @@ impl Checked for ToolCommand {
         if self.op == op::PLACE_PIECE && self.b > place::LAST {
             return Err(format!("place {} (0..={})", self.b, place::LAST));
         }
-        if matches!(self.op, op::SEAM | op::SEAM_PLANE)
-            && self.value.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
-        {
+        if self.op == op::DUPLICATE_PIECE && (self.b > place::LAST || self.mode > 1) {
             return Err(format!(
-                "a seam needs a positive tolerance, got {}",
-                self.value
+                "a copy at place {} turned over {} (places 0..={}; 0 as it is, 1 turned over)",
+                self.b,
+                self.mode,
+                place::LAST
             ));
         }
         Ok(())
     }
-}
 
-impl ToolCommand {
     /// The paths and names a command's `text` must carry.
     fn check_texts(&self) -> Result<(), String> {
         if matches!(self.op, op::SAVE | op::EXPORT | op::LOAD)

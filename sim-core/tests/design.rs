@@ -459,6 +459,90 @@ fn a_drag_near_the_corners_seams_the_whole_side() {
     assert!((ends - 0.5).abs() < 0.005, "{ends}");
 }
 
+/// A piece asked to start lower (a skirt at the waist) starts that much lower, added,
+/// moved or copied; a drop past the knees, negative or not a number is refused and
+/// changes nothing.
+#[test]
+fn a_piece_starts_as_much_lower_as_asked() {
+    use sim_core::design::garment::{Place, Start};
+    let (mut d, skirt) = dress_and_rectangle("skirt", 0.6, 0.3);
+    let n0 = d.sim.cloth.len();
+    // The new piece's highest vertex.
+    let top = |d: &Design| {
+        d.sim.cloth.x[n0..]
+            .iter()
+            .map(|p| p.y)
+            .fold(f32::MIN, f32::max)
+    };
+    d.add_piece(&skirt, Place::Back, 0.05).unwrap();
+    let high = top(&d);
+    d.undo().unwrap();
+    let waist = Start {
+        place: Place::Back,
+        drop: 0.42,
+    };
+    d.add_piece(&skirt, waist, 0.05).unwrap();
+    let low = top(&d);
+    assert!((high - low - 0.42).abs() < 0.01, "{high} then {low} m");
+    // Moved to the front, 0.2 m down from the shoulders.
+    let at = d.piece_list().len() - 1;
+    let front = Start {
+        place: Place::Front,
+        drop: 0.2,
+    };
+    d.place_piece(at, front).unwrap();
+    assert!(
+        (high - top(&d) - 0.2).abs() < 0.01,
+        "{high} then {}",
+        top(&d)
+    );
+    // Refused, nothing changed.
+    let steps = d.history.undo_steps();
+    let x = d.sim.cloth.x.clone();
+    for drop in [1.5, -0.1, f32::NAN] {
+        let bad = Start {
+            place: Place::Front,
+            drop,
+        };
+        let e = d.add_piece(&skirt, bad, 0.05).unwrap_err().to_string();
+        assert!(e.contains("below the place's start"), "{e}");
+        assert!(d.place_piece(at, bad).is_err());
+        assert!(d.duplicate_piece(at, bad, false, 0.05).is_err());
+    }
+    assert_eq!((d.history.undo_steps(), &d.sim.cloth.x), (steps, &x));
+}
+
+/// A seam to a piece that is deleted before it closed goes with the piece (it could
+/// never close, and the studio went on listing it); the dress's own seams stay; undo
+/// brings piece and seam back.
+#[test]
+fn a_deleted_pieces_open_seams_go_with_it() {
+    use sim_core::design::garment::Place;
+    let (mut d, pocket) = dress_and_rectangle("pocket", 0.3, 0.2);
+    d.add_piece(&pocket, Place::Front, 0.05).unwrap();
+    let edge = |r: &sim_core::design::PieceRecord, top: bool| {
+        let (lo, hi) = outline_box(r);
+        let y = if top { hi.y } else { lo.y };
+        [
+            glam::Vec2::new(lo.x, y) + r.offset,
+            glam::Vec2::new(hi.x, y) + r.offset,
+        ]
+    };
+    // The front's hem to the back's (stays), the pocket's sides to each other (goes).
+    let (front, back) = (edge(&d.pieces[0], false), edge(&d.pieces[1], false));
+    d.seam_on_plane(front, back, 0.01).unwrap();
+    let r = d.pieces[2].clone();
+    let ([tl, tr], [bl, br]) = (edge(&r, true), edge(&r, false));
+    d.seam_on_plane([tl, bl], [tr, br], 0.01).unwrap();
+    let seams = d.seams.clone();
+    assert_eq!(seams.len(), 2);
+    d.delete_piece(2).unwrap();
+    assert_eq!(d.seams[..], seams[..seams.len() - 1]);
+    d.undo().unwrap();
+    assert_eq!(d.seams, seams);
+    d.validate().unwrap();
+}
+
 /// A pocket added to the dress starts a layer out from the front, crossing nothing;
 /// placed at the back it goes there; deleted, it leaves the list; undo takes each back.
 #[test]
@@ -1233,4 +1317,110 @@ fn pieces_are_named_undoably_and_the_pattern_out_calls_them_so() {
         sim_core::scenario::build_scene(&ScenarioConfig::new(ScenarioName::DrapeCube)).unwrap();
     let e = square.name_piece(0, "front").unwrap_err().to_string();
     assert!(e.contains("not made as a pattern piece"), "{e}");
+}
+
+/// A piece's outline in the pattern view: its area (m²) and how far its centroid lies
+/// right of its bounding box's middle (m).
+fn outline_shape(d: &Design, name: &str) -> (f64, f64) {
+    let p = sim_core::design::sewing_pattern::view_pieces(d)
+        .into_iter()
+        .find(|p| p.name == name)
+        .unwrap_or_else(|| panic!("no piece {name}"));
+    let l = &p.loops[0];
+    let (mut area, mut cx) = (0.0, 0.0);
+    for (i, a) in l.iter().enumerate() {
+        let b = l[(i + 1) % l.len()];
+        let cross = a.perp_dot(b);
+        area += cross / 2.0;
+        cx += (a.x + b.x) * cross / 6.0;
+    }
+    let (lo, hi) = l.iter().fold((f64::MAX, f64::MIN), |(lo, hi), p| {
+        (lo.min(p.x), hi.max(p.x))
+    });
+    (area, cx / area - (lo + hi) / 2.0)
+}
+
+#[test]
+fn a_piece_is_copied_as_it_is_now_turned_over_when_asked_and_undoably() {
+    use sim_core::design::garment::Place;
+    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+    cfg.piece_edge = 0.04;
+    let (mut d, _) = sim_core::scenario::build_scene(&cfg).unwrap();
+    // The front's upper left corner cut away: the piece is no longer symmetric.
+    let front = sim_core::design::sewing_pattern::view_pieces(&d)
+        .into_iter()
+        .find(|p| p.name == "front")
+        .unwrap();
+    let (lo, hi) = front.loops[0]
+        .iter()
+        .fold((glam::DVec2::MAX, glam::DVec2::MIN), |(lo, hi), p| {
+            (lo.min(*p), hi.max(*p))
+        });
+    let (a, b) = (
+        glam::Vec2::new(lo.x as f32 - 0.05, hi.y as f32 - 0.2),
+        glam::Vec2::new(lo.x as f32 + 0.2, hi.y as f32 + 0.05),
+    );
+    assert!(d.cut_line(a, b).unwrap() > 0);
+    let (area, off) = outline_shape(&d, "front");
+    assert!(
+        off > 0.005,
+        "the cut front's centroid {off} m right of its middle"
+    );
+    let list = d.piece_list();
+    let at = list.iter().position(|p| p.name == "front").unwrap();
+    let fabric = list[at].fabric.clone();
+    let undo = d.history.undo_steps();
+
+    let (name, vertices) = d.duplicate_piece(at, Place::Back, false, 0.04).unwrap();
+    assert_eq!(name, "front (2)");
+    let copy = d.piece_list().into_iter().find(|p| p.name == name).unwrap();
+    assert_eq!(
+        (copy.vertices, copy.fabric.as_str()),
+        (vertices, fabric.as_str())
+    );
+    assert_eq!(d.piece_list().len(), list.len() + 1);
+    assert_eq!(d.history.undo_steps(), undo + 1);
+    // A copy of the copy is numbered on, not numbered twice.
+    let second = d.piece_list().iter().position(|p| p.name == name).unwrap();
+    let (again, _) = d.duplicate_piece(second, Place::Back, false, 0.04).unwrap();
+    assert_eq!(again, "front (3)");
+    d.undo().unwrap();
+    let (copy_area, copy_off) = outline_shape(&d, &name);
+    assert!(
+        (copy_area / area - 1.0).abs() < 0.03,
+        "{copy_area} against {area} m²"
+    );
+    assert!((copy_off - off).abs() < 0.01, "{copy_off} against {off} m");
+    // It starts clear of everything, as any added piece does.
+    let x = &d.sim.cloth.x;
+    let tris: Vec<[u32; 3]> = d.sim.cloth.live.iter().map(|(_, t)| t.v).collect();
+    assert_eq!(
+        sim_core::collision::crossings::count_self(x, &tris),
+        0,
+        "the copy starts crossing the cloth"
+    );
+
+    d.undo().unwrap();
+    assert_eq!(d.piece_list().len(), list.len());
+    // Turned over: the cut corner is on the other side.
+    let (name, _) = d.duplicate_piece(at, Place::Back, true, 0.04).unwrap();
+    let (m_area, m_off) = outline_shape(&d, &name);
+    assert!(
+        (m_area / area - 1.0).abs() < 0.03,
+        "{m_area} against {area} m²"
+    );
+    assert!(
+        (m_off + off).abs() < 0.01,
+        "mirrored: {m_off} against {off} m"
+    );
+
+    // Bad input changes nothing.
+    let now = d.piece_list().len();
+    let steps = d.history.undo_steps();
+    assert!(matches!(
+        d.duplicate_piece(99, Place::Front, false, 0.04),
+        Err(sim_core::design::EditError::NoPiece { .. })
+    ));
+    assert!(d.duplicate_piece(at, Place::Front, false, 0.0).is_err());
+    assert_eq!((d.piece_list().len(), d.history.undo_steps()), (now, steps));
 }

@@ -574,10 +574,15 @@ fn the_pieces_panel_lists_selects_adds_places_and_deletes() {
     assert_eq!(h.state().store.highlight, want);
 
     h.state_mut().pieces.place = place::BACK;
+    // 0.42 m lower: the top at the mannequin's waist.
+    h.state_mut().pieces.drop = 0.42;
     h.run_steps(1);
     press(&mut h, "Place at");
     let c = *commands(&h).last().unwrap();
-    assert_eq!((c.op, c.a, c.b), (op::PLACE_PIECE, 0, place::BACK));
+    assert_eq!(
+        (c.op, c.a, c.b, c.vec[2]),
+        (op::PLACE_PIECE, 0, place::BACK, 0.42)
+    );
     // The selected piece alone gets a fabric of its own.
     press(&mut h, "Piece fabric");
     press(&mut h, "jersey-interlock");
@@ -602,6 +607,16 @@ fn the_pieces_panel_lists_selects_adds_places_and_deletes() {
         (op::NAME_PIECE, 0, Some("bodice front"))
     );
     assert_eq!(h.state().pieces.piece_naming, None);
+    // A copy, turned over, at the place chosen (behind the body).
+    press(&mut h, "Turned over");
+    assert!(h.state().pieces.mirror);
+    press(&mut h, "Copy to");
+    let c = *commands(&h).last().unwrap();
+    assert_eq!(
+        (c.op, c.a, c.b, c.mode, c.vec[2]),
+        (op::DUPLICATE_PIECE, 0, place::BACK, 1, 0.42)
+    );
+    assert_eq!(c.value, h.state().pieces.edge);
     press(&mut h, "Delete");
     let c = *commands(&h).last().unwrap();
     assert_eq!((c.op, c.a), (op::DELETE_PIECE, 0));
@@ -610,7 +625,7 @@ fn the_pieces_panel_lists_selects_adds_places_and_deletes() {
     press(&mut h, "Add piece");
     let c = *commands(&h).last().unwrap();
     assert_eq!((c.op, c.mode, c.a), (op::ADD_PIECE, 0, place::BACK));
-    assert_eq!(&c.vec[..2], &[0.6, 0.6]);
+    assert_eq!(c.vec, [0.6, 0.6, 0.42]);
     // From a file with no path: nothing goes out, the status says why.
     let n = commands(&h).len();
     press(&mut h, "From file");

@@ -5,7 +5,9 @@ use glam::{Vec2, Vec3};
 use shared::command::{BodyChoice, Command, MaterialChange, PieceShape, Tearing};
 use shared::telemetry::scene_model;
 use sim_core::collision::BodyKind;
-use sim_core::design::garment::{DEFAULT_FABRIC, Landmarks, PieceSpec, Place, load_pattern, sew};
+use sim_core::design::garment::{
+    DEFAULT_FABRIC, Landmarks, PieceSpec, Place, Start, load_pattern, sew,
+};
 use sim_core::design::{Design, EDITED, EditError, TearMode};
 use sim_core::fabric::Library;
 use sim_core::mesh::mesher::Outline;
@@ -103,26 +105,10 @@ pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
             .and_then(|_| design.save_design_file(std::path::Path::new(path)))
             .map(|_| format!("Saved the design to {path}"))
             .map_err(|e| e.to_string()),
-        Command::AddPiece {
-            shape,
-            place,
-            edge_m,
-        } => add_piece(design, shape, *place, *edge_m),
-        Command::PlacePiece { piece, place } => {
-            let at = place_of(*place)?;
-            let name = piece_name(design, *piece);
-            design
-                .place_piece(*piece as usize, at)
-                .map(|_| format!("Placed {name} at the {}", at.name()))
-                .map_err(e)
-        }
-        Command::DeletePiece { piece } => {
-            let name = piece_name(design, *piece);
-            design
-                .delete_piece(*piece as usize)
-                .map(|n| format!("Deleted {name} ({n} triangles)"))
-                .map_err(e)
-        }
+        Command::AddPiece { .. }
+        | Command::PlacePiece { .. }
+        | Command::DeletePiece { .. }
+        | Command::DuplicatePiece { .. } => piece_edit(design, c),
         Command::NameSeam { .. } | Command::NamePiece { .. } => name_one(design, c),
         Command::RemoveSeam { seam } => {
             let label = sim_core::design::sewing_pattern::seam_label(*seam as usize);
@@ -144,12 +130,81 @@ pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
     }
 }
 
-/// The place a wire code names.
-fn place_of(code: u32) -> Result<Place, String> {
-    shared::ui_to_sim::place::NAMES
+/// A piece added, moved, deleted or copied.
+fn piece_edit(design: &mut Design, c: &Command) -> Result<String, String> {
+    let e = |e: EditError| e.to_string();
+    match c {
+        Command::AddPiece {
+            shape,
+            place,
+            drop_m,
+            edge_m,
+        } => add_piece(design, shape, start_of(*place, *drop_m)?, *edge_m),
+        Command::PlacePiece {
+            piece,
+            place,
+            drop_m,
+        } => {
+            let at = start_of(*place, *drop_m)?;
+            let name = piece_name(design, *piece);
+            design
+                .place_piece(*piece as usize, at)
+                .map(|_| format!("Placed {name} at the {}", where_(at)))
+                .map_err(e)
+        }
+        Command::DeletePiece { piece } => {
+            let name = piece_name(design, *piece);
+            let seams = design.seams.len();
+            let n = design.delete_piece(*piece as usize).map_err(e)?;
+            Ok(match seams.saturating_sub(design.seams.len()) {
+                0 => format!("Deleted {name} ({n} triangles)"),
+                k => format!(
+                    "Deleted {name} ({n} triangles) and the {k} seam(s) left with nothing to \
+                     sew; the seams after them move up a letter"
+                ),
+            })
+        }
+        Command::DuplicatePiece {
+            piece,
+            place,
+            drop_m,
+            mirrored,
+            edge_m,
+        } => {
+            let at = start_of(*place, *drop_m)?;
+            let was = piece_name(design, *piece);
+            design
+                .duplicate_piece(*piece as usize, at, *mirrored, *edge_m)
+                .map(|(name, n)| {
+                    let how = if *mirrored { ", turned over" } else { "" };
+                    format!(
+                        "Copied {was} as {name} at the {} ({n} vertices{how}); sew it as any \
+                         piece (undo takes it away)",
+                        where_(at)
+                    )
+                })
+                .map_err(e)
+        }
+        _ => Err(format!("operation {} is not a piece's", c.op())),
+    }
+}
+
+/// The start a wire place code and drop name.
+fn start_of(code: u32, drop: f32) -> Result<Start, String> {
+    let place = shared::ui_to_sim::place::NAMES
         .get(code as usize)
         .and_then(|n| Place::parse(n))
-        .ok_or_else(|| format!("no place {code}"))
+        .ok_or_else(|| format!("no place {code}"))?;
+    Ok(Start { place, drop })
+}
+
+/// Where a piece starts, as the answer says it: "front", "front, 0.42 m lower".
+fn where_(at: Start) -> String {
+    if at.drop > 0.0 {
+        format!("{}, {:.2} m lower", at.place.name(), at.drop)
+    } else {
+        at.place.name().to_string()
+    }
 }
 
 /// Piece `index`'s name as the list has it, or its number.
@@ -164,10 +219,9 @@ fn piece_name(design: &Design, index: u32) -> String {
 fn add_piece(
     design: &mut Design,
     shape: &PieceShape,
-    place: u32,
+    at: Start,
     edge: f32,
 ) -> Result<String, String> {
-    let at = place_of(place)?;
     let fabric = design_fabric(design);
     let piece = |name: &str, outline: Outline| PieceSpec {
         name: name.into(),
@@ -181,7 +235,7 @@ fn add_piece(
         Ok(format!(
             "Added {} at the {} ({n} vertices)",
             p.name,
-            at.name()
+            where_(at)
         ))
     };
     match shape {

@@ -212,7 +212,13 @@ fn a_fabric_by_name_is_the_whole_designs() {
     let mut d = build_design(&scene).unwrap();
     let add = |d: &mut Design| {
         let shape = PieceShape::Rectangle { w: 0.2, h: 0.3 };
-        add_piece(d, &shape, shared::ui_to_sim::place::FRONT, 0.05).unwrap();
+        add_piece(
+            d,
+            &shape,
+            sim_core::design::garment::Place::Front.into(),
+            0.05,
+        )
+        .unwrap();
     };
     add(&mut d);
     assert_eq!(d.pieces[0].fabric, DEFAULT_FABRIC);
@@ -288,7 +294,13 @@ fn undo_after_a_whole_design_material_change_keeps_the_history() {
     ] {
         let mut d = build_design(&scene).unwrap();
         let shape = PieceShape::Rectangle { w: 0.23, h: 0.44 };
-        add_piece(&mut d, &shape, shared::ui_to_sim::place::FRONT, 0.039).unwrap();
+        add_piece(
+            &mut d,
+            &shape,
+            sim_core::design::garment::Place::Front.into(),
+            0.039,
+        )
+        .unwrap();
         let (pieces, vertices) = (d.pieces.len(), d.sim.cloth.len());
         let undo = d.history.undo_len();
         carry_out(&mut d, &change).unwrap();
@@ -329,7 +341,13 @@ fn shear_damping_is_set_in_place_and_checked() {
     scene.grid = 4;
     let mut d = build_design(&scene).unwrap();
     let shape = PieceShape::Rectangle { w: 0.2, h: 0.3 };
-    add_piece(&mut d, &shape, shared::ui_to_sim::place::FRONT, 0.05).unwrap();
+    add_piece(
+        &mut d,
+        &shape,
+        sim_core::design::garment::Place::Front.into(),
+        0.05,
+    )
+    .unwrap();
     carry_out(
         &mut d,
         &Command::SetFabric {

@@ -152,10 +152,12 @@ pub enum Command {
         substeps: Option<u32>,
     },
     /// A new piece, meshed with edges of `edge_m`, started at `place`
-    /// ([`place`](crate::ui_to_sim::place) codes).
+    /// ([`place`](crate::ui_to_sim::place) codes), its top `drop_m` below the place's
+    /// start.
     AddPiece {
         shape: PieceShape,
         place: u32,
+        drop_m: f32,
         edge_m: f32,
     },
     /// As [`Command::Seam`], in the design's pattern plane (m).
@@ -164,13 +166,24 @@ pub enum Command {
         b: [[f32; 2]; 2],
         tolerance_m: f32,
     },
-    /// Piece `piece` (in `saiho/pieces` order) moved to `place`.
+    /// Piece `piece` (in `saiho/pieces` order) moved to `place`, its top `drop_m`
+    /// below the place's start.
     PlacePiece {
         piece: u32,
         place: u32,
+        drop_m: f32,
     },
     DeletePiece {
         piece: u32,
+    },
+    /// A copy of piece `piece` (in `saiho/pieces` order) as it is now, meshed with edges
+    /// of `edge_m`, started at `place` `drop_m` lower, turned over when `mirrored`.
+    DuplicatePiece {
+        piece: u32,
+        place: u32,
+        drop_m: f32,
+        mirrored: bool,
+        edge_m: f32,
     },
     /// Seam `seam` (in `saiho/pieces` order) removed.
     RemoveSeam {
@@ -261,6 +274,15 @@ fn text(c: &ToolCommand) -> String {
     c.text().unwrap_or_default().to_string()
 }
 
+/// `s` as `c`'s text, or why it cannot be.
+fn set_text(c: &mut ToolCommand, s: &str) -> Result<(), CommandError> {
+    if c.set_text(s) {
+        Ok(())
+    } else {
+        Err(CommandError::PathTooLong { len: s.len() })
+    }
+}
+
 impl Command {
     /// The wire op code of this command.
     pub fn op(&self) -> u32 {
@@ -284,6 +306,7 @@ impl Command {
             Self::AddPiece { .. } => op::ADD_PIECE,
             Self::PlacePiece { .. } => op::PLACE_PIECE,
             Self::DeletePiece { .. } => op::DELETE_PIECE,
+            Self::DuplicatePiece { .. } => op::DUPLICATE_PIECE,
             Self::SeamPlane { .. } => op::SEAM_PLANE,
             Self::RemoveSeam { .. } => op::REMOVE_SEAM,
             Self::SetFabric { .. } => op::SET_FABRIC,
@@ -303,13 +326,6 @@ impl Command {
             header,
             op: self.op(),
             ..ToolCommand::default()
-        };
-        let set_text = |c: &mut ToolCommand, s: &str| {
-            if c.set_text(s) {
-                Ok(())
-            } else {
-                Err(CommandError::PathTooLong { len: s.len() })
-            }
         };
         match self {
             Self::CutVertex { vertex, direction } => (c.a, c.vec) = (*vertex, *direction),
@@ -388,30 +404,56 @@ impl Command {
                 c.a = substeps.unwrap_or(0);
                 c.uv[..7].copy_from_slice(&material.to_wire());
             }
+            Self::AddPiece { .. } | Self::PlacePiece { .. } | Self::DuplicatePiece { .. } => {
+                self.piece_to_wire(&mut c)?;
+            }
+            Self::DeletePiece { piece } => c.a = *piece,
+            Self::RemoveSeam { seam } => c.a = *seam,
+        }
+        Ok(c)
+    }
+
+    /// A new, moved or copied piece's fields into `c`.
+    fn piece_to_wire(&self, c: &mut ToolCommand) -> Result<(), CommandError> {
+        match self {
             Self::AddPiece {
                 shape: s,
                 place,
+                drop_m,
                 edge_m,
             } => {
                 (c.a, c.value) = (*place, *edge_m);
                 match s {
                     PieceShape::Rectangle { w, h } => {
-                        (c.mode, c.vec) = (shape::RECTANGLE, [*w, *h, 0.0])
+                        (c.mode, c.vec) = (shape::RECTANGLE, [*w, *h, *drop_m])
                     }
                     PieceShape::Ellipse { w, h } => {
-                        (c.mode, c.vec) = (shape::ELLIPSE, [*w, *h, 0.0])
+                        (c.mode, c.vec) = (shape::ELLIPSE, [*w, *h, *drop_m])
                     }
                     PieceShape::File { path } => {
-                        c.mode = shape::FILE;
-                        set_text(&mut c, path)?;
+                        (c.mode, c.vec[2]) = (shape::FILE, *drop_m);
+                        set_text(c, path)?;
                     }
                 }
             }
-            Self::PlacePiece { piece, place } => (c.a, c.b) = (*piece, *place),
-            Self::DeletePiece { piece } => c.a = *piece,
-            Self::RemoveSeam { seam } => c.a = *seam,
+            Self::PlacePiece {
+                piece,
+                place,
+                drop_m,
+            } => (c.a, c.b, c.vec[2]) = (*piece, *place, *drop_m),
+            Self::DuplicatePiece {
+                piece,
+                place,
+                drop_m,
+                mirrored,
+                edge_m,
+            } => {
+                (c.a, c.b, c.mode, c.value) = (*piece, *place, u32::from(*mirrored), *edge_m);
+                c.vec[2] = *drop_m;
+            }
+            _ => {}
         }
-        Ok(c)
+        Ok(())
     }
 
     /// The command a received record carries, after checking it ([`Checked`]): nothing
@@ -486,13 +528,22 @@ impl Command {
                     _ => PieceShape::File { path: text(c) },
                 },
                 place: c.a,
+                drop_m: c.vec[2],
                 edge_m: c.value,
             },
             op::PLACE_PIECE => Self::PlacePiece {
                 piece: c.a,
                 place: c.b,
+                drop_m: c.vec[2],
             },
             op::DELETE_PIECE => Self::DeletePiece { piece: c.a },
+            op::DUPLICATE_PIECE => Self::DuplicatePiece {
+                piece: c.a,
+                place: c.b,
+                drop_m: c.vec[2],
+                mirrored: c.mode == 1,
+                edge_m: c.value,
+            },
             op::REMOVE_SEAM => Self::RemoveSeam { seam: c.a },
             op::SET_FABRIC => Self::SetFabric { name: text(c) },
             op::SET_PIECE_FABRIC => Self::SetPieceFabric {

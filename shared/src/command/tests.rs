@@ -127,11 +127,13 @@ fn piece_variants() -> Vec<Command> {
         Command::AddPiece {
             shape: PieceShape::Rectangle { w: 0.3, h: 0.5 },
             place: crate::ui_to_sim::place::BACK,
+            drop_m: 0.42,
             edge_m: 0.02,
         },
         Command::AddPiece {
             shape: PieceShape::Ellipse { w: 0.2, h: 0.1 },
             place: crate::ui_to_sim::place::LEFT_ARM,
+            drop_m: 0.0,
             edge_m: 0.01,
         },
         Command::AddPiece {
@@ -139,6 +141,7 @@ fn piece_variants() -> Vec<Command> {
                 path: "patterns/skirt.dxf".into(),
             },
             place: crate::ui_to_sim::place::FRONT,
+            drop_m: 0.3,
             edge_m: 0.03,
         },
         Command::SeamPlane {
@@ -146,7 +149,11 @@ fn piece_variants() -> Vec<Command> {
             b: [[0.7, -0.2], [0.7, -0.6]],
             tolerance_m: 0.01,
         },
-        Command::PlacePiece { piece: 2, place: 3 },
+        Command::PlacePiece {
+            piece: 2,
+            place: 3,
+            drop_m: 0.25,
+        },
         Command::DeletePiece { piece: 1 },
         Command::RemoveSeam { seam: 3 },
         Command::SetFabric {
@@ -163,6 +170,20 @@ fn piece_variants() -> Vec<Command> {
         Command::NamePiece {
             piece: 1,
             name: "back bodice".into(),
+        },
+        Command::DuplicatePiece {
+            piece: 2,
+            place: 1,
+            drop_m: 0.0,
+            mirrored: true,
+            edge_m: 0.012,
+        },
+        Command::DuplicatePiece {
+            piece: 0,
+            place: 5,
+            drop_m: 0.1,
+            mirrored: false,
+            edge_m: 0.03,
         },
         Command::SetGuard { on: true },
         Command::SetGuard { on: false },
@@ -228,6 +249,18 @@ fn a_bad_record_is_refused_and_a_long_path_is_not_sent() {
     wire.rgba[0] = 0;
     wire.b = body::LAST + 1;
     assert!(Command::from_wire(&wire).is_err(), "body past the last");
+    let mut wire = Command::DuplicatePiece {
+        piece: 0,
+        place: 0,
+        drop_m: 0.0,
+        mirrored: true,
+        edge_m: 0.02,
+    }
+    .to_wire(Header::next(&mut seq))
+    .unwrap();
+    wire.mode = 2;
+    let e = Command::from_wire(&wire).unwrap_err().to_string();
+    assert!(e.contains("turned over 2"), "{e}");
     let mut wire = Command::Undo.to_wire(Header::next(&mut seq)).unwrap();
     wire.header.protocol += 1;
     assert!(matches!(
@@ -235,38 +268,7 @@ fn a_bad_record_is_refused_and_a_long_path_is_not_sent() {
         Err(MessageError::Protocol { .. })
     ));
     // A piece of no size, a place that is not one, an edge out of range, NaN.
-    for bad in [
-        Command::AddPiece {
-            shape: PieceShape::Rectangle { w: 0.0, h: 0.4 },
-            place: 0,
-            edge_m: 0.02,
-        },
-        Command::AddPiece {
-            shape: PieceShape::Ellipse {
-                w: 0.2,
-                h: f32::NAN,
-            },
-            place: 0,
-            edge_m: 0.02,
-        },
-        Command::AddPiece {
-            shape: PieceShape::Rectangle { w: 0.2, h: 0.2 },
-            place: crate::ui_to_sim::place::LAST + 1,
-            edge_m: 0.02,
-        },
-        Command::AddPiece {
-            shape: PieceShape::Rectangle { w: 0.2, h: 0.2 },
-            place: 0,
-            edge_m: 0.0001,
-        },
-        Command::AddPiece {
-            shape: PieceShape::File {
-                path: String::new(),
-            },
-            place: 0,
-            edge_m: 0.02,
-        },
-        Command::PlacePiece { piece: 0, place: 9 },
+    for bad in bad_pieces().into_iter().chain([
         // A strain limit below the material's range but not 0, past it, negative, NaN.
         Command::SetStrainLimit { limit: 0.005 },
         Command::SetStrainLimit { limit: 11.0 },
@@ -277,7 +279,7 @@ fn a_bad_record_is_refused_and_a_long_path_is_not_sent() {
             piece: 0,
             name: String::new(),
         },
-    ] {
+    ]) {
         let wire = bad.to_wire(Header::next(&mut seq)).unwrap();
         assert!(Command::from_wire(&wire).is_err(), "{bad:?}");
     }
@@ -288,4 +290,84 @@ fn a_bad_record_is_refused_and_a_long_path_is_not_sent() {
         long.to_wire(Header::default()),
         Err(CommandError::PathTooLong { len: TEXT_LEN + 1 })
     );
+}
+
+/// Pieces a sender must not ask for: of no size, at a place that is not one, with an
+/// edge or a drop out of range or not a number.
+fn bad_pieces() -> Vec<Command> {
+    vec![
+        Command::AddPiece {
+            shape: PieceShape::Rectangle { w: 0.0, h: 0.4 },
+            place: 0,
+            drop_m: 0.0,
+            edge_m: 0.02,
+        },
+        Command::AddPiece {
+            shape: PieceShape::Ellipse {
+                w: 0.2,
+                h: f32::NAN,
+            },
+            place: 0,
+            drop_m: 0.0,
+            edge_m: 0.02,
+        },
+        Command::AddPiece {
+            shape: PieceShape::Rectangle { w: 0.2, h: 0.2 },
+            place: crate::ui_to_sim::place::LAST + 1,
+            drop_m: 0.0,
+            edge_m: 0.02,
+        },
+        Command::AddPiece {
+            shape: PieceShape::Rectangle { w: 0.2, h: 0.2 },
+            place: 0,
+            drop_m: 0.0,
+            edge_m: 0.0001,
+        },
+        Command::AddPiece {
+            shape: PieceShape::File {
+                path: String::new(),
+            },
+            place: 0,
+            drop_m: 0.0,
+            edge_m: 0.02,
+        },
+        Command::PlacePiece {
+            piece: 0,
+            place: 9,
+            drop_m: 0.0,
+        },
+        // A top below the knees, above the place's start, not a number.
+        Command::PlacePiece {
+            piece: 0,
+            place: 0,
+            drop_m: 1.5,
+        },
+        Command::AddPiece {
+            shape: PieceShape::Rectangle { w: 0.2, h: 0.2 },
+            place: 0,
+            drop_m: -0.1,
+            edge_m: 0.02,
+        },
+        Command::DuplicatePiece {
+            piece: 0,
+            place: 0,
+            drop_m: f32::NAN,
+            mirrored: false,
+            edge_m: 0.02,
+        },
+        Command::DuplicatePiece {
+            piece: 0,
+            place: 9,
+            drop_m: 0.0,
+            mirrored: false,
+            edge_m: 0.02,
+        },
+        Command::DuplicatePiece {
+            piece: 0,
+            place: 0,
+            drop_m: 0.0,
+            mirrored: true,
+            edge_m: f32::NAN,
+        },
+    ]
 }

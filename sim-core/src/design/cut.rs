@@ -182,9 +182,36 @@ impl Design {
     }
 
     /// Cuts a piece away: removes the triangles in `slots` (alive ones; at least one) as
-    /// one undoable operation. Returns how many went.
+    /// one undoable operation, with the seams none of whose pairs has cloth left at both
+    /// ends (a seam of a deleted piece: it could never close, and the list would go on
+    /// showing it). Returns how many triangles went.
     pub fn remove_triangles(&mut self, slots: &[u32]) -> Result<usize, EditError> {
         self.remove_labelled("cut away", slots)
+    }
+
+    /// The removal of each seam none of whose pairs would keep cloth at both ends once the
+    /// triangles in `going` are gone, the last seam first (each index still valid as the
+    /// primitives apply in order, and undo puts them back in order).
+    fn seams_left_without_cloth(&self, going: &std::collections::HashSet<u32>) -> Vec<Prim> {
+        let live = &self.sim.cloth.live;
+        let mut kept = vec![false; self.sim.cloth.len()];
+        for (slot, t) in live.iter() {
+            if !going.contains(&slot) {
+                for v in t.v {
+                    kept[v as usize] = true;
+                }
+            }
+        }
+        let has = |v: u32| kept.get(v as usize).copied().unwrap_or(false);
+        (0..self.seams.len())
+            .rev()
+            .filter(|&i| !self.seams[i].pairs.iter().any(|&(a, b)| has(a) && has(b)))
+            .map(|i| Prim::Seam {
+                index: i as u32,
+                old: Some(self.seams[i].clone()),
+                new: None,
+            })
+            .collect()
     }
 
     /// [`Design::remove_triangles`] under the history label `label`.
@@ -195,7 +222,7 @@ impl Design {
     ) -> Result<usize, EditError> {
         self.check_editable()?;
         let mut seen = std::collections::HashSet::new();
-        let prims: Vec<Prim> = slots
+        let mut prims: Vec<Prim> = slots
             .iter()
             .filter(|s| seen.insert(**s))
             .filter_map(|&s| {
@@ -210,6 +237,7 @@ impl Design {
             return Err(EditError::NothingNear { radius: 0.0 });
         }
         let n = prims.len();
+        prims.extend(self.seams_left_without_cloth(&seen));
         self.commit(label, prims)?;
         Ok(n)
     }

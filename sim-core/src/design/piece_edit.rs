@@ -10,7 +10,10 @@ use glam::{Vec2, Vec3};
 
 use super::document::Design;
 use super::error::EditError;
-use super::garment::{LAYER, Landmarks, PATTERN_GAP, PieceSpec, Place, Placement, SIMPLIFY, place};
+use super::garment::{
+    DEFAULT_FABRIC, LAYER, Landmarks, MAX_DROP, PATTERN_GAP, PieceSpec, Place, Placement, SIMPLIFY,
+    Start, place,
+};
 use super::pieces::PieceRecord;
 use super::prim::Prim;
 use crate::collision::crossings::fan_crossings;
@@ -42,11 +45,23 @@ impl Design {
     pub fn add_piece(
         &mut self,
         spec: &PieceSpec,
-        at: Place,
+        at: impl Into<Start>,
+        edge: f32,
+    ) -> Result<usize, EditError> {
+        self.add_piece_as("add piece", spec, at.into(), edge)
+    }
+
+    /// [`Design::add_piece`], undone and redone as `label`.
+    fn add_piece_as(
+        &mut self,
+        label: &'static str,
+        spec: &PieceSpec,
+        at: Start,
         edge: f32,
     ) -> Result<usize, EditError> {
         self.check_editable()?;
         let bad = |e: String| EditError::Piece(format!("{}: {e}", spec.name));
+        check_drop(&spec.name, at.drop)?;
         mesher::check(&spec.outline).map_err(|e| bad(e.to_string()))?;
         if !(mesher::EDGE_RANGE.0..=mesher::EDGE_RANGE.1).contains(&edge) {
             return Err(bad(mesher::MeshError::EdgeLength(edge).to_string()));
@@ -56,7 +71,7 @@ impl Design {
         let marks = Landmarks::of(self.sim.body.as_ref());
         let base = spec
             .placement
-            .unwrap_or_else(|| at.at(start_height(at, &marks)));
+            .unwrap_or_else(|| start_placement(at, &marks));
         // What can be known before meshing is checked first: meshing a large piece takes
         // long, and the command would be refused after it all the same.
         place(&spec.name, &[], (lo, hi), &base, &marks)
@@ -148,7 +163,7 @@ impl Design {
                 outline,
             }),
         });
-        self.commit("add piece", prims)?;
+        self.commit(label, prims)?;
         Ok(starts.len())
     }
 
@@ -211,11 +226,12 @@ impl Design {
         })
     }
 
-    /// Moves piece `index` of [`Design::piece_list`] to `at`: its vertices go where the
-    /// place puts its pattern, at rest, as many layers out as it takes to cross nothing
-    /// (refused when none does).
-    pub fn place_piece(&mut self, index: usize, at: Place) -> Result<(), EditError> {
+    /// Moves piece `index` of [`Design::piece_list`] to `at` (a [`Place`], or a
+    /// [`Start`] lower down): its vertices go where the place puts its pattern, at rest,
+    /// as many layers out as it takes to cross nothing (refused when none does).
+    pub fn place_piece(&mut self, index: usize, at: impl Into<Start>) -> Result<(), EditError> {
         self.check_editable()?;
+        let at = at.into();
         let slots = self.piece_slots(index)?;
         let live = &self.sim.cloth.live;
         let first = slots.first().and_then(|&s| live.tri(s)).map(|t| t.rest[0]);
@@ -246,7 +262,8 @@ impl Design {
         let verts: Vec<u32> = own.keys().copied().collect();
         let pattern: Vec<Vec2> = verts.iter().map(|v| own[v]).collect();
         let marks = Landmarks::of(self.sim.body.as_ref());
-        let base = at.at(start_height(at, &marks));
+        check_drop(&name, at.drop)?;
+        let base = start_placement(at, &marks);
         let fan: Vec<[u32; 3]> = slots
             .iter()
             .filter_map(|&s| live.tri(s))
@@ -329,12 +346,100 @@ impl Design {
         };
         self.replace_record("name piece", k, new)
     }
+
+    /// Adds a copy of piece `index` of [`Design::piece_list`] as it is now (its outline
+    /// after cuts and tears, holes included), of its fabric and grain, meshed with
+    /// triangles of about `edge` m and started at `at`, as [`Design::add_piece`] starts a
+    /// new piece; `mirrored`, the copy is the piece turned over (a left front from a
+    /// right one). Its name is the piece's, numbered (`front (2)`, and a copy of that
+    /// `front (3)`); its seams, paint and pins are not copied. One undoable edit.
+    /// Returns the copy's name and vertex count.
+    pub fn duplicate_piece(
+        &mut self,
+        index: usize,
+        at: impl Into<Start>,
+        mirrored: bool,
+        edge: f32,
+    ) -> Result<(String, usize), EditError> {
+        let mut listed = self.listed();
+        let count = listed.len();
+        if index >= count {
+            return Err(EditError::NoPiece { index, count });
+        }
+        let (info, slots) = listed.swap_remove(index);
+        let view = super::sewing_pattern::view_of(self, std::slice::from_ref(&slots));
+        let Some(piece) = view.into_iter().next() else {
+            return Err(EditError::Piece(format!(
+                "{}: it has no outline",
+                info.name
+            )));
+        };
+        let loops: Vec<Vec<Vec2>> = piece
+            .loops
+            .iter()
+            .map(|l| {
+                let mut l: Vec<Vec2> = l
+                    .iter()
+                    .map(|p| {
+                        let x = if mirrored { -p.x } else { p.x };
+                        Vec2::new(x as f32, p.y as f32)
+                    })
+                    .collect();
+                if mirrored {
+                    // Turned over, each loop keeps its way round (outer counter-clockwise).
+                    l.reverse();
+                }
+                l
+            })
+            .collect();
+        let record = info.record.map(|r| &self.pieces[r]);
+        let grain = record.map_or(0.0, |r| r.grain);
+        let spec = PieceSpec {
+            name: unnumbered(&info.name).to_string(),
+            outline: mesher::Outline { loops },
+            fabric: record.map_or_else(|| DEFAULT_FABRIC.to_string(), |r| r.fabric.clone()),
+            grain: if mirrored {
+                std::f32::consts::PI - grain
+            } else {
+                grain
+            },
+            placement: None,
+        };
+        let before = self.pieces.len();
+        let vertices = self.add_piece_as("copy piece", &spec, at.into(), edge)?;
+        let name = self
+            .pieces
+            .get(before)
+            .map_or(spec.name, |r| r.name.clone());
+        Ok((name, vertices))
+    }
 }
 
-/// Where a piece starts at `at`: tops at the shoulders, sleeves at the shoulder.
-fn start_height(at: Place, marks: &Landmarks) -> f32 {
-    match at {
-        Place::LeftArm | Place::RightArm => 0.0,
-        _ => marks.shoulders,
+/// `name` without the " (k)" that numbers a second piece of a name: a copy of
+/// "front (2)" is "front (3)", not "front (2) (2)".
+fn unnumbered(name: &str) -> &str {
+    name.strip_suffix(')')
+        .and_then(|n| n.rsplit_once(" ("))
+        .filter(|(_, k)| !k.is_empty() && k.bytes().all(|b| b.is_ascii_digit()))
+        .map_or(name, |(base, _)| base)
+}
+
+/// Where a piece starts at `at`: tops at the shoulders, sleeves at the shoulder, each
+/// `at.drop` m lower (down the arm for a sleeve).
+fn start_placement(at: Start, marks: &Landmarks) -> Placement {
+    match at.place {
+        Place::LeftArm | Place::RightArm => at.place.at(at.drop),
+        _ => at.place.at(marks.shoulders - at.drop),
+    }
+}
+
+/// Refuses a drop that is not a number or is outside `0..=MAX_DROP` m.
+fn check_drop(name: &str, drop: f32) -> Result<(), EditError> {
+    if (0.0..=MAX_DROP).contains(&drop) {
+        Ok(())
+    } else {
+        Err(EditError::Piece(format!(
+            "{name}: its top {drop} m below the place's start (0 to {MAX_DROP} m)"
+        )))
     }
 }

@@ -442,6 +442,10 @@ fn is_slow_piece(shape: &shared::command::PieceShape, edge: f32, had: usize) -> 
 /// Most vertices a design may grow to by the input's ADD_PIECE commands ([`is_slow_piece`]).
 const SLOW_DESIGN: usize = 250;
 
+/// Finest edge, m, a DUPLICATE_PIECE may mesh its copy with and be carried out: the
+/// inputs' designs are a coarse square or two (edges of about 0.1 m or more).
+const MIN_COPY_EDGE: f32 = 0.1;
+
 /// Most substeps a SET_MATERIAL may ask for and be carried out: a frame's cost grows
 /// with them (100 substeps of a 400-vertex piece under vbd took a second instrumented,
 /// the eighth sitting's one hang), and more of them runs the same code.
@@ -496,6 +500,13 @@ pub fn commands(data: &[u8]) {
             Command::SetMaterial {
                 substeps: Some(s), ..
             } if *s > MAX_SUBSTEPS => continue,
+            // A copy of a piece meshed finer than the design's cloth can be many times
+            // its size: as slow as a big new piece, and the same code.
+            Command::DuplicatePiece { edge_m, .. }
+                if *edge_m < MIN_COPY_EDGE || 2 * d.sim.cloth.len() > SLOW_DESIGN =>
+            {
+                continue;
+            }
             Command::Save { path } => *path = scratch.join("d.saiho").display().to_string(),
             Command::AddPiece {
                 shape: shared::command::PieceShape::File { path },

@@ -180,6 +180,7 @@ fn command_seeds(dir: &Path) -> std::io::Result<()> {
         Command::AddPiece {
             shape: PieceShape::Rectangle { w: 0.2, h: 0.1 },
             place: 0,
+            drop_m: 0.4,
             edge_m: 0.05,
         },
         Command::Seam {
@@ -215,6 +216,13 @@ fn command_seeds(dir: &Path) -> std::io::Result<()> {
             piece: 0,
             name: "front".into(),
         },
+        Command::DuplicatePiece {
+            piece: 0,
+            place: 1,
+            drop_m: 0.0,
+            mirrored: true,
+            edge_m: 0.08,
+        },
         Command::SetGuard { on: true },
         Command::SetStrainLimit { limit: 0.2 },
         Command::RemoveRegion {
@@ -224,7 +232,11 @@ fn command_seeds(dir: &Path) -> std::io::Result<()> {
         Command::DeletePiece { piece: 0 },
         Command::Redo,
         Command::RemoveSeam { seam: 0 },
-        Command::PlacePiece { piece: 0, place: 1 },
+        Command::PlacePiece {
+            piece: 0,
+            place: 1,
+            drop_m: 0.2,
+        },
     ];
     for (name, cmds) in [("edits", &session[..]), ("settings", &more[..])] {
         for model in 0u8..3 {

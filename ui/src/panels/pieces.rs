@@ -6,7 +6,7 @@
 //! the stitches still pulling.
 
 use shared::command::{Command, PieceShape};
-use shared::ui_to_sim::{PIECE_EDGE, PIECE_SIZE, place, shape};
+use shared::ui_to_sim::{PIECE_DROP, PIECE_EDGE, PIECE_SIZE, place, shape};
 
 use super::pattern::{CUT_LINE, PatternFrame, SIDE, seam_colour};
 use crate::action::Action;
@@ -20,6 +20,8 @@ pub struct PiecesPanel {
     pub size: [f32; 2],
     pub path: String,
     pub place: u32,
+    /// How far below the place's start a piece's top goes, m.
+    pub drop: f32,
     /// The new piece's mesh edge, m.
     pub edge: f32,
     pub pattern_open: bool,
@@ -34,6 +36,8 @@ pub struct PiecesPanel {
     pub naming: Option<(usize, String)>,
     /// The piece being named and the name typed so far.
     pub piece_naming: Option<(usize, String)>,
+    /// Whether Copy to turns the copy over (a mirror image).
+    pub mirror: bool,
 }
 
 /// What the new piece's size row says: how big a piece must be to go round the body.
@@ -41,6 +45,17 @@ const SIZE_HELP: &str = "The new piece's width and height, metres. The mannequin
      round at the chest and hips: a front and a back 0.6 m wide close round it with room to \
      spare (0.4 m ones cannot, and their side seams stop closing). 0.6 m high reaches from the \
      shoulders to the hips.";
+
+/// What the place's drop says.
+const DROP_HELP: &str = "How far below the place's usual start the piece's top goes, metres: \
+     0 starts a piece with its top just above the shoulders (a sleeve at the shoulder). On \
+     the mannequin the waist is about 0.42 m lower, the hips 0.55 m: a skirt starts there. \
+     For an arm, it is down the arm. Add piece, Place at and Copy to use it.";
+
+/// What the Copy to button says.
+const COPY_HELP: &str = "Add a copy of the selected piece as it is now (its cuts and tears \
+     included, its fabric and grain) at the place chosen below, turned over if ticked, meshed \
+     with the Edge below. Its seams, paint and pins are not copied; undo takes it away.";
 
 /// The fabric chooser's entries.
 fn fabric_entries() -> Vec<(String, String)> {
@@ -63,6 +78,7 @@ impl Default for PiecesPanel {
             size: [0.6, 0.6],
             path: String::new(),
             place: place::FRONT,
+            drop: 0.0,
             edge: 0.03,
             pattern_open: false,
             seam_sides: Vec::new(),
@@ -70,6 +86,7 @@ impl Default for PiecesPanel {
             fabrics: fabric_entries(),
             naming: None,
             piece_naming: None,
+            mirror: false,
         }
     }
 }
@@ -184,6 +201,7 @@ impl PiecesPanel {
                     actions.push(Action::Command(Command::PlacePiece {
                         piece: i as u32,
                         place: self.place,
+                        drop_m: self.drop,
                     }));
                 }
                 if ui
@@ -193,6 +211,15 @@ impl PiecesPanel {
                 {
                     actions.push(Action::Command(Command::DeletePiece { piece: i as u32 }));
                     self.selected = None;
+                }
+                if ui.button("Copy to").on_hover_text(COPY_HELP).clicked() {
+                    actions.push(Action::Command(Command::DuplicatePiece {
+                        piece: i as u32,
+                        place: self.place,
+                        drop_m: self.drop,
+                        mirrored: self.mirror,
+                        edge_m: self.edge,
+                    }));
                 }
                 if ui
                     .button("Name")
@@ -206,6 +233,8 @@ impl PiecesPanel {
                     self.piece_naming = Some((i, now.unwrap_or_default()));
                 }
             });
+            ui.checkbox(&mut self.mirror, "Turned over")
+                .on_hover_text("Copy to makes a mirror image: a left front from a right one");
             self.piece_name_row(ui, i, actions);
             if let Some(p) = store.pieces.get(i) {
                 fabric_combo(ui, i as u32, &p.fabric, &self.fabrics, actions);
@@ -214,6 +243,14 @@ impl PiecesPanel {
         ui.horizontal(|ui| {
             ui.label("Place");
             place_combo(ui, "piece-place", &mut self.place);
+            ui.add(
+                egui::DragValue::new(&mut self.drop)
+                    .range(0.0..=PIECE_DROP)
+                    .speed(0.01)
+                    .prefix("lower ")
+                    .suffix(" m"),
+            )
+            .on_hover_text(DROP_HELP);
         });
         seams_section(ui, store, &mut self.naming, actions);
         self.add_section(ui, actions);
@@ -289,6 +326,7 @@ impl PiecesPanel {
             actions.push(Action::Command(Command::AddPiece {
                 shape,
                 place: self.place,
+                drop_m: self.drop,
                 edge_m: self.edge,
             }));
         }

@@ -21,6 +21,6 @@ pub use assemble::{Assembled, GarmentError, HOLD_PULL, Sewn, assemble, holds, se
 pub(crate) use assemble::{LAYER, PATTERN_GAP, SIMPLIFY};
 pub use garmentcode::read_garmentcode;
 pub use import::{ImportError, load_pattern, own_body, pattern_from_outlines};
-pub use place::{GC_RAISE, Landmarks, Place, PlaceError, Placement, place};
+pub use place::{GC_RAISE, Landmarks, MAX_DROP, Place, PlaceError, Placement, Start, place};
 pub use spec::{DEFAULT_FABRIC, EdgeRef, HoldSpec, PatternSpec, PieceSpec, SeamSpec, SpecError};
 pub use waist::{HIPS_BELOW, Waist, cloth_top};

@@ -86,6 +86,25 @@ impl Place {
     }
 }
 
+/// Where a new or moved piece starts: a named place and how far, m, below that place's
+/// own start its top goes (the shoulders round the torso; for an arm, down the arm from
+/// the shoulder). A skirt's top at the mannequin's waist is about 0.42 m down.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Start {
+    pub place: Place,
+    pub drop: f32,
+}
+
+impl From<Place> for Start {
+    fn from(place: Place) -> Self {
+        Self { place, drop: 0.0 }
+    }
+}
+
+/// The farthest a piece's top may start below its place's own start, m: from the
+/// mannequin's shoulders to its knees.
+pub const MAX_DROP: f32 = 1.0;
+
 /// Where a piece starts. Pattern points are taken from the top middle of the piece's
 /// outline bounds: across (x) and down (y, negative).
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
