@@ -2,20 +2,20 @@
 //! nothing did (a refused command changes nothing).
 
 use glam::{Vec2, Vec3};
-use shared::command::{BodyChoice, Command, MaterialChange, PieceShape, Tearing};
+use shared::command::{BodyChoice, Command, MaterialChange, Tearing};
 use shared::telemetry::scene_model;
 use sim_core::collision::BodyKind;
-use sim_core::design::garment::{
-    DEFAULT_FABRIC, Landmarks, PieceSpec, Place, Start, load_pattern, sew,
-};
+use sim_core::design::garment::{DEFAULT_FABRIC, sew};
 use sim_core::design::{Design, EDITED, EditError, TearMode};
 use sim_core::fabric::Library;
-use sim_core::mesh::mesher::Outline;
 use sim_core::scenario::garment::SEAM_PULL;
 use sim_core::scenario::{ScenarioConfig, ScenarioName, build_scene};
 use sim_core::solver::{Material, ModelKind};
 
 use crate::config::ServiceConfig;
+#[cfg(test)]
+use pieces::add_piece;
+use pieces::{firm_if_hanging, piece_edit, piece_name};
 
 /// "; warning: ..." when a seam's two sides' pattern lengths (m) differ by more than
 /// `SEAM_MISMATCH` of the longer, else nothing.
@@ -108,7 +108,10 @@ pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
         Command::AddPiece { .. }
         | Command::PlacePiece { .. }
         | Command::DeletePiece { .. }
-        | Command::DuplicatePiece { .. } => piece_edit(design, c),
+        | Command::DuplicatePiece { .. } => {
+            let done = piece_edit(design, c)?;
+            Ok(done + &firm_if_hanging(design, c))
+        }
         Command::NameSeam { .. } | Command::NamePiece { .. } => name_one(design, c),
         Command::RemoveSeam { seam } => {
             let label = sim_core::design::sewing_pattern::seam_label(*seam as usize);
@@ -127,162 +130,6 @@ pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
         | Command::Load { .. }
         | Command::Export { .. }
         | Command::SetSimulating { .. } => Err(format!("operation {} is the service's", c.op())),
-    }
-}
-
-/// A piece added, moved, deleted or copied.
-fn piece_edit(design: &mut Design, c: &Command) -> Result<String, String> {
-    let e = |e: EditError| e.to_string();
-    match c {
-        Command::AddPiece {
-            shape,
-            place,
-            drop_m,
-            edge_m,
-        } => add_piece(design, shape, start_of(*place, *drop_m)?, *edge_m),
-        Command::PlacePiece {
-            piece,
-            place,
-            drop_m,
-        } => {
-            let at = start_of(*place, *drop_m)?;
-            let name = piece_name(design, *piece);
-            design
-                .place_piece(*piece as usize, at)
-                .map(|_| format!("Placed {name} at the {}", where_(at)))
-                .map_err(e)
-        }
-        Command::DeletePiece { piece } => {
-            let name = piece_name(design, *piece);
-            let seams = design.seams.len();
-            let n = design.delete_piece(*piece as usize).map_err(e)?;
-            Ok(match seams.saturating_sub(design.seams.len()) {
-                0 => format!("Deleted {name} ({n} triangles)"),
-                k => format!(
-                    "Deleted {name} ({n} triangles) and the {k} seam(s) left with nothing to \
-                     sew; the seams after them move up a letter"
-                ),
-            })
-        }
-        Command::DuplicatePiece {
-            piece,
-            place,
-            drop_m,
-            mirrored,
-            edge_m,
-        } => {
-            let at = start_of(*place, *drop_m)?;
-            let was = piece_name(design, *piece);
-            design
-                .duplicate_piece(*piece as usize, at, *mirrored, *edge_m)
-                .map(|(name, n)| {
-                    let how = if *mirrored { ", turned over" } else { "" };
-                    format!(
-                        "Copied {was} as {name} at the {} ({n} vertices{how}); sew it as any \
-                         piece (undo takes it away)",
-                        where_(at)
-                    )
-                })
-                .map_err(e)
-        }
-        _ => Err(format!("operation {} is not a piece's", c.op())),
-    }
-}
-
-/// The start a wire place code and drop name.
-fn start_of(code: u32, drop: f32) -> Result<Start, String> {
-    let place = shared::ui_to_sim::place::NAMES
-        .get(code as usize)
-        .and_then(|n| Place::parse(n))
-        .ok_or_else(|| format!("no place {code}"))?;
-    Ok(Start { place, drop })
-}
-
-/// Where a piece starts, as the answer says it: "front", "front, 0.42 m lower".
-fn where_(at: Start) -> String {
-    if at.drop > 0.0 {
-        format!("{}, {:.2} m lower", at.place.name(), at.drop)
-    } else {
-        at.place.name().to_string()
-    }
-}
-
-/// Piece `index`'s name as the list has it, or its number.
-fn piece_name(design: &Design, index: u32) -> String {
-    design
-        .piece_list()
-        .get(index as usize)
-        .map_or_else(|| format!("piece {index}"), |p| p.name.clone())
-}
-
-/// Adds a rectangle, an ellipse or every piece of a pattern file (its seams sewn).
-fn add_piece(
-    design: &mut Design,
-    shape: &PieceShape,
-    at: Start,
-    edge: f32,
-) -> Result<String, String> {
-    let fabric = design_fabric(design);
-    let piece = |name: &str, outline: Outline| PieceSpec {
-        name: name.into(),
-        outline,
-        fabric: fabric.clone(),
-        grain: 0.0,
-        placement: None,
-    };
-    let one = |design: &mut Design, p: PieceSpec| {
-        let n = design.add_piece(&p, at, edge).map_err(|e| e.to_string())?;
-        Ok(format!(
-            "Added {} at the {} ({n} vertices)",
-            p.name,
-            where_(at)
-        ))
-    };
-    match shape {
-        PieceShape::Rectangle { w, h } => {
-            one(design, piece("rectangle", Outline::rectangle(*w, *h)))
-        }
-        PieceShape::Ellipse { w, h } => one(
-            design,
-            piece("ellipse", Outline::ellipse(0.5 * w, 0.5 * h, edge)),
-        ),
-        PieceShape::File { path } => {
-            let marks = Landmarks::of(design.sim.body.as_ref());
-            let (mut spec, notes) =
-                load_pattern(std::path::Path::new(path), &marks).map_err(|e| e.to_string())?;
-            if spec.pieces.len() == 1 {
-                // One piece goes where the designer asked, not where its name says.
-                spec.pieces[0].placement = None;
-                return one(design, spec.pieces.remove(0));
-            }
-            let base = design.pieces.len();
-            let mut added = 0;
-            for p in &spec.pieces {
-                if let Err(e) = design.add_piece(p, at, edge) {
-                    return Err(format!(
-                        "{e} ({added} of the file's {} pieces were added; undo takes them back)",
-                        spec.pieces.len()
-                    ));
-                }
-                added += 1;
-            }
-            for s in &mut spec.seams {
-                s.a.piece += base;
-                s.b.piece += base;
-            }
-            let sewn = sew(design, &spec, SEAM_PULL).map_err(|e| e.to_string())?;
-            let mut msg = format!(
-                "Added the {added} pieces of {path}, {} seams stitched ({} pairs)",
-                sewn.seams, sewn.pairs
-            );
-            for n in notes.iter().chain(&sewn.open) {
-                msg += &format!("; note: {n}");
-            }
-            if sewn.seams > 0 {
-                msg += seam_tip(design);
-            }
-            Ok(msg)
-        }
     }
 }
 
@@ -682,5 +529,6 @@ pub(crate) fn replacement(
     Ok((next.0, next.1, backup))
 }
 
+mod pieces;
 #[cfg(test)]
 mod tests;

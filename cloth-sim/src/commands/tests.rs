@@ -1,4 +1,6 @@
 use super::*;
+use shared::command::PieceShape;
+use sim_core::scenario::FIRM_SUBSTEPS;
 use sim_core::scenario::build_design;
 
 /// Every model goes to the wire and back by its code; a code past the table is an
@@ -379,4 +381,45 @@ fn shear_damping_is_set_in_place_and_checked() {
     let err = carry_out(&mut d, &set(5.0)).unwrap_err();
     assert!(err.contains("shear damping"), "{err}");
     assert_eq!(d.sim.material, before);
+}
+
+/// A piece started 0.42 m below the shoulders (a skirt at the waist) under xpbd raises
+/// the design's substeps to FIRM_SUBSTEPS and says so; one started higher, one on an
+/// arm, and one under vbd leave them as they are.
+#[test]
+fn a_piece_started_at_the_waist_runs_xpbd_firm() {
+    let add = |model: ModelKind, place: u32, drop_m: f32| {
+        let mut scene = ScenarioConfig::new(ScenarioName::DrapeMannequin);
+        scene.grid = 4;
+        scene.model = model;
+        scene.substeps = Some(5);
+        let mut d = build_design(&scene).unwrap();
+        let said = carry_out(
+            &mut d,
+            &Command::AddPiece {
+                shape: PieceShape::Rectangle { w: 0.3, h: 0.3 },
+                place,
+                drop_m,
+                edge_m: 0.05,
+            },
+        )
+        .unwrap();
+        (said, d.sim.substeps)
+    };
+    use shared::ui_to_sim::place;
+    let (said, n) = add(ModelKind::Xpbd, place::FRONT, 0.42);
+    assert_eq!(n, FIRM_SUBSTEPS, "{said}");
+    assert!(
+        said.contains("0.42 m lower") && said.contains("20 substeps, not 5"),
+        "{said}"
+    );
+    for (model, at, drop) in [
+        (ModelKind::Xpbd, place::FRONT, 0.1),
+        (ModelKind::Xpbd, place::LEFT_ARM, 0.42),
+        (ModelKind::Vbd, place::BACK, 0.42),
+    ] {
+        let (said, n) = add(model, at, drop);
+        assert_eq!(n, 5, "{model:?} at {at}, {drop} m lower: {said}");
+        assert!(!said.contains("substeps"), "{said}");
+    }
 }

@@ -1,0 +1,204 @@
+//! The piece edits of the command set: a piece added (a rectangle, an ellipse, a
+//! pattern file's pieces), moved, deleted or copied, where it starts, and the substeps a
+//! piece that hangs below the shoulders needs under xpbd.
+
+use shared::command::{Command, PieceShape};
+use sim_core::design::garment::{Landmarks, PieceSpec, Place, Start, load_pattern, sew};
+use sim_core::design::{Design, EditError};
+use sim_core::mesh::mesher::Outline;
+use sim_core::scenario::FIRM_SUBSTEPS;
+use sim_core::scenario::garment::SEAM_PULL;
+use sim_core::solver::ModelKind;
+
+use super::{design_fabric, seam_tip};
+
+/// A piece added, moved, deleted or copied.
+pub(super) fn piece_edit(design: &mut Design, c: &Command) -> Result<String, String> {
+    let e = |e: EditError| e.to_string();
+    match c {
+        Command::AddPiece {
+            shape,
+            place,
+            drop_m,
+            edge_m,
+        } => add_piece(design, shape, start_of(*place, *drop_m)?, *edge_m),
+        Command::PlacePiece {
+            piece,
+            place,
+            drop_m,
+        } => {
+            let at = start_of(*place, *drop_m)?;
+            let name = piece_name(design, *piece);
+            design
+                .place_piece(*piece as usize, at)
+                .map(|_| format!("Placed {name} at the {}", where_(at)))
+                .map_err(e)
+        }
+        Command::DeletePiece { piece } => {
+            let name = piece_name(design, *piece);
+            let seams = design.seams.len();
+            let n = design.delete_piece(*piece as usize).map_err(e)?;
+            Ok(match seams.saturating_sub(design.seams.len()) {
+                0 => format!("Deleted {name} ({n} triangles)"),
+                k => format!(
+                    "Deleted {name} ({n} triangles) and the {k} seam(s) left with nothing to \
+                     sew; the seams after them move up a letter"
+                ),
+            })
+        }
+        Command::DuplicatePiece {
+            piece,
+            place,
+            drop_m,
+            mirrored,
+            edge_m,
+        } => {
+            let at = start_of(*place, *drop_m)?;
+            let was = piece_name(design, *piece);
+            design
+                .duplicate_piece(*piece as usize, at, *mirrored, *edge_m)
+                .map(|(name, n)| {
+                    let how = if *mirrored { ", turned over" } else { "" };
+                    format!(
+                        "Copied {was} as {name} at the {} ({n} vertices{how}); sew it as any \
+                         piece (undo takes it away)",
+                        where_(at)
+                    )
+                })
+                .map_err(e)
+        }
+        _ => Err(format!("operation {} is not a piece's", c.op())),
+    }
+}
+
+/// How far below the shoulders a piece must start to hang from the waist or hips, m: the
+/// mannequin's chest is 0.2-0.3 m down, its waist 0.42.
+const HANGS_BELOW: f32 = 0.25;
+
+/// Under xpbd at fewer than [`FIRM_SUBSTEPS`], a piece added, copied or moved
+/// [`HANGS_BELOW`] or more below the shoulders (not on an arm) raises the design's
+/// substeps to it and says so: at 5 a skirt of two pieces sewn at the sides slid off
+/// the mannequin's hips to the floor, at 20 it stayed at the waist, as a pattern's
+/// garment that hangs from its waist runs (docs/garments.md). Otherwise nothing.
+pub(super) fn firm_if_hanging(design: &mut Design, c: &Command) -> String {
+    let (Command::AddPiece { place, drop_m, .. }
+    | Command::PlacePiece { place, drop_m, .. }
+    | Command::DuplicatePiece { place, drop_m, .. }) = c
+    else {
+        return String::new();
+    };
+    let on_arm = matches!(
+        *place,
+        shared::ui_to_sim::place::LEFT_ARM | shared::ui_to_sim::place::RIGHT_ARM
+    );
+    let was = design.sim.substeps;
+    if *drop_m < HANGS_BELOW
+        || on_arm
+        || design.sim.model != ModelKind::Xpbd
+        || was >= FIRM_SUBSTEPS
+    {
+        return String::new();
+    }
+    design.sim.substeps = FIRM_SUBSTEPS;
+    format!(
+        "; it hangs below the shoulders, so xpbd now runs {FIRM_SUBSTEPS} substeps, not {was} \
+         (at {was} a skirt slid off the hips; the Material panel's Substeps to choose)"
+    )
+}
+
+/// The start a wire place code and drop name.
+fn start_of(code: u32, drop: f32) -> Result<Start, String> {
+    let place = shared::ui_to_sim::place::NAMES
+        .get(code as usize)
+        .and_then(|n| Place::parse(n))
+        .ok_or_else(|| format!("no place {code}"))?;
+    Ok(Start { place, drop })
+}
+
+/// Where a piece starts, as the answer says it: "front", "front, 0.42 m lower".
+fn where_(at: Start) -> String {
+    if at.drop > 0.0 {
+        format!("{}, {:.2} m lower", at.place.name(), at.drop)
+    } else {
+        at.place.name().to_string()
+    }
+}
+
+/// Piece `index`'s name as the list has it, or its number.
+pub(super) fn piece_name(design: &Design, index: u32) -> String {
+    design
+        .piece_list()
+        .get(index as usize)
+        .map_or_else(|| format!("piece {index}"), |p| p.name.clone())
+}
+
+/// Adds a rectangle, an ellipse or every piece of a pattern file (its seams sewn).
+pub(super) fn add_piece(
+    design: &mut Design,
+    shape: &PieceShape,
+    at: Start,
+    edge: f32,
+) -> Result<String, String> {
+    let fabric = design_fabric(design);
+    let piece = |name: &str, outline: Outline| PieceSpec {
+        name: name.into(),
+        outline,
+        fabric: fabric.clone(),
+        grain: 0.0,
+        placement: None,
+    };
+    let one = |design: &mut Design, p: PieceSpec| {
+        let n = design.add_piece(&p, at, edge).map_err(|e| e.to_string())?;
+        Ok(format!(
+            "Added {} at the {} ({n} vertices)",
+            p.name,
+            where_(at)
+        ))
+    };
+    match shape {
+        PieceShape::Rectangle { w, h } => {
+            one(design, piece("rectangle", Outline::rectangle(*w, *h)))
+        }
+        PieceShape::Ellipse { w, h } => one(
+            design,
+            piece("ellipse", Outline::ellipse(0.5 * w, 0.5 * h, edge)),
+        ),
+        PieceShape::File { path } => {
+            let marks = Landmarks::of(design.sim.body.as_ref());
+            let (mut spec, notes) =
+                load_pattern(std::path::Path::new(path), &marks).map_err(|e| e.to_string())?;
+            if spec.pieces.len() == 1 {
+                // One piece goes where the designer asked, not where its name says.
+                spec.pieces[0].placement = None;
+                return one(design, spec.pieces.remove(0));
+            }
+            let base = design.pieces.len();
+            let mut added = 0;
+            for p in &spec.pieces {
+                if let Err(e) = design.add_piece(p, at, edge) {
+                    return Err(format!(
+                        "{e} ({added} of the file's {} pieces were added; undo takes them back)",
+                        spec.pieces.len()
+                    ));
+                }
+                added += 1;
+            }
+            for s in &mut spec.seams {
+                s.a.piece += base;
+                s.b.piece += base;
+            }
+            let sewn = sew(design, &spec, SEAM_PULL).map_err(|e| e.to_string())?;
+            let mut msg = format!(
+                "Added the {added} pieces of {path}, {} seams stitched ({} pairs)",
+                sewn.seams, sewn.pairs
+            );
+            for n in notes.iter().chain(&sewn.open) {
+                msg += &format!("; note: {n}");
+            }
+            if sewn.seams > 0 {
+                msg += seam_tip(design);
+            }
+            Ok(msg)
+        }
+    }
+}
