@@ -1287,12 +1287,13 @@ fn a_piece_gets_its_own_fabric_over_the_protocol() {
     stop.finish();
 }
 
-/// Waits for a piece list whose pieces and first seam (if any) are called so.
+/// Waits for a piece list whose pieces and first seam (if any) are called so; returns
+/// the pieces' vertex counts.
 fn wait_for_names(
     lists: &services::Sub<shared::sim_to_ui::PieceList>,
     pieces: &[&str],
     seam: Option<&str>,
-) {
+) -> Vec<u32> {
     let deadline = Instant::now() + Duration::from_secs(10);
     let mut seen = String::new();
     loop {
@@ -1307,7 +1308,7 @@ fn wait_for_names(
             if p.iter().map(|p| p.name.as_str()).eq(pieces.iter().copied())
                 && s.first().map(|s| s.name()) == seam
             {
-                return;
+                return p.iter().map(|p| p.vertices).collect();
             }
         }
         assert!(
@@ -1329,7 +1330,9 @@ fn a_piece_and_a_seam_named_over_the_protocol_are_listed_at_once() {
     let mut ask = asker(ports::command_client(&node).unwrap());
     let lists: services::Sub<shared::sim_to_ui::PieceList> =
         ports::subscriber(&node, services::pieces, None).unwrap();
-    let listed = |pieces: &[&str], seam: Option<&str>| wait_for_names(&lists, pieces, seam);
+    let listed = |pieces: &[&str], seam: Option<&str>| {
+        wait_for_names(&lists, pieces, seam);
+    };
     listed(&["front", "back"], None);
     let named = |op: u32, a: u32, name: &str| {
         let mut c = ToolCommand {
@@ -1442,7 +1445,33 @@ fn a_copied_piece_is_listed_at_once_and_undo_takes_it_away() {
         "{}",
         r.message()
     );
-    wait_for_names(&lists, &two, None);
+    let front = wait_for_names(&lists, &two, None)[0];
+    // The back deleted: the telemetry counts the front's vertices alone (it counted the
+    // solver's, a deleted piece's included, before).
+    let tel: services::Sub<shared::telemetry::SimTelemetry> =
+        ports::subscriber(&node, services::sim_telemetry, None).unwrap();
+    let r = ask(ToolCommand {
+        op: op::DELETE_PIECE,
+        a: 1,
+        ..Default::default()
+    });
+    assert!(
+        r.ok == 1 && r.message().contains("Deleted back"),
+        "{}",
+        r.message()
+    );
+    let deadline = Instant::now() + Duration::from_secs(10);
+    let mut seen = 0;
+    while seen != front {
+        if let Some(t) = tel.receive().unwrap() {
+            seen = t.vertices;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "telemetry says {seen} vertices, the front has {front}"
+        );
+        std::thread::sleep(Duration::from_millis(10));
+    }
     stop.finish();
 }
 

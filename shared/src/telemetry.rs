@@ -237,6 +237,7 @@ mod tests {
 pub struct SimTelemetry {
     pub header: Header,
     pub frame: u64,
+    /// The cloth's vertices that some triangle uses (not a deleted piece's).
     pub vertices: u32,
     pub triangles: u32,
     /// Wall time of a whole frame (collision and all substeps), since start.

@@ -30,7 +30,12 @@ impl Service<'_> {
             let frames = sim.frame.saturating_sub(self.tel_at.1);
             tel.header = Header::next(&mut self.seq_tel);
             tel.frame = sim.frame;
-            tel.vertices = sim.cloth.len() as u32;
+            // The vertices some triangle uses: a deleted piece's stay in the solver's
+            // arrays (undo brings them back) but are no cloth.
+            let live = &sim.cloth.live;
+            tel.vertices = (0..sim.cloth.len() as u32)
+                .filter(|&v| live.vertex_alive(v))
+                .count() as u32;
             tel.triangles = sim.cloth.live.tri_count() as u32;
             tel.rate_hz = (frames as f64 / self.tel_at.0.elapsed().as_secs_f64()) as f32;
             tel.autosave_ms_max = autosave.hold_max_ms() as f32;
