@@ -416,6 +416,17 @@ fn dress_and_rectangle(
     (build_design(&cfg).unwrap(), spec)
 }
 
+/// A piece's top (or bottom) edge from corner to corner, where the pattern view draws
+/// it (its outline's box, moved by the piece's offset).
+fn top_or_bottom(r: &sim_core::design::PieceRecord, top: bool) -> [glam::Vec2; 2] {
+    let (lo, hi) = outline_box(r);
+    let y = if top { hi.y } else { lo.y };
+    [
+        glam::Vec2::new(lo.x, y) + r.offset,
+        glam::Vec2::new(hi.x, y) + r.offset,
+    ]
+}
+
 /// The box round a piece's outer outline, in its own pattern plane.
 fn outline_box(r: &sim_core::design::PieceRecord) -> (glam::Vec2, glam::Vec2) {
     (r.outline.loops[0].iter()).fold((glam::Vec2::MAX, glam::Vec2::MIN), |(a, b), p| {
@@ -520,14 +531,7 @@ fn a_deleted_pieces_open_seams_go_with_it() {
     use sim_core::design::garment::Place;
     let (mut d, pocket) = dress_and_rectangle("pocket", 0.3, 0.2);
     d.add_piece(&pocket, Place::Front, 0.05).unwrap();
-    let edge = |r: &sim_core::design::PieceRecord, top: bool| {
-        let (lo, hi) = outline_box(r);
-        let y = if top { hi.y } else { lo.y };
-        [
-            glam::Vec2::new(lo.x, y) + r.offset,
-            glam::Vec2::new(hi.x, y) + r.offset,
-        ]
-    };
+    let edge = top_or_bottom;
     // The front's hem to the back's (stays), the pocket's sides to each other (goes).
     let (front, back) = (edge(&d.pieces[0], false), edge(&d.pieces[1], false));
     d.seam_on_plane(front, back, 0.01).unwrap();
@@ -582,14 +586,7 @@ fn pieces_are_added_placed_and_deleted_undoably() {
     ));
     // A seam drawn in the pattern plane: the pocket's top edge to the front's hem (both
     // borders), as the studio's pattern view sends it.
-    let edge_of = |r: &sim_core::design::PieceRecord, top: bool| {
-        let (lo, hi) = outline_box(r);
-        let y = if top { hi.y } else { lo.y };
-        [
-            glam::Vec2::new(lo.x, y) + r.offset,
-            glam::Vec2::new(hi.x, y) + r.offset,
-        ]
-    };
+    let edge_of = top_or_bottom;
     let (hem, top) = (edge_of(&d.pieces[0], false), edge_of(&d.pieces[2], true));
     let seams = d.seams.len();
     let pairs = d.seam_on_plane(top, hem, 0.01).unwrap();
