@@ -49,7 +49,8 @@ const SIZE_HELP: &str = "The new piece's width and height, metres. The mannequin
 /// What the place's drop says.
 const DROP_HELP: &str = "How far below the place's usual start the piece's top goes, metres: \
      0 starts a piece with its top just above the shoulders (a sleeve at the shoulder). On \
-     the mannequin the waist is about 0.42 m lower, the hips 0.55 m: a skirt starts there. \
+     the mannequin the waist is about 0.42 m lower, the hips 0.55 m: a skirt starts there \
+     (from 0.25 m lower the xpbd model runs 20 substeps, or the skirt slides off the hips). \
      For an arm, it is down the arm. Add piece, Place at and Copy to use it.";
 
 /// What the Copy to button says.
