@@ -423,3 +423,13 @@ fn a_piece_started_at_the_waist_runs_xpbd_firm() {
         assert!(!said.contains("substeps"), "{said}");
     }
 }
+
+/// The wire's limit on a piece's drop is the design's: a drop the protocol lets through
+/// is one the design takes, and one the design takes is not refused on the wire.
+#[test]
+fn the_wire_and_the_design_allow_the_same_drop() {
+    assert_eq!(
+        shared::ui_to_sim::PIECE_DROP,
+        sim_core::design::garment::MAX_DROP
+    );
+}
