@@ -299,6 +299,69 @@ fn cutting_a_piece_in_two_lists_two_pieces() {
     assert_eq!(names, ["front", "front 2", "back"], "{names:?}");
 }
 
+/// A part a cut left of a piece is named alone: the other part keeps its name, in the
+/// list and in the pattern out, through a save and load, and after a further cut of the
+/// named part (the larger side keeps the name). Undo gives the old names back; a name
+/// another part has is refused and changes nothing; a piece in one part is renamed.
+#[test]
+fn a_part_of_a_cut_piece_is_named_alone() {
+    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+    cfg.piece_edge = 0.06;
+    let mut d = build_design(&cfg).unwrap();
+    let band = d.record_slots(0, |own| (own.y + 0.4).abs() < 0.05);
+    d.remove_triangles(&band).unwrap();
+    let names =
+        |d: &Design| -> Vec<String> { d.piece_list().into_iter().map(|p| p.name).collect() };
+    let at = |d: &Design, n: &str| names(d).iter().position(|m| m == n).unwrap();
+    assert_eq!(names(&d), ["front", "front 2", "back"]);
+    let steps = d.history.undo_steps();
+    assert_eq!(d.name_piece(at(&d, "front 2"), "skirt").unwrap(), "front 2");
+    assert_eq!(names(&d), ["front", "skirt", "back"]);
+    assert_eq!(d.name_piece(at(&d, "front"), "bodice").unwrap(), "front");
+    assert_eq!(names(&d), ["bodice", "skirt", "back"]);
+    assert_eq!(d.history.undo_steps(), steps + 2);
+    // Refused: a name another part or piece has, as the piece itself would be.
+    for taken in ["skirt", "back"] {
+        let e = d
+            .name_piece(at(&d, "bodice"), taken)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("already"), "{e}");
+    }
+    assert_eq!(d.history.undo_steps(), steps + 2);
+    let out = sim_core::design::sewing_pattern::pieces(&d);
+    let mut out_names: Vec<&str> = out.iter().map(|p| p.name.as_str()).collect();
+    out_names.sort();
+    assert_eq!(out_names, ["back", "bodice", "skirt"]);
+    let loaded = Design::load_design(&d.save_design().unwrap()).unwrap();
+    assert_eq!(names(&loaded), ["bodice", "skirt", "back"]);
+    let mut bad = loaded;
+    bad.pieces[0].parts[0].points.clear();
+    let e = Design::load_design(&bad.save_design().unwrap()).unwrap_err();
+    assert!(e.to_string().contains("finite points"), "{e}");
+    // The bodice (the front's top, own y above -0.35) cut again across its middle:
+    // the part holding the most of the name's points keeps it, the other is called
+    // after the front as made.
+    let top = d.record_slots(0, |own| (own.y + 0.2).abs() < 0.03 && own.y > -0.35);
+    assert!(!top.is_empty());
+    d.remove_triangles(&top).unwrap();
+    let now = names(&d);
+    assert_eq!(now.len(), 4, "{now:?}");
+    for n in ["bodice", "skirt", "back"] {
+        assert_eq!(now.iter().filter(|m| *m == n).count(), 1, "{now:?}");
+    }
+    assert!(now.contains(&"front".to_string()), "{now:?}");
+    d.undo().unwrap();
+    d.undo().unwrap();
+    assert_eq!(names(&d), ["front", "skirt", "back"]);
+    d.undo().unwrap();
+    assert_eq!(names(&d), ["front", "front 2", "back"]);
+    // The back, in one part, is renamed as a piece.
+    d.name_piece(at(&d, "back"), "back bodice").unwrap();
+    assert_eq!(d.pieces[1].name, "back bodice");
+    assert!(d.pieces[1].parts.is_empty());
+}
+
 /// Scissors in the pattern view: a straight line from beside the sewn, draped front to
 /// beside it cuts the front in two (listed as two pieces), as one undoable operation;
 /// the garment crosses nothing in the frames after. A line of no length is refused and

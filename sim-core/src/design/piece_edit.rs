@@ -96,7 +96,7 @@ impl Design {
         let offset = Vec2::new(left - lo.x, -hi.y);
         let mut name = spec.name.clone();
         let mut k = 1;
-        while self.pieces.iter().any(|r| r.name == name) {
+        while self.name_in_use(&name, &[]) {
             k += 1;
             name = format!("{} ({k})", spec.name);
         }
@@ -161,6 +161,7 @@ impl Design {
                 placement: Some(placement),
                 offset,
                 outline,
+                parts: Vec::new(),
             }),
         });
         self.commit(label, prims)?;
@@ -308,11 +309,12 @@ impl Design {
     }
 
     /// Names piece `index` of [`Design::piece_list`] `name` (trimmed), undoably: the
-    /// list, the pattern view and the pattern out call it so. The name belongs to the
-    /// piece as made, so the parts a cut left of it take it too (the smaller ones
-    /// numbered after it, as before). Refused: an empty name, one longer than
+    /// list, the pattern view and the pattern out call it so. A piece in one part is
+    /// renamed; a part a cut left of a piece is named alone, the piece's other parts
+    /// keeping the names they have. Refused: an empty name, one longer than
     /// [`MAX_NAME`](super::MAX_NAME) characters or with control characters, one another
-    /// piece has, and a cloth that was not made as a pattern piece. Returns the old name.
+    /// piece or part has, and a cloth that was not made as a pattern piece. Returns the
+    /// old name.
     pub fn name_piece(&mut self, index: usize, name: &str) -> Result<String, EditError> {
         let (k, list) = self.own_record(
             index,
@@ -330,21 +332,18 @@ impl Design {
                 value: format!("{name:?}"),
             });
         }
-        let old = &self.pieces[k];
-        if old.name == name {
-            return Ok(old.name.clone());
+        let old = list[index].name.clone();
+        if old == name {
+            return Ok(old);
         }
-        if self.pieces.iter().any(|r| r.name == name) || list.iter().any(|p| p.name == name) {
+        if self.name_in_use(name, &list) {
             return Err(EditError::Piece(format!(
-                "a piece is called {name} already; give {} another name",
-                old.name
+                "a piece is called {name} already; give {old} another name"
             )));
         }
-        let new = PieceRecord {
-            name: name.to_string(),
-            ..old.clone()
-        };
-        self.replace_record("name piece", k, new)
+        let new = self.with_part_named(k, index, name)?;
+        self.replace_record("name piece", k, new)?;
+        Ok(old)
     }
 
     /// Adds a copy of piece `index` of [`Design::piece_list`] as it is now (its outline

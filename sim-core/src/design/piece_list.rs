@@ -2,7 +2,7 @@
 //! pattern and names each by the [`PieceRecord`] whose band holds it, so cutting a piece
 //! in two lists two pieces ("front" and "front 2") and a piece torn away keeps its name.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use glam::Vec2;
 
@@ -162,20 +162,32 @@ impl Design {
                 .then(out[b].triangles.cmp(&out[a].triangles))
                 .then(a.cmp(&b))
         });
+        // A part with a name of its own has it; the others are numbered round them.
+        let keys: Vec<(Option<usize>, &[u32])> = (out.iter().zip(parts))
+            .map(|(info, tris)| (info.record, &tris[..]))
+            .collect();
+        let own = self.named_parts(&keys);
+        let taken: HashSet<String> = (out.iter().zip(&own))
+            .filter_map(|(info, e)| Some(self.pieces[info.record?].parts[(*e)?].name.clone()))
+            .collect();
         let mut seen: HashMap<usize, usize> = HashMap::new();
         let mut loose = 0;
         for i in order {
-            out[i].name = match out[i].record {
-                Some(r) => {
+            out[i].name = match (out[i].record, own[i]) {
+                (Some(r), Some(e)) => self.pieces[r].parts[e].name.clone(),
+                (Some(r), None) => loop {
                     let k = seen.entry(r).or_insert(0);
                     *k += 1;
-                    if *k == 1 {
+                    let name = if *k == 1 {
                         self.pieces[r].name.clone()
                     } else {
                         format!("{} {}", self.pieces[r].name, k)
+                    };
+                    if !taken.contains(&name) {
+                        break name;
                     }
-                }
-                None => {
+                },
+                (None, _) => {
                     loose += 1;
                     format!("piece {loose}")
                 }

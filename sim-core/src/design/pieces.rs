@@ -28,7 +28,27 @@ pub struct PieceRecord {
     pub offset: Vec2,
     /// The piece's outline as made, in its own coordinates, m.
     pub outline: Outline,
+    /// Names the designer gave parts a cut left of the piece (none in files written
+    /// before parts could be named): the part that holds a name's point is called so,
+    /// the piece's other parts by its own name.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub parts: Vec<PartName>,
 }
+
+/// A name one part of a cut piece has of its own.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PartName {
+    /// Points spread over the part, in the piece's own pattern coordinates, m: the part
+    /// that holds the most of them has the name. The pattern does not move as the cloth
+    /// does, and a cut or a region cut away leaves some of them in one part.
+    pub points: Vec<Vec2>,
+    pub name: String,
+}
+
+/// Most points a part's name keeps.
+pub(super) const PART_POINTS: usize = 16;
+/// Most named parts one piece may carry.
+pub(super) const MAX_PART_NAMES: usize = 1_000;
 
 impl PieceRecord {
     /// The band of the design's pattern x this piece owns.
@@ -62,6 +82,28 @@ impl PieceRecord {
                 "piece {}: an outline needs loops of 3 points or more",
                 self.name
             ));
+        }
+        if self.parts.len() > MAX_PART_NAMES {
+            return Err(format!(
+                "piece {}: {} named parts (at most {MAX_PART_NAMES})",
+                self.name,
+                self.parts.len()
+            ));
+        }
+        for part in &self.parts {
+            if part.name.trim().is_empty() || part.name.chars().count() > MAX_NAME {
+                return Err(format!(
+                    "piece {}: a part's name must have 1 to {MAX_NAME} characters, got {:?}",
+                    self.name, part.name
+                ));
+            }
+            let points = 1..=PART_POINTS;
+            if !points.contains(&part.points.len()) || part.points.iter().any(|p| !p.is_finite()) {
+                return Err(format!(
+                    "piece {}: part {} needs 1 to {PART_POINTS} finite points",
+                    self.name, part.name
+                ));
+            }
         }
         Ok(())
     }

@@ -105,6 +105,7 @@ pub fn assemble(
             placement: p.placement,
             offset,
             outline,
+            parts: Vec::new(),
         })
         .collect();
     let mut starts = vec![Vec3::ZERO; mesh.positions.len()];
