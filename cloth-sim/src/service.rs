@@ -522,7 +522,10 @@ impl Service<'_> {
         let d = &self.design;
         let mut records = std::collections::hash_map::DefaultHasher::new();
         for p in &d.pieces {
-            (&p.name, &p.fabric).hash(&mut records);
+            (&p.name, &p.fabric, p.parts.len()).hash(&mut records);
+            for part in &p.parts {
+                part.name.hash(&mut records);
+            }
         }
         for s in &d.seams {
             s.name.hash(&mut records);

@@ -1374,6 +1374,44 @@ fn a_piece_and_a_seam_named_over_the_protocol_are_listed_at_once() {
     });
     assert_eq!(r.ok, 1, "{}", r.message());
     listed(&["bodice front", "back"], None);
+    // The front cut across its middle in the pattern (the studio's Cut tool), and its
+    // lower part named alone: listed at once (a part's name changes no piece's name),
+    // the upper part keeping its own.
+    let front = {
+        let mut scene = ScenarioConfig::new(ScenarioName::DressMannequin);
+        scene.piece_edge = 0.08;
+        build_design(&scene).unwrap().pieces[0].clone()
+    };
+    let outline = &front.outline.loops[0];
+    let xs = outline.iter().map(|p| p.x + front.offset.x);
+    let (left, right) = xs.fold((f32::MAX, f32::MIN), |(a, b), x| (a.min(x), b.max(x)));
+    let ys = outline.iter().map(|p| p.y + front.offset.y);
+    let (low, high) = ys.fold((f32::MAX, f32::MIN), |(a, b), y| (a.min(y), b.max(y)));
+    let y = 0.5 * (low + high);
+    let r = ask(ToolCommand {
+        op: op::CUT_PLANE,
+        uv: [left - 0.02, y, right + 0.02, y, 0.0, 0.0, 0.0, 0.0],
+        ..Default::default()
+    });
+    assert_eq!(r.ok, 1, "{}", r.message());
+    listed(&["bodice front", "bodice front 2", "back"], None);
+    let r = ask(named(op::NAME_PIECE, 1, "skirt front"));
+    assert!(
+        r.ok == 1
+            && r.message()
+                .contains("bodice front 2 is now called skirt front"),
+        "{}",
+        r.message()
+    );
+    listed(&["bodice front", "skirt front", "back"], None);
+    for _ in 0..2 {
+        let r = ask(ToolCommand {
+            op: op::UNDO,
+            ..Default::default()
+        });
+        assert_eq!(r.ok, 1, "{}", r.message());
+    }
+    listed(&["bodice front", "back"], None);
     // The shipped dress pattern again: two more pieces and their seams.
     let mut file = ToolCommand {
         op: op::ADD_PIECE,
