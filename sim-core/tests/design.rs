@@ -533,6 +533,52 @@ fn a_drag_near_the_corners_seams_the_whole_side() {
     assert!((ends - 0.5).abs() < 0.005, "{ends}");
 }
 
+/// A cut sewn up again from the pattern view, as a waist seam along a style line is:
+/// the cut's two sides lie on one line there, and two drags along it take one side and
+/// then the other (before, both took the same side and the seam was refused as sharing
+/// its vertices). The seam joins the two parts, which weld into one piece again and
+/// cross nothing.
+#[test]
+fn a_cut_is_sewn_up_again_by_dragging_along_it_twice() {
+    let mut d = sewn_dress();
+    let (lo, hi) = outline_box(&d.pieces[0]);
+    let offset = d.pieces[0].offset;
+    let y = 0.5 * (lo.y + hi.y);
+    let at = |x: f32| glam::Vec2::new(x, y) + offset;
+    let (a, b) = (at(lo.x - 0.02), at(hi.x + 0.02));
+    let along = [at(lo.x + 0.02), at(hi.x - 0.02)];
+    d.cut_line(a, b).unwrap();
+    let names =
+        |d: &Design| -> Vec<String> { d.piece_list().into_iter().map(|p| p.name).collect() };
+    assert_eq!(names(&d), ["front", "front 2", "back"]);
+    let tol = 0.02;
+    let (pa, pb) = d.seam_sides(along, along, tol, true);
+    assert!(pa.len() >= 5 && pb.len() >= 5, "{pa:?} {pb:?}");
+    assert!(pa.iter().all(|v| !pb.contains(v)), "{pa:?} {pb:?}");
+    // One side on each part.
+    let slots = d.piece_slots(0).unwrap();
+    let in_first = |v: u32| {
+        (slots.iter())
+            .filter_map(|&s| d.sim.cloth.live.tri(s))
+            .any(|t| t.v.contains(&v))
+    };
+    assert_ne!(in_first(pa[1]), in_first(pb[1]));
+    let lengths = (d.pattern_length(&pa), d.pattern_length(&pb));
+    assert!((lengths.0 - lengths.1).abs() < 0.005, "{lengths:?}");
+    let pairs = d.seam_on_plane(along, along, tol).unwrap();
+    assert!(pairs >= 5, "{pairs}");
+    for _ in 0..240 {
+        d.step().unwrap();
+    }
+    assert_eq!(names(&d), ["front", "back"]);
+    assert_eq!(crossings(&d), (0, 0));
+    // Along a border with nothing across it, the second drag is still the same border,
+    // and refused in words a designer reads.
+    let hem = along.map(|p| p + glam::Vec2::new(0.0, lo.y - y));
+    let e = d.seam_on_plane(hem, hem, tol).unwrap_err().to_string();
+    assert!(e.contains("one border"), "{e}");
+}
+
 /// A piece asked to start lower (a skirt at the waist) starts that much lower, added,
 /// moved or copied; a drop past the knees, negative or not a number is refused and
 /// changes nothing.

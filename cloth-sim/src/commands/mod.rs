@@ -171,13 +171,8 @@ fn seam(
     let seg = |s: &[[f32; 2]; 2]| s.map(Vec2::from_array);
     let (sa, sb) = (seg(a), seg(b));
     // The two sides' pattern lengths, for a warning when they do not match.
-    let path: fn(&Design, Vec2, Vec2, f32) -> Vec<u32> = if plane {
-        Design::plane_path
-    } else {
-        Design::pattern_path
-    };
-    let la = design.pattern_length(&path(design, sa[0], sa[1], tol));
-    let lb = design.pattern_length(&path(design, sb[0], sb[1], tol));
+    let (pa, pb) = design.seam_sides(sa, sb, tol, plane);
+    let (la, lb) = (design.pattern_length(&pa), design.pattern_length(&pb));
     let done = if plane {
         design.seam_on_plane(sa, sb, tol)
     } else {

@@ -54,7 +54,9 @@ pub enum EditError {
     Geometry(#[from] GeometryError),
     #[error("({0}, {1}) is not an edge on the cloth's border")]
     NotBorderEdge(u32, u32),
-    #[error("the two seam paths share vertex {0}")]
+    #[error(
+        "the seam's two sides are one border (vertex {0} is on both): take the second side along another border"
+    )]
     SeamOverlap(u32),
     #[error("the design changed underneath this edit (seam {0})")]
     StaleSeam(u32),

@@ -48,14 +48,55 @@ impl Design {
     /// The live border vertices within `tol` (UV) of segment `a -> b`, in order from `a`
     /// to `b` (see `path_near`).
     pub fn pattern_path(&self, a: Vec2, b: Vec2, tol: f32) -> Vec<u32> {
-        self.path_near(a, b, tol, |v| vertex_places(self, v, |t, k| t.uv[k]))
+        self.path_on(a, b, tol, false, &HashSet::new())
     }
 
     /// [`Design::pattern_path`] in the design's pattern plane (its x and -z, m): what the
     /// studio's pattern view draws, where pieces never overlap (their UVs may).
     pub fn plane_path(&self, a: Vec2, b: Vec2, tol: f32) -> Vec<u32> {
+        self.path_on(a, b, tol, true, &HashSet::new())
+    }
+
+    /// The border paths a seam along segments `a` and `b` joins, on the pattern plane
+    /// (`plane`) or the UVs, as [`Design::plane_path`] or [`Design::pattern_path`] finds
+    /// them, but where the second would run along the first (more than their ends in
+    /// common), the border that lies on the first's line without its vertices: the other
+    /// side of a cut, which the pattern draws on the first (a drag along the cut twice
+    /// picks both sides, to sew a cut up again or a waist seam along it).
+    pub fn seam_sides(
+        &self,
+        a: [Vec2; 2],
+        b: [Vec2; 2],
+        tol: f32,
+        plane: bool,
+    ) -> (Vec<u32>, Vec<u32>) {
+        let pa = self.path_on(a[0], a[1], tol, plane, &HashSet::new());
+        let pb = self.path_on(b[0], b[1], tol, plane, &HashSet::new());
+        let inner = |v: &u32| {
+            !((pa.first() == Some(v) && pb.first() == Some(v))
+                || (pa.last() == Some(v) && pb.last() == Some(v)))
+        };
+        if pb.iter().filter(|v| inner(v)).any(|v| pa.contains(v)) {
+            let avoid: HashSet<u32> = pa.iter().copied().collect();
+            let other = self.path_on(b[0], b[1], tol, plane, &avoid);
+            if other.len() >= 2 {
+                return (pa, other);
+            }
+        }
+        (pa, pb)
+    }
+
+    /// [`Design::plane_path`] (`plane`) or [`Design::pattern_path`], without the
+    /// vertices in `avoid`.
+    fn path_on(&self, a: Vec2, b: Vec2, tol: f32, plane: bool, avoid: &HashSet<u32>) -> Vec<u32> {
         self.path_near(a, b, tol, |v| {
-            vertex_places(self, v, |t, k| Vec2::new(t.rest[k].x, -t.rest[k].z))
+            if avoid.contains(&v) {
+                Vec::new()
+            } else if plane {
+                vertex_places(self, v, |t, k| Vec2::new(t.rest[k].x, -t.rest[k].z))
+            } else {
+                vertex_places(self, v, |t, k| t.uv[k])
+            }
         })
     }
 
@@ -108,7 +149,7 @@ impl Design {
         b: [Vec2; 2],
         tol: f32,
     ) -> Result<usize, EditError> {
-        self.seam_along(a, b, tol, Self::pattern_path)
+        self.seam_along(a, b, tol, false)
     }
 
     /// [`Design::seam_on_pattern`] with segments in the design's pattern plane (m), as
@@ -119,19 +160,20 @@ impl Design {
         b: [Vec2; 2],
         tol: f32,
     ) -> Result<usize, EditError> {
-        self.seam_along(a, b, tol, Self::plane_path)
+        self.seam_along(a, b, tol, true)
     }
 
-    /// A seam between the border paths `path` finds along segments `a` and `b`.
+    /// A seam between the border paths along segments `a` and `b`
+    /// ([`Design::seam_sides`]).
     fn seam_along(
         &mut self,
         a: [Vec2; 2],
         b: [Vec2; 2],
         tol: f32,
-        path: fn(&Self, Vec2, Vec2, f32) -> Vec<u32>,
+        plane: bool,
     ) -> Result<usize, EditError> {
         seam_tolerance(tol)?;
-        let (mut pa, mut pb) = (path(self, a[0], a[1], tol), path(self, b[0], b[1], tol));
+        let (mut pa, mut pb) = self.seam_sides(a, b, tol, plane);
         // A dart's two sides meet at its point (or its ends): it is not stitched to itself.
         if !pa.is_empty() && pa.first() == pb.first() {
             pa.remove(0);
