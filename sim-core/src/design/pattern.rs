@@ -60,9 +60,10 @@ impl Design {
     /// The border paths a seam along segments `a` and `b` joins, on the pattern plane
     /// (`plane`) or the UVs, as [`Design::plane_path`] or [`Design::pattern_path`] finds
     /// them, but where the second would run along the first (more than their ends in
-    /// common), the border that lies on the first's line without its vertices: the other
-    /// side of a cut, which the pattern draws on the first (a drag along the cut twice
-    /// picks both sides, to sew a cut up again or a waist seam along it).
+    /// common), the other side of a cut, which the pattern draws on the first (a drag
+    /// along the cut twice picks both sides, to sew a cut up again or a waist seam along
+    /// it): the vertices at the first's places, one to one, or else the border on the
+    /// second's line without the first's vertices.
     pub fn seam_sides(
         &self,
         a: [Vec2; 2],
@@ -78,12 +79,46 @@ impl Design {
         };
         if pb.iter().filter(|v| inner(v)).any(|v| pa.contains(v)) {
             let avoid: HashSet<u32> = pa.iter().copied().collect();
+            // A cut's two sides have their vertices at the same places: paired one to
+            // one, the welds close it as it was.
+            if let Some(twins) = self.twins(&pa, plane, &avoid) {
+                return (pa, twins);
+            }
             let other = self.path_on(b[0], b[1], tol, plane, &avoid);
             if other.len() >= 2 {
                 return (pa, other);
             }
         }
         (pa, pb)
+    }
+
+    /// For each vertex of `path`, another border vertex (none in `avoid`) at one of its
+    /// places on the pattern plane (`plane`) or the UVs, in `path`'s order: the other
+    /// side of a cut along it. `None` unless every vertex has one, each its own.
+    fn twins(&self, path: &[u32], plane: bool, avoid: &HashSet<u32>) -> Option<Vec<u32>> {
+        let live = &self.sim.cloth.live;
+        let places = |v: u32| {
+            if plane {
+                vertex_places(self, v, |t, k| Vec2::new(t.rest[k].x, -t.rest[k].z))
+            } else {
+                vertex_places(self, v, |t, k| t.uv[k])
+            }
+        };
+        let key = |p: Vec2| (p + Vec2::ZERO).to_array().map(f32::to_bits);
+        let mut at: HashMap<[u32; 2], u32> = HashMap::new();
+        for v in 0..self.sim.cloth.len() as u32 {
+            if live.vertex_alive(v) && live.is_boundary(v) && !avoid.contains(&v) {
+                for p in places(v) {
+                    at.entry(key(p)).or_insert(v);
+                }
+            }
+        }
+        let twins: Vec<u32> = path
+            .iter()
+            .map(|&v| places(v).into_iter().find_map(|p| at.get(&key(p)).copied()))
+            .collect::<Option<_>>()?;
+        let distinct: HashSet<u32> = twins.iter().copied().collect();
+        (distinct.len() == twins.len()).then_some(twins)
     }
 
     /// [`Design::plane_path`] (`plane`) or [`Design::pattern_path`], without the
