@@ -554,6 +554,28 @@ fn a_cut_is_sewn_up_again_by_dragging_along_it_twice() {
     let tol = 0.02;
     // The second drag a little shorter, as a hand draws it: still the whole other side.
     let again = [at(lo.x + 0.06), at(hi.x - 0.05)];
+    // Either drag first: whichever side each finds by itself, the second is the
+    // first's twin.
+    let (pa, pb) = d.seam_sides(again, along, tol, true);
+    let twins = |pa: &[u32], pb: &[u32]| {
+        let live = &d.sim.cloth.live;
+        let places = |v: u32| -> Vec<glam::Vec2> {
+            (live.tris_of(v).iter())
+                .filter_map(|&s| live.tri(s))
+                .map(|t| t.rest[t.corner(v).unwrap()])
+                .map(|p| glam::Vec2::new(p.x, -p.z))
+                .collect()
+        };
+        for (&a, &b) in pa.iter().zip(pb) {
+            let (at_a, at_b) = (places(a), places(b));
+            assert!(
+                at_a.iter().any(|p| at_b.contains(p)),
+                "{a} at {at_a:?}, {b} at {at_b:?}"
+            );
+        }
+        assert_eq!(pa.len(), pb.len());
+    };
+    twins(&pa, &pb);
     let (pa, pb) = d.seam_sides(along, again, tol, true);
     assert!(pa.len() >= 5 && pb.len() >= 5, "{pa:?} {pb:?}");
     assert!(pa.iter().all(|v| !pb.contains(v)), "{pa:?} {pb:?}");
@@ -566,21 +588,7 @@ fn a_cut_is_sewn_up_again_by_dragging_along_it_twice() {
     };
     assert_ne!(in_first(pa[1]), in_first(pb[1]));
     // Each vertex paired with its twin across the cut, at the same place.
-    let live = &d.sim.cloth.live;
-    let places = |v: u32| -> Vec<glam::Vec2> {
-        (live.tris_of(v).iter())
-            .filter_map(|&s| live.tri(s))
-            .map(|t| t.rest[t.corner(v).unwrap()])
-            .map(|p| glam::Vec2::new(p.x, -p.z))
-            .collect()
-    };
-    for (&a, &b) in pa.iter().zip(&pb) {
-        let (at_a, at_b) = (places(a), places(b));
-        assert!(
-            at_a.iter().any(|p| at_b.contains(p)),
-            "{a} at {at_a:?}, {b} at {at_b:?}"
-        );
-    }
+    twins(&pa, &pb);
     let pairs = d.seam_on_plane(along, again, tol).unwrap();
     assert_eq!(pairs, pa.len());
     for _ in 0..240 {

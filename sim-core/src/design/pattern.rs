@@ -59,11 +59,12 @@ impl Design {
 
     /// The border paths a seam along segments `a` and `b` joins, on the pattern plane
     /// (`plane`) or the UVs, as [`Design::plane_path`] or [`Design::pattern_path`] finds
-    /// them, but where the second would run along the first (more than their ends in
-    /// common), the other side of a cut, which the pattern draws on the first (a drag
-    /// along the cut twice picks both sides, to sew a cut up again or a waist seam along
-    /// it): the vertices at the first's places, one to one, or else the border on the
-    /// second's line without the first's vertices.
+    /// them; but where the second runs along the first (more than their ends in common,
+    /// or every vertex at one of the first's places), the other side of a cut, which the
+    /// pattern draws on the first (a drag along the cut twice picks both sides, to sew a
+    /// cut up again or a waist seam along it): the vertices at the first's places, one to
+    /// one, so that the welds close it as it was; or else the border on the second's line
+    /// without the first's vertices.
     pub fn seam_sides(
         &self,
         a: [Vec2; 2],
@@ -77,19 +78,37 @@ impl Design {
             !((pa.first() == Some(v) && pb.first() == Some(v))
                 || (pa.last() == Some(v) && pb.last() == Some(v)))
         };
-        if pb.iter().filter(|v| inner(v)).any(|v| pa.contains(v)) {
+        let overlaps = pb.iter().filter(|v| inner(v)).any(|v| pa.contains(v));
+        let on_a: HashSet<[u32; 2]> = (pa.iter())
+            .flat_map(|&v| self.places_of(v, plane))
+            .map(place_key)
+            .collect();
+        let along_a = pb.len() >= 2
+            && (pb.iter()).all(|&v| {
+                (self.places_of(v, plane).into_iter()).any(|p| on_a.contains(&place_key(p)))
+            });
+        if overlaps || along_a {
             let avoid: HashSet<u32> = pa.iter().copied().collect();
-            // A cut's two sides have their vertices at the same places: paired one to
-            // one, the welds close it as it was.
             if let Some(twins) = self.twins(&pa, plane, &avoid) {
                 return (pa, twins);
             }
-            let other = self.path_on(b[0], b[1], tol, plane, &avoid);
-            if other.len() >= 2 {
-                return (pa, other);
+            if overlaps {
+                let other = self.path_on(b[0], b[1], tol, plane, &avoid);
+                if other.len() >= 2 {
+                    return (pa, other);
+                }
             }
         }
         (pa, pb)
+    }
+
+    /// Vertex `v`'s places on the pattern plane (`plane`: its x and -z) or its UVs.
+    fn places_of(&self, v: u32, plane: bool) -> Vec<Vec2> {
+        if plane {
+            vertex_places(self, v, |t, k| Vec2::new(t.rest[k].x, -t.rest[k].z))
+        } else {
+            vertex_places(self, v, |t, k| t.uv[k])
+        }
     }
 
     /// For each vertex of `path`, another border vertex (none in `avoid`) at one of its
@@ -97,25 +116,18 @@ impl Design {
     /// side of a cut along it. `None` unless every vertex has one, each its own.
     fn twins(&self, path: &[u32], plane: bool, avoid: &HashSet<u32>) -> Option<Vec<u32>> {
         let live = &self.sim.cloth.live;
-        let places = |v: u32| {
-            if plane {
-                vertex_places(self, v, |t, k| Vec2::new(t.rest[k].x, -t.rest[k].z))
-            } else {
-                vertex_places(self, v, |t, k| t.uv[k])
-            }
-        };
-        let key = |p: Vec2| (p + Vec2::ZERO).to_array().map(f32::to_bits);
         let mut at: HashMap<[u32; 2], u32> = HashMap::new();
         for v in 0..self.sim.cloth.len() as u32 {
             if live.vertex_alive(v) && live.is_boundary(v) && !avoid.contains(&v) {
-                for p in places(v) {
-                    at.entry(key(p)).or_insert(v);
+                for p in self.places_of(v, plane) {
+                    at.entry(place_key(p)).or_insert(v);
                 }
             }
         }
-        let twins: Vec<u32> = path
-            .iter()
-            .map(|&v| places(v).into_iter().find_map(|p| at.get(&key(p)).copied()))
+        let twins: Vec<u32> = (path.iter())
+            .map(|&v| {
+                (self.places_of(v, plane).into_iter()).find_map(|p| at.get(&place_key(p)).copied())
+            })
             .collect::<Option<_>>()?;
         let distinct: HashSet<u32> = twins.iter().copied().collect();
         (distinct.len() == twins.len()).then_some(twins)
@@ -127,10 +139,8 @@ impl Design {
         self.path_near(a, b, tol, |v| {
             if avoid.contains(&v) {
                 Vec::new()
-            } else if plane {
-                vertex_places(self, v, |t, k| Vec2::new(t.rest[k].x, -t.rest[k].z))
             } else {
-                vertex_places(self, v, |t, k| t.uv[k])
+                self.places_of(v, plane)
             }
         })
     }
@@ -226,6 +236,12 @@ impl Design {
         let pull = self.pair_pull(&pa, &pb, STITCH_PULL);
         self.add_seam(&pa, &pb, pull)
     }
+}
+
+/// A place on the pattern as exact bits (0 and -0 alike): a cut's two sides have their
+/// vertices at the same places.
+fn place_key(p: Vec2) -> [u32; 2] {
+    (p + Vec2::ZERO).to_array().map(f32::to_bits)
 }
 
 /// Vertex `v`'s places in the pattern, one per triangle corner it has (`at` reads one).
