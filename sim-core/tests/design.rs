@@ -576,6 +576,12 @@ fn a_cut_is_sewn_up_again_by_dragging_along_it_twice() {
         assert_eq!(pa.len(), pb.len());
     };
     twins(&pa, &pb);
+    // Drags that each pass one end of the other: the longer side and its twins.
+    let (left, right) = ([at(lo.x), at(hi.x - 0.08)], [at(lo.x + 0.08), at(hi.x)]);
+    let (pl, pr) = d.seam_sides(left, right, tol, true);
+    twins(&pl, &pr);
+    let longer = [left, right].map(|[a, b]| d.plane_path(a, b, tol).len());
+    assert_eq!(pl.len(), longer[0].max(longer[1]));
     let (pa, pb) = d.seam_sides(along, again, tol, true);
     assert!(pa.len() >= 5 && pb.len() >= 5, "{pa:?} {pb:?}");
     assert!(pa.iter().all(|v| !pb.contains(v)), "{pa:?} {pb:?}");

@@ -59,12 +59,12 @@ impl Design {
 
     /// The border paths a seam along segments `a` and `b` joins, on the pattern plane
     /// (`plane`) or the UVs, as [`Design::plane_path`] or [`Design::pattern_path`] finds
-    /// them; but where the second runs along the first (more than their ends in common,
-    /// or every vertex at one of the first's places), the other side of a cut, which the
-    /// pattern draws on the first (a drag along the cut twice picks both sides, to sew a
-    /// cut up again or a waist seam along it): the vertices at the first's places, one to
-    /// one, so that the welds close it as it was; or else the border on the second's line
-    /// without the first's vertices.
+    /// them; but where one runs along the other (more than their ends in common, or all
+    /// but its ends at the other's places), the two sides of a cut, which the pattern
+    /// draws on one line (a drag along the cut twice picks both sides, to sew a cut up
+    /// again or a waist seam along it): the longer path and the vertices at its places,
+    /// one to one, so that the welds close it as it was; or else the border on the
+    /// second's line without the first's vertices.
     pub fn seam_sides(
         &self,
         a: [Vec2; 2],
@@ -79,20 +79,22 @@ impl Design {
                 || (pa.last() == Some(v) && pb.last() == Some(v)))
         };
         let overlaps = pb.iter().filter(|v| inner(v)).any(|v| pa.contains(v));
-        let on_a: HashSet<[u32; 2]> = (pa.iter())
-            .flat_map(|&v| self.places_of(v, plane))
-            .map(place_key)
-            .collect();
-        let along_a = pb.len() >= 2
-            && (pb.iter()).all(|&v| {
-                (self.places_of(v, plane).into_iter()).any(|p| on_a.contains(&place_key(p)))
-            });
-        if overlaps || along_a {
-            let avoid: HashSet<u32> = pa.iter().copied().collect();
-            if let Some(twins) = self.twins(&pa, plane, &avoid) {
-                return (pa, twins);
+        if overlaps || self.lies_along(&pb, &pa, plane) || self.lies_along(&pa, &pb, plane) {
+            // The longer drag's side and its twins, or the shorter's where a vertex of the
+            // longer has none (it went round a corner).
+            let order = if pb.len() > pa.len() {
+                [&pb, &pa]
+            } else {
+                [&pa, &pb]
+            };
+            for side in order {
+                let avoid: HashSet<u32> = side.iter().copied().collect();
+                if let Some(twins) = self.twins(side, plane, &avoid) {
+                    return (side.clone(), twins);
+                }
             }
             if overlaps {
+                let avoid: HashSet<u32> = pa.iter().copied().collect();
                 let other = self.path_on(b[0], b[1], tol, plane, &avoid);
                 if other.len() >= 2 {
                     return (pa, other);
@@ -100,6 +102,19 @@ impl Design {
             }
         }
         (pa, pb)
+    }
+
+    /// Whether path `p` lies along path `q` on the pattern (`plane`) or the UVs: every
+    /// vertex of `p` but its ends at one of the places of `q`'s.
+    fn lies_along(&self, p: &[u32], q: &[u32], plane: bool) -> bool {
+        let on_q: HashSet<[u32; 2]> = (q.iter())
+            .flat_map(|&v| self.places_of(v, plane))
+            .map(place_key)
+            .collect();
+        p.len() >= 3
+            && p[1..p.len() - 1].iter().all(|&v| {
+                (self.places_of(v, plane).into_iter()).any(|x| on_q.contains(&place_key(x)))
+            })
     }
 
     /// Vertex `v`'s places on the pattern plane (`plane`: its x and -z) or its UVs.
