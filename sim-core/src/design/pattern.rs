@@ -72,6 +72,19 @@ impl Design {
         tol: f32,
         plane: bool,
     ) -> (Vec<u32>, Vec<u32>) {
+        let (pa, pb, _) = self.sides_of(a, b, tol, plane);
+        (pa, pb)
+    }
+
+    /// [`Design::seam_sides`], and whether the second is the first's twins (to be paired
+    /// one to one, not by arc length).
+    fn sides_of(
+        &self,
+        a: [Vec2; 2],
+        b: [Vec2; 2],
+        tol: f32,
+        plane: bool,
+    ) -> (Vec<u32>, Vec<u32>, bool) {
         let pa = self.path_on(a[0], a[1], tol, plane, &HashSet::new());
         let pb = self.path_on(b[0], b[1], tol, plane, &HashSet::new());
         let inner = |v: &u32| {
@@ -90,18 +103,18 @@ impl Design {
             for side in order {
                 let avoid: HashSet<u32> = side.iter().copied().collect();
                 if let Some(twins) = self.twins(side, plane, &avoid) {
-                    return (side.clone(), twins);
+                    return (side.clone(), twins, true);
                 }
             }
             if overlaps {
                 let avoid: HashSet<u32> = pa.iter().copied().collect();
                 let other = self.path_on(b[0], b[1], tol, plane, &avoid);
                 if other.len() >= 2 {
-                    return (pa, other);
+                    return (pa, other, false);
                 }
             }
         }
-        (pa, pb)
+        (pa, pb, false)
     }
 
     /// Whether path `p` lies along path `q` on the pattern (`plane`) or the UVs: every
@@ -233,7 +246,7 @@ impl Design {
         plane: bool,
     ) -> Result<usize, EditError> {
         seam_tolerance(tol)?;
-        let (mut pa, mut pb) = self.seam_sides(a, b, tol, plane);
+        let (mut pa, mut pb, twins) = self.sides_of(a, b, tol, plane);
         // A dart's two sides meet at its point (or its ends): it is not stitched to itself.
         if !pa.is_empty() && pa.first() == pb.first() {
             pa.remove(0);
@@ -249,7 +262,14 @@ impl Design {
             });
         }
         let pull = self.pair_pull(&pa, &pb, STITCH_PULL);
-        self.add_seam(&pa, &pb, pull)
+        if twins {
+            // Vertex to its twin: by arc length in 3D, where the two sides hang
+            // differently, the pairs slipped a vertex and the welds left slits.
+            let pairs: Vec<(u32, u32)> = pa.into_iter().zip(pb).collect();
+            self.add_seam_pairs(&pairs, pull)
+        } else {
+            self.add_seam(&pa, &pb, pull)
+        }
     }
 }
 

@@ -127,19 +127,7 @@ impl Design {
     /// matching directions). The longer path sets the pair count; the other is resampled
     /// by arc length. Undoable.
     pub fn add_seam(&mut self, a: &[u32], b: &[u32], max_force: f32) -> Result<usize, EditError> {
-        self.check_editable()?;
-        self.check_border_path(a)?;
-        self.check_border_path(b)?;
-        if let Some(v) = a.iter().find(|v| b.contains(v)) {
-            return Err(EditError::SeamOverlap(*v));
-        }
-        if !(max_force.is_finite() && max_force > 0.0) {
-            return Err(EditError::BadValue {
-                name: "stitch force",
-                rule: "a positive number of newtons",
-                value: max_force.to_string(),
-            });
-        }
+        self.check_seam(a, b, max_force)?;
         let params = |p: &[u32]| -> Vec<f32> {
             let mut s = vec![0.0f32];
             for w in p.windows(2) {
@@ -168,6 +156,42 @@ impl Design {
                 .map(|(j, &t)| (a[nearest(&ta, t)], b[j]))
                 .collect()
         };
+        self.commit_seam(pairs, max_force)
+    }
+
+    /// Adds a seam of `pairs` as given, their sides border paths: each vertex of a cut
+    /// sewn to its twin across it. Undoable.
+    pub fn add_seam_pairs(
+        &mut self,
+        pairs: &[(u32, u32)],
+        max_force: f32,
+    ) -> Result<usize, EditError> {
+        let (a, b): (Vec<u32>, Vec<u32>) = pairs.iter().copied().unzip();
+        self.check_seam(&a, &b, max_force)?;
+        self.commit_seam(pairs.to_vec(), max_force)
+    }
+
+    /// Refuses a seam whose sides are not border paths, share a vertex, or whose stitch
+    /// force is not a positive number.
+    fn check_seam(&self, a: &[u32], b: &[u32], max_force: f32) -> Result<(), EditError> {
+        self.check_editable()?;
+        self.check_border_path(a)?;
+        self.check_border_path(b)?;
+        if let Some(v) = a.iter().find(|v| b.contains(v)) {
+            return Err(EditError::SeamOverlap(*v));
+        }
+        if !(max_force.is_finite() && max_force > 0.0) {
+            return Err(EditError::BadValue {
+                name: "stitch force",
+                rule: "a positive number of newtons",
+                value: max_force.to_string(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Seam `pairs` added as one undoable edit; returns the pair count.
+    fn commit_seam(&mut self, pairs: Vec<(u32, u32)>, max_force: f32) -> Result<usize, EditError> {
         let seam = Seam {
             pairs,
             max_force,
