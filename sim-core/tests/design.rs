@@ -621,6 +621,14 @@ fn a_cut_is_sewn_up_again_by_dragging_along_it_twice() {
     }
     assert_eq!(names(&d), ["front", "back"]);
     assert_eq!(crossings(&d), (0, 0));
+    // The seam list's two lengths, both the cut's (the B side once read 909 mm for
+    // 460, measured from its end's place on the back, across the side seam).
+    let cut = d.pattern_length(&pa);
+    let (la, lb) = d.seam_lengths(d.seams.last().unwrap());
+    assert!(
+        (la - cut).abs() < 1e-3 && (lb - cut).abs() < 1e-3,
+        "{la} {lb} against {cut}"
+    );
     // Welded where it was cut, the front's pattern is whole again: one outline, no slit.
     let out = sim_core::design::sewing_pattern::pieces(&d);
     let front = out.iter().find(|p| p.name == "front").unwrap();

@@ -73,19 +73,34 @@ impl Design {
                 [p] if !shared.contains(&v) => Some((k, p)),
                 _ => None,
             });
+        // Pieces can lie side by side in the pattern plane, a seam's two sides 50 mm
+        // apart: the walk stays on its start's piece.
+        let piece = |p: Vec3| self.record_at(Vec2::new(p.x, -p.z));
         let Some((k0, p0)) = start.or_else(|| {
             let places = self.rest_places(*path.first()?);
-            let p = places
-                .iter()
+            // A place on a piece every vertex of the side has one on: a cut sewn up
+            // has both sides on one piece, and its end vertex, on another seam too, a
+            // place on the piece across that seam, where this side does not run.
+            let mut common: Option<HashSet<Option<usize>>> = None;
+            for &v in path {
+                let on: HashSet<Option<usize>> =
+                    self.rest_places(v).into_iter().map(piece).collect();
+                common = Some(match common {
+                    Some(c) => c.intersection(&on).copied().collect(),
+                    None => on,
+                });
+            }
+            let on_side = |p: &&Vec3| common.as_ref().is_none_or(|c| c.contains(&piece(**p)));
+            let p = (places.iter())
+                .filter(on_side)
                 .find(|p| !taken.contains(p))
+                .or_else(|| places.iter().find(on_side))
+                .or_else(|| places.iter().find(|p| !taken.contains(p)))
                 .or(places.first())?;
             Some((0, *p))
         }) else {
             return (self.pattern_length(path), Vec::new());
         };
-        // Pieces can lie side by side in the pattern plane, a seam's two sides 50 mm
-        // apart: the walk stays on its start's piece.
-        let piece = |p: Vec3| self.record_at(Vec2::new(p.x, -p.z));
         let own = piece(p0);
         let mut used = vec![p0];
         let mut len = 0.0;
