@@ -557,29 +557,11 @@ fn a_cut_is_sewn_up_again_by_dragging_along_it_twice() {
     // Either drag first: whichever side each finds by itself, the second is the
     // first's twin.
     let (pa, pb) = d.seam_sides(again, along, tol, true);
-    let twins = |pa: &[u32], pb: &[u32]| {
-        let live = &d.sim.cloth.live;
-        let places = |v: u32| -> Vec<glam::Vec2> {
-            (live.tris_of(v).iter())
-                .filter_map(|&s| live.tri(s))
-                .map(|t| t.rest[t.corner(v).unwrap()])
-                .map(|p| glam::Vec2::new(p.x, -p.z))
-                .collect()
-        };
-        for (&a, &b) in pa.iter().zip(pb) {
-            let (at_a, at_b) = (places(a), places(b));
-            assert!(
-                at_a.iter().any(|p| at_b.contains(p)),
-                "{a} at {at_a:?}, {b} at {at_b:?}"
-            );
-        }
-        assert_eq!(pa.len(), pb.len());
-    };
-    twins(&pa, &pb);
+    twins(&d, &pa, &pb);
     // Drags that each pass one end of the other: the longer side and its twins.
     let (left, right) = ([at(lo.x), at(hi.x - 0.08)], [at(lo.x + 0.08), at(hi.x)]);
     let (pl, pr) = d.seam_sides(left, right, tol, true);
-    twins(&pl, &pr);
+    twins(&d, &pl, &pr);
     let longer = [left, right].map(|[a, b]| d.plane_path(a, b, tol).len());
     assert_eq!(pl.len(), longer[0].max(longer[1]));
     let (pa, pb) = d.seam_sides(along, again, tol, true);
@@ -594,7 +576,7 @@ fn a_cut_is_sewn_up_again_by_dragging_along_it_twice() {
     };
     assert_ne!(in_first(pa[1]), in_first(pb[1]));
     // Each vertex paired with its twin across the cut, at the same place.
-    twins(&pa, &pb);
+    twins(&d, &pa, &pb);
     let pairs = d.seam_on_plane(along, again, tol).unwrap();
     assert_eq!(pairs, pa.len());
     let paired: Vec<(u32, u32)> = pa.iter().copied().zip(pb.iter().copied()).collect();
@@ -633,11 +615,41 @@ fn a_cut_is_sewn_up_again_by_dragging_along_it_twice() {
     let out = sim_core::design::sewing_pattern::pieces(&d);
     let front = out.iter().find(|p| p.name == "front").unwrap();
     assert_eq!(front.loops.len(), 1, "{} loops", front.loops.len());
+    // A slit (a cut from beside the front to its middle) sewn shut the same way.
+    let mut slit = sewn_dress();
+    let middle = at(0.5 * (lo.x + hi.x));
+    slit.cut_line(a, middle).unwrap();
+    let along = [at(lo.x + 0.01), middle];
+    let (sa, sb) = slit.seam_sides(along, along, tol, true);
+    assert!(sa.len() >= 4, "{sa:?}");
+    twins(&slit, &sa, &sb);
+    assert_eq!(slit.seam_on_plane(along, along, tol).unwrap(), sa.len());
     // Along a border with nothing across it, the second drag is still the same border,
     // and refused in words a designer reads.
     let hem = along.map(|p| p + glam::Vec2::new(0.0, lo.y - y));
     let e = d.seam_on_plane(hem, hem, tol).unwrap_err().to_string();
     assert!(e.contains("one border"), "{e}");
+}
+
+/// Asserts that each vertex of `pa` shares a place in the pattern with its partner in
+/// `pb`: the two sides of a cut, vertex to twin.
+fn twins(d: &Design, pa: &[u32], pb: &[u32]) {
+    let live = &d.sim.cloth.live;
+    let places = |v: u32| -> Vec<glam::Vec2> {
+        (live.tris_of(v).iter())
+            .filter_map(|&s| live.tri(s))
+            .map(|t| t.rest[t.corner(v).unwrap()])
+            .map(|p| glam::Vec2::new(p.x, -p.z))
+            .collect()
+    };
+    for (&a, &b) in pa.iter().zip(pb) {
+        let (at_a, at_b) = (places(a), places(b));
+        assert!(
+            at_a.iter().any(|p| at_b.contains(p)),
+            "{a} at {at_a:?}, {b} at {at_b:?}"
+        );
+    }
+    assert_eq!(pa.len(), pb.len());
 }
 
 /// A piece asked to start lower (a skirt at the waist) starts that much lower, added,
