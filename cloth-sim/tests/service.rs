@@ -1376,7 +1376,10 @@ fn a_piece_and_a_seam_named_over_the_protocol_are_listed_at_once() {
     listed(&["bodice front", "back"], None);
     // The front cut across its middle in the pattern (the studio's Cut tool), and its
     // lower part named alone: listed at once (a part's name changes no piece's name),
-    // the upper part keeping its own.
+    // the upper part keeping its own. Paused, as a designer cuts and names, so that the
+    // parts do not fall apart before the undo (which would then cross them and refuse).
+    let r = ask(simulating(0));
+    assert_eq!(r.ok, 1, "{}", r.message());
     let front = {
         let mut scene = ScenarioConfig::new(ScenarioName::DressMannequin);
         scene.piece_edge = 0.08;
@@ -1412,6 +1415,8 @@ fn a_piece_and_a_seam_named_over_the_protocol_are_listed_at_once() {
         assert_eq!(r.ok, 1, "{}", r.message());
     }
     listed(&["bodice front", "back"], None);
+    let r = ask(simulating(1));
+    assert_eq!(r.ok, 1, "{}", r.message());
     // The shipped dress pattern again: two more pieces and their seams.
     let mut file = ToolCommand {
         op: op::ADD_PIECE,

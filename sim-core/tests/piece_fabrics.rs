@@ -197,3 +197,95 @@ fn unknown_fabrics_and_pieces_are_said() {
         d.sim.notices
     );
 }
+
+/// A part a cut left of a piece, given a fabric of its own, becomes a piece of its own
+/// (a fabric belongs to a whole pattern piece): the dress's front cut at the waist and
+/// its lower part made of denim. Its triangles move to a band of their own in the
+/// pattern, their rest shapes unchanged; the cloth's mass grows by denim's; the upper
+/// part stays cotton and keeps its name; the pattern out has three pieces. One undoable
+/// edit; the file keeps it; the cloth crosses nothing in the frames after.
+#[test]
+fn a_part_given_its_own_fabric_becomes_a_piece_of_its_own() {
+    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+    cfg.piece_edge = 0.06;
+    let mut d = build_design(&cfg).unwrap();
+    let band = d.record_slots(0, |own| (own.y + 0.4).abs() < 0.05);
+    d.remove_triangles(&band).unwrap();
+    let list = |d: &Design| -> Vec<(String, String)> {
+        (d.piece_list().into_iter())
+            .map(|p| (p.name, p.fabric))
+            .collect()
+    };
+    let piece = |n: &str, f: &str| (n.to_string(), f.to_string());
+    let cut = [
+        piece("front", "cotton"),
+        piece("front 2", "cotton"),
+        piece("back", "cotton"),
+    ];
+    assert_eq!(list(&d), cut);
+    let total = |d: &Design| d.sim.cloth.mass.iter().map(|&m| m as f64).sum::<f64>();
+    let shapes = |d: &Design| {
+        let mut a: Vec<f32> = d
+            .sim
+            .cloth
+            .live
+            .iter()
+            .map(|(_, t)| t.rest_area())
+            .collect();
+        a.sort_by(f32::total_cmp);
+        a
+    };
+    let (mass, areas, steps) = (total(&d), shapes(&d), d.history.undo_steps());
+    assert_eq!(d.set_piece_fabric(1, "denim").unwrap(), "front 2");
+    let separate = [
+        piece("front", "cotton"),
+        piece("back", "cotton"),
+        piece("front 2", "denim"),
+    ];
+    assert_eq!(list(&d), separate);
+    assert_eq!(d.history.undo_steps(), steps + 1);
+    // The rest shapes as they were (but for rounding: the corners moved along x).
+    let now = shapes(&d);
+    assert_eq!(now.len(), areas.len());
+    let worst = (now.iter().zip(&areas))
+        .map(|(a, b)| (a / b - 1.0).abs())
+        .fold(0.0f32, f32::max);
+    assert!(worst < 1e-4, "a rest area changed by {worst}");
+    assert!(total(&d) > 1.1 * mass, "{} against {mass}", total(&d));
+    let out = sim_core::design::sewing_pattern::pieces(&d);
+    let mut names: Vec<&str> = out.iter().map(|p| p.name.as_str()).collect();
+    names.sort();
+    assert_eq!(names, ["back", "front", "front 2"]);
+    // Its band lies right of the others in the pattern plane.
+    let right = |r: &sim_core::design::PieceRecord| {
+        r.outline.loops[0]
+            .iter()
+            .map(|p| p.x)
+            .fold(f32::MIN, f32::max)
+            + r.offset.x
+    };
+    let left = |r: &sim_core::design::PieceRecord| {
+        r.outline.loops[0]
+            .iter()
+            .map(|p| p.x)
+            .fold(f32::MAX, f32::min)
+            + r.offset.x
+    };
+    assert!(left(&d.pieces[2]) > right(&d.pieces[0]).max(right(&d.pieces[1])));
+    let loaded = Design::load_design(&d.save_design().unwrap()).unwrap();
+    assert_eq!(list(&loaded), separate);
+    for _ in 0..60 {
+        d.step().unwrap();
+    }
+    let tris: Vec<[u32; 3]> = d.sim.cloth.live.iter().map(|(_, t)| t.v).collect();
+    let c = sim_core::collision::crossings::count(&d.sim.cloth.x, &tris, d.sim.body.as_ref());
+    assert_eq!((c.self_pairs, c.body_pairs), (0, 0));
+    for _ in 0..60 {
+        d.undo().unwrap();
+        if d.history.undo_steps() == steps {
+            break;
+        }
+    }
+    assert_eq!(list(&d), cut);
+    assert!((total(&d) / mass - 1.0).abs() < 1e-4);
+}

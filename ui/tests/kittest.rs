@@ -1194,3 +1194,37 @@ fn paint_shows_where_it_was_painted() {
     );
     assert!(plain.1 > 100, "z = -0.25 is unpainted: {plain:?}");
 }
+
+/// The selection follows its piece when the list changes under it: a part given a
+/// fabric of its own becomes a piece of its own at the end of cloth-sim's list, and
+/// stays selected there; a piece renamed in place stays selected where it is.
+#[test]
+fn the_selection_follows_its_piece_when_the_list_changes() {
+    use shared::sim_to_ui::ListedPiece;
+    let listed = |names: &[&str]| -> Vec<ListedPiece> {
+        (names.iter())
+            .map(|&n| ListedPiece {
+                name: n.into(),
+                fabric: "cotton".into(),
+                vertices: 100,
+                triangles: 180,
+                anchor: None,
+            })
+            .collect()
+    };
+    let mut h = harness();
+    h.state_mut().store.pieces = listed(&["front", "front 2", "back"]);
+    h.state_mut().store.pieces_total = 3;
+    h.run_steps(1);
+    press(&mut h, "front 2 · 100 vertices · cotton");
+    assert_eq!(h.state().pieces.selected, Some(1));
+    h.state_mut().store.pieces = listed(&["front", "back", "front 2"]);
+    h.run_steps(2);
+    assert_eq!(h.state().pieces.selected, Some(2));
+    h.state_mut().store.pieces = listed(&["front", "back", "skirt"]);
+    h.run_steps(2);
+    assert_eq!(h.state().pieces.selected, Some(2));
+    h.state_mut().store.pieces = listed(&["front"]);
+    h.run_steps(2);
+    assert_eq!(h.state().pieces.selected, None);
+}

@@ -295,9 +295,17 @@ fn name_one(design: &mut Design, c: &Command) -> Result<String, String> {
 
 fn set_piece_fabric(design: &mut Design, piece: u32, name: &str) -> Result<String, String> {
     let name = name.trim();
+    let records = design.pieces.len();
     let piece_name = design
         .set_piece_fabric(piece as usize, name)
         .map_err(|e| format!("Fabric not changed: {e}; `cloth-sim fabrics` lists them"))?;
+    let piece_name = if design.pieces.len() > records {
+        format!(
+            "{piece_name}, a piece of its own now (a fabric is a whole pattern piece's;              the pattern view has it on the right),"
+        )
+    } else {
+        piece_name
+    };
     if name == DEFAULT_FABRIC {
         return Ok(format!("Fabric: {piece_name} is the design's own material"));
     }

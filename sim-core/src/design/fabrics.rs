@@ -81,11 +81,11 @@ impl Design {
     }
 
     /// Piece `index` (in [`Design::piece_list`] order) made of the library's fabric
-    /// `name`, or of the design's material with [`DEFAULT_FABRIC`]; undoable. The parts
-    /// of one pattern piece (a piece cut in two) share its fabric. Returns the piece's
-    /// name as its record has it.
+    /// `name`, or of the design's material with [`DEFAULT_FABRIC`]; undoable. A part a
+    /// cut left of a piece becomes a piece of its own, of that fabric (a fabric belongs
+    /// to a whole pattern piece; see [`Design::separated`]). Returns the piece's name.
     pub fn set_piece_fabric(&mut self, index: usize, name: &str) -> Result<String, EditError> {
-        let (k, _) = self.own_record(
+        let (k, list) = self.own_record(
             index,
             "no fabric of its own; set the design's fabric instead",
         )?;
@@ -97,7 +97,12 @@ impl Design {
         }
         let old = &self.pieces[k];
         if old.fabric == name {
-            return Ok(old.name.clone());
+            return Ok(list[index].name.clone());
+        }
+        if list.iter().filter(|p| p.record == Some(k)).count() > 1 {
+            let prims = self.separated(k, index, name)?;
+            self.commit("piece fabric", prims)?;
+            return Ok(list[index].name.clone());
         }
         let new = PieceRecord {
             fabric: name.to_string(),

@@ -7,12 +7,15 @@
 
 use std::collections::HashMap;
 
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 
 use super::document::Design;
 use super::error::EditError;
+use super::garment::PATTERN_GAP;
 use super::piece_list::PieceInfo;
-use super::pieces::{MAX_PART_NAMES, PART_POINTS, PartName};
+use super::pieces::{MAX_PART_NAMES, PART_POINTS, PartName, PieceRecord};
+use super::prim::Prim;
+use crate::mesh::live::Tri;
 
 impl Design {
     /// For each part (its record and triangle slots), the index of the name of its own
@@ -128,6 +131,81 @@ impl Design {
             )));
         }
         Ok(new)
+    }
+}
+
+impl Design {
+    /// The edits that make listed piece `index`, a part of record `r` among others, a
+    /// piece of its own of fabric `fabric`: its triangles moved along the pattern
+    /// plane's x into a band of their own (their rest shapes, and so how they hang,
+    /// unchanged; the texture stays), and a record for it: the old one's outline,
+    /// grain and placement, named as the part is listed. The record's other parts keep
+    /// the names they have (as when a part is named). A fabric belongs to a whole
+    /// pattern piece: a skirt cut from a dress at the waist is made of another fabric
+    /// as a piece of its own.
+    pub(super) fn separated(
+        &self,
+        r: usize,
+        index: usize,
+        fabric: &str,
+    ) -> Result<Vec<Prim>, EditError> {
+        let listed = self.listed();
+        let keys: Vec<(Option<usize>, &[u32])> = (listed.iter())
+            .map(|(info, tris)| (info.record, &tris[..]))
+            .collect();
+        let own = self.named_parts(&keys);
+        let old = &self.pieces[r];
+        let mut kept = old.clone();
+        if let Some(e) = own[index] {
+            kept.parts.remove(e);
+        }
+        for (i, (info, tris)) in listed.iter().enumerate() {
+            if i != index && info.record == Some(r) && own[i].is_none() {
+                kept.parts.push(PartName {
+                    points: self.points_in_part(r, tris),
+                    name: info.name.clone(),
+                });
+            }
+        }
+        let live = &self.sim.cloth.live;
+        let right = (live.iter())
+            .flat_map(|(_, t)| t.rest)
+            .map(|p| p.x)
+            .chain(self.pieces.iter().map(|p| p.band().1))
+            .fold(f32::NEG_INFINITY, f32::max);
+        let dx = right + PATTERN_GAP - old.band().0;
+        let shift = Vec3::new(dx, 0.0, 0.0);
+        let mut prims: Vec<Prim> = (listed[index].1.iter())
+            .filter_map(|&slot| {
+                let t = live.tri(slot)?;
+                let moved = Tri {
+                    rest: t.rest.map(|p| p + shift),
+                    ..*t
+                };
+                Some(Prim::Tri {
+                    slot,
+                    old: Some(*t),
+                    new: Some(moved),
+                })
+            })
+            .collect();
+        prims.push(Prim::Piece {
+            index: r as u32,
+            old: Some(old.clone()),
+            new: Some(kept),
+        });
+        prims.push(Prim::Piece {
+            index: self.pieces.len() as u32,
+            old: None,
+            new: Some(PieceRecord {
+                name: listed[index].0.name.clone(),
+                fabric: fabric.to_string(),
+                offset: old.offset + Vec2::new(dx, 0.0),
+                parts: Vec::new(),
+                ..old.clone()
+            }),
+        });
+        Ok(prims)
     }
 }
 

@@ -170,6 +170,13 @@ impl Design {
         let taken: HashSet<String> = (out.iter().zip(&own))
             .filter_map(|(info, e)| Some(self.pieces[info.record?].parts[(*e)?].name.clone()))
             .collect();
+        // A part separated from a piece (its own fabric; a later record) may have the
+        // piece's name, which the piece's parts then number past.
+        let later = |r: usize| {
+            self.pieces[r + 1..]
+                .iter()
+                .any(|p| p.name == self.pieces[r].name)
+        };
         let mut seen: HashMap<usize, usize> = HashMap::new();
         let mut loose = 0;
         for i in order {
@@ -183,7 +190,8 @@ impl Design {
                     } else {
                         format!("{} {}", self.pieces[r].name, k)
                     };
-                    if !taken.contains(&name) {
+                    let shared = *k == 1 && later(r);
+                    if !taken.contains(&name) && !shared {
                         break name;
                     }
                 },

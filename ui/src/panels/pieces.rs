@@ -38,6 +38,10 @@ pub struct PiecesPanel {
     pub piece_naming: Option<(usize, String)>,
     /// Whether Copy to turns the copy over (a mirror image).
     pub mirror: bool,
+    /// The selected piece's name as last listed: when the list changes under the
+    /// selection (a part given its own fabric moves to the end as a piece of its own),
+    /// the selection follows the name.
+    selected_name: Option<String>,
 }
 
 /// What the new piece's size row says: how big a piece must be to go round the body.
@@ -88,6 +92,7 @@ impl Default for PiecesPanel {
             naming: None,
             piece_naming: None,
             mirror: false,
+            selected_name: None,
         }
     }
 }
@@ -164,11 +169,25 @@ impl PiecesPanel {
         }
     }
 
-    pub fn ui(&mut self, ui: &mut egui::Ui, store: &Store, actions: &mut Vec<Action>) {
-        ui.label("Pieces");
+    /// The selection kept on the piece it was, by name, when the list changed under it
+    /// (renamed in place, it stays where it is); none once the list is shorter.
+    fn follow_selection(&mut self, store: &Store) {
+        let name_at = |i: usize| store.pieces.get(i).map(|p| p.name.clone());
+        if let (Some(i), Some(was)) = (self.selected, &self.selected_name)
+            && name_at(i).as_ref() != Some(was)
+            && let Some(j) = store.pieces.iter().position(|p| &p.name == was)
+        {
+            self.selected = Some(j);
+        }
         if self.selected.is_some_and(|i| i >= store.pieces.len()) {
             self.selected = None;
         }
+        self.selected_name = self.selected.and_then(name_at);
+    }
+
+    pub fn ui(&mut self, ui: &mut egui::Ui, store: &Store, actions: &mut Vec<Action>) {
+        ui.label("Pieces");
+        self.follow_selection(store);
         if store.pieces.is_empty() {
             ui.label("No pieces heard from cloth-sim yet");
         }
