@@ -301,7 +301,8 @@ fn set_piece_fabric(design: &mut Design, piece: u32, name: &str) -> Result<Strin
         .map_err(|e| format!("Fabric not changed: {e}; `cloth-sim fabrics` lists them"))?;
     let piece_name = if design.pieces.len() > records {
         format!(
-            "{piece_name}, a piece of its own now (a fabric is a whole pattern piece's;              the pattern view has it on the right),"
+            "{piece_name}, a piece of its own now (a fabric is a whole pattern piece's; \
+             the pattern view has it on the right),"
         )
     } else {
         piece_name
