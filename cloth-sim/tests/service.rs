@@ -1407,7 +1407,15 @@ fn a_piece_and_a_seam_named_over_the_protocol_are_listed_at_once() {
         r.message()
     );
     listed(&["bodice front", "skirt front", "back"], None);
-    for _ in 0..2 {
+    // Given a fabric of its own, the part becomes a piece of its own, listed last.
+    let r = ask(named(op::SET_PIECE_FABRIC, 1, "denim"));
+    assert!(
+        r.ok == 1 && r.message().contains("skirt front, a piece of its own now"),
+        "{}",
+        r.message()
+    );
+    listed(&["bodice front", "back", "skirt front"], None);
+    for _ in 0..3 {
         let r = ask(ToolCommand {
             op: op::UNDO,
             ..Default::default()
