@@ -1322,7 +1322,8 @@ fn wait_for_names(
 /// A piece and a seam named over the protocol: the list says so at once (it did not
 /// for a seam's name before protocol 21: the list went out again only when its counts
 /// or fabrics changed), another piece's name and an empty one are refused, and undo
-/// takes a piece's name back.
+/// takes a piece's name back; the front cut in two, its lower part is named alone, then
+/// given a fabric of its own and listed last as a piece of its own.
 #[test]
 fn a_piece_and_a_seam_named_over_the_protocol_are_listed_at_once() {
     let (d, stop) = dress_service("svcn");
