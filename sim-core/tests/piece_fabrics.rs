@@ -202,13 +202,16 @@ fn unknown_fabrics_and_pieces_are_said() {
 /// (a fabric belongs to a whole pattern piece): the dress's front cut at the waist and
 /// its lower part made of denim. Its triangles move to a band of their own in the
 /// pattern, their rest shapes unchanged; the cloth's mass grows by denim's; the upper
-/// part stays cotton and keeps its name; the pattern out has three pieces. One undoable
-/// edit; the file keeps it; the cloth crosses nothing in the frames after.
+/// part stays cotton and keeps its name; cloth eased into a seam from it moves with it;
+/// the pattern out has three pieces. One undoable edit; the file keeps it; the cloth
+/// crosses nothing in the frames after.
 #[test]
 fn a_part_given_its_own_fabric_becomes_a_piece_of_its_own() {
     let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
     cfg.piece_edge = 0.06;
-    let mut d = build_design(&cfg).unwrap();
+    let (mut d, spec) = sim_core::scenario::build_scene(&cfg).unwrap();
+    let pull = sim_core::scenario::garment::SEAM_PULL;
+    sim_core::design::garment::sew(&mut d, &spec.unwrap(), pull).unwrap();
     let band = d.record_slots(0, |own| (own.y + 0.4).abs() < 0.05);
     d.remove_triangles(&band).unwrap();
     let list = |d: &Design| -> Vec<(String, String)> {
@@ -235,8 +238,20 @@ fn a_part_given_its_own_fabric_becomes_a_piece_of_its_own() {
         a.sort_by(f32::total_cmp);
         a
     };
+    // Cloth a weld eased into a seam, one triangle from each part (set by hand here:
+    // the dress's sides are meshed alike and ease nothing): the lower part's goes with
+    // it, the upper's stays.
+    let rest_of = |d: &Design, piece: usize| {
+        let slot = d.piece_slots(piece).unwrap()[0];
+        (slot, d.sim.cloth.live.tri(slot).unwrap().rest)
+    };
+    let ((low, eased_low), (_, eased_high)) = (rest_of(&d, 1), rest_of(&d, 0));
+    d.seams[0].eased = vec![eased_low, eased_high];
     let (mass, areas, steps) = (total(&d), shapes(&d), d.history.undo_steps());
     assert_eq!(d.set_piece_fabric(1, "denim").unwrap(), "front 2");
+    let moved = d.sim.cloth.live.tri(low).unwrap().rest;
+    assert!(moved[0].x > eased_low[0].x + 0.1, "{moved:?}");
+    assert_eq!(d.seams[0].eased, [moved, eased_high]);
     let separate = [
         piece("front", "cotton"),
         piece("back", "cotton"),

@@ -5,7 +5,7 @@
 //! so the points stay in the part as it drapes, and after a further cut the new part
 //! holding the most of them keeps the name.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use glam::{Vec2, Vec3};
 
@@ -189,6 +189,29 @@ impl Design {
                 })
             })
             .collect();
+        // The cloth a weld eased into a seam from the part (a folded triangle sharing a
+        // corner with it) goes with it: the pattern out draws it with its piece.
+        let corners: HashSet<[u32; 3]> = (listed[index].1.iter())
+            .filter_map(|&slot| live.tri(slot))
+            .flat_map(|t| t.rest.map(|p| p.to_array().map(f32::to_bits)))
+            .collect();
+        for (i, seam) in self.seams.iter().enumerate() {
+            let of_part = |t: &[Vec3; 3]| {
+                t.iter()
+                    .any(|p| corners.contains(&p.to_array().map(f32::to_bits)))
+            };
+            if seam.eased.iter().any(of_part) {
+                let mut moved = seam.clone();
+                for t in moved.eased.iter_mut().filter(|t| of_part(t)) {
+                    *t = t.map(|p| p + shift);
+                }
+                prims.push(Prim::Seam {
+                    index: i as u32,
+                    old: Some(seam.clone()),
+                    new: Some(moved),
+                });
+            }
+        }
         prims.push(Prim::Piece {
             index: r as u32,
             old: Some(old.clone()),
