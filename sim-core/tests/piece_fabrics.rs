@@ -212,8 +212,15 @@ fn a_part_given_its_own_fabric_becomes_a_piece_of_its_own() {
     let (mut d, spec) = sim_core::scenario::build_scene(&cfg).unwrap();
     let pull = sim_core::scenario::garment::SEAM_PULL;
     sim_core::design::garment::sew(&mut d, &spec.unwrap(), pull).unwrap();
-    let band = d.record_slots(0, |own| (own.y + 0.4).abs() < 0.05);
-    d.remove_triangles(&band).unwrap();
+    // Cut across the front's middle in the pattern, as the studio's Cut tool does.
+    let front = &d.pieces[0];
+    let (lo, hi) = (front.outline.loops[0].iter())
+        .fold((glam::Vec2::MAX, glam::Vec2::MIN), |(a, b), p| {
+            (a.min(*p), b.max(*p))
+        });
+    let at = |x: f32| glam::Vec2::new(x, 0.5 * (lo.y + hi.y)) + front.offset;
+    let (a, b) = (at(lo.x - 0.02), at(hi.x + 0.02));
+    d.cut_line(a, b).unwrap();
     let list = |d: &Design| -> Vec<(String, String)> {
         (d.piece_list().into_iter())
             .map(|p| (p.name, p.fabric))
@@ -240,12 +247,18 @@ fn a_part_given_its_own_fabric_becomes_a_piece_of_its_own() {
     };
     // Cloth a weld eased into a seam, one triangle from each part (set by hand here:
     // the dress's sides are meshed alike and ease nothing): the lower part's goes with
-    // it, the upper's stays.
-    let rest_of = |d: &Design, piece: usize| {
-        let slot = d.piece_slots(piece).unwrap()[0];
-        (slot, d.sim.cloth.live.tri(slot).unwrap().rest)
+    // it, the upper's stays, also one with two corners on the cut (where the lower part
+    // has corners at the same places).
+    let rests = |d: &Design, piece: usize| -> Vec<(u32, [Vec3; 3])> {
+        (d.piece_slots(piece).unwrap().into_iter())
+            .map(|s| (s, d.sim.cloth.live.tri(s).unwrap().rest))
+            .collect()
     };
-    let ((low, eased_low), (_, eased_high)) = (rest_of(&d, 1), rest_of(&d, 0));
+    let (low, eased_low) = rests(&d, 1)[0];
+    let lower: Vec<Vec3> = rests(&d, 1).iter().flat_map(|(_, t)| *t).collect();
+    let (_, eased_high) = (rests(&d, 0).into_iter())
+        .find(|(_, t)| t.iter().filter(|p| lower.contains(p)).count() == 2)
+        .expect("a triangle of the upper part on the cut");
     d.seams[0].eased = vec![eased_low, eased_high];
     let (mass, areas, steps) = (total(&d), shapes(&d), d.history.undo_steps());
     assert_eq!(d.set_piece_fabric(1, "denim").unwrap(), "front 2");

@@ -189,16 +189,25 @@ impl Design {
                 })
             })
             .collect();
-        // The cloth a weld eased into a seam from the part (a folded triangle sharing a
-        // corner with it) goes with it: the pattern out draws it with its piece.
-        let corners: HashSet<[u32; 3]> = (listed[index].1.iter())
-            .filter_map(|&slot| live.tri(slot))
-            .flat_map(|t| t.rest.map(|p| p.to_array().map(f32::to_bits)))
-            .collect();
+        // The cloth a weld eased into a seam from the part (a folded triangle with more
+        // corners on it than on the piece's other parts: along a cut both sides have
+        // the same places) goes with it, as the pattern out draws it with its piece.
+        let corners_of = |keep: &dyn Fn(usize) -> bool| -> HashSet<[u32; 3]> {
+            (listed.iter().enumerate())
+                .filter(|&(i, (info, _))| info.record == Some(r) && keep(i))
+                .flat_map(|(_, (_, tris))| tris.iter().filter_map(|&slot| live.tri(slot)))
+                .flat_map(|t| t.rest.map(|p| p.to_array().map(f32::to_bits)))
+                .collect()
+        };
+        let (mine, others) = (corners_of(&|i| i == index), corners_of(&|i| i != index));
         for (i, seam) in self.seams.iter().enumerate() {
             let of_part = |t: &[Vec3; 3]| {
-                t.iter()
-                    .any(|p| corners.contains(&p.to_array().map(f32::to_bits)))
+                let on = |set: &HashSet<[u32; 3]>| {
+                    (t.iter())
+                        .filter(|p| set.contains(&p.to_array().map(f32::to_bits)))
+                        .count()
+                };
+                on(&mine) > on(&others)
             };
             if seam.eased.iter().any(of_part) {
                 let mut moved = seam.clone();
