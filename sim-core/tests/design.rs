@@ -286,15 +286,21 @@ fn pieces_round_trip_and_format_1_files_still_load() {
     assert!(err.to_string().contains("a piece's name"), "{err}");
 }
 
-#[test]
-fn cutting_a_piece_in_two_lists_two_pieces() {
+/// The dress at 6 cm edges, its front cut in two: every triangle across a band at mid
+/// height removed.
+fn dress_with_front_cut() -> Design {
     let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
     cfg.piece_edge = 0.06;
     let mut d = build_design(&cfg).unwrap();
-    // Every triangle of the front across a band at mid height goes.
     let band = d.record_slots(0, |own| (own.y + 0.4).abs() < 0.05);
     assert!(!band.is_empty());
     d.remove_triangles(&band).unwrap();
+    d
+}
+
+#[test]
+fn cutting_a_piece_in_two_lists_two_pieces() {
+    let d = dress_with_front_cut();
     let names: Vec<String> = d.piece_list().into_iter().map(|p| p.name).collect();
     assert_eq!(names, ["front", "front 2", "back"], "{names:?}");
 }
@@ -305,11 +311,7 @@ fn cutting_a_piece_in_two_lists_two_pieces() {
 /// another part has is refused and changes nothing; a piece in one part is renamed.
 #[test]
 fn a_part_of_a_cut_piece_is_named_alone() {
-    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
-    cfg.piece_edge = 0.06;
-    let mut d = build_design(&cfg).unwrap();
-    let band = d.record_slots(0, |own| (own.y + 0.4).abs() < 0.05);
-    d.remove_triangles(&band).unwrap();
+    let mut d = dress_with_front_cut();
     let names =
         |d: &Design| -> Vec<String> { d.piece_list().into_iter().map(|p| p.name).collect() };
     let at = |d: &Design, n: &str| names(d).iter().position(|m| m == n).unwrap();

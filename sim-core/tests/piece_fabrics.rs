@@ -285,21 +285,12 @@ fn a_part_given_its_own_fabric_becomes_a_piece_of_its_own() {
     names.sort();
     assert_eq!(names, ["back", "front", "front 2"]);
     // Its band lies right of the others in the pattern plane.
-    let right = |r: &sim_core::design::PieceRecord| {
-        r.outline.loops[0]
-            .iter()
-            .map(|p| p.x)
-            .fold(f32::MIN, f32::max)
-            + r.offset.x
+    let band = |r: &sim_core::design::PieceRecord| {
+        let xs = r.outline.loops[0].iter().map(|p| p.x + r.offset.x);
+        xs.fold((f32::MAX, f32::MIN), |(lo, hi), x| (lo.min(x), hi.max(x)))
     };
-    let left = |r: &sim_core::design::PieceRecord| {
-        r.outline.loops[0]
-            .iter()
-            .map(|p| p.x)
-            .fold(f32::MAX, f32::min)
-            + r.offset.x
-    };
-    assert!(left(&d.pieces[2]) > right(&d.pieces[0]).max(right(&d.pieces[1])));
+    let [front, back, part] = [0, 1, 2].map(|k| band(&d.pieces[k]));
+    assert!(part.0 > front.1.max(back.1));
     let loaded = Design::load_design(&d.save_design().unwrap()).unwrap();
     assert_eq!(list(&loaded), separate);
     for _ in 0..60 {
