@@ -157,10 +157,7 @@ fn edits_refusals_and_save(ask: Ask<'_>, path: &std::path::Path, autosave: &std:
         "{}",
         r.message()
     );
-    let r = ask(ToolCommand {
-        op: op::UNDO,
-        ..Default::default()
-    });
+    let r = ask(undo());
     assert!(r.ok == 1 && r.message() == "Undone: cut" && r.undo_depth == 0);
     // Scissors in the pattern plane: a line across the whole square cuts it in two.
     let across = shared::command::Command::CutPlane {
@@ -174,10 +171,7 @@ fn edits_refusals_and_save(ask: Ask<'_>, path: &std::path::Path, autosave: &std:
         "{}",
         r.message()
     );
-    let r = ask(ToolCommand {
-        op: op::UNDO,
-        ..Default::default()
-    });
+    let r = ask(undo());
     assert!(r.ok == 1 && r.message() == "Undone: cut line" && r.undo_depth == 0);
     let mut save = ToolCommand {
         op: op::SAVE,
@@ -690,6 +684,22 @@ fn paused_then_run(telemetry: &services::Sub<SimTelemetry>, ask: Ask<'_>) {
     await_telemetry(telemetry, "running again", &|t| {
         t.paused == 0 && t.frame > frame
     });
+}
+
+/// UNDO.
+fn undo() -> ToolCommand {
+    ToolCommand {
+        op: op::UNDO,
+        ..Default::default()
+    }
+}
+
+/// REDO.
+fn redo() -> ToolCommand {
+    ToolCommand {
+        op: op::REDO,
+        ..Default::default()
+    }
 }
 
 /// SET_SIMULATING: 1 runs, 0 pauses.
@@ -1274,10 +1284,7 @@ fn a_piece_gets_its_own_fabric_over_the_protocol() {
         r.message()
     );
     fabrics(["cotton", "jersey-interlock"]);
-    let r = ask(ToolCommand {
-        op: op::UNDO,
-        ..Default::default()
-    });
+    let r = ask(undo());
     assert!(
         r.ok == 1 && r.message().contains("piece fabric"),
         "{}",
@@ -1359,20 +1366,14 @@ fn a_piece_and_a_seam_named_over_the_protocol_are_listed_at_once() {
         r.message()
     );
     listed(&["bodice front", "back"], None);
-    let r = ask(ToolCommand {
-        op: op::UNDO,
-        ..Default::default()
-    });
+    let r = ask(undo());
     assert!(
         r.ok == 1 && r.message().contains("name piece"),
         "{}",
         r.message()
     );
     listed(&["front", "back"], None);
-    let r = ask(ToolCommand {
-        op: op::REDO,
-        ..Default::default()
-    });
+    let r = ask(redo());
     assert_eq!(r.ok, 1, "{}", r.message());
     listed(&["bodice front", "back"], None);
     // The front cut across its middle in the pattern (the studio's Cut tool), and its
@@ -1417,10 +1418,7 @@ fn a_piece_and_a_seam_named_over_the_protocol_are_listed_at_once() {
     );
     listed(&["bodice front", "back", "skirt front"], None);
     for _ in 0..3 {
-        let r = ask(ToolCommand {
-            op: op::UNDO,
-            ..Default::default()
-        });
+        let r = ask(undo());
         assert_eq!(r.ok, 1, "{}", r.message());
     }
     listed(&["bodice front", "back"], None);
@@ -1488,10 +1486,7 @@ fn a_copied_piece_is_listed_at_once_and_undo_takes_it_away() {
         r.message()
     );
     wait_for_names(&lists, &["front", "back", "back (2)"], None);
-    let r = ask(ToolCommand {
-        op: op::UNDO,
-        ..Default::default()
-    });
+    let r = ask(undo());
     assert!(
         r.ok == 1 && r.message().contains("copy piece"),
         "{}",
