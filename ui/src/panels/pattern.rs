@@ -262,6 +262,79 @@ pub(super) fn name_places(lines: &[OutlineSegment]) -> Vec<(u32, [f32; 2])> {
         .collect()
 }
 
+/// How far (pixels) a seam side's end snaps to a corner of the outlines.
+pub(super) const SNAP_PX: f32 = 14.0;
+
+/// The corners of the sewing and cut lines cloth-sim sent, each with how far the line
+/// turns there (radians): where a run of joined segments (as the view draws it) turns
+/// by more than 30 degrees, and where a run ends without closing (a seam's or a cut's
+/// end on a line, pi). A curve meshed at the usual edges (a neckline of 6 cm radius at
+/// 3 cm) turns less than that a segment.
+pub(super) fn corners(lines: &[OutlineSegment]) -> Vec<Corner> {
+    let sewing: Vec<&OutlineSegment> = (lines.iter())
+        .filter(|g| g.kind != outline::GRAIN && g.kind != outline::NOTCH && g.a != g.b)
+        .collect();
+    let mut out = Vec::new();
+    let mut run: Vec<[f32; 2]> = Vec::new();
+    for (k, g) in sewing.iter().enumerate() {
+        if run.is_empty() {
+            run.push(g.a);
+        }
+        run.push(g.b);
+        let joined = (sewing.get(k + 1))
+            .is_some_and(|n| n.a == g.b && n.piece == g.piece && n.kind == g.kind);
+        if !joined {
+            run_corners(&std::mem::take(&mut run), &mut out);
+        }
+    }
+    out
+}
+
+/// A corner of the pattern's lines: where, and how far the line turns there (radians).
+pub(super) type Corner = ([f32; 2], f32);
+
+/// A run's corners (see [`corners`]).
+fn run_corners(run: &[[f32; 2]], out: &mut Vec<Corner>) {
+    let closed = run.len() > 3 && run.first() == run.last();
+    let points = if closed { &run[..run.len() - 1] } else { run };
+    let n = points.len();
+    for i in 0..n {
+        let turn = if !closed && (i == 0 || i + 1 == n) {
+            std::f32::consts::PI
+        } else {
+            let p = glam::Vec2::from(points[i]);
+            let before = p - glam::Vec2::from(points[(i + n - 1) % n]);
+            let after = glam::Vec2::from(points[(i + 1) % n]) - p;
+            before.angle_to(after).abs()
+        };
+        if turn > 30f32.to_radians() {
+            out.push((points[i], turn));
+        }
+    }
+}
+
+/// The corners a seam side's ends snap to: those of cloth-sim's pattern lines, none
+/// while the view draws the mesh's own outline (a design over the lines' limit).
+pub(super) fn snap_corners(store: &Store) -> Vec<Corner> {
+    pattern_lines(store).map(corners).unwrap_or_default()
+}
+
+/// The corner `p` snaps to: of those within `radius` (pattern units), where the line
+/// turns most, the nearest of those alike (within 10 degrees). Where a cut meets a
+/// border it can bend a few millimetres before it (a 30-degree kink 5 mm in, seen in
+/// the studio), and the border's own corner is the end a designer means.
+pub(super) fn snap(p: [f32; 2], corners: &[Corner], radius: f32) -> Option<[f32; 2]> {
+    let d2 = |c: &[f32; 2]| (c[0] - p[0]).powi(2) + (c[1] - p[1]).powi(2);
+    let near: Vec<&Corner> = (corners.iter())
+        .filter(|c| d2(&c.0) <= radius * radius)
+        .collect();
+    let most = near.iter().map(|c| c.1).fold(0.0, f32::max);
+    (near.into_iter())
+        .filter(|c| c.1 >= most - 10f32.to_radians())
+        .min_by(|x, y| d2(&x.0).total_cmp(&d2(&y.0)))
+        .map(|c| c.0)
+}
+
 /// A grain line: a thin line with an arrowhead at each end (the warp runs along it).
 fn grain_arrow(painter: &egui::Painter, a: egui::Pos2, b: egui::Pos2, bright: bool) {
     let c = if bright {
@@ -317,6 +390,68 @@ mod tests {
             mesh_centre
         );
         assert_ne!(mesh_centre, [5.5, 5.5]);
+    }
+
+    /// A seam side's ends snap to a square's corners (its sides in several segments), to
+    /// an open line's ends, never to a round outline's points, a notch or a grain line;
+    /// within the radius the sharpest corner (the nearest of those alike), none beyond it.
+    #[test]
+    fn a_seam_sides_end_snaps_to_the_sharpest_corner_near_it() {
+        let seg = |piece, kind, a: [f32; 2], b: [f32; 2]| OutlineSegment { piece, kind, a, b };
+        let mut lines = Vec::new();
+        // A 0.4 m square, each side in three segments, closed.
+        let sq = [[0.0, 0.0], [0.4, 0.0], [0.4, 0.4], [0.0, 0.4]];
+        for i in 0..4 {
+            let (a, b) = (glam::Vec2::from(sq[i]), glam::Vec2::from(sq[(i + 1) % 4]));
+            for k in 0..3 {
+                let at = |t: f32| a.lerp(b, t).to_array();
+                let (t0, t1) = (k as f32 / 3.0, (k + 1) as f32 / 3.0);
+                let end = if k == 2 { sq[(i + 1) % 4] } else { at(t1) };
+                let start = if k == 0 { sq[i] } else { at(t0) };
+                lines.push(seg(0, outline::SEWING_LINE, start, end));
+            }
+        }
+        // A 0.1 m circle in 16 segments (22.5 degrees a turn), closed.
+        let ring = |k: usize| {
+            let t = k as f32 * std::f32::consts::TAU / 16.0;
+            [1.0 + 0.1 * t.cos(), 0.1 * t.sin()]
+        };
+        for k in 0..16 {
+            lines.push(seg(1, outline::SEWING_LINE, ring(k), ring((k + 1) % 16)));
+        }
+        // An open line of two segments, a notch and a grain line.
+        lines.push(seg(2, outline::SEWING_LINE, [2.0, 0.0], [2.1, 0.0]));
+        lines.push(seg(2, outline::SEWING_LINE, [2.1, 0.0], [2.2, 0.01]));
+        lines.push(seg(2, outline::NOTCH, [2.1, 0.0], [2.1, 0.05]));
+        lines.push(seg(2, outline::GRAIN, [2.0, 0.2], [2.2, 0.2]));
+        let found = corners(&lines);
+        let mut at: Vec<[f32; 2]> = found.iter().map(|c| c.0).collect();
+        at.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+        let want = [
+            [0.0, 0.0],
+            [0.0, 0.4],
+            [0.4, 0.0],
+            [0.4, 0.4],
+            [2.0, 0.0],
+            [2.2, 0.01],
+        ];
+        assert_eq!(at, want);
+        // The square's corners turn 90 degrees; the open line's ends count as turning back.
+        let turn = |p: [f32; 2]| found.iter().find(|c| c.0 == p).unwrap().1;
+        assert!((turn([0.4, 0.4]) - std::f32::consts::FRAC_PI_2).abs() < 1e-4);
+        assert_eq!(turn([2.0, 0.0]), std::f32::consts::PI);
+        assert_eq!(snap([0.39, 0.01], &found, 0.02), Some([0.4, 0.0]));
+        assert_eq!(snap([0.37, 0.0], &found, 0.02), None);
+        assert_eq!(snap([0.2, 0.0], &found, 0.02), None, "mid-side");
+        assert_eq!(snap([1.1, 0.0], &found, 0.05), None, "on the circle");
+        // The nearer of two alike within reach.
+        let close = [([0.0, 0.0], 1.5), ([0.01, 0.0], 1.6)];
+        assert_eq!(snap([0.008, 0.0], &close, 0.02), Some([0.01, 0.0]));
+        // A cut's kink 5 mm before the border (30 degrees) nearer the pointer than the
+        // border's corner (a right angle): the corner.
+        let kink = [([0.0, 0.0], 1.57), ([0.005, 0.003], 0.6)];
+        assert_eq!(snap([0.012, 0.0], &kink, 0.02), Some([0.0, 0.0]));
+        assert_eq!(snap([0.03, 0.0], &kink, 0.026), Some([0.005, 0.003]));
     }
 
     /// A piece's name goes in the middle of its outline, whatever its grain line and

@@ -8,7 +8,7 @@
 use shared::command::{Command, PieceShape};
 use shared::ui_to_sim::{PIECE_DROP, PIECE_EDGE, PIECE_SIZE, place, shape};
 
-use super::pattern::{CUT_LINE, PatternFrame, SIDE, seam_colour};
+use super::pattern::{CUT_LINE, PatternFrame, SIDE, SNAP_PX, seam_colour, snap, snap_corners};
 use crate::action::Action;
 use crate::store::Store;
 
@@ -379,8 +379,10 @@ impl PiecesPanel {
                 } else {
                     ui.label("Drag along a border, then along another: a seam joins them")
                         .on_hover_text(
-                            "Each side from its start to its end; right-click forgets a first \
-                             side; with the Cut tool a drag cuts instead",
+                            "Each side from its start to its end; an end within a few pixels \
+                             of a corner (or a cut's end) goes to it, unless Alt is held; \
+                             right-click forgets a first side; with the Cut tool a drag cuts \
+                             instead",
                         );
                 }
                 self.pattern_view(ui, store, cutting, actions);
@@ -412,13 +414,29 @@ impl PiecesPanel {
         frame.draw(&painter, mesh, store, self.selected);
         // Two drags, each a side from its start to its end.
         // A drag starts once the pointer has moved; the side starts where it was pressed.
+        // A side's end near a corner (a seam's, a cut's end) goes to the corner, unless
+        // Alt is held; a cut goes where it is drawn.
+        let snapping = !cutting && !ui.input(|i| i.modifiers.alt);
+        let corners = if snapping && (self.drag_from.is_some() || response.drag_started()) {
+            snap_corners(store)
+        } else {
+            Vec::new()
+        };
+        let snapped = |p: [f32; 2]| {
+            let at = snap(p, &corners, SNAP_PX / frame.scale);
+            if let Some(c) = at {
+                painter.circle_stroke(frame.at(c), 5.0, egui::Stroke::new(1.5, SIDE));
+            }
+            at.unwrap_or(p)
+        };
         if response.drag_started()
             && let Some(p) = ui.input(|i| i.pointer.press_origin())
         {
-            self.drag_from = Some(frame.to_plane(p));
+            self.drag_from = Some(snapped(frame.to_plane(p)));
         }
         if let (Some(a), Some(p)) = (self.drag_from, response.interact_pointer_pos()) {
-            let b = frame.to_plane(p);
+            let b = snapped(frame.to_plane(p));
+            let a = snapped(a);
             let colour = if cutting { CUT_LINE } else { SIDE };
             painter.line_segment([frame.at(a), frame.at(b)], egui::Stroke::new(2.0, colour));
             if response.drag_stopped() {
