@@ -16,6 +16,7 @@ mod dxf;
 mod labels;
 mod notches;
 mod svg;
+mod untangle;
 
 use rustc_hash::{FxHashMap as HashMap, FxHashSet};
 use std::path::{Path, PathBuf};
@@ -526,7 +527,11 @@ pub fn finish(mut pieces: Vec<Piece>, allowance_mm: f64) -> Vec<Piece> {
     let longest = notches::longest_sides(&pieces);
     for p in &mut pieces {
         if allowance_mm > 0.0 {
-            p.cut = p.loops.iter().map(|l| offset(l, allowance_mm)).collect();
+            // Where the line folds back closer than twice the allowance (a dart), the
+            // offset crosses itself: the loops it closes off are not cut.
+            p.cut = (p.loops.iter())
+                .map(|l| untangle::untangle(offset(l, allowance_mm), area2(l)))
+                .collect();
         }
         p.notches = notches(p, allowance_mm, &longest);
         let (lo, hi) = p.cut.iter().fold(
