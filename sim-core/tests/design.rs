@@ -1088,10 +1088,7 @@ fn pattern_perimeters(d: &Design) -> Vec<f64> {
 /// of their lengths.
 #[test]
 fn cloth_eased_into_a_seam_stays_in_the_pattern_out() {
-    let cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
-    let (mut d, spec) = sim_core::scenario::build_scene(&cfg).unwrap();
-    let pull = sim_core::scenario::garment::SEAM_PULL;
-    sim_core::design::garment::sew(&mut d, &spec.unwrap(), pull).unwrap();
+    let mut d = sewn(&ScenarioConfig::new(ScenarioName::DressMannequin));
     // A pattern's seams are meshed with both sides alike; a seam made by hand need not
     // be: each side seam sewn again to the top two thirds of the back's side.
     let sides: Vec<(Vec<u32>, Vec<u32>, f32)> = [1, 3]
@@ -1202,11 +1199,7 @@ fn cloth_eased_into_a_seam_stays_in_the_pattern_out() {
 /// join) load, and the pattern out leaves them out.
 #[test]
 fn a_files_eased_triangles_are_checked_and_strays_stay_out_of_the_pattern() {
-    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
-    cfg.piece_edge = 0.06;
-    let (mut d, spec) = sim_core::scenario::build_scene(&cfg).unwrap();
-    let pull = sim_core::scenario::garment::SEAM_PULL;
-    sim_core::design::garment::sew(&mut d, &spec.unwrap(), pull).unwrap();
+    let mut d = sewn_at_6cm();
     let cut = pattern_perimeters(&d);
     let vertices = d.sim.cloth.len();
     let mut with = |eased: Vec<[Vec3; 3]>| {
@@ -1227,13 +1220,24 @@ fn a_files_eased_triangles_are_checked_and_strays_stay_out_of_the_pattern() {
     assert_eq!(pattern_perimeters(&loaded), cut);
 }
 
-/// The shipped dress at 6 cm edges, its seams sewn for 240 frames on the mannequin.
-fn sewn_dress() -> Design {
-    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
-    cfg.piece_edge = 0.06;
-    let (mut d, spec) = sim_core::scenario::build_scene(&cfg).unwrap();
+/// `cfg`'s scene with its pattern's seams stitched (not yet stepped).
+fn sewn(cfg: &ScenarioConfig) -> Design {
+    let (mut d, spec) = sim_core::scenario::build_scene(cfg).unwrap();
     let pull = sim_core::scenario::garment::SEAM_PULL;
     sim_core::design::garment::sew(&mut d, &spec.unwrap(), pull).unwrap();
+    d
+}
+
+/// The shipped dress at 6 cm edges, its seams stitched (not yet stepped).
+fn sewn_at_6cm() -> Design {
+    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+    cfg.piece_edge = 0.06;
+    sewn(&cfg)
+}
+
+/// The shipped dress at 6 cm edges, its seams sewn for 240 frames on the mannequin.
+fn sewn_dress() -> Design {
+    let mut d = sewn_at_6cm();
     let mut welded = 0;
     for _ in 0..240 {
         welded += d.step().unwrap().welded;
