@@ -300,14 +300,8 @@ pub(crate) fn pen_acts(
         tool::PIN => {
             if pressed && let Some(v) = design.sim.cloth.nearest_vertex(tip, cfg.pinch_radius) {
                 let on = !design.sim.cloth.is_pinned(v as usize);
-                report(
-                    t,
-                    "pin",
-                    design.set_pin(v, on).map(|_| {
-                        let what = if on { "pinned" } else { "freed" };
-                        format!("Pin: vertex {v} {what} by the pen")
-                    }),
-                );
+                let said = crate::commands::pin_one(design, v, on, " by the pen");
+                report(t, "pin", said);
             }
         }
         _ => {}

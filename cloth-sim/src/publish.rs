@@ -7,8 +7,8 @@ use shared::Header;
 use shared::services::SlicePub;
 use shared::sim_to_haptic::{LocalModel, MAX_PLANES, workspace_covering};
 use shared::sim_to_ui::{
-    BodyMeshHeader, ClothFrameHeader, MAX_LISTED, MAX_SEAM_STRETCH, MeshCorner, MeshHeader,
-    OutlineSegment, PieceList, SeamEntry, SeamSegment, TextureTile, outline, put_text,
+    BodyMeshHeader, ClothFrameHeader, MAX_LISTED, MAX_PINS, MAX_SEAM_STRETCH, MeshCorner,
+    MeshHeader, OutlineSegment, PieceList, SeamEntry, SeamSegment, TextureTile, outline, put_text,
 };
 use sim_core::collision::Body;
 use sim_core::design::sewing_pattern::seam_label;
@@ -413,6 +413,10 @@ pub(crate) fn piece_list(design: &Design, seq: &mut u64) -> PieceList {
         }
         l.outline_total += 1;
     }
+    let pins = design.pinned_vertices();
+    l.pin_total = pins.len() as u32;
+    l.pin_count = pins.len().min(MAX_PINS) as u32;
+    l.pins[..l.pin_count as usize].copy_from_slice(&pins[..l.pin_count as usize]);
     l
 }
 

@@ -515,7 +515,7 @@ impl Service<'_> {
     }
 
     /// The piece list, when the mesh, the pieces, their names or fabrics, the seams'
-    /// names or their open or stalled pairs changed (the history gives a late UI the
+    /// names or their open or stalled pairs, or the pins changed (the history gives a late UI the
     /// last one).
     fn publish_pieces(&mut self) {
         use std::hash::{Hash, Hasher};
@@ -529,6 +529,12 @@ impl Service<'_> {
         }
         for s in &d.seams {
             s.name.hash(&mut records);
+        }
+        // The pins (a pin of a deleted piece's vertex is not listed; the mesh's version
+        // covers that).
+        let cloth = &d.sim.cloth;
+        for (v, _) in cloth.pinned.iter().enumerate().filter(|(_, p)| **p) {
+            v.hash(&mut records);
         }
         let key = (
             d.sim.cloth.live.version(),

@@ -455,7 +455,16 @@ pub struct PieceList {
     /// Scene panel shows it, so that New scene makes that design again.
     pub source_len: u32,
     pub source: [u8; SOURCE_LEN],
+    /// The pinned vertices of the cloth's pieces (since protocol 23): how many there
+    /// are, and the first `pin_count` of them, each once, in increasing order. The studio
+    /// draws a pin at each, so a designer sees what holds the cloth and where to free it.
+    pub pin_total: u32,
+    pub pin_count: u32,
+    pub pins: [u32; MAX_PINS],
 }
+
+/// Most pinned vertices a [`PieceList`] carries (a design with more shows the first).
+pub const MAX_PINS: usize = 1024;
 
 /// Bytes of [`PieceList::source`]: a command's path (RESET's text, `ui_to_sim::TEXT_LEN`,
 /// which checks the two agree).
@@ -500,6 +509,9 @@ impl Default for PieceList {
             outline: [OutlineSegment::default(); MAX_OUTLINE_SEGMENTS],
             source_len: 0,
             source: [0; SOURCE_LEN],
+            pin_total: 0,
+            pin_count: 0,
+            pins: [0; MAX_PINS],
         }
     }
 }
@@ -617,6 +629,27 @@ pub fn check_outline(l: &PieceList) -> Result<Vec<OutlineSegment>, MessageError>
         ));
     }
     Ok(lines.to_vec())
+}
+
+/// Checks a received list's pins and returns them: at most [`MAX_PINS`], no more than
+/// the total, in increasing order (so each once). A viewer still checks each against
+/// its mesh: the list and the mesh travel apart.
+pub fn check_pins(l: &PieceList) -> Result<Vec<u32>, MessageError> {
+    let n = l.pin_count as usize;
+    if n > MAX_PINS || l.pin_total < l.pin_count {
+        return Err(malformed(
+            "piece list",
+            format!("{n} of {} pins (at most {MAX_PINS})", l.pin_total),
+        ));
+    }
+    let pins = &l.pins[..n];
+    if let Some(k) = pins.windows(2).position(|w| w[0] >= w[1]) {
+        return Err(malformed(
+            "piece list",
+            format!("pin {} is not past the one before it", k + 1),
+        ));
+    }
+    Ok(pins.to_vec())
 }
 
 /// Checks a received piece list and returns its pieces.

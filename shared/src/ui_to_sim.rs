@@ -110,7 +110,9 @@ pub mod op {
     /// image: a left front from a right one), 0 not.
     /// Its seams, paint and pins are not copied. Undoable. Since protocol 22.
     pub const DUPLICATE_PIECE: u32 = 30;
-    pub const LAST: u32 = DUPLICATE_PIECE;
+    /// Every pin of the design freed, as one undoable edit. Since protocol 23.
+    pub const FREE_PINS: u32 = 31;
+    pub const LAST: u32 = FREE_PINS;
 }
 
 /// [`ToolCommand::b`] of a RESET: the body.

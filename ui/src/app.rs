@@ -572,8 +572,9 @@ impl App {
         let current = self.current_tool();
         let linked = self.link.is_some();
         let paused = self.paused();
+        let pins = self.store.pins_total;
         self.tools
-            .ui(ui, current, (depths, paused), linked, actions);
+            .ui(ui, current, (depths, paused, pins), linked, actions);
         ui.separator();
         self.material.ui(ui, self.store.sim_tel.as_deref(), actions);
         ui.separator();

@@ -170,6 +170,12 @@ pub fn view_mouse(
         }
     }
     if resp.clicked_by(egui::PointerButton::Primary) && primary_pressed {
+        // A shift-click frees the pin drawn under the mouse: its head stands over the
+        // cloth, so the cloth the click meets is another vertex's.
+        let hit = match (t, shift) {
+            (tool::PIN, true) => pin_under(camera, store, size, local).or(hit),
+            _ => hit,
+        };
         actions.push(Action::Click {
             tool: t,
             hit,
@@ -177,6 +183,27 @@ pub fn view_mouse(
             view_dir: dir,
         });
     }
+}
+
+/// The pin whose drawing (its shaft and head) passes nearest view point `at` (pixels from
+/// the view's corner), within 12 of them, as a hit at its vertex.
+fn pin_under(camera: &Camera, store: &Store, size: Vec2, at: Vec2) -> Option<crate::camera::Hit> {
+    let eye = camera.eye();
+    (store.pins.iter())
+        .filter_map(|&v| {
+            let (p, head, _) = crate::view3d::pin_head(store, v, eye)?;
+            let (a, b) = (camera.to_screen(p, size)?, camera.to_screen(head, size)?);
+            let ab = b - a;
+            let t = ((at - a).dot(ab) / ab.length_squared().max(1e-6)).clamp(0.0, 1.0);
+            let d = at.distance(a + ab * t);
+            (d <= 12.0).then_some((d, v, p))
+        })
+        .min_by(|x, y| x.0.total_cmp(&y.0))
+        .map(|(_, vertex, point)| crate::camera::Hit {
+            point,
+            vertex,
+            distance: point.distance(eye),
+        })
 }
 
 /// How far beside the border a stroke begun beside the cloth puts the pen down, along

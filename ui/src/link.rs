@@ -10,8 +10,8 @@ use shared::command::Command;
 use shared::domain::Domain;
 use shared::ports::UiPorts;
 use shared::sim_to_ui::{
-    check_body, check_frame, check_mesh, check_outline, check_pieces, check_seam_segments,
-    check_seams, check_source, check_tile, check_tool_state, frame_stitches,
+    check_body, check_frame, check_mesh, check_outline, check_pieces, check_pins,
+    check_seam_segments, check_seams, check_source, check_tile, check_tool_state, frame_stitches,
 };
 use shared::ui_to_haptic::PointerInput;
 use shared::ui_to_sim::{CommandReply, ToolCommand};
@@ -146,12 +146,14 @@ impl Link {
                     p,
                     check_seams(&l)?,
                     check_seam_segments(&l)?,
-                    (check_outline(&l)?, check_source(&l)?),
+                    (check_outline(&l)?, check_source(&l)?, check_pins(&l)?),
                 ))
             });
             match checked {
-                Ok((list, seams, segments, (outline, source))) => {
+                Ok((list, seams, segments, (outline, source, pins))) => {
                     store.source = source;
+                    store.pins = pins;
+                    store.pins_total = l.pin_total;
                     store.pieces = list;
                     store.pieces_total = l.total;
                     store.seams = seams;

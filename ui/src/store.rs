@@ -275,6 +275,10 @@ pub struct Store {
     pub outline_total: u32,
     /// The pattern file the design was made from, as cloth-sim lists it (empty: none).
     pub source: String,
+    /// The pinned vertices as cloth-sim lists them (increasing), and how many the design
+    /// has (more when over `MAX_PINS`): the views draw a pin at each.
+    pub pins: Vec<u32>,
+    pub pins_total: u32,
     /// The mesh piece (`Mesh::piece_of`) the 3D view and pattern view highlight.
     pub highlight: Option<u32>,
     /// The map the 3D view and the pattern view colour the cloth by (the threads' stretch
@@ -311,6 +315,8 @@ impl Default for Store {
             seams_total: 0,
             seam_segments: Vec::new(),
             source: String::new(),
+            pins: Vec::new(),
+            pins_total: 0,
             outline: Vec::new(),
             outline_total: 0,
             highlight: None,

@@ -39,7 +39,7 @@ pub const TOOLS: [(u32, &str, egui::Key, &str); 6] = [
         tool::PIN,
         "Pin",
         egui::Key::N,
-        "Click a vertex to pin it in place; shift-click frees it",
+        "Click the cloth to pin it in place there (a pink pin head shows each pin); shift-click a pin to free it",
     ),
 ];
 

@@ -1228,3 +1228,54 @@ fn the_selection_follows_its_piece_when_the_list_changes() {
     h.run_steps(2);
     assert_eq!(h.state().pieces.selected, None);
 }
+
+/// Pins cloth-sim lists are drawn in the 3D view (pink heads over the cloth, none
+/// without pins), counted in the tools panel, and Free pins frees them all.
+#[test]
+fn pins_are_drawn_counted_and_freed() {
+    let pink = |h: &mut Harness<'_, App>| {
+        h.run_steps(2);
+        let img = h.render().unwrap();
+        let rect = h.state().view.rect.unwrap();
+        let (x0, y0) = (rect.min.x as u32, rect.min.y as u32);
+        (x0..rect.max.x as u32 - 1)
+            .flat_map(|x| (y0..rect.max.y as u32 - 1).map(move |y| (x, y)))
+            .filter(|&(x, y)| {
+                let [r, g, b, _] = img.get_pixel(x, y).0.map(u32::from);
+                // Pink: red and blue well over green (the cloth and body are grey).
+                r > 150 && b > 90 && g + 50 < r && g + 20 < b
+            })
+            .count()
+    };
+    let mut h = harness();
+    assert_eq!(pink(&mut h), 0, "no pins, no pin heads");
+    h.get_by_label("No pins");
+    // The demo cloth's middle vertex and one near a corner.
+    let middle = (SIDE * SIDE / 2) as u32;
+    h.state_mut().store.pins = vec![SIDE as u32 + 1, middle];
+    h.state_mut().store.pins_total = 2;
+    let heads = pink(&mut h);
+    assert!(heads > 20, "{heads} pink pixels for two pin heads");
+    h.get_by_label("2 pins hold the cloth");
+    // A shift-click on the middle pin's head (over the cloth, not on the vertex the
+    // cloth there is) frees that pin.
+    press(&mut h, "Pin  (N)");
+    let rect = h.state().view.rect.unwrap();
+    let size = glam::Vec2::new(rect.width(), rect.height());
+    let head = {
+        let s = h.state();
+        let (_, head, _) = ui::view3d::pin_head(&s.store, middle, s.camera.eye()).unwrap();
+        s.camera.to_screen(head, size).unwrap()
+    };
+    h.event(egui::Event::ModifiersChanged(egui::Modifiers::SHIFT));
+    click(&mut h, rect.min + egui::vec2(head.x, head.y));
+    h.event(egui::Event::ModifiersChanged(egui::Modifiers::NONE));
+    h.run_steps(1);
+    let c = *commands(&h).last().unwrap();
+    assert_eq!((c.op, c.a, c.mode), (op::PIN, middle, 0), "{c:?}");
+    // A pin of a vertex the positions do not have is not drawn (nor a panic).
+    h.state_mut().store.pins = vec![u32::MAX];
+    assert_eq!(pink(&mut h), 0);
+    press(&mut h, "Free pins");
+    assert_eq!(commands(&h).last().unwrap().op, op::FREE_PINS);
+}

@@ -58,16 +58,10 @@ pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
                 .map(|_| format!("Tear: the edge between vertices {a} and {b} is torn"))
                 .map_err(e)
         }
-        Command::Pin { vertex, pinned } => design
-            .set_pin(*vertex, *pinned)
-            .map(|_| {
-                let what = if *pinned {
-                    "is pinned in place"
-                } else {
-                    "is free again"
-                };
-                format!("Pin: vertex {vertex} {what}")
-            })
+        Command::Pin { vertex, pinned } => pin_one(design, *vertex, *pinned, "").map_err(e),
+        Command::FreePins => design
+            .free_pins()
+            .map(|n| format!("Freed {n} pin{}: the cloth hangs free again", plural(n)))
             .map_err(e),
         Command::Paint {
             point,
@@ -131,6 +125,36 @@ pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
         | Command::Export { .. }
         | Command::SetSimulating { .. } => Err(format!("operation {} is the service's", c.op())),
     }
+}
+
+/// "s" unless `n` is 1.
+fn plural(n: usize) -> &'static str {
+    if n == 1 { "" } else { "s" }
+}
+
+/// Pins or frees vertex `v` (`how`: " by the pen", or nothing for the mouse); the answer
+/// names the piece and counts the design's pins, so a designer knows what holds the cloth.
+pub(crate) fn pin_one(
+    design: &mut Design,
+    v: u32,
+    pinned: bool,
+    how: &str,
+) -> Result<String, EditError> {
+    design.set_pin(v, pinned)?;
+    let piece = design
+        .piece_name_of(v)
+        .unwrap_or_else(|| "the cloth".into());
+    let n = design.pinned_vertices().len();
+    Ok(if pinned {
+        let hold = if n == 1 { "holds" } else { "hold" };
+        format!(
+            "Pin: {piece} pinned here{how}; {n} pin{} {hold} the cloth (shift-click a pin to \
+             free it, or Free pins in the Tools panel)",
+            plural(n)
+        )
+    } else {
+        format!("Pin: {piece} freed here{how}; {n} pin{} left", plural(n))
+    })
 }
 
 /// What a reply that stitched seams adds when the xpbd model runs without its strain

@@ -433,3 +433,95 @@ fn the_wire_and_the_design_allow_the_same_drop() {
         sim_core::design::garment::MAX_DROP
     );
 }
+
+/// A pin's answer names its piece and counts the design's pins; the piece list carries
+/// the pins of the pieces there are (not a deleted piece's, until an undo brings it
+/// back); Free pins frees them all as one undo, and with none left says so.
+#[test]
+fn pins_are_listed_named_and_freed_together() {
+    let mut scene = ScenarioConfig::new(ScenarioName::DrapeMannequin);
+    scene.grid = 4;
+    let mut d = build_design(&scene).unwrap();
+    carry_out(
+        &mut d,
+        &Command::AddPiece {
+            shape: PieceShape::Rectangle { w: 0.3, h: 0.3 },
+            place: shared::ui_to_sim::place::FRONT,
+            drop_m: 0.1,
+            edge_m: 0.05,
+        },
+    )
+    .unwrap();
+    let listed = |d: &Design| {
+        let l = crate::publish::piece_list(d, &mut 0);
+        assert_eq!(l.pin_total, l.pin_count);
+        shared::sim_to_ui::check_pins(&l).unwrap()
+    };
+    // The square is vertices 0-24; the rectangle's come after.
+    let v = (25..d.sim.cloth.len() as u32)
+        .find(|&v| d.sim.cloth.live.vertex_alive(v))
+        .unwrap();
+    let pin = |d: &mut Design, v: u32, on: bool| {
+        carry_out(
+            d,
+            &Command::Pin {
+                vertex: v,
+                pinned: on,
+            },
+        )
+        .unwrap()
+    };
+    let said = pin(&mut d, v, true);
+    assert!(
+        said.contains("rectangle pinned here") && said.contains("1 pin holds"),
+        "{said}"
+    );
+    let said = pin(&mut d, 0, true);
+    assert!(
+        said.contains("piece 1 pinned here") && said.contains("2 pins hold"),
+        "{said}"
+    );
+    assert_eq!(listed(&d), vec![0, v]);
+    // Pinning a pin or freeing a free vertex is refused, leaving no empty undo step.
+    let steps = d.history.undo_steps();
+    let again = carry_out(
+        &mut d,
+        &Command::Pin {
+            vertex: v,
+            pinned: true,
+        },
+    )
+    .unwrap_err();
+    assert!(again.contains("already pinned"), "{again}");
+    let free = carry_out(
+        &mut d,
+        &Command::Pin {
+            vertex: 1,
+            pinned: false,
+        },
+    )
+    .unwrap_err();
+    assert!(free.contains("no pin there"), "{free}");
+    assert_eq!(d.history.undo_steps(), steps);
+    let rect = d
+        .piece_list()
+        .iter()
+        .position(|p| p.name == "rectangle")
+        .unwrap();
+    carry_out(&mut d, &Command::DeletePiece { piece: rect as u32 }).unwrap();
+    assert_eq!(listed(&d), vec![0]);
+    carry_out(&mut d, &Command::Undo).unwrap();
+    assert_eq!(listed(&d), vec![0, v]);
+    let said = carry_out(&mut d, &Command::FreePins).unwrap();
+    assert!(said.starts_with("Freed 2 pins"), "{said}");
+    assert!(listed(&d).is_empty() && !d.sim.cloth.is_pinned(v as usize));
+    let refused = carry_out(&mut d, &Command::FreePins).unwrap_err();
+    assert!(refused.contains("no pin to free"), "{refused}");
+    carry_out(&mut d, &Command::Undo).unwrap();
+    assert_eq!(listed(&d), vec![0, v]);
+    let said = pin(&mut d, v, false);
+    assert!(
+        said.contains("rectangle freed here") && said.contains("1 pin left"),
+        "{said}"
+    );
+}

@@ -97,6 +97,8 @@ pub enum Command {
     },
     Undo,
     Redo,
+    /// Every pin of the design freed (one undoable edit).
+    FreePins,
     SetTearing(Tearing),
     /// Save the design to `path`.
     Save {
@@ -294,6 +296,7 @@ impl Command {
             Self::Paint { .. } => op::PAINT,
             Self::Undo => op::UNDO,
             Self::Redo => op::REDO,
+            Self::FreePins => op::FREE_PINS,
             Self::SetTearing(_) => op::SET_TEAR,
             Self::Save { .. } => op::SAVE,
             Self::SetTool { .. } => op::SET_TOOL,
@@ -339,7 +342,7 @@ impl Command {
                 radius_m,
                 rgba,
             } => (c.vec, c.value, c.rgba) = (*point, *radius_m, *rgba),
-            Self::Undo | Self::Redo => {}
+            Self::Undo | Self::Redo | Self::FreePins => {}
             Self::SetTearing(Tearing::Off) => c.mode = 0,
             Self::SetTearing(Tearing::On { threshold, split }) => {
                 (c.mode, c.value) = (if *split { 2 } else { 1 }, *threshold);
@@ -483,6 +486,7 @@ impl Command {
             },
             op::UNDO => Self::Undo,
             op::REDO => Self::Redo,
+            op::FREE_PINS => Self::FreePins,
             op::SET_TEAR => Self::SetTearing(match c.mode {
                 0 => Tearing::Off,
                 m => Tearing::On {

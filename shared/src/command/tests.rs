@@ -42,6 +42,7 @@ fn every_variant() -> Vec<Command> {
         },
         Command::Undo,
         Command::Redo,
+        Command::FreePins,
         Command::SetTearing(Tearing::Off),
         Command::SetTearing(Tearing::On {
             threshold: 1.6,

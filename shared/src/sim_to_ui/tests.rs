@@ -131,3 +131,27 @@ fn the_pens_answer_is_checked() {
     bad.header.protocol += 1;
     assert!(check_tool_state(&bad).is_err());
 }
+
+/// Pins in increasing order up to the total pass; a count past the buffer or the
+/// total, or a pin out of order (or twice), is refused.
+#[test]
+fn pins_are_checked() {
+    let mut l = PieceList {
+        pin_total: 5,
+        pin_count: 3,
+        ..PieceList::default()
+    };
+    l.pins[..3].copy_from_slice(&[4, 17, 900]);
+    assert_eq!(check_pins(&l).unwrap(), vec![4, 17, 900]);
+    assert!(check_pins(&PieceList::default()).unwrap().is_empty());
+    let mut bad = l;
+    bad.pins[2] = 17;
+    let e = check_pins(&bad).unwrap_err().to_string();
+    assert!(e.contains("pin 2"), "{e}");
+    let mut bad = l;
+    bad.pin_count = 6;
+    assert!(check_pins(&bad).is_err());
+    let mut bad = l;
+    (bad.pin_total, bad.pin_count) = (MAX_PINS as u32 + 2, MAX_PINS as u32 + 1);
+    assert!(check_pins(&bad).is_err());
+}

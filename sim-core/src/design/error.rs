@@ -96,4 +96,10 @@ pub enum EditError {
     OnlyWeldsToUndo,
     #[error("nothing to redo")]
     NothingToRedo,
+    #[error("no pin to free: nothing holds the cloth in place")]
+    NoPins,
+    #[error("already pinned there")]
+    AlreadyPinned,
+    #[error("no pin there to free (shift-click a pin's head)")]
+    NoPinThere,
 }

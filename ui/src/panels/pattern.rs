@@ -75,8 +75,8 @@ impl PatternFrame {
         ]
     }
 
-    /// The outlines, each seam in its colour with its label, the stitches still pulling
-    /// and the scale bar.
+    /// The outlines, each seam in its colour with its label, the stitches still pulling,
+    /// the pins and the scale bar.
     pub(super) fn draw(
         &self,
         painter: &egui::Painter,
@@ -163,6 +163,18 @@ impl PatternFrame {
                 let stitch =
                     egui::Stroke::new(1.0, seam_colour(*seam as usize).gamma_multiply(0.6));
                 painter.line_segment([self.at(*pa), self.at(*pb)], stitch);
+            }
+        }
+        // A pin at its vertex's first place, in the 3D view's pin colour.
+        for v in &store.pins {
+            if let Some(p) = place_of.get(v) {
+                let at = self.at(*p);
+                painter.circle(
+                    at,
+                    3.5,
+                    colour(crate::view3d::PIN_COLOUR),
+                    egui::Stroke::new(1.0, egui::Color32::WHITE),
+                );
             }
         }
     }

@@ -40,12 +40,13 @@ impl ToolsPanel {
     }
 
     /// Draws the panel. `current` is the tool in use, `depths` the undo and redo depth,
-    /// `linked` whether the UI is connected (without a link the buttons stay enabled).
+    /// `pins` the design's pins, `linked` whether the UI is connected (without a link the
+    /// buttons stay enabled).
     pub fn ui(
         &mut self,
         ui: &mut egui::Ui,
         current: u32,
-        (depths, paused): ((u32, u32), bool),
+        (depths, paused, pins): ((u32, u32), bool, u32),
         linked: bool,
         actions: &mut Vec<Action>,
     ) {
@@ -81,6 +82,7 @@ impl ToolsPanel {
                 Tearing::Off
             })));
         }
+        Self::pins_section(ui, pins, linked, actions);
         ui.separator();
         ui.horizontal(|ui| {
             let (u, r) = depths;
@@ -123,6 +125,28 @@ impl ToolsPanel {
         });
         ui.separator();
         self.design_section(ui, actions);
+    }
+
+    /// How many pins hold the cloth, and a button that frees them all (one undo).
+    fn pins_section(ui: &mut egui::Ui, pins: u32, linked: bool, actions: &mut Vec<Action>) {
+        ui.horizontal(|ui| {
+            let label = match pins {
+                0 => "No pins".to_string(),
+                1 => "1 pin holds the cloth".to_string(),
+                n => format!("{n} pins hold the cloth"),
+            };
+            ui.label(label).on_hover_text(
+                "Pins (the Pin tool, N) hold a point of the cloth where it is; the views \
+                 draw each as a pink pin head",
+            );
+            if ui
+                .add_enabled(pins > 0 || !linked, egui::Button::new("Free pins"))
+                .on_hover_text("Free every pin at once (one undo brings them back)")
+                .clicked()
+            {
+                actions.push(Action::Command(Command::FreePins));
+            }
+        });
     }
 
     /// The paint colour and brush; a change is sent at once while painting.

@@ -12,4 +12,6 @@ mod scene;
 
 pub use gpu::Vertex;
 pub use renderer::View3d;
-pub use scene::{BORDER_COLOUR, HIGHLIGHT, Overlay, SEWN_COLOUR, seam_colour};
+pub use scene::{
+    BORDER_COLOUR, HIGHLIGHT, Overlay, PIN_COLOUR, SEWN_COLOUR, pin_head, seam_colour,
+};

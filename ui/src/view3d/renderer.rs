@@ -342,9 +342,9 @@ impl View3d {
             self.body.upload(device, queue, &self.scratch);
             self.body_version = store.body_version;
         }
-        scene::lines(store, overlay, &mut self.scratch);
+        scene::lines(store, overlay, eye, &mut self.scratch);
         self.line_buf.upload(device, queue, &self.scratch);
-        scene::pen_marker(overlay, &mut self.scratch);
+        scene::markers(store, overlay, eye, &mut self.scratch);
         self.marker.upload(device, queue, &self.scratch);
         self.draw(device, queue);
     }

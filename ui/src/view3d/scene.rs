@@ -1,6 +1,7 @@
 //! What the view shows besides the cloth's own triangles, as vertex lists: the cloth's
 //! vertices (one per distinct vertex and UV), the body, the lines (floor grid, the
-//! cloth's border and seams, the pinch spring, the pen) and the pen tip's marker.
+//! cloth's border and seams, the pinch spring, the pen, the pins' shafts) and the lit
+//! markers (the pen tip, the pins' heads).
 
 use glam::Vec3;
 
@@ -132,8 +133,9 @@ fn cross(s: &mut Vec<Vertex>, c: Vec3, r: f32, col: [f32; 4]) {
 }
 
 /// The lines: the floor grid, the cloth's border and cuts, sewn edges and open
-/// stitches, the pinch spring, the pen and the first vertex of a sew.
-pub(super) fn lines(store: &Store, overlay: &Overlay, out: &mut Vec<Vertex>) {
+/// stitches, the pinch spring, the pen, the first vertex of a sew and the pins' shafts
+/// (towards `eye`).
+pub(super) fn lines(store: &Store, overlay: &Overlay, eye: Vec3, out: &mut Vec<Vertex>) {
     out.clear();
     for k in -10..=10 {
         let f = k as f32 * 0.1;
@@ -167,13 +169,45 @@ pub(super) fn lines(store: &Store, overlay: &Overlay, out: &mut Vec<Vertex>) {
     if let Some(p) = overlay.marked {
         cross(out, p, 0.015, [0.3, 0.7, 1.0, 1.0]);
     }
+    for &v in &store.pins {
+        if let Some((p, head, _)) = pin_head(store, v, eye) {
+            line(out, p, head, [0.85, 0.85, 0.9, 1.0]);
+        }
+    }
 }
 
-/// The pen tip as a small lit octahedron.
-pub(super) fn pen_marker(overlay: &Overlay, out: &mut Vec<Vertex>) {
+/// A pin's head: its colour, and its radius as a share of its distance from the eye (so
+/// it shows the same size near and far; within 3 mm and 3 cm). It stands 2.5 radii
+/// over the cloth.
+pub const PIN_COLOUR: [f32; 4] = [0.95, 0.2, 0.55, 1.0];
+const PIN_HEAD_SHARE: f32 = 0.01;
+
+/// Where pinned vertex `v` is and its head is drawn (over the cloth on the side of
+/// `eye`), and the head's radius; `None` for a vertex the positions do not have.
+pub fn pin_head(store: &Store, v: u32, eye: Vec3) -> Option<(Vec3, Vec3, f32)> {
+    let p = Vec3::from(*store.x.get(v as usize)?);
+    let n = Vec3::from(*store.normals.get(v as usize)?).normalize_or(Vec3::Y);
+    let n = if n.dot(eye - p) < 0.0 { -n } else { n };
+    let r = (PIN_HEAD_SHARE * eye.distance(p)).clamp(0.003, 0.03);
+    Some((p, p + n * 2.5 * r, r))
+}
+
+/// The lit markers: the pen tip, and a pin's head over each pinned vertex (its shaft is
+/// one of [`lines`]), seen from `eye`.
+pub(super) fn markers(store: &Store, overlay: &Overlay, eye: Vec3, out: &mut Vec<Vertex>) {
     out.clear();
-    let Some(c) = overlay.pen else { return };
-    let r = 0.008;
+    if let Some(c) = overlay.pen {
+        octahedron(c, 0.008, [1.0, 0.85, 0.2, 1.0], out);
+    }
+    for &v in &store.pins {
+        if let Some((_, head, r)) = pin_head(store, v, eye) {
+            octahedron(head, r, PIN_COLOUR, out);
+        }
+    }
+}
+
+/// A small lit octahedron of radius `r` at `c`.
+fn octahedron(c: Vec3, r: f32, col: [f32; 4], out: &mut Vec<Vertex>) {
     let d = [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z];
     for (i, j, k) in [
         (0, 1, 2),
@@ -191,7 +225,7 @@ pub(super) fn pen_marker(overlay: &Overlay, out: &mut Vec<Vertex>) {
                 pos: (c + d[q] * r).to_array(),
                 nrm: n.to_array(),
                 uv: [0.0; 2],
-                col: [1.0, 0.85, 0.2, 1.0],
+                col,
             });
         }
     }
