@@ -577,81 +577,6 @@ pub fn check_seams(l: &PieceList) -> Result<Vec<SeamEntry>, MessageError> {
     Ok(seams.to_vec())
 }
 
-/// Checks a received list's seam segments and returns them: at most
-/// [`MAX_SEAM_SEGMENTS`], each of a listed seam and stretch, with finite ends.
-pub fn check_seam_segments(l: &PieceList) -> Result<Vec<SeamSegment>, MessageError> {
-    let n = l.segment_count as usize;
-    if n > MAX_SEAM_SEGMENTS {
-        return Err(malformed(
-            "piece list",
-            format!("{n} seam segments (at most {MAX_SEAM_SEGMENTS})"),
-        ));
-    }
-    let segments = &l.segments[..n];
-    if let Some(k) = segments.iter().position(|g| {
-        g.seam >= l.seam_count
-            || g.stretch > MAX_SEAM_STRETCH
-            || !g.a.iter().chain(&g.b).all(|c| c.is_finite())
-    }) {
-        return Err(malformed(
-            "piece list",
-            format!("seam segment {k} names no listed seam or stretch, or is not finite"),
-        ));
-    }
-    Ok(segments.to_vec())
-}
-
-/// Checks a received list's pattern lines and returns them: at most
-/// [`MAX_OUTLINE_SEGMENTS`], each of a listed piece (or none), of a known kind, with
-/// finite ends.
-pub fn check_outline(l: &PieceList) -> Result<Vec<OutlineSegment>, MessageError> {
-    let n = l.outline_count as usize;
-    if n > MAX_OUTLINE_SEGMENTS || l.outline_total < l.outline_count {
-        return Err(malformed(
-            "piece list",
-            format!(
-                "{n} of {} outline segments (at most {MAX_OUTLINE_SEGMENTS})",
-                l.outline_total
-            ),
-        ));
-    }
-    let lines = &l.outline[..n];
-    if let Some(k) = lines.iter().position(|g| {
-        (g.piece >= l.count && g.piece != u32::MAX)
-            || g.kind > outline::LAST
-            || !g.a.iter().chain(&g.b).all(|c| c.is_finite())
-    }) {
-        return Err(malformed(
-            "piece list",
-            format!(
-                "outline segment {k} names no listed piece, is of no known kind or is not finite"
-            ),
-        ));
-    }
-    Ok(lines.to_vec())
-}
-
-/// Checks a received list's pins and returns them: at most [`MAX_PINS`], no more than
-/// the total, in increasing order (so each once). A viewer still checks each against
-/// its mesh: the list and the mesh travel apart.
-pub fn check_pins(l: &PieceList) -> Result<Vec<u32>, MessageError> {
-    let n = l.pin_count as usize;
-    if n > MAX_PINS || l.pin_total < l.pin_count {
-        return Err(malformed(
-            "piece list",
-            format!("{n} of {} pins (at most {MAX_PINS})", l.pin_total),
-        ));
-    }
-    let pins = &l.pins[..n];
-    if let Some(k) = pins.windows(2).position(|w| w[0] >= w[1]) {
-        return Err(malformed(
-            "piece list",
-            format!("pin {} is not past the one before it", k + 1),
-        ));
-    }
-    Ok(pins.to_vec())
-}
-
 /// Checks a received piece list and returns its pieces.
 pub fn check_pieces(l: &PieceList) -> Result<Vec<ListedPiece>, MessageError> {
     l.header.check()?;
@@ -728,6 +653,9 @@ pub fn check_tile(t: &TextureTile, payload: &[u8]) -> Result<(), MessageError> {
     }
     Ok(())
 }
+
+mod lines;
+pub use lines::{check_outline, check_pins, check_seam_segments};
 
 #[cfg(test)]
 mod tests;

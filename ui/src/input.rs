@@ -170,12 +170,9 @@ pub fn view_mouse(
         }
     }
     if resp.clicked_by(egui::PointerButton::Primary) && primary_pressed {
-        // A shift-click frees the pin drawn under the mouse: its head stands over the
-        // cloth, so the cloth the click meets is another vertex's.
-        let hit = match (t, shift) {
-            (tool::PIN, true) => pin_under(camera, store, size, local).or(hit),
-            _ => hit,
-        };
+        // A shift-click with Pin frees the pin drawn under the mouse, not the cloth's vertex.
+        let pin = (t == tool::PIN && shift).then(|| pin_under(camera, store, size, local));
+        let hit = pin.flatten().or(hit);
         actions.push(Action::Click {
             tool: t,
             hit,

@@ -487,13 +487,7 @@ impl Command {
             op::UNDO => Self::Undo,
             op::REDO => Self::Redo,
             op::FREE_PINS => Self::FreePins,
-            op::SET_TEAR => Self::SetTearing(match c.mode {
-                0 => Tearing::Off,
-                m => Tearing::On {
-                    threshold: c.value,
-                    split: m == 2,
-                },
-            }),
+            op::SET_TEAR => Self::SetTearing(tearing_from_wire(c)),
             op::SAVE => Self::Save { path: text(c) },
             op::SET_TOOL => Self::SetTool {
                 tool: c.a,
@@ -581,6 +575,17 @@ impl Command {
                 });
             }
         })
+    }
+}
+
+/// A SET_TEAR record's tearing (checked already).
+fn tearing_from_wire(c: &ToolCommand) -> Tearing {
+    match c.mode {
+        0 => Tearing::Off,
+        m => Tearing::On {
+            threshold: c.value,
+            split: m == 2,
+        },
     }
 }
 
