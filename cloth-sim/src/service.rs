@@ -515,8 +515,8 @@ impl Service<'_> {
     }
 
     /// The piece list, when the mesh, the pieces, their names or fabrics, the seams'
-    /// names or their open or stalled pairs, or the pins changed (the history gives a late UI the
-    /// last one).
+    /// names or their open or stalled pairs, or the pins changed (the history gives a
+    /// late UI the last one).
     fn publish_pieces(&mut self) {
         use std::hash::{Hash, Hasher};
         let d = &self.design;

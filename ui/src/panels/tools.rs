@@ -82,6 +82,7 @@ impl ToolsPanel {
                 Tearing::Off
             })));
         }
+        ui.separator();
         Self::pins_section(ui, pins, linked, actions);
         ui.separator();
         ui.horizontal(|ui| {
