@@ -548,18 +548,21 @@ impl SeamEntry {
     }
 }
 
-/// Checks a received list's seams and returns them.
-pub fn check_seams(l: &PieceList) -> Result<Vec<SeamEntry>, MessageError> {
-    let n = l.seam_count as usize;
-    if n > MAX_LISTED || l.seam_total < l.seam_count {
+/// How many of a list's `max` places are filled (`count` of `total`), checked: no more
+/// than fit and no more than the total.
+fn listed_count(count: u32, total: u32, max: usize, what: &str) -> Result<usize, MessageError> {
+    if count as usize > max || total < count {
         return Err(malformed(
             "piece list",
-            format!(
-                "{} of {} seams (at most {MAX_LISTED})",
-                l.seam_count, l.seam_total
-            ),
+            format!("{count} of {total} {what} (at most {max})"),
         ));
     }
+    Ok(count as usize)
+}
+
+/// Checks a received list's seams and returns them.
+pub fn check_seams(l: &PieceList) -> Result<Vec<SeamEntry>, MessageError> {
+    let n = listed_count(l.seam_count, l.seam_total, MAX_LISTED, "seams")?;
     let seams = &l.seams[..n];
     if seams.iter().any(|s| {
         s.open > s.pairs
@@ -580,13 +583,7 @@ pub fn check_seams(l: &PieceList) -> Result<Vec<SeamEntry>, MessageError> {
 /// Checks a received piece list and returns its pieces.
 pub fn check_pieces(l: &PieceList) -> Result<Vec<ListedPiece>, MessageError> {
     l.header.check()?;
-    let n = l.count as usize;
-    if n > MAX_LISTED || l.total < l.count {
-        return Err(malformed(
-            "piece list",
-            format!("{} of {} pieces (at most {MAX_LISTED})", l.count, l.total),
-        ));
-    }
+    let n = listed_count(l.count, l.total, MAX_LISTED, "pieces")?;
     let text = |b: &[u8], len: u32, what: &str| -> Result<String, MessageError> {
         text_in(b, len)
             .map(str::to_string)

@@ -3,7 +3,7 @@
 
 use super::{
     MAX_OUTLINE_SEGMENTS, MAX_PINS, MAX_SEAM_SEGMENTS, MAX_SEAM_STRETCH, OutlineSegment, PieceList,
-    SeamSegment, malformed, outline,
+    SeamSegment, listed_count, malformed, outline,
 };
 use crate::MessageError;
 
@@ -35,16 +35,12 @@ pub fn check_seam_segments(l: &PieceList) -> Result<Vec<SeamSegment>, MessageErr
 /// [`MAX_OUTLINE_SEGMENTS`], each of a listed piece (or none), of a known kind, with
 /// finite ends.
 pub fn check_outline(l: &PieceList) -> Result<Vec<OutlineSegment>, MessageError> {
-    let n = l.outline_count as usize;
-    if n > MAX_OUTLINE_SEGMENTS || l.outline_total < l.outline_count {
-        return Err(malformed(
-            "piece list",
-            format!(
-                "{n} of {} outline segments (at most {MAX_OUTLINE_SEGMENTS})",
-                l.outline_total
-            ),
-        ));
-    }
+    let n = listed_count(
+        l.outline_count,
+        l.outline_total,
+        MAX_OUTLINE_SEGMENTS,
+        "outline segments",
+    )?;
     let lines = &l.outline[..n];
     if let Some(k) = lines.iter().position(|g| {
         (g.piece >= l.count && g.piece != u32::MAX)
@@ -65,13 +61,7 @@ pub fn check_outline(l: &PieceList) -> Result<Vec<OutlineSegment>, MessageError>
 /// the total, in increasing order (so each once). A viewer still checks each against
 /// its mesh: the list and the mesh travel apart.
 pub fn check_pins(l: &PieceList) -> Result<Vec<u32>, MessageError> {
-    let n = l.pin_count as usize;
-    if n > MAX_PINS || l.pin_total < l.pin_count {
-        return Err(malformed(
-            "piece list",
-            format!("{n} of {} pins (at most {MAX_PINS})", l.pin_total),
-        ));
-    }
+    let n = listed_count(l.pin_count, l.pin_total, MAX_PINS, "pins")?;
     let pins = &l.pins[..n];
     if let Some(k) = pins.windows(2).position(|w| w[0] >= w[1]) {
         return Err(malformed(
