@@ -33,6 +33,7 @@ use crate::publish::{
     scene_workspace,
 };
 
+mod pause;
 mod telemetry;
 
 /// The running service: its design, ports and everything it keeps between frames.
@@ -449,9 +450,8 @@ impl Service<'_> {
                     } if !self.design.seams.is_empty() => seam_tip(&self.design),
                     _ => "",
                 };
-                // First, where a reply's 200 bytes cannot cut it off.
                 let paused = if self.paused {
-                    "Paused (simulate to drape it). "
+                    pause::PAUSED_FOR_IT
                 } else {
                     ""
                 };
@@ -480,37 +480,10 @@ impl Service<'_> {
                 &self.stats,
             ),
             Command::SetSimulating { on } => Ok(self.set_simulating(*on)),
+            Command::AddPiece { .. }
+            | Command::PlacePiece { .. }
+            | Command::DuplicatePiece { .. } => self.hold_for_piece(c),
             other => carry_out(&mut self.design, other),
-        }
-    }
-
-    /// Pauses the simulation or runs it again; the sentence says what that means.
-    fn set_simulating(&mut self, on: bool) -> String {
-        self.tel_due = true;
-        match (on, self.paused) {
-            (false, true) => "Paused already: edits apply, the cloth stays where it is".into(),
-            (false, false) => {
-                self.paused = true;
-                "Paused: the cloth stays where it is while you place, cut and sew pieces; \
-                 nothing falls and no stitch pulls until you simulate again"
-                    .into()
-            }
-            (true, false) => "Simulating already".into(),
-            (true, true) => {
-                self.paused = false;
-                // Seams made while paused close before their pieces fall, as a pattern's
-                // do (`Design::float_while_sewing`).
-                let fresh = (self.design.seams.iter())
-                    .any(|s| !s.pairs.is_empty() && s.pairs.iter().all(|(a, b)| a != b));
-                if fresh {
-                    self.design.float_while_sewing();
-                    "Simulating: the new seams pull their pieces together before they fall \
-                     (at most a second)"
-                        .into()
-                } else {
-                    "Simulating".into()
-                }
-            }
         }
     }
 

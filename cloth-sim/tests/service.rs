@@ -1138,13 +1138,15 @@ fn pieces_are_added_placed_listed_and_deleted_over_the_protocol() {
     let mut ask = asker(ports::command_client(&node).unwrap());
     let lists: services::Sub<shared::sim_to_ui::PieceList> =
         ports::subscriber(&node, services::pieces, None).unwrap();
-    // The newest list with `n` pieces, waiting for it.
+    // The newest list with `n` pieces, waiting for it (kept: paused, it may be the last).
+    let last = std::cell::RefCell::new(None);
     let names = |n: usize| -> Vec<String> {
         let deadline = Instant::now() + Duration::from_secs(10);
         loop {
             while let Some(l) = lists.receive().unwrap() {
                 let p = shared::sim_to_ui::check_pieces(&l).unwrap();
                 if p.len() == n {
+                    *last.borrow_mut() = Some(*l);
                     return p.into_iter().map(|p| p.name).collect();
                 }
             }
@@ -1153,6 +1155,10 @@ fn pieces_are_added_placed_listed_and_deleted_over_the_protocol() {
         }
     };
     assert_eq!(names(2), ["front", "back"]);
+    let telemetry = ports::subscriber(&node, services::sim_telemetry, None).unwrap();
+    await_telemetry(&telemetry, "the dress running", &|t| t.paused == 0);
+    // Added while the cloth runs, the piece pauses it (it would fall before it could be
+    // sewn), and the answer says so first.
     let r = ask(ToolCommand {
         op: op::ADD_PIECE,
         mode: shape::RECTANGLE,
@@ -1163,11 +1169,16 @@ fn pieces_are_added_placed_listed_and_deleted_over_the_protocol() {
     });
     assert_eq!(r.ok, 1, "{}", r.message());
     assert!(
-        r.message().contains("Added rectangle at the front"),
+        r.message()
+            .starts_with("Paused (simulate to drape it). Added rectangle at the front"),
         "{}",
         r.message()
     );
+    await_telemetry(&telemetry, "the pause for the new piece", &|t| {
+        t.paused == 1
+    });
     assert_eq!(names(3), ["front", "back", "rectangle"]);
+    // Paused already, a move says nothing of a pause.
     let r = ask(ToolCommand {
         op: op::PLACE_PIECE,
         a: 2,
@@ -1175,6 +1186,44 @@ fn pieces_are_added_placed_listed_and_deleted_over_the_protocol() {
         ..Default::default()
     });
     assert_eq!(r.ok, 1, "{}", r.message());
+    assert!(
+        r.message().starts_with("Placed rectangle"),
+        "{}",
+        r.message()
+    );
+    // Running again, a refused move does not pause; a copy does.
+    let r = ask(simulating(1));
+    assert_eq!(r.ok, 1, "{}", r.message());
+    let r = ask(ToolCommand {
+        op: op::PLACE_PIECE,
+        a: 9,
+        b: place::BACK,
+        ..Default::default()
+    });
+    assert!(
+        r.ok == 0 && !r.message().contains("Paused"),
+        "{}",
+        r.message()
+    );
+    // (The copy's answer below starts with the pause: the refused move left it running.)
+    let r = ask(ToolCommand {
+        op: op::DUPLICATE_PIECE,
+        a: 2,
+        b: place::FRONT,
+        value: 0.05,
+        ..Default::default()
+    });
+    assert!(
+        r.ok == 1
+            && r.message()
+                .starts_with("Paused (simulate to drape it). Copied"),
+        "{}",
+        r.message()
+    );
+    assert_eq!(names(4).len(), 4);
+    let r = ask(undo());
+    assert_eq!(r.ok, 1, "{}", r.message());
+    assert_eq!(names(3).len(), 3);
     let r = ask(ToolCommand {
         op: op::DELETE_PIECE,
         a: 9,
@@ -1212,8 +1261,9 @@ fn pieces_are_added_placed_listed_and_deleted_over_the_protocol() {
     // Its seams are listed; the second is removed and the list says so.
     let seams = |n: usize| -> Vec<String> {
         let deadline = Instant::now() + Duration::from_secs(10);
+        let mut kept = last.borrow_mut().take();
         loop {
-            while let Some(l) = lists.receive().unwrap() {
+            while let Some(l) = kept.take().or_else(|| lists.receive().unwrap().map(|l| *l)) {
                 let s = shared::sim_to_ui::check_seams(&l).unwrap();
                 if s.len() == n {
                     return s.iter().map(|s| s.label().to_string()).collect();

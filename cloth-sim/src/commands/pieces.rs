@@ -101,8 +101,8 @@ pub(super) fn firm_if_hanging(design: &mut Design, c: &Command) -> String {
     }
     design.sim.substeps = FIRM_SUBSTEPS;
     format!(
-        "; it hangs below the shoulders, so xpbd now runs {FIRM_SUBSTEPS} substeps, not {was} \
-         (at {was} a skirt slid off the hips; the Material panel's Substeps to choose)"
+        "; under the shoulders, xpbd now runs {FIRM_SUBSTEPS} substeps, not {was} (at {was} a \
+         skirt slid off the hips)"
     )
 }
 
