@@ -3,7 +3,7 @@
 //! piece that hangs below the shoulders needs under xpbd.
 
 use shared::command::{Command, PieceShape};
-use sim_core::design::garment::{Landmarks, PieceSpec, Place, Start, load_pattern, sew};
+use sim_core::design::garment::{Landmarks, PieceSpec, Place, Placement, Start, load_pattern, sew};
 use sim_core::design::{Design, EditError};
 use sim_core::mesh::mesher::Outline;
 use sim_core::scenario::FIRM_SUBSTEPS;
@@ -29,10 +29,13 @@ pub(super) fn piece_edit(design: &mut Design, c: &Command) -> Result<String, Str
         } => {
             let at = start_of(*place, *drop_m)?;
             let name = piece_name(design, *piece);
-            design
-                .place_piece(*piece as usize, at)
-                .map(|_| format!("Placed {name} at the {}", where_(at)))
-                .map_err(e)
+            design.place_piece(*piece as usize, at).map_err(e)?;
+            let r = design.pieces.iter().position(|r| r.name == name);
+            Ok(format!(
+                "Placed {name} at the {}{}",
+                where_(at),
+                started_note(design, r, at)
+            ))
         }
         Command::DeletePiece { piece } => {
             let name = piece_name(design, *piece);
@@ -59,10 +62,12 @@ pub(super) fn piece_edit(design: &mut Design, c: &Command) -> Result<String, Str
                 .duplicate_piece(*piece as usize, at, *mirrored, *edge_m)
                 .map(|(name, n)| {
                     let how = if *mirrored { ", turned over" } else { "" };
+                    let r = design.pieces.len().checked_sub(1);
                     format!(
-                        "Copied {was} as {name} at the {} ({n} vertices{how}); sew it as any \
-                         piece (undo takes it away)",
-                        where_(at)
+                        "Copied {was} as {name} at the {} ({n} vertices{how}){}; sew it as \
+                         any piece (undo takes it away)",
+                        where_(at),
+                        started_note(design, r, at)
                     )
                 })
                 .map_err(e)
@@ -100,10 +105,7 @@ pub(super) fn firm_if_hanging(design: &mut Design, c: &Command) -> String {
         return String::new();
     }
     design.sim.substeps = FIRM_SUBSTEPS;
-    format!(
-        "; under the shoulders, xpbd now runs {FIRM_SUBSTEPS} substeps, not {was} (at {was} a \
-         skirt slid off the hips)"
-    )
+    format!("; xpbd now runs {FIRM_SUBSTEPS} substeps, not {was} (a skirt slid off at {was})")
 }
 
 /// The start a wire place code and drop name.
@@ -115,12 +117,35 @@ fn start_of(code: u32, drop: f32) -> Result<Start, String> {
     Ok(Start { place, drop })
 }
 
-/// Where a piece starts, as the answer says it: "front", "front, 0.42 m lower".
+/// Where a piece starts, as the answer says it: "front", "left arm, 0.10 m lower".
 fn where_(at: Start) -> String {
+    let place = at.place.name().replace('-', " ");
     if at.drop > 0.0 {
-        format!("{}, {:.2} m lower", at.place.name(), at.drop)
+        format!("{place}, {:.2} m lower", at.drop)
     } else {
-        at.place.name().to_string()
+        place
+    }
+}
+
+/// What an answer adds when piece record `r` started further from `at` than asked, to
+/// clear the cloth there (a layer out, or down an arm: `Design::add_piece`), or nothing.
+fn started_note(design: &Design, r: Option<usize>, at: Start) -> String {
+    let placement = r
+        .and_then(|r| design.pieces.get(r))
+        .and_then(|p| p.placement);
+    let (lower, out) = match placement {
+        Some(Placement::Arm { down, room, .. }) => (down - at.drop, room),
+        Some(Placement::Around { out, .. }) => (0.0, out),
+        _ => (0.0, 0.0),
+    };
+    let (lower, out) = ((lower * 100.0).round(), (out * 1000.0).round());
+    match (lower > 0.0, out > 0.0) {
+        (false, false) => String::new(),
+        (true, false) => format!(", {lower:.0} cm down the arm to clear the cloth"),
+        (false, true) => format!(", {out:.0} mm out to clear the cloth"),
+        (true, true) => {
+            format!(", {lower:.0} cm down the arm and {out:.0} mm out to clear the cloth")
+        }
     }
 }
 
@@ -149,10 +174,13 @@ pub(super) fn add_piece(
     };
     let one = |design: &mut Design, p: PieceSpec| {
         let n = design.add_piece(&p, at, edge).map_err(|e| e.to_string())?;
+        let r = design.pieces.len().checked_sub(1);
+        // Its name as the list has it ("rectangle (2)" beside another rectangle).
+        let name = r.map_or(p.name.as_str(), |r| design.pieces[r].name.as_str());
         Ok(format!(
-            "Added {} at the {} ({n} vertices)",
-            p.name,
-            where_(at)
+            "Added {name} at the {} ({n} vertices){}",
+            where_(at),
+            started_note(design, r, at)
         ))
     };
     match shape {

@@ -424,6 +424,43 @@ fn a_piece_started_at_the_waist_runs_xpbd_firm() {
     }
 }
 
+/// A sleeve added at the dress's shoulder, and a second on the first: the answers say
+/// how far down the arm and how far out each started to clear the cloth; a piece that
+/// starts where it was asked says nothing of it.
+#[test]
+fn a_piece_started_clear_of_the_cloth_says_where() {
+    let mut scene = ScenarioConfig::new(ScenarioName::DressMannequin);
+    scene.piece_edge = 0.06;
+    let mut d = build_design(&scene).unwrap();
+    let add = |d: &mut Design, place: u32, drop_m: f32| {
+        carry_out(
+            d,
+            &Command::AddPiece {
+                shape: PieceShape::Rectangle { w: 0.36, h: 0.3 },
+                place,
+                drop_m,
+                edge_m: 0.04,
+            },
+        )
+        .unwrap()
+    };
+    use shared::ui_to_sim::place;
+    let said = add(&mut d, place::LEFT_ARM, 0.0);
+    assert!(
+        said.starts_with("Added rectangle at the left arm (")
+            && said.ends_with("vertices), 3 cm down the arm to clear the cloth"),
+        "{said}"
+    );
+    let said = add(&mut d, place::LEFT_ARM, 0.0);
+    assert!(
+        said.starts_with("Added rectangle (2) at the left arm (")
+            && said.ends_with(", 3 cm down the arm and 15 mm out to clear the cloth"),
+        "{said}"
+    );
+    let said = add(&mut d, place::RIGHT_ARM, 0.1);
+    assert!(said.ends_with("vertices)"), "{said}");
+}
+
 /// The wire's limit on a piece's drop is the design's: a drop the protocol lets through
 /// is one the design takes, and one the design takes is not refused on the wire.
 #[test]

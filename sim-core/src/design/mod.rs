@@ -57,7 +57,7 @@ pub use fabrics::{EDITED, fabric_zones};
 pub use frame::{AFLOAT_FRAMES, HOLD_FRAMES};
 pub use history::History;
 pub use parts::{STITCH_PULL, Seam, TearMode, TearSettings, open_stitches};
-pub use piece_edit::MAX_PIECE_VERTICES;
+pub use piece_edit::{ARM_STEP, MAX_PIECE_VERTICES};
 pub use piece_list::PieceInfo;
 pub use pieces::{MAX_NAME, PartName, PieceRecord};
 pub use prim::{Between, Edit, MergeAt, Prim};

@@ -203,13 +203,7 @@ impl Design {
         let marks = Landmarks::of(self.sim.body.as_ref());
         let index: HashMap<u32, usize> = verts.iter().enumerate().map(|(i, &v)| (v, i)).collect();
         let mut last = 0;
-        for k in 0..LAYERS {
-            let mut pl = base;
-            match &mut pl {
-                Placement::Around { out, .. } => *out += k as f32 * LAYER,
-                _ if k > 0 => break,
-                _ => {}
-            }
+        for pl in tries(base) {
             let x =
                 place(name, own, b, &pl, &marks).map_err(|e| EditError::Piece(e.to_string()))?;
             let at = |v: u32| match index.get(&v) {
@@ -431,6 +425,43 @@ fn start_placement(at: Start, marks: &Landmarks) -> Placement {
         _ => at.place.at(marks.shoulders - at.drop),
     }
 }
+
+/// Where a new or moved piece tries to start, in order, until one crosses nothing: round
+/// the torso, `LAYERS` layers out; round an arm, `ARM_LAYERS` layers out at each of
+/// `LAYERS` steps of [`ARM_STEP`] down the arm (a bodice's shoulder covers the top of
+/// the arm, so that no layer out clears a sleeve's top there, but a few centimetres
+/// down does; a sleeve on a sleeve needs a layer out); elsewhere only where asked.
+fn tries(base: Placement) -> Vec<Placement> {
+    match base {
+        Placement::Around { .. } => (0..LAYERS)
+            .map(|k| {
+                let mut pl = base;
+                if let Placement::Around { out, .. } = &mut pl {
+                    *out += k as f32 * LAYER;
+                }
+                pl
+            })
+            .collect(),
+        Placement::Arm { .. } => (0..LAYERS)
+            .flat_map(|step| (0..ARM_LAYERS).map(move |k| (step, k)))
+            .map(|(step, k)| {
+                let mut pl = base;
+                if let Placement::Arm { down, room, .. } = &mut pl {
+                    *down += step as f32 * ARM_STEP;
+                    *room += k as f32 * LAYER;
+                }
+                pl
+            })
+            .collect(),
+        _ => vec![base],
+    }
+}
+
+/// How many layers out a piece round an arm tries at each height.
+const ARM_LAYERS: usize = 3;
+
+/// How far down the arm each next height a piece round an arm tries is, m.
+pub const ARM_STEP: f32 = 0.03;
 
 /// Refuses a drop that is not a number or is outside `0..=MAX_DROP` m.
 fn check_drop(name: &str, drop: f32) -> Result<(), EditError> {

@@ -266,7 +266,7 @@ fn laid_out(pieces: &[Outline]) -> (Vec<Outline>, Vec<Vec2>) {
 }
 
 /// Space between layers of pieces that would start in one place, m.
-pub(crate) const LAYER: f32 = 0.015;
+pub const LAYER: f32 = 0.015;
 
 /// Every piece's placement (the front for one without), each piece round the torso that
 /// would start on or within 1 cm of an earlier one (their arcs and heights overlapping)

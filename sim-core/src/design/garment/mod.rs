@@ -17,8 +17,9 @@ mod place;
 mod spec;
 mod waist;
 
+pub use assemble::LAYER;
 pub use assemble::{Assembled, GarmentError, HOLD_PULL, Sewn, assemble, holds, sew};
-pub(crate) use assemble::{LAYER, PATTERN_GAP, SIMPLIFY};
+pub(crate) use assemble::{PATTERN_GAP, SIMPLIFY};
 pub use garmentcode::read_garmentcode;
 pub use import::{ImportError, load_pattern, own_body, pattern_from_outlines};
 pub use place::{GC_RAISE, Landmarks, MAX_DROP, Place, PlaceError, Placement, Start, place};
