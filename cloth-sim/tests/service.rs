@@ -1178,52 +1178,7 @@ fn pieces_are_added_placed_listed_and_deleted_over_the_protocol() {
         t.paused == 1
     });
     assert_eq!(names(3), ["front", "back", "rectangle"]);
-    // Paused already, a move says nothing of a pause.
-    let r = ask(ToolCommand {
-        op: op::PLACE_PIECE,
-        a: 2,
-        b: place::BACK,
-        ..Default::default()
-    });
-    assert_eq!(r.ok, 1, "{}", r.message());
-    assert!(
-        r.message().starts_with("Placed rectangle"),
-        "{}",
-        r.message()
-    );
-    // Running again, a refused move does not pause; a copy does.
-    let r = ask(simulating(1));
-    assert_eq!(r.ok, 1, "{}", r.message());
-    let r = ask(ToolCommand {
-        op: op::PLACE_PIECE,
-        a: 9,
-        b: place::BACK,
-        ..Default::default()
-    });
-    assert!(
-        r.ok == 0 && !r.message().contains("Paused"),
-        "{}",
-        r.message()
-    );
-    // (The copy's answer below starts with the pause: the refused move left it running.)
-    let r = ask(ToolCommand {
-        op: op::DUPLICATE_PIECE,
-        a: 2,
-        b: place::FRONT,
-        value: 0.05,
-        ..Default::default()
-    });
-    assert!(
-        r.ok == 1
-            && r.message()
-                .starts_with("Paused (simulate to drape it). Copied"),
-        "{}",
-        r.message()
-    );
-    assert_eq!(names(4).len(), 4);
-    let r = ask(undo());
-    assert_eq!(r.ok, 1, "{}", r.message());
-    assert_eq!(names(3).len(), 3);
+    moves_and_copies_pause_a_running_cloth(&mut ask, &names);
     let r = ask(ToolCommand {
         op: op::DELETE_PIECE,
         a: 9,
@@ -1286,6 +1241,59 @@ fn pieces_are_added_placed_listed_and_deleted_over_the_protocol() {
     );
     assert_eq!(seams(3), ["A", "B", "C"]);
     stop.finish();
+}
+
+/// After a rectangle (piece 2) was added, which paused the cloth: a move while paused
+/// says nothing of a pause; running again, a refused move leaves it running and a copy
+/// pauses it; undo takes the copy away.
+fn moves_and_copies_pause_a_running_cloth(ask: Ask<'_>, names: &dyn Fn(usize) -> Vec<String>) {
+    use shared::ui_to_sim::place;
+    // Paused already, a move says nothing of a pause.
+    let r = ask(ToolCommand {
+        op: op::PLACE_PIECE,
+        a: 2,
+        b: place::BACK,
+        ..Default::default()
+    });
+    assert_eq!(r.ok, 1, "{}", r.message());
+    assert!(
+        r.message().starts_with("Placed rectangle"),
+        "{}",
+        r.message()
+    );
+    // Running again, a refused move does not pause; a copy does.
+    let r = ask(simulating(1));
+    assert_eq!(r.ok, 1, "{}", r.message());
+    let r = ask(ToolCommand {
+        op: op::PLACE_PIECE,
+        a: 9,
+        b: place::BACK,
+        ..Default::default()
+    });
+    assert!(
+        r.ok == 0 && !r.message().contains("Paused"),
+        "{}",
+        r.message()
+    );
+    // (The copy's answer below starts with the pause: the refused move left it running.)
+    let r = ask(ToolCommand {
+        op: op::DUPLICATE_PIECE,
+        a: 2,
+        b: place::FRONT,
+        value: 0.05,
+        ..Default::default()
+    });
+    assert!(
+        r.ok == 1
+            && r.message()
+                .starts_with("Paused (simulate to drape it). Copied"),
+        "{}",
+        r.message()
+    );
+    assert_eq!(names(4).len(), 4);
+    let r = ask(undo());
+    assert_eq!(r.ok, 1, "{}", r.message());
+    assert_eq!(names(3).len(), 3);
 }
 
 /// A piece made of another fabric over the protocol: the list says so at once, an
