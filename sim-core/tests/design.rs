@@ -1642,3 +1642,31 @@ fn a_piece_is_copied_as_it_is_now_turned_over_when_asked_and_undoably() {
     assert!(d.duplicate_piece(at, Place::Front, false, 0.0).is_err());
     assert_eq!((d.piece_list().len(), d.history.undo_steps()), (now, steps));
 }
+
+/// A sleeve sewn into a tube (its two sides to each other, as in the studio) reads both
+/// sides 0.45 m once every pair has welded: until 2026-12-05 the second side's walk
+/// jumped to the first side's triangles where its own did not hold an edge, and read
+/// 0.81 m (the sleeve's width counted in), shown orange as a mismatch.
+#[test]
+fn a_welded_tube_reads_its_two_sides_equal() {
+    use sim_core::design::garment::Place;
+    let (mut d, sleeve) = dress_and_rectangle("sleeve", 0.36, 0.45);
+    d.add_piece(&sleeve, Place::LeftArm, 0.03).unwrap();
+    let r = d.pieces[2].clone();
+    let [tl, tr] = top_or_bottom(&r, true);
+    let [bl, br] = top_or_bottom(&r, false);
+    d.seam_on_plane([tl, bl], [tr, br], 0.01).unwrap();
+    let s = d.seams.len() - 1;
+    for _ in 0..40 {
+        d.step().unwrap();
+    }
+    assert!(
+        d.seams[s].pairs.iter().all(|(a, b)| a == b),
+        "not all welded"
+    );
+    let (la, lb) = d.seam_lengths(&d.seams[s]);
+    assert!(
+        (la - 0.45).abs() < 1e-3 && (lb - 0.45).abs() < 1e-3,
+        "{la} {lb}"
+    );
+}

@@ -119,21 +119,23 @@ impl Design {
                 } else {
                     (path[k + 1], path[k])
                 };
-                let nearest = self
-                    .edge_places(u, v)
-                    .into_iter()
+                let next = || {
+                    (self.rest_places(v).into_iter())
+                        .filter(|&q| piece(q) == own)
+                        .min_by(|x, y| x.distance(at).total_cmp(&y.distance(at)))
+                };
+                // An edge whose start lies farther than the next vertex's nearest place
+                // is the other side's (both sides on one piece, a tube: this side's
+                // triangles do not hold the edge where a weld collapsed a stretch).
+                let nearest = (self.edge_places(u, v).into_iter())
                     .filter(|e| piece(e.0) == own)
-                    .min_by(|x, y| x.0.distance(at).total_cmp(&y.0.distance(at)));
+                    .min_by(|x, y| x.0.distance(at).total_cmp(&y.0.distance(at)))
+                    .filter(|e| next().is_none_or(|q| e.0.distance(at) <= q.distance(at)));
                 let Some((from, to)) = nearest else {
                     // No triangle of this side holds the edge (its vertices are not
                     // neighbours on this side: a pair between them is open, its vertex
                     // left out of the path): straight on to the next vertex's place.
-                    let next = self
-                        .rest_places(v)
-                        .into_iter()
-                        .filter(|&q| piece(q) == own)
-                        .min_by(|x, y| x.distance(at).total_cmp(&y.distance(at)));
-                    match next {
+                    match next() {
                         Some(q) => {
                             len += at.distance(q);
                             used.push(q);
