@@ -1,7 +1,8 @@
 //! A seam allowance's cut line without the loops its offset makes where the sewing line
 //! folds back closer than twice the allowance: a dart's two legs, a narrow notch, a
 //! slit. Offset as it is, the two legs' offsets cross, and the cut line drawn as an X
-//! is no line a cutter can follow.
+//! is no line a cutter can follow; under a dart narrower than twice the allowance they
+//! pass each other, and the hem's offsets either side of it lie along each other.
 
 use glam::DVec2;
 
@@ -10,7 +11,8 @@ use super::area2;
 /// Loop `cut` (an offset of a sewing line whose twice-signed area is `sign`'s sign)
 /// with each loop its crossings close off removed: at each crossing, of the two loops
 /// it splits the line into, the one turning the sewing line's way round and larger is
-/// kept. A line that does not cross itself is returned as it is.
+/// kept; where two sides run along each other, at the middle of the stretch they share.
+/// A line that does not cross or overlap itself is returned as it is.
 pub(super) fn untangle(mut cut: Vec<DVec2>, sign: f64) -> Vec<DVec2> {
     // Each removal takes at least one point away.
     for _ in 0..cut.len() {
@@ -36,6 +38,11 @@ pub(super) fn untangle(mut cut: Vec<DVec2>, sign: f64) -> Vec<DVec2> {
             outer
         };
     }
+    // A split at a side's end leaves that point twice.
+    cut.dedup_by(|b, a| a.distance(*b) < EPS);
+    while cut.len() > 1 && cut[0].distance(cut[cut.len() - 1]) < EPS {
+        cut.pop();
+    }
     cut
 }
 
@@ -54,15 +61,37 @@ fn first_crossing(l: &[DVec2]) -> Option<(usize, usize, DVec2)> {
                 continue;
             }
             let (a, b) = (l[j], l[(j + 1) % n]);
-            if a.max(b).cmplt(lo).any() || a.min(b).cmpgt(hi).any() {
+            if a.max(b).cmplt(lo - EPS).any() || a.min(b).cmpgt(hi + EPS).any() {
                 continue;
             }
-            if let Some(x) = crossing(p, q, a, b) {
+            if let Some(x) = crossing(p, q, a, b).or_else(|| overlap(p, q, a, b)) {
                 return Some((i, j, x));
             }
         }
     }
     None
+}
+
+/// How near two sides must lie to run along each other, and how long a stretch they
+/// must share, mm.
+const EPS: f64 = 1e-3;
+
+/// The middle of the stretch where segments `p`-`q` and `a`-`b` lie along each other
+/// (within [`EPS`]) for longer than [`EPS`], if they do: under a dart narrower than
+/// twice the allowance the hem's offsets either side of it overlap so, never crossing.
+fn overlap(p: DVec2, q: DVec2, a: DVec2, b: DVec2) -> Option<DVec2> {
+    let len = p.distance(q);
+    if len < EPS {
+        return None;
+    }
+    let t = (q - p) / len;
+    let off = |x: DVec2| (x - p).perp_dot(t).abs();
+    if off(a) > EPS || off(b) > EPS {
+        return None;
+    }
+    let (sa, sb) = ((a - p).dot(t), (b - p).dot(t));
+    let (lo, hi) = (sa.min(sb).max(0.0), sa.max(sb).min(len));
+    (hi - lo > EPS).then(|| p + t * (0.5 * (lo + hi)))
 }
 
 /// Where segments `p`-`q` and `a`-`b` cross (within both, not at an end), if they do.
@@ -131,5 +160,40 @@ mod tests {
             first_crossing(&cut).is_none() && area2(&cut) < 0.0,
             "{cut:?}"
         );
+    }
+
+    /// A dart narrower at the hem (12 mm) than twice the allowance: its legs' offsets
+    /// pass each other without crossing, and the hem's offsets on each side of it lie
+    /// along each other under it. Untangled, the cut line is the hem's offset straight
+    /// across (the allowance covers the whole dart there), not a flag running up into
+    /// the piece to the dart's point and back, as it was until 2026-12-05.
+    #[test]
+    fn a_narrow_darts_allowance_runs_straight_under_it() {
+        let v = |x: f64, y: f64| DVec2::new(x, y);
+        let dart = vec![
+            v(0.0, 0.0),
+            v(244.0, 0.0),
+            v(250.0, 200.0),
+            v(256.0, 0.0),
+            v(500.0, 0.0),
+            v(500.0, 300.0),
+            v(0.0, 300.0),
+        ];
+        let raw = offset(&dart, 10.0);
+        assert!(
+            first_crossing(&raw).is_some(),
+            "the raw offset overlaps itself"
+        );
+        let cut = untangle(raw, area2(&dart));
+        assert!(first_crossing(&cut).is_none(), "{cut:?}");
+        // Every point of it on the rectangle's offset, none up in the piece.
+        let on_edge = |p: &DVec2| {
+            (p.y + 10.0).abs() < 1e-6
+                || (p.y - 310.0).abs() < 1e-6
+                || (p.x + 10.0).abs() < 1e-6
+                || (p.x - 510.0).abs() < 1e-6
+        };
+        assert!(cut.iter().all(on_edge), "{cut:?}");
+        assert!((area2(&cut) - 2.0 * 520.0 * 320.0).abs() < 1e-3, "{cut:?}");
     }
 }
