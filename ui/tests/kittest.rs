@@ -642,6 +642,7 @@ fn the_pieces_panel_lists_selects_adds_places_and_deletes() {
     h.get_by_label("Pattern");
     seam_by_two_drags(&mut h);
     cut_by_a_drag(&mut h);
+    zoom_and_pan(&mut h);
 }
 
 /// With the Cut tool, one drag in the pattern view is a cut along its line (sent in the
@@ -650,11 +651,25 @@ fn cut_by_a_drag(h: &mut Harness<'static, App>) {
     // By its key: the pattern window lies over the tools.
     h.key_press(egui::Key::C);
     h.run_steps(2);
+    let s = cut_drag(h);
+    // Left to right across the view, level: pattern x grows, y stays.
+    assert!(s.uv[0] + 0.1 < s.uv[2], "{:?}", s.uv);
+    assert!((s.uv[1] - s.uv[3]).abs() < 1e-3, "{:?}", s.uv);
+    assert!(h.state().pieces.seam_sides.is_empty());
+}
+
+/// The middle of the pattern view, under the Cut tool's hint.
+fn pattern_middle(h: &Harness<'static, App>) -> egui::Pos2 {
     let hint = h
         .get_by_label("Cut tool: drag a line across a piece to cut it along the line")
         .rect();
+    egui::pos2(hint.center().x, hint.bottom() + 158.0)
+}
+
+/// A cut dragged 240 pixels level across the pattern view's middle: the one command sent.
+fn cut_drag(h: &mut Harness<'static, App>) -> shared::ui_to_sim::ToolCommand {
     let n = commands(h).len();
-    let c = egui::pos2(hint.center().x, hint.bottom() + 158.0);
+    let c = pattern_middle(h);
     let (a, b) = (c + egui::vec2(-120.0, 0.0), c + egui::vec2(120.0, 0.0));
     h.hover_at(a);
     h.run_steps(1);
@@ -666,12 +681,73 @@ fn cut_by_a_drag(h: &mut Harness<'static, App>) {
     h.run_steps(2);
     let sent = commands(h);
     assert_eq!(sent.len(), n + 1, "one cut");
-    let s = sent.last().unwrap();
+    let s = *sent.last().unwrap();
     assert_eq!(s.op, op::CUT_PLANE);
-    // Left to right across the view, level: pattern x grows, y stays.
-    assert!(s.uv[0] + 0.1 < s.uv[2], "{:?}", s.uv);
-    assert!((s.uv[1] - s.uv[3]).abs() < 1e-3, "{:?}", s.uv);
-    assert!(h.state().pieces.seam_sides.is_empty());
+    s
+}
+
+/// The wheel zooms the pattern view about the mouse: the same drag on the screen is then
+/// a line as many times shorter in the pattern, through the same place; a middle drag
+/// pans it (the drag's line moves the other way); Fit goes back to every piece in view.
+fn zoom_and_pan(h: &mut Harness<'static, App>) {
+    let before = cut_drag(h);
+    let c = pattern_middle(h);
+    h.hover_at(c);
+    h.event(egui::Event::MouseWheel {
+        unit: egui::MouseWheelUnit::Point,
+        delta: egui::vec2(0.0, 300.0),
+        phase: egui::TouchPhase::Move,
+        source: egui::MouseWheelSource::Unknown,
+        modifiers: egui::Modifiers::default(),
+    });
+    h.run_steps(40);
+    let zoom = h.state().pieces.pattern_zoom;
+    assert!(zoom > 2.0, "{zoom}");
+    let after = cut_drag(h);
+    let len = |c: &shared::ui_to_sim::ToolCommand| c.uv[2] - c.uv[0];
+    let ratio = len(&before) / len(&after);
+    assert!((ratio / zoom - 1.0).abs() < 0.02, "{ratio} against {zoom}");
+    // About the mouse: the middle of the drag is the same place in the pattern.
+    let mid = |c: &shared::ui_to_sim::ToolCommand| 0.5 * (c.uv[0] + c.uv[2]);
+    assert!(
+        (mid(&before) - mid(&after)).abs() < 2e-3,
+        "{before:?} {after:?}"
+    );
+    // A middle drag 100 pixels to the right: the pattern moves with the mouse.
+    h.event(egui::Event::PointerButton {
+        pos: c,
+        button: egui::PointerButton::Middle,
+        pressed: true,
+        modifiers: egui::Modifiers::default(),
+    });
+    h.run_steps(1);
+    for k in 1..=5 {
+        h.hover_at(c + egui::vec2(20.0 * k as f32, 0.0));
+        h.run_steps(1);
+    }
+    h.event(egui::Event::PointerButton {
+        pos: c + egui::vec2(100.0, 0.0),
+        button: egui::PointerButton::Middle,
+        pressed: false,
+        modifiers: egui::Modifiers::default(),
+    });
+    h.run_steps(2);
+    let n = commands(h).len();
+    let panned = cut_drag(h);
+    assert_eq!(commands(h).len(), n + 1, "the middle drag sent nothing");
+    let moved = mid(&after) - mid(&panned);
+    let metres = 100.0 * len(&after) / 240.0;
+    assert!(
+        (moved - metres).abs() < 0.1 * metres,
+        "{moved} against {metres}"
+    );
+    press(h, "Fit");
+    assert_eq!(
+        (h.state().pieces.pattern_zoom, h.state().pieces.pattern_pan),
+        (1.0, [0.0; 2])
+    );
+    let fitted = cut_drag(h);
+    assert!((len(&fitted) - len(&before)).abs() < 1e-4);
 }
 
 /// The seam rows: two seams listed (the second's sides 30% apart), the second removed.

@@ -8,6 +8,16 @@ use shared::sim_to_ui::{OutlineSegment, outline};
 use crate::store::Store;
 use crate::view3d::HIGHLIGHT;
 
+/// The scale bar's lengths, m, longest first: the first no longer than 30% of the view.
+const SCALE_BARS: [(f32, &str); 6] = [
+    (0.1, "10 cm"),
+    (0.05, "5 cm"),
+    (0.02, "2 cm"),
+    (0.01, "1 cm"),
+    (0.005, "5 mm"),
+    (0.002, "2 mm"),
+];
+
 /// Seam `i`'s colour (the 3D view's, [`crate::view3d::seam_colour`]).
 pub(super) fn seam_colour(i: usize) -> egui::Color32 {
     colour(crate::view3d::seam_colour(i))
@@ -19,6 +29,7 @@ pub(super) const SIDE: egui::Color32 = egui::Color32::from_rgb(90, 220, 120);
 pub(super) const CUT_LINE: egui::Color32 = egui::Color32::from_rgb(240, 90, 80);
 
 /// The pattern plane fitted into a rectangle of the screen.
+#[derive(Clone, Copy)]
 pub(super) struct PatternFrame {
     rect: egui::Rect,
     centre: [f32; 2],
@@ -57,6 +68,13 @@ impl PatternFrame {
         })
     }
 
+    /// The frame zoomed by `zoom` (1: fitted) about its middle moved by `pan`, m.
+    pub(super) fn viewed(mut self, zoom: f32, pan: [f32; 2]) -> Self {
+        self.scale *= zoom;
+        self.centre = [self.centre[0] + pan[0], self.centre[1] + pan[1]];
+        self
+    }
+
     /// A pattern place on the screen (pattern y is up, the screen's down).
     pub(super) fn at(&self, p: [f32; 2]) -> egui::Pos2 {
         self.rect.center()
@@ -67,7 +85,7 @@ impl PatternFrame {
     }
 
     /// The pattern place under a screen point.
-    pub(super) fn to_plane(&self, q: egui::Pos2) -> [f32; 2] {
+    pub(super) fn to_plane(self, q: egui::Pos2) -> [f32; 2] {
         let d = q - self.rect.center();
         [
             self.centre[0] + d.x / self.scale,
@@ -91,14 +109,21 @@ impl PatternFrame {
         }
         let bar = egui::pos2(self.rect.left() + 8.0, self.rect.bottom() - 10.0);
         let grey = egui::Color32::from_gray(140);
+        // 10 cm, or less where the view is zoomed in so far that 10 cm would run across
+        // most of it.
+        let (m, label) = SCALE_BARS
+            .iter()
+            .copied()
+            .find(|(m, _)| m * self.scale <= 0.3 * self.rect.width())
+            .unwrap_or(SCALE_BARS[SCALE_BARS.len() - 1]);
         painter.line_segment(
-            [bar, bar + egui::vec2(0.1 * self.scale, 0.0)],
+            [bar, bar + egui::vec2(m * self.scale, 0.0)],
             egui::Stroke::new(2.0, grey),
         );
         painter.text(
             bar + egui::vec2(0.0, -4.0),
             egui::Align2::LEFT_BOTTOM,
-            "10 cm",
+            label,
             egui::FontId::proportional(11.0),
             grey,
         );

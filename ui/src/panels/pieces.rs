@@ -29,6 +29,10 @@ pub struct PiecesPanel {
     /// under way.
     pub seam_sides: Vec<[[f32; 2]; 2]>,
     drag_from: Option<[f32; 2]>,
+    /// The pattern view's zoom (1: every piece fitted in) and how far its middle is
+    /// moved from the fitted one, m.
+    pub pattern_zoom: f32,
+    pub pattern_pan: [f32; 2],
     /// What a piece can be made of: the design's own material, then the library's
     /// fabrics (name, what the chooser's hover says).
     fabrics: Vec<(String, String)>,
@@ -88,6 +92,8 @@ impl Default for PiecesPanel {
             pattern_open: false,
             seam_sides: Vec::new(),
             drag_from: None,
+            pattern_zoom: 1.0,
+            pattern_pan: [0.0; 2],
             fabrics: fabric_entries(),
             naming: None,
             piece_naming: None,
@@ -385,9 +391,53 @@ impl PiecesPanel {
                              instead",
                         );
                 }
+                self.zoom_row(ui);
                 self.pattern_view(ui, store, cutting, actions);
             });
         self.pattern_open = open;
+    }
+
+    /// The pattern view's zoom, and Fit to see every piece again.
+    fn zoom_row(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            let fitted = self.pattern_zoom == 1.0 && self.pattern_pan == [0.0; 2];
+            if ui
+                .add_enabled(!fitted, egui::Button::new("Fit").small())
+                .on_hover_text("Every piece in view again")
+                .clicked()
+            {
+                (self.pattern_zoom, self.pattern_pan) = (1.0, [0.0; 2]);
+            }
+            ui.label(format!(
+                "{:.0}% · wheel zooms, middle or shift+right drag pans",
+                100.0 * self.pattern_zoom
+            ));
+        });
+    }
+
+    /// The wheel zooms the pattern view about the mouse (from half the fitted size to
+    /// [`MAX_ZOOM`] times it), the place under the mouse staying there; a middle or
+    /// shift+right drag pans it, as in the 3D view.
+    fn navigate(&mut self, ui: &egui::Ui, response: &egui::Response, fitted: PatternFrame) {
+        let (shift, wheel) = ui.input(|i| (i.modifiers.shift, i.smooth_scroll_delta.y));
+        if let Some(p) = response.hover_pos().filter(|_| wheel != 0.0) {
+            let at = fitted
+                .viewed(self.pattern_zoom, self.pattern_pan)
+                .to_plane(p);
+            self.pattern_zoom = (self.pattern_zoom * (wheel / 200.0).exp()).clamp(0.5, MAX_ZOOM);
+            let now = fitted
+                .viewed(self.pattern_zoom, self.pattern_pan)
+                .to_plane(p);
+            self.pattern_pan[0] += at[0] - now[0];
+            self.pattern_pan[1] += at[1] - now[1];
+        }
+        if response.dragged_by(egui::PointerButton::Middle)
+            || (response.dragged_by(egui::PointerButton::Secondary) && shift)
+        {
+            let (d, s) = (response.drag_delta(), fitted.scale * self.pattern_zoom);
+            self.pattern_pan[0] -= d.x / s;
+            self.pattern_pan[1] += d.y / s;
+        }
     }
 
     /// Every piece's outline in the design's pattern plane, the highlighted piece bright, a
@@ -406,9 +456,11 @@ impl PiecesPanel {
         };
         let size = ui.available_size().max(egui::vec2(200.0, 200.0));
         let (rect, response) = ui.allocate_exact_size(size, egui::Sense::click_and_drag());
-        let Some(frame) = PatternFrame::of(mesh, store, rect) else {
+        let Some(fitted) = PatternFrame::of(mesh, store, rect) else {
             return;
         };
+        self.navigate(ui, &response, fitted);
+        let frame = fitted.viewed(self.pattern_zoom, self.pattern_pan);
         let painter = ui.painter_at(rect);
         painter.rect_filled(rect, 0.0, egui::Color32::from_gray(24));
         frame.draw(&painter, mesh, store, self.selected);
@@ -417,7 +469,9 @@ impl PiecesPanel {
         // A side's end near a corner (a seam's, a cut's end) goes to the corner, unless
         // Alt is held; a cut goes where it is drawn.
         let snapping = !cutting && !ui.input(|i| i.modifiers.alt);
-        let corners = if snapping && (self.drag_from.is_some() || response.drag_started()) {
+        let primary = egui::PointerButton::Primary;
+        let started = response.drag_started_by(primary);
+        let corners = if snapping && (self.drag_from.is_some() || started) {
             snap_corners(store)
         } else {
             Vec::new()
@@ -429,9 +483,7 @@ impl PiecesPanel {
             }
             at.unwrap_or(p)
         };
-        if response.drag_started()
-            && let Some(p) = ui.input(|i| i.pointer.press_origin())
-        {
+        if started && let Some(p) = ui.input(|i| i.pointer.press_origin()) {
             self.drag_from = Some(snapped(frame.to_plane(p)));
         }
         if let (Some(a), Some(p)) = (self.drag_from, response.interact_pointer_pos()) {
@@ -439,7 +491,7 @@ impl PiecesPanel {
             let a = snapped(a);
             let colour = if cutting { CUT_LINE } else { SIDE };
             painter.line_segment([frame.at(a), frame.at(b)], egui::Stroke::new(2.0, colour));
-            if response.drag_stopped() {
+            if response.drag_stopped_by(primary) {
                 self.drag_from = None;
                 if cutting {
                     actions.push(Action::Command(Command::CutPlane { from: a, to: b }));
@@ -468,6 +520,10 @@ impl PiecesPanel {
         }
     }
 }
+
+/// How far the pattern view zooms in: a 1 m pattern fitted into 400 pixels shows a
+/// millimetre as 13 pixels.
+const MAX_ZOOM: f32 = 32.0;
 
 /// The seam list: each seam's colour, label and name with Name and Remove, then its
 /// pairs and both sides' lengths (a warning colour past a fifth apart) and the pairs
