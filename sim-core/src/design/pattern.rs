@@ -152,9 +152,14 @@ impl Design {
                 }
             }
         }
-        let twins: Vec<u32> = (path.iter())
-            .map(|&v| {
-                (self.places_of(v, plane).into_iter()).find_map(|p| at.get(&place_key(p)).copied())
+        // A slit's closed end (cut to a point on the cloth) is both sides' one vertex:
+        // at an end of the path with no other there, it is its own twin.
+        let n = path.len();
+        let twins: Vec<u32> = (path.iter().enumerate())
+            .map(|(k, &v)| {
+                (self.places_of(v, plane).into_iter())
+                    .find_map(|p| at.get(&place_key(p)).copied())
+                    .or((k == 0 || k + 1 == n).then_some(v))
             })
             .collect::<Option<_>>()?;
         let distinct: HashSet<u32> = twins.iter().copied().collect();

@@ -71,7 +71,7 @@ impl Design {
     /// undoable operation ("cut stroke"). Each run of the stroke within `radius` of the
     /// cloth and on one piece of its pattern is cut exactly along it there: the new
     /// borders follow the stroke, not the mesh's edges. A stroke that starts or ends on
-    /// the cloth cuts a slit to the vertex past its end. Returns how many vertices were
+    /// the cloth cuts a slit that ends there, closed. Returns how many vertices were
     /// split.
     pub fn cut_stroke(&mut self, points: &[Vec3], radius: f32) -> Result<usize, EditError> {
         if points.iter().any(|p| !p.is_finite()) || !(radius.is_finite() && radius > 0.0) {
@@ -125,6 +125,7 @@ impl Design {
         for run in runs {
             let done = self
                 .split_along(run, &mut applied, &mut batch)
+                .and_then(|chain| self.ends_on_cloth(run, chain, &mut applied, &mut batch))
                 .and_then(|chain| self.split_chain(&chain, run, &mut applied, &mut batch));
             match done {
                 Ok(n) => splits += n,
@@ -275,9 +276,26 @@ impl Design {
         }
         let places: Vec<Vec2> = places.into_iter().flatten().collect();
         let n = joined.len();
+        // Whether each end lies inside the cloth, before the splits next to it put it on
+        // the new border: not on the cloth's border, nor on a welded seam (a piece's
+        // outline, where the vertex has a place on each side).
+        let live = &self.sim.cloth.live;
+        let inner = |v: u32| {
+            let mut places = (live.tris_of(v).iter())
+                .filter_map(|&slot| live.tri(slot))
+                .filter_map(|t| Some(t.rest[t.corner(v)?]));
+            let first = places.next();
+            !live.is_boundary(v) && places.all(|p| Some(p) == first)
+        };
+        let inner_ends = (inner(joined[0]), inner(joined[n - 1]));
         let mut splits = 0;
         for k in 0..n {
             let (v, p) = (joined[k], places[k]);
+            // A slit's end inside the cloth stays whole: split, it opened the slit on
+            // to the vertex past it.
+            if (k == 0 && inner_ends.0) || (k + 1 == n && inner_ends.1) {
+                continue;
+            }
             let fwd = if k + 1 < n {
                 places[k + 1] - p
             } else {
@@ -312,6 +330,32 @@ impl Design {
             splits += 1;
         }
         Ok(splits)
+    }
+
+    /// `chain` (the vertices a run's crossings made) with a vertex made where the run
+    /// starts or ends on the cloth, exactly there ([`Design::vertex_at`]): the slit a
+    /// run that ends on the cloth makes ends where it was drawn.
+    fn ends_on_cloth(
+        &mut self,
+        run: &[Vec2],
+        mut chain: Vec<u32>,
+        applied: &mut Vec<Prim>,
+        batch: &mut Batch,
+    ) -> Result<Vec<u32>, EditError> {
+        let (Some(&first), Some(&last)) = (run.first(), run.last()) else {
+            return Ok(chain);
+        };
+        if let Some(v) = self.vertex_at(first, applied, batch)?
+            && chain.first() != Some(&v)
+        {
+            chain.insert(0, v);
+        }
+        if let Some(v) = self.vertex_at(last, applied, batch)?
+            && chain.last() != Some(&v)
+        {
+            chain.push(v);
+        }
+        Ok(chain)
     }
 
     /// Vertex `v`'s place in the pattern nearest the polyline `run` (a vertex on a seam

@@ -8,6 +8,8 @@
 //! nearer vertex onto the path instead, or passes through it where it lies within 1 mm
 //! of the path (see `crossing_prims`).
 
+use std::collections::HashSet;
+
 use glam::{Vec2, Vec3};
 
 use super::document::Design;
@@ -113,6 +115,7 @@ impl Design {
         batch: &mut Batch,
     ) -> Result<Vec<u32>, EditError> {
         let mut chain: Vec<u32> = Vec::new();
+        let mut on_path: HashSet<u32> = HashSet::new();
         // The triangles near the path, then near each segment (with those each split
         // or move changes): one pass over the cloth, not one a crossing.
         let near = |t: &Tri, lo: Vec2, hi: Vec2| {
@@ -142,13 +145,15 @@ impl Design {
             // last one's place (an edge of the vertex just made or moved) is that one.
             let mut at = -1.0f32;
             for _ in 0..MAX_CROSSINGS {
-                let Some((u, a, b, s)) = self.next_crossing(p, q, at + 1e-4, &cands) else {
+                let Some((u, a, b, s)) = self.next_crossing(p, q, at + 1e-4, &cands, &on_path)
+                else {
                     break;
                 };
                 at = u;
                 let (vertex, prims) = self.crossing_prims(a, b, s, (p, q));
                 if chain.last() != Some(&vertex) {
                     chain.push(vertex);
+                    on_path.insert(vertex);
                 }
                 if prims.is_empty() {
                     continue;
@@ -166,15 +171,96 @@ impl Design {
         Ok(chain)
     }
 
+    /// A vertex exactly at pattern place `e` on the live triangle whose pattern holds it,
+    /// made and applied at once into `batch` (its primitives added to `applied`), so
+    /// that a slit drawn to `e` ends there (ended at the vertex past it, a slit veered up
+    /// to an edge's length off the line drawn). The corner within [`THROUGH_M`] of it;
+    /// else, of the three corners, the one whose line through `e` splits the triangle
+    /// best: the side across from it split where the line meets it, then the line at `e`
+    /// (both edge splits, so that an undo and a redo place them between their ends as
+    /// the cloth then stands). Where that would leave an angle under [`FAIR_DEG`] (`e`
+    /// near a side), the nearest side crossed at `e`'s foot as a cut crosses an edge
+    /// (`crossing_prims`). `None` when no triangle holds `e`.
+    pub(super) fn vertex_at(
+        &mut self,
+        e: Vec2,
+        applied: &mut Vec<Prim>,
+        batch: &mut Batch,
+    ) -> Result<Option<u32>, EditError> {
+        let live = &self.sim.cloth.live;
+        let Some(t) = live.iter().map(|(_, t)| *t).find(|t| holds(t, e)) else {
+            return Ok(None);
+        };
+        let c = t.rest.map(plane);
+        let nearest_corner = (0..3)
+            .min_by(|&i, &j| c[i].distance(e).total_cmp(&c[j].distance(e)))
+            .unwrap_or(0);
+        if c[nearest_corner].distance(e) <= THROUGH_M {
+            return Ok(Some(t.v[nearest_corner]));
+        }
+        // Through corner k: the far side split at share s from its first end, then the
+        // line from corner k at share u; the worst angle of what both leave.
+        let through = |k: usize| -> Option<(f32, f32, f32)> {
+            let (a, b, cc) = (c[k], c[(k + 1) % 3], c[(k + 2) % 3]);
+            let (r, w) = (e - a, cc - b);
+            let den = r.perp_dot(w);
+            if den.abs() < 1e-20 {
+                return None;
+            }
+            let s = (b - a).perp_dot(r) / den;
+            let f = b + w * s;
+            let u = r.length() / (f - a).length().max(1e-20);
+            if !(s > 0.0 && s < 1.0 && u > 0.0 && u < 1.0) {
+                return None;
+            }
+            let inner = [[a, b, e], [e, b, f], [a, e, cc], [e, f, cc]];
+            let across = worst_angle(&self.split_edge_prims(t.v[(k + 1) % 3], t.v[(k + 2) % 3], s));
+            let worst = (inner.iter().map(min_angle)).fold(across, f32::min);
+            Some((worst, s, u))
+        };
+        let best = (0..3)
+            .filter_map(|k| through(k).map(|q| (k, q)))
+            .max_by(|x, y| x.1.0.total_cmp(&y.1.0));
+        let mut apply = |d: &mut Self, (made, prims): (u32, Vec<Prim>)| -> Result<u32, EditError> {
+            d.apply_unsynced(&prims, batch)?;
+            applied.extend(prims);
+            Ok(made)
+        };
+        if let Some((k, (worst, s, u))) = best
+            && worst >= FAIR_DEG
+        {
+            let (corner, b, cc) = (t.v[k], t.v[(k + 1) % 3], t.v[(k + 2) % 3]);
+            let made = self.sim.cloth.len() as u32;
+            let f = apply(self, (made, self.split_edge_prims(b, cc, s)))?;
+            let made = self.sim.cloth.len() as u32;
+            return apply(self, (made, self.split_edge_prims(corner, f, u))).map(Some);
+        }
+        // Else a crossing of the nearest side at `e`'s foot, as a cut makes one.
+        let side = |k: usize| (c[k], c[(k + 1) % 3]);
+        let k = (0..3)
+            .min_by(|&i, &j| {
+                distance_to_segment(e, side(i)).total_cmp(&distance_to_segment(e, side(j)))
+            })
+            .unwrap_or(0);
+        let (a, b) = side(k);
+        let foot = ((e - a).dot(b - a) / (b - a).length_squared().max(1e-20)).clamp(0.0, 1.0);
+        let crossing = self.crossing_prims(t.v[k], t.v[(k + 1) % 3], foot, (e, e));
+        apply(self, crossing).map(Some)
+    }
+
     /// The first crossing of segment `p`-`q` (pattern plane) with an edge of the
     /// triangles in `slots` at share `from` along it or later: (share, a, b, share along
-    /// `a`-`b` from `a`).
+    /// `a`-`b` from `a`). An edge between two vertices `on_path` (the cut's, made on it)
+    /// lies along the path: where it is all but parallel to it, its crossing is noise
+    /// (one such put a vertex the cut had passed back into it, ahead of the one just
+    /// made, and the cut detoured 14 mm through the mesh to join them).
     fn next_crossing(
         &self,
         p: Vec2,
         q: Vec2,
         from: f32,
         slots: &[u32],
+        on_path: &HashSet<u32>,
     ) -> Option<(f32, u32, u32, f32)> {
         let mut best: Option<(f32, u32, u32, f32)> = None;
         for &slot in slots {
@@ -184,6 +270,9 @@ impl Design {
             let c = t.rest.map(plane);
             for k in 0..3 {
                 let (i, j) = (k, (k + 1) % 3);
+                if on_path.contains(&t.v[i]) && on_path.contains(&t.v[j]) {
+                    continue;
+                }
                 let Some((u, s)) = crossing(p, q, c[i], c[j]) else {
                     continue;
                 };
@@ -241,8 +330,10 @@ impl Design {
     /// the first that leaves no triangle with an angle under [`GOOD_DEG`]: the edge split
     /// there; the nearer end moved onto the crossing (an inner vertex with one pattern
     /// place); the cut through the nearer end as it is, when that is within
-    /// [`THROUGH_M`] of the segment. Failing all three, the better of the first two if it
-    /// keeps every angle over [`FAIR_DEG`], else through the nearer end. Applied in
+    /// [`THROUGH_M`] of the segment. Failing all three, the move if it keeps every angle
+    /// over [`FAIR_DEG`] and better than the split, else the split if it keeps them over
+    /// that, or over [`SLIVER_DEG`] where the nearer end lies more than [`SNAP_M`] off the
+    /// segment, else through the nearer end. Applied in
     /// order, each crossing's vertex joins the one before by an edge.
     fn crossing_prims(&self, a: u32, b: u32, s: f32, seg: (Vec2, Vec2)) -> (u32, Vec<Prim>) {
         let made = self.sim.cloth.len() as u32;
@@ -261,7 +352,8 @@ impl Design {
         if q_move >= GOOD_DEG {
             return (near, moved);
         }
-        let through = self
+        // How far off the segment the cut would pass through the nearer end.
+        let off = self
             .sim
             .cloth
             .live
@@ -269,13 +361,13 @@ impl Design {
             .first()
             .and_then(|&slot| self.sim.cloth.live.tri(slot))
             .and_then(|t| Some(plane(t.rest[t.corner(near)?])))
-            .is_some_and(|at| distance_to_segment(at, seg) <= THROUGH_M);
-        if through {
+            .map_or(f32::MAX, |at| distance_to_segment(at, seg));
+        if off <= THROUGH_M {
             return (near, Vec::new());
         }
         if q_move > q_split && q_move >= FAIR_DEG {
             (near, moved)
-        } else if q_split >= FAIR_DEG {
+        } else if q_split >= FAIR_DEG || (q_split >= SLIVER_DEG && off > SNAP_M) {
             (made, split)
         } else {
             (near, Vec::new())
@@ -331,8 +423,38 @@ impl Design {
 const GOOD_DEG: f32 = 20.0;
 /// Or over this when the cut cannot pass through a vertex close by.
 const FAIR_DEG: f32 = 8.0;
+/// Or, where the nearer vertex lies more than [`SNAP_M`] off the path, a split's
+/// triangles over this: a thin triangle is better than a cut off its line by up to half
+/// an edge (7 mm at the grid's 31 mm edges, where a split at 7.4 degrees was turned down
+/// for the nearer vertex).
+const SLIVER_DEG: f32 = 4.0;
+/// How far off the path a cut may pass through a vertex rather than leave a triangle
+/// thinner than [`FAIR_DEG`], m.
+const SNAP_M: f32 = 0.003;
 /// How far from the path the cut may pass through a vertex as it is, m.
 const THROUGH_M: f32 = 0.001;
+
+/// Whether triangle `t`'s pattern holds place `e` (on its sides too).
+fn holds(t: &Tri, e: Vec2) -> bool {
+    let [a, b, c] = t.rest.map(plane);
+    let (d1, d2, d3) = (
+        (b - a).perp_dot(e - a),
+        (c - b).perp_dot(e - b),
+        (a - c).perp_dot(e - c),
+    );
+    let tol = -1e-12;
+    (d1 >= tol && d2 >= tol && d3 >= tol) || (d1 <= -tol && d2 <= -tol && d3 <= -tol)
+}
+
+/// The smallest angle of a triangle's corners, degrees.
+fn min_angle(t: &[Vec2; 3]) -> f32 {
+    (0..3)
+        .map(|k| {
+            let (u, v) = (t[(k + 1) % 3] - t[k], t[(k + 2) % 3] - t[k]);
+            u.angle_to(v).abs().to_degrees()
+        })
+        .fold(180.0, f32::min)
+}
 
 /// Twice the signed area of a triangle in the pattern plane.
 fn signed_area(t: &Tri) -> f32 {
@@ -345,11 +467,7 @@ fn worst_angle(prims: &[Prim]) -> f32 {
     let mut worst = 180.0f32;
     for p in prims {
         if let Prim::Tri { new: Some(t), .. } = p {
-            let c = t.rest.map(plane);
-            for k in 0..3 {
-                let (u, v) = (c[(k + 1) % 3] - c[k], c[(k + 2) % 3] - c[k]);
-                worst = worst.min(u.angle_to(v).abs().to_degrees());
-            }
+            worst = worst.min(min_angle(&t.rest.map(plane)));
         }
     }
     worst

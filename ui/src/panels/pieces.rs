@@ -424,7 +424,7 @@ impl PiecesPanel {
             let at = fitted
                 .viewed(self.pattern_zoom, self.pattern_pan)
                 .to_plane(p);
-            self.pattern_zoom = (self.pattern_zoom * (wheel / 200.0).exp()).clamp(0.5, MAX_ZOOM);
+            self.pattern_zoom = (self.pattern_zoom * (wheel / 350.0).exp()).clamp(0.5, MAX_ZOOM);
             let now = fitted
                 .viewed(self.pattern_zoom, self.pattern_pan)
                 .to_plane(p);
