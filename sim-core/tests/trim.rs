@@ -479,3 +479,37 @@ fn a_slit_runs_along_its_line_and_ends_where_it_was_drawn() {
         assert!(min_angle(&d) >= 3.5, "{case}: {}", min_angle(&d));
     }
 }
+
+/// A dart's two legs cut to one point, from beside the cloth: the wedge between comes
+/// away as a part of its own and the cloth's new border goes no higher than the point
+/// (splitting the point by the line through it, the second leg opened a slit past it).
+#[test]
+fn a_darts_two_legs_meet_at_its_point() {
+    for (w, up) in [(0.014f32, 0.08f32), (0.05, 0.2), (0.03, 0.137)] {
+        let mut d = flat(16);
+        let (lo, hi) = bounds(&d);
+        let x0 = 0.5 * (lo.x + hi.x) + 0.004;
+        let apex = Vec2::new(x0, lo.y + up);
+        // Each leg from 10 mm below the hem, on the line through the hem's point.
+        let below = |dx: f32| apex + (Vec2::new(x0 + dx, lo.y) - apex) * (1.0 + 0.01 / up);
+        d.cut_line(below(-0.5 * w), apex).unwrap();
+        d.cut_line(below(0.5 * w), apex).unwrap();
+        d.sim.cloth.live.validate(&d.sim.cloth.x).unwrap();
+        let case = format!("{w} wide, {up} up");
+        let top = border_places(&d)
+            .into_iter()
+            .filter(|p| p.y < hi.y - 1e-4 && p.x > lo.x + 1e-4 && p.x < hi.x - 1e-4)
+            .map(|p| p.y)
+            .fold(f32::MIN, f32::max);
+        assert!(
+            top <= apex.y + 1e-3,
+            "{case}: the border reaches {top}, above {}",
+            apex.y
+        );
+        assert_eq!(
+            sim_core::design::sewing_pattern::pattern_parts(&d).len(),
+            2,
+            "{case}"
+        );
+    }
+}

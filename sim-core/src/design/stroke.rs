@@ -310,17 +310,33 @@ impl Design {
             let fan: Vec<(u32, Tri)> = (live.tris_of(v).iter())
                 .filter_map(|&slot| live.tri(slot).map(|t| (slot, *t)))
                 .collect();
-            let moving: Vec<(u32, Tri)> = fan
+            let on_piece = |t: &Tri| {
+                t.corner(v)
+                    .is_some_and(|c| plane(t.rest[c]).distance(p) < 1e-6)
+            };
+            let mut moving: Vec<(u32, Tri)> = fan
                 .iter()
                 .filter(|(_, t)| {
-                    let on_piece = t
-                        .corner(v)
-                        .is_some_and(|c| plane(t.rest[c]).distance(p) < 1e-6);
                     let mid = plane((t.rest[0] + t.rest[1] + t.rest[2]) / 3.0);
-                    on_piece && ccw(fwd, mid - p) > turn
+                    on_piece(t) && ccw(fwd, mid - p) > turn
                 })
                 .copied()
                 .collect();
+            // At an end on the outline, only those next to the cut, round to the
+            // outline: split by the whole line through it, the end of a dart's second
+            // leg (on the first leg's slit) opened a slit past it.
+            let toward = match k {
+                0 => Some((joined[1], fwd)),
+                _ if k + 1 == n => Some((joined[k - 1], back)),
+                _ => None,
+            };
+            if let Some((w, d)) = toward {
+                let mine: Vec<(u32, Tri)> =
+                    fan.iter().filter(|(_, t)| on_piece(t)).copied().collect();
+                if let Some(side) = beside_cut(v, w, p, d, &moving, &mine) {
+                    moving = side;
+                }
+            }
             if moving.is_empty() || moving.len() == fan.len() {
                 continue;
             }
@@ -374,4 +390,41 @@ impl Design {
             })
             .min_by(|a, b| dist(*a).total_cmp(&dist(*b)))
     }
+}
+
+/// The triangles of `mine` (vertex `v`'s on its piece, `v` placed at `p`) on one side
+/// of a cut that ends at `v` on the outline, coming in from `w` (direction `d` from
+/// `v`): from the triangle of `side` (that side by the line through `v`) whose middle
+/// lies nearest `d`, round across the edges they share at `v` (not the cut's, to `w`)
+/// to the outline. `None` when that goes all the way round.
+fn beside_cut(
+    v: u32,
+    w: u32,
+    p: Vec2,
+    d: Vec2,
+    side: &[(u32, Tri)],
+    mine: &[(u32, Tri)],
+) -> Option<Vec<(u32, Tri)>> {
+    let angle = |t: &Tri| {
+        let mid = plane((t.rest[0] + t.rest[1] + t.rest[2]) / 3.0);
+        d.angle_to(mid - p).abs()
+    };
+    let start = side
+        .iter()
+        .min_by(|a, b| angle(&a.1).total_cmp(&angle(&b.1)))?;
+    let mut joined = vec![*start];
+    let mut k = 0;
+    while k < joined.len() {
+        let t = joined[k].1;
+        for &(slot, u) in mine {
+            let shares =
+                t.v.iter()
+                    .any(|&x| x != v && x != w && u.corner(x).is_some());
+            if shares && !joined.iter().any(|(s, _)| *s == slot) {
+                joined.push((slot, u));
+            }
+        }
+        k += 1;
+    }
+    (joined.len() < mine.len()).then_some(joined)
 }
