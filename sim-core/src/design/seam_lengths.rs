@@ -2,8 +2,10 @@
 //! welds, its vertex is on both sides, and a seam edge between two welded vertices is
 //! held by a triangle of each side, each with its own rest length. A side's own
 //! triangles are told apart by their rest places: along a side each edge starts where
-//! the one before it ended, or, where a weld collapsed a stretch of the side into one
-//! vertex, at that vertex's place nearest to it (the stretch counted in).
+//! the one before it ended; where none does (a weld collapsed a stretch of the side into
+//! one vertex, or the side's triangles do not hold the edge), the walk goes straight on
+//! to the next vertex's place nearest it (the stretch counted in). An edge that starts
+//! elsewhere may be the other side's, on the same piece (a tube, a dart).
 
 use std::collections::HashSet;
 
@@ -91,9 +93,24 @@ impl Design {
                 });
             }
             let on_side = |p: &&Vec3| common.as_ref().is_none_or(|c| c.contains(&piece(**p)));
-            let p = (places.iter())
+            // Of the second side's places, the one farthest from the next vertex: the
+            // end of a stretch a weld collapsed into it (the nearer one left a dart's
+            // second leg 4 mm short).
+            let next: Vec<Vec3> = path.get(1).map_or(Vec::new(), |&v| self.rest_places(v));
+            let reach = |p: &&Vec3| next.iter().map(|q| p.distance(*q)).fold(f32::MAX, f32::min);
+            let free: Vec<&Vec3> = (places.iter())
                 .filter(on_side)
-                .find(|p| !taken.contains(p))
+                .filter(|p| !taken.contains(p))
+                .collect();
+            let far = (!taken.is_empty())
+                .then(|| {
+                    free.iter()
+                        .copied()
+                        .max_by(|a, b| reach(a).total_cmp(&reach(b)))
+                })
+                .flatten();
+            let p = far
+                .or_else(|| free.first().copied())
                 .or_else(|| places.iter().find(on_side))
                 .or_else(|| places.iter().find(|p| !taken.contains(p)))
                 .or(places.first())?;
@@ -124,13 +141,14 @@ impl Design {
                         .filter(|&q| piece(q) == own)
                         .min_by(|x, y| x.distance(at).total_cmp(&y.distance(at)))
                 };
-                // An edge whose start lies farther than the next vertex's nearest place
-                // is the other side's (both sides on one piece, a tube: this side's
-                // triangles do not hold the edge where a weld collapsed a stretch).
+                // An edge that does not start where the walk is may be the other
+                // side's (both sides on one piece, a tube or a dart: this side's
+                // triangles do not hold the edge where a weld collapsed a stretch):
+                // straight on to the next vertex's nearest place instead.
                 let nearest = (self.edge_places(u, v).into_iter())
                     .filter(|e| piece(e.0) == own)
                     .min_by(|x, y| x.0.distance(at).total_cmp(&y.0.distance(at)))
-                    .filter(|e| next().is_none_or(|q| e.0.distance(at) <= q.distance(at)));
+                    .filter(|e| e.0.distance(at) < 1e-5);
                 let Some((from, to)) = nearest else {
                     // No triangle of this side holds the edge (its vertices are not
                     // neighbours on this side: a pair between them is open, its vertex
