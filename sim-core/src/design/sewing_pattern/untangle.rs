@@ -122,6 +122,22 @@ mod tests {
         })
     }
 
+    /// A 500 x 300 mm piece's sewing line (counter-clockwise, mm) with a dart `wide` mm
+    /// at the hem and 200 mm long in its middle.
+    fn dart_at_hem(wide: f64) -> Vec<DVec2> {
+        let v = |x: f64, y: f64| DVec2::new(x, y);
+        let h = 0.5 * wide;
+        vec![
+            v(0.0, 0.0),
+            v(250.0 - h, 0.0),
+            v(250.0, 200.0),
+            v(250.0 + h, 0.0),
+            v(500.0, 0.0),
+            v(500.0, 300.0),
+            v(0.0, 300.0),
+        ]
+    }
+
     /// A dart from the hem of a 500 x 300 mm piece, 50 mm wide and 200 mm long (the
     /// studio's, cut in the dress's front), under a 10 mm allowance: offset alone, its
     /// legs' offsets cross where the dart is narrower than 20 mm; untangled, the cut
@@ -130,15 +146,7 @@ mod tests {
     #[test]
     fn a_darts_allowance_is_one_line_round_it() {
         let v = |x: f64, y: f64| DVec2::new(x, y);
-        let dart = vec![
-            v(0.0, 0.0),
-            v(225.0, 0.0),
-            v(250.0, 200.0),
-            v(275.0, 0.0),
-            v(500.0, 0.0),
-            v(500.0, 300.0),
-            v(0.0, 300.0),
-        ];
+        let dart = dart_at_hem(50.0);
         let raw = offset(&dart, 10.0);
         assert!(first_crossing(&raw).is_some(), "the raw offset crosses");
         let cut = untangle(raw.clone(), area2(&dart));
@@ -169,16 +177,7 @@ mod tests {
     /// the piece to the dart's point and back, as it was until 2026-12-05.
     #[test]
     fn a_narrow_darts_allowance_runs_straight_under_it() {
-        let v = |x: f64, y: f64| DVec2::new(x, y);
-        let dart = vec![
-            v(0.0, 0.0),
-            v(244.0, 0.0),
-            v(250.0, 200.0),
-            v(256.0, 0.0),
-            v(500.0, 0.0),
-            v(500.0, 300.0),
-            v(0.0, 300.0),
-        ];
+        let dart = dart_at_hem(12.0);
         let raw = offset(&dart, 10.0);
         assert!(
             first_crossing(&raw).is_some(),
