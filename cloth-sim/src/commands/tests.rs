@@ -448,16 +448,17 @@ fn a_piece_started_clear_of_the_cloth_says_where() {
     let said = add(&mut d, place::LEFT_ARM, 0.0);
     assert!(
         said.starts_with("Added rectangle at the left arm (")
-            && said.ends_with("vertices), 3 cm down the arm to clear the cloth"),
+            && said.ends_with("vertices), 15 mm out to clear the cloth"),
         "{said}"
     );
     let said = add(&mut d, place::LEFT_ARM, 0.0);
     assert!(
         said.starts_with("Added rectangle (2) at the left arm (")
-            && said.ends_with(", 3 cm down the arm and 15 mm out to clear the cloth"),
+            && said.ends_with(" to clear the cloth")
+            && !said.ends_with("), 15 mm out to clear the cloth"),
         "{said}"
     );
-    let said = add(&mut d, place::RIGHT_ARM, 0.1);
+    let said = add(&mut d, place::RIGHT_ARM, 0.5);
     assert!(said.ends_with("vertices)"), "{said}");
 }
 
