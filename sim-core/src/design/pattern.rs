@@ -212,7 +212,15 @@ impl Design {
                 })
             })
             .collect();
-        border_walk(live, &near, tol).unwrap_or_else(|| {
+        // A curved border (a sleeve's cap, a neckline) leaves the drag's straight line:
+        // its vertices within half the drag's length of it may carry the walk.
+        let wide = |v: u32| {
+            places(v).into_iter().any(|p| {
+                let t = ((p - a).dot(d) / len2).clamp(0.0, 1.0);
+                (p - (a + d * t)).length() < 0.5 * len + tol
+            })
+        };
+        border_walk(live, &near, tol, &wide).unwrap_or_else(|| {
             let mut sorted: Vec<(f32, u32)> = near.iter().map(|n| (n.along, n.v)).collect();
             sorted.sort_by(|x, y| x.0.total_cmp(&y.0));
             sorted.into_iter().map(|(_, v)| v).collect()
@@ -319,11 +327,20 @@ struct Near {
 }
 
 /// The border path through `near` from its first vertex to its last, fewest edges first;
-/// `None` when the border does not join them there. The first is the one furthest back
-/// within `tol` of the segment's start, a vertex counted back only as far as it keeps to
-/// the line (a corner just before the start, not the vertex round it); the last likewise
-/// at the end; with none within `tol`, the nearest.
-fn border_walk(live: &LiveMesh, near: &[Near], tol: f32) -> Option<Vec<u32>> {
+/// where the border does not join them through `near` alone (a curve that leaves the
+/// segment's line by more than `tol`), through the vertices `wide` allows as well; `None`
+/// when it does not join them there either. The first is the one furthest back within
+/// `tol` of the segment's start, a vertex counted back only as far as it keeps to the line
+/// (a corner just before the start, not the vertex round it); the last likewise at the
+/// end; with none within `tol`, the nearest. (Through `near` alone, a drag from a sleeve
+/// cap's top to its corner, 16 cm long and its cap 4 cm off that line, was refused as
+/// "not an edge on the cloth's border": the cap's middle vertices were not near it.)
+fn border_walk(
+    live: &LiveMesh,
+    near: &[Near],
+    tol: f32,
+    wide: &dyn Fn(u32) -> bool,
+) -> Option<Vec<u32>> {
     let end = |k: usize, score: fn(&Near) -> f32| {
         let close = near.iter().filter(|n| n.ends[k] < tol);
         close
@@ -334,21 +351,25 @@ fn border_walk(live: &LiveMesh, near: &[Near], tol: f32) -> Option<Vec<u32>> {
     let from = end(0, |n| n.along + 2.0 * n.off)?;
     let to = end(1, |n| -n.along + 2.0 * n.off)?;
     let along: HashSet<u32> = near.iter().map(|n| n.v).collect();
-    let mut came: HashMap<u32, u32> = HashMap::from([(from, from)]);
-    let mut queue = VecDeque::from([from]);
-    while let Some(v) = queue.pop_front() {
-        if v == to {
-            break;
-        }
-        for u in live.neighbours(v) {
-            let border = live.edge(v, u)[1] == NONE;
-            if border && along.contains(&u) && !came.contains_key(&u) {
-                came.insert(u, v);
-                queue.push_back(u);
+    let walk = |allowed: &dyn Fn(u32) -> bool| {
+        let mut came: HashMap<u32, u32> = HashMap::from([(from, from)]);
+        let mut queue = VecDeque::from([from]);
+        while let Some(v) = queue.pop_front() {
+            if v == to {
+                break;
+            }
+            for u in live.neighbours(v) {
+                let border = live.edge(v, u)[1] == NONE;
+                if border && allowed(u) && !came.contains_key(&u) {
+                    came.insert(u, v);
+                    queue.push_back(u);
+                }
             }
         }
-    }
-    came.contains_key(&to).then_some(())?;
+        came.contains_key(&to).then_some(came)
+    };
+    let came =
+        walk(&|u| along.contains(&u)).or_else(|| walk(&|u| along.contains(&u) || wide(u)))?;
     let mut path = vec![to];
     while let Some(&prev) = path.last().and_then(|v| came.get(v)) {
         if prev == *path.last()? {
