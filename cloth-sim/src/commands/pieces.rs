@@ -84,7 +84,8 @@ const HANGS_BELOW: f32 = 0.25;
 /// [`HANGS_BELOW`] or more below the shoulders (not on an arm) raises the design's
 /// substeps to it and says so: at 5 a skirt of two pieces sewn at the sides slid off
 /// the mannequin's hips to the floor, at 20 it stayed at the waist, as a pattern's
-/// garment that hangs from its waist runs (docs/garments.md). Otherwise nothing.
+/// garment that hangs from its waist runs (docs/garments.md), and its undo puts them back.
+/// Otherwise nothing.
 pub(super) fn firm_if_hanging(design: &mut Design, c: &Command) -> String {
     let (Command::AddPiece { place, drop_m, .. }
     | Command::PlacePiece { place, drop_m, .. }
@@ -104,7 +105,8 @@ pub(super) fn firm_if_hanging(design: &mut Design, c: &Command) -> String {
     {
         return String::new();
     }
-    design.sim.substeps = FIRM_SUBSTEPS;
+    // Undone with the piece (a skirt added and undone left the dress at 20).
+    design.firm_with_last_edit(FIRM_SUBSTEPS);
     format!("; xpbd now runs {FIRM_SUBSTEPS} substeps, not {was} (a skirt slid off at {was})")
 }
 

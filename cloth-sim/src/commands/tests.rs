@@ -384,8 +384,9 @@ fn shear_damping_is_set_in_place_and_checked() {
 }
 
 /// A piece started 0.42 m below the shoulders (a skirt at the waist) under xpbd raises
-/// the design's substeps to FIRM_SUBSTEPS and says so; one started higher, one on an
-/// arm, and one under vbd leave them as they are.
+/// the design's substeps to FIRM_SUBSTEPS and says so, and its undo puts them back (they
+/// stayed at 20 until 2026-12-05), its redo raises them again; one started higher, one
+/// on an arm, and one under vbd leave them as they are.
 #[test]
 fn a_piece_started_at_the_waist_runs_xpbd_firm() {
     let add = |model: ModelKind, place: u32, drop_m: f32| {
@@ -404,11 +405,15 @@ fn a_piece_started_at_the_waist_runs_xpbd_firm() {
             },
         )
         .unwrap();
-        (said, d.sim.substeps)
+        let n = d.sim.substeps;
+        carry_out(&mut d, &Command::Undo).unwrap();
+        let undone = d.sim.substeps;
+        carry_out(&mut d, &Command::Redo).unwrap();
+        (said, [n, undone, d.sim.substeps])
     };
     use shared::ui_to_sim::place;
     let (said, n) = add(ModelKind::Xpbd, place::FRONT, 0.42);
-    assert_eq!(n, FIRM_SUBSTEPS, "{said}");
+    assert_eq!(n, [FIRM_SUBSTEPS, 5, FIRM_SUBSTEPS], "{said}");
     assert!(
         said.contains("0.42 m lower") && said.contains("20 substeps, not 5"),
         "{said}"
@@ -419,7 +424,7 @@ fn a_piece_started_at_the_waist_runs_xpbd_firm() {
         (ModelKind::Vbd, place::BACK, 0.42),
     ] {
         let (said, n) = add(model, at, drop);
-        assert_eq!(n, 5, "{model:?} at {at}, {drop} m lower: {said}");
+        assert_eq!(n, [5; 3], "{model:?} at {at}, {drop} m lower: {said}");
         assert!(!said.contains("substeps"), "{said}");
     }
 }

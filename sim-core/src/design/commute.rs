@@ -67,6 +67,8 @@ impl Footprint {
                 }
             }
             Prim::Paint(_) | Prim::Piece { .. } => self.everything = true,
+            // Welds do not depend on it.
+            Prim::Substeps { .. } => {}
         }
     }
 

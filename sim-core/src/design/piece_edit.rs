@@ -426,6 +426,24 @@ fn start_placement(at: Start, marks: &Landmarks) -> Placement {
     }
 }
 
+impl Design {
+    /// Sets the substeps a frame to `n` as part of the designer's last operation (a
+    /// piece added, placed or copied low under xpbd: `cloth-sim`'s `firm_if_hanging`),
+    /// so that its undo puts them back with it and its redo sets them again. With no
+    /// operation to undo, only sets them.
+    pub fn firm_with_last_edit(&mut self, n: usize) {
+        let step = Prim::Substeps {
+            old: self.sim.substeps as u32,
+            new: n as u32,
+        };
+        self.sim.substeps = n;
+        if let Some(mut last) = self.history.pop_undo() {
+            last.prims.push(step);
+            self.history.push_after_redo(last);
+        }
+    }
+}
+
 /// Where a new or moved piece tries to start, in order, until one crosses nothing: round
 /// the torso, `LAYERS` layers out; round an arm, `ARM_LAYERS` layers out at each of
 /// `LAYERS` steps of [`ARM_STEP`] down the arm (a bodice's shoulder covers the top of

@@ -151,6 +151,13 @@ pub enum Prim {
         old: Option<Seam>,
         new: Option<Seam>,
     },
+    /// The design's substeps a frame go from `old` to `new`: a piece added low under
+    /// xpbd runs it firmer ([`Design::firm_with_last_edit`](super::Design)), and its
+    /// undo takes that back with the piece.
+    Substeps {
+        old: u32,
+        new: u32,
+    },
     /// Piece record `index` goes from `old` to `new` (`index == len` with `old == None`
     /// appends; `new == None` removes the last).
     Piece {
@@ -229,6 +236,7 @@ impl Prim {
                 old: new,
                 new: old,
             },
+            Prim::Substeps { old, new } => Prim::Substeps { old: new, new: old },
         }
     }
 

@@ -212,6 +212,7 @@ impl Design {
                 self.set_piece(*index, old, new)?;
                 touched.pieces = true;
             }
+            Prim::Substeps { new, .. } => self.sim.substeps = *new as usize,
         }
         Ok(())
     }
