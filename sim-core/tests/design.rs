@@ -1753,3 +1753,27 @@ fn a_curved_border_is_seamed_along_its_curve() {
     let pairs = d.seam_on_plane(armhole, [top, corner], 0.01).unwrap();
     assert!(pairs >= cap_side.len(), "{pairs} pairs");
 }
+
+/// An ellipse's two left quarters seamed by drags from its top and bottom to its left
+/// end, as in the pattern view: at 3 cm edges no vertex lies within the tolerance of the
+/// left end, so until 2026-12-05 each side was one vertex and the seam was refused ("no
+/// border path of two or more vertices"); now each side runs from the vertex nearest
+/// each end along the curve, a quarter of the way round (0.198 m).
+#[test]
+fn a_drag_ending_between_a_curves_vertices_takes_the_nearest() {
+    use sim_core::design::garment::Place;
+    let (mut d, mut spec) = dress_and_rectangle("ellipse", 0.3, 0.2);
+    spec.outline = sim_core::mesh::mesher::Outline::ellipse(0.15, 0.10, 0.03);
+    d.add_piece(&spec, Place::Front, 0.03).unwrap();
+    let r = d.pieces[2].clone();
+    let (lo, hi) = outline_box(&r);
+    let c = (lo + hi) * 0.5 + r.offset;
+    let at = |x: f32, y: f32| c + glam::Vec2::new(x, y);
+    let (top, left, bottom) = (at(0.0, 0.1), at(-0.15, 0.0), at(0.0, -0.1));
+    let (pa, pb) = d.seam_sides([top, left], [bottom, left], 0.008, true);
+    for side in [&pa, &pb] {
+        let l = d.pattern_length(side);
+        assert!((l - 0.198).abs() < 0.03, "{} vertices, {l} m", side.len());
+    }
+    assert!(d.seam_on_plane([top, left], [bottom, left], 0.008).unwrap() >= 5);
+}

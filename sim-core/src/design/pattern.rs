@@ -196,22 +196,43 @@ impl Design {
         let len = len2.sqrt();
         let live = &self.sim.cloth.live;
         // Each vertex near the segment: how far along it, and how far off its line.
-        let near: Vec<Near> = (0..self.sim.cloth.len() as u32)
+        let near_of = |v: u32, p: Vec2| {
+            let t = (p - a).dot(d) / len2;
+            Near {
+                v,
+                along: t * len,
+                off: (p - (a + d * t)).length(),
+                ends: [(p - a).length(), (p - b).length()],
+            }
+        };
+        let border: Vec<u32> = (0..self.sim.cloth.len() as u32)
             .filter(|&v| live.vertex_alive(v) && live.is_boundary(v))
-            .filter_map(|v| {
+            .collect();
+        let mut near: Vec<Near> = (border.iter())
+            .filter_map(|&v| {
                 places(v).into_iter().find_map(|p| {
                     let t = (p - a).dot(d) / len2;
                     let dist = (p - (a + d * t.clamp(0.0, 1.0))).length();
-                    let off = (p - (a + d * t)).length();
-                    (dist < tol && t * len > -tol && t <= 1.0 + tol / len).then_some(Near {
-                        v,
-                        along: t * len,
-                        off,
-                        ends: [(p - a).length(), (p - b).length()],
-                    })
+                    (dist < tol && t * len > -tol && t <= 1.0 + tol / len).then(|| near_of(v, p))
                 })
             })
             .collect();
+        // A drag's end with no vertex within `tol` (on a curve a vertex may be half an
+        // edge from where the designer let go: an ellipse's end at 3 cm edges): the
+        // border vertex nearest it, within a quarter of the drag's length.
+        for k in 0..2 {
+            if near.iter().any(|n| n.ends[k] < tol) {
+                continue;
+            }
+            let nearest = (border.iter())
+                .flat_map(|&v| places(v).into_iter().map(move |p| near_of(v, p)))
+                .filter(|n| n.ends[k] < 0.25 * len)
+                .min_by(|x, y| x.ends[k].total_cmp(&y.ends[k]));
+            if let Some(n) = nearest {
+                near.retain(|m| m.v != n.v);
+                near.push(n);
+            }
+        }
         // A curved border (a sleeve's cap, a neckline) leaves the drag's straight line:
         // its vertices within half the drag's length of it may carry the walk.
         let wide = |v: u32| {
