@@ -12,6 +12,7 @@
 //! `svg.rs` and `dxf.rs` write the pieces, laid out side by side without overlap, in
 //! millimetres.
 
+mod dart;
 mod dxf;
 mod labels;
 mod notches;
@@ -213,7 +214,7 @@ pub(crate) fn view_of(design: &Design, parts: &[Vec<u32>]) -> Vec<Piece> {
     });
     let longest = notches::longest_sides(&pieces);
     for p in &mut pieces {
-        p.notches = notches(p, 0.0, &longest);
+        p.notches = notches(p, 0.0, &longest, &dart::darts(p));
         p.scale(1e-3);
     }
     pieces
@@ -490,6 +491,12 @@ fn bounds(l: &[DVec2]) -> (DVec2, DVec2) {
 /// an outer loop counter-clockwise and a hole clockwise), with mitred corners; a corner
 /// sharper than the mitre limit (4 d) is bevelled.
 pub fn offset(l: &[DVec2], d: f64) -> Vec<DVec2> {
+    offset_tagged(l, d).into_iter().map(|(_, p)| p).collect()
+}
+
+/// [`offset`], each point with the index of the corner of `l` it is offset from (two
+/// points for a bevelled corner).
+fn offset_tagged(l: &[DVec2], d: f64) -> Vec<(usize, DVec2)> {
     let n = l.len();
     let mut out = Vec::with_capacity(n);
     for i in 0..n {
@@ -503,10 +510,10 @@ pub fn offset(l: &[DVec2], d: f64) -> Vec<DVec2> {
         let cos_half = (m.length() * 0.5).max(1e-9);
         let miter = d / cos_half;
         if miter <= 4.0 * d && m.length() > 1e-9 {
-            out.push(c + m.normalize() * miter);
+            out.push((i, c + m.normalize() * miter));
         } else {
-            out.push(c + n1 * d);
-            out.push(c + n2 * d);
+            out.push((i, c + n1 * d));
+            out.push((i, c + n2 * d));
         }
     }
     out
@@ -526,14 +533,21 @@ pub fn finish(mut pieces: Vec<Piece>, allowance_mm: f64) -> Vec<Piece> {
     let (mut x, mut row_y, mut row_top) = (0.0, 0.0, 0.0f64);
     let longest = notches::longest_sides(&pieces);
     for p in &mut pieces {
+        let darts = dart::darts(p);
         if allowance_mm > 0.0 {
-            // Where the line folds back closer than twice the allowance (a dart), the
+            // A dart's mouth is bridged by its cap (`dart`). Elsewhere, where the line
+            // folds back closer than twice the allowance (a narrow notch, a slit), the
             // offset crosses itself: the loops it closes off are not cut.
-            p.cut = (p.loops.iter())
-                .map(|l| untangle::untangle(offset(l, allowance_mm), area2(l)))
+            p.cut = (p.loops.iter().enumerate())
+                .map(|(i, l)| {
+                    let here: Vec<&dart::Dart> =
+                        darts.iter().filter(|d| d.loop_index == i).collect();
+                    let cut = dart::cut_line(l, allowance_mm, &here);
+                    untangle::untangle(cut, area2(l))
+                })
                 .collect();
         }
-        p.notches = notches(p, allowance_mm, &longest);
+        p.notches = notches(p, allowance_mm, &longest, &darts);
         let (lo, hi) = p.cut.iter().fold(
             (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
             |(lo, hi), l| {

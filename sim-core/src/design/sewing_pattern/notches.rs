@@ -6,6 +6,7 @@ use glam::DVec2;
 use rustc_hash::FxHashMap as HashMap;
 
 use super::Piece;
+use super::dart::{Dart, leg_on_cut};
 
 /// A seam side longer than this gets notches at its quarters too, mm.
 pub const QUARTER_NOTCHES_MM: f64 = 250.0;
@@ -96,14 +97,33 @@ pub(super) fn longest_sides(pieces: &[Piece]) -> HashMap<String, f64> {
 /// The balance notches of piece `p` (see [`Piece::notches`]) for an allowance of
 /// `allowance_mm`: each a slit square to its seam's side, from the cut line half way to
 /// the sewing line (or [`NOTCH_DEPTH_MM`] into a piece cut on its sewing line); at the
-/// quarters too where the seam's longest side (`longest`, by label) is long.
+/// quarters too where the seam's longest side (`longest`, by label) is long. A dart of
+/// `darts` (its seam's two sides meet at its tip) is notched instead at its legs' ends:
+/// each a slit along the leg's line, from where it meets the cut line toward the tip.
 pub(super) fn notches(
     p: &Piece,
     allowance_mm: f64,
     longest: &HashMap<String, f64>,
+    darts: &[Dart],
 ) -> Vec<(DVec2, DVec2)> {
     let mut out = Vec::new();
+    for dart in darts {
+        let l = &p.loops[dart.loop_index];
+        let tip = dart.tip;
+        for mouth in [l[dart.a], l[dart.b]] {
+            let from = leg_on_cut(&p.cut, tip, mouth);
+            let depth = if allowance_mm > 0.0 {
+                0.5 * from.distance(mouth)
+            } else {
+                NOTCH_DEPTH_MM.min(0.25 * mouth.distance(tip))
+            };
+            out.push((from, from + (tip - from).normalize_or_zero() * depth));
+        }
+    }
     for (label, side) in seam_sides(p) {
+        if darts.iter().any(|d| d.label == label) {
+            continue;
+        }
         let len = length(&side);
         if len <= 0.0 {
             continue;

@@ -1,8 +1,9 @@
 //! A seam allowance's cut line without the loops its offset makes where the sewing line
-//! folds back closer than twice the allowance: a dart's two legs, a narrow notch, a
-//! slit. Offset as it is, the two legs' offsets cross, and the cut line drawn as an X
-//! is no line a cutter can follow; under a dart narrower than twice the allowance they
-//! pass each other, and the hem's offsets either side of it lie along each other.
+//! folds back closer than twice the allowance: a notch's two sides, a slit, a dart whose
+//! cap cannot be made (a sewn dart is bridged by its cap first: `dart.rs`). Offset as it
+//! is, the two sides' offsets cross, and the cut line drawn as an X is no line a cutter
+//! can follow; under a notch narrower than twice the allowance they pass each other, and
+//! the hem's offsets either side of it lie along each other.
 
 use glam::DVec2;
 

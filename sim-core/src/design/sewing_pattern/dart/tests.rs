@@ -1,0 +1,173 @@
+//! Darts in the pattern out.
+
+use glam::{DVec2, Vec2};
+
+use super::super::{Piece, finish, notches::in_material, pieces};
+use super::*;
+
+/// A 500 x 300 mm piece (counter-clockwise, mm) with a dart 50 mm wide at its hem and
+/// 200 mm long in its middle, its legs sewn as seam F.
+fn dart_at_hem() -> Piece {
+    let v = DVec2::new;
+    let l = vec![
+        v(0.0, 0.0),
+        v(225.0, 0.0),
+        v(250.0, 200.0),
+        v(275.0, 0.0),
+        v(500.0, 0.0),
+        v(500.0, 300.0),
+        v(0.0, 300.0),
+    ];
+    Piece {
+        name: "front".into(),
+        cut: vec![l.clone()],
+        seams: vec![("F".into(), l[1], l[2]), ("F".into(), l[2], l[3])],
+        loops: vec![l],
+        seam_names: vec![],
+        grain: (v(250.0, 250.0), v(350.0, 250.0)),
+        fabric: "cloth".into(),
+        notches: vec![],
+    }
+}
+
+/// The dart is found; its cut line is the hem's 10 mm allowance bridged by a cap, not a
+/// line up into the dart and back: folded shut (the half next to leg A mirrored in it,
+/// the half next to leg B turned onto leg A), every point of the cap lies on the hem's
+/// allowance line, and the cap's point stands on the dart's middle below that line. Its
+/// legs are notched where their lines meet the cut line, and the sewing line keeps the V.
+#[test]
+fn a_darts_cut_line_is_capped_and_folds_shut_onto_the_hems_allowance() {
+    let p = dart_at_hem();
+    let found = darts(&p);
+    assert_eq!(
+        found,
+        vec![Dart {
+            label: "F".into(),
+            loop_index: 0,
+            a: 1,
+            b: 3,
+            tip: DVec2::new(250.0, 200.0),
+        }]
+    );
+    let f = finish(vec![p.clone()], 10.0).remove(0);
+    // Laid out: moved so its lowest point is at y = 0; put it back.
+    let shift = f.loops[0][0] - p.loops[0][0];
+    let cut: Vec<DVec2> = f.cut[0].iter().map(|&q| q - shift).collect();
+    assert_eq!(f.loops[0].len(), 7, "the sewing line keeps the V");
+    let (t, a, b) = (p.loops[0][2], p.loops[0][1], p.loops[0][3]);
+    let ua = (a - t).normalize();
+    let theta = ua.perp_dot(b - t).atan2(ua.dot(b - t));
+    // Nothing of the cut line runs up into the dart.
+    let under = |q: &&DVec2| q.x > 200.0 && q.x < 300.0;
+    assert!(
+        cut.iter().filter(under).all(|q| q.y <= -10.0 + 1e-9),
+        "{cut:?}"
+    );
+    // The cap: the points under the dart's mouth, beyond its legs' lines.
+    let cap: Vec<DVec2> = (cut.iter())
+        .filter(|q| q.x > 215.0 && q.x < 285.0)
+        .copied()
+        .collect();
+    assert!(cap.len() >= 3, "{cut:?}");
+    let point = cap
+        .iter()
+        .copied()
+        .fold(DVec2::ZERO, |m, q| if q.y < m.y { q } else { m });
+    assert!(
+        (point.x - 250.0).abs() < 1e-6,
+        "the point on the middle: {point}"
+    );
+    assert!(point.y < -15.0, "the point below the allowance: {point}");
+    for &q in &cap {
+        let folded = if q.x <= 250.0 {
+            t + ua * (2.0 * (q - t).dot(ua)) - (q - t)
+        } else {
+            t + DVec2::from_angle(-theta).rotate(q - t)
+        };
+        assert!((folded.y + 10.0).abs() < 1e-6, "{q} folds to {folded}");
+    }
+    // The intake is cloth: inside the cut line; the sewing line all inside it too.
+    let mouth = (a + b) * 0.5 + DVec2::new(0.0, 20.0);
+    assert!(in_material(std::slice::from_ref(&cut), mouth));
+    assert!((p.loops[0].iter()).all(|&q| in_material(std::slice::from_ref(&cut), q)));
+    // Two notches, one on each leg's line from the cut line toward the tip, and none at
+    // the tip (the middle of the seam's chain).
+    assert_eq!(f.notches.len(), 2, "{:?}", f.notches);
+    for (from, to) in &f.notches {
+        let (from, to) = (*from - shift, *to - shift);
+        assert!(
+            (from.y + 10.0).abs() < 1e-6,
+            "the notch starts on the cut line: {from}"
+        );
+        let leg = if from.x < 250.0 { a } else { b };
+        let along = (leg - t).normalize().perp_dot(from - t).abs();
+        assert!(along < 1e-6, "on the leg's line: {from}");
+        assert!(
+            to.y > from.y && to.y < 0.0,
+            "toward the tip: {from} -> {to}"
+        );
+    }
+}
+
+/// Not darts: a seam turning a wide concave corner on one piece (an L), and a seam whose
+/// two sides on one piece do not meet (a sleeve's tube).
+#[test]
+fn a_seam_round_a_corner_or_down_both_sides_is_no_dart() {
+    let v = DVec2::new;
+    // An L: the seam runs up the inner corner's two sides.
+    let l = vec![
+        v(0.0, 0.0),
+        v(200.0, 0.0),
+        v(200.0, 100.0),
+        v(100.0, 100.0),
+        v(100.0, 200.0),
+        v(0.0, 200.0),
+    ];
+    let mut p = dart_at_hem();
+    p.seams = vec![("A".into(), l[2], l[3]), ("A".into(), l[3], l[4])];
+    p.loops = vec![l.clone()];
+    p.cut = vec![l];
+    assert!(darts(&p).is_empty());
+    let mut p = dart_at_hem();
+    let r = p.loops[0].clone();
+    p.seams = vec![("T".into(), r[4], r[5]), ("T".into(), r[6], r[0])];
+    assert!(darts(&p).is_empty());
+}
+
+/// A dart cut into a square cloth in the pattern, as in the studio (two cuts from below
+/// the hem to one point, the wedge between deleted, its legs seamed in the pattern
+/// plane): the pattern out finds it, and with a 10 mm allowance the dart's intake is
+/// inside the cut line.
+#[test]
+fn a_dart_cut_in_the_cloth_is_capped_in_the_pattern_out() {
+    let mut d = super::super::tests::square(1.0, 16);
+    let apex = Vec2::new(0.0, -0.3);
+    let hem = |dx: f32| Vec2::new(dx, -0.5);
+    let below = |dx: f32| apex + (hem(dx) - apex) * 1.05;
+    d.cut_line(below(-0.03), apex).unwrap();
+    d.cut_line(below(0.03), apex).unwrap();
+    let list = d.piece_list();
+    let wedge = (0..list.len()).min_by_key(|&i| list[i].vertices).unwrap();
+    d.delete_piece(wedge).unwrap();
+    d.seam_on_plane([hem(-0.03), apex], [hem(0.03), apex], 0.01)
+        .unwrap();
+    let p = pieces(&d);
+    assert_eq!(p.len(), 1);
+    let found = darts(&p[0]);
+    assert_eq!(found.len(), 1, "{:?}", p[0].seams);
+    let l = &p[0].loops[0];
+    let (a, b) = (l[found[0].a], l[found[0].b]);
+    let f = finish(p.clone(), 10.0).remove(0);
+    let shift = f.loops[0][0] - l[0];
+    let cut: Vec<DVec2> = f.cut[0].iter().map(|&q| q - shift).collect();
+    let tip = found[0].tip;
+    let intake = (a + b) * 0.5 + (tip - (a + b) * 0.5) * 0.1;
+    assert!(
+        in_material(std::slice::from_ref(&cut), intake),
+        "{intake} outside {cut:?}"
+    );
+    assert!(
+        !in_material(&p[0].loops, intake),
+        "the intake is cut away in 3D"
+    );
+}
