@@ -33,26 +33,30 @@ fn xml(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
+/// The SVG document's start for laid-out pieces, and the height its y is flipped
+/// about: the pieces' extent and a 10 mm margin all round (the layout's lowest and
+/// leftmost points, a dart cap's, the first piece's side, lay on the page's edge with
+/// their lines cut in half until 2026-12-05).
+fn page(pieces: &[Piece]) -> (String, f64) {
+    let (mut w, mut h) = (0.0f64, 0.0f64);
+    for q in pieces.iter().flat_map(|p| p.cut.iter().flatten()) {
+        w = w.max(q.x);
+        h = h.max(q.y);
+    }
+    let h = h + 10.0;
+    let (page_w, page_h) = (w + 20.0, h + 10.0);
+    let head = format!(
+        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n\
+         <svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{page_w:.1}mm\" height=\"{page_h:.1}mm\" \
+         viewBox=\"-10 0 {page_w:.3} {page_h:.3}\">\n\
+         <title>Saiho sewing pattern (1 unit = 1 mm)</title>\n"
+    );
+    (head, h)
+}
+
 /// The SVG document of laid-out pieces (`super::finish`).
 pub fn svg_string(pieces: &[Piece]) -> String {
-    let (mut w, mut h) = (0.0f64, 0.0f64);
-    for p in pieces {
-        for l in &p.cut {
-            for q in l {
-                w = w.max(q.x);
-                h = h.max(q.y);
-            }
-        }
-    }
-    let (w, h) = (w + 10.0, h + 10.0);
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n\
-         <svg xmlns=\"http://www.w3.org/2000/svg\" width=\"{w:.1}mm\" height=\"{h:.1}mm\" \
-         viewBox=\"0 0 {w:.3} {h:.3}\">\n\
-         <title>Saiho sewing pattern (1 unit = 1 mm)</title>"
-    );
+    let (mut s, h) = page(pieces);
     for (i, p) in pieces.iter().enumerate() {
         let _ = writeln!(
             s,
