@@ -4,7 +4,8 @@
 //! says (`width="...mm"` over its `viewBox`; without units, a user unit is a millimetre,
 //! as in our own `pattern.svg`). Loops inside loops are holes, loops inside holes pieces
 //! again. In a group that has a sewing line (`class="sew"`, ours), the cut line around it
-//! (`class="cut"`) is left out, so our patterns read back as their sewn shape.
+//! (`class="cut"`) is left out, so our patterns read back as their sewn shape; a drill
+//! hole's circle (`class="drill"`) is a mark, not a hole.
 
 use std::path::Path;
 
@@ -491,6 +492,8 @@ fn walk(text: &str) -> Result<Walked, SvgError> {
                     }
                 }
             }
+            // Ours: a drill hole's mark (a dart's point) is no outline.
+            _ if attr(&e, "class").as_deref() == Some("drill") => {}
             _ => {
                 if let Some(path) = shape_of(&e)? {
                     let group = stack.last().map_or(0, |s| s.1);

@@ -57,6 +57,21 @@ pub(super) struct Dart {
     pub tip: DVec2,
 }
 
+/// How far inside a dart's point its drill hole goes, mm (at most a quarter of the way
+/// to its mouth): hidden in the dart once it is sewn.
+pub const DRILL_IN_MM: f64 = 10.0;
+
+impl Dart {
+    /// The drill hole marking the dart's point on the fabric: [`DRILL_IN_MM`] in from the
+    /// point along the dart's middle, toward its mouth (in loop `loops[loop_index]`).
+    pub fn drill(&self, loops: &[Vec<DVec2>]) -> DVec2 {
+        let l = &loops[self.loop_index];
+        let mouth = (l[self.a] + l[self.b]) * 0.5;
+        let way = mouth - self.tip;
+        self.tip + way.normalize_or_zero() * DRILL_IN_MM.min(0.25 * way.length())
+    }
+}
+
 /// A point's bits, to key an outline edge by its two ends.
 fn bits(p: DVec2) -> [u64; 2] {
     [p.x.to_bits(), p.y.to_bits()]

@@ -3,6 +3,7 @@
 //! boundary (layer 1, the cut line), its sewing line (layer 14, with an allowance), the
 //! turn points of both (layer 2: points where the outline turns by more than
 //! [`TURN_DEGREES`]), its notches (layer 4, slits as lines, as Seamly2D writes them),
+//! its drill holes (layer 13, points: a sewn dart's point),
 //! its grain line (layer 7), its seams (layer 8, labelled) and its annotation (layer 15:
 //! "Piece Name: ...", "Material: ...", "Quantity: 1"), and an INSERT of each block where
 //! the layout put it.
@@ -111,7 +112,7 @@ pub fn dxf_string(pieces: &[Piece]) -> String {
     d.pair(73, 0);
     d.pair(40, "0.0");
     d.pair(0, "ENDTAB");
-    let layers = ["0", "1", "2", "4", "7", "8", "14", "15"];
+    let layers = ["0", "1", "2", "4", "7", "8", "13", "14", "15"];
     d.pair(0, "TABLE");
     d.pair(2, "LAYER");
     d.pair(70, layers.len());
@@ -150,6 +151,9 @@ pub fn dxf_string(pieces: &[Piece]) -> String {
         }
         for &(a, b) in &p.notches {
             d.line("4", a, b);
+        }
+        for &q in &p.drills {
+            d.dot("13", q);
         }
         d.line("7", p.grain.0, p.grain.1);
         for (_, a, b) in &p.seams {

@@ -60,6 +60,9 @@ pub struct Piece {
     /// [`QUARTER_NOTCHES_MM`]. Sewn notch to notch, the two sides meet as the simulation
     /// paired them (by arc length).
     pub notches: Vec<(DVec2, DVec2)>,
+    /// Drill holes: a sewn dart's point, marked on the fabric a little inside it (the
+    /// dart's cap keeps its intake, so its legs are no longer cut edges).
+    pub drills: Vec<DVec2>,
 }
 
 impl Piece {
@@ -85,6 +88,9 @@ impl Piece {
         for (a, b) in self.notches.iter_mut().chain([&mut self.grain]) {
             *a *= k;
             *b *= k;
+        }
+        for q in &mut self.drills {
+            *q *= k;
         }
     }
 
@@ -308,6 +314,7 @@ fn pieces_in(
             grain,
             fabric: info.fabric,
             notches: Vec::new(),
+            drills: Vec::new(),
         });
     }
     out
@@ -548,6 +555,7 @@ pub fn finish(mut pieces: Vec<Piece>, allowance_mm: f64) -> Vec<Piece> {
                 .collect();
         }
         p.notches = notches(p, allowance_mm, &longest, &darts);
+        p.drills = darts.iter().map(|d| d.drill(&p.loops)).collect();
         let (lo, hi) = p.cut.iter().fold(
             (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
             |(lo, hi), l| {
@@ -573,6 +581,9 @@ pub fn finish(mut pieces: Vec<Piece>, allowance_mm: f64) -> Vec<Piece> {
         for n in &mut p.notches {
             n.0 += shift;
             n.1 += shift;
+        }
+        for q in &mut p.drills {
+            *q += shift;
         }
         p.grain.0 += shift;
         p.grain.1 += shift;

@@ -54,6 +54,32 @@ fn page(pieces: &[Piece]) -> (String, f64) {
     (head, h)
 }
 
+/// A piece's notches (lines) and drill holes (a 3 mm circle with a cross), its y
+/// flipped about `h`.
+fn marks(s: &mut String, p: &Piece, h: f64) {
+    for (a, b) in &p.notches {
+        let _ = writeln!(
+            s,
+            "<line class=\"notch\" x1=\"{:.3}\" y1=\"{:.3}\" x2=\"{:.3}\" y2=\"{:.3}\" stroke=\"black\" stroke-width=\"0.5\"/>",
+            a.x,
+            h - a.y,
+            b.x,
+            h - b.y
+        );
+    }
+    for q in &p.drills {
+        let (x, y) = (q.x, h - q.y);
+        let _ = writeln!(
+            s,
+            "<circle class=\"drill\" cx=\"{x:.3}\" cy=\"{y:.3}\" r=\"1.5\" fill=\"none\" stroke=\"black\" stroke-width=\"0.3\"/>\n<path class=\"drill\" d=\"M{:.3},{y:.3} H{:.3} M{x:.3},{:.3} V{:.3}\" stroke=\"black\" stroke-width=\"0.3\"/>",
+            x - 2.5,
+            x + 2.5,
+            y - 2.5,
+            y + 2.5
+        );
+    }
+}
+
 /// The SVG document of laid-out pieces (`super::finish`).
 pub fn svg_string(pieces: &[Piece]) -> String {
     let (mut s, h) = page(pieces);
@@ -87,16 +113,7 @@ pub fn svg_string(pieces: &[Piece]) -> String {
                 h - b.y
             );
         }
-        for (a, b) in &p.notches {
-            let _ = writeln!(
-                s,
-                "<line class=\"notch\" x1=\"{:.3}\" y1=\"{:.3}\" x2=\"{:.3}\" y2=\"{:.3}\" stroke=\"black\" stroke-width=\"0.5\"/>",
-                a.x,
-                h - a.y,
-                b.x,
-                h - b.y
-            );
-        }
+        marks(&mut s, p, h);
         // A label for each side of a seam, inside the piece beside its middle (where its
         // middle notch is), clear of the corners where sides meet.
         for (label, side) in super::notches::seam_sides(p) {

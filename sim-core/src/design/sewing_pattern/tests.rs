@@ -312,6 +312,7 @@ fn both_sides_of_a_seam_get_the_same_notches() {
             grain: (DVec2::new(10.0, 50.0), DVec2::new(20.0, 50.0)),
             fabric: "cloth".into(),
             notches: vec![],
+            drills: vec![],
         }
     };
     let short = QUARTER_NOTCHES_MM - 10.0;

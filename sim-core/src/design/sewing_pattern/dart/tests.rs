@@ -27,6 +27,7 @@ fn dart_at_hem() -> Piece {
         grain: (v(250.0, 250.0), v(350.0, 250.0)),
         fabric: "cloth".into(),
         notches: vec![],
+        drills: vec![],
     }
 }
 
@@ -107,6 +108,34 @@ fn a_darts_cut_line_is_capped_and_folds_shut_onto_the_hems_allowance() {
             "toward the tip: {from} -> {to}"
         );
     }
+}
+
+/// The dart's point is marked by a drill hole 10 mm inside it on its middle, written to
+/// the SVG (a circle and a cross, class `drill`) and the DXF (a POINT on AAMA layer 13);
+/// both read back as the one piece with its one loop, the hole's circle no hole in it.
+#[test]
+fn a_darts_point_is_drilled_and_the_pattern_reads_back_whole() {
+    let p = dart_at_hem();
+    let f = finish(vec![p.clone()], 10.0);
+    let shift = f[0].loops[0][0] - p.loops[0][0];
+    assert_eq!(f[0].drills.len(), 1);
+    let drill = f[0].drills[0] - shift;
+    assert!(drill.distance(DVec2::new(250.0, 190.0)) < 1e-9, "{drill}");
+    let svg = super::super::svg_string(&f);
+    assert_eq!(svg.matches("class=\"drill\"").count(), 2, "{svg}");
+    let dxf = super::super::dxf_string(&f);
+    assert!(dxf.contains("POINT\n  8\n13\n"), "a drill on layer 13");
+    for read in [
+        crate::mesh::svg::read_svg(&svg).unwrap(),
+        crate::mesh::dxf::read_dxf(&dxf).unwrap(),
+    ] {
+        assert_eq!(read.len(), 1);
+        assert_eq!(read[0].outline.loops.len(), 1, "{:?}", read[0].outline);
+    }
+    // No dart, no drill.
+    let mut plain = p;
+    plain.seams.clear();
+    assert!(finish(vec![plain], 10.0)[0].drills.is_empty());
 }
 
 /// Not darts: a seam turning a wide concave corner on one piece (an L), and a seam whose
