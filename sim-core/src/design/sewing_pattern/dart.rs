@@ -187,8 +187,10 @@ fn ray_hit(o: DVec2, u: DVec2, q: &[DVec2]) -> Option<f64> {
         }
         let s = (w[0] - o).perp_dot(d) / den;
         let r = (w[0] - o).perp_dot(u) / den;
-        if s > 0.0 && (0.0..=1.0).contains(&r) {
-            return Some(k as f64 + r);
+        // A symmetric dart at a straight edge has the mitre on leg A's line: the hit is
+        // at a segment's end, to rounding.
+        if s > 0.0 && (-1e-7..=1.0 + 1e-7).contains(&r) {
+            return Some(k as f64 + r.clamp(0.0, 1.0));
         }
     }
     None
@@ -296,7 +298,7 @@ pub(super) fn leg_on_cut(cut: &[Vec<DVec2>], tip: DVec2, mouth: DVec2) -> DVec2 
             }
             let s = (w[0] - mouth).perp_dot(d) / den;
             let r = (w[0] - mouth).perp_dot(u) / den;
-            if (-1e-9..1000.0).contains(&s) && (0.0..=1.0).contains(&r) {
+            if (-1e-9..1000.0).contains(&s) && (-1e-7..=1.0 + 1e-7).contains(&r) {
                 let p = mouth + u * s;
                 if best.is_none_or(|b| b.distance(mouth) > p.distance(mouth)) {
                     best = Some(p);

@@ -76,7 +76,8 @@ pub(super) fn seam_labels(design: &Design, parts: &[Vec<u32>]) -> HashMap<u32, V
 /// their two vertices lie on, `parts_of`) are one stretch. A pair on more pieces than
 /// its neighbours (where a cut crosses the seam) belongs to the stretches either side; a
 /// pair on none (its vertices gone), or on one piece where others join two (its other
-/// side was cut away: a seam on one piece is a dart only if all of it is), to none.
+/// side was cut away: a seam on one piece is a dart only if all of it is), to none. An
+/// end pair counts on the pieces its neighbour is on (where it shares any).
 fn stretch_runs(pairs: &[(u32, u32)], parts_of: &HashMap<u32, Vec<u32>>) -> Vec<Vec<usize>> {
     let on = |&(a, b): &(u32, u32)| {
         let mut k: Vec<u32> = [a, b]
@@ -87,7 +88,22 @@ fn stretch_runs(pairs: &[(u32, u32)], parts_of: &HashMap<u32, Vec<u32>>) -> Vec<
         k.dedup();
         k
     };
-    let keys: Vec<Vec<u32>> = pairs.iter().map(on).collect();
+    let mut keys: Vec<Vec<u32>> = pairs.iter().map(on).collect();
+    // An end pair's vertex can be welded into another seam too (a dart's end at the
+    // waist, sewn to the bodice): it is on a piece more, which its seam's stretch is not.
+    // It keeps the pieces its neighbour is on, where that leaves any.
+    let n = keys.len();
+    for (end, next) in [(0, 1), (n.wrapping_sub(1), n.wrapping_sub(2))] {
+        if n >= 2 {
+            let shared: Vec<u32> = (keys[end].iter())
+                .filter(|p| keys[next].contains(p))
+                .copied()
+                .collect();
+            if !shared.is_empty() {
+                keys[end] = shared;
+            }
+        }
+    }
     let joins_two = keys.iter().any(|k| k.len() == 2);
     let common = |k: &[u32]| k.len() == 2 || (k.len() == 1 && !joins_two);
     let orphan = |k: &[u32]| k.len() == 1 && joins_two;
@@ -130,5 +146,39 @@ pub(crate) fn label(i: usize) -> String {
         letter(i).to_string()
     } else {
         format!("{}{}", letter(i / 26 - 1), letter(i))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A dart on piece 0 whose end vertex (1) is also welded to piece 5 by another seam
+    /// (a skirt's waist dart, its end sewn to the bodice): every pair is one stretch, so
+    /// the dart keeps its label. Counted on pieces 0 and 5, that end made the pairs on
+    /// piece 0 alone look like a seam whose other side was cut away (GarmentCode's pencil
+    /// dress lost its four darts' marks). A seam whose side was cut away still drops them.
+    #[test]
+    fn a_darts_end_welded_to_another_piece_keeps_the_dart_one_stretch() {
+        let parts_of: HashMap<u32, Vec<u32>> = [(1, vec![0, 5]), (2, vec![0]), (3, vec![0])]
+            .into_iter()
+            .collect();
+        let pairs = [(1, 1), (2, 2), (3, 3)];
+        assert_eq!(stretch_runs(&pairs, &parts_of), vec![vec![0]; 3]);
+        // Pairs joining pieces 0 and 1, then two whose partner was cut away.
+        let parts_of: HashMap<u32, Vec<u32>> = [
+            (1, vec![0]),
+            (2, vec![0]),
+            (3, vec![0]),
+            (11, vec![1]),
+            (12, vec![1]),
+        ]
+        .into_iter()
+        .collect();
+        let pairs = [(1, 11), (2, 12), (3, 3)];
+        assert_eq!(
+            stretch_runs(&pairs, &parts_of),
+            vec![vec![0], vec![0], vec![]]
+        );
     }
 }

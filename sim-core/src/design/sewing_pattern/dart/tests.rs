@@ -200,3 +200,41 @@ fn a_dart_cut_in_the_cloth_is_capped_in_the_pattern_out() {
         "the intake is cut away in 3D"
     );
 }
+
+/// A symmetric dart square to a straight edge has its cap's mitre on the legs' lines,
+/// where rounding put the hit just off the end of a segment: GarmentCode's pencil skirt
+/// had one of its four back darts cut as a V. Every one of a sweep of such darts, placed
+/// anywhere along the edge, is capped.
+#[test]
+fn every_symmetric_dart_is_capped() {
+    let v = DVec2::new;
+    for k in 0..200 {
+        let (wide, long, at) = (
+            8.0 + 0.37 * k as f64,
+            90.0 + 0.83 * k as f64,
+            120.0 + 1.7 * k as f64,
+        );
+        let h = 0.5 * wide;
+        let l = vec![
+            v(0.0, 0.0),
+            v(at - h, 0.0),
+            v(at, long),
+            v(at + h, 0.0),
+            v(700.0, 0.0),
+            v(700.0, 400.0),
+            v(0.0, 400.0),
+        ];
+        let p = Piece {
+            seams: vec![("F".into(), l[1], l[2]), ("F".into(), l[2], l[3])],
+            loops: vec![l.clone()],
+            cut: vec![l.clone()],
+            ..dart_at_hem()
+        };
+        let found = darts(&p);
+        assert_eq!(found.len(), 1, "{wide} {long} {at}");
+        assert!(
+            cap(&l, 10.0, &found[0]).is_some(),
+            "{wide} x {long} at {at}"
+        );
+    }
+}
