@@ -53,7 +53,7 @@ fn commands_are_carried_out_and_answered() {
     drop(states);
     STOP.store(true, Ordering::Relaxed);
     let stats = handle.join().unwrap();
-    assert_eq!(stats.commands, 44);
+    assert_eq!(stats.commands, 47);
     assert_eq!(stats.rejected, 11);
     let _ = std::fs::remove_file(&path);
     // The autosave, its previous good version, and the design the load replaced.
@@ -173,6 +173,27 @@ fn edits_refusals_and_save(ask: Ask<'_>, path: &std::path::Path, autosave: &std:
     );
     let r = ask(undo());
     assert!(r.ok == 1 && r.message() == "Undone: cut line" && r.undo_depth == 0);
+    // A dart in the pattern plane: one step, undone as one; off the cloth, refused.
+    let dart = |point: [f32; 2]| shared::command::Command::DartPlane {
+        point,
+        toward: [0.0, -0.9],
+        width_m: 0.06,
+    };
+    let r = ask(dart([0.0, 0.0]).to_wire(Header::default()).unwrap());
+    assert_eq!(r.ok, 1, "{}", r.message());
+    assert!(
+        r.message().starts_with("Dart: 60 mm wide") && r.undo_depth == 1,
+        "{}",
+        r.message()
+    );
+    let r = ask(undo());
+    assert!(r.ok == 1 && r.message() == "Undone: dart" && r.undo_depth == 0);
+    let r = ask(dart([3.0, 3.0]).to_wire(Header::default()).unwrap());
+    assert!(
+        r.ok == 0 && r.message().contains("no cloth under the dart's point") && r.undo_depth == 0,
+        "{}",
+        r.message()
+    );
     let mut save = ToolCommand {
         op: op::SAVE,
         ..Default::default()

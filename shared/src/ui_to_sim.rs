@@ -112,7 +112,12 @@ pub mod op {
     pub const DUPLICATE_PIECE: u32 = 30;
     /// Every pin of the design freed, as one undoable edit. Since protocol 23.
     pub const FREE_PINS: u32 = 31;
-    pub const LAST: u32 = FREE_PINS;
+    /// A dart `value` m wide at the edge of the piece under its point (`uv[0]`, `uv[1]`),
+    /// from that point out along the line to (`uv[2]`, `uv[3]`), beyond the piece's
+    /// edge, in the design's pattern plane (m): the wedge cut away and its legs seamed,
+    /// as one undoable operation. Since protocol 24.
+    pub const DART_PLANE: u32 = 32;
+    pub const LAST: u32 = DART_PLANE;
 }
 
 /// [`ToolCommand::b`] of a RESET: the body.
@@ -163,6 +168,10 @@ pub const PIECE_EDGE: (f32, f32) = (0.005, 0.5);
 /// `vec[2]`. Since protocol 22 (0 before: the place's own start).
 pub const PIECE_DROP: f32 = 1.0;
 
+/// A dart's width at the edge DART_PLANE makes, m (the design refuses others). Since
+/// protocol 24.
+pub const DART_WIDTH: (f32, f32) = (0.002, 0.5);
+
 /// The strain limits SET_STRAIN_LIMIT accepts besides 0 (the material's own range).
 pub const STRAIN_LIMIT: (f32, f32) = (0.01, 10.0);
 pub const TEXT_LEN: usize = 240;
@@ -182,7 +191,7 @@ pub struct ToolCommand {
     pub vec: [f32; 3],
     pub value: f32,
     pub rgba: [u8; 4],
-    /// Pattern coordinates for REMOVE_REGION, SEAM, SEAM_PLANE and CUT_PLANE.
+    /// Pattern coordinates for REMOVE_REGION, SEAM, SEAM_PLANE, CUT_PLANE and DART_PLANE.
     pub uv: [f32; 8],
     pub text_len: u32,
     pub text: [u8; TEXT_LEN],

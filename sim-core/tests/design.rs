@@ -1717,6 +1717,65 @@ fn a_sewn_darts_legs_read_alike() {
     assert_eq!(crossings(&d), (0, 0));
 }
 
+/// A dart made in one step in the pattern plane (`Design::dart_on_plane`, the studio's
+/// Dart drag): 40 mm wide at the front's hem, 150 mm long. The wedge goes, the legs are
+/// seamed, the operation is one step of the history ("dart") and one undo takes all of
+/// it back. Sewn, it closes without crossing anything and the pattern out finds it (a
+/// drill hole at its point). Bad drags change nothing.
+#[test]
+fn a_dart_is_made_in_one_step_and_undone_in_one() {
+    let mut d = sewn_dress();
+    let (lo, _) = outline_box(&d.pieces[0]);
+    let offset = d.pieces[0].offset;
+    let at = |x: f32, y: f32| glam::Vec2::new(x, lo.y + y) + offset;
+    let (edits, seams, tris) = (
+        d.history.undo_len(),
+        d.seams.len(),
+        d.sim.cloth.live.tri_count(),
+    );
+    let pieces = d.piece_list().len();
+    // Refused, nothing changed: a point on no piece, a drag that stays on the piece, a
+    // width out of range, a dart wider than half its length.
+    for (p, q, w) in [
+        (at(0.23, -0.2), at(0.23, -0.4), 0.04),
+        (at(0.23, 0.15), at(0.23, 0.05), 0.04),
+        (at(0.23, 0.15), at(0.23, -0.02), 0.6),
+        (at(0.23, 0.05), at(0.23, -0.02), 0.04),
+    ] {
+        assert!(d.dart_on_plane(p, q, w).is_err(), "{p} {q} {w}");
+        assert_eq!(d.history.undo_len(), edits);
+        assert_eq!(d.sim.cloth.live.tri_count(), tris);
+    }
+    let pairs = d
+        .dart_on_plane(at(0.23, 0.15), at(0.23, -0.02), 0.04)
+        .unwrap();
+    assert!(pairs >= 3, "{pairs} pairs");
+    assert_eq!(d.history.undo_len(), edits + 1, "one step");
+    assert_eq!(d.history.labels().last(), Some("dart"));
+    assert_eq!(d.seams.len(), seams + 1);
+    assert_eq!(d.piece_list().len(), pieces, "the wedge is gone");
+    assert!(d.sim.cloth.live.tri_count() < tris + 40);
+    // One undo takes it all back; redo brings it again.
+    assert_eq!(d.undo().unwrap(), "dart");
+    assert_eq!((d.seams.len(), d.sim.cloth.live.tri_count()), (seams, tris));
+    d.redo().unwrap();
+    assert_eq!(d.seams.len(), seams + 1);
+    for _ in 0..60 {
+        d.step().unwrap();
+    }
+    let s = d.seams.len() - 1;
+    assert!(
+        d.seams[s].pairs.iter().all(|(a, b)| a == b),
+        "not all welded"
+    );
+    assert_eq!(crossings(&d), (0, 0));
+    let laid = sim_core::design::sewing_pattern::finish(
+        sim_core::design::sewing_pattern::pieces(&d),
+        10.0,
+    );
+    assert_eq!(laid.iter().map(|p| p.drills.len()).sum::<usize>(), 1);
+}
+
 /// A sleeve with a cap (its top curved 15 cm above its underarm corners), seamed to the
 /// dress's armhole by a drag from the cap's top to a corner as in the pattern view: the
 /// seam follows the cap's curve, which leaves the drag's straight line by 4 cm. Until

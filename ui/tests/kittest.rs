@@ -641,8 +641,43 @@ fn the_pieces_panel_lists_selects_adds_places_and_deletes() {
     assert!(h.state().pieces.pattern_open);
     h.get_by_label("Pattern");
     seam_by_two_drags(&mut h);
+    dart_by_a_drag(&mut h);
     cut_by_a_drag(&mut h);
     zoom_and_pan(&mut h);
+}
+
+/// With Dart ticked, one drag in the pattern view takes in a dart: from its point out
+/// across the edge, at the width beside the tick (40 mm unless changed), sent in the
+/// pattern plane; ticked off, drags make seams again.
+fn dart_by_a_drag(h: &mut Harness<'static, App>) {
+    h.get_by_label("Dart").click();
+    h.run_steps(2);
+    assert!(h.state().pieces.darting);
+    let hint = h
+        .get_by_label("Dart: drag from the dart's point out across the piece's edge")
+        .rect();
+    let n = commands(h).len();
+    let c = egui::pos2(hint.center().x.max(200.0), hint.bottom() + 160.0);
+    let (a, b) = (c, c + egui::vec2(0.0, 120.0));
+    h.hover_at(a);
+    h.run_steps(1);
+    h.drag_at(a);
+    h.run_steps(2);
+    h.hover_at(b);
+    h.run_steps(2);
+    h.drop_at(b);
+    h.run_steps(2);
+    let sent = commands(h);
+    assert_eq!(sent.len(), n + 1, "one dart");
+    let s = sent.last().unwrap();
+    assert_eq!(s.op, op::DART_PLANE);
+    // Down the view: the pattern's y falls from the point toward the edge.
+    assert!(s.uv[1] > s.uv[3] + 0.05, "{:?}", s.uv);
+    assert!((s.value - 0.04).abs() < 1e-6, "{}", s.value);
+    assert!(h.state().pieces.seam_sides.is_empty());
+    h.get_by_label("Dart").click();
+    h.run_steps(2);
+    assert!(!h.state().pieces.darting);
 }
 
 /// With the Cut tool, one drag in the pattern view is a cut along its line (sent in the

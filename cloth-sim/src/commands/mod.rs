@@ -76,6 +76,11 @@ pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
             .map(|n| format!("Cut away: {n} triangles removed from the pattern"))
             .map_err(e),
         Command::CutPlane { from, to } => cut_line(design, from, to),
+        Command::DartPlane {
+            point,
+            toward,
+            width_m,
+        } => dart(design, point, toward, *width_m),
         Command::Seam { a, b, tolerance } => seam(design, a, b, *tolerance, false),
         Command::SeamPlane { a, b, tolerance_m } => seam(design, a, b, *tolerance_m, true),
         Command::SetMaterial { material, substeps } => set_material(design, material, *substeps),
@@ -182,6 +187,29 @@ fn cut_line(design: &mut Design, from: &[f32; 2], to: &[f32; 2]) -> Result<Strin
     };
     Ok(format!(
         "Cut: {n} vertices split along the line; the cloth is {pieces} now"
+    ))
+}
+
+// The studio offers the widths the design takes.
+const _: () = assert!(
+    shared::ui_to_sim::DART_WIDTH.0 == *sim_core::design::DART_WIDTH_M.start()
+        && shared::ui_to_sim::DART_WIDTH.1 == *sim_core::design::DART_WIDTH_M.end()
+);
+
+fn dart(
+    design: &mut Design,
+    point: &[f32; 2],
+    toward: &[f32; 2],
+    width: f32,
+) -> Result<String, String> {
+    let (p, q) = (Vec2::from_array(*point), Vec2::from_array(*toward));
+    let pairs = design
+        .dart_on_plane(p, q, width)
+        .map_err(|x| x.to_string())?;
+    let label = sim_core::design::sewing_pattern::seam_label(design.seams.len() - 1);
+    Ok(format!(
+        "Dart: {:.0} mm wide, its legs seam {label} of {pairs} pairs; it closes as the cloth is simulated",
+        width * 1e3
     ))
 }
 

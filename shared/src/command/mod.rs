@@ -230,6 +230,14 @@ pub enum Command {
         from: [f32; 2],
         to: [f32; 2],
     },
+    /// A dart `width_m` wide at the edge of the piece under `point`, from the point out
+    /// along the line to `toward` (beyond the edge), in the design's pattern plane (m):
+    /// the wedge cut away and its legs seamed, one undoable operation (since protocol 24).
+    DartPlane {
+        point: [f32; 2],
+        toward: [f32; 2],
+        width_m: f32,
+    },
 }
 
 /// Why a command cannot be put on the wire.
@@ -320,6 +328,7 @@ impl Command {
             Self::SetStrainLimit { .. } => op::SET_STRAIN_LIMIT,
             Self::SetSimulating { .. } => op::SET_SIMULATING,
             Self::CutPlane { .. } => op::CUT_PLANE,
+            Self::DartPlane { .. } => op::DART_PLANE,
         }
     }
 
@@ -367,6 +376,14 @@ impl Command {
             } => (c.a, c.rgba, c.value) = (*tool, *rgba, *brush_m),
             Self::RemoveRegion { min, max } | Self::CutPlane { from: min, to: max } => {
                 c.uv[..4].copy_from_slice(&[min[0], min[1], max[0], max[1]])
+            }
+            Self::DartPlane {
+                point,
+                toward,
+                width_m,
+            } => {
+                c.uv[..4].copy_from_slice(&[point[0], point[1], toward[0], toward[1]]);
+                c.value = *width_m;
             }
             Self::Seam { a, b, tolerance }
             | Self::SeamPlane {
@@ -562,6 +579,11 @@ impl Command {
             op::CUT_PLANE => Self::CutPlane {
                 from: [u[0], u[1]],
                 to: [u[2], u[3]],
+            },
+            op::DART_PLANE => Self::DartPlane {
+                point: [u[0], u[1]],
+                toward: [u[2], u[3]],
+                width_m: c.value,
             },
             op::SEAM_PLANE => Self::SeamPlane {
                 a: [[u[0], u[1]], [u[2], u[3]]],

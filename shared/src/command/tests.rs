@@ -196,6 +196,11 @@ fn piece_variants() -> Vec<Command> {
             from: [-0.05, -0.3],
             to: [0.45, -0.32],
         },
+        Command::DartPlane {
+            point: [0.2, -0.3],
+            toward: [0.2, -0.52],
+            width_m: 0.04,
+        },
     ]
 }
 

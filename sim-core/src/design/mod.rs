@@ -20,6 +20,7 @@
 mod atlas;
 mod commute;
 mod cut;
+mod dart;
 mod document;
 mod error;
 pub mod export;
@@ -51,6 +52,7 @@ mod transaction;
 mod trim;
 mod zip;
 
+pub use dart::DART_WIDTH_M;
 pub use document::{CLOTH_COLOUR, Design, TEXTURE_SIZE};
 pub use error::EditError;
 pub use fabrics::{EDITED, fabric_zones};

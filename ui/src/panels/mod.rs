@@ -7,6 +7,7 @@ mod material;
 mod pattern;
 mod pieces;
 mod scene;
+mod seams;
 mod status;
 mod tools;
 mod view;

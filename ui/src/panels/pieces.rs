@@ -6,9 +6,10 @@
 //! the stitches still pulling.
 
 use shared::command::{Command, PieceShape};
-use shared::ui_to_sim::{PIECE_DROP, PIECE_EDGE, PIECE_SIZE, place, shape};
+use shared::ui_to_sim::{DART_WIDTH, PIECE_DROP, PIECE_EDGE, PIECE_SIZE, place, shape};
 
-use super::pattern::{CUT_LINE, PatternFrame, SIDE, SNAP_PX, seam_colour, snap, snap_corners};
+use super::pattern::{CUT_LINE, PatternFrame, SIDE, SNAP_PX, snap, snap_corners};
+use super::seams::name_row;
 use crate::action::Action;
 use crate::store::Store;
 
@@ -29,6 +30,10 @@ pub struct PiecesPanel {
     /// under way.
     pub seam_sides: Vec<[[f32; 2]; 2]>,
     drag_from: Option<[f32; 2]>,
+    /// Whether a drag in the pattern view makes a dart (from its point out across the
+    /// edge) instead of a seam's side, and the dart's width at the edge, m.
+    pub darting: bool,
+    pub dart_width: f32,
     /// The pattern view's zoom (1: every piece fitted in) and how far its middle is
     /// moved from the fitted one, m.
     pub pattern_zoom: f32,
@@ -92,6 +97,8 @@ impl Default for PiecesPanel {
             pattern_open: false,
             seam_sides: Vec::new(),
             drag_from: None,
+            darting: false,
+            dart_width: 0.04,
             pattern_zoom: 1.0,
             pattern_pan: [0.0; 2],
             fabrics: fabric_entries(),
@@ -278,7 +285,7 @@ impl PiecesPanel {
             )
             .on_hover_text(DROP_HELP);
         });
-        seams_section(ui, store, &mut self.naming, actions);
+        super::seams::seams_section(ui, store, &mut self.naming, actions);
         self.add_section(ui, actions);
         ui.checkbox(&mut self.pattern_open, "Pattern view")
             .on_hover_text("The pieces flat, as they are now, with the stitches still pulling");
@@ -369,7 +376,7 @@ impl PiecesPanel {
         actions: &mut Vec<Action>,
     ) {
         let mut open = self.pattern_open;
-        if cutting {
+        if cutting || self.darting {
             self.seam_sides.clear();
         }
         egui::Window::new("Pattern")
@@ -382,6 +389,13 @@ impl PiecesPanel {
                             "From beside a piece to beside it cuts it in two; choose another \
                              tool to make seams here",
                         );
+                } else if self.darting {
+                    ui.label("Dart: drag from the dart's point out across the piece's edge")
+                        .on_hover_text(
+                            "The wedge between is cut away and its two legs seamed, as one \
+                             step to undo; the dart closes as the cloth is simulated. Its \
+                             width is at the edge",
+                        );
                 } else {
                     ui.label("Drag along a border, then along another: a seam joins them")
                         .on_hover_text(
@@ -391,10 +405,31 @@ impl PiecesPanel {
                              instead",
                         );
                 }
+                if !cutting {
+                    self.dart_row(ui);
+                }
                 self.zoom_row(ui);
                 self.pattern_view(ui, store, cutting, actions);
             });
         self.pattern_open = open;
+    }
+
+    /// Whether a drag makes a dart, and its width.
+    fn dart_row(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            ui.checkbox(&mut self.darting, "Dart").on_hover_text(
+                "A drag from a point on a piece out across its edge takes in a dart there \
+                 (off: drags make seams)",
+            );
+            let mut mm = self.dart_width * 1e3;
+            let range = DART_WIDTH.0 * 1e3..=DART_WIDTH.1 * 1e3;
+            ui.add_enabled(
+                self.darting,
+                egui::DragValue::new(&mut mm).range(range).suffix(" mm"),
+            )
+            .on_hover_text("The dart's width at the piece's edge");
+            self.dart_width = mm * 1e-3;
+        });
     }
 
     /// The pattern view's zoom, and Fit to see every piece again.
@@ -468,7 +503,8 @@ impl PiecesPanel {
         // A drag starts once the pointer has moved; the side starts where it was pressed.
         // A side's end near a corner (a seam's, a cut's end) goes to the corner, unless
         // Alt is held; a cut goes where it is drawn.
-        let snapping = !cutting && !ui.input(|i| i.modifiers.alt);
+        let darting = self.darting && !cutting;
+        let snapping = !cutting && !darting && !ui.input(|i| i.modifiers.alt);
         let primary = egui::PointerButton::Primary;
         let started = response.drag_started_by(primary);
         let corners = if snapping && (self.drag_from.is_some() || started) {
@@ -489,12 +525,18 @@ impl PiecesPanel {
         if let (Some(a), Some(p)) = (self.drag_from, response.interact_pointer_pos()) {
             let b = snapped(frame.to_plane(p));
             let a = snapped(a);
-            let colour = if cutting { CUT_LINE } else { SIDE };
+            let colour = if cutting || darting { CUT_LINE } else { SIDE };
             painter.line_segment([frame.at(a), frame.at(b)], egui::Stroke::new(2.0, colour));
             if response.drag_stopped_by(primary) {
                 self.drag_from = None;
                 if cutting {
                     actions.push(Action::Command(Command::CutPlane { from: a, to: b }));
+                } else if darting {
+                    actions.push(Action::Command(Command::DartPlane {
+                        point: a,
+                        toward: b,
+                        width_m: self.dart_width,
+                    }));
                 } else {
                     self.seam_sides.push([a, b]);
                 }
@@ -524,137 +566,3 @@ impl PiecesPanel {
 /// How far the pattern view zooms in: a 1 m pattern fitted into 400 pixels shows a
 /// millimetre as 13 pixels.
 const MAX_ZOOM: f32 = 32.0;
-
-/// The seam list: each seam's colour, label and name with Name and Remove, then its
-/// pairs and both sides' lengths (a warning colour past a fifth apart) and the pairs
-/// that stopped closing, each on a line of its own so that the panel keeps its width;
-/// and the name being typed.
-fn seams_section(
-    ui: &mut egui::Ui,
-    store: &Store,
-    naming: &mut Option<(usize, String)>,
-    actions: &mut Vec<Action>,
-) {
-    if store.seams.is_empty() {
-        *naming = None;
-        return;
-    }
-    ui.label("Seams");
-    for (i, s) in store.seams.iter().enumerate() {
-        ui.horizontal(|ui| {
-            // The seam's colour, as the views draw it.
-            let (swatch, _) = ui.allocate_exact_size(egui::vec2(10.0, 10.0), egui::Sense::hover());
-            ui.painter().rect_filled(swatch, 2.0, seam_colour(i));
-            let named = match s.name() {
-                "" => String::new(),
-                n => format!(" ({n})"),
-            };
-            ui.label(format!("{}{named}", s.label()));
-            if ui
-                .small_button("Name")
-                .on_hover_text("Give this seam a name of your own (the pattern keeps its letter)")
-                .clicked()
-            {
-                *naming = Some((i, s.name().to_string()));
-            }
-            if ui
-                .small_button("Remove")
-                .on_hover_text("Remove this seam (undo brings it back)")
-                .clicked()
-            {
-                actions.push(Action::Command(Command::RemoveSeam { seam: i as u32 }));
-            }
-        });
-        ui.indent(("seam", i), |ui| seam_lines(ui, s));
-    }
-    if store.seams_total as usize > store.seams.len() {
-        ui.label(format!(
-            "… and {} more",
-            store.seams_total as usize - store.seams.len()
-        ));
-    }
-    let Some((i, name)) = naming.as_mut().filter(|(i, _)| *i < store.seams.len()) else {
-        *naming = None;
-        return;
-    };
-    let seam = *i as u32;
-    let title = format!("Seam {}", store.seams[*i].label());
-    match name_row(ui, &title, name, "Empty: the seam goes by its letter again") {
-        Some(true) => {
-            actions.push(Action::Command(Command::NameSeam {
-                seam,
-                name: name.trim().to_string(),
-            }));
-            *naming = None;
-        }
-        Some(false) => *naming = None,
-        None => {}
-    }
-}
-
-/// A name being typed for `title`: the field, OK (or Enter) and Cancel. `Some(true)`
-/// once it is to be sent, `Some(false)` once cancelled.
-pub(super) fn name_row(
-    ui: &mut egui::Ui,
-    title: &str,
-    name: &mut String,
-    hint: &str,
-) -> Option<bool> {
-    let mut out = None;
-    ui.horizontal(|ui| {
-        ui.label(title);
-        let field = ui
-            .add(egui::TextEdit::singleline(name).desired_width(120.0))
-            .on_hover_text(hint);
-        if ui.button("OK").clicked()
-            || (field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter)))
-        {
-            out = Some(true);
-        }
-        if ui.button("Cancel").clicked() {
-            out = Some(false);
-        }
-    });
-    out
-}
-
-/// One seam's pairs and sides' lengths, and the pairs that stopped closing.
-fn seam_lines(ui: &mut egui::Ui, s: &shared::sim_to_ui::SeamEntry) {
-    let [a, b] = s.lengths;
-    let long = a.max(b);
-    let warn = long > 0.0 && (a - b).abs() > 0.2 * long;
-    let text = format!(
-        "{} pairs, {} pulling · {:.0} / {:.0} mm",
-        s.pairs,
-        s.open,
-        1000.0 * a,
-        1000.0 * b
-    );
-    let label = if warn {
-        ui.colored_label(WARN, text)
-            .on_hover_text("Its sides differ by more than a fifth: the longer will gather")
-    } else {
-        ui.label(text)
-    };
-    label.on_hover_text("Pairs already sewn stay sewn when the seam is removed");
-    if s.stalled > 0 {
-        let [lo, hi] = s.stalled_gap.map(|g| 1000.0 * g);
-        let apart = match s.stalled {
-            1 => format!("{hi:.0} mm"),
-            _ => format!("{lo:.0}-{hi:.0} mm"),
-        };
-        ui.colored_label(
-            WARN,
-            format!("{} stopped closing, {apart} apart", s.stalled),
-        )
-        .on_hover_text(
-            "These pairs have come no nearer for three seconds: the body or the cloth \
-                 holds them apart (pieces too small to close round the body stop so). \
-                 Their stitches still pull; a cut, a pin moved, or a pinch that carries \
-                 the cloth over may let them close",
-        );
-    }
-}
-
-/// What a seam row that needs the designer's eye is written in.
-const WARN: egui::Color32 = egui::Color32::from_rgb(240, 170, 60);

@@ -33,6 +33,7 @@ pub(crate) use labels::label;
 pub use labels::seam_label;
 use labels::seam_labels;
 pub use notches::QUARTER_NOTCHES_MM;
+pub(crate) use notches::in_material;
 use notches::notches;
 pub use svg::svg_string;
 
@@ -626,4 +627,4 @@ pub fn write_pattern(pieces: &[Piece], dir: &Path) -> Result<Vec<PathBuf>, Expor
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

@@ -49,7 +49,7 @@ pub(super) fn seam_sides(p: &Piece) -> Vec<(String, Vec<DVec2>)> {
 
 /// Whether `q` lies in the piece's material (inside its outer loop and no hole; even-odd
 /// over the loops).
-pub(super) fn in_material(loops: &[Vec<DVec2>], q: DVec2) -> bool {
+pub(crate) fn in_material(loops: &[Vec<DVec2>], q: DVec2) -> bool {
     let mut inside = false;
     for l in loops {
         for i in 0..l.len() {

@@ -6,7 +6,7 @@ use crate::solver::{Cloth, Environment, Material, ModelKind, Simulation};
 use glam::Vec2;
 
 /// A flat `size` m square cloth of `n` x `n` cells on the floor.
-pub(super) fn square(size: f32, n: usize) -> Design {
+pub(crate) fn square(size: f32, n: usize) -> Design {
     let m = Material::default();
     let cloth = Cloth::new(ClothMesh::grid(size, size, n, n, 0.0).unwrap(), &m).unwrap();
     let sim = Simulation::new(

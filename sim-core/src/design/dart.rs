@@ -1,0 +1,181 @@
+//! A dart made in one step in the pattern plane: a wedge cut out of a piece from its
+//! edge to a point, and its two legs seamed, as a designer takes in a dart at a waist or
+//! a bust (`Design::dart_on_plane`). The same as the steps a designer can take one by one
+//! (two cuts from beyond the edge to the point, the wedge between deleted, a seam up each
+//! leg: docs/garments.md), done and undone as one operation, "dart".
+
+use glam::{DVec2, Vec2};
+
+use super::document::Design;
+use super::error::EditError;
+use super::prim::Edit;
+use super::sewing_pattern::{in_material, view_of};
+
+/// How far past the piece's edge a dart's cuts start, m: a cut that starts on the edge
+/// leaves a sliver there.
+const BEYOND_M: f32 = 0.01;
+
+/// How far off a cut's line a dart's leg's vertices may lie, m.
+const LEG_TOL_M: f32 = 1e-4;
+
+/// A dart's width at the edge, m: from 2 mm to 0.5 m.
+pub const DART_WIDTH_M: std::ops::RangeInclusive<f32> = 0.002..=0.5;
+
+impl Design {
+    /// A dart `width` m wide at the edge of the piece under `point`, from that point out
+    /// along the line to `toward` (beyond the edge), in the design's pattern plane (m),
+    /// as the studio's pattern view draws it: the wedge between is cut away and its two
+    /// legs seamed, so the dart closes as the cloth is simulated (welded pair by pair).
+    /// One undoable operation, "dart". Returns the stitched pairs. Refused, with nothing
+    /// changed, when `point` is on no piece, the line does not leave the piece, the
+    /// width is out of [`DART_WIDTH_M`], or a step fails (a wedge the cuts did not part
+    /// from the piece, legs with too few border vertices to seam).
+    pub fn dart_on_plane(
+        &mut self,
+        point: Vec2,
+        toward: Vec2,
+        width: f32,
+    ) -> Result<usize, EditError> {
+        if !(point.is_finite() && toward.is_finite() && point.distance(toward) > 1e-3) {
+            return Err(EditError::BadValue {
+                name: "dart line",
+                rule: "two finite points at least 1 mm apart, from the dart's point out",
+                value: format!("{point} to {toward}"),
+            });
+        }
+        if !DART_WIDTH_M.contains(&width) {
+            return Err(EditError::BadValue {
+                name: "dart width",
+                rule: "0.002 to 0.5 m",
+                value: width.to_string(),
+            });
+        }
+        self.check_editable()?;
+        let edge = self.edge_crossing(point, toward)?;
+        let side = (edge - point).perp().normalize_or_zero() * (0.5 * width);
+        let mouths = [edge + side, edge - side];
+        if mouths.iter().any(|m| m.distance(point) < 2.0 * width) {
+            return Err(EditError::BadValue {
+                name: "dart",
+                rule: "at least twice as long, from its point to the edge, as it is wide",
+                value: format!(
+                    "{:.0} mm long, {:.0} mm wide",
+                    edge.distance(point) * 1e3,
+                    width * 1e3
+                ),
+            });
+        }
+        let before = self.history.undo_len();
+        let done = self.dart_steps(point, mouths);
+        let steps = self.history.undo_len() - before;
+        match done {
+            Ok(pairs) => {
+                // The steps as one operation.
+                let mut prims = Vec::new();
+                let edits: Vec<Edit> = (0..steps).filter_map(|_| self.history.pop_undo()).collect();
+                for e in edits.into_iter().rev() {
+                    prims.extend(e.prims);
+                }
+                self.history.push_after_redo(Edit {
+                    label: "dart",
+                    prims,
+                    auto: false,
+                });
+                Ok(pairs)
+            }
+            Err(e) => {
+                for _ in 0..steps {
+                    self.undo()?;
+                }
+                Err(e)
+            }
+        }
+    }
+
+    /// The dart's steps (see [`Design::dart_on_plane`]), each its own edit.
+    fn dart_steps(&mut self, point: Vec2, mouths: [Vec2; 2]) -> Result<usize, EditError> {
+        let out = |m: Vec2| m + (m - point).normalize_or_zero() * BEYOND_M;
+        for m in mouths {
+            self.cut_line(out(m), point)?;
+        }
+        // The wedge: the piece under the middle of the triangle between the cuts.
+        let middle = (point + mouths[0] + mouths[1]) / 3.0;
+        // Each listed piece's outline (the list's order is not the parts').
+        let outlines: Vec<Vec<Vec<DVec2>>> = (self.listed().iter())
+            .map(|(_, slots)| {
+                let view = view_of(self, std::slice::from_ref(slots));
+                view.into_iter().next().map(|p| p.loops).unwrap_or_default()
+            })
+            .collect();
+        let holds = |q: Vec2| {
+            let q = DVec2::new(q.x as f64, q.y as f64);
+            outlines.iter().position(|l| in_material(l, q))
+        };
+        let wedge = holds(middle).filter(|&w| {
+            // Parted from the piece: the piece beside it is another.
+            let beside = point + (point - middle).normalize_or_zero() * 0.01;
+            holds(beside) != Some(w)
+        });
+        let Some(wedge) = wedge else {
+            return Err(EditError::NothingOnPattern {
+                what: "wedge parted from the piece by the dart's cuts",
+            });
+        };
+        self.delete_piece(wedge)?;
+        // The legs lie exactly on the cuts' lines: a tolerance of a drag's (a centimetre)
+        // took vertices of the other leg near the point, where the legs come that close.
+        self.seam_on_plane([mouths[0], point], [mouths[1], point], LEG_TOL_M)
+    }
+
+    /// Where the line from `point` (on a piece) toward `toward` first leaves that
+    /// piece's outline in the pattern plane.
+    fn edge_crossing(&self, point: Vec2, toward: Vec2) -> Result<Vec2, EditError> {
+        let d = |v: Vec2| DVec2::new(v.x as f64, v.y as f64);
+        let (p, q) = (d(point), d(toward));
+        let view = super::sewing_pattern::view_pieces(self);
+        let Some(piece) = view.iter().find(|pc| in_material(&pc.loops, p)) else {
+            return Err(EditError::NothingOnPattern {
+                what: "cloth under the dart's point",
+            });
+        };
+        let mut best: Option<f64> = None;
+        for l in &piece.loops {
+            for i in 0..l.len() {
+                let (a, b) = (l[i], l[(i + 1) % l.len()]);
+                let (r, s) = (q - p, b - a);
+                let den = r.perp_dot(s);
+                if den.abs() < 1e-15 {
+                    continue;
+                }
+                let t = (a - p).perp_dot(s) / den;
+                let u = (a - p).perp_dot(r) / den;
+                if (0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u) {
+                    best = Some(best.map_or(t, |b: f64| b.min(t)));
+                }
+            }
+        }
+        let Some(t) = best else {
+            return Err(EditError::NothingOnPattern {
+                what: "edge between the dart's point and the drag's end",
+            });
+        };
+        let e = p + (q - p) * t;
+        Ok(Vec2::new(e.x as f32, e.y as f32))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec2;
+
+    /// A dart 60 mm wide and 0.5 m long into a 1 m square of 8 x 8 cells (12.5 cm): one
+    /// step, its legs seamed from the edge to the point.
+    #[test]
+    fn a_dart_into_a_coarse_square_is_one_step() {
+        let mut d = super::super::sewing_pattern::tests::square(1.0, 8);
+        let r = d.dart_on_plane(Vec2::ZERO, Vec2::new(0.0, -0.9), 0.06);
+        let pairs = r.unwrap();
+        assert!(pairs >= 3, "{pairs}");
+        assert_eq!(d.history.undo_len(), 1);
+    }
+}
