@@ -1764,6 +1764,13 @@ fn a_dart_is_made_in_one_step_and_undone_in_one() {
         d.step().unwrap();
     }
     let s = d.seams.len() - 1;
+    // Each leg from the hem to the point (150 mm; a leg that ran round the point, or
+    // stopped short of it where the cut passed a vertex off its line, read 108 / 141).
+    let (la, lb) = d.seam_lengths(&d.seams[s]);
+    assert!(
+        (la - lb).abs() < 0.1 * la.max(lb) && la.min(lb) > 0.135,
+        "legs {la} / {lb} m"
+    );
     assert!(
         d.seams[s].pairs.iter().all(|(a, b)| a == b),
         "not all welded"

@@ -15,8 +15,13 @@ use super::sewing_pattern::{in_material, view_of};
 /// leaves a sliver there.
 const BEYOND_M: f32 = 0.01;
 
-/// How far off a cut's line a dart's leg's vertices may lie, m.
+/// How far off a cut's line a dart's leg is looked for, m: the point, and the cut's own
+/// vertices, lie on it.
 const LEG_TOL_M: f32 = 1e-4;
+
+/// How near a dart's point a vertex is taken for it, m: a cut passes through a vertex up
+/// to 3 mm off its line rather than leave a sliver (`trim.rs`'s `SNAP_M`).
+const LEG_OFF_M: f32 = 0.0035;
 
 /// A dart's width at the edge, m: from 2 mm to 0.5 m.
 pub const DART_WIDTH_M: std::ops::RangeInclusive<f32> = 0.002..=0.5;
@@ -122,9 +127,34 @@ impl Design {
             });
         };
         self.delete_piece(wedge)?;
-        // The legs lie exactly on the cuts' lines: a tolerance of a drag's (a centimetre)
-        // took vertices of the other leg near the point, where the legs come that close.
-        self.seam_on_plane([mouths[0], point], [mouths[1], point], LEG_TOL_M)
+        let [mut a, mut b] = mouths.map(|m| self.leg(m, point));
+        // A vertex both legs reach is the point (a cut can end on a vertex beside it).
+        let shared: Vec<u32> = a.iter().copied().filter(|v| b.contains(v)).collect();
+        a.retain(|v| !shared.contains(v));
+        b.retain(|v| !shared.contains(v));
+        if a.len() < 2 || b.len() < 2 {
+            return Err(EditError::NothingOnPattern {
+                what: "leg of two or more border vertices",
+            });
+        }
+        let pull = self.pair_pull(&a, &b, super::parts::STITCH_PULL);
+        self.add_seam(&a, &b, pull)
+    }
+
+    /// A dart's leg from its mouth `m` to its point: the border path along the cut's line
+    /// (found within [`LEG_TOL_M`]: a drag's centimetre took the other leg's vertices near
+    /// the point, where the legs come that close), up to the first vertex at the point
+    /// (within [`LEG_OFF_M`]: a cut can end on a vertex beside it), without it or what
+    /// the border does past it (where the two cuts end on one point the border can go
+    /// round a vertex beside it, or on down the other leg).
+    fn leg(&self, m: Vec2, point: Vec2) -> Vec<u32> {
+        let mut path = self.plane_path(m, point, LEG_TOL_M);
+        let at_point =
+            |v: u32| (self.places_of(v, true).iter()).any(|q| q.distance(point) <= LEG_OFF_M);
+        if let Some(k) = path.iter().position(|&v| at_point(v)) {
+            path.truncate(k);
+        }
+        path
     }
 
     /// Where the line from `point` (on a piece) toward `toward` first leaves that

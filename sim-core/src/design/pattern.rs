@@ -131,7 +131,7 @@ impl Design {
     }
 
     /// Vertex `v`'s places on the pattern plane (`plane`: its x and -z) or its UVs.
-    fn places_of(&self, v: u32, plane: bool) -> Vec<Vec2> {
+    pub(super) fn places_of(&self, v: u32, plane: bool) -> Vec<Vec2> {
         if plane {
             vertex_places(self, v, |t, k| Vec2::new(t.rest[k].x, -t.rest[k].z))
         } else {
