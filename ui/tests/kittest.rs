@@ -658,15 +658,7 @@ fn dart_by_a_drag(h: &mut Harness<'static, App>) {
         .rect();
     let n = commands(h).len();
     let c = egui::pos2(hint.center().x.max(200.0), hint.bottom() + 160.0);
-    let (a, b) = (c, c + egui::vec2(0.0, 120.0));
-    h.hover_at(a);
-    h.run_steps(1);
-    h.drag_at(a);
-    h.run_steps(2);
-    h.hover_at(b);
-    h.run_steps(2);
-    h.drop_at(b);
-    h.run_steps(2);
+    drag(h, c, c + egui::vec2(0.0, 120.0));
     let sent = commands(h);
     assert_eq!(sent.len(), n + 1, "one dart");
     let s = sent.last().unwrap();
@@ -678,6 +670,18 @@ fn dart_by_a_drag(h: &mut Harness<'static, App>) {
     h.get_by_label("Dart").click();
     h.run_steps(2);
     assert!(!h.state().pieces.darting);
+}
+
+/// A primary drag from `a` to `b`, held and moved as a hand does.
+fn drag(h: &mut Harness<'_, App>, a: egui::Pos2, b: egui::Pos2) {
+    h.hover_at(a);
+    h.run_steps(1);
+    h.drag_at(a);
+    h.run_steps(2);
+    h.hover_at(b);
+    h.run_steps(2);
+    h.drop_at(b);
+    h.run_steps(2);
 }
 
 /// With the Cut tool, one drag in the pattern view is a cut along its line (sent in the
@@ -705,15 +709,7 @@ fn pattern_middle(h: &Harness<'static, App>) -> egui::Pos2 {
 fn cut_drag(h: &mut Harness<'static, App>) -> shared::ui_to_sim::ToolCommand {
     let n = commands(h).len();
     let c = pattern_middle(h);
-    let (a, b) = (c + egui::vec2(-120.0, 0.0), c + egui::vec2(120.0, 0.0));
-    h.hover_at(a);
-    h.run_steps(1);
-    h.drag_at(a);
-    h.run_steps(2);
-    h.hover_at(b);
-    h.run_steps(2);
-    h.drop_at(b);
-    h.run_steps(2);
+    drag(h, c + egui::vec2(-120.0, 0.0), c + egui::vec2(120.0, 0.0));
     let sent = commands(h);
     assert_eq!(sent.len(), n + 1, "one cut");
     let s = *sent.last().unwrap();
@@ -856,16 +852,6 @@ fn seam_by_two_drags(h: &mut Harness<'static, App>) {
         egui::pos2(hint.left(), hint.bottom() + 8.0),
         egui::vec2(hint.width().max(300.0), 300.0),
     );
-    let drag = |h: &mut Harness<'_, App>, a: egui::Pos2, b: egui::Pos2| {
-        h.hover_at(a);
-        h.run_steps(1);
-        h.drag_at(a);
-        h.run_steps(2);
-        h.hover_at(b);
-        h.run_steps(2);
-        h.drop_at(b);
-        h.run_steps(2);
-    };
     let c = view.center();
     drag(h, c + egui::vec2(-60.0, -60.0), c + egui::vec2(-60.0, 60.0));
     assert_eq!(h.state().pieces.seam_sides.len(), 1);

@@ -9,7 +9,7 @@ use glam::{DVec2, Vec2};
 use super::document::Design;
 use super::error::EditError;
 use super::prim::Edit;
-use super::sewing_pattern::{in_material, view_of};
+use super::sewing_pattern::{in_material, line_hit, view_of};
 
 /// How far past the piece's edge a dart's cuts start, m: a cut that starts on the edge
 /// leaves a sliver there.
@@ -171,15 +171,9 @@ impl Design {
         let mut best: Option<f64> = None;
         for l in &piece.loops {
             for i in 0..l.len() {
-                let (a, b) = (l[i], l[(i + 1) % l.len()]);
-                let (r, s) = (q - p, b - a);
-                let den = r.perp_dot(s);
-                if den.abs() < 1e-15 {
-                    continue;
-                }
-                let t = (a - p).perp_dot(s) / den;
-                let u = (a - p).perp_dot(r) / den;
-                if (0.0..=1.0).contains(&t) && (0.0..=1.0).contains(&u) {
+                // `t`: the share of the way from the point to the drag's end.
+                let hit = line_hit(p, q - p, l[i], l[(i + 1) % l.len()]);
+                if let Some((t, _)) = hit.filter(|(t, _)| (0.0..=1.0).contains(t)) {
                     best = Some(best.map_or(t, |b: f64| b.min(t)));
                 }
             }

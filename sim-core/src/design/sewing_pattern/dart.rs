@@ -176,24 +176,29 @@ fn right(p: DVec2, q: DVec2) -> DVec2 {
     DVec2::new(t.y, -t.x)
 }
 
+/// Where the line from `o` along `u` meets segment `a`-`b`: `(s, r)`, the point `o + u s`
+/// at share `r` (clamped to 0..1) of the way from `a`; None if they are parallel or it
+/// misses the segment. A hit at a segment's end counts to rounding (a symmetric dart at a
+/// straight edge has its cap's mitre exactly on the legs' lines).
+pub(crate) fn line_hit(o: DVec2, u: DVec2, a: DVec2, b: DVec2) -> Option<(f64, f64)> {
+    let d = b - a;
+    let den = u.perp_dot(d);
+    if den.abs() < 1e-12 {
+        return None;
+    }
+    let r = (a - o).perp_dot(u) / den;
+    (-1e-7..=1.0 + 1e-7)
+        .contains(&r)
+        .then(|| ((a - o).perp_dot(d) / den, r.clamp(0.0, 1.0)))
+}
+
 /// Where the line from `o` along `u` (forwards only) meets polyline `q`, as an index along
 /// it (segment `k` from `q[k]` to `q[k + 1]` spans `k..k + 1`): the first such place.
 fn ray_hit(o: DVec2, u: DVec2, q: &[DVec2]) -> Option<f64> {
-    for (k, w) in q.windows(2).enumerate() {
-        let d = w[1] - w[0];
-        let den = u.perp_dot(d);
-        if den.abs() < 1e-12 {
-            continue;
-        }
-        let s = (w[0] - o).perp_dot(d) / den;
-        let r = (w[0] - o).perp_dot(u) / den;
-        // A symmetric dart at a straight edge has the mitre on leg A's line: the hit is
-        // at a segment's end, to rounding.
-        if s > 0.0 && (-1e-7..=1.0 + 1e-7).contains(&r) {
-            return Some(k as f64 + r.clamp(0.0, 1.0));
-        }
-    }
-    None
+    (q.windows(2).enumerate()).find_map(|(k, w)| {
+        let (s, r) = line_hit(o, u, w[0], w[1])?;
+        (s > 0.0).then_some(k as f64 + r)
+    })
 }
 
 /// The cut line across dart `dart` of loop `l` for an allowance `d` (see the module):
@@ -291,14 +296,10 @@ pub(super) fn leg_on_cut(cut: &[Vec<DVec2>], tip: DVec2, mouth: DVec2) -> DVec2 
     for l in cut {
         let closed: Vec<DVec2> = l.iter().chain(l.first()).copied().collect();
         for w in closed.windows(2) {
-            let d = w[1] - w[0];
-            let den = u.perp_dot(d);
-            if den.abs() < 1e-12 {
+            let Some((s, _)) = line_hit(mouth, u, w[0], w[1]) else {
                 continue;
-            }
-            let s = (w[0] - mouth).perp_dot(d) / den;
-            let r = (w[0] - mouth).perp_dot(u) / den;
-            if (-1e-9..1000.0).contains(&s) && (-1e-7..=1.0 + 1e-7).contains(&r) {
+            };
+            if (-1e-9..1000.0).contains(&s) {
                 let p = mouth + u * s;
                 if best.is_none_or(|b| b.distance(mouth) > p.distance(mouth)) {
                     best = Some(p);

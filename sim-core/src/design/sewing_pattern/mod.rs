@@ -28,6 +28,7 @@ use super::document::Design;
 use super::export::ExportError;
 use crate::mesh::sets::Sets;
 
+pub(crate) use dart::line_hit;
 pub use dxf::dxf_string;
 pub(crate) use labels::label;
 pub use labels::seam_label;
