@@ -102,21 +102,30 @@ pub fn svg_string(pieces: &[Piece]) -> String {
                 path_d(&p.loops, h)
             );
         }
-        for (label, a, b) in &p.seams {
+        // Each side of a seam is one path (a designer selects it as one object; a
+        // renderer draws a few paths, not hundreds of lines).
+        let sides = super::notches::seam_sides(p);
+        for (label, side) in &sides {
+            let mut d = String::new();
+            for (k, q) in side.iter().enumerate() {
+                let _ = write!(
+                    d,
+                    "{}{:.3},{:.3}",
+                    if k == 0 { "M" } else { " L" },
+                    q.x,
+                    h - q.y
+                );
+            }
             let _ = writeln!(
                 s,
-                "<line class=\"seam\" data-seam=\"{}\" x1=\"{:.3}\" y1=\"{:.3}\" x2=\"{:.3}\" y2=\"{:.3}\" stroke=\"#c02030\" stroke-width=\"1\"/>",
-                xml(label),
-                a.x,
-                h - a.y,
-                b.x,
-                h - b.y
+                "<path class=\"seam\" data-seam=\"{}\" d=\"{d}\" fill=\"none\" stroke=\"#c02030\" stroke-width=\"1\"/>",
+                xml(label)
             );
         }
         marks(&mut s, p, h);
         // A label for each side of a seam, inside the piece beside its middle (where its
         // middle notch is), clear of the corners where sides meet.
-        for (label, side) in super::notches::seam_sides(p) {
+        for (label, side) in sides {
             let (q, d) = super::notches::along(&side, 0.5);
             let mut n = DVec2::new(-d.y, d.x);
             if !super::notches::in_material(&p.loops, q + n * 0.5) {
