@@ -396,9 +396,11 @@ pub(crate) fn piece_list(design: &Design, seq: &mut u64) -> PieceList {
         });
         let notches = p.notches.iter().map(|&(a, b)| (outline::NOTCH, a, b));
         let grain = std::iter::once((outline::GRAIN, p.grain.0, p.grain.1));
+        let drills = p.drills.iter().map(|&q| (outline::DRILL, q, q));
         sewing
             .chain(notches)
             .chain(grain)
+            .chain(drills)
             .map(move |(kind, a, b)| (piece, kind, a, b))
     });
     for (piece, kind, a, b) in lines {
@@ -549,6 +551,47 @@ mod tests {
         .find(|g| g.seam == 1 && g.stretch == 2)
         .unwrap();
         assert_eq!(a.label("B"), "B2");
+    }
+
+    /// A dart's drill hole reaches the pattern view where the export drills it: a dart
+    /// up from the front's hem, one DRILL line (a point) on the front, none before.
+    #[test]
+    fn the_piece_list_carries_a_darts_drill_hole() {
+        let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+        cfg.piece_edge = 0.03;
+        let (mut d, _) = build_scene(&cfg).unwrap();
+        let drills = |l: &PieceList| -> Vec<OutlineSegment> {
+            (shared::sim_to_ui::check_outline(l).unwrap().into_iter())
+                .filter(|g| g.kind == outline::DRILL)
+                .collect()
+        };
+        assert!(drills(&piece_list(&d, &mut 0)).is_empty());
+        let (lo, hi) = sim_core::mesh::bounds2(&d.pieces[0].outline.loops[0]);
+        let off = d.pieces[0].offset;
+        let x = 0.5 * (lo.x + hi.x);
+        let point = glam::Vec2::new(x, lo.y + 0.3) + off;
+        let toward = glam::Vec2::new(x, lo.y - 0.05) + off;
+        d.dart_on_plane(point, toward, 0.04).unwrap();
+        let l = piece_list(&d, &mut 0);
+        let got = drills(&l);
+        assert_eq!(got.len(), 1, "{got:?}");
+        assert_eq!(got[0].a, got[0].b);
+        // Where the export drills it: the same place from the piece's lowest, leftmost
+        // corner (the export lays pieces out, in mm; the view keeps the plane's metres).
+        use sim_core::design::sewing_pattern::{finish, pieces};
+        let cut = finish(pieces(&d), 0.0);
+        let piece = cut.iter().find(|p| !p.drills.is_empty()).unwrap();
+        assert_eq!(piece.drills.len(), 1);
+        let names = shared::sim_to_ui::check_pieces(&l).unwrap();
+        assert_eq!(names[got[0].piece as usize].name, piece.name);
+        let corner = |l: &[glam::DVec2]| l.iter().fold(glam::DVec2::INFINITY, |m, q| m.min(*q));
+        let sewing: Vec<glam::DVec2> = (shared::sim_to_ui::check_outline(&l).unwrap().iter())
+            .filter(|g| g.piece == got[0].piece && g.kind == outline::SEWING_LINE)
+            .map(|g| glam::Vec2::from(g.a).as_dvec2() * 1000.0)
+            .collect();
+        let at = glam::Vec2::from(got[0].a).as_dvec2() * 1000.0 - corner(&sewing);
+        let want = piece.drills[0] - corner(&piece.loops[0]);
+        assert!(at.distance(want) < 0.05, "{at} mm against {want} mm");
     }
 
     /// A seam whose pairs stopped closing is listed so: a cloth hung from two corners

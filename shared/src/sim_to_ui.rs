@@ -400,7 +400,9 @@ pub mod outline {
     pub const NOTCH: u32 = 1;
     /// The grain line (the warp's direction).
     pub const GRAIN: u32 = 2;
-    pub const LAST: u32 = GRAIN;
+    /// A drill hole (a sewn dart's point, marked a little inside it): a point, `a == b`.
+    pub const DRILL: u32 = 3;
+    pub const LAST: u32 = DRILL;
 }
 
 /// One line of the pattern as cloth-sim's pattern out makes it, in the design's pattern
@@ -414,7 +416,7 @@ pub mod outline {
 pub struct OutlineSegment {
     /// The piece's place in `entries`, or `u32::MAX` for a piece past [`MAX_LISTED`].
     pub piece: u32,
-    /// [`outline`]`::SEWING_LINE`, `NOTCH` or `GRAIN`.
+    /// [`outline`]`::SEWING_LINE`, `NOTCH`, `GRAIN` or `DRILL`.
     pub kind: u32,
     pub a: [f32; 2],
     pub b: [f32; 2],

@@ -135,6 +135,7 @@ impl PatternFrame {
             }
         };
         let mut notches: Vec<(egui::Pos2, egui::Pos2)> = Vec::new();
+        let mut drills: Vec<egui::Pos2> = Vec::new();
         match pattern_lines(store) {
             Some(lines) => {
                 // Each run of joined segments as one path: drawn segment by segment, the
@@ -150,6 +151,10 @@ impl PatternFrame {
                     if g.kind == outline::NOTCH {
                         // Drawn over the seams below, at least 7 pixels long.
                         notches.push((a, b));
+                        continue;
+                    }
+                    if g.kind == outline::DRILL {
+                        drills.push(a);
                         continue;
                     }
                     if run.is_empty() {
@@ -177,6 +182,13 @@ impl PatternFrame {
         for (a, b) in notches {
             let d = (b - a).normalized() * (b - a).length().max(7.0);
             painter.line_segment([a, a + d], egui::Stroke::new(1.5, egui::Color32::WHITE));
+        }
+        // A drill hole as the export marks it: a circle and a cross, a few pixels across.
+        for q in drills {
+            let pen = egui::Stroke::new(1.0, egui::Color32::WHITE);
+            painter.circle_stroke(q, 3.5, pen);
+            painter.line_segment([q - egui::vec2(5.0, 0.0), q + egui::vec2(5.0, 0.0)], pen);
+            painter.line_segment([q - egui::vec2(0.0, 5.0), q + egui::vec2(0.0, 5.0)], pen);
         }
         // A stitch joins two vertices; each is drawn at its first place in the pattern.
         let mut place_of: std::collections::HashMap<u32, [f32; 2]> = Default::default();
@@ -276,10 +288,7 @@ impl PatternFrame {
 /// cut line), in the order the pieces first appear.
 pub(super) fn name_places(lines: &[OutlineSegment]) -> Vec<(u32, [f32; 2])> {
     let mut boxes: Vec<(u32, [f32; 2], [f32; 2])> = Vec::new();
-    for g in lines
-        .iter()
-        .filter(|g| g.kind != outline::GRAIN && g.kind != outline::NOTCH)
-    {
+    for g in lines.iter().filter(|g| g.kind == outline::SEWING_LINE) {
         let k = match boxes.iter().position(|b| b.0 == g.piece) {
             Some(k) => k,
             None => {
@@ -309,7 +318,7 @@ pub(super) const SNAP_PX: f32 = 14.0;
 /// 3 cm) turns less than that a segment.
 pub(super) fn corners(lines: &[OutlineSegment]) -> Vec<Corner> {
     let sewing: Vec<&OutlineSegment> = (lines.iter())
-        .filter(|g| g.kind != outline::GRAIN && g.kind != outline::NOTCH && g.a != g.b)
+        .filter(|g| g.kind == outline::SEWING_LINE && g.a != g.b)
         .collect();
     let mut out = Vec::new();
     let mut run: Vec<[f32; 2]> = Vec::new();
@@ -461,6 +470,7 @@ mod tests {
         lines.push(seg(2, outline::SEWING_LINE, [2.1, 0.0], [2.2, 0.01]));
         lines.push(seg(2, outline::NOTCH, [2.1, 0.0], [2.1, 0.05]));
         lines.push(seg(2, outline::GRAIN, [2.0, 0.2], [2.2, 0.2]));
+        lines.push(seg(2, outline::DRILL, [2.15, 0.03], [2.15, 0.03]));
         let found = corners(&lines);
         let mut at: Vec<[f32; 2]> = found.iter().map(|c| c.0).collect();
         at.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
@@ -492,7 +502,7 @@ mod tests {
     }
 
     /// A piece's name goes in the middle of its outline, whatever its grain line and
-    /// notches; each piece gets one place.
+    /// notches and drill holes; each piece gets one place.
     #[test]
     fn each_pieces_name_goes_in_the_middle_of_its_outline() {
         let square = |piece: u32, x0: f32| {
@@ -505,10 +515,11 @@ mod tests {
             })
         };
         let mut lines: Vec<OutlineSegment> = square(0, 0.0).chain(square(1, 0.6)).collect();
-        // A grain line and a notch that reach past the outline do not move the name.
+        // A grain line, a notch and a drill hole outside the outline do not move the name.
         for (kind, a, b) in [
             (outline::GRAIN, [-1.0, 0.25], [1.0, 0.25]),
             (outline::NOTCH, [0.6, 0.5], [0.6, 0.9]),
+            (outline::DRILL, [1.5, -0.5], [1.5, -0.5]),
         ] {
             lines.push(OutlineSegment {
                 piece: 1,

@@ -222,7 +222,9 @@ pub(crate) fn view_of(design: &Design, parts: &[Vec<u32>]) -> Vec<Piece> {
     });
     let longest = notches::longest_sides(&pieces);
     for p in &mut pieces {
-        p.notches = notches(p, 0.0, &longest, &dart::darts(p));
+        let darts = dart::darts(p);
+        p.notches = notches(p, 0.0, &longest, &darts);
+        p.drills = darts.iter().map(|d| d.drill(&p.loops)).collect();
         p.scale(1e-3);
     }
     pieces
