@@ -1782,6 +1782,18 @@ fn a_dart_is_made_in_one_step_and_undone_in_one() {
         10.0,
     );
     assert_eq!(laid.iter().map(|p| p.drills.len()).sum::<usize>(), 1);
+    // The drill hole 10 mm down from the point, 150 mm up from the hem (laid out
+    // without an allowance, the hem is at y = 0; the legs' seam may stop a cell short
+    // of it); the front one loop, no slit left beyond the point.
+    let laid =
+        sim_core::design::sewing_pattern::finish(sim_core::design::sewing_pattern::pieces(&d), 0.0);
+    let front = laid.iter().find(|p| !p.drills.is_empty()).unwrap();
+    assert!(
+        (115.0..=145.0).contains(&front.drills[0].y),
+        "drilled {} mm up",
+        front.drills[0].y
+    );
+    assert_eq!(front.loops.len(), 1, "{:?}", &front.loops[1..]);
 }
 
 /// A sleeve with a cap (its top curved 15 cm above its underarm corners), seamed to the

@@ -127,6 +127,17 @@ pub(super) fn darts(p: &Piece) -> Vec<Dart> {
                 steps += 1;
             }
             let tip = if g == 0 {
+                // A seam that runs on round the V: its point is the run's vertex
+                // farthest from the mouth (any vertex up a leg starts a run too).
+                let (m0, m1) = (l[a], l[b]);
+                let off = |q: DVec2| (m1 - m0).normalize_or_zero().perp_dot(q - m0).abs();
+                let run = (b + n - a) % n;
+                let far = (1..run)
+                    .map(|k| (a + k) % n)
+                    .max_by(|&i, &j| off(l[i]).total_cmp(&off(l[j])));
+                if far != Some(e) {
+                    continue;
+                }
                 l[e]
             } else {
                 match meet(l[a], l[e], l[s], l[b]) {

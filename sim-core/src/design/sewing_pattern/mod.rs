@@ -438,11 +438,12 @@ fn seam_segments(
     let own: Vec<Option<&String>> = (0..n).map(label).collect();
     let mut out: Vec<Option<&String>> = own.clone();
     for i in 0..n {
-        if own[i].is_some() || own[(i + n - 1) % n].is_none() {
+        // (`out` before: a run can follow a run just filled, one vertex between them.)
+        if own[i].is_some() || out[(i + n - 1) % n].is_none() {
             continue;
         }
         // A run of unlabelled edges starts at i: fill it if the same seam resumes soon.
-        let before = own[(i + n - 1) % n];
+        let before = out[(i + n - 1) % n];
         let dir = |e: usize| (places[&l[(e + 1) % n]] - places[&l[e % n]]).normalize_or_zero();
         let d0 = dir(i + n - 1);
         // The run ends at the first vertex of the same seam (a side's last vertex can

@@ -213,6 +213,31 @@ fn a_seam_skipping_vertices_on_a_straight_side_is_still_one_seam() {
     assert_eq!(edges(&[0, 1, 2, 4]), vec![(0, 1), (1, 2), (2, 3), (3, 4)]);
 }
 
+/// Two vertices skipped with one held between them (a dart's leg paired to a shorter
+/// one in the studio: its pattern lost the second run, and with it the dart): both runs
+/// are the seam's.
+#[test]
+fn a_seam_skipping_every_other_vertex_is_still_one_seam() {
+    // The bottom side runs 0..6; the seam holds 0, 1, 3, 5, 6.
+    let mut pts: Vec<(f64, f64)> = (0..7).map(|x| (x as f64, 0.0)).collect();
+    pts.extend([(6.0, 2.0), (0.0, 2.0)]);
+    let l: Vec<Key> = (0..pts.len() as u32)
+        .map(|v| (v, [v as i64, 0, 0]))
+        .collect();
+    let places: HashMap<Key, DVec2> = l
+        .iter()
+        .zip(&pts)
+        .map(|(k, &(x, y))| (*k, DVec2::new(x, y)))
+        .collect();
+    let seam_of: HashMap<u32, Vec<String>> = [0, 1, 3, 5, 6]
+        .into_iter()
+        .map(|v| (v, vec!["A".to_string()]))
+        .collect();
+    let s = seam_segments(&l, &places, &seam_of);
+    let edges: Vec<(u32, u32)> = s.iter().map(|(_, a, b)| (a.0, b.0)).collect();
+    assert_eq!(edges, (0..6).map(|v| (v, v + 1)).collect::<Vec<_>>());
+}
+
 #[test]
 fn offset_mitres_right_angles_and_bevels_sharp_corners() {
     let sq = vec![

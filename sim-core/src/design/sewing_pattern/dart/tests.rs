@@ -31,6 +31,30 @@ fn dart_at_hem() -> Piece {
     }
 }
 
+/// [`dart_at_hem`] with each leg in ten segments, the seam running on round the point
+/// (as welded legs are labelled): one dart, its tip the V's point, not a vertex up a leg
+/// (each of which starts a run of the seam too).
+#[test]
+fn a_seam_running_round_the_darts_point_finds_its_point() {
+    let mut p = dart_at_hem();
+    let l = &p.loops[0];
+    let mut v = vec![l[0]];
+    for (from, to) in [(l[1], l[2]), (l[2], l[3])] {
+        v.extend((0..10).map(|k| from.lerp(to, k as f64 / 10.0)));
+    }
+    v.extend_from_slice(&l[3..]);
+    p.seams = (1..21).map(|i| ("F".to_string(), v[i], v[i + 1])).collect();
+    p.loops = vec![v.clone()];
+    p.cut = p.loops.clone();
+    let found = darts(&p);
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert_eq!((found[0].a, found[0].b), (1, 21));
+    assert_eq!(found[0].tip, DVec2::new(250.0, 200.0));
+    // Its drill hole is 10 mm down its middle from the point.
+    let d = found[0].drill(&p.loops);
+    assert!(d.distance(DVec2::new(250.0, 190.0)) < 1e-9, "{d}");
+}
+
 /// The dart is found; its cut line is the hem's 10 mm allowance bridged by a cap, not a
 /// line up into the dart and back: folded shut (the half next to leg A mirrored in it,
 /// the half next to leg B turned onto leg A), every point of the cap lies on the hem's
