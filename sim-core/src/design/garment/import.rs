@@ -91,12 +91,16 @@ pub fn load_pattern(
 pub fn pattern_from_outlines(pieces: Vec<NamedOutline>) -> (PatternSpec, Vec<String>) {
     let mut spec = PatternSpec::default();
     let mut runs: Vec<(String, EdgeRef)> = Vec::new();
+    let mut apexes: std::collections::HashMap<String, Vec2> = Default::default();
     for (k, p) in pieces.into_iter().enumerate() {
         let mut outline = p.outline;
         if crate::mesh::mesher::signed_area2(&outline.loops[0]) < 0.0 {
             outline.loops[0].reverse();
         }
-        for (label, from, to) in stretches(&outline.loops[0], &p.marks) {
+        for (label, from, to, apex) in stretches(&outline.loops[0], &p.marks) {
+            if let Some(apex) = apex {
+                apexes.insert(label.clone(), apex);
+            }
             runs.push((label, EdgeRef { piece: k, from, to }));
         }
         spec.pieces.push(PieceSpec {
@@ -120,6 +124,26 @@ pub fn pattern_from_outlines(pieces: Vec<NamedOutline>) -> (PatternSpec, Vec<Str
         .map(|p| &p.outline.loops[0][..])
         .collect();
     for (label, mut sides) in by_label {
+        // A dart, marked as one stretch round its point (as our export marks a dart's
+        // welded legs): its legs, each counter-clockwise, sewn mouth to mouth.
+        if let ([one], Some(&apex)) = (&sides[..], apexes.get(&label)) {
+            let (piece, from, to) = (one.piece, one.from, one.to);
+            spec.seams.push(SeamSpec {
+                label,
+                a: EdgeRef {
+                    piece,
+                    from,
+                    to: apex,
+                },
+                b: EdgeRef {
+                    piece,
+                    from: apex,
+                    to,
+                },
+                reversed: Some(true),
+            });
+            continue;
+        }
         let bridged = bridge_gaps(&mut sides, &loops);
         if let [a, b] = sides[..] {
             for (piece, gap) in bridged {
@@ -197,8 +221,9 @@ fn bridge_gaps(sides: &mut Vec<EdgeRef>, loops: &[&[Vec2]]) -> Vec<(usize, f32)>
 }
 
 /// The marked stretches of outer loop `l`: per label, its marks chained where they meet,
-/// each chain as the points it starts and ends at going counter-clockwise.
-fn stretches(l: &[Vec2], marks: &[SeamMark]) -> Vec<(String, Vec2, Vec2)> {
+/// each chain as the points it starts and ends at going counter-clockwise, and the point
+/// of the dart it marks, if it turns back as one does ([`dart_point`]).
+fn stretches(l: &[Vec2], marks: &[SeamMark]) -> Vec<(String, Vec2, Vec2, Option<Vec2>)> {
     let n = marks.len();
     let mut sets = Sets::new(n);
     // Marks of one label meet where their ends lie within `MEET` of each other: the ends
@@ -274,9 +299,27 @@ fn stretches(l: &[Vec2], marks: &[SeamMark]) -> Vec<(String, Vec2, Vec2)> {
             .unwrap_or(0);
         let from = pts[(widest + 1) % k].1;
         let to = pts[widest].1;
-        out.push((marks[chain[0]].label.clone(), from, to));
+        let along = (1..k).map(|i| pts[(widest + 1 + i) % k].1);
+        let apex = dart_point(from, to, along);
+        out.push((marks[chain[0]].label.clone(), from, to, apex));
     }
     out
+}
+
+/// The point of a dart marked as one stretch from `from` to `to` through `along`: the
+/// point farthest from the line between its ends, where the stretch turns back within
+/// 60 degrees, its legs within 1.25x of each other (as the pattern out finds a dart).
+fn dart_point(from: Vec2, to: Vec2, along: impl Iterator<Item = Vec2>) -> Option<Vec2> {
+    let chord = (to - from).normalize_or_zero();
+    let apex = along.max_by(|a, b| {
+        let off = |q: Vec2| chord.perp_dot(q - from).abs();
+        off(*a).total_cmp(&off(*b))
+    })?;
+    let (ta, tb) = (from - apex, to - apex);
+    let (la, lb) = (ta.length(), tb.length());
+    let alike = la > 0.0 && lb > 0.0 && la.max(lb) <= 1.25 * la.min(lb);
+    let theta = ta.angle_to(tb).abs();
+    (alike && theta <= std::f32::consts::FRAC_PI_3 && from.distance(to) > 0.0).then_some(apex)
 }
 
 #[cfg(test)]
@@ -407,5 +450,50 @@ mod tests {
             (Vec2::new(1.0, 0.0), Vec2::new(1.0, 1.0))
         );
         assert_eq!(notices.len(), n);
+    }
+
+    /// A dart marked as one stretch round its point, as our export marks welded legs
+    /// (before, "marked on 1 stretches ... left unsewn" and the dart was lost on the way
+    /// back in): its two legs, sewn mouth to mouth. On two pieces the same turn is no
+    /// dart: each piece's stretch stays whole.
+    #[test]
+    fn a_dart_marked_round_its_point_is_sewn_leg_to_leg() {
+        let v = Vec2::new;
+        let l = vec![
+            v(0.0, 0.0),
+            v(0.45, 0.0),
+            v(0.5, 0.3),
+            v(0.55, 0.0),
+            v(1.0, 0.0),
+            v(1.0, 1.0),
+            v(0.0, 1.0),
+        ];
+        let piece = |name: &str, marks| NamedOutline {
+            name: name.into(),
+            outline: Outline {
+                loops: vec![l.clone()],
+            },
+            marks,
+        };
+        let e = || {
+            vec![
+                mark("E", (0.45, 0.0), (0.475, 0.15)),
+                mark("E", (0.475, 0.15), (0.5, 0.3)),
+                mark("E", (0.5, 0.3), (0.55, 0.0)),
+            ]
+        };
+        let (spec, notices) = pattern_from_outlines(vec![piece("front", e())]);
+        assert!(notices.is_empty(), "{notices:?}");
+        assert_eq!(spec.seams.len(), 1);
+        let s = &spec.seams[0];
+        assert_eq!((s.a.from, s.a.to), (v(0.45, 0.0), v(0.5, 0.3)));
+        assert_eq!((s.b.from, s.b.to), (v(0.5, 0.3), v(0.55, 0.0)));
+        assert_eq!(s.reversed, Some(true), "mouth to mouth");
+        let (spec, _) = pattern_from_outlines(vec![piece("front", e()), piece("back", e())]);
+        assert_eq!(spec.seams.len(), 1);
+        assert_eq!(
+            (spec.seams[0].a.from, spec.seams[0].a.to),
+            (v(0.45, 0.0), v(0.55, 0.0))
+        );
     }
 }

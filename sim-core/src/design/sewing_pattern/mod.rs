@@ -552,6 +552,11 @@ pub fn finish(mut pieces: Vec<Piece>, allowance_mm: f64) -> Vec<Piece> {
             // offset crosses itself: the loops it closes off are not cut.
             p.cut = (p.loops.iter().enumerate())
                 .map(|(i, l)| {
+                    // A slit (a hole of no area: a cut that ends inside the piece) is
+                    // cut as it is: offset, it became a hole twice the allowance wide.
+                    if i > 0 && area2(l).abs() < 2.0 * SLIT_MM2 {
+                        return l.clone();
+                    }
                     let here: Vec<&dart::Dart> =
                         darts.iter().filter(|d| d.loop_index == i).collect();
                     let cut = dart::cut_line(l, allowance_mm, &here);
@@ -596,6 +601,9 @@ pub fn finish(mut pieces: Vec<Piece>, allowance_mm: f64) -> Vec<Piece> {
     }
     pieces
 }
+
+/// A hole in a piece with less area than this (mm²) is a slit: cut along, not round.
+const SLIT_MM2: f64 = 1.0;
 
 /// Largest seam allowance, mm.
 pub const MAX_ALLOWANCE_MM: f64 = 100.0;

@@ -347,3 +347,44 @@ fn both_sides_of_a_seam_get_the_same_notches() {
     // Alone, the short side has one (its middle).
     assert_eq!(finish(vec![piece(short)], 10.0)[0].notches.len(), 1);
 }
+
+/// A slit inside a piece (a cut that ends inside it, as a dart's two cuts can leave
+/// beyond its point) is cut along as it is; offset by the allowance it was a hole 20 mm
+/// wide. A real hole is still cut round, the allowance inside it.
+#[test]
+fn a_slit_is_cut_along_and_a_hole_round() {
+    let v = DVec2::new;
+    let outer = vec![v(0.0, 0.0), v(300.0, 0.0), v(300.0, 300.0), v(0.0, 300.0)];
+    let slit = vec![
+        v(100.0, 100.0),
+        v(110.0, 105.0),
+        v(120.0, 100.0),
+        v(110.0, 105.0),
+    ];
+    let hole = vec![
+        v(200.0, 200.0),
+        v(200.0, 240.0),
+        v(240.0, 240.0),
+        v(240.0, 200.0),
+    ];
+    let piece = Piece {
+        name: "p".into(),
+        loops: vec![outer.clone(), slit.clone(), hole.clone()],
+        cut: vec![outer, slit.clone(), hole.clone()],
+        seams: vec![],
+        seam_names: vec![],
+        grain: (v(50.0, 150.0), v(250.0, 150.0)),
+        fabric: "cloth".into(),
+        notches: vec![],
+        drills: vec![],
+    };
+    let f = finish(vec![piece], 10.0).remove(0);
+    let shift = f.loops[0][0];
+    let back = |l: &[DVec2]| l.iter().map(|&q| q - shift).collect::<Vec<_>>();
+    assert_eq!(back(&f.cut[1]), slit);
+    assert!(
+        area2(&f.cut[2]).abs() < 0.5 * area2(&hole).abs(),
+        "{:?}",
+        f.cut[2]
+    );
+}
