@@ -5,6 +5,7 @@
 //! leg: docs/garments.md), done and undone as one operation, "dart".
 
 use glam::{DVec2, Vec2};
+use rustc_hash::FxHashMap as HashMap;
 
 use super::document::Design;
 use super::error::EditError;
@@ -22,6 +23,10 @@ const LEG_TOL_M: f32 = 1e-4;
 /// How near a dart's point a vertex is taken for it, m: a cut passes through a vertex up
 /// to 3 mm off its line rather than leave a sliver (`trim.rs`'s `SNAP_M`).
 const LEG_OFF_M: f32 = 0.0035;
+
+/// How far from a dart's point what its cuts leave round it is looked for (a slit, or a
+/// cut's end opened on to a vertex beside the point: 10-25 mm seen at 1.5-3 cm edges).
+const ROUND_M: f32 = 0.04;
 
 /// A dart's width at the edge, m: from 2 mm to 0.5 m.
 pub const DART_WIDTH_M: std::ops::RangeInclusive<f32> = 0.002..=0.5;
@@ -137,6 +142,13 @@ impl Design {
                 what: "leg of two or more border vertices",
             });
         }
+        // What the cuts leave between the legs' ends round the point (a slit where they
+        // went through one vertex, or on to a vertex beside the point) is sewn shut:
+        // its two sides, outside in, go on the legs.
+        let round = self.border_between(a[a.len() - 1], b[b.len() - 1], point);
+        let half = round.len() / 2;
+        a.extend(&round[..half]);
+        b.extend(round[round.len() - half..].iter().rev());
         let pull = self.pair_pull(&a, &b, super::parts::STITCH_PULL);
         self.add_seam(&a, &b, pull)
     }
@@ -155,6 +167,36 @@ impl Design {
             path.truncate(k);
         }
         path
+    }
+
+    /// The border vertices strictly between `from` and `to`, the shortest way along the
+    /// border through vertices within [`ROUND_M`] of `point` (empty when there is none).
+    fn border_between(&self, from: u32, to: u32, point: Vec2) -> Vec<u32> {
+        let live = &self.sim.cloth.live;
+        let near = |v: u32| (self.places_of(v, true).iter()).any(|q| q.distance(point) <= ROUND_M);
+        let mut came: HashMap<u32, u32> = HashMap::default();
+        let mut queue = std::collections::VecDeque::from([from]);
+        came.insert(from, from);
+        while let Some(v) = queue.pop_front() {
+            if v == to {
+                let mut path = Vec::new();
+                let mut at = came[&to];
+                while at != from {
+                    path.push(at);
+                    at = came[&at];
+                }
+                path.reverse();
+                return path;
+            }
+            for u in live.neighbours(v) {
+                let border = live.edge(v, u)[1] == crate::mesh::live::NONE;
+                if border && !came.contains_key(&u) && (u == to || near(u)) {
+                    came.insert(u, v);
+                    queue.push_back(u);
+                }
+            }
+        }
+        Vec::new()
     }
 
     /// Where the line from `point` (on a piece) toward `toward` first leaves that

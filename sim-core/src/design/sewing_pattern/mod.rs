@@ -552,9 +552,12 @@ pub fn finish(mut pieces: Vec<Piece>, allowance_mm: f64) -> Vec<Piece> {
             // offset crosses itself: the loops it closes off are not cut.
             p.cut = (p.loops.iter().enumerate())
                 .map(|(i, l)| {
-                    // A slit (a hole of no area: a cut that ends inside the piece) is
-                    // cut as it is: offset, it became a hole twice the allowance wide.
-                    if i > 0 && area2(l).abs() < 2.0 * SLIT_MM2 {
+                    // A slit (a hole with no width: a cut that ends inside the piece)
+                    // is cut as it is: offset, it became a hole twice the allowance wide.
+                    let perimeter: f64 = (0..l.len())
+                        .map(|k| l[k].distance(l[(k + 1) % l.len()]))
+                        .sum();
+                    if i > 0 && area2(l).abs() < SLIT_MM * perimeter {
                         return l.clone();
                     }
                     let here: Vec<&dart::Dart> =
@@ -602,8 +605,9 @@ pub fn finish(mut pieces: Vec<Piece>, allowance_mm: f64) -> Vec<Piece> {
     pieces
 }
 
-/// A hole in a piece with less area than this (mm²) is a slit: cut along, not round.
-const SLIT_MM2: f64 = 1.0;
+/// A hole in a piece narrower than this on average (mm: twice its area over its
+/// perimeter) is a slit: cut along, not round.
+const SLIT_MM: f64 = 1.0;
 
 /// Largest seam allowance, mm.
 pub const MAX_ALLOWANCE_MM: f64 = 100.0;

@@ -348,9 +348,9 @@ fn both_sides_of_a_seam_get_the_same_notches() {
     assert_eq!(finish(vec![piece(short)], 10.0)[0].notches.len(), 1);
 }
 
-/// A slit inside a piece (a cut that ends inside it, as a dart's two cuts can leave
+/// A slit inside a piece (a cut that ends inside it, as a dart's two cuts could leave
 /// beyond its point) is cut along as it is; offset by the allowance it was a hole 20 mm
-/// wide. A real hole is still cut round, the allowance inside it.
+/// wide. A real hole, 40 mm across, is still cut round, the allowance inside it.
 #[test]
 fn a_slit_is_cut_along_and_a_hole_round() {
     let v = DVec2::new;

@@ -262,3 +262,31 @@ fn every_symmetric_dart_is_capped() {
         );
     }
 }
+
+/// A dart 40 x 330 mm up the sewn dress's front at 3 cm edges: its two cuts meet near
+/// the point on one vertex and the first's end opens on to a vertex beside it, which
+/// left a slit past the V's point (a 4-vertex hole in the pattern, open in the cloth).
+/// Sewn shut with the legs: the front is one loop, every pair welds, nothing crosses.
+#[test]
+fn what_a_darts_cuts_leave_at_its_point_is_sewn_shut() {
+    use crate::scenario::{ScenarioConfig, ScenarioName, build_scene};
+    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+    cfg.piece_edge = 0.03;
+    let (mut d, spec) = build_scene(&cfg).unwrap();
+    crate::design::garment::sew(&mut d, &spec.unwrap(), 0.5).unwrap();
+    let (lo, _) = crate::mesh::bounds2(&d.pieces[0].outline.loops[0]);
+    let at = |y: f32| Vec2::new(lo.x + 0.12, lo.y + y) + d.pieces[0].offset;
+    d.dart_on_plane(at(0.33), at(-0.06), 0.04).unwrap();
+    for _ in 0..150 {
+        d.step().unwrap();
+    }
+    let s = d.seams.last().unwrap();
+    assert!(s.pairs.iter().all(|(a, b)| a == b), "{:?}", s.pairs);
+    let laid = finish(pieces(&d), 0.0);
+    let front = laid.iter().find(|f| f.name == "front").unwrap();
+    assert_eq!(front.loops.len(), 1, "{:?}", &front.loops[1..]);
+    assert_eq!(darts(front).len(), 1);
+    let tris: Vec<[u32; 3]> = d.sim.cloth.live.iter().map(|(_, t)| t.v).collect();
+    let c = crate::collision::crossings::count(&d.sim.cloth.x, &tris, d.sim.body.as_ref());
+    assert_eq!((c.self_pairs, c.body_pairs), (0, 0));
+}
