@@ -91,7 +91,7 @@ pub fn load_pattern(
 pub fn pattern_from_outlines(pieces: Vec<NamedOutline>) -> (PatternSpec, Vec<String>) {
     let mut spec = PatternSpec::default();
     let mut runs: Vec<(String, EdgeRef)> = Vec::new();
-    let mut apexes: std::collections::HashMap<String, Vec2> = Default::default();
+    let mut apexes: HashMap<String, Vec2> = HashMap::new();
     for (k, p) in pieces.into_iter().enumerate() {
         let mut outline = p.outline;
         if crate::mesh::mesher::signed_area2(&outline.loops[0]) < 0.0 {
