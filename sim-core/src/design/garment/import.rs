@@ -317,9 +317,11 @@ fn dart_point(from: Vec2, to: Vec2, along: impl Iterator<Item = Vec2>) -> Option
     })?;
     let (ta, tb) = (from - apex, to - apex);
     let (la, lb) = (ta.length(), tb.length());
-    let alike = la > 0.0 && lb > 0.0 && la.max(lb) <= 1.25 * la.min(lb);
+    // The pattern out's rule for a dart, so that what it marks reads back as one.
+    use crate::design::sewing_pattern::dart::{LEGS_RATIO, WIDEST};
+    let alike = la > 0.0 && lb > 0.0 && la.max(lb) <= LEGS_RATIO as f32 * la.min(lb);
     let theta = ta.angle_to(tb).abs();
-    (alike && theta <= std::f32::consts::FRAC_PI_3 && from.distance(to) > 0.0).then_some(apex)
+    (alike && theta <= WIDEST as f32 && from.distance(to) > 0.0).then_some(apex)
 }
 
 #[cfg(test)]

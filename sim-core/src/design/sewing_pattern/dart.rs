@@ -30,10 +30,10 @@ use super::Piece;
 
 /// The widest dart (radians) given a cap: 60 degrees. A seam that turns a wider corner
 /// on one piece is not a dart.
-const WIDEST: f64 = std::f64::consts::FRAC_PI_3;
+pub(crate) const WIDEST: f64 = std::f64::consts::FRAC_PI_3;
 
 /// How much longer one leg of a dart may be than the other.
-const LEGS_RATIO: f64 = 1.25;
+pub(crate) const LEGS_RATIO: f64 = 1.25;
 
 /// The most outline edges, unsewn, between a dart's sewn legs: its seam can stop short
 /// of its point (the studio's left 6 mm there; a drag that ends short of it, more), and

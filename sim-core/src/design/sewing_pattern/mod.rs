@@ -12,7 +12,7 @@
 //! `svg.rs` and `dxf.rs` write the pieces, laid out side by side without overlap, in
 //! millimetres.
 
-mod dart;
+pub(crate) mod dart;
 mod dxf;
 mod labels;
 mod notches;

@@ -8,21 +8,25 @@ use glam::DVec2;
 
 use super::Piece;
 
-fn path_d(loops: &[Vec<DVec2>], h: f64) -> String {
+/// A polyline's path data ("M x,y L x,y ..."), y flipped on a page `h` high.
+fn line_d(points: &[DVec2], h: f64) -> String {
     let mut d = String::new();
-    for l in loops {
-        for (i, p) in l.iter().enumerate() {
-            let _ = write!(
-                d,
-                "{}{:.3},{:.3} ",
-                if i == 0 { "M" } else { "L" },
-                p.x,
-                h - p.y
-            );
-        }
-        d.push_str("Z ");
+    for (i, p) in points.iter().enumerate() {
+        let _ = write!(
+            d,
+            "{}{:.3},{:.3} ",
+            if i == 0 { "M" } else { "L" },
+            p.x,
+            h - p.y
+        );
     }
     d.trim_end().to_string()
+}
+
+/// Closed loops' path data, each its polyline and "Z".
+fn path_d(loops: &[Vec<DVec2>], h: f64) -> String {
+    let loops: Vec<String> = loops.iter().map(|l| line_d(l, h) + " Z").collect();
+    loops.join(" ")
 }
 
 /// Escapes text for XML.
@@ -106,20 +110,11 @@ pub fn svg_string(pieces: &[Piece]) -> String {
         // renderer draws a few paths, not hundreds of lines).
         let sides = super::notches::seam_sides(p);
         for (label, side) in &sides {
-            let mut d = String::new();
-            for (k, q) in side.iter().enumerate() {
-                let _ = write!(
-                    d,
-                    "{}{:.3},{:.3}",
-                    if k == 0 { "M" } else { " L" },
-                    q.x,
-                    h - q.y
-                );
-            }
             let _ = writeln!(
                 s,
-                "<path class=\"seam\" data-seam=\"{}\" d=\"{d}\" fill=\"none\" stroke=\"#c02030\" stroke-width=\"1\"/>",
-                xml(label)
+                "<path class=\"seam\" data-seam=\"{}\" d=\"{}\" fill=\"none\" stroke=\"#c02030\" stroke-width=\"1\"/>",
+                xml(label),
+                line_d(side, h)
             );
         }
         marks(&mut s, p, h);
