@@ -28,6 +28,20 @@ const LEG_OFF_M: f32 = 0.0035;
 /// cut's end opened on to a vertex beside the point: 10-25 mm seen at 1.5-3 cm edges).
 const ROUND_M: f32 = 0.04;
 
+/// How far outside a dart's wedge a piece parted from it may reach and still be taken
+/// for a fragment of it, m.
+const FRAGMENT_M: f32 = 1e-3;
+
+/// Whether `q` lies in triangle `t` or within `tol` of it.
+fn in_triangle(t: [Vec2; 3], q: Vec2, tol: f32) -> bool {
+    let turn = (t[1] - t[0]).perp_dot(t[2] - t[0]).signum();
+    (0..3).all(|k| {
+        let (a, b) = (t[k], t[(k + 1) % 3]);
+        let n = (b - a).normalize_or_zero();
+        turn * n.perp_dot(q - a) >= -tol
+    })
+}
+
 /// A dart's width at the edge, m: from 2 mm to 0.5 m.
 pub const DART_WIDTH_M: std::ops::RangeInclusive<f32> = 0.002..=0.5;
 
@@ -132,6 +146,18 @@ impl Design {
             });
         };
         self.delete_piece(wedge)?;
+        // A cut that passes a vertex near the edge can part a triangle or two of the
+        // wedge from the rest (a one-triangle piece "front 2" was left at the hem): every
+        // piece wholly inside the wedge goes with it.
+        let wedge = [point, out(mouths[0]), out(mouths[1])];
+        while let Some(k) = self.listed().iter().position(|(_, slots)| {
+            let view = view_of(self, std::slice::from_ref(slots));
+            view.first().is_some_and(|p| {
+                (p.loops.iter().flatten()).all(|q| in_triangle(wedge, q.as_vec2(), FRAGMENT_M))
+            })
+        }) {
+            self.delete_piece(k)?;
+        }
         let [mut a, mut b] = mouths.map(|m| self.leg(m, point));
         // A vertex both legs reach is the point (a cut can end on a vertex beside it).
         let shared: Vec<u32> = a.iter().copied().filter(|v| b.contains(v)).collect();

@@ -326,7 +326,8 @@ fn pieces_in(
 
 /// `key_loops` (a part's outline, `c` its corners) without the slits the cloth has sewn
 /// shut: a hole under [`SLIT_MM`] wide whose every edge, in the cloth, is between two of
-/// the part's triangles (its sides welded to each other, as the legs' welds close the
+/// the part's triangles or is no edge, its ends welded into one vertex (its sides welded
+/// to each other, as the legs' welds close the
 /// slit a dart's two cuts can leave past its point). Such a cut is no cut in the fabric;
 /// left in, it touched the outline at the dart's point, which no pattern reader takes
 /// (ours: "the outline crosses itself"). The largest loop always stays.
@@ -358,8 +359,12 @@ fn sewn_shut_dropped(
             let n = l.len();
             let slit =
                 area(l) < SLIT_MM * perimeter(&l.iter().map(|k| places[k]).collect::<Vec<_>>());
-            let shut =
-                (0..n).all(|k| in_tris.get(&undirected(l[k].0, l[(k + 1) % n].0)) == Some(&2));
+            // Each side between two of the part's triangles, or welded to nothing (its
+            // two ends merged into one vertex).
+            let shut = (0..n).all(|k| {
+                let (a, b) = (l[k].0, l[(k + 1) % n].0);
+                a == b || in_tris.get(&undirected(a, b)) == Some(&2)
+            });
             *i == outer || !(slit && shut)
         })
         .map(|(_, l)| l)

@@ -321,3 +321,27 @@ fn a_slit_sewn_shut_past_a_darts_point_is_no_cut() {
         crate::mesh::mesher::mesh_outline(&p.outline, 0.03).unwrap();
     }
 }
+
+/// A dart 40 x 250 mm up the sewn dress's front 12 cm from its side, at 2 cm edges: one
+/// cut passes a vertex near the hem and parts a triangle of the wedge from the rest. It
+/// was left as a piece of its own ("front 2", one triangle), which fell with the cloth
+/// and came out in the pattern as a third piece 2 mm across. Every piece wholly inside
+/// the wedge now goes with it.
+#[test]
+fn a_triangle_the_cuts_part_from_the_wedge_goes_with_it() {
+    use crate::scenario::{ScenarioConfig, ScenarioName, build_scene};
+    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+    cfg.piece_edge = 0.02;
+    let (mut d, spec) = build_scene(&cfg).unwrap();
+    crate::design::garment::sew(&mut d, &spec.unwrap(), 0.5).unwrap();
+    let (lo, _) = crate::mesh::bounds2(&d.pieces[0].outline.loops[0]);
+    let at = |y: f32| Vec2::new(lo.x + 0.12, lo.y + y) + d.pieces[0].offset;
+    d.dart_on_plane(at(0.25), at(-0.06), 0.04).unwrap();
+    let list = d.piece_list();
+    let names: Vec<(&str, usize)> = list.iter().map(|p| (&p.name[..], p.vertices)).collect();
+    assert_eq!(list.len(), 2, "{names:?}");
+    assert!(list.iter().all(|p| p.vertices > 100), "{names:?}");
+    // One undo puts the wedge and its fragment back.
+    assert_eq!(d.undo().unwrap(), "dart");
+    assert_eq!(d.piece_list().len(), 2);
+}
