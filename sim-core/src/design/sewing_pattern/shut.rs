@@ -10,9 +10,9 @@ use super::{Corners, Key, SLIT_MM, area2, perimeter};
 /// shut: a hole under [`SLIT_MM`] wide whose every edge, in the cloth, is between two of
 /// the part's triangles or is no edge, its ends welded into one vertex (its sides welded
 /// to each other, as the legs' welds close the slit a dart's two cuts can leave past its
-/// point). Such a cut is no cut in the fabric;
-/// left in, it touched the outline at the dart's point, which no pattern reader takes
-/// (ours: "the outline crosses itself"). The largest loop always stays.
+/// point). Such a cut is no cut in the fabric; left in, it touched the outline at the
+/// dart's point, which no pattern reader takes (ours: "the outline crosses itself").
+/// The largest loop always stays.
 pub(super) fn sewn_shut_dropped(
     key_loops: Vec<Vec<Key>>,
     c: &Corners,
