@@ -4,6 +4,18 @@ use super::*;
 use sim_core::scenario::garment::SEAM_PULL;
 use sim_core::scenario::{ScenarioConfig, ScenarioName, build_scene};
 
+/// The edge the dress is meshed at where a test needs only its seams, m.
+const DRESS_EDGE: f32 = 0.06;
+
+/// The dress scenario's design at `edge` m edges, its seams sewn.
+fn sewn_dress(edge: f32) -> sim_core::design::Design {
+    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+    cfg.piece_edge = edge;
+    let (mut d, spec) = build_scene(&cfg).unwrap();
+    sim_core::design::garment::sew(&mut d, &spec.unwrap(), SEAM_PULL).unwrap();
+    d
+}
+
 /// The dress's list names its seams and draws each of its four seams along both its
 /// sides: the segments
 /// of a seam are as long as its two sides together, but for an edge at each end
@@ -11,10 +23,7 @@ use sim_core::scenario::{ScenarioConfig, ScenarioName, build_scene};
 /// stitched vertices skip one). One side alone would be half.
 #[test]
 fn the_piece_list_draws_every_seam_along_both_sides() {
-    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
-    cfg.piece_edge = 0.06;
-    let (mut d, spec) = build_scene(&cfg).unwrap();
-    sim_core::design::garment::sew(&mut d, &spec.unwrap(), SEAM_PULL).unwrap();
+    let mut d = sewn_dress(DRESS_EDGE);
     d.name_seam(2, "left side, the longest name a seam could ever have")
         .unwrap();
     let mut l = piece_list(&d, &mut 0);
@@ -32,7 +41,7 @@ fn the_piece_list_draws_every_seam_along_both_sides() {
             .sum();
         let sides = s.lengths[0] + s.lengths[1];
         assert!(
-            drawn <= sides + 0.01 && drawn >= sides - 2.0 * cfg.piece_edge,
+            drawn <= sides + 0.01 && drawn >= sides - 2.0 * DRESS_EDGE,
             "seam {}: drawn {drawn} m, sides {sides} m",
             s.label()
         );
@@ -88,10 +97,7 @@ fn the_piece_list_draws_every_seam_along_both_sides() {
 /// a split seam's every segment: "B1" named no seam).
 #[test]
 fn a_seam_cut_across_is_drawn_by_its_stretches() {
-    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
-    cfg.piece_edge = 0.06;
-    let (mut d, spec) = build_scene(&cfg).unwrap();
-    sim_core::design::garment::sew(&mut d, &spec.unwrap(), SEAM_PULL).unwrap();
+    let mut d = sewn_dress(DRESS_EDGE);
     let drawn = |l: &PieceList, seam: u32, stretch: u32| -> f32 {
         let segments = shared::sim_to_ui::check_seam_segments(l).unwrap();
         (segments.iter())
@@ -116,7 +122,7 @@ fn a_seam_cut_across_is_drawn_by_its_stretches() {
         assert!(parts[1] > 0.1 && parts[2] > 0.1, "seam {seam}: {parts:?}");
         let sum = parts[1] + parts[2];
         assert!(
-            sum <= whole[k] + 1e-3 && sum >= whole[k] - 4.0 * cfg.piece_edge,
+            sum <= whole[k] + 1e-3 && sum >= whole[k] - 4.0 * DRESS_EDGE,
             "seam {seam}: {sum} m drawn, {} before the cut",
             whole[k]
         );

@@ -263,29 +263,43 @@ fn every_symmetric_dart_is_capped() {
     }
 }
 
+/// The shipped dress at `edge` m edges, sewn, with a dart 40 mm wide up its front from
+/// the hem, `x` m from the front's side and `long` m long.
+fn dart_on_sewn_dress(edge: f32, x: f32, long: f32) -> crate::design::Design {
+    use crate::scenario::{ScenarioConfig, ScenarioName, build_scene};
+    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+    cfg.piece_edge = edge;
+    let (mut d, spec) = build_scene(&cfg).unwrap();
+    crate::design::garment::sew(&mut d, &spec.unwrap(), 0.5).unwrap();
+    let (lo, _) = crate::mesh::bounds2(&d.pieces[0].outline.loops[0]);
+    let at = |y: f32| Vec2::new(lo.x + x, lo.y + y) + d.pieces[0].offset;
+    d.dart_on_plane(at(long), at(-0.06), 0.04).unwrap();
+    d
+}
+
+/// 150 frames of `d`; then every pair of its last seam (the dart) is welded and its
+/// front is one loop with one dart in the pattern out (no allowance), which it returns.
+fn sewn_with_one_loop(d: &mut crate::design::Design) -> Vec<Piece> {
+    for _ in 0..150 {
+        d.step().unwrap();
+    }
+    let s = d.seams.last().unwrap();
+    assert!(s.pairs.iter().all(|(a, b)| a == b), "{:?}", s.pairs);
+    let laid = finish(pieces(d), 0.0);
+    let front = laid.iter().find(|f| f.name == "front").unwrap();
+    assert_eq!(front.loops.len(), 1, "{:?}", &front.loops[1..]);
+    assert_eq!(darts(front).len(), 1);
+    laid
+}
+
 /// A dart 40 x 330 mm up the sewn dress's front at 3 cm edges: its two cuts meet near
 /// the point on one vertex and the first's end opens on to a vertex beside it, which
 /// left a slit past the V's point (a 4-vertex hole in the pattern, open in the cloth).
 /// Sewn shut with the legs: the front is one loop, every pair welds, nothing crosses.
 #[test]
 fn what_a_darts_cuts_leave_at_its_point_is_sewn_shut() {
-    use crate::scenario::{ScenarioConfig, ScenarioName, build_scene};
-    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
-    cfg.piece_edge = 0.03;
-    let (mut d, spec) = build_scene(&cfg).unwrap();
-    crate::design::garment::sew(&mut d, &spec.unwrap(), 0.5).unwrap();
-    let (lo, _) = crate::mesh::bounds2(&d.pieces[0].outline.loops[0]);
-    let at = |y: f32| Vec2::new(lo.x + 0.12, lo.y + y) + d.pieces[0].offset;
-    d.dart_on_plane(at(0.33), at(-0.06), 0.04).unwrap();
-    for _ in 0..150 {
-        d.step().unwrap();
-    }
-    let s = d.seams.last().unwrap();
-    assert!(s.pairs.iter().all(|(a, b)| a == b), "{:?}", s.pairs);
-    let laid = finish(pieces(&d), 0.0);
-    let front = laid.iter().find(|f| f.name == "front").unwrap();
-    assert_eq!(front.loops.len(), 1, "{:?}", &front.loops[1..]);
-    assert_eq!(darts(front).len(), 1);
+    let mut d = dart_on_sewn_dress(0.03, 0.12, 0.33);
+    sewn_with_one_loop(&mut d);
     let tris: Vec<[u32; 3]> = d.sim.cloth.live.iter().map(|(_, t)| t.v).collect();
     let c = crate::collision::crossings::count(&d.sim.cloth.x, &tris, d.sim.body.as_ref());
     assert_eq!((c.self_pairs, c.body_pairs), (0, 0));
@@ -298,23 +312,8 @@ fn what_a_darts_cuts_leave_at_its_point_is_sewn_shut() {
 /// fabric: the front is one loop, and the pattern reads back and meshes.
 #[test]
 fn a_slit_sewn_shut_past_a_darts_point_is_no_cut() {
-    use crate::scenario::{ScenarioConfig, ScenarioName, build_scene};
-    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
-    cfg.piece_edge = 0.03;
-    let (mut d, spec) = build_scene(&cfg).unwrap();
-    crate::design::garment::sew(&mut d, &spec.unwrap(), 0.5).unwrap();
-    let (lo, _) = crate::mesh::bounds2(&d.pieces[0].outline.loops[0]);
-    let at = |y: f32| Vec2::new(lo.x + 0.2, lo.y + y) + d.pieces[0].offset;
-    d.dart_on_plane(at(0.25), at(-0.06), 0.04).unwrap();
-    for _ in 0..150 {
-        d.step().unwrap();
-    }
-    let s = d.seams.last().unwrap();
-    assert!(s.pairs.iter().all(|(a, b)| a == b), "{:?}", s.pairs);
-    let laid = finish(pieces(&d), 0.0);
-    let front = laid.iter().find(|f| f.name == "front").unwrap();
-    assert_eq!(front.loops.len(), 1, "{:?}", &front.loops[1..]);
-    assert_eq!(darts(front).len(), 1);
+    let mut d = dart_on_sewn_dress(0.03, 0.2, 0.25);
+    let laid = sewn_with_one_loop(&mut d);
     let read = crate::mesh::svg::read_svg(&super::super::svg_string(&laid)).unwrap();
     for p in &read {
         crate::mesh::mesher::check(&p.outline).unwrap();
@@ -329,14 +328,7 @@ fn a_slit_sewn_shut_past_a_darts_point_is_no_cut() {
 /// the wedge now goes with it.
 #[test]
 fn a_triangle_the_cuts_part_from_the_wedge_goes_with_it() {
-    use crate::scenario::{ScenarioConfig, ScenarioName, build_scene};
-    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
-    cfg.piece_edge = 0.02;
-    let (mut d, spec) = build_scene(&cfg).unwrap();
-    crate::design::garment::sew(&mut d, &spec.unwrap(), 0.5).unwrap();
-    let (lo, _) = crate::mesh::bounds2(&d.pieces[0].outline.loops[0]);
-    let at = |y: f32| Vec2::new(lo.x + 0.12, lo.y + y) + d.pieces[0].offset;
-    d.dart_on_plane(at(0.25), at(-0.06), 0.04).unwrap();
+    let mut d = dart_on_sewn_dress(0.02, 0.12, 0.25);
     let list = d.piece_list();
     let names: Vec<(&str, usize)> = list.iter().map(|p| (&p.name[..], p.vertices)).collect();
     assert_eq!(list.len(), 2, "{names:?}");
