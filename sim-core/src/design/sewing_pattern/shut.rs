@@ -21,12 +21,19 @@ pub(super) fn sewn_shut_dropped(
     // A loop through one corner twice (a slit touching the outline at a dart's point,
     // chained as one loop) as the loops either side of the corner.
     let key_loops: Vec<Vec<Key>> = key_loops.into_iter().flat_map(split_pinches).collect();
-    let area = |l: &[Key]| area2(&l.iter().map(|k| places[k]).collect::<Vec<_>>()).abs();
-    let Some(outer) =
-        (0..key_loops.len()).max_by(|&a, &b| area(&key_loops[a]).total_cmp(&area(&key_loops[b])))
-    else {
+    let pts = |l: &[Key]| l.iter().map(|k| places[k]).collect::<Vec<DVec2>>();
+    let areas: Vec<f64> = key_loops.iter().map(|l| area2(&pts(l)).abs()).collect();
+    let Some(outer) = (0..areas.len()).max_by(|&a, &b| areas[a].total_cmp(&areas[b])) else {
         return key_loops;
     };
+    let slits: Vec<usize> = (0..key_loops.len())
+        .filter(|&i| i != outer && areas[i] < SLIT_MM * perimeter(&pts(&key_loops[i])))
+        .collect();
+    if slits.is_empty() {
+        // Nearly every part: no slit, nothing to count (the piece list is made on every
+        // cut and tear).
+        return key_loops;
+    }
     let undirected = |a: u32, b: u32| (a.min(b) as u64) << 32 | a.max(b) as u64;
     let mut in_tris: HashMap<u64, u8> = HashMap::default();
     for t in &c.tris {
@@ -39,15 +46,15 @@ pub(super) fn sewn_shut_dropped(
     (key_loops.into_iter().enumerate())
         .filter(|(i, l)| {
             let n = l.len();
-            let slit =
-                area(l) < SLIT_MM * perimeter(&l.iter().map(|k| places[k]).collect::<Vec<_>>());
-            // Each side between two of the part's triangles, or welded to nothing (its
-            // two ends merged into one vertex).
-            let shut = (0..n).all(|k| {
-                let (a, b) = (l[k].0, l[(k + 1) % n].0);
-                a == b || in_tris.get(&undirected(a, b)) == Some(&2)
-            });
-            *i == outer || !(slit && shut)
+            // A slit whose every side is between two of the part's triangles, or is
+            // welded to nothing (its two ends merged into one vertex), goes.
+            let shut = || {
+                (0..n).all(|k| {
+                    let (a, b) = (l[k].0, l[(k + 1) % n].0);
+                    a == b || in_tris.get(&undirected(a, b)) == Some(&2)
+                })
+            };
+            !(slits.contains(i) && shut())
         })
         .map(|(_, l)| l)
         .collect()
