@@ -1655,7 +1655,9 @@ fn a_piece_is_copied_as_it_is_now_turned_over_when_asked_and_undoably() {
 /// A sleeve sewn into a tube (its two sides to each other, as in the studio) reads both
 /// sides 0.45 m once every pair has welded: until 2026-12-05 the second side's walk
 /// jumped to the first side's triangles where its own did not hold an edge, and read
-/// 0.81 m (the sleeve's width counted in), shown orange as a mismatch.
+/// 0.81 m (the sleeve's width counted in), shown orange as a mismatch. (Every pair
+/// welds within 40 frames when the sides pair by their lengths in 3D, within 80 by their
+/// lengths in the pattern, the pairing since 2026-12-05, late: 100 frames are given.)
 #[test]
 fn a_welded_tube_reads_its_two_sides_equal() {
     use sim_core::design::garment::Place;
@@ -1666,7 +1668,7 @@ fn a_welded_tube_reads_its_two_sides_equal() {
     let [bl, br] = top_or_bottom(&r, false);
     d.seam_on_plane([tl, bl], [tr, br], 0.01).unwrap();
     let s = d.seams.len() - 1;
-    for _ in 0..40 {
+    for _ in 0..100 {
         d.step().unwrap();
     }
     assert!(

@@ -87,74 +87,64 @@ impl Design {
     /// vertex in no triangle), m. Two sides to be sewn should match: a designer is told when
     /// they differ by more than [`SEAM_MISMATCH`].
     pub fn pattern_length(&self, path: &[u32]) -> f32 {
+        path.windows(2).map(|w| self.pattern_edge(w[0], w[1])).sum()
+    }
+
+    /// The length in the pattern between border vertices `a` and `b` (see
+    /// [`Design::pattern_length`]), m.
+    fn pattern_edge(&self, a: u32, b: u32) -> f32 {
         let live = &self.sim.cloth.live;
-        path.windows(2)
-            .map(|w| {
-                live.tris_of(w[0])
-                    .iter()
-                    .filter_map(|&t| live.tri(t))
-                    .find_map(|t| {
-                        let (i, j) = (t.corner(w[0])?, t.corner(w[1])?);
-                        Some((t.rest[i] - t.rest[j]).length())
-                    })
-                    .or_else(|| {
-                        // No triangle has both (a vertex the pairing skipped, or a weld's
-                        // collapse between them): the nearest two of their places in the
-                        // pattern, which lie on one piece. (The distance in 3D read the
-                        // dress's side seam as 543 mm against 530 while it was sewn.)
-                        let places = |v: u32| {
-                            live.tris_of(v)
-                                .iter()
-                                .filter_map(|&t| live.tri(t))
-                                .filter_map(move |t| Some(t.rest[t.corner(v)?]))
-                        };
-                        places(w[0])
-                            .flat_map(|p| places(w[1]).map(move |q| (p - q).length()))
-                            .min_by(f32::total_cmp)
-                    })
-                    .unwrap_or_else(|| {
-                        let x = &self.sim.cloth.x;
-                        match (x.get(w[0] as usize), x.get(w[1] as usize)) {
-                            (Some(a), Some(b)) => (*a - *b).length(),
-                            _ => 0.0,
-                        }
-                    })
+        (live.tris_of(a).iter())
+            .filter_map(|&t| live.tri(t))
+            .find_map(|t| {
+                let (i, j) = (t.corner(a)?, t.corner(b)?);
+                Some((t.rest[i] - t.rest[j]).length())
             })
-            .sum()
+            .or_else(|| {
+                // No triangle has both (a weld's collapse between them, or a vertex a
+                // weld left out): the nearest two of their places in the
+                // pattern, which lie on one piece. (The distance in 3D read the
+                // dress's side seam as 543 mm against 530 while it was sewn.)
+                let places = |v: u32| {
+                    (live.tris_of(v).iter())
+                        .filter_map(|&t| live.tri(t))
+                        .filter_map(move |t| Some(t.rest[t.corner(v)?]))
+                };
+                (places(a).flat_map(|p| places(b).map(move |q| (p - q).length())))
+                    .min_by(f32::total_cmp)
+            })
+            .unwrap_or_else(|| {
+                let x = &self.sim.cloth.x;
+                match (x.get(a as usize), x.get(b as usize)) {
+                    (Some(a), Some(b)) => (*a - *b).length(),
+                    _ => 0.0,
+                }
+            })
     }
 
     /// Adds a seam between border paths `a` and `b` (vertex chains along the border, in
-    /// matching directions). The longer path sets the pair count; the other is resampled
-    /// by arc length. Undoable.
+    /// matching directions), paired by their shares of each side's length in the pattern
+    /// ([`align`]): every vertex of both is stitched, two sides of as many vertices one
+    /// to one. Undoable.
     pub fn add_seam(&mut self, a: &[u32], b: &[u32], max_force: f32) -> Result<usize, EditError> {
         self.check_seam(a, b, max_force)?;
+        // Each side's vertices by their share of its length in the pattern (as a
+        // sewist matches two edges, whatever shape the cloth has taken).
         let params = |p: &[u32]| -> Vec<f32> {
             let mut s = vec![0.0f32];
             for w in p.windows(2) {
-                let d =
-                    (self.sim.cloth.x[w[1] as usize] - self.sim.cloth.x[w[0] as usize]).length();
-                s.push(s.last().copied().unwrap_or(0.0) + d);
+                s.push(s.last().copied().unwrap_or(0.0) + self.pattern_edge(w[0], w[1]));
             }
             let total = s.last().copied().unwrap_or(0.0).max(1e-12);
             s.iter().map(|t| t / total).collect()
         };
         let (ta, tb) = (params(a), params(b));
-        let nearest = |ts: &[f32], t: f32| -> usize {
-            ts.iter()
-                .enumerate()
-                .min_by(|x, y| (x.1 - t).abs().total_cmp(&(y.1 - t).abs()))
-                .map_or(0, |(i, _)| i)
-        };
         let pairs: Vec<(u32, u32)> = if a.len() >= b.len() {
-            ta.iter()
-                .enumerate()
-                .map(|(i, &t)| (a[i], b[nearest(&tb, t)]))
-                .collect()
+            let on = align(&ta, &tb);
+            (0..a.len()).map(|i| (a[i], b[on[i]])).collect()
         } else {
-            tb.iter()
-                .enumerate()
-                .map(|(j, &t)| (a[nearest(&ta, t)], b[j]))
-                .collect()
+            let on = align(&tb, &ta);
+            (0..b.len()).map(|j| (a[on[j]], b[j])).collect()
         };
         self.commit_seam(pairs, max_force)
     }
@@ -403,6 +393,45 @@ impl Design {
     }
 }
 
+/// A seam's pairs: each vertex of the longer side (`long`, each vertex's share of the
+/// side's length in the pattern) on one of the shorter side's (`short`, no more vertices),
+/// in order along both, each next vertex on the same one or the next, every one of the
+/// shorter's taken, the shares as near as can be (the least sum of their differences).
+/// Two sides of as many vertices pair one to one. (Each vertex on its nearest by share
+/// left a vertex of the shorter side out of every pair where its vertices bunched, a hole
+/// once the rest welded; and a left-out vertex added on its nearest then joined three
+/// pairs in a Z, which pulls an edge of each side shut.)
+fn align(long: &[f32], short: &[f32]) -> Vec<usize> {
+    let (n, m) = (long.len(), short.len());
+    if m == 0 || n < m {
+        return vec![0; n];
+    }
+    // Row i of the least sums: long[..=i] with long[i] on short[j]; and whether long[i]
+    // is on the same vertex as long[i - 1] (else on the next).
+    let mut row = vec![f32::INFINITY; m];
+    let mut stay = vec![false; n * m];
+    row[0] = (long[0] - short[0]).abs();
+    for i in 1..n {
+        let mut next = vec![f32::INFINITY; m];
+        // Only where the rest of both sides can still pair.
+        for j in (m + i).saturating_sub(n)..=i.min(m - 1) {
+            let step = if j > 0 { row[j - 1] } else { f32::INFINITY };
+            stay[i * m + j] = row[j] <= step;
+            next[j] = (long[i] - short[j]).abs() + row[j].min(step);
+        }
+        row = next;
+    }
+    let mut on = vec![0; n];
+    let mut j = m - 1;
+    for i in (0..n).rev() {
+        on[i] = j;
+        if i > 0 && !stay[i * m + j] {
+            j = j.saturating_sub(1);
+        }
+    }
+    on
+}
+
 #[cfg(test)]
 mod tests {
     use glam::Vec3;
@@ -482,6 +511,58 @@ mod tests {
     /// Welds for `frames` frames (no steps between: the cloth stays put); how many.
     fn weld_for(d: &mut Design, frames: usize) -> usize {
         (0..frames).map(|_| d.weld_close_stitches()).sum()
+    }
+
+    /// Two sides of as many vertices pair one to one, however differently spaced; a
+    /// longer side's vertices each go on one of the other's, in order, none of the
+    /// other's left out and none of the longer's on two.
+    #[test]
+    fn sides_pair_one_to_one_or_in_order_with_none_left_out() {
+        let even = [0.0, 0.25, 0.5, 0.75, 1.0];
+        assert_eq!(
+            super::align(&[0.0, 0.1, 0.2, 0.3, 1.0], &even),
+            [0, 1, 2, 3, 4]
+        );
+        // Each long vertex on its nearest by share ([0, 2, 3, 3, 4, 4]) left the short
+        // side's second vertex out.
+        let long = [0.0, 0.2, 0.4, 0.6, 0.8, 1.0];
+        let short = [0.0, 0.17, 0.22, 0.44, 1.0];
+        let on = super::align(&long, &short);
+        assert_eq!(on, [0, 1, 2, 3, 4, 4]);
+        for (k, w) in on.windows(2).enumerate() {
+            assert!(w[1] == w[0] || w[1] == w[0] + 1, "{k}: {on:?}");
+        }
+    }
+
+    /// Every vertex of both sides is stitched, however unevenly they are spaced: where
+    /// one side's vertices bunch and the other's are sparse, the shorter side's were left
+    /// out of every pair (the longer side set the pairs), a hole once the rest welded.
+    /// (Two rectangles alike, bent round the body differently, left 2 of 25 out.)
+    #[test]
+    fn every_vertex_of_both_sides_is_stitched() {
+        let mut mesh = ClothMesh::grid(0.5, 0.5, 8, 8, 1.0).unwrap();
+        // The bottom row's first five, bunched at their start in the pattern; the top
+        // row's first four, bunched at their end.
+        let (a, b): (Vec<u32>, Vec<u32>) = ((0..5).collect(), (72..76).collect());
+        let x = &mut mesh.positions;
+        for k in 1..4 {
+            x[k].x = x[0].x + 0.001 * k as f32;
+        }
+        for k in [73, 74] {
+            x[k].x = x[75].x - 0.001 * (75 - k) as f32;
+        }
+        let mut d = crate::design::floating(mesh, ModelKind::Xpbd);
+        d.add_seam(&a, &b, 0.05).unwrap();
+        let pairs = &d.seams[0].pairs;
+        for v in a.iter().chain(&b) {
+            let stitched = pairs.iter().any(|&(p, q)| p == *v || q == *v);
+            assert!(stitched, "{v} in no pair: {pairs:?}");
+        }
+        // In order along both sides.
+        let ordered = pairs
+            .windows(2)
+            .all(|w| w[0].0 <= w[1].0 && w[0].1 <= w[1].1);
+        assert!(ordered, "{pairs:?}");
     }
 
     /// A seam 3 cm open welds nothing by itself (its stitches pull; the reach is 6 mm);

@@ -337,3 +337,31 @@ fn a_triangle_the_cuts_part_from_the_wedge_goes_with_it() {
     assert_eq!(d.undo().unwrap(), "dart");
     assert_eq!(d.piece_list().len(), 2);
 }
+
+/// A dart 40 x 250 mm up the sewn dress's front 8 cm from its side, at 1.5 cm edges: its
+/// two cuts pass through the same two vertices below the point, so one leg's border
+/// zigzags between the cuts' copies and is longer than the other leg, which then set
+/// the pairs; one of the other leg's vertices was in none. Welded, it left a hole of
+/// three vertices past the point, and our own reader refused the pattern ("the outline
+/// crosses itself"). Every vertex of both legs is stitched now, each leg's to the
+/// other's in order: the front is one loop, and the pattern reads back and meshes. Its
+/// dart ends where the cuts met first, 242 mm from the hem: past there the cut cloth
+/// fills the V, its two sides sewn to each other, as in the cloth.
+#[test]
+fn a_darts_zigzag_leg_leaves_no_vertex_unstitched() {
+    let mut d = dart_on_sewn_dress(0.015, 0.08, 0.25);
+    let laid = sewn_with_one_loop(&mut d);
+    let front = laid.iter().find(|f| f.name == "front").unwrap();
+    let dart = darts(front).remove(0);
+    let l = &front.loops[dart.loop_index];
+    let long = dart.tip.distance((l[dart.a] + l[dart.b]) * 0.5);
+    assert!(
+        (235.0..=251.0).contains(&long),
+        "{long} mm from the mouth to the tip"
+    );
+    let read = crate::mesh::svg::read_svg(&super::super::svg_string(&laid)).unwrap();
+    for p in &read {
+        crate::mesh::mesher::check(&p.outline).unwrap();
+        crate::mesh::mesher::mesh_outline(&p.outline, 0.03).unwrap();
+    }
+}
