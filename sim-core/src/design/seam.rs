@@ -409,14 +409,18 @@ fn align(long: &[f32], short: &[f32]) -> Vec<usize> {
     // Row i of the least sums: long[..=i] with long[i] on short[j]; and whether long[i]
     // is on the same vertex as long[i - 1] (else on the next).
     let mut row = vec![f32::INFINITY; m];
-    let mut stay = vec![false; n * m];
+    // Kept only across the band of `j` that can still pair (`n - m + 1` wide): a
+    // long seam of two sides of a few thousand vertices each stays a few megabytes.
+    let w = n - m + 1;
+    let lo = |i: usize| (m + i).saturating_sub(n);
+    let mut stay = vec![false; n * w];
     row[0] = (long[0] - short[0]).abs();
     for i in 1..n {
         let mut next = vec![f32::INFINITY; m];
         // Only where the rest of both sides can still pair.
-        for j in (m + i).saturating_sub(n)..=i.min(m - 1) {
+        for j in lo(i)..=i.min(m - 1) {
             let step = if j > 0 { row[j - 1] } else { f32::INFINITY };
-            stay[i * m + j] = row[j] <= step;
+            stay[i * w + j - lo(i)] = row[j] <= step;
             next[j] = (long[i] - short[j]).abs() + row[j].min(step);
         }
         row = next;
@@ -425,7 +429,7 @@ fn align(long: &[f32], short: &[f32]) -> Vec<usize> {
     let mut j = m - 1;
     for i in (0..n).rev() {
         on[i] = j;
-        if i > 0 && !stay[i * m + j] {
+        if i > 0 && !stay[i * w + j - lo(i)] {
             j = j.saturating_sub(1);
         }
     }
