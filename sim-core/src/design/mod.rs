@@ -44,6 +44,7 @@ mod seam;
 mod seam_lengths;
 mod sew;
 pub mod sewing_pattern;
+mod slit;
 mod stalls;
 mod stroke;
 mod tear;

@@ -92,7 +92,7 @@ impl Design {
 
     /// The length in the pattern between border vertices `a` and `b` (see
     /// [`Design::pattern_length`]), m.
-    fn pattern_edge(&self, a: u32, b: u32) -> f32 {
+    pub(super) fn pattern_edge(&self, a: u32, b: u32) -> f32 {
         let live = &self.sim.cloth.live;
         (live.tris_of(a).iter())
             .filter_map(|&t| live.tri(t))
@@ -350,6 +350,16 @@ impl Design {
                     zipped |= gap > near;
                 } else {
                     self.weld_refused.push((a, b));
+                }
+            }
+            // A stalled seam whose pairs between two welded ones wait for good: closed as
+            // one slit (`slit.rs`).
+            if welded == before && !zipped {
+                let reach = *zip_reach.get_or_insert_with(|| {
+                    near.max(ZIP_REACH * self.sim.cloth.live.mean_rest_side())
+                });
+                if self.zip_seam_slit(si, reach) {
+                    welded += 1;
                 }
             }
             self.seam_idle[si] = if welded > before {

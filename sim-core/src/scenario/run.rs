@@ -138,6 +138,9 @@ fn run_frames(
                     .map(|s| s.pairs.len() - s.open_pairs().count())
                     .sum(),
             );
+            // A slit closed as one (`design/slit.rs`) makes a sewn pair of each of its
+            // vertices: the pairs are counted as they are now.
+            ops.seam_pairs = Some(design.seams.iter().map(|s| s.pairs.len()).sum());
         }
         if let Some(force) = design
             .sim
