@@ -28,7 +28,7 @@
 use super::document::Design;
 use super::prim::{Between, Prim};
 use super::seam::ZIP_STRAIN;
-use crate::mesh::NONE;
+use crate::mesh::{NONE, Tri};
 
 /// The most open pairs between two welded ones that close as one slit.
 const SLIT_PAIRS: usize = 4;
@@ -214,43 +214,9 @@ impl Design {
                 return None;
             }
             let slot = live.edge(u, v)[0];
-            let tri = *live.tri(slot)?;
-            let (cu, cv) = (tri.corner(u)?, tri.corner(v)?);
-            let at = |t: f32| {
-                (
-                    tri.rest[cu].lerp(tri.rest[cv], t),
-                    tri.uv[cu].lerp(tri.uv[cv], t),
-                )
-            };
-            // The fan's pieces, from `u` to `v`: each the triangle with its `u` corner
-            // moved to the piece's first end and its `v` corner to its last.
-            let ends: Vec<(f32, u32)> = std::iter::once((0.0, u))
-                .chain(ins.iter().copied())
-                .chain(std::iter::once((1.0, v)))
-                .collect();
-            for (m, w) in ends.windows(2).enumerate() {
-                let mut piece = tri;
-                if m > 0 {
-                    let (r, uv) = at(w[0].0);
-                    piece = piece.with_corner(cu, w[0].1, r, uv);
-                }
-                if m + 2 < ends.len() {
-                    let (r, uv) = at(w[1].0);
-                    piece = piece.with_corner(cv, w[1].1, r, uv);
-                }
-                let (slot, old) = match m {
-                    0 => (slot, Some(tri)),
-                    _ => {
-                        next_slot += 1;
-                        (next_slot - 1, None)
-                    }
-                };
-                prims.push(Prim::Tri {
-                    slot,
-                    old,
-                    new: Some(piece),
-                });
-            }
+            let split = fan(slot, *live.tri(slot)?, u, v, &ins, next_slot)?;
+            next_slot += ins.len() as u32;
+            prims.extend(split);
         }
         Some(prims)
     }
@@ -275,6 +241,54 @@ impl Design {
             new: Some(new),
         }
     }
+}
+
+/// Triangle `tri` in `slot` split into a fan at the vertices `ins` (each with its share
+/// of the way from `u` to `v`, in order) on its side `u`-`v`: each piece the triangle with
+/// its `u` corner moved to the piece's first end and its `v` corner to its last, the new
+/// corners' rest places and texture coordinates taken along the side. The first piece
+/// keeps `slot`; the others take slots from `next_slot` on. `None` if `tri` has no such
+/// side.
+pub(super) fn fan(
+    slot: u32,
+    tri: Tri,
+    u: u32,
+    v: u32,
+    ins: &[(f32, u32)],
+    next_slot: u32,
+) -> Option<Vec<Prim>> {
+    let (cu, cv) = (tri.corner(u)?, tri.corner(v)?);
+    let at = |t: f32| {
+        (
+            tri.rest[cu].lerp(tri.rest[cv], t),
+            tri.uv[cu].lerp(tri.uv[cv], t),
+        )
+    };
+    let ends: Vec<(f32, u32)> = std::iter::once((0.0, u))
+        .chain(ins.iter().copied())
+        .chain(std::iter::once((1.0, v)))
+        .collect();
+    let pieces = ends.windows(2).enumerate().map(|(m, w)| {
+        let mut piece = tri;
+        if m > 0 {
+            let (r, uv) = at(w[0].0);
+            piece = piece.with_corner(cu, w[0].1, r, uv);
+        }
+        if m + 2 < ends.len() {
+            let (r, uv) = at(w[1].0);
+            piece = piece.with_corner(cv, w[1].1, r, uv);
+        }
+        let (slot, old) = match m {
+            0 => (slot, Some(tri)),
+            _ => (next_slot + m as u32 - 1, None),
+        };
+        Prim::Tri {
+            slot,
+            old,
+            new: Some(piece),
+        }
+    });
+    Some(pieces.collect())
 }
 
 /// The edge of a side (by its vertices' `shares`) that `s` falls on, and where along

@@ -64,27 +64,20 @@ impl Design {
             return None;
         }
         let on_edge = xq + qr * t;
-        let (cq, cr) = (tri.corner(q)?, tri.corner(r)?);
-        let rest = tri.rest[cq].lerp(tri.rest[cr], t);
-        let uv = tri.uv[cq].lerp(tri.uv[cr], t);
-        let with_p = |corner: usize| tri.with_corner(corner, p, rest, uv);
-        Some(vec![
-            Prim::MoveOnto {
-                vertex: p,
-                to: Between { a: q, b: r, s: t },
-                back: xp - on_edge,
-            },
-            Prim::Tri {
-                slot,
-                old: Some(tri),
-                new: Some(with_p(cr)),
-            },
-            Prim::Tri {
-                slot: live.slots() as u32,
-                old: None,
-                new: Some(with_p(cq)),
-            },
-        ])
+        let mut prims = vec![Prim::MoveOnto {
+            vertex: p,
+            to: Between { a: q, b: r, s: t },
+            back: xp - on_edge,
+        }];
+        prims.extend(super::slit::fan(
+            slot,
+            tri,
+            q,
+            r,
+            &[(t, p)],
+            live.slots() as u32,
+        )?);
+        Some(prims)
     }
 
     /// Zips every open pair of a seam whose ends are border neighbours bounding a slit
