@@ -8,7 +8,8 @@ use shared::services::SlicePub;
 use shared::sim_to_haptic::{LocalModel, MAX_PLANES, workspace_covering};
 use shared::sim_to_ui::{
     BodyMeshHeader, ClothFrameHeader, MAX_LISTED, MAX_PINS, MAX_SEAM_STRETCH, MeshCorner,
-    MeshHeader, OutlineSegment, PieceList, SeamEntry, SeamSegment, TextureTile, outline, put_text,
+    MeshHeader, OutlineSegment, PieceList, SeamEntry, SeamSegment, TextureTile, dart, outline,
+    put_text,
 };
 use sim_core::collision::Body;
 use sim_core::design::sewing_pattern::seam_label;
@@ -355,6 +356,19 @@ pub(crate) fn piece_list(design: &Design, seq: &mut u64) -> PieceList {
             name,
             stalled: stalled as u32,
             stalled_gap: [lo, hi],
+            dart: dart::NONE,
+        };
+    }
+    // A seam whose stretch the pattern finds closing a dart is listed as one.
+    for (label, ..) in view.iter().flat_map(|p| &p.presses) {
+        let base = label.trim_end_matches(|c: char| c.is_ascii_digit());
+        let Some(i) = (0..l.seam_count as usize).find(|&i| seam_label(i) == base) else {
+            continue;
+        };
+        l.seams[i].dart = if design.seams[i].press_second {
+            dart::SECOND
+        } else {
+            dart::FIRST
         };
     }
     // The pattern as the export makes it: each seam's sides and each piece's lines, a
@@ -397,10 +411,12 @@ pub(crate) fn piece_list(design: &Design, seq: &mut u64) -> PieceList {
         let notches = p.notches.iter().map(|&(a, b)| (outline::NOTCH, a, b));
         let grain = std::iter::once((outline::GRAIN, p.grain.0, p.grain.1));
         let drills = p.drills.iter().map(|&q| (outline::DRILL, q, q));
+        let presses = p.presses.iter().map(|(_, a, b)| (outline::PRESS, *a, *b));
         sewing
             .chain(notches)
             .chain(grain)
             .chain(drills)
+            .chain(presses)
             .map(move |(kind, a, b)| (piece, kind, a, b))
     });
     for (piece, kind, a, b) in lines {

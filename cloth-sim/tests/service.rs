@@ -53,7 +53,7 @@ fn commands_are_carried_out_and_answered() {
     drop(states);
     STOP.store(true, Ordering::Relaxed);
     let stats = handle.join().unwrap();
-    assert_eq!(stats.commands, 47);
+    assert_eq!(stats.commands, 50);
     assert_eq!(stats.rejected, 11);
     let _ = std::fs::remove_file(&path);
     // The autosave, its previous good version, and the design the load replaced.
@@ -186,6 +186,22 @@ fn edits_refusals_and_save(ask: Ask<'_>, path: &std::path::Path, autosave: &std:
         "{}",
         r.message()
     );
+    // Pressed toward its second leg, one more step; a seam that is not there, refused.
+    let press = |seam: u32| shared::command::Command::PressDart { seam, second: true };
+    let r = ask(press(0).to_wire(Header::default()).unwrap());
+    assert!(
+        r.ok == 1 && r.message().contains("pressed toward its second leg") && r.undo_depth == 2,
+        "{}",
+        r.message()
+    );
+    let r = ask(press(5).to_wire(Header::default()).unwrap());
+    assert!(
+        r.ok == 0 && r.message().contains("there is no seam 5") && r.undo_depth == 2,
+        "{}",
+        r.message()
+    );
+    let r = ask(undo());
+    assert!(r.ok == 1 && r.message() == "Undone: press dart" && r.undo_depth == 1);
     let r = ask(undo());
     assert!(r.ok == 1 && r.message() == "Undone: dart" && r.undo_depth == 0);
     let r = ask(dart([3.0, 3.0]).to_wire(Header::default()).unwrap());

@@ -353,6 +353,20 @@ pub struct SeamEntry {
     /// The least and the most distance between a stalled pair's two vertices, m (0 when
     /// none is stalled).
     pub stalled_gap: [f32; 2],
+    /// Whether the pattern finds the seam closing a dart, and which way its intake is
+    /// pressed (since version 26): [`dart`]`::NONE`, `FIRST` or `SECOND` (its legs in the
+    /// order the piece's outline reaches them, counter-clockwise).
+    pub dart: u32,
+}
+
+/// [`SeamEntry::dart`].
+pub mod dart {
+    /// The seam closes no dart.
+    pub const NONE: u32 = 0;
+    /// A dart pressed toward its first leg.
+    pub const FIRST: u32 = 1;
+    /// A dart pressed toward its second leg.
+    pub const SECOND: u32 = 2;
 }
 
 /// Most seam segments a [`PieceList`] carries.
@@ -402,7 +416,10 @@ pub mod outline {
     pub const GRAIN: u32 = 2;
     /// A drill hole (a sewn dart's point, marked a little inside it): a point, `a == b`.
     pub const DRILL: u32 = 3;
-    pub const LAST: u32 = DRILL;
+    /// A dart's press mark: from the middle of its mouth toward the leg its intake is
+    /// pressed to (since version 26).
+    pub const PRESS: u32 = 4;
+    pub const LAST: u32 = PRESS;
 }
 
 /// One line of the pattern as cloth-sim's pattern out makes it, in the design's pattern
@@ -416,7 +433,7 @@ pub mod outline {
 pub struct OutlineSegment {
     /// The piece's place in `entries`, or `u32::MAX` for a piece past [`MAX_LISTED`].
     pub piece: u32,
-    /// [`outline`]`::SEWING_LINE`, `NOTCH`, `GRAIN` or `DRILL`.
+    /// [`outline`]`::SEWING_LINE`, `NOTCH`, `GRAIN`, `DRILL` or `PRESS`.
     pub kind: u32,
     pub a: [f32; 2],
     pub b: [f32; 2],
@@ -573,6 +590,7 @@ pub fn check_seams(l: &PieceList) -> Result<Vec<SeamEntry>, MessageError> {
             || !s.stalled_gap.iter().all(|v| v.is_finite() && *v >= 0.0)
             || text_in(&s.label, s.label_len).is_none()
             || text_in(&s.name, s.name_len).is_none()
+            || s.dart > dart::SECOND
     }) {
         return Err(malformed(
             "piece list",

@@ -117,7 +117,12 @@ pub mod op {
     /// edge, in the design's pattern plane (m): the wedge cut away and its legs seamed,
     /// as one undoable operation. Since protocol 24.
     pub const DART_PLANE: u32 = 32;
-    pub const LAST: u32 = DART_PLANE;
+    /// Seam `a` (as `saiho/pieces` lists them), a dart, pressed toward its second leg
+    /// (`mode` 1: the one its piece's outline reaches last, counter-clockwise) or its
+    /// first (0), undoably: the dart cap of the pattern's cut line follows. Refused for a
+    /// seam that is no dart. Since protocol 26.
+    pub const PRESS_DART: u32 = 33;
+    pub const LAST: u32 = PRESS_DART;
 }
 
 /// [`ToolCommand::b`] of a RESET: the body.
@@ -263,6 +268,12 @@ impl Checked for ToolCommand {
         self.check_texts()?;
         if self.op == op::SET_SIMULATING && self.mode > 1 {
             return Err(format!("simulating {} (0 paused, 1 running)", self.mode));
+        }
+        if self.op == op::PRESS_DART && self.mode > 1 {
+            return Err(format!(
+                "a dart pressed toward leg {} (0 its first, 1 its second)",
+                self.mode
+            ));
         }
         if self.op == op::SET_GUARD && self.mode > 1 {
             return Err(format!("guard {} (0 off, 1 on)", self.mode));

@@ -781,7 +781,8 @@ fn zoom_and_pan(h: &mut Harness<'static, App>) {
     assert!((len(&fitted) - len(&before)).abs() < 1e-4);
 }
 
-/// The seam rows: two seams listed (the second's sides 30% apart), the second removed.
+/// The seam rows: two seams listed (the second's sides 30% apart), the second removed,
+/// and a dart's row pressing it the other way.
 fn seam_rows(h: &mut Harness<'static, App>) {
     // Two seams: A matched, B with sides 30% apart (shown as a warning).
     let seam = |label: &[u8], lengths| {
@@ -838,6 +839,17 @@ fn seam_rows(h: &mut Harness<'static, App>) {
     h.run_steps(2);
     let c = *commands(h).last().unwrap();
     assert_eq!((c.op, c.a), (op::REMOVE_SEAM, 1));
+    // Only a dart's row can press it the other way: pressed toward its second leg,
+    // the button asks for its first.
+    assert!(h.query_by_label("Press other way").is_none());
+    h.state_mut().store.seams[1].dart = shared::sim_to_ui::dart::SECOND;
+    h.run_steps(2);
+    h.get_by_label("Press other way").scroll_to_me();
+    h.run_steps(20);
+    h.get_by_label("Press other way").click();
+    h.run_steps(2);
+    let c = *commands(h).last().unwrap();
+    assert_eq!((c.op, c.a, c.mode), (op::PRESS_DART, 1, 0));
 }
 
 /// Two drags in the open pattern view send one seam in the pattern plane.

@@ -112,6 +112,19 @@ pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
             Ok(done + &firm_if_hanging(design, c))
         }
         Command::NameSeam { .. } | Command::NamePiece { .. } => name_one(design, c),
+        Command::PressDart { seam, second } => {
+            let label = sim_core::design::sewing_pattern::seam_label(*seam as usize);
+            let leg = if *second { "second" } else { "first" };
+            design
+                .press_dart(*seam as usize, *second)
+                .map(|_| {
+                    format!(
+                        "Dart {label} is pressed toward its {leg} leg (the arrow in the pattern \
+                         view): the pattern's cut line caps its mouth that way; undo takes it back"
+                    )
+                })
+                .map_err(e)
+        }
         Command::RemoveSeam { seam } => {
             let label = sim_core::design::sewing_pattern::seam_label(*seam as usize);
             design

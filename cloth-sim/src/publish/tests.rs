@@ -174,6 +174,38 @@ fn the_piece_list_carries_a_darts_drill_hole() {
     let at = glam::Vec2::from(got[0].a).as_dvec2() * 1000.0 - corner(&sewing);
     let want = piece.drills[0] - corner(&piece.loops[0]);
     assert!(at.distance(want) < 0.05, "{at} mm against {want} mm");
+    // The dart's seam is listed as one, pressed toward its first leg, with one press
+    // mark; pressed toward its second, the mark turns round (the dress's own seams are
+    // no darts).
+    let press = |l: &PieceList| {
+        let seams = shared::sim_to_ui::check_seams(l).unwrap();
+        let marks: Vec<OutlineSegment> = (shared::sim_to_ui::check_outline(l).unwrap())
+            .into_iter()
+            .filter(|g| g.kind == outline::PRESS)
+            .collect();
+        (seams.iter().map(|s| s.dart).collect::<Vec<u32>>(), marks)
+    };
+    let (kinds, marks) = press(&l);
+    let dart_seam = d.seams.len() - 1;
+    assert_eq!(
+        kinds[dart_seam],
+        shared::sim_to_ui::dart::FIRST,
+        "{kinds:?}"
+    );
+    assert!(
+        kinds[..dart_seam]
+            .iter()
+            .all(|&k| k == shared::sim_to_ui::dart::NONE)
+    );
+    assert_eq!(marks.len(), 1);
+    d.press_dart(dart_seam, true).unwrap();
+    let (kinds, turned) = press(&piece_list(&d, &mut 0));
+    assert_eq!(kinds[dart_seam], shared::sim_to_ui::dart::SECOND);
+    let way = |g: &OutlineSegment| glam::Vec2::from(g.b) - glam::Vec2::from(g.a);
+    assert!(
+        way(&marks[0]).dot(way(&turned[0])) < 0.0,
+        "{marks:?} {turned:?}"
+    );
 }
 
 /// A seam whose pairs stopped closing is listed so: a cloth hung from two corners

@@ -205,6 +205,12 @@ pub enum Command {
         seam: u32,
         name: String,
     },
+    /// Seam `seam` (in `saiho/pieces` order), a dart, pressed toward its second leg
+    /// (`second`) or its first (since protocol 26).
+    PressDart {
+        seam: u32,
+        second: bool,
+    },
     /// Piece `piece` (in `saiho/pieces` order) named `name`.
     NamePiece {
         piece: u32,
@@ -323,6 +329,7 @@ impl Command {
             Self::SetFabric { .. } => op::SET_FABRIC,
             Self::SetPieceFabric { .. } => op::SET_PIECE_FABRIC,
             Self::NameSeam { .. } => op::NAME_SEAM,
+            Self::PressDart { .. } => op::PRESS_DART,
             Self::NamePiece { .. } => op::NAME_PIECE,
             Self::SetGuard { .. } => op::SET_GUARD,
             Self::SetStrainLimit { .. } => op::SET_STRAIN_LIMIT,
@@ -429,6 +436,7 @@ impl Command {
             }
             Self::DeletePiece { piece } => c.a = *piece,
             Self::RemoveSeam { seam } => c.a = *seam,
+            Self::PressDart { seam, second } => (c.a, c.mode) = (*seam, u32::from(*second)),
         }
         Ok(c)
     }
@@ -568,6 +576,10 @@ impl Command {
             op::NAME_SEAM => Self::NameSeam {
                 seam: c.a,
                 name: text(c),
+            },
+            op::PRESS_DART => Self::PressDart {
+                seam: c.a,
+                second: c.mode == 1,
             },
             op::NAME_PIECE => Self::NamePiece {
                 piece: c.a,

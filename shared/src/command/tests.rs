@@ -172,6 +172,14 @@ fn piece_variants() -> Vec<Command> {
             piece: 1,
             name: "back bodice".into(),
         },
+        Command::PressDart {
+            seam: 4,
+            second: true,
+        },
+        Command::PressDart {
+            seam: 0,
+            second: false,
+        },
         Command::DuplicatePiece {
             piece: 2,
             place: 1,
@@ -267,6 +275,15 @@ fn a_bad_record_is_refused_and_a_long_path_is_not_sent() {
     wire.mode = 2;
     let e = Command::from_wire(&wire).unwrap_err().to_string();
     assert!(e.contains("turned over 2"), "{e}");
+    let mut wire = Command::PressDart {
+        seam: 0,
+        second: true,
+    }
+    .to_wire(Header::next(&mut seq))
+    .unwrap();
+    wire.mode = 2;
+    let e = Command::from_wire(&wire).unwrap_err().to_string();
+    assert!(e.contains("toward leg 2"), "{e}");
     let mut wire = Command::Undo.to_wire(Header::next(&mut seq)).unwrap();
     wire.header.protocol += 1;
     assert!(matches!(

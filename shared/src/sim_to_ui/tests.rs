@@ -43,7 +43,8 @@ fn seam_segments_are_checked() {
 }
 
 /// A seam whose counts hold (stalled within open within pairs, gaps finite) passes;
-/// more stalled than open pairs, or a gap that is not a distance, is refused.
+/// more stalled than open pairs, a gap that is not a distance, or a dart's press that
+/// is no leg, is refused.
 #[test]
 fn seams_are_checked() {
     let mut l = PieceList {
@@ -71,6 +72,12 @@ fn seams_are_checked() {
     let mut bad = l;
     bad.seams[0].stalled_gap[0] = -0.01;
     assert!(check_seams(&bad).is_err());
+    // A dart pressed toward either leg passes; a press that is none of them does not.
+    let mut dart = l;
+    dart.seams[0].dart = super::dart::SECOND;
+    assert_eq!(check_seams(&dart).unwrap()[0].dart, super::dart::SECOND);
+    dart.seams[0].dart = 3;
+    assert!(check_seams(&dart).is_err());
 }
 
 /// The pattern file a design was made from goes in whole up to the command's 240

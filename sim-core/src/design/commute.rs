@@ -152,6 +152,7 @@ mod tests {
             max_force: 1.0,
             name: String::new(),
             eased: Vec::new(),
+            press_second: false,
         };
         let (old, new) = if new {
             (None, Some(s))

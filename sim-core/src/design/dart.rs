@@ -254,6 +254,40 @@ impl Design {
         let e = p + (q - p) * t;
         Ok(Vec2::new(e.x as f32, e.y as f32))
     }
+
+    /// Seam `index`, a dart, pressed toward its second leg (`second`: the one its
+    /// piece's outline reaches last going counter-clockwise) or its first, undoably: the
+    /// cap bridging the dart's mouth in the pattern's cut line is folded that way
+    /// (`sewing_pattern::dart`). Refused, with nothing changed, for a seam that is not
+    /// there or is no dart in the pattern as it is now.
+    pub fn press_dart(&mut self, index: usize, second: bool) -> Result<(), EditError> {
+        let count = self.seams.len();
+        let Some(old) = self.seams.get(index).cloned() else {
+            return Err(EditError::NoSeam { index, count });
+        };
+        let label = super::sewing_pattern::seam_label(index);
+        let is_dart = (super::sewing_pattern::view_pieces(self).iter())
+            .flat_map(|p| &p.presses)
+            .any(|(l, _, _)| l.trim_end_matches(|c: char| c.is_ascii_digit()) == label);
+        if !is_dart {
+            return Err(EditError::NotADart { label });
+        }
+        if old.press_second == second {
+            return Ok(());
+        }
+        let new = super::Seam {
+            press_second: second,
+            ..old.clone()
+        };
+        self.commit(
+            "press dart",
+            vec![super::Prim::Seam {
+                index: index as u32,
+                old: Some(old),
+                new: Some(new),
+            }],
+        )
+    }
 }
 
 #[cfg(test)]

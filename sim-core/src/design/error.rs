@@ -68,6 +68,10 @@ pub enum EditError {
     NoSeam { index: usize, count: usize },
     #[error("there is no piece {index} (the design has {count}, counted from 0)")]
     NoPiece { index: usize, count: usize },
+    #[error(
+        "seam {label} is no dart: a dart's two sides run into one piece from its edge and meet at a point"
+    )]
+    NotADart { label: String },
     #[error("{0}")]
     Piece(String),
     #[error(

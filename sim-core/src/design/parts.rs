@@ -20,6 +20,11 @@ pub struct Seam {
     /// still cloth of its piece: the pattern out draws the piece with it
     /// (`sewing_pattern`).
     pub eased: Vec<[Vec3; 3]>,
+    /// Where the seam closes a dart (its two sides meet at a point on one piece): its
+    /// intake is pressed toward the dart's second leg, the one the piece's outline
+    /// reaches last going counter-clockwise, rather than its first. The pattern out's
+    /// dart cap follows (`sewing_pattern::dart`); nothing in 3D does.
+    pub press_second: bool,
 }
 
 /// The seams' open stitches, as the solver pulls them.

@@ -187,6 +187,7 @@ impl Design {
             max_force,
             name: String::new(),
             eased: Vec::new(),
+            press_second: false,
         };
         let count = seam.pairs.len();
         let index = self.seams.len() as u32;

@@ -216,6 +216,10 @@ fn command_seeds(dir: &Path) -> std::io::Result<()> {
             piece: 0,
             name: "front".into(),
         },
+        Command::PressDart {
+            seam: 0,
+            second: true,
+        },
         Command::DuplicatePiece {
             piece: 0,
             place: 1,

@@ -136,6 +136,7 @@ impl PatternFrame {
         };
         let mut notches: Vec<(egui::Pos2, egui::Pos2)> = Vec::new();
         let mut drills: Vec<egui::Pos2> = Vec::new();
+        let mut presses: Vec<(egui::Pos2, egui::Pos2)> = Vec::new();
         match pattern_lines(store) {
             Some(lines) => {
                 // Each run of joined segments as one path: drawn segment by segment, the
@@ -155,6 +156,10 @@ impl PatternFrame {
                     }
                     if g.kind == outline::DRILL {
                         drills.push(a);
+                        continue;
+                    }
+                    if g.kind == outline::PRESS {
+                        presses.push((a, b));
                         continue;
                     }
                     if run.is_empty() {
@@ -182,6 +187,10 @@ impl PatternFrame {
         for (a, b) in notches {
             let d = (b - a).normalized() * (b - a).length().max(7.0);
             painter.line_segment([a, a + d], egui::Stroke::new(1.5, egui::Color32::WHITE));
+        }
+        // A dart's press: an arrow across its mouth toward the leg its intake lies on.
+        for (a, b) in presses {
+            press_arrow(painter, a, b);
         }
         // A drill hole as the export marks it: a circle and a cross, a few pixels across.
         for q in drills {
@@ -396,6 +405,17 @@ fn grain_arrow(painter: &egui::Painter, a: egui::Pos2, b: egui::Pos2, bright: bo
         painter.line_segment([tip, tip + back + side], stroke);
         painter.line_segment([tip, tip + back - side], stroke);
     }
+}
+
+/// A dart's press mark from `a` toward `b`, at least 10 pixels long, its head at `b`.
+fn press_arrow(painter: &egui::Painter, a: egui::Pos2, b: egui::Pos2) {
+    let stroke = egui::Stroke::new(1.5, egui::Color32::from_rgb(250, 220, 120));
+    let b = a + (b - a).normalized() * (b - a).length().max(10.0);
+    painter.line_segment([a, b], stroke);
+    let d = (b - a).normalized() * 6.0;
+    let side = egui::vec2(-d.y, d.x) * 0.6;
+    painter.line_segment([b, b - d + side], stroke);
+    painter.line_segment([b, b - d - side], stroke);
 }
 
 fn colour(c: [f32; 4]) -> egui::Color32 {

@@ -1,7 +1,9 @@
 //! The Pieces panel's seam list: each seam's colour, label and name, its pairs, its
-//! sides' lengths and the pairs that stopped closing, with Name and Remove.
+//! sides' lengths and the pairs that stopped closing, with Name and Remove, and for a
+//! dart which way it is pressed.
 
 use shared::command::Command;
+use shared::sim_to_ui::dart;
 
 use super::pattern::seam_colour;
 use crate::action::Action;
@@ -45,6 +47,21 @@ pub(super) fn seams_section(
                 .clicked()
             {
                 actions.push(Action::Command(Command::RemoveSeam { seam: i as u32 }));
+            }
+            if s.dart != dart::NONE
+                && ui
+                    .small_button("Press other way")
+                    .on_hover_text(
+                        "This seam closes a dart: press its intake toward the other leg. \
+                         The arrow in the pattern view shows the way; the exported cut \
+                         line's dart cap follows (undo takes it back)",
+                    )
+                    .clicked()
+            {
+                actions.push(Action::Command(Command::PressDart {
+                    seam: i as u32,
+                    second: s.dart == dart::FIRST,
+                }));
             }
         });
         ui.indent(("seam", i), |ui| seam_lines(ui, s));

@@ -59,6 +59,10 @@ pub struct SeamRecord {
     /// in files written before they were kept.
     #[serde(default)]
     pub eased: Vec<[[f32; 3]; 3]>,
+    /// A dart pressed toward its second leg (`Seam::press_second`); written only when
+    /// set, and false in files written before a dart's press could be chosen.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub press_second: bool,
 }
 
 /// The JSON header.

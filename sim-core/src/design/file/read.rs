@@ -314,6 +314,7 @@ fn read_seams(h: &Header) -> Result<Vec<Seam>, DesignError> {
                 max_force: s.max_force,
                 name: s.name.clone(),
                 eased: s.eased.iter().map(|t| t.map(Vec3::from)).collect(),
+                press_second: s.press_second,
             })
         })
         .collect()

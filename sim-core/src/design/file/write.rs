@@ -89,6 +89,7 @@ impl Design {
                     max_force: s.max_force,
                     name: s.name.clone(),
                     eased: s.eased.iter().map(|t| t.map(|c| c.to_array())).collect(),
+                    press_second: s.press_second,
                 })
                 .collect(),
             tear_enabled: self.tear.enabled,

@@ -22,6 +22,10 @@
 //! - unfolded, the half next to leg A is that wedge's cut mirrored in leg A, the half
 //!   next to leg B the same cut turned back by `theta`: the two meet on the dart's middle
 //!   line in the cap's point.
+//!
+//! Pressed toward B instead (`Seam::press_second`), the construction is its mirror
+//! image: the loop mirrored and turned round, so that leg B leads, capped, and the cap
+//! mirrored back.
 
 use glam::DVec2;
 use rustc_hash::FxHashMap as HashMap;
@@ -55,6 +59,9 @@ pub(super) struct Dart {
     pub a: usize,
     pub b: usize,
     pub tip: DVec2,
+    /// Its intake pressed toward leg B (the piece's `press_second` names its label);
+    /// otherwise toward leg A.
+    pub second: bool,
 }
 
 /// How far inside a dart's point its drill hole goes, mm (at most a quarter of the way
@@ -69,6 +76,18 @@ impl Dart {
         let mouth = (l[self.a] + l[self.b]) * 0.5;
         let way = mouth - self.tip;
         self.tip + way.normalize_or_zero() * DRILL_IN_MM.min(0.25 * way.length())
+    }
+
+    /// The dart's press mark, with its label: from the dart's middle, a fifth of the
+    /// way in from its mouth, to halfway toward the leg its intake is pressed to (in
+    /// loop `loops[loop_index]`).
+    pub fn press_mark(&self, loops: &[Vec<DVec2>]) -> (String, DVec2, DVec2) {
+        let l = &loops[self.loop_index];
+        let leg = if self.second { l[self.b] } else { l[self.a] };
+        let mouth = (l[self.a] + l[self.b]) * 0.5;
+        let from = self.tip.lerp(mouth, 0.8);
+        let to = from.lerp(self.tip.lerp(leg, 0.8), 0.5);
+        (self.label.clone(), from, to)
     }
 }
 
@@ -170,6 +189,7 @@ pub(super) fn darts(p: &Piece) -> Vec<Dart> {
                 a,
                 b,
                 tip,
+                second: p.press_second.iter().any(|l| l == x),
             });
         }
     }
@@ -218,6 +238,31 @@ fn ray_hit(o: DVec2, u: DVec2, q: &[DVec2]) -> Option<f64> {
 /// the allowance does not cross the dart's lines as a cap's does (a dart at a corner,
 /// its edge folding back).
 pub(super) fn cap(l: &[DVec2], d: f64, dart: &Dart) -> Option<Vec<DVec2>> {
+    if !dart.second {
+        return cap_toward_a(l, d, dart);
+    }
+    // Pressed toward B: mirrored (x to -x) and turned round, the loop is still
+    // counter-clockwise with the material on its left, and leg B leads.
+    let n = l.len();
+    let mirror = |p: DVec2| DVec2::new(-p.x, p.y);
+    let turned: Vec<DVec2> = l.iter().rev().map(|&p| mirror(p)).collect();
+    let led_by_b = Dart {
+        a: n - 1 - dart.b,
+        b: n - 1 - dart.a,
+        tip: mirror(dart.tip),
+        second: false,
+        ..dart.clone()
+    };
+    let mut out: Vec<DVec2> = (cap_toward_a(&turned, d, &led_by_b)?.into_iter())
+        .map(mirror)
+        .collect();
+    // From leg A's side to leg B's, as the loop runs.
+    out.reverse();
+    Some(out)
+}
+
+/// [`cap`] pressed toward leg A.
+fn cap_toward_a(l: &[DVec2], d: f64, dart: &Dart) -> Option<Vec<DVec2>> {
     let n = l.len();
     let t = dart.tip;
     let (a, b) = (l[dart.a], l[dart.b]);

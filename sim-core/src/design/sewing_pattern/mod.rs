@@ -66,6 +66,14 @@ pub struct Piece {
     /// Drill holes: a sewn dart's point, marked on the fabric a little inside it (the
     /// dart's cap keeps its intake, so its legs are no longer cut edges).
     pub drills: Vec<DVec2>,
+    /// The labels of this piece's seam stretches whose seam presses a dart toward its
+    /// second leg ([`Seam::press_second`](crate::design::Seam)): a dart found on one is
+    /// capped so.
+    pub press_second: Vec<String>,
+    /// Each dart's press mark (`finish`, `view_of`), with its seam's label: from the
+    /// middle of the dart's mouth toward the leg its intake is pressed to. The studio
+    /// draws it; the SVG and DXF do not (the cap says it).
+    pub presses: Vec<(String, DVec2, DVec2)>,
 }
 
 impl Piece {
@@ -94,6 +102,10 @@ impl Piece {
         }
         for q in &mut self.drills {
             *q *= k;
+        }
+        for (_, a, b) in &mut self.presses {
+            *a *= k;
+            *b *= k;
         }
     }
 
@@ -226,6 +238,7 @@ pub(crate) fn view_of(design: &Design, parts: &[Vec<u32>]) -> Vec<Piece> {
         let darts = dart::darts(p);
         p.notches = notches(p, 0.0, &longest, &darts);
         p.drills = darts.iter().map(|d| d.drill(&p.loops)).collect();
+        p.presses = darts.iter().map(|d| d.press_mark(&p.loops)).collect();
         p.scale(1e-3);
     }
     pieces
@@ -245,6 +258,11 @@ fn pieces_in(
         .enumerate()
         .filter(|(_, s)| !s.name.is_empty())
         .map(|(i, s)| (seam_label(i), s.name.clone()))
+        .collect();
+    // The seams that press a dart toward its second leg, by label.
+    let pressed_second: FxHashSet<String> = (design.seams.iter().enumerate())
+        .filter(|(_, s)| s.press_second)
+        .map(|(i, _)| seam_label(i))
         .collect();
     let live = &design.sim.cloth.live;
     let names = design.describe(parts);
@@ -301,13 +319,17 @@ fn pieces_in(
         let mid = (lo + hi) * 0.5;
         let grain = (mid - dir * half, mid + dir * half);
         let mut seam_names: Vec<(String, String)> = Vec::new();
+        let mut press_second: Vec<String> = Vec::new();
         for (label, _, _) in &seams {
-            // A seam's stretch ("B2") carries the seam's name ("B").
+            // A seam's stretch ("B2") carries the seam's name ("B") and its press.
             let base = label.trim_end_matches(|c: char| c.is_ascii_digit());
             if let Some(name) = seam_names_of.get(base)
                 && !seam_names.iter().any(|(l, _)| l == label)
             {
                 seam_names.push((label.clone(), name.clone()));
+            }
+            if pressed_second.contains(base) && !press_second.contains(label) {
+                press_second.push(label.clone());
             }
         }
         out.push(Piece {
@@ -320,6 +342,8 @@ fn pieces_in(
             fabric: info.fabric,
             notches: Vec::new(),
             drills: Vec::new(),
+            press_second,
+            presses: Vec::new(),
         });
     }
     out
@@ -570,6 +594,7 @@ pub fn finish(mut pieces: Vec<Piece>, allowance_mm: f64) -> Vec<Piece> {
         }
         p.notches = notches(p, allowance_mm, &longest, &darts);
         p.drills = darts.iter().map(|d| d.drill(&p.loops)).collect();
+        p.presses = darts.iter().map(|d| d.press_mark(&p.loops)).collect();
         let (lo, hi) = p.cut.iter().fold(
             (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
             |(lo, hi), l| {

@@ -338,6 +338,8 @@ fn both_sides_of_a_seam_get_the_same_notches() {
             fabric: "cloth".into(),
             notches: vec![],
             drills: vec![],
+            press_second: vec![],
+            presses: vec![],
         }
     };
     let short = QUARTER_NOTCHES_MM - 10.0;
@@ -377,6 +379,8 @@ fn a_slit_is_cut_along_and_a_hole_round() {
         fabric: "cloth".into(),
         notches: vec![],
         drills: vec![],
+        press_second: vec![],
+        presses: vec![],
     };
     let f = finish(vec![piece], 10.0).remove(0);
     let shift = f.loops[0][0];
@@ -387,4 +391,46 @@ fn a_slit_is_cut_along_and_a_hole_round() {
         "{:?}",
         f.cut[2]
     );
+}
+
+/// A dart made in the pattern and pressed toward its second leg: its seam says so, one
+/// undo takes it back, a design file keeps it, and the pattern out's cap follows it. A
+/// seam that is no dart, or no seam, is refused and changes nothing.
+#[test]
+fn a_dart_is_pressed_toward_either_leg_undoably_and_the_file_keeps_it() {
+    let mut d = square(1.0, 16);
+    d.dart_on_plane(Vec2::new(0.0, -0.2), Vec2::new(0.0, -0.6), 0.06)
+        .unwrap();
+    let cut = |d: &Design| finish(pieces(d), 10.0).remove(0).cut;
+    let before = cut(&d);
+    let undo = d.history.undo_len();
+    d.press_dart(0, true).unwrap();
+    assert!(d.seams[0].press_second);
+    assert_eq!(d.history.undo_len(), undo + 1);
+    let pressed = cut(&d);
+    assert_ne!(before, pressed, "the cap turns over");
+    let view = view_pieces(&d);
+    assert_eq!(view[0].presses.len(), 1);
+    // Saved and read back.
+    let back = Design::load_design(&d.save_design().unwrap()).unwrap();
+    assert!(back.seams[0].press_second);
+    assert_eq!(cut(&back), pressed);
+    d.undo().unwrap();
+    assert!(!d.seams[0].press_second);
+    assert_eq!(cut(&d), before);
+    // A straight seam along the square's far edge is no dart; seam 7 is not there.
+    let mut s = square(1.0, 8);
+    s.seam_on_plane(
+        [Vec2::new(-0.5, 0.5), Vec2::new(0.0, 0.5)],
+        [Vec2::new(0.5, 0.5), Vec2::new(0.0, 0.5)],
+        0.01,
+    )
+    .unwrap();
+    let e = s.press_dart(0, true).unwrap_err().to_string();
+    assert!(e.contains("seam A is no dart"), "{e}");
+    assert!(matches!(
+        s.press_dart(7, true),
+        Err(crate::design::EditError::NoSeam { index: 7, .. })
+    ));
+    assert!(!s.seams[0].press_second);
 }

@@ -28,6 +28,8 @@ fn dart_at_hem() -> Piece {
         fabric: "cloth".into(),
         notches: vec![],
         drills: vec![],
+        press_second: vec![],
+        presses: vec![],
     }
 }
 
@@ -72,6 +74,7 @@ fn a_darts_cut_line_is_capped_and_folds_shut_onto_the_hems_allowance() {
             a: 1,
             b: 3,
             tip: DVec2::new(250.0, 200.0),
+            second: false,
         }]
     );
     let f = finish(vec![p.clone()], 10.0).remove(0);
@@ -364,4 +367,111 @@ fn a_darts_zigzag_leg_leaves_no_vertex_unstitched() {
         crate::mesh::mesher::check(&p.outline).unwrap();
         crate::mesh::mesher::mesh_outline(&p.outline, 0.03).unwrap();
     }
+}
+
+/// The cap of dart `p` (its one dart) with a 10 mm allowance, where `p` lies.
+fn cap_of(p: &Piece) -> Vec<DVec2> {
+    let found = darts(p);
+    assert_eq!(found.len(), 1);
+    cap(&p.loops[0], 10.0, &found[0]).unwrap()
+}
+
+/// Every point of `cap` (of a dart with tip `t` and mouth `a`-`b`) between the dart's
+/// legs folded shut toward leg B (`toward_b`) or A: the half of the cap beside that leg
+/// mirrored in it, the other half turned onto it about the tip; with whether it was
+/// between them (the cap's ends lie on the edge's allowance beyond the legs).
+fn folded(cap: &[DVec2], t: DVec2, a: DVec2, b: DVec2, toward_b: bool) -> Vec<(DVec2, bool)> {
+    let (ua, ub) = ((a - t).normalize(), (b - t).normalize());
+    let theta = ua.perp_dot(ub).atan2(ua.dot(ub));
+    let (leg, turn) = if toward_b { (ub, -theta) } else { (ua, theta) };
+    cap.iter()
+        .map(|&q| {
+            let phi = ua.perp_dot(q - t).atan2(ua.dot(q - t));
+            if !(1e-9..theta - 1e-9).contains(&phi) {
+                return (q, false);
+            }
+            // Beside leg A: the first half of the angle from A to B.
+            if (phi < 0.5 * theta) != toward_b {
+                (t + leg * (2.0 * (q - t).dot(leg)) - (q - t), true)
+            } else {
+                (t + DVec2::from_angle(-turn).rotate(q - t), true)
+            }
+        })
+        .collect()
+}
+
+/// A dart pressed toward its second leg: its cap folds shut over leg B onto the hem's
+/// allowance, where pressed toward its first it folds over leg A. Each cap is
+/// symmetric about the dart's middle (the half beside the far leg is the near half
+/// turned, which is that half mirrored twice), so a symmetric dart square to a straight
+/// hem has the same cap either way; a dart leaning to one side does not. The sewing
+/// line, the notches on the legs and the drill stay where they were.
+#[test]
+fn a_dart_pressed_toward_its_second_leg_is_capped_over_that_leg() {
+    let first = dart_at_hem();
+    let mut second = dart_at_hem();
+    second.press_second = vec!["F".into()];
+    assert!(darts(&second)[0].second && !darts(&first)[0].second);
+    let (a_cap, b_cap) = (cap_of(&first), cap_of(&second));
+    let (t, a, b) = (first.loops[0][2], first.loops[0][1], first.loops[0][3]);
+    assert_eq!(b_cap.len(), a_cap.len());
+    for (q, p) in b_cap.iter().zip(&a_cap) {
+        assert!(q.distance(*p) < 1e-9, "{b_cap:?} against {a_cap:?}");
+    }
+    for (q, _) in folded(&b_cap, t, a, b, true) {
+        assert!((q.y + 10.0).abs() < 1e-6, "folded over B to {q}");
+    }
+    // At a kink in the hem (side B rising 60 mm over its 225), the two presses differ.
+    let v = DVec2::new;
+    let kinked = |press: Vec<String>| {
+        let mut p = dart_at_hem();
+        p.loops[0][4] = v(500.0, 60.0);
+        p.press_second = press;
+        p
+    };
+    let (la, lb) = (kinked(vec![]), kinked(vec!["F".into()]));
+    let l = la.loops[0].clone();
+    let (t, a, b) = (l[2], l[1], l[3]);
+    // Folded, each point lies on the closed hem's allowance, 10 mm outside it: the near
+    // side's hem line, or the far side's turned onto the near one.
+    let ua = (a - t).normalize();
+    let theta = ua.perp_dot(b - t).atan2(ua.dot(b - t));
+    let outside = |q: DVec2, p0: DVec2, p1: DVec2| {
+        ((p1 - p0).normalize().perp_dot(q - p0) + 10.0).abs() < 1e-6
+    };
+    let on_a = |q: DVec2| outside(q, l[0], l[1]);
+    let on_b = |q: DVec2| outside(q, l[3], l[4]);
+    for (p, toward_b) in [(&la, false), (&lb, true)] {
+        let back = if toward_b { -theta } else { theta };
+        let mut inside = 0;
+        for (q, between) in folded(&cap_of(p), t, a, b, toward_b) {
+            let far = t + DVec2::from_angle(back).rotate(q - t);
+            let ok = match (between, toward_b) {
+                (false, _) => on_a(q) || on_b(q),
+                (true, true) => on_b(q) || on_a(far),
+                (true, false) => on_a(q) || on_b(far),
+            };
+            assert!(ok, "{toward_b}: folded to {q}");
+            inside += usize::from(between);
+        }
+        assert!(inside >= 1, "{toward_b}: a cap between the legs");
+    }
+    let (ca, cb) = (cap_of(&la), cap_of(&lb));
+    let apart = ca
+        .iter()
+        .zip(&cb)
+        .map(|(p, q)| p.distance(*q))
+        .fold(0.0, f64::max);
+    assert!(apart > 1.0, "the two presses differ: {ca:?} {cb:?}");
+    let (fa, fb) = (finish(vec![first], 10.0), finish(vec![second], 10.0));
+    assert_eq!(fa[0].loops, fb[0].loops);
+    assert_eq!(fa[0].drills, fb[0].drills);
+    assert_eq!(fa[0].notches.len(), fb[0].notches.len());
+    // The press mark runs from the dart's middle toward the pressed leg.
+    let mark = |f: &[Piece]| {
+        let (label, from, to) = f[0].presses[0].clone();
+        assert_eq!(label, "F");
+        to.x - from.x
+    };
+    assert!(mark(&fa) < -1.0 && mark(&fb) > 1.0);
 }
