@@ -488,7 +488,7 @@ impl Service<'_> {
     }
 
     /// The piece list, when the mesh, the pieces, their names or fabrics, the seams'
-    /// names or their open or stalled pairs, or the pins changed (the history gives a
+    /// names, darts' presses or their open or stalled pairs, or the pins changed (the history gives a
     /// late UI the last one).
     fn publish_pieces(&mut self) {
         use std::hash::{Hash, Hasher};
@@ -501,7 +501,7 @@ impl Service<'_> {
             }
         }
         for s in &d.seams {
-            s.name.hash(&mut records);
+            (&s.name, s.press_second).hash(&mut records);
         }
         // The pins (a pin of a deleted piece's vertex is not listed; the mesh's version
         // covers that).

@@ -1539,6 +1539,75 @@ fn a_piece_and_a_seam_named_over_the_protocol_are_listed_at_once() {
     stop.finish();
 }
 
+/// A dart pressed the other way over the protocol (protocol 26): the list goes out again
+/// at once with the dart's seam pressed toward its second leg, though no count, name
+/// or mesh changed (the list's key left the press out at first).
+#[test]
+fn a_dart_pressed_the_other_way_is_listed_at_once() {
+    let (d, stop) = dress_service("svcp");
+    let node = services::node(&d, "ui").unwrap();
+    let mut ask = asker(ports::command_client(&node).unwrap());
+    let lists: services::Sub<shared::sim_to_ui::PieceList> =
+        ports::subscriber(&node, services::pieces, None).unwrap();
+    let front = {
+        let mut scene = ScenarioConfig::new(ScenarioName::DressMannequin);
+        scene.piece_edge = 0.08;
+        build_design(&scene).unwrap().pieces[0].clone()
+    };
+    let (lo, hi) = sim_core::mesh::bounds2(&front.outline.loops[0]);
+    let x = 0.5 * (lo.x + hi.x) + front.offset.x;
+    let r = ask(shared::command::Command::DartPlane {
+        point: [x, lo.y + front.offset.y + 0.35],
+        toward: [x - 0.05, lo.y + front.offset.y - 0.05],
+        width_m: 0.1,
+    }
+    .to_wire(Header::default())
+    .unwrap());
+    assert_eq!(r.ok, 1, "{}", r.message());
+    // The dart's seam is the last (the dress's own are sewn as it starts, or not yet).
+    let press_of_last = |want: u32| {
+        let deadline = Instant::now() + Duration::from_secs(10);
+        let mut seen = Vec::new();
+        loop {
+            while let Some(l) = lists.receive().unwrap() {
+                let s = shared::sim_to_ui::check_seams(&l).unwrap();
+                seen = s.iter().map(|s| s.dart).collect();
+                if seen.last() == Some(&want) && seen[..seen.len() - 1].iter().all(|&k| k == 0) {
+                    return seen.len() as u32 - 1;
+                }
+            }
+            assert!(
+                Instant::now() < deadline,
+                "no dart pressed {want} last: {seen:?}"
+            );
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    };
+    let dart = press_of_last(shared::sim_to_ui::dart::FIRST);
+    // Paused, so that nothing but the press changes.
+    let r = ask(ToolCommand {
+        op: op::SET_SIMULATING,
+        mode: 0,
+        ..Default::default()
+    });
+    assert_eq!(r.ok, 1, "{}", r.message());
+    let press = |seam: u32| {
+        shared::command::Command::PressDart { seam, second: true }
+            .to_wire(Header::default())
+            .unwrap()
+    };
+    let r = ask(press(dart));
+    assert_eq!(r.ok, 1, "{}", r.message());
+    assert_eq!(press_of_last(shared::sim_to_ui::dart::SECOND), dart);
+    let r = ask(press(dart + 1));
+    assert!(
+        r.ok == 0 && r.message().contains("there is no seam"),
+        "{}",
+        r.message()
+    );
+    stop.finish();
+}
+
 /// A piece copied over the protocol (protocol 22), turned over and lower down: listed at
 /// once under a new name, said where it went; a piece that is not there and a drop past
 /// the knees are refused with nothing added; undo takes the copy away.
