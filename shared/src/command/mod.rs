@@ -538,35 +538,8 @@ impl Command {
                 material: MaterialChange::from_wire(u),
                 substeps: some_nonzero(c.a),
             },
-            op::ADD_PIECE => Self::AddPiece {
-                shape: match c.mode {
-                    shape::RECTANGLE => PieceShape::Rectangle {
-                        w: c.vec[0],
-                        h: c.vec[1],
-                    },
-                    shape::ELLIPSE => PieceShape::Ellipse {
-                        w: c.vec[0],
-                        h: c.vec[1],
-                    },
-                    _ => PieceShape::File { path: text(c) },
-                },
-                place: c.a,
-                drop_m: c.vec[2],
-                edge_m: c.value,
-            },
-            op::PLACE_PIECE => Self::PlacePiece {
-                piece: c.a,
-                place: c.b,
-                drop_m: c.vec[2],
-            },
+            op::ADD_PIECE | op::PLACE_PIECE | op::DUPLICATE_PIECE => piece_from_wire(c),
             op::DELETE_PIECE => Self::DeletePiece { piece: c.a },
-            op::DUPLICATE_PIECE => Self::DuplicatePiece {
-                piece: c.a,
-                place: c.b,
-                drop_m: c.vec[2],
-                mirrored: c.mode == 1,
-                edge_m: c.value,
-            },
             op::REMOVE_SEAM => Self::RemoveSeam { seam: c.a },
             op::SET_FABRIC => Self::SetFabric { name: text(c) },
             op::SET_PIECE_FABRIC => Self::SetPieceFabric {
@@ -609,6 +582,40 @@ impl Command {
                 });
             }
         })
+    }
+}
+
+/// An ADD_PIECE, PLACE_PIECE or DUPLICATE_PIECE record's command (checked already).
+fn piece_from_wire(c: &ToolCommand) -> Command {
+    match c.op {
+        op::ADD_PIECE => Command::AddPiece {
+            shape: match c.mode {
+                shape::RECTANGLE => PieceShape::Rectangle {
+                    w: c.vec[0],
+                    h: c.vec[1],
+                },
+                shape::ELLIPSE => PieceShape::Ellipse {
+                    w: c.vec[0],
+                    h: c.vec[1],
+                },
+                _ => PieceShape::File { path: text(c) },
+            },
+            place: c.a,
+            drop_m: c.vec[2],
+            edge_m: c.value,
+        },
+        op::PLACE_PIECE => Command::PlacePiece {
+            piece: c.a,
+            place: c.b,
+            drop_m: c.vec[2],
+        },
+        _ => Command::DuplicatePiece {
+            piece: c.a,
+            place: c.b,
+            drop_m: c.vec[2],
+            mirrored: c.mode == 1,
+            edge_m: c.value,
+        },
     }
 }
 

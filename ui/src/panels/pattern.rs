@@ -184,21 +184,7 @@ impl PatternFrame {
             }
         }
         self.seams(painter, store);
-        for (a, b) in notches {
-            let d = (b - a).normalized() * (b - a).length().max(7.0);
-            painter.line_segment([a, a + d], egui::Stroke::new(1.5, egui::Color32::WHITE));
-        }
-        // A dart's press: an arrow across its mouth toward the leg its intake lies on.
-        for (a, b) in presses {
-            press_arrow(painter, a, b);
-        }
-        // A drill hole as the export marks it: a circle and a cross, a few pixels across.
-        for q in drills {
-            let pen = egui::Stroke::new(1.0, egui::Color32::WHITE);
-            painter.circle_stroke(q, 3.5, pen);
-            painter.line_segment([q - egui::vec2(5.0, 0.0), q + egui::vec2(5.0, 0.0)], pen);
-            painter.line_segment([q - egui::vec2(0.0, 5.0), q + egui::vec2(0.0, 5.0)], pen);
-        }
+        marks(painter, &notches, &presses, &drills);
         // A stitch joins two vertices; each is drawn at its first place in the pattern.
         let mut place_of: std::collections::HashMap<u32, [f32; 2]> = Default::default();
         for c in &mesh.corners {
@@ -404,6 +390,30 @@ fn grain_arrow(painter: &egui::Painter, a: egui::Pos2, b: egui::Pos2, bright: bo
     for (tip, back) in [(a, d), (b, -d)] {
         painter.line_segment([tip, tip + back + side], stroke);
         painter.line_segment([tip, tip + back - side], stroke);
+    }
+}
+
+/// The marks drawn over the seams: balance notches (white, at least 7 pixels long), each
+/// dart's press (an arrow across its mouth toward the leg its intake lies on) and drill
+/// holes as the export marks them (a circle and a cross, a few pixels across).
+fn marks(
+    painter: &egui::Painter,
+    notches: &[(egui::Pos2, egui::Pos2)],
+    presses: &[(egui::Pos2, egui::Pos2)],
+    drills: &[egui::Pos2],
+) {
+    for &(a, b) in notches {
+        let d = (b - a).normalized() * (b - a).length().max(7.0);
+        painter.line_segment([a, a + d], egui::Stroke::new(1.5, egui::Color32::WHITE));
+    }
+    for &(a, b) in presses {
+        press_arrow(painter, a, b);
+    }
+    let pen = egui::Stroke::new(1.0, egui::Color32::WHITE);
+    for &q in drills {
+        painter.circle_stroke(q, 3.5, pen);
+        painter.line_segment([q - egui::vec2(5.0, 0.0), q + egui::vec2(5.0, 0.0)], pen);
+        painter.line_segment([q - egui::vec2(0.0, 5.0), q + egui::vec2(0.0, 5.0)], pen);
     }
 }
 
