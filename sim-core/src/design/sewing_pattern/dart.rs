@@ -276,12 +276,14 @@ fn cap_toward_a(l: &[DVec2], d: f64, dart: &Dart) -> Option<Vec<DVec2>> {
     let (p1, p2) = (q1 + right(q0, q1) * d, q2 + right(q2, q3) * d);
     let den = d1.perp_dot(d2);
     let mitre = (den.abs() > 1e-9).then(|| p1 + d1 * ((p2 - p1).perp_dot(d2) / den));
+    let far = 10.0 * (a.distance(t) + b.distance(t) + d);
     let m = match mitre {
         Some(m) if m.distance(q1) <= 4.0 * d => m,
-        _ => (p1 + p2) * 0.5,
+        // No mitre near: the two lines run nearly parallel, apart by the step between
+        // legs of different lengths.
+        _ => return stepped(t, ua, theta, (p1, d1), (p2, d2), far),
     };
     // The closed allowance: the two offset lines, long enough to cross both rays.
-    let far = 10.0 * (a.distance(t) + b.distance(t) + d);
     let q = [m - d1 * far, m, m + d2 * far];
     let at = |s: f64| {
         let k = (s.floor() as usize).min(1);
@@ -312,6 +314,40 @@ fn cap_toward_a(l: &[DVec2], d: f64, dart: &Dart) -> Option<Vec<DVec2>> {
         out.push(back(m));
     }
     Some(out)
+}
+
+/// [`cap_toward_a`] where the dart's legs differ in length and closed, the edge steps
+/// along the dart's line from the end of one leg to the end of the other (a leaning dart
+/// at a straight edge: pattern CAD trues such legs by redrawing the edge, which here is
+/// the cloth as it was simulated). The intake, pressed toward A, lies on side A, so its
+/// cut is side A's allowance (`p1` along `d1`) from the dart's middle folded to the
+/// dart's line; unfolded, it starts where side A's own allowance meets leg A and ends on
+/// leg B's line, which it follows to where side B's own allowance (`p2` along `d2`,
+/// turned onto A) meets it. Both sides' cut lines so run into the cap without a jog.
+/// Points past `far` from the tip are no cap (None).
+fn stepped(
+    t: DVec2,
+    ua: DVec2,
+    theta: f64,
+    (p1, d1): (DVec2, DVec2),
+    (p2, d2): (DVec2, DVec2),
+    far: f64,
+) -> Option<Vec<DVec2>> {
+    let on_ray = |p: DVec2, u: DVec2, dir: DVec2| {
+        let h = meet(p, p + u, t, t + dir)?;
+        ((h - t).dot(dir) > 0.0 && h.distance(t) < far).then_some(h)
+    };
+    let middle = DVec2::from_angle(-0.5 * theta).rotate(ua);
+    let (c, ha, hb) = (
+        on_ray(p1, d1, middle)?,
+        on_ray(p1, d1, ua)?,
+        on_ray(p2, d2, ua)?,
+    );
+    if (c - p1).dot(d1) >= (ha - p1).dot(d1) {
+        return None;
+    }
+    let mirror = t + ua * (2.0 * (c - t).dot(ua)) - (c - t);
+    Some(vec![ha, mirror, turn(ha, t, theta), turn(hb, t, theta)])
 }
 
 /// Loop `l`'s cut line for an allowance `d`: its offset (`super::offset`), with each

@@ -475,3 +475,61 @@ fn a_dart_pressed_toward_its_second_leg_is_capped_over_that_leg() {
     };
     assert!(mark(&fa) < -1.0 && mark(&fb) > 1.0);
 }
+
+/// A dart leaning on a straight hem (its point 40 mm right of its mouth's middle) has
+/// legs of different lengths, 210 and 201 mm: closed, the hem steps along the dart's
+/// line. Its cap starts where side A's own allowance meets leg A and ends where side B's
+/// meets leg B, the step taken along the far leg's line, so the cut line runs into the
+/// cap and out of it without a jog (it jumped 4.4 mm at each end, off a mitre between two
+/// nearly parallel lines). Pressed toward B, the same with the legs' parts swapped.
+#[test]
+fn a_leaning_darts_cap_meets_both_sides_allowance() {
+    let v = DVec2::new;
+    for press in [vec![], vec!["F".to_string()]] {
+        let mut p = dart_at_hem();
+        p.loops[0][2] = v(290.0, 200.0);
+        let l = p.loops[0].clone();
+        p.seams = vec![("F".into(), l[1], l[2]), ("F".into(), l[2], l[3])];
+        p.press_second = press.clone();
+        let cap = cap_of(&p);
+        let on_leg = |q: DVec2, end: DVec2| {
+            let u = (end - l[2]).normalize();
+            u.perp_dot(q - l[2]).abs() < 1e-6
+        };
+        let (first, last) = (cap[0], *cap.last().unwrap());
+        assert!(
+            (first.y + 10.0).abs() < 1e-6 && on_leg(first, l[1]),
+            "{press:?}: starts at {first}"
+        );
+        assert!(
+            (last.y + 10.0).abs() < 1e-6 && on_leg(last, l[3]),
+            "{press:?}: ends at {last}"
+        );
+        // The step: the two points before the end on the far leg's line (B's pressed
+        // toward A), or the two after the start on the near one's.
+        let (far_leg, step) = if press.is_empty() {
+            (l[3], cap[cap.len() - 2])
+        } else {
+            (l[1], cap[1])
+        };
+        assert!(on_leg(step, far_leg), "{press:?}: the step from {step}");
+        // In the cut line, both sides' allowances run straight into it: beside the
+        // dart, outside its V (where the cap is), nothing stands inside the allowance
+        // but the step on the far leg's line.
+        let f = finish(vec![p.clone()], 10.0).remove(0);
+        let shift = f.loops[0][0] - p.loops[0][0];
+        let cut: Vec<DVec2> = f.cut[0].iter().map(|&q| q - shift).collect();
+        let (ua, ub) = ((l[1] - l[2]).normalize(), (l[3] - l[2]).normalize());
+        let in_v = |q: DVec2| ua.perp_dot(q - l[2]) > 1e-6 && (q - l[2]).perp_dot(ub) > 1e-6;
+        let beside = |q: &&DVec2| {
+            q.y > -10.0 - 1e-6 && q.y < 0.0 && (q.x - 250.0).abs() < 60.0 && !in_v(**q)
+        };
+        let inside: Vec<&DVec2> = cut.iter().filter(beside).collect();
+        assert!(
+            inside
+                .iter()
+                .all(|q| (q.y + 10.0).abs() < 1e-6 || on_leg(**q, far_leg)),
+            "{press:?}: a jog inside the allowance {inside:?}"
+        );
+    }
+}
