@@ -385,11 +385,16 @@ impl App {
         });
         self.view.rect = Some(resp.rect);
         let ctx = ui.ctx().clone();
+        // Dart ticked in the open pattern view (and no Cut, which cuts there too): a drag
+        // on the cloth takes in a dart.
+        let darting = (self.pieces.pattern_open && self.pieces.darting && current != tool::CUT)
+            .then_some(self.pieces.dart_width);
         input::view_mouse(
             &mut self.view,
             &mut self.camera,
             &self.store,
             current,
+            darting,
             &resp,
             &ctx,
             actions,

@@ -131,6 +131,9 @@ pub struct Hit {
     /// The hit triangle's vertex nearest to the point.
     pub vertex: u32,
     pub distance: f32,
+    /// Where the point lies in the design's pattern plane (m), and the key of a corner
+    /// of its triangle (`Mesh::piece_of` gives its piece); none for a pin's head.
+    pub place: Option<([f32; 2], crate::store::Key)>,
 }
 
 /// The nearest cloth triangle along the ray (corners index `x`).
@@ -161,10 +164,20 @@ pub fn pick(
                         .total_cmp(&(p[j] - point).length_squared())
                 })
                 .unwrap_or(0);
+            // The point's share of each corner, to carry it into the pattern.
+            let area = |a: Vec3, b: Vec3, c: Vec3| (b - a).cross(c - a).length();
+            let whole = area(p[0], p[1], p[2]).max(1e-12);
+            let w = [
+                area(point, p[1], p[2]) / whole,
+                area(p[0], point, p[2]) / whole,
+                area(p[0], p[1], point) / whole,
+            ];
+            let pattern = [0, 1].map(|c| (0..3).map(|i| w[i] * t[i].pattern[c]).sum::<f32>());
             best = Some(Hit {
                 point,
                 vertex: v[k],
                 distance: dist,
+                place: Some((pattern, crate::store::key(t[0].vertex, [t[0].u, t[0].v]))),
             });
         }
     }

@@ -6,7 +6,7 @@ use glam::Vec2;
 use shared::sim_to_ui::tool;
 
 use crate::action::{Action, PathOp};
-use crate::camera::{Camera, pick};
+use crate::camera::{Camera, Hit, pick};
 use crate::panels::{Drag, ViewPanel};
 use crate::store::Store;
 use crate::tools::TOOLS;
@@ -61,31 +61,22 @@ pub fn keyboard(ctx: &egui::Context, save_path: &str, actions: &mut Vec<Action>)
     }
 }
 
-/// The mouse in the 3D view with tool `t`.
+/// The mouse in the 3D view with tool `t`; with `darting` (the dart's width at the edge,
+/// m) a primary drag takes in a dart instead ([`dart_drag`]).
+#[allow(clippy::too_many_arguments)]
 pub fn view_mouse(
     view: &mut ViewPanel,
     camera: &mut Camera,
     store: &Store,
     t: u32,
+    darting: Option<f32>,
     resp: &egui::Response,
     ctx: &egui::Context,
     actions: &mut Vec<Action>,
 ) {
     let rect = resp.rect;
     let size = Vec2::new(rect.width(), rect.height());
-    let (shift, wheel) = ctx.input(|i| (i.modifiers.shift, i.smooth_scroll_delta.y));
-    if resp.hovered() && wheel != 0.0 {
-        camera.zoom(wheel / 50.0);
-    }
-    let d = resp.drag_delta();
-    let dv = Vec2::new(d.x, d.y);
-    if resp.dragged_by(egui::PointerButton::Middle)
-        || (resp.dragged_by(egui::PointerButton::Secondary) && shift)
-    {
-        camera.pan(dv, size.y);
-    } else if resp.dragged_by(egui::PointerButton::Secondary) {
-        camera.orbit(dv);
-    }
+    let shift = camera_mouse(camera, size, resp, ctx);
     let Some(pos) = resp.interact_pointer_pos().or(resp.hover_pos()) else {
         return;
     };
@@ -93,6 +84,14 @@ pub fn view_mouse(
     let (o, dir, hit) = ray_hit(camera, store, size, local);
     if resp.hovered() {
         view.last_hit = hit;
+    }
+    if let Some(width_m) = darting {
+        let from = ctx
+            .input(|i| i.pointer.press_origin())
+            .map(|p| Vec2::new(p.x - rect.min.x, p.y - rect.min.y));
+        let start = from.and_then(|f| ray_hit(camera, store, size, f).2);
+        dart_drag(view, store, (start, hit), width_m, resp, ctx, actions);
+        return;
     }
     let primary_pressed = resp.drag_started_by(egui::PointerButton::Primary)
         || resp.clicked_by(egui::PointerButton::Primary);
@@ -182,6 +181,104 @@ pub fn view_mouse(
     }
 }
 
+/// The camera on the wheel (zoom), the middle button or shift and the right (pan) and
+/// the right button (orbit), in a view of `size` pixels; returns whether shift is held.
+fn camera_mouse(
+    camera: &mut Camera,
+    size: Vec2,
+    resp: &egui::Response,
+    ctx: &egui::Context,
+) -> bool {
+    let (shift, wheel) = ctx.input(|i| (i.modifiers.shift, i.smooth_scroll_delta.y));
+    if resp.hovered() && wheel != 0.0 {
+        camera.zoom(wheel / 50.0);
+    }
+    let d = resp.drag_delta();
+    let dv = Vec2::new(d.x, d.y);
+    if resp.dragged_by(egui::PointerButton::Middle)
+        || (resp.dragged_by(egui::PointerButton::Secondary) && shift)
+    {
+        camera.pan(dv, size.y);
+    } else if resp.dragged_by(egui::PointerButton::Secondary) {
+        camera.orbit(dv);
+    }
+    shift
+}
+
+/// A dart dragged on the cloth in the 3D view, as a designer takes one in on the form:
+/// from the dart's point (where the button went down, `hits.0`) out past the piece's
+/// edge. The drag's way is followed in the pattern plane through the places it crosses
+/// on the same piece (`hits.1` under the mouse now); let go off that piece, the dart's
+/// line runs on past the last of them by a quarter of its length (at least 3 cm), so
+/// that it leaves the piece there, and goes to cloth-sim as a DART_PLANE of `width_m`.
+/// Let go on the piece, it ends there (and cloth-sim says the line does not leave it).
+fn dart_drag(
+    view: &mut ViewPanel,
+    store: &Store,
+    hits: (Option<Hit>, Option<Hit>),
+    width_m: f32,
+    resp: &egui::Response,
+    ctx: &egui::Context,
+    actions: &mut Vec<Action>,
+) {
+    let piece = |h: &Hit| {
+        let (_, k) = h.place?;
+        store.mesh.as_ref()?.piece_of.get(&k).copied()
+    };
+    if resp.drag_started_by(egui::PointerButton::Primary) {
+        view.dart = hits.0.and_then(|h| {
+            let (p, _) = h.place?;
+            Some(crate::panels::DartDrag {
+                from: p,
+                last: p,
+                piece: piece(&h),
+            })
+        });
+        actions.push(Action::Status(
+            match view.dart {
+                Some(_) => "Dart: drag out past the piece's edge and let go",
+                None => "Dart: start the drag on the cloth, at the dart's point",
+            }
+            .into(),
+        ));
+        return;
+    }
+    let Some(mut d) = view.dart else {
+        return;
+    };
+    let on_piece = hits.1.filter(|h| piece(h) == d.piece).and_then(|h| h.place);
+    if resp.dragged_by(egui::PointerButton::Primary) {
+        if let Some((p, _)) = on_piece {
+            d.last = p;
+            view.dart = Some(d);
+        }
+        return;
+    }
+    if !resp.drag_stopped() && ctx.input(|i| i.pointer.primary_down()) {
+        return;
+    }
+    let (from, last) = (glam::Vec2::from(d.from), glam::Vec2::from(d.last));
+    view.dart = None;
+    let toward = match on_piece {
+        Some((p, _)) => glam::Vec2::from(p),
+        None => {
+            let way = last - from;
+            last + way.normalize_or_zero() * (0.25 * way.length()).max(0.03)
+        }
+    };
+    if toward.distance(from) < 1e-3 {
+        actions.push(Action::Status(
+            "Dart: drag from the dart's point out past the piece's edge".into(),
+        ));
+        return;
+    }
+    actions.push(Action::Command(shared::command::Command::DartPlane {
+        point: d.from,
+        toward: toward.to_array(),
+        width_m,
+    }));
+}
+
 /// The pin whose drawing (its shaft and head) passes nearest view point `at` (pixels from
 /// the view's corner), within 12 of them, as a hit at its vertex.
 fn pin_under(camera: &Camera, store: &Store, size: Vec2, at: Vec2) -> Option<crate::camera::Hit> {
@@ -200,6 +297,7 @@ fn pin_under(camera: &Camera, store: &Store, size: Vec2, at: Vec2) -> Option<cra
             point,
             vertex,
             distance: point.distance(eye),
+            place: None,
         })
 }
 

@@ -1199,6 +1199,65 @@ fn a_pinch_grabs_where_the_button_went_down() {
     assert_eq!(pen.last().unwrap().1, 0, "{pen:?}");
 }
 
+/// With Dart ticked in the open pattern view, a drag on the cloth in the 3D view from a
+/// point out past the cloth's edge takes in a dart there, as a designer does on the form:
+/// one DART_PLANE from the point's place in the pattern, its line running on past where
+/// the drag left the cloth. A drag begun beside the cloth sends nothing and says why.
+#[test]
+fn a_dart_is_taken_in_by_a_drag_on_the_cloth_in_3d() {
+    let mut h = harness();
+    h.state_mut().pieces.pattern_open = true;
+    h.state_mut().pieces.darting = true;
+    h.run_steps(2);
+    let rect = h.state().view.rect.unwrap();
+    let size = glam::Vec2::new(rect.width(), rect.height());
+    let screen = |h: &Harness<'_, App>, p: glam::Vec3| {
+        let s = h.state().camera.to_screen(p, size).unwrap();
+        rect.min + egui::vec2(s.x, s.y)
+    };
+    // The demo cloth lies level at 0.4 m, 1 m square; its pattern place is (x + 0.5,
+    // -(z + 0.5)). From its middle out past its edge at z = 0.5.
+    let (a, b) = (
+        screen(&h, glam::Vec3::new(0.0, 0.4, 0.0)),
+        screen(&h, glam::Vec3::new(0.0, 0.4, 0.75)),
+    );
+    let n = commands(&h).len();
+    h.hover_at(a);
+    h.run_steps(1);
+    h.drag_at(a);
+    h.run_steps(1);
+    for k in 1..=12 {
+        h.hover_at(a + (b - a) * (k as f32 / 12.0));
+        h.run_steps(1);
+    }
+    h.drop_at(b);
+    h.run_steps(2);
+    let sent = commands(&h);
+    assert_eq!(sent.len(), n + 1, "one dart");
+    let c = sent.last().unwrap();
+    assert_eq!(c.op, op::DART_PLANE);
+    assert!((c.value - 0.04).abs() < 1e-6, "{}", c.value);
+    let (point, toward) = ([c.uv[0], c.uv[1]], [c.uv[2], c.uv[3]]);
+    assert!(
+        (point[0] - 0.5).abs() < 0.02 && (point[1] + 0.5).abs() < 0.02,
+        "{point:?}"
+    );
+    assert!(
+        (toward[0] - 0.5).abs() < 0.05 && toward[1] < -1.0,
+        "past the edge: {toward:?}"
+    );
+    assert!(pen_since(&h, 0).is_empty(), "the pen was not moved");
+    // Begun beside the cloth: nothing sent, and said.
+    let beside = screen(&h, glam::Vec3::new(0.0, 0.4, 0.9));
+    drag(&mut h, beside, b + egui::vec2(0.0, 20.0));
+    assert_eq!(commands(&h).len(), n + 1);
+    assert!(
+        h.state().status.contains("start the drag on the cloth"),
+        "{}",
+        h.state().status
+    );
+}
+
 /// What the pen's button did (a cut stroke drawn with the mouse, say) reaches the status
 /// line with the tool state, done or refused; the answer a newly started studio finds is
 /// not news, and is not shown.

@@ -17,4 +17,4 @@ pub use pieces::PiecesPanel;
 pub use scene::ScenePanel;
 pub use status::StatusPanel;
 pub use tools::ToolsPanel;
-pub use view::{Drag, ViewPanel};
+pub use view::{DartDrag, Drag, ViewPanel};

@@ -394,7 +394,8 @@ impl PiecesPanel {
                         .on_hover_text(
                             "The wedge between is cut away and its two legs seamed, as one \
                              step to undo; the dart closes as the cloth is simulated. Its \
-                             width is at the edge",
+                             width is at the edge. The same drag on the cloth in the 3D view \
+                             (any tool but Cut) takes it in where the drag runs",
                         );
                 } else {
                     ui.label("Drag along a border, then along another: a seam joins them")
@@ -418,8 +419,9 @@ impl PiecesPanel {
     fn dart_row(&mut self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
             ui.checkbox(&mut self.darting, "Dart").on_hover_text(
-                "A drag from a point on a piece out across its edge takes in a dart there \
-                 (off: drags make seams)",
+                "A drag from a point on a piece out across its edge takes in a dart there, \
+                 here or on the cloth in the 3D view (off: drags make seams here, and the \
+                 tool acts in 3D)",
             );
             let mut mm = self.dart_width * 1e3;
             let range = DART_WIDTH.0 * 1e3..=DART_WIDTH.1 * 1e3;

@@ -14,6 +14,16 @@ pub struct Drag {
     pub pen: bool,
 }
 
+/// A dart being dragged on the cloth in the 3D view (Dart ticked): its point and the last
+/// place the drag crossed on the same piece, in the design's pattern plane (m), and
+/// that piece (`Mesh::piece_of`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DartDrag {
+    pub from: [f32; 2],
+    pub last: [f32; 2],
+    pub piece: Option<u32>,
+}
+
 /// The view's renderer and what the mouse is doing in it.
 #[derive(Default)]
 pub struct ViewPanel {
@@ -32,6 +42,8 @@ pub struct ViewPanel {
     /// A scissors or brush stroke begun beside the cloth: where the mouse was last seen
     /// off it (view pixels from the view's corner), until the stroke meets the cloth.
     pub stroke_from: Option<glam::Vec2>,
+    /// A dart being dragged on the cloth.
+    pub dart: Option<DartDrag>,
 }
 
 impl ViewPanel {
