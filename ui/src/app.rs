@@ -355,6 +355,10 @@ impl App {
             pen,
             spring,
             marked,
+            dart: self
+                .view
+                .dart
+                .map(|d| (Vec3::from(d.start), Vec3::from(d.now))),
         }
     }
 

@@ -232,6 +232,8 @@ fn dart_drag(
                 from: p,
                 last: p,
                 piece: piece(&h),
+                start: h.point.to_array(),
+                now: h.point.to_array(),
             })
         });
         actions.push(Action::Status(
@@ -250,8 +252,11 @@ fn dart_drag(
     if resp.dragged_by(egui::PointerButton::Primary) {
         if let Some((p, _)) = on_piece {
             d.last = p;
-            view.dart = Some(d);
         }
+        if let Some(h) = hits.1 {
+            d.now = h.point.to_array();
+        }
+        view.dart = Some(d);
         return;
     }
     if !resp.drag_stopped() && ctx.input(|i| i.pointer.primary_down()) {

@@ -1201,8 +1201,8 @@ fn a_pinch_grabs_where_the_button_went_down() {
 
 /// With Dart ticked in the open pattern view, a drag on the cloth in the 3D view from a
 /// point out past the cloth's edge takes in a dart there, as a designer does on the form:
-/// one DART_PLANE from the point's place in the pattern, its line running on past where
-/// the drag left the cloth. A drag begun beside the cloth sends nothing and says why.
+/// its line drawn meanwhile to the cloth's edge, then one DART_PLANE from the point's
+/// place in the pattern, its line running on past where the drag left the cloth. A drag begun beside the cloth sends nothing and says why.
 #[test]
 fn a_dart_is_taken_in_by_a_drag_on_the_cloth_in_3d() {
     let mut h = harness();
@@ -1230,6 +1230,14 @@ fn a_dart_is_taken_in_by_a_drag_on_the_cloth_in_3d() {
         h.hover_at(a + (b - a) * (k as f32 / 12.0));
         h.run_steps(1);
     }
+    // Meanwhile the view draws the dart's line from its point to the cloth's edge.
+    let d = h.state().view.dart.expect("a dart being dragged");
+    let (start, now) = (glam::Vec3::from(d.start), glam::Vec3::from(d.now));
+    assert!(
+        start.distance(glam::Vec3::new(0.0, 0.4, 0.0)) < 0.02,
+        "{start}"
+    );
+    assert!(now.z > 0.45 && now.x.abs() < 0.03, "{now}");
     h.drop_at(b);
     h.run_steps(2);
     let sent = commands(&h);

@@ -15,13 +15,17 @@ pub struct Drag {
 }
 
 /// A dart being dragged on the cloth in the 3D view (Dart ticked): its point and the last
-/// place the drag crossed on the same piece, in the design's pattern plane (m), and
-/// that piece (`Mesh::piece_of`).
+/// place the drag crossed on the same piece, in the design's pattern plane (m), that
+/// piece (`Mesh::piece_of`), and the line drawn meanwhile.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DartDrag {
     pub from: [f32; 2],
     pub last: [f32; 2],
     pub piece: Option<u32>,
+    /// Where it began and the last place the mouse was on the cloth, in 3D: the line
+    /// the view draws while the dart is dragged.
+    pub start: [f32; 3],
+    pub now: [f32; 3],
 }
 
 /// The view's renderer and what the mouse is doing in it.

@@ -39,6 +39,9 @@ pub struct Overlay {
     pub spring: Option<(Vec3, Vec3)>,
     /// A vertex picked by the first click of a sew.
     pub marked: Option<Vec3>,
+    /// A dart being dragged on the cloth: from its point to the mouse's last place on
+    /// the cloth.
+    pub dart: Option<(Vec3, Vec3)>,
 }
 
 /// The cloth's distinct (vertex, UV) pairs and the triangles over them (UVs are per
@@ -132,8 +135,12 @@ fn cross(s: &mut Vec<Vertex>, c: Vec3, r: f32, col: [f32; 4]) {
     }
 }
 
+/// A dart's line while it is dragged on the cloth (the pattern view's cut line's hue).
+const DART_COLOUR: [f32; 4] = [0.95, 0.45, 0.9, 1.0];
+
 /// The lines: the floor grid, the cloth's border and cuts, sewn edges and open
-/// stitches, the pinch spring, the pen, the first vertex of a sew and the pins' shafts
+/// stitches, the pinch spring, a dart being dragged, the pen, the first vertex of a sew
+/// and the pins' shafts
 /// (towards `eye`).
 pub(super) fn lines(store: &Store, overlay: &Overlay, eye: Vec3, out: &mut Vec<Vertex>) {
     out.clear();
@@ -162,6 +169,9 @@ pub(super) fn lines(store: &Store, overlay: &Overlay, eye: Vec3, out: &mut Vec<V
     }
     if let Some((a, b)) = overlay.spring {
         line(out, a, b, [0.2, 0.9, 0.4, 1.0]);
+    }
+    if let Some((a, b)) = overlay.dart {
+        line_lifted(out, a, b, DART_COLOUR, 0.004);
     }
     if let Some(p) = overlay.pen {
         cross(out, p, 0.02, [1.0, 0.95, 0.3, 1.0]);
