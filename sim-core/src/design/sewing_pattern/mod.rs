@@ -420,13 +420,16 @@ fn add_eased(c: &mut Corners, eased: &[[Vec3; 3]], to2: impl Fn(Vec3) -> DVec2) 
                 else {
                     continue;
                 };
-                // Its third corner: next to the edge on the outline, or its own place.
+                // Its third corner: next to the edge on the outline, or a place no live
+                // triangle has, one corner for every eased triangle there (two eased
+                // side by side share the corner the welds merged away; each with a
+                // corner of its own, the outline ran out to their far corner and back).
                 let third = [next_of.get(&v), prev_of.get(&u)]
                     .into_iter()
                     .flatten()
                     .copied()
                     .find(|&w| at(c, w) == q[k])
-                    .unwrap_or_else(|| c.id((u32::MAX - n as u32, q[k]), || to2(t[k])));
+                    .unwrap_or_else(|| c.id((u32::MAX, q[k]), || to2(t[k])));
                 let mut tri = [v, u, third];
                 // In the triangle's own winding: i, j, k.
                 tri.rotate_right(i);

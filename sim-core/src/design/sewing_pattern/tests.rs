@@ -434,3 +434,55 @@ fn a_dart_is_pressed_toward_either_leg_undoably_and_the_file_keeps_it() {
     ));
     assert!(!s.seams[0].press_second);
 }
+
+/// Two triangles eased into a seam side by side (a dart's leg at its mouth, welded in
+/// turn to one vertex that then welded on: a side-seam dart on the dress at 3 cm edges,
+/// frame 56) share the corner their welds merged away, which no live triangle has any
+/// more. Each was put back with a corner of its own there, so the outline ran out to
+/// their far corner and back (a spike into the piece, and an exported pattern our own
+/// reader refused as crossing itself). Put back with one corner there, the outline runs
+/// along the leg again, each place once.
+#[test]
+fn triangles_eased_side_by_side_share_the_corner_their_welds_merged_away() {
+    let at = |x: f32, y: f32| Vec3::new(x, 0.0, y);
+    let (p57, p58, p52, p48, p49) = (
+        at(-1.0, 0.0),
+        at(0.0, 0.0),
+        at(1.0, 0.0),
+        at(3.0, 0.0),
+        at(4.0, 0.0),
+    );
+    let (p234, top) = (at(0.5, 1.0), at(1.5, 3.0));
+    let to2 = |p: Vec3| DVec2::new(p.x as f64, p.z as f64);
+    let mut c = Corners::default();
+    let live = [
+        [(1, p57), (2, p58), (3, p234)],
+        [(3, p234), (4, p48), (5, p49)],
+        [(1, p57), (3, p234), (6, top)],
+        [(3, p234), (5, p49), (6, top)],
+    ];
+    for t in live {
+        let tri = t.map(|(v, p)| c.id(key(v, p), || to2(p)));
+        c.tris.push(tri);
+    }
+    let outline = |c: &Corners| -> Vec<DVec2> {
+        let b = boundary_of(&c.tris);
+        let next: HashMap<u32, u32> = b.iter().copied().collect();
+        let mut at = b.iter().map(|e| e.0).min().unwrap();
+        let mut out = vec![];
+        for _ in 0..b.len() {
+            out.push(c.places[at as usize]);
+            at = next[&at];
+        }
+        out
+    };
+    // The notch the two welds left: 57, 58, 234, 48, 49, top.
+    assert_eq!(outline(&c).len(), 6);
+    add_eased(&mut c, &[[p234, p52, p48], [p234, p58, p52]], to2);
+    let loop_ = outline(&c);
+    let want: Vec<DVec2> = [p57, p58, p52, p48, p49, top].map(to2).to_vec();
+    assert_eq!(boundary_of(&c.tris).len(), 6, "{loop_:?}");
+    let start = loop_.iter().position(|q| *q == want[0]).unwrap();
+    let turned: Vec<DVec2> = (0..6).map(|k| loop_[(start + k) % 6]).collect();
+    assert_eq!(turned, want);
+}
