@@ -1477,11 +1477,7 @@ fn a_piece_and_a_seam_named_over_the_protocol_are_listed_at_once() {
     // parts do not fall apart before the undo (which would then cross them and refuse).
     let r = ask(simulating(0));
     assert_eq!(r.ok, 1, "{}", r.message());
-    let front = {
-        let mut scene = ScenarioConfig::new(ScenarioName::DressMannequin);
-        scene.piece_edge = 0.08;
-        build_design(&scene).unwrap().pieces[0].clone()
-    };
+    let front = dress_front();
     let outline = &front.outline.loops[0];
     let xs = outline.iter().map(|p| p.x + front.offset.x);
     let (left, right) = xs.fold((f32::MAX, f32::MIN), |(a, b), x| (a.min(x), b.max(x)));
@@ -1544,16 +1540,12 @@ fn a_piece_and_a_seam_named_over_the_protocol_are_listed_at_once() {
 /// or mesh changed (the list's key left the press out at first).
 #[test]
 fn a_dart_pressed_the_other_way_is_listed_at_once() {
-    let (d, stop) = dress_service("svcp");
+    let (d, stop) = dress_service("svcd");
     let node = services::node(&d, "ui").unwrap();
     let mut ask = asker(ports::command_client(&node).unwrap());
     let lists: services::Sub<shared::sim_to_ui::PieceList> =
         ports::subscriber(&node, services::pieces, None).unwrap();
-    let front = {
-        let mut scene = ScenarioConfig::new(ScenarioName::DressMannequin);
-        scene.piece_edge = 0.08;
-        build_design(&scene).unwrap().pieces[0].clone()
-    };
+    let front = dress_front();
     let (lo, hi) = sim_core::mesh::bounds2(&front.outline.loops[0]);
     let x = 0.5 * (lo.x + hi.x) + front.offset.x;
     let r = ask(shared::command::Command::DartPlane {
@@ -1757,6 +1749,14 @@ impl Service {
             let _ = std::fs::remove_file(f);
         }
     }
+}
+
+/// The front piece of [`dress_service`]'s dress as it is built (in the pattern plane,
+/// with its offset), to aim a cut or a dart at.
+fn dress_front() -> sim_core::design::PieceRecord {
+    let mut scene = ScenarioConfig::new(ScenarioName::DressMannequin);
+    scene.piece_edge = 0.08;
+    build_design(&scene).unwrap().pieces[0].clone()
 }
 
 fn dress_service(tag: &str) -> (ScratchDomain, Service) {
