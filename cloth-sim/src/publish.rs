@@ -359,18 +359,6 @@ pub(crate) fn piece_list(design: &Design, seq: &mut u64) -> PieceList {
             dart: dart::NONE,
         };
     }
-    // A seam whose stretch the pattern finds closing a dart is listed as one.
-    for (label, ..) in view.iter().flat_map(|p| &p.presses) {
-        let base = label.trim_end_matches(|c: char| c.is_ascii_digit());
-        let Some(i) = (0..l.seam_count as usize).find(|&i| seam_label(i) == base) else {
-            continue;
-        };
-        l.seams[i].dart = if design.seams[i].press_second {
-            dart::SECOND
-        } else {
-            dart::FIRST
-        };
-    }
     // The pattern as the export makes it: each seam's sides and each piece's lines, a
     // seam's stretches ("B1", "B2": its sides run over more than two pieces) by number.
     let seam_index: std::collections::HashMap<String, usize> = (0..design.seams.len())
@@ -384,6 +372,17 @@ pub(crate) fn piece_list(design: &Design, seq: &mut u64) -> PieceList {
         };
         Some((*seam_index.get(base)?, stretch))
     };
+    // A seam whose stretch the pattern finds closing a dart is listed as one.
+    for (label, ..) in view.iter().flat_map(|p| &p.presses) {
+        let Some((i, _)) = of_label(label).filter(|&(i, _)| i < l.seam_count as usize) else {
+            continue;
+        };
+        l.seams[i].dart = if design.seams[i].press_second {
+            dart::SECOND
+        } else {
+            dart::FIRST
+        };
+    }
     let listed = view
         .iter()
         .flat_map(|p| &p.seams)

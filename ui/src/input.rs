@@ -86,10 +86,10 @@ pub fn view_mouse(
         view.last_hit = hit;
     }
     if let Some(width_m) = darting {
-        let from = ctx
-            .input(|i| i.pointer.press_origin())
-            .map(|p| Vec2::new(p.x - rect.min.x, p.y - rect.min.y));
-        let start = from.and_then(|f| ray_hit(camera, store, size, f).2);
+        // Where the button went down, picked once, as the drag starts.
+        let start = (resp.drag_started_by(egui::PointerButton::Primary))
+            .then(|| ray_hit(camera, store, size, press_origin(ctx, rect)?).2)
+            .flatten();
         dart_drag(view, store, (start, hit), width_m, resp, ctx, actions);
         return;
     }
@@ -104,9 +104,7 @@ pub fn view_mouse(
         // The drag begins where the button went down: a slow frame (the software
         // renderer at 2 fps under load) sees it start a long mouse step later, off the
         // cloth ("nothing under the mouse") or on another part of it.
-        let from = ctx
-            .input(|i| i.pointer.press_origin())
-            .map_or(local, |p| Vec2::new(p.x - rect.min.x, p.y - rect.min.y));
+        let from = press_origin(ctx, rect).unwrap_or(local);
         let (o, dir, hit) = ray_hit(camera, store, size, from);
         if let Some(h) = hit {
             let depth = (h.point - o).dot(dir);
@@ -179,6 +177,12 @@ pub fn view_mouse(
             view_dir: dir,
         });
     }
+}
+
+/// Where the primary button went down, in view pixels from `rect`'s corner.
+fn press_origin(ctx: &egui::Context, rect: egui::Rect) -> Option<Vec2> {
+    let p = ctx.input(|i| i.pointer.press_origin())?;
+    Some(Vec2::new(p.x - rect.min.x, p.y - rect.min.y))
 }
 
 /// The camera on the wheel (zoom), the middle button or shift and the right (pan) and
