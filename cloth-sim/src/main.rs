@@ -64,6 +64,18 @@ enum Command {
         #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
         allowance: f64,
     },
+    /// Measure how a design's garment fits its body: the cloth's length round the bust,
+    /// the waist and the hips (found on the body's own shape) beside the body's tape
+    /// there, and the ease between (docs/garments.md, "How a garment fits").
+    Fit {
+        /// The design file (.saiho: a scenario's design.saiho, or cloth-sim run's autosave).
+        design: PathBuf,
+        /// Print the girths as JSON (per level: level, height_m, body_m, garment_m,
+        /// ease_m, and where it does not go round the body, null there and open_runs and
+        /// open_cloth_m: the runs of cloth the level crosses).
+        #[arg(long)]
+        json: bool,
+    },
     /// List the fabric library: every fabric's source and its parameters in SI units
     /// (density, stretch and shear in N/m, bending rigidity warp/weft/bias in µN·m), and
     /// the drape coefficient its source measured. Conversions: docs/fabrics.md.
@@ -470,6 +482,7 @@ fn main() -> ExitCode {
             matched,
         } => subcommands::realtime(model, frames, json, matched),
         Command::Crossings { cloth, body } => subcommands::crossings(&cloth, body.as_ref()),
+        Command::Fit { design, json } => subcommands::fit(&design, json),
         Command::Fabrics { json } => fabrics::list(json),
         Command::ValidateFabrics {
             json,

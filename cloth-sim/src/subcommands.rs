@@ -101,7 +101,36 @@ pub(super) fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>
         r.crossings_self,
         r.crossings_body
     );
+    for g in r.ops.fit.iter().flatten() {
+        eprintln!("fit: {}", sim_core::design::garment::fit::describe(g));
+    }
     eprintln!("wrote {}", a.out.join("report.json").display());
+    Ok(())
+}
+
+/// `cloth-sim fit`: a design's garment measured round its body.
+pub(super) fn fit(design: &Path, json: bool) -> Result<(), Box<dyn std::error::Error>> {
+    use sim_core::design::garment::fit;
+    let d = sim_core::design::Design::load_design_file(design)?;
+    let Some(body) = d.sim.body.as_ref() else {
+        return Err(format!("{} has no body to measure the garment on", design.display()).into());
+    };
+    let Some(girths) = fit::of_design(&d) else {
+        return Err(format!(
+            "the body {} is no standing figure (at least {} m tall, a waist round its \
+             middle): there is no bust, waist or hips to measure at",
+            body.name,
+            fit::MIN_HEIGHT_M
+        )
+        .into());
+    };
+    if json {
+        println!("{}", serde_json::to_string_pretty(&girths)?);
+    } else {
+        for g in &girths {
+            println!("{}", fit::describe(g));
+        }
+    }
     Ok(())
 }
 

@@ -3,7 +3,8 @@
 //!
 //! Inside: `edge` <- `topology` <- `cloth_mesh` <- `live`; `obj` reads into a `ClothMesh`;
 //! `mesher` meshes a pattern outline into one; `svg` and `dxf` read pattern files into
-//! outlines (`dxf` uses `svg`'s `NamedOutline`); `bounds` and `sets` (union-find) serve
+//! outlines (`dxf` uses `svg`'s `NamedOutline`); `section` cuts a mesh at a level (a tape
+//! measure's loops); `bounds` and `sets` (union-find) serve
 //! them all.
 
 mod bounds;
@@ -15,6 +16,7 @@ pub mod live;
 pub mod mesher;
 pub mod obj;
 pub mod png;
+pub mod section;
 pub mod sets;
 pub mod svg;
 mod topology;

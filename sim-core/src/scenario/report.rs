@@ -93,6 +93,11 @@ pub struct OpsReport {
     pub pieces: Option<usize>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub torso_coverage: Option<f64>,
+    /// dress-mannequin and drape-pattern on a figure: the garment's length round the
+    /// bust, waist and hips beside the body's tape there, and the ease between
+    /// (`design::garment::fit`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fit: Option<Vec<crate::design::garment::fit::Girth>>,
     /// dress-mannequin: the largest difference between a seam's two sides' pattern
     /// lengths, m.
     #[serde(skip_serializing_if = "Option::is_none")]

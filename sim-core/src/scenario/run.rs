@@ -343,6 +343,7 @@ fn export(
             let axis = glam::Vec2::new(0.5 * (mn.x + mx.x), 0.5 * (mn.z + mx.z));
             ops.torso_coverage = Some(super::garment::torso_coverage(design, axis));
         }
+        ops.fit = crate::design::garment::fit::of_design(design);
     }
     if cfg.scenario == ScenarioName::Fold {
         let l = scripts::layers(design);

@@ -6,11 +6,13 @@
 //! (the pattern before it is cloth; arrangement by name) <- `assemble` (layout in the
 //! design's pattern plane, meshing, start positions; sewing) and `import` (pattern files
 //! in: `garmentcode`, and the SVG and DXF readers of `mesh`); `waist` (whether a held
-//! waist can stay up on the body once let go).
+//! waist can stay up on the body once let go); `fit` (the garment's length round the
+//! bust, waist and hips beside the body's, from level sections of both).
 
 mod assemble;
 mod cone;
 mod conform;
+pub mod fit;
 mod garmentcode;
 mod import;
 mod place;
