@@ -359,6 +359,7 @@ impl App {
                 .view
                 .dart
                 .map(|d| (Vec3::from(d.start), Vec3::from(d.now))),
+            rings: crate::fit::rings(&self.store),
         }
     }
 
@@ -600,6 +601,7 @@ impl App {
         ui.separator();
         ToolsPanel::view_section(ui, actions);
         crate::stretch::controls(ui, &mut self.stretch, self.store.stretch.as_ref());
+        crate::fit::controls(ui, &mut self.stretch.fit, self.store.fit.as_deref());
     }
 }
 

@@ -9,11 +9,13 @@
 //! - `link`: the iceoryx2 ports and the checks of what arrives; `store`: what arrived;
 //! - `camera`, `view3d`: the orbit camera, picking, and the wgpu renderer;
 //! - `tools`: the tool table; `stretch`: the maps the view can colour the cloth by (the
-//!   threads' stretch, the ease), which `mapper` keeps current.
+//!   threads' stretch, the ease), and `fit`: the tape measure at the bust, waist and hips,
+//!   both of which `mapper` keeps current.
 
 pub mod action;
 pub mod app;
 pub mod camera;
+pub mod fit;
 pub mod input;
 pub mod link;
 pub mod mapper;

@@ -1,6 +1,6 @@
 //! Keeps the map the 3D view shows (`stretch`: the threads' stretch or the ease) current
 //! with the store: worked out again when the frame, the mesh, the body, what it shows or
-//! its scale changes, dropped while it is hidden.
+//! its scale changes, dropped while it is hidden; and the tape measure's girths (`fit`).
 
 use glam::Vec3;
 use sim_core::collision::Body;
@@ -13,11 +13,13 @@ use crate::stretch::{MapKind, StretchMap, StretchView};
 #[derive(Default)]
 pub struct Mapper {
     measured_body: Option<(u64, Option<Body>)>,
+    fitter: crate::fit::Fitter,
 }
 
 impl Mapper {
     /// Puts the map `view` asks for of the newest frame in `store.stretch`.
     pub fn update(&mut self, store: &mut Store, view: StretchView) {
+        self.fitter.update(store, view.fit);
         if !view.on {
             store.stretch = None;
             return;

@@ -284,6 +284,10 @@ pub struct Store {
     /// The map the 3D view and the pattern view colour the cloth by (the threads' stretch
     /// or the ease), while the designer shows it; kept current by `mapper`.
     pub stretch: Option<crate::stretch::StretchMap>,
+    /// The garment's girths at the body's bust, waist and hips while the Fit section is
+    /// on (None: off, or a body that is no figure; empty: no cloth yet); kept current by
+    /// `mapper`.
+    pub fit: Option<Vec<sim_core::design::garment::fit::Girth>>,
 }
 
 impl Default for Store {
@@ -321,6 +325,7 @@ impl Default for Store {
             outline_total: 0,
             highlight: None,
             stretch: None,
+            fit: None,
         }
     }
 }

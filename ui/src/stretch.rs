@@ -63,6 +63,8 @@ pub struct StretchView {
     pub kind: MapKind,
     pub full: f32,
     pub ease_full: f32,
+    /// Whether the tape measure is shown (`fit`): its girths, and its rings in the view.
+    pub fit: bool,
 }
 
 impl Default for StretchView {
@@ -72,6 +74,7 @@ impl Default for StretchView {
             kind: MapKind::Stretch,
             full: DEFAULT_FULL_SCALE,
             ease_full: DEFAULT_EASE_SCALE,
+            fit: false,
         }
     }
 }

@@ -42,6 +42,8 @@ pub struct Overlay {
     /// A dart being dragged on the cloth: from its point to the mouse's last place on
     /// the cloth.
     pub dart: Option<(Vec3, Vec3)>,
+    /// Closed polylines and their colours: the tape measure's rings (`crate::fit`).
+    pub rings: Vec<(Vec<Vec3>, [f32; 4])>,
 }
 
 /// The cloth's distinct (vertex, UV) pairs and the triangles over them (UVs are per
@@ -139,9 +141,8 @@ fn cross(s: &mut Vec<Vertex>, c: Vec3, r: f32, col: [f32; 4]) {
 const DART_COLOUR: [f32; 4] = [0.95, 0.45, 0.9, 1.0];
 
 /// The lines: the floor grid, the cloth's border and cuts, sewn edges and open
-/// stitches, the pinch spring, a dart being dragged, the pen, the first vertex of a sew
-/// and the pins' shafts
-/// (towards `eye`).
+/// stitches, the pinch spring, a dart being dragged, the tape measure's rings, the pen,
+/// the first vertex of a sew and the pins' shafts (towards `eye`).
 pub(super) fn lines(store: &Store, overlay: &Overlay, eye: Vec3, out: &mut Vec<Vertex>) {
     out.clear();
     for k in -10..=10 {
@@ -172,6 +173,11 @@ pub(super) fn lines(store: &Store, overlay: &Overlay, eye: Vec3, out: &mut Vec<V
     }
     if let Some((a, b)) = overlay.dart {
         line_lifted(out, a, b, DART_COLOUR, 0.004);
+    }
+    for (ring, colour) in &overlay.rings {
+        for (k, &a) in ring.iter().enumerate() {
+            line_lifted(out, a, ring[(k + 1) % ring.len()], *colour, 0.003);
+        }
     }
     if let Some(p) = overlay.pen {
         cross(out, p, 0.02, [1.0, 0.95, 0.3, 1.0]);
