@@ -139,6 +139,7 @@ pub fn controls(ui: &mut egui::Ui, on: &mut bool, fit: Option<&[Girth]>) {
             ui.end_row();
         }
     });
+    ui.small("In the view: the tape round the body (white), the garment's loop (green)");
 }
 
 #[cfg(test)]

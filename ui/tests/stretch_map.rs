@@ -1,6 +1,6 @@
 //! The stretch map in the studio, driven by egui_kittest with no system behind it: M shows
 //! it, the cloth takes its colours in the rendered view, and the panel says how far the
-//! cloth is stretched.
+//! cloth is stretched. And the tape measure (Fit), which reads the same cloth and body.
 
 #![allow(clippy::unwrap_used)]
 
@@ -218,3 +218,61 @@ fn the_ease_map_shows_how_far_the_cloth_is_from_the_body() {
 
 /// The demo cloth's vertices a side.
 const SIDE: usize = 17;
+
+#[test]
+fn the_fit_section_measures_a_tube_round_the_mannequin() {
+    let mut h = harness(0.0);
+    let body = sim_core::collision::body::mannequin().unwrap();
+    let verts = body.vertices.iter().map(|v| v.to_array()).collect();
+    h.state_mut().store.body = Some((verts, body.triangles.clone()));
+    h.state_mut().store.body_version += 1;
+    // A tube of 64 sides, 0.25 m in radius, round the torso from 0.8 to 1.45 m.
+    let (n, r) = (64u32, 0.25f32);
+    let mut x = Vec::new();
+    for k in 0..n {
+        let a = std::f32::consts::TAU * k as f32 / n as f32;
+        x.push([r * a.cos(), 0.8, r * a.sin()]);
+        x.push([r * a.cos(), 1.45, r * a.sin()]);
+    }
+    let corners: Vec<shared::sim_to_ui::MeshCorner> = (0..n)
+        .flat_map(|k| {
+            let (a, b) = (2 * k, 2 * ((k + 1) % n));
+            [a, b, a + 1, b, b + 1, a + 1]
+        })
+        .map(|vertex| shared::sim_to_ui::MeshCorner {
+            vertex,
+            ..Default::default()
+        })
+        .collect();
+    h.state_mut().store.mesh = Some(ui::store::Mesh::new(7, x.len(), corners));
+    h.state_mut().store.mesh_generation += 1;
+    h.state_mut().store.set_positions(x);
+    h.run_steps(3);
+    // Off: nothing measured, no rows.
+    assert!(h.state().store.fit.is_none());
+    assert!(h.query_by_label("waist").is_none());
+    h.get_by_label("Fit (tape measure)").scroll_to_me();
+    // The scroll animates over a few frames.
+    h.run_steps(20);
+    h.get_by_label("Fit (tape measure)").click();
+    h.run_steps(3);
+    let fit = h.state().store.fit.clone().unwrap();
+    assert_eq!(fit.len(), 3);
+    // The tube is 1.57 m round: each level's ease is that less the body's girth there.
+    let round = n as f32 * 2.0 * r * (std::f32::consts::PI / n as f32).sin();
+    for g in &fit {
+        h.get_by_label(g.level);
+        h.get_by_label(&format!("{:.1} cm", 100.0 * g.body_m));
+        h.get_by_label(&format!("{:+.1} cm", 100.0 * (round - g.body_m)));
+    }
+    assert_eq!(
+        h.query_all_by_label(&format!("{:.1} cm", 100.0 * round))
+            .count(),
+        3
+    );
+    // Switched off again: gone.
+    h.get_by_label("Fit (tape measure)").click();
+    h.run_steps(3);
+    assert!(h.state().store.fit.is_none());
+    assert!(h.query_by_label("waist").is_none());
+}
