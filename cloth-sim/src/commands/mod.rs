@@ -219,9 +219,18 @@ fn dart(
     let pairs = design
         .dart_on_plane(p, q, width)
         .map_err(|x| x.to_string())?;
-    let label = sim_core::design::sewing_pattern::seam_label(design.seams.len() - 1);
+    let k = design.seams.len() - 1;
+    let label = sim_core::design::sewing_pattern::seam_label(k);
+    // A dart into a seam already sewn: the cloth sewn to it has to gather the intake.
+    let sewn = if design.dart_mouth_sewn(k) == Some(true) {
+        "; its mouth is on a seam already sewn, whose other side must gather the intake: \
+         the pairs at the mouth may stay open (the seam list tells), and a dart is best \
+         taken before the seam it runs into is sewn"
+    } else {
+        ""
+    };
     Ok(format!(
-        "Dart: {:.0} mm wide, its legs seam {label} of {pairs} pairs; it closes as the cloth is simulated",
+        "Dart: {:.0} mm wide, its legs seam {label} of {pairs} pairs; it closes as the cloth is simulated{sewn}",
         width * 1e3
     ))
 }

@@ -42,6 +42,10 @@ fn in_triangle(t: [Vec2; 3], q: Vec2, tol: f32) -> bool {
     })
 }
 
+/// How far apart a vertex's places in the pattern are taken for two pieces (a weld),
+/// not one place (the same corner in its triangles, equal to rounding), m.
+const MOUTH_APART_M: f32 = 1e-3;
+
 /// A dart's width at the edge, m: from 2 mm to 0.5 m.
 pub const DART_WIDTH_M: std::ops::RangeInclusive<f32> = 0.002..=0.5;
 
@@ -114,6 +118,29 @@ impl Design {
                 Err(e)
             }
         }
+    }
+
+    /// Whether dart seam `dart`'s mouth lies on cloth already sewn to other cloth: a
+    /// vertex of its mouth's pair, or one beside it (a dart's cut leaves a vertex of its
+    /// own on the edge), has places in two pieces of the pattern, as a weld leaves it.
+    /// The other side of that seam must then gather the dart's intake, and the seam's
+    /// length can hold the pairs at the mouth open (docs/garments.md, "A dart into a sewn
+    /// side seam"). None for a seam that is not there or has no pairs.
+    pub fn dart_mouth_sewn(&self, dart: usize) -> Option<bool> {
+        let &(a, b) = self.seams.get(dart)?.pairs.first()?;
+        let live = &self.sim.cloth.live;
+        let welded = |v: u32| {
+            let places = self.places_of(v, true);
+            (places.iter()).any(|p| p.distance(places[0]) > MOUTH_APART_M)
+        };
+        let near = [a, b].into_iter().flat_map(|v| {
+            (live.tris_of(v).iter())
+                .filter_map(|&t| live.tri(t))
+                .flat_map(|t| t.v)
+                .chain([v])
+                .collect::<Vec<u32>>()
+        });
+        Some(near.into_iter().any(welded))
     }
 
     /// The dart's steps (see [`Design::dart_on_plane`]), each its own edit.
@@ -303,5 +330,44 @@ mod tests {
         let pairs = r.unwrap();
         assert!(pairs >= 3, "{pairs}");
         assert_eq!(d.history.undo_len(), 1);
+        // Nothing is sewn to the square: its mouth is on a free edge.
+        assert_eq!(d.dart_mouth_sewn(d.seams.len() - 1), Some(false));
+        assert_eq!(d.dart_mouth_sewn(d.seams.len()), None);
+    }
+
+    /// On the shipped dress sewn and draped at 3 cm edges, a dart into the front's
+    /// welded side seam is told that its mouth is on a sewn seam; one up from the hem,
+    /// or into the side before the seam has welded, is not.
+    #[test]
+    fn a_dart_into_a_sewn_seam_is_told_and_one_from_the_hem_is_not() {
+        use crate::scenario::{ScenarioConfig, ScenarioName, build_scene};
+        let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+        cfg.piece_edge = 0.03;
+        let (mut d, spec) = build_scene(&cfg).unwrap();
+        crate::design::garment::sew(&mut d, &spec.unwrap(), 45.0).unwrap();
+        let (lo, hi) = crate::mesh::bounds2(&d.pieces[0].outline.loops[0]);
+        let off = d.pieces[0].offset;
+        let side = |d: &mut super::Design| {
+            let at = |x: f32, below: f32| Vec2::new(lo.x + x, hi.y - below) + off;
+            d.dart_on_plane(at(0.12, 0.38), at(-0.06, 0.40), 0.04)
+                .unwrap();
+            d.dart_mouth_sewn(d.seams.len() - 1)
+        };
+        // Before a frame: nothing welded yet.
+        assert_eq!(side(&mut d), Some(false));
+        d.undo().unwrap();
+        for _ in 0..240 {
+            d.step().unwrap();
+        }
+        let welded = |d: &super::Design, k: usize| d.seams[k].pairs.iter().all(|p| p.0 == p.1);
+        assert!(
+            (0..4).all(|k| welded(&d, k)),
+            "the dress's seams are not all welded"
+        );
+        assert_eq!(side(&mut d), Some(true));
+        d.undo().unwrap();
+        let up = |y: f32| Vec2::new(lo.x + 0.12, lo.y + y) + off;
+        d.dart_on_plane(up(0.33), up(-0.06), 0.04).unwrap();
+        assert_eq!(d.dart_mouth_sewn(d.seams.len() - 1), Some(false));
     }
 }
