@@ -70,6 +70,10 @@ enum Command {
     Fit {
         /// The design file (.saiho: a scenario's design.saiho, or cloth-sim run's autosave).
         design: PathBuf,
+        /// Also measure at this height above the floor, m (a hem, a high hip; repeat for
+        /// more): the level is named "level".
+        #[arg(long, allow_negative_numbers = true)]
+        at: Vec<f32>,
         /// Print the girths as JSON (per level: level, height_m, body_m, garment_m,
         /// ease_m, and where it does not go round the body, null there and open_runs and
         /// open_cloth_m: the runs of cloth the level crosses).
@@ -482,7 +486,7 @@ fn main() -> ExitCode {
             matched,
         } => subcommands::realtime(model, frames, json, matched),
         Command::Crossings { cloth, body } => subcommands::crossings(&cloth, body.as_ref()),
-        Command::Fit { design, json } => subcommands::fit(&design, json),
+        Command::Fit { design, at, json } => subcommands::fit(&design, &at, json),
         Command::Fabrics { json } => fabrics::list(json),
         Command::ValidateFabrics {
             json,

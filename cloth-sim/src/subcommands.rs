@@ -109,13 +109,13 @@ pub(super) fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>
 }
 
 /// `cloth-sim fit`: a design's garment measured round its body.
-pub(super) fn fit(design: &Path, json: bool) -> Result<(), Box<dyn std::error::Error>> {
+pub(super) fn fit(design: &Path, at: &[f32], json: bool) -> Result<(), Box<dyn std::error::Error>> {
     use sim_core::design::garment::fit;
     let d = sim_core::design::Design::load_design_file(design)?;
     let Some(body) = d.sim.body.as_ref() else {
         return Err(format!("{} has no body to measure the garment on", design.display()).into());
     };
-    let Some(girths) = fit::of_design(&d) else {
+    let Some(mut figure) = fit::Figure::of(&body.vertices, &body.triangles) else {
         return Err(format!(
             "the body {} is no standing figure (at least {} m tall, a waist round its \
              middle): there is no bust, waist or hips to measure at",
@@ -124,6 +124,18 @@ pub(super) fn fit(design: &Path, json: bool) -> Result<(), Box<dyn std::error::E
         )
         .into());
     };
+    for &h in at {
+        if !figure.add_level(&body.vertices, &body.triangles, "level", h) {
+            return Err(format!(
+                "no torso of the body {} round its axis at {h} m to measure at (above its \
+                 head, between its legs, or not a height)",
+                body.name
+            )
+            .into());
+        }
+    }
+    let tris: Vec<[u32; 3]> = d.sim.cloth.live.iter().map(|(_, t)| t.v).collect();
+    let girths = figure.fit(&d.sim.cloth.x, &tris);
     if json {
         println!("{}", serde_json::to_string_pretty(&girths)?);
     } else {

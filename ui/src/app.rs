@@ -601,7 +601,7 @@ impl App {
         ui.separator();
         ToolsPanel::view_section(ui, actions);
         crate::stretch::controls(ui, &mut self.stretch, self.store.stretch.as_ref());
-        crate::fit::controls(ui, &mut self.stretch.fit, self.store.fit.as_deref());
+        crate::fit::controls(ui, &mut self.stretch, self.store.fit.as_deref());
     }
 }
 

@@ -10,6 +10,7 @@ use glam::{Vec2, Vec3};
 use sim_core::design::garment::fit::{Figure, Girth};
 
 use crate::store::Store;
+use crate::stretch::StretchView;
 
 /// How often the girths are measured again while the cloth moves: a section of the
 /// cloth at three levels is well under a millisecond, but the numbers are read, not
@@ -20,30 +21,44 @@ const EVERY: Duration = Duration::from_millis(500);
 pub const BODY_RING: [f32; 4] = [0.85, 0.85, 0.9, 1.0];
 pub const GARMENT_RING: [f32; 4] = [0.2, 0.85, 0.55, 1.0];
 
-/// The body's levels, by the body version they were found for, and when the girths
-/// were last measured and of which frame.
+/// The heights a designer's own level may be set to, m.
+pub const AT_RANGE: (f32, f32) = (0.1, 2.5);
+
+/// The name of a designer's own level.
+pub const OWN_LEVEL: &str = "level";
+
+/// What a figure was found for: the body's version, and the designer's level's bits.
+type FigureKey = (u64, Option<u32>);
+
+/// The body's levels, by the body version and the designer's level they were found for,
+/// and when the girths were last measured and of which frame.
 #[derive(Default)]
 pub struct Fitter {
-    figure: Option<(u64, Option<Figure>)>,
+    figure: Option<(FigureKey, Option<Figure>)>,
     measured: Option<(Instant, u64, u64)>,
 }
 
 impl Fitter {
     /// Puts the girths of the newest frame in `store.fit` while `on`, at most every
-    /// [`EVERY`]; clears them when off.
-    pub fn update(&mut self, store: &mut Store, on: bool) {
+    /// [`EVERY`], with the designer's own level `at` (m) among them where the body has a
+    /// torso there; clears them when off.
+    pub fn update(&mut self, store: &mut Store, on: bool, at: Option<f32>) {
         if !on {
             store.fit = None;
             self.measured = None;
             return;
         }
-        let version = store.body_version;
-        if self.figure.as_ref().is_none_or(|(v, _)| *v != version) {
+        let key = (store.body_version, at.map(f32::to_bits));
+        if self.figure.as_ref().is_none_or(|(k, _)| *k != key) {
             let figure = store.body.as_ref().and_then(|(v, t)| {
                 let v: Vec<Vec3> = v.iter().map(|p| Vec3::from(*p)).collect();
-                Figure::of(&v, t)
+                let mut f = Figure::of(&v, t)?;
+                if let Some(h) = at {
+                    f.add_level(&v, t, OWN_LEVEL, h);
+                }
+                Some(f)
             });
-            self.figure = Some((version, figure));
+            self.figure = Some((key, figure));
             self.measured = None;
         }
         let of = (store.frame, store.mesh_generation);
@@ -83,17 +98,34 @@ pub fn rings(store: &Store) -> Vec<(Vec<Vec3>, [f32; 4])> {
         .collect()
 }
 
-/// The Fit section: a switch, and each level's girths while it is on.
-pub fn controls(ui: &mut egui::Ui, on: &mut bool, fit: Option<&[Girth]>) {
-    ui.checkbox(on, "Fit (tape measure)").on_hover_text(
-        "The garment's length round the bust, the waist and the hips beside the body's \
+/// The Fit section: a switch, a level of the designer's own, and each level's girths
+/// while it is on.
+pub fn controls(ui: &mut egui::Ui, view: &mut StretchView, fit: Option<&[Girth]>) {
+    ui.checkbox(&mut view.fit, "Fit (tape measure)")
+        .on_hover_text(
+            "The garment's length round the bust, the waist and the hips beside the body's \
          girth there (a tape round the body bridges its hollows), and the ease between: \
          what a pattern is drafted with. The view draws the tape and the garment's loop at \
          each level.",
-    );
-    if !*on {
+        );
+    if !view.fit {
         return;
     }
+    ui.horizontal(|ui| {
+        let mut own = view.fit_at.is_some();
+        ui.checkbox(&mut own, "Also at")
+            .on_hover_text("A level of your own to measure at too: a hem, a high hip");
+        let mut h = view.fit_at.unwrap_or(1.0);
+        let drag = egui::DragValue::new(&mut h)
+            .range(AT_RANGE.0..=AT_RANGE.1)
+            .speed(0.005)
+            .fixed_decimals(3)
+            .suffix(" m");
+        let changed = ui.add_enabled(own, drag).changed();
+        if own != view.fit_at.is_some() || changed {
+            view.fit_at = own.then_some(h);
+        }
+    });
     let Some(fit) = fit else {
         ui.label("The body is no standing figure: no bust, waist or hips to measure at");
         return;
@@ -108,8 +140,12 @@ pub fn controls(ui: &mut egui::Ui, on: &mut bool, fit: Option<&[Girth]>) {
         }
         ui.end_row();
         for g in fit {
-            ui.label(g.level)
-                .on_hover_text(format!("{:.2} m above the floor", g.height_m));
+            let name = match g.level {
+                OWN_LEVEL => format!("at {:.2} m", g.height_m),
+                l => l.to_string(),
+            };
+            ui.label(name)
+                .on_hover_text(format!("{:.3} m above the floor", g.height_m));
             ui.label(format!("{:.1} cm", 100.0 * g.body_m));
             match (g.garment_m, g.ease_m) {
                 (Some(m), Some(e)) => {
@@ -139,6 +175,11 @@ pub fn controls(ui: &mut egui::Ui, on: &mut bool, fit: Option<&[Girth]>) {
             ui.end_row();
         }
     });
+    if let Some(h) = view.fit_at
+        && !fit.iter().any(|g| g.level == OWN_LEVEL)
+    {
+        ui.small(format!("No torso at {h:.2} m to measure round"));
+    }
     ui.small("In the view: the tape round the body (white), the garment's loop (green)");
 }
 
@@ -176,10 +217,10 @@ mod tests {
         };
         let mut fitter = Fitter::default();
         // Off: nothing measured.
-        fitter.update(&mut store, false);
+        fitter.update(&mut store, false, None);
         assert!(store.fit.is_none());
         // A body but no cloth yet.
-        fitter.update(&mut store, true);
+        fitter.update(&mut store, true, None);
         assert_eq!(store.fit.as_deref(), Some(&[][..]));
         let (x, t) = tube(64, 0.2, 0.8, 1.45);
         let corners = t
@@ -195,7 +236,7 @@ mod tests {
         store.x = x;
         // Due again at once: the mesh is new.
         fitter.measured = None;
-        fitter.update(&mut store, true);
+        fitter.update(&mut store, true, None);
         let fit = store.fit.clone().unwrap();
         let levels: Vec<&str> = fit.iter().map(|g| g.level).collect();
         assert_eq!(levels, ["bust", "waist", "hips"]);
@@ -209,13 +250,21 @@ mod tests {
         for (ring, _) in &r {
             assert!(ring.iter().all(|p| fit.iter().any(|g| g.height_m == p.y)));
         }
+        // A level of the designer's own, and one where the body has no torso.
+        fitter.update(&mut store, true, Some(0.9));
+        let fit = store.fit.clone().unwrap();
+        assert_eq!(fit.len(), 4);
+        assert_eq!((fit[3].level, fit[3].height_m), (OWN_LEVEL, 0.9));
+        assert!((fit[3].garment_m.unwrap() - round).abs() < 1e-3);
+        fitter.update(&mut store, true, Some(1.9));
+        assert_eq!(store.fit.as_ref().unwrap().len(), 3);
         // A body that is no figure: no levels.
         store.body = Some((
             vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]],
             vec![[0, 1, 2]],
         ));
         store.body_version = 2;
-        fitter.update(&mut store, true);
+        fitter.update(&mut store, true, None);
         assert!(store.fit.is_none());
         assert!(rings(&store).is_empty());
     }

@@ -19,7 +19,7 @@ pub struct Mapper {
 impl Mapper {
     /// Puts the map `view` asks for of the newest frame in `store.stretch`.
     pub fn update(&mut self, store: &mut Store, view: StretchView) {
-        self.fitter.update(store, view.fit);
+        self.fitter.update(store, view.fit, view.fit_at);
         if !view.on {
             store.stretch = None;
             return;

@@ -63,8 +63,10 @@ pub struct StretchView {
     pub kind: MapKind,
     pub full: f32,
     pub ease_full: f32,
-    /// Whether the tape measure is shown (`fit`): its girths, and its rings in the view.
+    /// Whether the tape measure is shown (`fit`): its girths, and its rings in the view;
+    /// and a level of the designer's own to measure at too, m above the floor.
     pub fit: bool,
+    pub fit_at: Option<f32>,
 }
 
 impl Default for StretchView {
@@ -75,6 +77,7 @@ impl Default for StretchView {
             full: DEFAULT_FULL_SCALE,
             ease_full: DEFAULT_EASE_SCALE,
             fit: false,
+            fit_at: None,
         }
     }
 }

@@ -270,6 +270,18 @@ fn the_fit_section_measures_a_tube_round_the_mannequin() {
             .count(),
         3
     );
+    // A level of the designer's own: 1 m up at first.
+    h.get_by_label("Also at").scroll_to_me();
+    h.run_steps(20);
+    h.get_by_label("Also at").click();
+    h.run_steps(3);
+    assert_eq!(h.state().stretch.fit_at, Some(1.0));
+    h.get_by_label("at 1.00 m");
+    let cm = format!("{:.1} cm", 100.0 * round);
+    assert_eq!(h.query_all_by_label(&cm).count(), 4);
+    h.get_by_label("Also at").click();
+    h.run_steps(3);
+    assert!(h.query_by_label("at 1.00 m").is_none());
     // Switched off again: gone.
     h.get_by_label("Fit (tape measure)").click();
     h.run_steps(3);

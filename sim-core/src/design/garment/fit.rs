@@ -163,6 +163,24 @@ impl Figure {
         Some(Self { axis, levels })
     }
 
+    /// Adds a level named `name` at height `h` of the body with vertices `x` and
+    /// triangles `tris` (the one [`Figure::of`] was found on): a hem, a high hip, a
+    /// level a designer chooses. False, and nothing added, where the body has no torso
+    /// round its axis at `h` (above the head, between the legs).
+    pub fn add_level(&mut self, x: &[Vec3], tris: &[[u32; 3]], name: &'static str, h: f32) -> bool {
+        match h
+            .is_finite()
+            .then(|| torso(x, tris, h, self.axis))
+            .flatten()
+        {
+            Some(t) => {
+                self.levels.push((name, h, t.hull));
+                true
+            }
+            None => false,
+        }
+    }
+
     /// The garment with vertices `x` and triangles `tris` measured at each level.
     pub fn fit(&self, x: &[Vec3], tris: &[[u32; 3]]) -> Vec<Girth> {
         self.levels
@@ -259,6 +277,22 @@ mod tests {
             assert!((tape[0] - 0.92).abs() < 0.03, "{pose:?} bust {}", tape[0]);
             assert!(tape[1] < tape[0] && tape[1] < tape[2], "{pose:?} {tape:?}");
         }
+    }
+
+    #[test]
+    fn a_level_is_added_where_the_torso_is_and_refused_elsewhere() {
+        let b = posed_mannequin(Pose::Hanging).unwrap();
+        let mut f = Figure::of(&b.vertices, &b.triangles).unwrap();
+        // The chest's ellipsoid at 1.25 m: 0.174 x 0.107 m, 0.89 m round.
+        assert!(f.add_level(&b.vertices, &b.triangles, "at", 1.25));
+        let (name, h, hull) = f.levels.last().unwrap();
+        assert_eq!((*name, *h), ("at", 1.25));
+        assert!((perimeter(hull) - 0.89).abs() < 0.02, "{}", perimeter(hull));
+        // Over the head, between the legs, and not a number: no level.
+        for h in [1.9, 0.4, f32::NAN] {
+            assert!(!f.add_level(&b.vertices, &b.triangles, "at", h), "{h}");
+        }
+        assert_eq!(f.levels.len(), 4);
     }
 
     #[test]
