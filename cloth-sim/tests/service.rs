@@ -1536,8 +1536,9 @@ fn a_piece_and_a_seam_named_over_the_protocol_are_listed_at_once() {
 }
 
 /// A dart pressed the other way over the protocol (protocol 26): the list goes out again
-/// at once with the dart's seam pressed toward its second leg, though no count, name
-/// or mesh changed (the list's key left the press out at first).
+/// at once with the dart's seam pressed toward its first leg (it was made pressed toward
+/// the centre front, its second), though no count, name or mesh changed (the list's key
+/// left the press out at first).
 #[test]
 fn a_dart_pressed_the_other_way_is_listed_at_once() {
     let (d, stop) = dress_service("svcd");
@@ -1575,7 +1576,9 @@ fn a_dart_pressed_the_other_way_is_listed_at_once() {
             std::thread::sleep(Duration::from_millis(10));
         }
     };
-    let dart = press_of_last(shared::sim_to_ui::dart::FIRST);
+    // A new dart is pressed as a tailor presses it (this one, left of the middle and
+    // leaning out, toward the centre front: its second leg here).
+    let dart = press_of_last(shared::sim_to_ui::dart::SECOND);
     // Paused, so that nothing but the press changes.
     let r = ask(ToolCommand {
         op: op::SET_SIMULATING,
@@ -1584,13 +1587,16 @@ fn a_dart_pressed_the_other_way_is_listed_at_once() {
     });
     assert_eq!(r.ok, 1, "{}", r.message());
     let press = |seam: u32| {
-        shared::command::Command::PressDart { seam, second: true }
-            .to_wire(Header::default())
-            .unwrap()
+        shared::command::Command::PressDart {
+            seam,
+            second: false,
+        }
+        .to_wire(Header::default())
+        .unwrap()
     };
     let r = ask(press(dart));
     assert_eq!(r.ok, 1, "{}", r.message());
-    assert_eq!(press_of_last(shared::sim_to_ui::dart::SECOND), dart);
+    assert_eq!(press_of_last(shared::sim_to_ui::dart::FIRST), dart);
     let r = ask(press(dart + 1));
     assert!(
         r.ok == 0 && r.message().contains("there is no seam"),

@@ -229,8 +229,20 @@ fn dart(
     } else {
         ""
     };
+    // Which way its intake lies: a tailor's way where the body tells one.
+    let tailors = design.tailors_press(k);
+    let press = match (design.pressed_legs(k), tailors) {
+        (Some([to, _]), Some((way, rule))) if to == way => match rule {
+            sim_core::design::TailorsPress::TowardMiddle => {
+                "; pressed toward the body's middle, as a dart up the body is"
+            }
+            sim_core::design::TailorsPress::Down => "; pressed down, as a dart round the body is",
+        },
+        (Some(_), _) => "; pressed toward its first leg",
+        (None, _) => "",
+    };
     Ok(format!(
-        "Dart: {:.0} mm wide, its legs seam {label} of {pairs} pairs; it closes as the cloth is simulated{sewn}",
+        "Dart: {:.0} mm wide, its legs seam {label} of {pairs} pairs{press}; it closes as the cloth is simulated{sewn}",
         width * 1e3
     ))
 }

@@ -568,3 +568,37 @@ fn pins_are_listed_named_and_freed_together() {
         "{said}"
     );
 }
+
+/// A new dart's answer says which way its intake is pressed: up from the dress's hem
+/// toward the body's middle, in from the side seam down, and at the middle toward its
+/// first leg (no way is a tailor's there).
+#[test]
+fn a_new_dart_says_which_way_it_is_pressed() {
+    use sim_core::scenario::{ScenarioConfig, ScenarioName, build_scene};
+    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+    cfg.piece_edge = 0.03;
+    let (mut d, _) = build_scene(&cfg).unwrap();
+    let (lo, hi) = sim_core::mesh::bounds2(&d.pieces[0].outline.loops[0]);
+    let off = d.pieces[0].offset;
+    let at = |x: f32, y: f32| (glam::Vec2::new(x, y) + off).to_array();
+    let take = |d: &mut Design, p: [f32; 2], q: [f32; 2]| {
+        let m = dart(d, &p, &q, 0.04).unwrap();
+        d.undo().unwrap();
+        m
+    };
+    let up = take(
+        &mut d,
+        at(lo.x + 0.12, lo.y + 0.33),
+        at(lo.x + 0.12, lo.y - 0.06),
+    );
+    assert!(up.contains("pressed toward the body's middle"), "{up}");
+    let side = take(
+        &mut d,
+        at(lo.x + 0.12, hi.y - 0.38),
+        at(lo.x - 0.06, hi.y - 0.40),
+    );
+    assert!(side.contains("; pressed down"), "{side}");
+    let mid = 0.5 * (lo.x + hi.x);
+    let middle = take(&mut d, at(mid, lo.y + 0.33), at(mid, lo.y - 0.06));
+    assert!(middle.contains("pressed toward its first leg"), "{middle}");
+}

@@ -46,6 +46,19 @@ fn in_triangle(t: [Vec2; 3], q: Vec2, tol: f32) -> bool {
 /// not one place (the same corner in its triangles, equal to rounding), m.
 const MOUTH_APART_M: f32 = 1e-3;
 
+/// How much nearer the body's middle (or lower) one leg of a new dart must be than the
+/// other for it to be pressed that way, m: a dart at the middle is left as it is.
+const PRESS_TIE_M: f32 = 2e-3;
+
+/// Which rule of [`Design::tailors_press`] chose a dart's press.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TailorsPress {
+    /// A dart that runs up or down the body, pressed toward the centre front or back.
+    TowardMiddle,
+    /// A dart that runs round the body, pressed downward.
+    Down,
+}
+
 /// A dart's width at the edge, m: from 2 mm to 0.5 m.
 pub const DART_WIDTH_M: std::ops::RangeInclusive<f32> = 0.002..=0.5;
 
@@ -94,7 +107,10 @@ impl Design {
             });
         }
         let before = self.history.undo_len();
-        let done = self.dart_steps(point, mouths);
+        let done = self.dart_steps(point, mouths).and_then(|pairs| {
+            self.press_as_tailors_do(self.seams.len() - 1)?;
+            Ok(pairs)
+        });
         let steps = self.history.undo_len() - before;
         match done {
             Ok(pairs) => {
@@ -282,6 +298,70 @@ impl Design {
         Ok(Vec2::new(e.x as f32, e.y as f32))
     }
 
+    /// The way a tailor presses dart seam `index`, where the body tells: a dart that runs
+    /// up or down the body (a waist dart) toward the body's middle, the centre front or
+    /// back; one that runs round it (a bust dart from the side seam) downward. The mouth
+    /// vertex of the leg pressed toward, and which rule chose it. None without a body, or
+    /// where the dart is at the middle (its legs within [`PRESS_TIE_M`] of each other).
+    pub fn tailors_press(&self, index: usize) -> Option<(u32, TailorsPress)> {
+        let (mn, mx) = self.sim.body.as_ref()?.bounds();
+        let middle = 0.5 * (mn.x + mx.x);
+        let seam = self.seams.get(index)?;
+        let (&(a, b), &(pa, pb)) = (seam.pairs.first()?, seam.pairs.last()?);
+        let x = &self.sim.cloth.x;
+        let [xa, xb, xp] = [a, b, pa].map(|v| x[v as usize]);
+        let axis = 0.5 * (xa + xb) - 0.5 * (xp + x[pb as usize]);
+        let way = if axis.y.abs() >= axis.x.hypot(axis.z) {
+            TailorsPress::TowardMiddle
+        } else {
+            TailorsPress::Down
+        };
+        // How much better a leg is: nearer the middle, or lower.
+        let score = |p: glam::Vec3| match way {
+            TailorsPress::TowardMiddle => -(p.x - middle).abs(),
+            TailorsPress::Down => -p.y,
+        };
+        let (sa, sb) = (score(xa), score(xb));
+        if (sa - sb).abs() < PRESS_TIE_M {
+            return None;
+        }
+        Some((if sa > sb { a } else { b }, way))
+    }
+
+    /// Presses new dart seam `index` the way [`Design::tailors_press`] tells; leaves it
+    /// pressed toward its first leg where that tells nothing or the pattern out does not
+    /// find the seam as a dart.
+    fn press_as_tailors_do(&mut self, index: usize) -> Result<(), EditError> {
+        let Some((toward, _)) = self.tailors_press(index) else {
+            return Ok(());
+        };
+        match self.pressed_legs(index) {
+            Some([now, _]) if now != toward => {
+                let second = !self.seams[index].press_second;
+                self.press_dart(index, second)
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// Dart seam `index`'s mouth vertices, the one of the leg its intake is pressed to
+    /// first (the one its press mark points at in the pattern); None where the pattern out
+    /// does not find the seam as a dart.
+    pub fn pressed_legs(&self, index: usize) -> Option<[u32; 2]> {
+        let &(a, b) = self.seams.get(index)?.pairs.first()?;
+        let label = super::sewing_pattern::seam_label(index);
+        let to = (super::sewing_pattern::view_pieces(self).iter())
+            .flat_map(|p| &p.presses)
+            .find(|(l, _, _)| l.trim_end_matches(|c: char| c.is_ascii_digit()) == label)
+            .map(|&(_, _, to)| Vec2::new(to.x as f32, to.y as f32))?;
+        let near = |v: u32| {
+            (self.places_of(v, true).iter())
+                .map(|q| q.distance(to))
+                .fold(f32::INFINITY, f32::min)
+        };
+        Some(if near(a) <= near(b) { [a, b] } else { [b, a] })
+    }
+
     /// Seam `index`, a dart, pressed toward its second leg (`second`: the one its
     /// piece's outline reaches last going counter-clockwise) or its first, undoably: the
     /// cap bridging the dart's mouth in the pattern's cut line is folded that way
@@ -333,6 +413,56 @@ mod tests {
         // Nothing is sewn to the square: its mouth is on a free edge.
         assert_eq!(d.dart_mouth_sewn(d.seams.len() - 1), Some(false));
         assert_eq!(d.dart_mouth_sewn(d.seams.len()), None);
+    }
+
+    /// New darts are pressed as a tailor presses them: on the dress round the mannequin,
+    /// a dart up from the hem on either side of the front toward the middle (the
+    /// centre front), one in from the side seam downward; one at the middle as it is.
+    #[test]
+    fn new_darts_are_pressed_toward_the_middle_or_down() {
+        use crate::scenario::{ScenarioConfig, ScenarioName, build_scene};
+        let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+        cfg.piece_edge = 0.03;
+        let (mut d, _) = build_scene(&cfg).unwrap();
+        let (lo, hi) = crate::mesh::bounds2(&d.pieces[0].outline.loops[0]);
+        let off = d.pieces[0].offset;
+        let at = |x: f32, y: f32| Vec2::new(x, y) + off;
+        let body = d.sim.body.as_ref().unwrap().bounds();
+        let middle = 0.5 * (body.0.x + body.1.x);
+        let legs = |d: &super::Design| {
+            let [to, other] = d.pressed_legs(d.seams.len() - 1).unwrap();
+            [to, other].map(|v| d.sim.cloth.x[v as usize])
+        };
+        for x in [lo.x + 0.12, hi.x - 0.12] {
+            d.dart_on_plane(at(x, lo.y + 0.33), at(x, lo.y - 0.06), 0.04)
+                .unwrap();
+            let [to, other] = legs(&d);
+            assert!(
+                (to.x - middle).abs() < (other.x - middle).abs(),
+                "at {x}: pressed to {to}, not {other}"
+            );
+            // One operation: the press goes with the dart.
+            d.undo().unwrap();
+            assert!(
+                d.seams.len() == 4 || d.seams.is_empty(),
+                "{}",
+                d.seams.len()
+            );
+        }
+        d.dart_on_plane(
+            at(lo.x + 0.12, hi.y - 0.38),
+            at(lo.x - 0.06, hi.y - 0.40),
+            0.04,
+        )
+        .unwrap();
+        let [to, other] = legs(&d);
+        assert!(to.y < other.y, "pressed to {to}, not {other}");
+        d.undo().unwrap();
+        // At the middle: left pressed toward its first leg.
+        let mid = 0.5 * (lo.x + hi.x);
+        d.dart_on_plane(at(mid, lo.y + 0.33), at(mid, lo.y - 0.06), 0.04)
+            .unwrap();
+        assert!(!d.seams.last().unwrap().press_second);
     }
 
     /// On the shipped dress sewn and draped at 3 cm edges, a dart into the front's

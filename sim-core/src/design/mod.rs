@@ -53,7 +53,7 @@ mod transaction;
 mod trim;
 mod zip;
 
-pub use dart::DART_WIDTH_M;
+pub use dart::{DART_WIDTH_M, TailorsPress};
 pub use document::{CLOTH_COLOUR, Design, TEXTURE_SIZE};
 pub use error::EditError;
 pub use fabrics::{EDITED, fabric_zones};
