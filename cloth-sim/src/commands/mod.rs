@@ -129,12 +129,7 @@ pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
             let label = sim_core::design::sewing_pattern::seam_label(*seam as usize);
             design
                 .remove_seam(*seam as usize)
-                .map(|n| {
-                    format!(
-                        "Removed seam {label} ({n} pairs); pairs already sewn stay sewn, and \
-                         the seams after it move up a letter"
-                    )
-                })
+                .map(|r| removed(&label, r))
                 .map_err(e)
         }
         Command::SetTool { .. }
@@ -143,6 +138,31 @@ pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
         | Command::Export { .. }
         | Command::SetSimulating { .. } => Err(format!("operation {} is the service's", c.op())),
     }
+}
+
+/// The answer to a seam removed: what was unpicked, and what stays sewn.
+fn removed(label: &str, r: sim_core::design::Removed) -> String {
+    let mut said = format!("Removed seam {label} ({} pairs)", r.pairs);
+    if r.unpicked > 0 {
+        said += &format!("; {} sewn pair{} unpicked", r.unpicked, plural(r.unpicked));
+        if r.eased_back > 0 {
+            said += &format!(
+                ", the cloth eased into it back ({} triangle{})",
+                r.eased_back,
+                plural(r.eased_back)
+            );
+        }
+    }
+    if r.kept > 0 {
+        said += &format!(
+            "; {} sewn pair{} at a corner with another seam stay{} sewn (remove that seam too to open {})",
+            r.kept,
+            plural(r.kept),
+            if r.kept == 1 { "s" } else { "" },
+            if r.kept == 1 { "it" } else { "them" }
+        );
+    }
+    said + "; the seams after it move up a letter"
 }
 
 /// "s" unless `n` is 1.
@@ -224,8 +244,8 @@ fn dart(
     // A dart into a seam already sewn: the cloth sewn to it has to gather the intake.
     let sewn = if design.dart_mouth_sewn(k) == Some(true) {
         "; its mouth is on a seam already sewn, whose other side must gather the intake: \
-         the pairs at the mouth may stay open (the seam list tells), and a dart is best \
-         taken before the seam it runs into is sewn"
+         the pairs at the mouth may stay open (the seam list tells); undo, Remove that \
+         seam (it is unpicked), take the dart and sew the seam again"
     } else {
         ""
     };

@@ -602,3 +602,31 @@ fn a_new_dart_says_which_way_it_is_pressed() {
     let middle = take(&mut d, at(mid, lo.y + 0.33), at(mid, lo.y - 0.06));
     assert!(middle.contains("pressed toward its first leg"), "{middle}");
 }
+
+/// Removing a sewn seam says it was unpicked, and how many pairs came apart; one not
+/// yet sewn says only that it is gone.
+#[test]
+fn a_removed_seam_says_what_was_unpicked() {
+    use sim_core::scenario::{ScenarioConfig, ScenarioName, build_scene};
+    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+    cfg.piece_edge = 0.06;
+    let (mut d, spec) = build_scene(&cfg).unwrap();
+    sim_core::design::garment::sew(&mut d, &spec.unwrap(), 45.0).unwrap();
+    let remove = |seam: u32| Command::RemoveSeam { seam };
+    let said = carry_out(&mut d, &remove(3)).unwrap();
+    assert!(!said.contains("unpicked"), "{said}");
+    for _ in 0..240 {
+        d.step().unwrap();
+    }
+    let pairs = d.seams[1].pairs.len();
+    let welded = d.seams[1].pairs.iter().filter(|p| p.0 == p.1).count();
+    assert!(welded > 0);
+    let said = carry_out(&mut d, &remove(1)).unwrap();
+    let s = if welded == 1 { "" } else { "s" };
+    assert!(
+        said.starts_with(&format!(
+            "Removed seam B ({pairs} pairs); {welded} sewn pair{s} unpicked"
+        )),
+        "{said}"
+    );
+}

@@ -51,6 +51,7 @@ mod tear;
 mod texture;
 mod transaction;
 mod trim;
+mod unpick;
 mod zip;
 
 pub use dart::{DART_WIDTH_M, TailorsPress};
@@ -67,6 +68,7 @@ pub use prim::{Between, Edit, MergeAt, Prim};
 pub use seam::SEAM_MISMATCH;
 pub use stalls::STALL_TOLD_AFTER;
 pub use texture::{PaintPatch, TILE, Texture};
+pub use unpick::Removed;
 
 /// A design of `mesh` under `model` with no gravity and no floor: the cloth stays where
 /// it is put, so a test sees only what an edit does.

@@ -234,25 +234,6 @@ impl Design {
         )
     }
 
-    /// Removes seam `index` (its open stitches stop pulling; pairs already welded stay
-    /// sewn, each weld being its own edit). Undoable. Returns how many pairs it had.
-    pub fn remove_seam(&mut self, index: usize) -> Result<usize, EditError> {
-        let count = self.seams.len();
-        let Some(old) = self.seams.get(index).cloned() else {
-            return Err(EditError::NoSeam { index, count });
-        };
-        let n = old.pairs.len();
-        self.commit(
-            "remove seam",
-            vec![Prim::Seam {
-                index: index as u32,
-                old: Some(old),
-                new: None,
-            }],
-        )?;
-        Ok(n)
-    }
-
     /// Welds stitched pairs that came within reach (after a frame); each weld is an
     /// undoable sew. Returns how many welded. The reach is 1.5 x the cloth's thickness,
     /// at least [`WELD_REACH_MIN`] (not the thickness: under penetration-free contact two

@@ -135,7 +135,7 @@ fn seam_lines(ui: &mut egui::Ui, s: &shared::sim_to_ui::SeamEntry) {
     } else {
         ui.label(text)
     };
-    label.on_hover_text("Pairs already sewn stay sewn when the seam is removed");
+    label.on_hover_text("Remove unpicks it: its sewn pairs come apart (undo sews them again)");
     if s.stalled > 0 {
         let [lo, hi] = s.stalled_gap.map(|g| 1000.0 * g);
         let apart = match s.stalled {

@@ -1,0 +1,277 @@
+//! Removing a seam unpicks it: what its welds sewed together comes apart again, as a
+//! dressmaker unpicks a seam on the form to sew it another way. A welded vertex has a
+//! place in the pattern for each side it joins (its triangles' rest corners); it is
+//! split into one vertex per place, the cloth its welds folded away (`Seam::eased`) is
+//! put back, and the two sides are parted as a cut's are. Before 2026-12-06 a removed
+//! seam's welded pairs stayed sewn (each weld its own edit), so a dart into a sewn side
+//! seam could not be freed by removing the seam.
+
+use std::collections::HashSet;
+
+use glam::{Vec2, Vec3};
+
+use super::document::Design;
+use super::error::EditError;
+use super::prim::Prim;
+use super::transaction::Batch;
+use crate::mesh::Tri;
+
+/// Two corners of a vertex whose places in the pattern lie closer than this are one
+/// place (the same corner in its triangles, equal to rounding), m.
+const SAME_PLACE_M: f32 = 1e-3;
+
+/// Two rest corners closer than this are one (copied, not computed), m.
+const SAME_REST_M: f32 = 1e-6;
+
+/// What removing a seam did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Removed {
+    /// The seam's stitched pairs.
+    pub pairs: usize,
+    /// Its welded pairs taken apart.
+    pub unpicked: usize,
+    /// Its welded pairs left sewn: their vertex is in another seam's pairs too (a
+    /// corner where two seams meet, a dart's mouth), which unpicking would open as
+    /// well.
+    pub kept: usize,
+    /// Triangles its welds had folded away (eased into it), put back.
+    pub eased_back: usize,
+}
+
+/// The place in the pattern plane of a rest corner.
+fn place(rest: Vec3) -> Vec2 {
+    Vec2::new(rest.x, -rest.z)
+}
+
+impl Design {
+    /// Removes seam `index` and unpicks it: its open stitches stop pulling, and every
+    /// welded pair whose vertex no other seam holds is split again, one vertex for each
+    /// of its places in the pattern, with the cloth its welds eased away put back and
+    /// the sides parted (a cut's 40 µm each way). One undoable edit, "remove seam".
+    pub fn remove_seam(&mut self, index: usize) -> Result<Removed, EditError> {
+        let count = self.seams.len();
+        let Some(old) = self.seams.get(index).cloned() else {
+            return Err(EditError::NoSeam { index, count });
+        };
+        let gone = Prim::Seam {
+            index: index as u32,
+            old: Some(old.clone()),
+            new: None,
+        };
+        let welded = old.pairs.iter().filter(|(a, b)| a == b).count();
+        let mut done = Removed {
+            pairs: old.pairs.len(),
+            ..Removed::default()
+        };
+        if welded == 0 {
+            self.commit("remove seam", vec![gone])?;
+            return Ok(done);
+        }
+        let mut applied = Vec::new();
+        let mut batch = Batch::default();
+        let unpicked = self
+            .apply_unsynced(std::slice::from_ref(&gone), &mut batch)
+            .and_then(|()| {
+                applied.push(gone);
+                self.unpick(&old.pairs, &old.eased, &mut applied, &mut batch)
+            });
+        match unpicked {
+            Ok((unpicked, kept, eased_back)) => {
+                self.record_batch("remove seam", applied, batch);
+                done.unpicked = unpicked;
+                done.kept = kept;
+                done.eased_back = eased_back;
+                Ok(done)
+            }
+            Err(e) => {
+                self.abandon_batch(&applied, batch);
+                Err(e)
+            }
+        }
+    }
+
+    /// Splits the welded vertices of `pairs` (a seam already out of the list) by their
+    /// places and puts `eased` back; returns the welded pairs taken apart, those kept
+    /// (another seam holds their vertex) and the triangles put back.
+    fn unpick(
+        &mut self,
+        pairs: &[(u32, u32)],
+        eased: &[[Vec3; 3]],
+        applied: &mut Vec<Prim>,
+        batch: &mut Batch,
+    ) -> Result<(usize, usize, usize), EditError> {
+        let held: HashSet<u32> = (self.seams.iter())
+            .flat_map(|s| s.pairs.iter().flat_map(|&(a, b)| [a, b]))
+            .collect();
+        let mut split: HashSet<u32> = HashSet::new();
+        let mut welded: Vec<u32> = (pairs.iter())
+            .filter(|(a, b)| a == b)
+            .map(|p| p.0)
+            .collect();
+        welded.sort_unstable();
+        welded.dedup();
+        let first_new = self.sim.cloth.len() as u32;
+        for v in welded {
+            if !self.sim.cloth.live.vertex_alive(v) || self.place_groups(v).len() < 2 {
+                continue;
+            }
+            if held.contains(&v) {
+                continue;
+            }
+            while let Some(moving) = self.place_groups(v).into_iter().nth(1) {
+                let prims = self.split_off_prims(v, &moving)?;
+                self.apply_unsynced(&prims, batch)?;
+                applied.extend(prims);
+            }
+            split.insert(v);
+        }
+        let mut near: Vec<u32> = (split.iter().copied())
+            .chain(first_new..self.sim.cloth.len() as u32)
+            .collect();
+        let ring: Vec<u32> = (near.iter())
+            .flat_map(|&v| self.sim.cloth.live.neighbours(v))
+            .collect();
+        near.extend(ring);
+        near.sort_unstable();
+        near.dedup();
+        let mut eased_back = 0;
+        for rest in eased {
+            let Some(tri) = self.eased_tri(rest, &near) else {
+                continue;
+            };
+            let prims = [Prim::Tri {
+                slot: self.sim.cloth.live.slots() as u32,
+                old: None,
+                new: Some(tri),
+            }];
+            // One that no longer fits (an edge with two triangles already) stays out.
+            if self.apply_unsynced(&prims, batch).is_ok() {
+                applied.extend(prims);
+                eased_back += 1;
+            }
+        }
+        let count = |set: &HashSet<u32>| {
+            (pairs.iter())
+                .filter(|(a, b)| a == b && set.contains(a))
+                .count()
+        };
+        let sewn: HashSet<u32> = (pairs.iter())
+            .filter(|&&(a, b)| {
+                a == b && self.sim.cloth.live.vertex_alive(a) && self.place_groups(a).len() > 1
+            })
+            .map(|p| p.0)
+            .collect();
+        Ok((count(&split), count(&sewn), eased_back))
+    }
+
+    /// Vertex `v`'s live triangles grouped by the place in the pattern of their corner
+    /// at `v`, in the order first met.
+    pub(super) fn place_groups(&self, v: u32) -> Vec<Vec<(u32, Tri)>> {
+        let live = &self.sim.cloth.live;
+        let mut groups: Vec<(Vec2, Vec<(u32, Tri)>)> = Vec::new();
+        for &slot in live.tris_of(v) {
+            let Some(t) = live.tri(slot) else { continue };
+            let Some(c) = t.corner(v) else { continue };
+            let p = place(t.rest[c]);
+            match groups
+                .iter_mut()
+                .find(|(q, _)| q.distance(p) < SAME_PLACE_M)
+            {
+                Some((_, g)) => g.push((slot, *t)),
+                None => groups.push((p, vec![(slot, *t)])),
+            }
+        }
+        groups.into_iter().map(|(_, g)| g).collect()
+    }
+
+    /// The triangle eased away with rest corners `rest`, on the vertices among `near`
+    /// that have those corners now (with their texture coordinates); None unless all
+    /// three are found, three of them.
+    fn eased_tri(&self, rest: &[Vec3; 3], near: &[u32]) -> Option<Tri> {
+        let live = &self.sim.cloth.live;
+        let corner = |r: Vec3| {
+            near.iter().find_map(|&u| {
+                live.tris_of(u).iter().find_map(|&slot| {
+                    let t = live.tri(slot)?;
+                    let c = t.corner(u)?;
+                    (t.rest[c].distance(r) < SAME_REST_M).then_some((u, t.uv[c]))
+                })
+            })
+        };
+        let [a, b, c] = [corner(rest[0])?, corner(rest[1])?, corner(rest[2])?];
+        (a.0 != b.0 && b.0 != c.0 && a.0 != c.0).then_some(Tri {
+            v: [a.0, b.0, c.0],
+            rest: *rest,
+            uv: [a.1, b.1, c.1],
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec2;
+
+    /// The draping a dart into a sewn side seam asks for: the dress at 3 cm, sewn and
+    /// draped, its left side seam (D) removed: every welded pair comes apart, one vertex
+    /// for each place, nothing crossing, and undo sews it again. Removed again, a dart
+    /// taken into the open side closes whole, and the side sewn again welds whole over
+    /// it. Before unpicking, the removed seam's 19 vertices kept both places.
+    #[test]
+    fn a_removed_seam_comes_apart_and_a_dart_then_closes_before_it_is_sewn_again() {
+        use crate::scenario::{ScenarioConfig, ScenarioName, build_scene};
+        let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+        cfg.piece_edge = 0.03;
+        let (mut d, spec) = build_scene(&cfg).unwrap();
+        crate::design::garment::sew(&mut d, &spec.unwrap(), 45.0).unwrap();
+        for _ in 0..240 {
+            d.step().unwrap();
+        }
+        let welded = |d: &super::Design, k: usize| {
+            let s = &d.seams[k];
+            (s.pairs.iter().filter(|p| p.0 == p.1).count(), s.pairs.len())
+        };
+        let (w, n) = welded(&d, 3);
+        assert_eq!(w, n, "seam D is not sewn");
+        let vertices = d.sim.cloth.len();
+        let side: Vec<u32> = d.seams[3].pairs.iter().map(|p| p.0).collect();
+        let r = d.remove_seam(3).unwrap();
+        assert_eq!((r.pairs, r.unpicked, r.kept, r.eased_back), (n, n, 0, 0));
+        assert_eq!(d.seams.len(), 3);
+        assert_eq!(d.sim.cloth.len(), vertices + n);
+        for v in &side {
+            assert_eq!(d.place_groups(*v).len(), 1, "vertex {v} is still sewn");
+        }
+        let crossed = d.sim.crossings();
+        assert_eq!((crossed.self_pairs, crossed.body_pairs), (0, 0));
+        assert_eq!(d.undo().unwrap(), "remove seam");
+        assert_eq!((d.seams.len(), d.sim.cloth.len()), (4, vertices));
+        assert!(side.iter().all(|&v| d.place_groups(v).len() == 2));
+        // Unpicked, the dart into the side closes, and the side sews again over it.
+        d.remove_seam(3).unwrap();
+        let (lo, hi) = crate::mesh::bounds2(&d.pieces[0].outline.loops[0]);
+        let off = d.pieces[0].offset;
+        let at = |x: f32, below: f32| Vec2::new(lo.x + x, hi.y - below) + off;
+        d.dart_on_plane(at(0.12, 0.38), at(-0.06, 0.40), 0.04)
+            .unwrap();
+        assert_eq!(d.dart_mouth_sewn(3), Some(false));
+        let (blo, bhi) = crate::mesh::bounds2(&d.pieces[1].outline.loops[0]);
+        let boff = d.pieces[1].offset;
+        for _ in 0..200 {
+            d.step().unwrap();
+        }
+        let (w, n) = welded(&d, 3);
+        assert_eq!(w, n, "the dart");
+        let front = [hi.y - 0.22, lo.y].map(|y| Vec2::new(lo.x, y) + off);
+        let back = [bhi.y - 0.22, blo.y].map(|y| Vec2::new(bhi.x, y) + boff);
+        d.seam_on_plane(front, back, 0.01).unwrap();
+        for _ in 0..400 {
+            d.step().unwrap();
+        }
+        for k in [3, 4] {
+            let (w, n) = welded(&d, k);
+            assert_eq!(w, n, "seam {k}");
+        }
+        let crossed = d.sim.crossings();
+        assert_eq!((crossed.self_pairs, crossed.body_pairs), (0, 0));
+    }
+}
