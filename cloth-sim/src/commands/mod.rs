@@ -129,7 +129,7 @@ pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
             let label = sim_core::design::sewing_pattern::seam_label(*seam as usize);
             design
                 .remove_seam(*seam as usize)
-                .map(|r| removed(&label, r))
+                .map(|r| removed(&label, r, *seam as usize >= design.seams.len()))
                 .map_err(e)
         }
         Command::SetTool { .. }
@@ -140,8 +140,9 @@ pub fn carry_out(design: &mut Design, c: &Command) -> Result<String, String> {
     }
 }
 
-/// The answer to a seam removed: what was unpicked, and what stays sewn.
-fn removed(label: &str, r: sim_core::design::Removed) -> String {
+/// The answer to a seam removed: what was unpicked, and what stays sewn (`last`: no
+/// seam came after it).
+fn removed(label: &str, r: sim_core::design::Removed, last: bool) -> String {
     let mut said = format!("Removed seam {label} ({} pairs)", r.pairs);
     if r.unpicked > 0 {
         said += &format!("; {} sewn pair{} unpicked", r.unpicked, plural(r.unpicked));
@@ -162,7 +163,10 @@ fn removed(label: &str, r: sim_core::design::Removed) -> String {
             if r.kept == 1 { "it" } else { "them" }
         );
     }
-    said + "; the seams after it move up a letter"
+    if !last {
+        said += "; the seams after it move up a letter";
+    }
+    said
 }
 
 /// "s" unless `n` is 1.

@@ -123,6 +123,11 @@ pub fn pattern_from_outlines(pieces: Vec<NamedOutline>) -> (PatternSpec, Vec<Str
         .iter()
         .map(|p| &p.outline.loops[0][..])
         .collect();
+    // The points of the darts marked as one stretch round them.
+    let darts: Vec<Vec2> = (by_label.iter())
+        .filter(|(_, sides)| sides.len() == 1)
+        .filter_map(|(label, _)| apexes.get(label).copied())
+        .collect();
     for (label, mut sides) in by_label {
         // A dart, marked as one stretch round its point (as our export marks a dart's
         // welded legs): its legs, each counter-clockwise, sewn mouth to mouth.
@@ -160,6 +165,14 @@ pub fn pattern_from_outlines(pieces: Vec<NamedOutline>) -> (PatternSpec, Vec<Str
                 b,
                 reversed: None,
             });
+        } else if let Some((halves, gap)) = split_across(&label, &sides, &loops, &darts) {
+            notices.push(format!(
+                "seam {label}: its side on {} stops for {:.0} mm of outline (a dart's mouth) \
+                 and goes on; sewn as two seams that meet where the dart closes",
+                spec.pieces[halves[0].a.piece].name,
+                gap * 1000.0
+            ));
+            spec.seams.extend(halves);
         } else {
             notices.push(format!(
                 "seam {label} is marked on {} stretches of outline, and a seam joins two: left unsewn",
@@ -168,6 +181,94 @@ pub fn pattern_from_outlines(pieces: Vec<NamedOutline>) -> (PatternSpec, Vec<Str
         }
     }
     (spec, notices)
+}
+
+/// A seam marked on three stretches, two of them on one piece either side of a gap too
+/// long to bridge that holds the point of a dart (one of `darts`: its mouth, its legs
+/// running into the piece, as a side seam over a bust dart) and one on another: the lone side split where the two meet once the dart
+/// is closed, at the share of the two's lengths, and sewn as two seams. Which ends meet
+/// is read from where they lie in their pieces' bounds (a pattern's pieces stand the
+/// same way up); the two seams say it. Returns them and the gap (m).
+fn split_across(
+    label: &str,
+    sides: &[EdgeRef],
+    loops: &[&[Vec2]],
+    darts: &[Vec2],
+) -> Option<([SeamSpec; 2], f32)> {
+    let [x, y, z] = sides else { return None };
+    let (pair, lone) = match (x.piece == y.piece, x.piece == z.piece, y.piece == z.piece) {
+        (true, false, false) => ([*x, *y], *z),
+        (false, true, false) => ([*x, *z], *y),
+        (false, false, true) => ([*y, *z], *x),
+        _ => return None,
+    };
+    let l = loops.get(pair[0].piece).filter(|l| l.len() >= 3)?;
+    let lb = loops.get(lone.piece).filter(|l| l.len() >= 3)?;
+    let (cum, cum_b) = (arc(l), arc(lb));
+    let (per, per_b) = (cum[l.len()], cum_b[lb.len()]);
+    let at = |p: Vec2| project(l, &cum, p).0;
+    // The two in order round their piece: the first ends where the gap starts.
+    let span = |e: &EdgeRef| (at(e.to) - at(e.from)).rem_euclid(per);
+    let gap = |a: &EdgeRef, b: &EdgeRef| (at(b.from) - at(a.to)).rem_euclid(per);
+    let [s1, s2] = if gap(&pair[0], &pair[1]) <= gap(&pair[1], &pair[0]) {
+        pair
+    } else {
+        [pair[1], pair[0]]
+    };
+    let (l1, l2, g) = (span(&s1), span(&s2), gap(&s1, &s2));
+    let in_gap = |p: Vec2| {
+        let (t, off) = project(l, &cum, p);
+        off < 1e-4 && (t - at(s1.to)).rem_euclid(per) < g
+    };
+    if l1 + g + l2 >= per || l1 <= 0.0 || l2 <= 0.0 || !darts.iter().any(|&p| in_gap(p)) {
+        return None;
+    }
+    // Which ends meet: the pairing whose ends lie nearer alike in their pieces' bounds.
+    let rel = |l: &[Vec2], p: Vec2| {
+        let (lo, hi) = crate::mesh::bounds2(l);
+        (p - lo) / (hi - lo).max(Vec2::splat(1e-9))
+    };
+    let (a0, a1) = (rel(l, s1.from), rel(l, s2.to));
+    let (b0, b1) = (rel(lb, lone.from), rel(lb, lone.to));
+    let reversed = a0.distance(b1) + a1.distance(b0) < a0.distance(b0) + a1.distance(b1);
+    // The lone side's point that meets the dart's closed mouth.
+    let t0 = project(lb, &cum_b, lone.from).0;
+    let len = (project(lb, &cum_b, lone.to).0 - t0).rem_euclid(per_b);
+    let share = l1 / (l1 + l2);
+    let mid = point_at(
+        lb,
+        &cum_b,
+        t0 + len * if reversed { 1.0 - share } else { share },
+    );
+    let (first, second) = if reversed {
+        ((mid, lone.to), (lone.from, mid))
+    } else {
+        ((lone.from, mid), (mid, lone.to))
+    };
+    let seam = |a: EdgeRef, (from, to): (Vec2, Vec2)| SeamSpec {
+        label: label.to_string(),
+        a,
+        b: EdgeRef {
+            piece: lone.piece,
+            from,
+            to,
+        },
+        reversed: Some(reversed),
+    };
+    Some(([seam(s1, first), seam(s2, second)], g))
+}
+
+/// The point at arc length `t` (taken round) along closed loop `l` (arc lengths `cum`).
+fn point_at(l: &[Vec2], cum: &[f32], t: f32) -> Vec2 {
+    let per = cum[l.len()];
+    let t = t.rem_euclid(per);
+    let i = cum
+        .partition_point(|&c| c <= t)
+        .saturating_sub(1)
+        .min(l.len() - 1);
+    let (a, b) = (l[i], l[(i + 1) % l.len()]);
+    let s = ((t - cum[i]) / (cum[i + 1] - cum[i]).max(1e-12)).clamp(0.0, 1.0);
+    a + (b - a) * s
 }
 
 /// The most a gap in a seam's marks on one piece may be, as a share of the two marked
@@ -421,6 +522,56 @@ mod tests {
         let (spec, notices) = pattern_from_outlines(vec![front, back(0.1, 0.9)]);
         assert!(spec.seams.is_empty(), "{spec:?}");
         assert!(notices[0].contains("3 stretches"), "{notices:?}");
+    }
+
+    /// A side seam over a dart's mouth: the front's right side marked below and above a
+    /// dart whose legs run in to a point, the back's left side once. Sewn as two seams
+    /// meeting where the dart closes (the back split at the share of the front's two
+    /// lengths, its ends meeting the front's as they stand), and said; the same gap
+    /// with no dart in it is left unsewn (above).
+    #[test]
+    fn a_side_seam_over_a_darts_mouth_is_sewn_as_two() {
+        let p = |x: f32, y: f32| Vec2::new(x, y);
+        let notched = vec![
+            p(0.0, 0.0),
+            p(1.0, 0.0),
+            p(1.0, 0.3),
+            p(0.6, 0.4),
+            p(1.0, 0.5),
+            p(1.0, 1.0),
+            p(0.0, 1.0),
+        ];
+        let front = NamedOutline {
+            name: "front".into(),
+            outline: Outline {
+                loops: vec![notched],
+            },
+            marks: vec![
+                mark("A", (1.0, 0.0), (1.0, 0.3)),
+                mark("A", (1.0, 0.5), (1.0, 1.0)),
+                mark("D", (1.0, 0.3), (0.6, 0.4)),
+                mark("D", (0.6, 0.4), (1.0, 0.5)),
+            ],
+        };
+        let back = square("back", vec![mark("A", (0.0, 1.0), (0.0, 0.0))]);
+        let (spec, notices) = pattern_from_outlines(vec![front, back]);
+        let a: Vec<&SeamSpec> = spec.seams.iter().filter(|s| s.label == "A").collect();
+        assert_eq!(a.len(), 2, "{spec:?} {notices:?}");
+        // Up the front below the dart, with the back's lower 0.375 (0.3 of 0.8).
+        assert_eq!((a[0].a.from, a[0].a.to), (p(1.0, 0.0), p(1.0, 0.3)));
+        assert_eq!(a[0].b.to, p(0.0, 0.0));
+        assert!(a[0].b.from.distance(p(0.0, 0.375)) < 1e-5, "{:?}", a[0].b);
+        assert_eq!((a[1].a.from, a[1].a.to), (p(1.0, 0.5), p(1.0, 1.0)));
+        assert_eq!(a[1].b.from, p(0.0, 1.0));
+        assert!(a[1].b.to.distance(p(0.0, 0.375)) < 1e-5, "{:?}", a[1].b);
+        assert!(a.iter().all(|s| s.reversed == Some(true)));
+        assert!(spec.seams.iter().any(|s| s.label == "D"), "the dart");
+        assert!(
+            notices
+                .iter()
+                .any(|n| n.contains("seam A") && n.contains("two seams")),
+            "{notices:?}"
+        );
     }
 
     /// Found by the svg fuzz target: thousands of seam marks were chained and grouped
