@@ -123,10 +123,14 @@ pub fn pattern_from_outlines(pieces: Vec<NamedOutline>) -> (PatternSpec, Vec<Str
         .iter()
         .map(|p| &p.outline.loops[0][..])
         .collect();
-    // The points of the darts marked as one stretch round them.
-    let darts: Vec<Vec2> = (by_label.iter())
-        .filter(|(_, sides)| sides.len() == 1)
-        .filter_map(|(label, _)| apexes.get(label).copied())
+    // The darts, each as the points that mark it: its point, where it is marked as one
+    // stretch round it; its legs' ends, where it is marked as two legs on one piece.
+    let darts: Vec<Vec<Vec2>> = (by_label.iter())
+        .filter_map(|(label, sides)| match sides[..] {
+            [_] => apexes.get(label).map(|&p| vec![p]),
+            [a, b] if a.piece == b.piece => Some(vec![a.from, a.to, b.from, b.to]),
+            _ => None,
+        })
         .collect();
     for (label, mut sides) in by_label {
         // A dart, marked as one stretch round its point (as our export marks a dart's
@@ -184,8 +188,9 @@ pub fn pattern_from_outlines(pieces: Vec<NamedOutline>) -> (PatternSpec, Vec<Str
 }
 
 /// A seam marked on three stretches, two of them on one piece either side of a gap too
-/// long to bridge that holds the point of a dart (one of `darts`: its mouth, its legs
-/// running into the piece, as a side seam over a bust dart) and one on another: the lone side split where the two meet once the dart
+/// long to bridge that holds a dart (one of `darts`, each the points that mark it: its
+/// mouth, its legs running into the piece, as a side seam over a bust dart) and one on
+/// another: the lone side split where the two meet once the dart
 /// is closed, at the share of the two's lengths, and sewn as two seams. Which ends meet
 /// is read from where they lie in their pieces' bounds (a pattern's pieces stand the
 /// same way up); the two seams say it. Returns them and the gap (m).
@@ -193,7 +198,7 @@ fn split_across(
     label: &str,
     sides: &[EdgeRef],
     loops: &[&[Vec2]],
-    darts: &[Vec2],
+    darts: &[Vec<Vec2>],
 ) -> Option<([SeamSpec; 2], f32)> {
     let [x, y, z] = sides else { return None };
     let (pair, lone) = match (x.piece == y.piece, x.piece == z.piece, y.piece == z.piece) {
@@ -218,9 +223,14 @@ fn split_across(
     let (l1, l2, g) = (span(&s1), span(&s2), gap(&s1, &s2));
     let in_gap = |p: Vec2| {
         let (t, off) = project(l, &cum, p);
-        off < 1e-4 && (t - at(s1.to)).rem_euclid(per) < g
+        // (The gap's own ends, where the legs start, within 0.1 mm.)
+        off < 1e-4 && (t - at(s1.to) + 1e-4).rem_euclid(per) <= g + 2e-4
     };
-    if l1 + g + l2 >= per || l1 <= 0.0 || l2 <= 0.0 || !darts.iter().any(|&p| in_gap(p)) {
+    if l1 + g + l2 >= per
+        || l1 <= 0.0
+        || l2 <= 0.0
+        || !darts.iter().any(|d| d.iter().all(|&p| in_gap(p)))
+    {
         return None;
     }
     // Which ends meet: the pairing whose ends lie nearer alike in their pieces' bounds.
@@ -541,37 +551,43 @@ mod tests {
             p(1.0, 1.0),
             p(0.0, 1.0),
         ];
-        let front = NamedOutline {
-            name: "front".into(),
-            outline: Outline {
-                loops: vec![notched],
-            },
-            marks: vec![
+        // The dart marked round its point, or (as our export marks a dart's welded legs)
+        // as two legs stopping short of it.
+        let round = [((1.0, 0.3), (0.6, 0.4)), ((0.6, 0.4), (1.0, 0.5))];
+        let legs = [((1.0, 0.3), (0.64, 0.39)), ((0.64, 0.41), (1.0, 0.5))];
+        for dart in [round, legs] {
+            let mut marks = vec![
                 mark("A", (1.0, 0.0), (1.0, 0.3)),
                 mark("A", (1.0, 0.5), (1.0, 1.0)),
-                mark("D", (1.0, 0.3), (0.6, 0.4)),
-                mark("D", (0.6, 0.4), (1.0, 0.5)),
-            ],
-        };
-        let back = square("back", vec![mark("A", (0.0, 1.0), (0.0, 0.0))]);
-        let (spec, notices) = pattern_from_outlines(vec![front, back]);
-        let a: Vec<&SeamSpec> = spec.seams.iter().filter(|s| s.label == "A").collect();
-        assert_eq!(a.len(), 2, "{spec:?} {notices:?}");
-        // Up the front below the dart, with the back's lower 0.375 (0.3 of 0.8).
-        assert_eq!((a[0].a.from, a[0].a.to), (p(1.0, 0.0), p(1.0, 0.3)));
-        assert_eq!(a[0].b.to, p(0.0, 0.0));
-        assert!(a[0].b.from.distance(p(0.0, 0.375)) < 1e-5, "{:?}", a[0].b);
-        assert_eq!((a[1].a.from, a[1].a.to), (p(1.0, 0.5), p(1.0, 1.0)));
-        assert_eq!(a[1].b.from, p(0.0, 1.0));
-        assert!(a[1].b.to.distance(p(0.0, 0.375)) < 1e-5, "{:?}", a[1].b);
-        assert!(a.iter().all(|s| s.reversed == Some(true)));
-        assert!(spec.seams.iter().any(|s| s.label == "D"), "the dart");
-        assert!(
-            notices
-                .iter()
-                .any(|n| n.contains("seam A") && n.contains("two seams")),
-            "{notices:?}"
-        );
+            ];
+            marks.extend(dart.map(|(a, b)| mark("D", a, b)));
+            let front = NamedOutline {
+                name: "front".into(),
+                outline: Outline {
+                    loops: vec![notched.clone()],
+                },
+                marks,
+            };
+            let back = square("back", vec![mark("A", (0.0, 1.0), (0.0, 0.0))]);
+            let (spec, notices) = pattern_from_outlines(vec![front, back]);
+            let a: Vec<&SeamSpec> = spec.seams.iter().filter(|s| s.label == "A").collect();
+            assert_eq!(a.len(), 2, "{spec:?} {notices:?}");
+            // Up the front below the dart, with the back's lower 0.375 (0.3 of 0.8).
+            assert_eq!((a[0].a.from, a[0].a.to), (p(1.0, 0.0), p(1.0, 0.3)));
+            assert_eq!(a[0].b.to, p(0.0, 0.0));
+            assert!(a[0].b.from.distance(p(0.0, 0.375)) < 1e-5, "{:?}", a[0].b);
+            assert_eq!((a[1].a.from, a[1].a.to), (p(1.0, 0.5), p(1.0, 1.0)));
+            assert_eq!(a[1].b.from, p(0.0, 1.0));
+            assert!(a[1].b.to.distance(p(0.0, 0.375)) < 1e-5, "{:?}", a[1].b);
+            assert!(a.iter().all(|s| s.reversed == Some(true)));
+            assert!(spec.seams.iter().any(|s| s.label == "D"), "the dart");
+            assert!(
+                notices
+                    .iter()
+                    .any(|n| n.contains("seam A") && n.contains("two seams")),
+                "{notices:?}"
+            );
+        }
     }
 
     /// Found by the svg fuzz target: thousands of seam marks were chained and grouped
