@@ -9,7 +9,7 @@
 //! ASCII DXF only; POLYLINE (with VERTEX, bulges as arcs), LWPOLYLINE, LINE, TEXT. Units
 //! from `$INSUNITS` (inches, feet, mm, cm, m), millimetres when it is absent.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::Path;
 
 use glam::{DVec2, Vec2};
@@ -388,37 +388,51 @@ fn nest(mut loops: Vec<Vec<DVec2>>, name: Option<String>, before: usize) -> Vec<
 }
 
 /// Layer 8 lines chained into runs, each labelled by the "Seam: X" text on one of its
-/// segments' middles; unlabelled runs are an internal line, not a seam.
+/// segments' middles; unlabelled runs are an internal line, not a seam. A run that two
+/// labels' texts lie on (a seam ending where a dart's leg starts, as our export draws
+/// a side seam over a dart's mouth) is chained again, joined only where it runs on
+/// within 45 degrees, so that each label keeps its own stretch.
 fn seam_marks(d: &Drawn) -> Vec<SeamMark> {
     let labels: Vec<(DVec2, &str)> = d
         .texts
         .iter()
         .filter_map(|(p, t)| Some((*p, t.strip_prefix("Seam:")?.trim())))
         .collect();
-    let n = d.seam_lines.len();
-    // Runs: lines joined at shared ends (union-find).
-    let mut sets = Sets::new(n);
-    for i in 0..n {
-        for j in i + 1..n {
-            let (a, b) = d.seam_lines[i];
-            let (c, e) = d.seam_lines[j];
-            let meet = [a, b]
-                .iter()
-                .any(|p| (*p - c).length() < 1e-3 || (*p - e).length() < 1e-3);
-            if meet {
-                sets.join(i, j);
+    let runs = |straight_in: &HashSet<usize>| -> (Sets, HashMap<usize, String>, HashSet<usize>) {
+        let n = d.seam_lines.len();
+        // Runs: lines joined at shared ends (union-find).
+        let mut sets = Sets::new(n);
+        for i in 0..n {
+            for j in i + 1..n {
+                if let Some(p) = meeting(d.seam_lines[i], d.seam_lines[j])
+                    && (!straight_in.contains(&i) || runs_on(d.seam_lines[i], d.seam_lines[j], p))
+                {
+                    sets.join(i, j);
+                }
             }
         }
-    }
-    let mut label_of: HashMap<usize, String> = HashMap::new();
-    for (i, &(a, b)) in d.seam_lines.iter().enumerate() {
-        let mid = (a + b) * 0.5;
-        if let Some((_, l)) = labels.iter().find(|(p, _)| (*p - mid).length() < 0.05) {
-            let r = sets.find(i);
-            label_of.insert(r, (*l).to_string());
+        let mut label_of: HashMap<usize, String> = HashMap::new();
+        let mut torn = HashSet::new();
+        for (i, &(a, b)) in d.seam_lines.iter().enumerate() {
+            let mid = (a + b) * 0.5;
+            if let Some((_, l)) = labels.iter().find(|(p, _)| (*p - mid).length() < 0.05) {
+                let r = sets.find(i);
+                if label_of.get(&r).is_some_and(|had| had != l) {
+                    torn.insert(r);
+                }
+                label_of.insert(r, (*l).to_string());
+            }
         }
+        (sets, label_of, torn)
+    };
+    let (mut sets, mut label_of, torn) = runs(&HashSet::new());
+    if !torn.is_empty() {
+        let lines: HashSet<usize> = (0..d.seam_lines.len())
+            .filter(|&i| torn.contains(&sets.find(i)))
+            .collect();
+        (sets, label_of, _) = runs(&lines);
     }
-    (0..n)
+    (0..d.seam_lines.len())
         .filter_map(|i| {
             let r = sets.find(i);
             let (a, b) = d.seam_lines[i];
@@ -429,6 +443,22 @@ fn seam_marks(d: &Drawn) -> Vec<SeamMark> {
             })
         })
         .collect()
+}
+
+/// Where two lines share an end (within 0.001 of the file's millimetres).
+fn meeting((a, b): (DVec2, DVec2), (c, e): (DVec2, DVec2)) -> Option<DVec2> {
+    [a, b]
+        .into_iter()
+        .find(|p| (*p - c).length() < 1e-3 || (*p - e).length() < 1e-3)
+}
+
+/// Whether line `j` runs on from line `i` at their shared end `p` within 45 degrees.
+fn runs_on((a, b): (DVec2, DVec2), (c, e): (DVec2, DVec2), p: DVec2) -> bool {
+    let far = |x: DVec2, y: DVec2| if (x - p).length() < 1e-3 { y } else { x };
+    let (u, v) = (far(a, b) - p, far(c, e) - p);
+    let lens = u.length() * v.length();
+    // Straight on, the two point away from each other: cos of their angle near -1.
+    lens > 0.0 && u.dot(v) / lens < -std::f64::consts::FRAC_1_SQRT_2
 }
 
 /// Reads the pieces of a DXF file.
@@ -465,6 +495,49 @@ mod tests {
         // The arc bulges up, away from the rectangle.
         assert!(l.iter().any(|q| q.y > 0.09));
         assert!(signed_area2(l) > 0.0);
+    }
+
+    /// A side seam over a dart's mouth, as our export draws it: seam E's lines below and
+    /// above the mouth, each run on into one of dart D's legs at the mouth's corners,
+    /// every stretch with its own text. Each line keeps its own label (the runs that
+    /// chained E into D took one label for both).
+    #[test]
+    fn a_seam_that_runs_into_a_darts_leg_keeps_its_own_label() {
+        let square = "0\nLWPOLYLINE\n8\n1\n90\n7\n70\n1\n10\n0\n20\n0\n10\n100\n20\n0\n\
+                      10\n100\n20\n30\n10\n60\n20\n40\n10\n100\n20\n50\n10\n100\n20\n100\n\
+                      10\n0\n20\n100\n";
+        let line = |a: (f64, f64), b: (f64, f64)| {
+            format!(
+                "0\nLINE\n8\n8\n10\n{}\n20\n{}\n11\n{}\n21\n{}\n",
+                a.0, a.1, b.0, b.1
+            )
+        };
+        let text = |at: (f64, f64), t: &str| {
+            format!(
+                "0\nTEXT\n8\n15\n10\n{}\n20\n{}\n40\n6\n1\nSeam: {t}\n",
+                at.0, at.1
+            )
+        };
+        let stretches = [
+            ((100.0, 0.0), (100.0, 30.0), "E"),
+            ((100.0, 30.0), (64.0, 39.0), "D"),
+            ((64.0, 41.0), (100.0, 50.0), "D"),
+            ((100.0, 50.0), (100.0, 100.0), "E"),
+        ];
+        let mut body = square.to_string();
+        for (a, b, l) in stretches {
+            body += &line(a, b);
+            body += &text(((a.0 + b.0) / 2.0, (a.1 + b.1) / 2.0), l);
+        }
+        let p = read_dxf(&dxf(&body)).unwrap();
+        assert_eq!(p.len(), 1);
+        let marks = &p[0].marks;
+        assert_eq!(marks.len(), 4, "{marks:?}");
+        for (a, _, l) in stretches {
+            let at = Vec2::new(a.0 as f32, a.1 as f32) * 0.001;
+            let m = marks.iter().find(|m| m.a.distance(at) < 1e-6).unwrap();
+            assert_eq!(m.label, l, "{marks:?}");
+        }
     }
 
     #[test]

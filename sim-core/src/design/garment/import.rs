@@ -188,9 +188,9 @@ pub fn pattern_from_outlines(pieces: Vec<NamedOutline>) -> (PatternSpec, Vec<Str
 }
 
 /// A seam marked on three stretches, two of them on one piece either side of a gap too
-/// long to bridge that holds a dart (one of `darts`, each the points that mark it: its
-/// mouth, its legs running into the piece, as a side seam over a bust dart) and one on
-/// another: the lone side split where the two meet once the dart
+/// long to bridge that is a dart's mouth (it holds one of `darts`, each the points that
+/// mark one, or runs into the piece and back as a dart's legs do: a side seam over a
+/// bust dart) and one on another: the lone side split where the two meet once the dart
 /// is closed, at the share of the two's lengths, and sewn as two seams. Which ends meet
 /// is read from where they lie in their pieces' bounds (a pattern's pieces stand the
 /// same way up); the two seams say it. Returns them and the gap (m).
@@ -226,10 +226,13 @@ fn split_across(
         // (The gap's own ends, where the legs start, within 0.1 mm.)
         off < 1e-4 && (t - at(s1.to) + 1e-4).rem_euclid(per) <= g + 2e-4
     };
+    // A dart's mouth: a marked dart in the gap, or a gap that runs in and comes back
+    // (its ends within a quarter of its length, as an unmarked dart's legs).
+    let mouth = s1.to.distance(s2.from) < 0.25 * g;
     if l1 + g + l2 >= per
         || l1 <= 0.0
         || l2 <= 0.0
-        || !darts.iter().any(|d| d.iter().all(|&p| in_gap(p)))
+        || !(mouth || darts.iter().any(|d| d.iter().all(|&p| in_gap(p))))
     {
         return None;
     }
@@ -546,21 +549,21 @@ mod tests {
             p(0.0, 0.0),
             p(1.0, 0.0),
             p(1.0, 0.3),
-            p(0.6, 0.4),
+            p(0.5, 0.4),
             p(1.0, 0.5),
             p(1.0, 1.0),
             p(0.0, 1.0),
         ];
         // The dart marked round its point, or (as our export marks a dart's welded legs)
-        // as two legs stopping short of it.
-        let round = [((1.0, 0.3), (0.6, 0.4)), ((0.6, 0.4), (1.0, 0.5))];
-        let legs = [((1.0, 0.3), (0.64, 0.39)), ((0.64, 0.41), (1.0, 0.5))];
-        for dart in [round, legs] {
+        // as two legs stopping short of it, or not marked at all (told by its shape).
+        let round = [((1.0, 0.3), (0.5, 0.4)), ((0.5, 0.4), (1.0, 0.5))];
+        let legs = [((1.0, 0.3), (0.55, 0.39)), ((0.55, 0.41), (1.0, 0.5))];
+        for dart in [Some(round), Some(legs), None] {
             let mut marks = vec![
                 mark("A", (1.0, 0.0), (1.0, 0.3)),
                 mark("A", (1.0, 0.5), (1.0, 1.0)),
             ];
-            marks.extend(dart.map(|(a, b)| mark("D", a, b)));
+            marks.extend(dart.into_iter().flatten().map(|(a, b)| mark("D", a, b)));
             let front = NamedOutline {
                 name: "front".into(),
                 outline: Outline {
@@ -580,7 +583,11 @@ mod tests {
             assert_eq!(a[1].b.from, p(0.0, 1.0));
             assert!(a[1].b.to.distance(p(0.0, 0.375)) < 1e-5, "{:?}", a[1].b);
             assert!(a.iter().all(|s| s.reversed == Some(true)));
-            assert!(spec.seams.iter().any(|s| s.label == "D"), "the dart");
+            assert_eq!(
+                spec.seams.iter().any(|s| s.label == "D"),
+                dart.is_some(),
+                "the dart"
+            );
             assert!(
                 notices
                     .iter()

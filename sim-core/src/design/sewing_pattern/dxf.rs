@@ -159,12 +159,20 @@ pub fn dxf_string(pieces: &[Piece]) -> String {
         for (_, a, b) in &p.seams {
             d.line("8", *a, *b);
         }
+        // A label on each stretch of a seam's marks (a side seam over a dart's mouth is
+        // two on one piece): the reader labels the lines each text lies on, chained.
         let mut seen: Vec<&str> = Vec::new();
+        let mut last: Option<(&str, DVec2)> = None;
         for (label, a, b) in &p.seams {
+            let goes_on = last.is_some_and(|(l, end)| l == label && end.distance(*a) < 1e-6);
+            last = Some((label, *b));
+            if goes_on {
+                continue;
+            }
+            let m = (*a + *b) * 0.5;
+            d.text("15", m, 6.0, &format!("Seam: {label}"));
             if !seen.contains(&label.as_str()) {
                 seen.push(label);
-                let m = (*a + *b) * 0.5;
-                d.text("15", m, 6.0, &format!("Seam: {label}"));
                 // The designer's name beside the mark (our reader pairs by "Seam: X").
                 if let Some((_, name)) = p.seam_names.iter().find(|(l, _)| l == label) {
                     d.text(
