@@ -273,10 +273,10 @@ mod tests {
         }
         let crossed = d.sim.crossings();
         assert_eq!((crossed.self_pairs, crossed.body_pairs), (0, 0));
-        // Its pattern out reads back with the side seam over the dart's mouth sewn as two,
-        // from the SVG and from the DXF (whose seam texts stood once per label). (At 3 cm
-        // edges the pattern out does not find this dart as one: its legs are not marked,
-        // and the mouth is told by its shape.)
+        // Its pattern out reads back whole, the dart and the side seam over its mouth
+        // sewn as two, from the SVG and from the DXF (whose seam texts stood once per
+        // label). Before 2026-12-06 the dart went unmarked here: its mouth's vertex, paired
+        // twice and welded into the side seam, was on the back too.
         let dir = std::env::temp_dir().join(format!("saiho-unpick-{}", std::process::id()));
         crate::design::sewing_pattern::export_pattern(&d, &dir, 10.0).unwrap();
         for p in crate::design::sewing_pattern::pieces(&d) {
@@ -295,7 +295,7 @@ mod tests {
         for read in [svg, dxf] {
             let (spec, notices) = crate::design::garment::pattern_from_outlines(read);
             let labels: Vec<&str> = spec.seams.iter().map(|s| s.label.as_str()).collect();
-            assert_eq!(labels, ["A", "B", "C", "E", "E"], "{notices:?}");
+            assert_eq!(labels, ["A", "B", "C", "D", "E", "E"], "{notices:?}");
             assert!(notices.iter().all(|n| !n.contains("unsewn")), "{notices:?}");
         }
     }

@@ -90,17 +90,27 @@ fn stretch_runs(pairs: &[(u32, u32)], parts_of: &HashMap<u32, Vec<u32>>) -> Vec<
     };
     let mut keys: Vec<Vec<u32>> = pairs.iter().map(on).collect();
     // An end pair's vertex can be welded into another seam too (a dart's end at the
-    // waist, sewn to the bodice): it is on a piece more, which its seam's stretch is not.
-    // It keeps the pieces its neighbour is on, where that leaves any.
+    // waist, sewn to the bodice; a dart's mouth under a side seam sewn over it): it is on
+    // a piece more, which its seam's stretch is not. It keeps the pieces its neighbour is
+    // on, where that leaves any; the pairs at the end that share its vertex (the mouth's
+    // vertex paired twice) go with it, their neighbour the first pair past them.
     let n = keys.len();
-    for (end, next) in [(0, 1), (n.wrapping_sub(1), n.wrapping_sub(2))] {
-        if n >= 2 {
-            let shared: Vec<u32> = (keys[end].iter())
-                .filter(|p| keys[next].contains(p))
+    let touch = |i: usize, j: usize| {
+        let ((a, b), (c, d)) = (pairs[i], pairs[j]);
+        a == c || a == d || b == c || b == d
+    };
+    for from_start in [true, false] {
+        let at = |k: usize| if from_start { k } else { n - 1 - k };
+        let Some(m) = (1..n).find(|&m| !touch(at(0), at(m))) else {
+            continue;
+        };
+        for k in 0..m {
+            let shared: Vec<u32> = (keys[at(k)].iter())
+                .filter(|p| keys[at(m)].contains(p))
                 .copied()
                 .collect();
             if !shared.is_empty() {
-                keys[end] = shared;
+                keys[at(k)] = shared;
             }
         }
     }
