@@ -25,14 +25,16 @@ pub enum EditError {
     SewWouldCross { a: u32, b: u32, gap_mm: f32 },
     #[error(
         "{doing} \"{label}\" now would pass the cloth through itself or the body ({crossings} \
-         new crossing pairs: the cloth has moved since); move it clear and try again. It \
-         stays on the list to {again}"
+         new crossing pairs: the cloth has moved since); move it clear and try again{hint}. \
+         It stays on the list to {again}"
     )]
     HistoryWouldCross {
         doing: &'static str,
         label: &'static str,
         crossings: usize,
         again: &'static str,
+        /// What else will do (a seam unpicked: sewing it again).
+        hint: &'static str,
     },
     #[error("nothing to cut at vertex {0}: all its triangles lie on one side of the cut")]
     NothingToCut(u32),

@@ -431,6 +431,14 @@ impl Design {
                 label,
                 crossings,
                 again,
+                // An unpicked seam whose sides have fallen apart is sewn again by a seam,
+                // which pulls them together first.
+                hint: if label == "remove seam" && again == "undo" {
+                    ", or sew the two edges again (a seam pulls them together and joins them \
+                     as they meet)"
+                } else {
+                    ""
+                },
             }),
         }
     }

@@ -299,4 +299,29 @@ mod tests {
             assert!(notices.iter().all(|n| !n.contains("unsewn")), "{notices:?}");
         }
     }
+
+    /// Undone once its sides have fallen apart (the dress's shoulder seam unpicked and
+    /// the front slid off the shoulder), the unpick would weld them back through the
+    /// cloth: refused, kept on the list, and the answer says a seam sews them again.
+    #[test]
+    fn an_unpick_undone_after_the_sides_fell_apart_says_to_sew_them_again() {
+        use crate::scenario::{ScenarioConfig, ScenarioName, build_scene};
+        let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
+        cfg.piece_edge = 0.04;
+        let (mut d, spec) = build_scene(&cfg).unwrap();
+        crate::design::garment::sew(&mut d, &spec.unwrap(), 45.0).unwrap();
+        for _ in 0..240 {
+            d.step().unwrap();
+        }
+        d.remove_seam(0).unwrap();
+        for _ in 0..30 {
+            d.step().unwrap();
+        }
+        let e = d.undo().unwrap_err().to_string();
+        assert!(
+            e.contains("undoing \"remove seam\"") && e.contains("sew the two edges again"),
+            "{e}"
+        );
+        assert_eq!(d.seams.len(), 3, "nothing changed");
+    }
 }
