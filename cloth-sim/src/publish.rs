@@ -438,4 +438,4 @@ pub(crate) fn piece_list(design: &Design, seq: &mut u64) -> PieceList {
 }
 
 #[cfg(test)]
-mod tests;
+pub(crate) mod tests;

@@ -607,11 +607,7 @@ fn a_new_dart_says_which_way_it_is_pressed() {
 /// yet sewn says only that it is gone.
 #[test]
 fn a_removed_seam_says_what_was_unpicked() {
-    use sim_core::scenario::{ScenarioConfig, ScenarioName, build_scene};
-    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
-    cfg.piece_edge = 0.06;
-    let (mut d, spec) = build_scene(&cfg).unwrap();
-    sim_core::design::garment::sew(&mut d, &spec.unwrap(), 45.0).unwrap();
+    let mut d = crate::publish::tests::sewn_dress(0.06);
     let remove = |seam: u32| Command::RemoveSeam { seam };
     let said = carry_out(&mut d, &remove(3)).unwrap();
     assert!(!said.contains("unpicked"), "{said}");

@@ -8,7 +8,7 @@ use sim_core::scenario::{ScenarioConfig, ScenarioName, build_scene};
 const DRESS_EDGE: f32 = 0.06;
 
 /// The dress scenario's design at `edge` m edges, its seams sewn.
-fn sewn_dress(edge: f32) -> sim_core::design::Design {
+pub(crate) fn sewn_dress(edge: f32) -> sim_core::design::Design {
     let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
     cfg.piece_edge = edge;
     let (mut d, spec) = build_scene(&cfg).unwrap();

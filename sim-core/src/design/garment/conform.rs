@@ -144,7 +144,7 @@ impl SeamSides {
 }
 
 /// The loop's point at arc length `t` (wrapping).
-fn point_at(l: &[Vec2], cum: &[f32], t: f32) -> Vec2 {
+pub(crate) fn point_at(l: &[Vec2], cum: &[f32], t: f32) -> Vec2 {
     let per = cum[l.len()];
     let t = t.rem_euclid(per);
     let i = cum.partition_point(|&c| c <= t).clamp(1, l.len()) - 1;

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use glam::Vec2;
 
-use super::conform::{arc, project};
+use super::conform::{arc, point_at, project};
 use super::garmentcode::read_garmentcode;
 use super::place::Landmarks;
 use super::spec::{DEFAULT_FABRIC, EdgeRef, PatternSpec, PieceSpec, SeamSpec, SpecError};
@@ -269,19 +269,6 @@ fn split_across(
         reversed: Some(reversed),
     };
     Some(([seam(s1, first), seam(s2, second)], g))
-}
-
-/// The point at arc length `t` (taken round) along closed loop `l` (arc lengths `cum`).
-fn point_at(l: &[Vec2], cum: &[f32], t: f32) -> Vec2 {
-    let per = cum[l.len()];
-    let t = t.rem_euclid(per);
-    let i = cum
-        .partition_point(|&c| c <= t)
-        .saturating_sub(1)
-        .min(l.len() - 1);
-    let (a, b) = (l[i], l[(i + 1) % l.len()]);
-    let s = ((t - cum[i]) / (cum[i + 1] - cum[i]).max(1e-12)).clamp(0.0, 1.0);
-    a + (b - a) * s
 }
 
 /// The most a gap in a seam's marks on one piece may be, as a share of the two marked
