@@ -470,7 +470,7 @@ mod tests {
     /// or into the side before the seam has welded, is not.
     #[test]
     fn a_dart_into_a_sewn_seam_is_told_and_one_from_the_hem_is_not() {
-        let mut d = crate::design::sewn_dress(0.03, 0);
+        let mut d = crate::design::tests::sewn_dress(0.03, 0);
         let (lo, hi) = crate::mesh::bounds2(&d.pieces[0].outline.loops[0]);
         let off = d.pieces[0].offset;
         let side = |d: &mut super::Design| {

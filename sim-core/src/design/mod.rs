@@ -48,6 +48,8 @@ mod slit;
 mod stalls;
 mod stroke;
 mod tear;
+#[cfg(test)]
+mod tests;
 mod texture;
 mod transaction;
 mod trim;
@@ -69,21 +71,6 @@ pub use seam::SEAM_MISMATCH;
 pub use stalls::STALL_TOLD_AFTER;
 pub use texture::{PaintPatch, TILE, Texture};
 pub use unpick::Removed;
-
-/// The dress scenario's design at `edge` m edges, its seams sewn at 45 N/m (a pattern
-/// sewn as `drape-pattern` sews it), draped `frames` frames on the mannequin.
-#[cfg(test)]
-pub(crate) fn sewn_dress(edge: f32, frames: usize) -> Design {
-    use crate::scenario::{ScenarioConfig, ScenarioName, build_scene};
-    let mut cfg = ScenarioConfig::new(ScenarioName::DressMannequin);
-    cfg.piece_edge = edge;
-    let (mut d, spec) = build_scene(&cfg).unwrap();
-    garment::sew(&mut d, &spec.unwrap(), 45.0).unwrap();
-    for _ in 0..frames {
-        d.step().unwrap();
-    }
-    d
-}
 
 /// A design of `mesh` under `model` with no gravity and no floor: the cloth stays where
 /// it is put, so a test sees only what an edit does.

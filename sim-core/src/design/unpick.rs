@@ -218,7 +218,7 @@ mod tests {
     /// it. Before unpicking, the removed seam's 19 vertices kept both places.
     #[test]
     fn a_removed_seam_comes_apart_and_a_dart_then_closes_before_it_is_sewn_again() {
-        let mut d = crate::design::sewn_dress(0.03, 240);
+        let mut d = crate::design::tests::sewn_dress(0.03, 240);
         let welded = |d: &super::Design, k: usize| {
             let s = &d.seams[k];
             (s.pairs.iter().filter(|p| p.0 == p.1).count(), s.pairs.len())
@@ -298,7 +298,7 @@ mod tests {
     /// cloth: refused, kept on the list, and the answer says a seam sews them again.
     #[test]
     fn an_unpick_undone_after_the_sides_fell_apart_says_to_sew_them_again() {
-        let mut d = crate::design::sewn_dress(0.04, 240);
+        let mut d = crate::design::tests::sewn_dress(0.04, 240);
         d.remove_seam(0).unwrap();
         for _ in 0..30 {
             d.step().unwrap();
