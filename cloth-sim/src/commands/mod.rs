@@ -156,7 +156,7 @@ fn removed(label: &str, r: sim_core::design::Removed, last: bool) -> String {
     }
     if r.kept > 0 {
         said += &format!(
-            "; {} sewn pair{} at a corner with another seam stay{} sewn (remove that seam too to open {})",
+            "; {} sewn pair{} stay{} sewn where other seams hold the cloth on both sides (remove them too to open {})",
             r.kept,
             plural(r.kept),
             if r.kept == 1 { "s" } else { "" },

@@ -4,7 +4,8 @@
 //! split into one vertex per place, the cloth its welds folded away (`Seam::eased`) is
 //! put back, and the two sides are parted as a cut's are. Before 2026-12-06 a removed
 //! seam's welded pairs stayed sewn (each weld its own edit), so a dart into a sewn side
-//! seam could not be freed by removing the seam.
+//! seam could not be freed by removing the seam; until later that day, a vertex another
+//! seam also held (a dart's mouth welded into a side seam) stayed sewn whole.
 
 use std::collections::HashSet;
 
@@ -23,6 +24,10 @@ const SAME_PLACE_M: f32 = 1e-3;
 /// Two rest corners closer than this are one (copied, not computed), m.
 const SAME_REST_M: f32 = 1e-6;
 
+/// A vertex's triangles at one place in the pattern (or places kept together): their
+/// slots and what they are.
+type Place = Vec<(u32, Tri)>;
+
 /// What removing a seam did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Removed {
@@ -30,9 +35,10 @@ pub struct Removed {
     pub pairs: usize,
     /// Its welded pairs taken apart.
     pub unpicked: usize,
-    /// Its welded pairs left sewn: their vertex is in another seam's pairs too (a
-    /// corner where two seams meet, a dart's mouth), which unpicking would open as
-    /// well.
+    /// Its welded pairs left sewn: seams still listed hold both sides of their vertex
+    /// (each side sewn to a third piece, or the two joined by another seam too), which
+    /// unpicking would open as well. A dart's mouth welded into the seam is unpicked
+    /// from the other side and stays the dart's.
     pub kept: usize,
     /// Triangles its welds had folded away (eased into it), put back.
     pub eased_back: usize,
@@ -45,8 +51,9 @@ fn place(rest: Vec3) -> Vec2 {
 
 impl Design {
     /// Removes seam `index` and unpicks it: its open stitches stop pulling, and every
-    /// welded pair whose vertex no other seam holds is split again, one vertex for each
-    /// of its places in the pattern, with the cloth its welds eased away put back and
+    /// welded pair's vertex is split again, one vertex for each of its places in the
+    /// pattern (places another seam still sews together there staying one:
+    /// `unpick_groups`), with the cloth its welds eased away put back and
     /// the sides parted (a cut's 40 µm each way). One undoable edit, "remove seam".
     pub fn remove_seam(&mut self, index: usize) -> Result<Removed, EditError> {
         let count = self.seams.len();
@@ -100,9 +107,6 @@ impl Design {
         applied: &mut Vec<Prim>,
         batch: &mut Batch,
     ) -> Result<(usize, usize, usize), EditError> {
-        let held: HashSet<u32> = (self.seams.iter())
-            .flat_map(|s| s.pairs.iter().flat_map(|&(a, b)| [a, b]))
-            .collect();
         let mut split: HashSet<u32> = HashSet::new();
         let mut welded: Vec<u32> = (pairs.iter())
             .filter(|(a, b)| a == b)
@@ -112,14 +116,17 @@ impl Design {
         welded.dedup();
         let first_new = self.sim.cloth.len() as u32;
         for v in welded {
-            if !self.sim.cloth.live.vertex_alive(v) || self.place_groups(v).len() < 2 {
+            if !self.sim.cloth.live.vertex_alive(v) {
                 continue;
             }
-            if held.contains(&v) {
+            let Some(groups) = self.unpick_groups(v) else {
+                continue;
+            };
+            if groups.len() < 2 {
                 continue;
             }
-            while let Some(moving) = self.place_groups(v).into_iter().nth(1) {
-                let prims = self.split_off_prims(v, &moving)?;
+            for moving in &groups[1..] {
+                let prims = self.split_off_prims(v, moving)?;
                 self.apply_unsynced(&prims, batch)?;
                 applied.extend(prims);
             }
@@ -157,11 +164,83 @@ impl Design {
         };
         let sewn: HashSet<u32> = (pairs.iter())
             .filter(|&&(a, b)| {
-                a == b && self.sim.cloth.live.vertex_alive(a) && self.place_groups(a).len() > 1
+                a == b
+                    && !split.contains(&a)
+                    && self.sim.cloth.live.vertex_alive(a)
+                    && self.place_groups(a).len() > 1
             })
             .map(|p| p.0)
             .collect();
         Ok((count(&split), count(&sewn), eased_back))
+    }
+
+    /// Vertex `v`'s triangles as unpicking parts them: one group for each of its places
+    /// in the pattern, except that places a seam still listed sews together at `v` stay
+    /// one group (a dart's two legs where their mouth was welded into the side seam being
+    /// unpicked). A listed seam sews together the places from which an edge runs to a
+    /// vertex of its pair on either side of the pairs at `v`. The group the listed seams hold comes
+    /// first, to stay on `v` (their pairs name it); None when they hold two groups apart
+    /// (a vertex between two other seams), which could not both stay.
+    fn unpick_groups(&self, v: u32) -> Option<Vec<Place>> {
+        let places = self.place_groups(v);
+        let mut root: Vec<usize> = (0..places.len()).collect();
+        fn find(root: &mut [usize], mut i: usize) -> usize {
+            while root[i] != i {
+                root[i] = root[root[i]];
+                i = root[i];
+            }
+            i
+        }
+        let mut held = vec![false; places.len()];
+        for seam in &self.seams {
+            for (i, &(a, b)) in seam.pairs.iter().enumerate() {
+                if a != v && b != v {
+                    continue;
+                }
+                // The pairs beside it either way, past any more pairs of `v` alone (a
+                // vertex paired twice).
+                let other = |&&(p, q): &&(u32, u32)| p != v || q != v;
+                let before = seam.pairs[..i].iter().rev().find(other);
+                let after = seam.pairs[i + 1..].iter().find(other);
+                let ends: Vec<u32> = (before.into_iter().chain(after))
+                    .flat_map(|&(p, q)| [p, q])
+                    .filter(|&u| u != v)
+                    .collect();
+                let joined: Vec<usize> = (0..places.len())
+                    .filter(|&g| {
+                        (places[g].iter()).any(|(_, t)| ends.iter().any(|u| t.v.contains(u)))
+                    })
+                    .collect();
+                // A seam at `v` whose places cannot be told: all stay together.
+                let joined = if joined.is_empty() {
+                    (0..places.len()).collect()
+                } else {
+                    joined
+                };
+                for &g in &joined {
+                    held[g] = true;
+                    let (r, s) = (find(&mut root, joined[0]), find(&mut root, g));
+                    root[s] = r;
+                }
+            }
+        }
+        let mut groups: Vec<(usize, bool, Place)> = Vec::new();
+        for (g, tris) in places.into_iter().enumerate() {
+            let r = find(&mut root, g);
+            match groups.iter_mut().find(|(q, _, _)| *q == r) {
+                Some((_, h, all)) => {
+                    *h |= held[g];
+                    all.extend(tris);
+                }
+                None => groups.push((r, held[g], tris)),
+            }
+        }
+        if groups.iter().filter(|(_, h, _)| *h).count() > 1 {
+            return None;
+        }
+        // Stable: the held group first, the others in the order met.
+        groups.sort_by_key(|(_, h, _)| !*h);
+        Some(groups.into_iter().map(|(_, _, tris)| tris).collect())
     }
 
     /// Vertex `v`'s live triangles grouped by the place in the pattern of their corner
@@ -272,16 +351,6 @@ mod tests {
         // twice and welded into the side seam, was on the back too.
         let dir = std::env::temp_dir().join(format!("saiho-unpick-{}", std::process::id()));
         crate::design::sewing_pattern::export_pattern(&d, &dir, 10.0).unwrap();
-        for p in crate::design::sewing_pattern::pieces(&d) {
-            let l: Vec<&str> = p.seams.iter().map(|s| s.0.as_str()).collect();
-            eprintln!(
-                "TMP {} {:?} presses {:?} drills {}",
-                p.name,
-                l,
-                p.presses.len(),
-                p.drills.len()
-            );
-        }
         let svg = crate::mesh::svg::load_svg(&dir.join("pattern.svg")).unwrap();
         let dxf = crate::mesh::dxf::load_dxf(&dir.join("pattern.dxf")).unwrap();
         std::fs::remove_dir_all(&dir).unwrap();
@@ -291,6 +360,39 @@ mod tests {
             assert_eq!(labels, ["A", "B", "C", "D", "E", "E"], "{notices:?}");
             assert!(notices.iter().all(|n| !n.contains("unsewn")), "{notices:?}");
         }
+        // The side unpicked again over the sewn dart: the dart's mouth, welded into the
+        // side, leaves the back and stays one vertex with the dart's two legs (before
+        // 2026-12-06, later, it stayed sewn to the back: "kept").
+        let dart: Vec<u32> = d.seams[3].pairs.iter().map(|p| p.0).collect();
+        let side: Vec<u32> = d.seams[4].pairs.iter().map(|p| p.0).collect();
+        let mouth: Vec<u32> = side.iter().copied().filter(|v| dart.contains(v)).collect();
+        assert!(
+            !mouth.is_empty(),
+            "the side seam runs over the dart's mouth"
+        );
+        assert!(mouth.iter().all(|&v| d.place_groups(v).len() == 3));
+        let dart_places: Vec<usize> = dart.iter().map(|&v| d.place_groups(v).len()).collect();
+        let r = d.remove_seam(4).unwrap();
+        assert_eq!((r.unpicked, r.kept), (side.len(), 0));
+        assert_eq!(
+            welded(&d, 3),
+            (dart.len(), dart.len()),
+            "the dart stays sewn"
+        );
+        for &v in &side {
+            let places = if mouth.contains(&v) { 2 } else { 1 };
+            assert_eq!(d.place_groups(v).len(), places, "vertex {v}");
+        }
+        for (&v, &was) in dart.iter().zip(&dart_places) {
+            let now = d.place_groups(v).len();
+            assert_eq!(
+                now,
+                if mouth.contains(&v) { 2 } else { was },
+                "dart vertex {v}"
+            );
+        }
+        let crossed = d.sim.crossings();
+        assert_eq!((crossed.self_pairs, crossed.body_pairs), (0, 0));
     }
 
     /// Undone once its sides have fallen apart (the dress's shoulder seam unpicked and
