@@ -483,6 +483,7 @@ impl Service<'_> {
             Command::AddPiece { .. }
             | Command::PlacePiece { .. }
             | Command::DuplicatePiece { .. } => self.hold_for_piece(c),
+            Command::Seam { .. } | Command::SeamPlane { .. } => self.float_new_seam(c),
             other => carry_out(&mut self.design, other),
         }
     }

@@ -1760,9 +1760,77 @@ impl Service {
 /// The front piece of [`dress_service`]'s dress as it is built (in the pattern plane,
 /// with its offset), to aim a cut or a dart at.
 fn dress_front() -> sim_core::design::PieceRecord {
+    dress_pieces().swap_remove(0)
+}
+
+/// [`dress_service`]'s pieces as built: the front, the back.
+fn dress_pieces() -> Vec<sim_core::design::PieceRecord> {
     let mut scene = ScenarioConfig::new(ScenarioName::DressMannequin);
     scene.piece_edge = 0.08;
-    build_design(&scene).unwrap().pieces[0].clone()
+    build_design(&scene).unwrap().pieces
+}
+
+/// A seam made while the cloth runs floats it while the pairs pull together (a sleeve
+/// set into a draped dress closed over the shoulder only so), and the answer says so;
+/// one made while paused waits for Simulate to float it, as before.
+#[test]
+fn a_seam_made_on_a_running_cloth_floats_it_while_it_closes() {
+    let (d, stop) = dress_service("svcw");
+    let node = services::node(&d, "ui").unwrap();
+    let mut ask = asker(ports::command_client(&node).unwrap());
+    let telemetry = ports::subscriber(&node, services::sim_telemetry, None).unwrap();
+    await_telemetry(&telemetry, "the dress running", &|t| t.paused == 0);
+    let p = dress_pieces();
+    // Each panel's armhole: its side above the side seam (22 cm of 75), top down.
+    let armhole = |k: usize, right: bool| {
+        let (lo, hi) = sim_core::mesh::bounds2(&p[k].outline.loops[0]);
+        let x = if right { hi.x } else { lo.x } + p[k].offset.x;
+        let top = hi.y + p[k].offset.y;
+        [[x, top - 0.01], [x, top - 0.21]]
+    };
+    let seam = |a, b| {
+        shared::command::Command::SeamPlane {
+            a,
+            b,
+            tolerance_m: 0.03,
+        }
+        .to_wire(Header::default())
+        .unwrap()
+    };
+    let r = ask(seam(armhole(0, false), armhole(1, true)));
+    assert_eq!(r.ok, 1, "{}", r.message());
+    assert!(
+        r.message()
+            .contains("they pull together (the cloth afloat, at most 1 s)"),
+        "{}",
+        r.message()
+    );
+    let r = ask(ToolCommand {
+        op: op::SET_SIMULATING,
+        mode: 0,
+        ..Default::default()
+    });
+    assert_eq!(r.ok, 1, "{}", r.message());
+    let r = ask(seam(armhole(0, true), armhole(1, false)));
+    assert_eq!(r.ok, 1, "{}", r.message());
+    assert!(
+        r.message()
+            .contains("of border vertices stitched; they pull together and"),
+        "{}",
+        r.message()
+    );
+    let r = ask(ToolCommand {
+        op: op::SET_SIMULATING,
+        mode: 1,
+        ..Default::default()
+    });
+    assert!(
+        r.message()
+            .contains("pull their pieces together before they fall"),
+        "{}",
+        r.message()
+    );
+    stop.finish();
 }
 
 fn dress_service(tag: &str) -> (ScratchDomain, Service) {

@@ -271,6 +271,10 @@ fn dart(
     ))
 }
 
+/// What a new seam's pairs do, as its answer says (a seam made while the cloth runs
+/// adds that the cloth floats meanwhile: `Service::float_new_seam`).
+pub(crate) const STITCHED_PULL: &str = "of border vertices stitched; they pull together";
+
 fn seam(
     design: &mut Design,
     a: &[[f32; 2]; 2],
@@ -290,8 +294,7 @@ fn seam(
     };
     done.map(|n| {
         format!(
-            "Seam: {n} pairs of border vertices stitched; they pull together and are sewn as \
-             they meet{}",
+            "Seam: {n} pairs {STITCHED_PULL} and are sewn as they meet{}",
             mismatch_warning(la, lb)
         )
     })

@@ -1,11 +1,11 @@
 //! The pause: the simulation held or run again (SET_SIMULATING), and held for a piece
 //! added, copied or moved while the cloth runs, which would otherwise fall before the
-//! designer can sew it.
+//! designer can sew it; and the cloth afloat while a seam made as it runs pulls together.
 
 use shared::command::Command;
 
 use super::Service;
-use crate::commands::carry_out;
+use crate::commands::{STITCHED_PULL, carry_out};
 
 /// What an answer starts with when the edit paused the simulation: first, where a
 /// reply's 200 bytes cannot cut it off (the same words as a new scene's).
@@ -55,5 +55,24 @@ impl Service<'_> {
         self.paused = true;
         self.tel_due = true;
         Ok(format!("{PAUSED_FOR_IT}{done}"))
+    }
+
+    /// A seam made while the cloth runs (SEAM, SEAM_PLANE): the cloth floats, without
+    /// gravity, while the new pairs pull together, as the seams made while paused do
+    /// once it is simulated again (`Design::float_while_sewing`: at most a second, and
+    /// not once every seam has closed). A sleeve seamed into a draped dress's armholes
+    /// closed 0 and 16 of 24 pairs a side over the shoulder without it, and all of them
+    /// with it (docs/garments.md). Paused, nothing changes: the float waits for Simulate.
+    pub(super) fn float_new_seam(&mut self, c: &Command) -> Result<String, String> {
+        let done = carry_out(&mut self.design, c)?;
+        if self.paused {
+            return Ok(done);
+        }
+        self.design.float_while_sewing();
+        Ok(done.replacen(
+            STITCHED_PULL,
+            "stitched; they pull together (the cloth afloat, at most 1 s)",
+            1,
+        ))
     }
 }
