@@ -425,24 +425,68 @@ fn seam_marks(d: &Drawn) -> Vec<SeamMark> {
         }
         (sets, label_of, torn)
     };
-    let (mut sets, mut label_of, torn) = runs(&HashSet::new());
+    let (mut sets, mut label_of, mut torn) = runs(&HashSet::new());
     if !torn.is_empty() {
         let lines: HashSet<usize> = (0..d.seam_lines.len())
             .filter(|&i| torn.contains(&sets.find(i)))
             .collect();
-        (sets, label_of, _) = runs(&lines);
+        (sets, label_of, torn) = runs(&lines);
+    }
+    let mut label: Vec<Option<String>> = (0..d.seam_lines.len())
+        .map(|i| label_of.get(&sets.find(i)).cloned())
+        .collect();
+    if !torn.is_empty() {
+        let lines: Vec<usize> = (0..d.seam_lines.len())
+            .filter(|&i| torn.contains(&sets.find(i)))
+            .collect();
+        for (i, l) in walk_labels(d, &labels, &lines) {
+            label[i] = Some(l);
+        }
     }
     (0..d.seam_lines.len())
         .filter_map(|i| {
-            let r = sets.find(i);
             let (a, b) = d.seam_lines[i];
             Some(SeamMark {
-                label: label_of.get(&r)?.clone(),
+                label: label[i].clone()?,
                 a: (a * 0.001).as_vec2(),
                 b: (b * 0.001).as_vec2(),
             })
         })
         .collect()
+}
+
+/// Labels of `lines` (a run two labels' texts still lie on once re-chained: an armhole
+/// running straight on into the side seam below it), each label walked on from the line
+/// its text lies on, end to start, up to the next line with a text: our writer draws a
+/// stretch's lines from start to end and puts its text on the first.
+fn walk_labels(d: &Drawn, labels: &[(DVec2, &str)], lines: &[usize]) -> HashMap<usize, String> {
+    let text_on = |i: usize| {
+        let (a, b) = d.seam_lines[i];
+        let mid = (a + b) * 0.5;
+        labels
+            .iter()
+            .find(|(p, _)| (*p - mid).length() < 0.05)
+            .map(|(_, l)| l.to_string())
+    };
+    let mut walked: HashMap<usize, String> = HashMap::new();
+    for &first in lines {
+        let Some(l) = text_on(first) else { continue };
+        let mut at = first;
+        walked.insert(at, l.clone());
+        loop {
+            let end = d.seam_lines[at].1;
+            let next = (lines.iter().copied())
+                .find(|&j| j != at && (d.seam_lines[j].0 - end).length() < 1e-3);
+            match next {
+                Some(j) if !walked.contains_key(&j) && text_on(j).is_none() => {
+                    walked.insert(j, l.clone());
+                    at = j;
+                }
+                _ => break,
+            }
+        }
+    }
+    walked
 }
 
 /// Where two lines share an end (within 0.001 of the file's millimetres).
