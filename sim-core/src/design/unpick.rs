@@ -178,9 +178,9 @@ impl Design {
     /// in the pattern, except that places a seam still listed sews together at `v` stay
     /// one group (a dart's two legs where their mouth was welded into the side seam being
     /// unpicked). A listed seam sews together the places from which an edge runs to a
-    /// vertex of its pair on either side of the pairs at `v`. The group the listed seams hold comes
-    /// first, to stay on `v` (their pairs name it); None when they hold two groups apart
-    /// (a vertex between two other seams), which could not both stay.
+    /// vertex of its pair on either side of the pairs at `v`. The group the listed seams
+    /// hold comes first, to stay on `v` (their pairs name it); None when they hold two
+    /// groups apart (a vertex between two other seams), which could not both stay.
     fn unpick_groups(&self, v: u32) -> Option<Vec<Place>> {
         let places = self.place_groups(v);
         let mut root: Vec<usize> = (0..places.len()).collect();
