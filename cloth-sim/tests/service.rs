@@ -1797,39 +1797,26 @@ fn a_seam_made_on_a_running_cloth_floats_it_while_it_closes() {
         .to_wire(Header::default())
         .unwrap()
     };
-    let r = ask(seam(armhole(0, false), armhole(1, true)));
-    assert_eq!(r.ok, 1, "{}", r.message());
-    assert!(
-        r.message()
-            .contains("they pull together (the cloth afloat, at most 1 s)"),
-        "{}",
-        r.message()
-    );
-    let r = ask(ToolCommand {
+    // Each answer: carried out, and saying `want`.
+    let mut says = |c: ToolCommand, want: &str| {
+        let r = ask(c);
+        assert!(r.ok == 1 && r.message().contains(want), "{}", r.message());
+    };
+    let simulate = |on: u32| ToolCommand {
         op: op::SET_SIMULATING,
-        mode: 0,
+        mode: on,
         ..Default::default()
-    });
-    assert_eq!(r.ok, 1, "{}", r.message());
-    let r = ask(seam(armhole(0, true), armhole(1, false)));
-    assert_eq!(r.ok, 1, "{}", r.message());
-    assert!(
-        r.message()
-            .contains("of border vertices stitched; they pull together and"),
-        "{}",
-        r.message()
+    };
+    says(
+        seam(armhole(0, false), armhole(1, true)),
+        "they pull together (the cloth afloat, at most 1 s)",
     );
-    let r = ask(ToolCommand {
-        op: op::SET_SIMULATING,
-        mode: 1,
-        ..Default::default()
-    });
-    assert!(
-        r.message()
-            .contains("pull their pieces together before they fall"),
-        "{}",
-        r.message()
+    says(simulate(0), "Paused");
+    says(
+        seam(armhole(0, true), armhole(1, false)),
+        "of border vertices stitched; they pull together and",
     );
+    says(simulate(1), "pull their pieces together before they fall");
     stop.finish();
 }
 
