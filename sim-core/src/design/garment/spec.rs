@@ -142,7 +142,8 @@ impl PatternSpec {
     /// body has them); otherwise front and back in turn. Pieces at one place stand side
     /// by side there, 2 cm apart, in the order a viewer facing them reads the body's
     /// right and left, in rows no wider than half the way round the torso, each row 2 cm
-    /// below the one before. Tops start at the shoulders, sleeves at the shoulder.
+    /// below the one before. Tops start above the shoulders, sleeves as far up their arms
+    /// past the shoulder.
     pub fn arrange(&mut self, marks: &Landmarks) {
         let mut at: Vec<Option<Place>> = Vec::with_capacity(self.pieces.len());
         let mut turn = 0;
@@ -210,7 +211,13 @@ impl PatternSpec {
             } else {
                 half_round(marks.torso)
             };
-            let mut top = if arm { 0.0 } else { marks.shoulders };
+            // A sleeve starts as far up its arm's line past the shoulder as a top starts
+            // above the shoulders: its cap then has less to climb over the shoulder's
+            // round. Started at the shoulder on the mannequin's hanging arms, a cap's top
+            // stayed round the arm 5 cm below the dress's shoulder point and held a
+            // shoulder seam open (157 and 177 of 188 pairs welded; 188 at all three
+            // densities started so; docs/garments.md).
+            let mut top = if arm { -marks.lift } else { marks.shoulders };
             for row in rows_within(&group, |i| size(&self.pieces[i].outline), gap, round) {
                 let total: f32 =
                     row.iter().map(|r| r.1.x).sum::<f32>() + gap * (row.len() - 1) as f32;
