@@ -37,6 +37,7 @@ fn mesher(c: &mut Criterion) {
         fabric: "cotton".into(),
         grain: 0.0,
         placement: None,
+        start: None,
     };
     let n = d.add_piece(&piece, Place::Back, 0.0105).unwrap();
     let tris = d.piece_list().last().unwrap().triangles;

@@ -477,6 +477,7 @@ fn dress_and_rectangle(
         fabric: "cotton".into(),
         grain: 0.0,
         placement: None,
+        start: None,
     };
     (build_design(&cfg).unwrap(), spec)
 }

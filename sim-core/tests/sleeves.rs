@@ -59,6 +59,7 @@ fn sleeves_set_into_a_draped_dress_close_over_the_shoulder() {
             fabric: "cotton".into(),
             grain: 0.0,
             placement: None,
+            start: None,
         };
         d.add_piece(&sleeve, at, cfg.piece_edge).unwrap();
     }

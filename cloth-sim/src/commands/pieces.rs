@@ -173,6 +173,7 @@ pub(super) fn add_piece(
         fabric: fabric.clone(),
         grain: 0.0,
         placement: None,
+        start: None,
     };
     let one = |design: &mut Design, p: PieceSpec| {
         let n = design.add_piece(&p, at, edge).map_err(|e| e.to_string())?;

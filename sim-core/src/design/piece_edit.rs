@@ -72,10 +72,14 @@ impl Design {
         let base = spec
             .placement
             .unwrap_or_else(|| start_placement(at, &marks));
+        // A placement a pattern file saved is measured from the bounds it saved.
+        let frame = (spec.start.as_ref())
+            .filter(|s| spec.placement == Some(s.placement))
+            .map(|s| s.bounds);
+        let from = frame.map_or((lo, hi), |b| (Vec2::new(b[0], b[1]), Vec2::new(b[2], b[3])));
         // What can be known before meshing is checked first: meshing a large piece takes
         // long, and the command would be refused after it all the same.
-        place(&spec.name, &[], (lo, hi), &base, &marks)
-            .map_err(|e| EditError::Piece(e.to_string()))?;
+        place(&spec.name, &[], from, &base, &marks).map_err(|e| EditError::Piece(e.to_string()))?;
         self.check_piece_size(&spec.name, mesher::estimate_vertices(&outline, edge), edge)?;
         let mesh = mesher::mesh_outline(&outline, edge).map_err(|e| bad(e.to_string()))?;
         self.check_piece_size(&spec.name, mesh.positions.len(), edge)?;
@@ -111,7 +115,7 @@ impl Design {
         let verts: Vec<u32> = (n0..n0 + own.len() as u32).collect();
         let others: Vec<[u32; 3]> = self.sim.cloth.live.iter().map(|(_, t)| t.v).collect();
         let (placement, starts) =
-            self.first_clear(&name, &verts, &own, (lo, hi), base, &tris, &others)?;
+            self.first_clear(&name, &verts, &own, from, base, &tris, &others)?;
         // Its own part of the texture, the design's parts moved up to make room.
         let uvs: Vec<[Vec2; 3]> = mesh
             .triangles
@@ -162,6 +166,7 @@ impl Design {
                 offset,
                 outline,
                 parts: Vec::new(),
+                frame: frame.map(Box::new),
             }),
         });
         self.commit(label, prims)?;
@@ -286,6 +291,8 @@ impl Design {
             let old = self.pieces[r].clone();
             let mut new = old.clone();
             new.placement = Some(placement);
+            // Measured from its outline's bounds, as every placement made here is.
+            new.frame = None;
             prims.push(Prim::Piece {
                 index: r as u32,
                 old: Some(old),
@@ -397,6 +404,7 @@ impl Design {
                 grain
             },
             placement: None,
+            start: None,
         };
         let before = self.pieces.len();
         let vertices = self.add_piece_as("copy piece", &spec, at.into(), edge)?;

@@ -33,6 +33,12 @@ pub struct PieceRecord {
     /// the piece's other parts by its own name.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub parts: Vec<PartName>,
+    /// The bounds its placement is measured from, `[lo.x, lo.y, hi.x, hi.y]` in its own
+    /// coordinates, m, where they are not its outline's: a piece read from a pattern that
+    /// saved its start (its outline since cut or sewn), which starts where it started.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    /// (Boxed: a record is carried twice in every undo step that changes it.)
+    pub frame: Option<Box<[f32; 4]>>,
 }
 
 /// A name one part of a cut piece has of its own.
@@ -73,7 +79,8 @@ impl PieceRecord {
         }
         let finite = self.grain.is_finite()
             && self.offset.is_finite()
-            && self.outline.loops.iter().flatten().all(|p| p.is_finite());
+            && self.outline.loops.iter().flatten().all(|p| p.is_finite())
+            && self.frame.iter().all(|f| f.iter().all(|v| v.is_finite()));
         if !finite {
             return Err(format!("piece {}: a number is NaN or infinite", self.name));
         }

@@ -342,7 +342,13 @@ pub fn read_dxf(text: &str) -> Result<Vec<NamedOutline>, DxfError> {
             .texts
             .iter()
             .find_map(|(_, t)| t.strip_prefix("Piece Name:").map(|n| n.trim().to_string()));
-        pieces.extend(nest(loops, name, pieces.len()));
+        // Ours and AAMA's annotation name the fabric: "Material: ...".
+        let fabric = (d.texts.iter())
+            .find_map(|(_, t)| t.strip_prefix("Material:").map(|n| n.trim().to_string()));
+        pieces.extend(nest(loops, name, pieces.len()).into_iter().map(|mut p| {
+            p.saved.fabric = fabric.clone();
+            p
+        }));
         marks.extend(seam_marks(&d));
     }
     if pieces.is_empty() {
@@ -381,6 +387,7 @@ fn nest(mut loops: Vec<Vec<DVec2>>, name: Option<String>, before: usize) -> Vec<
                 },
                 outline: Outline { loops: vec![m] },
                 marks: Vec::new(),
+                saved: Default::default(),
             });
         }
     }

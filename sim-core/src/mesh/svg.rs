@@ -26,6 +26,19 @@ pub struct NamedOutline {
     pub name: String,
     pub outline: Outline,
     pub marks: Vec<SeamMark>,
+    /// What a pattern of ours says of the piece beyond its shape ([`Saved`]).
+    pub saved: Saved,
+}
+
+/// What our own SVG writes on a piece's group for Saiho to read back: its fabric's name,
+/// its grain's angle (radians from the pattern's x, y up) and its start on the body (as
+/// written: the design layer reads it). A piece with a start has its outline and marks
+/// in its own coordinates (the origin the file gives it), not the page's.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Saved {
+    pub fabric: Option<String>,
+    pub grain: Option<f32>,
+    pub start: Option<String>,
 }
 
 /// A segment of an outline marked as part of the seam `label`, metres, pattern y up.
@@ -346,7 +359,8 @@ fn shape_of(e: &BytesStart<'_>) -> Result<Option<BezPath>, SvgError> {
 /// (`class="seam"` lines or paths labelled by `data-seam`).
 pub fn read_svg(text: &str) -> Result<Vec<NamedOutline>, SvgError> {
     let (found, names, marks) = walk(text)?;
-    let mut pieces = nest(found, &names)?;
+    let (mut pieces, origins): (Vec<NamedOutline>, Vec<Option<Vec2>>) =
+        nest(found, &names)?.into_iter().unzip();
     let to_m = |p: Vec2| Vec2::new(p.x, -p.y) * 0.001;
     let marks = marks
         .into_iter()
@@ -357,6 +371,17 @@ pub fn read_svg(text: &str) -> Result<Vec<NamedOutline>, SvgError> {
         })
         .collect();
     NamedOutline::take_marks(&mut pieces, marks, 1e-4);
+    // A piece of ours with a start: in its own coordinates, as its start measures them.
+    for (p, o) in pieces.iter_mut().zip(origins) {
+        let Some(o) = o.map(to_m) else { continue };
+        for q in p.outline.loops.iter_mut().flatten() {
+            *q -= o;
+        }
+        for m in &mut p.marks {
+            m.a -= o;
+            m.b -= o;
+        }
+    }
     Ok(pieces)
 }
 
@@ -397,14 +422,47 @@ fn segments(p: BezPath) -> Vec<(Vec2, Vec2)> {
 
 /// Every closed loop of the document, in mm, with its group and class; and each group's
 /// name (index 0: the document).
-/// What `walk` finds: the loops, the groups' names, the seam marks (mm, SVG axes).
-type Walked = (Vec<Found>, Vec<String>, Vec<SeamMark>);
+/// What `walk` finds: the loops, the groups, the seam marks (mm, SVG axes).
+type Walked = (Vec<Found>, Vec<Group>, Vec<SeamMark>);
+
+/// A group: its name (title or id), what ours saves on it, and where the origin of its
+/// piece's own coordinates lies (mm, SVG axes).
+#[derive(Default)]
+struct Group {
+    name: String,
+    saved: Saved,
+    origin: Option<Vec2>,
+}
+
+/// A group's `data-` attributes of ours (see [`Saved`]), its origin placed by `affine`.
+fn group_of(e: &BytesStart<'_>, affine: Affine) -> Group {
+    let origin = attr(e, "data-origin").and_then(|v| {
+        let n: Vec<f64> = (v.split(|c: char| c == ',' || c.is_whitespace()))
+            .filter(|s| !s.is_empty())
+            .map(|s| s.parse().unwrap_or(f64::NAN))
+            .collect();
+        let p = affine * kurbo::Point::new(*n.first()?, *n.get(1)?);
+        (n.len() == 2 && p.x.abs() < MAX_RAW && p.y.abs() < MAX_RAW)
+            .then(|| Vec2::new(p.x as f32, p.y as f32))
+    });
+    Group {
+        name: attr(e, "id").unwrap_or_default(),
+        saved: Saved {
+            fabric: attr(e, "data-fabric"),
+            grain: attr(e, "data-grain")
+                .and_then(|g| g.trim().parse::<f32>().ok())
+                .filter(|g| g.is_finite()),
+            start: attr(e, "data-start"),
+        },
+        origin,
+    }
+}
 
 fn walk(text: &str) -> Result<Walked, SvgError> {
     let mut reader = quick_xml::Reader::from_str(text);
     // (transform, group index) of the open groups; the root's transform scales to mm.
     let mut stack: Vec<(Affine, usize)> = Vec::new();
-    let mut names: Vec<String> = vec![String::new()];
+    let mut names: Vec<Group> = vec![Group::default()];
     let mut found: Vec<Found> = Vec::new();
     let mut marks: Vec<SeamMark> = Vec::new();
     let mut in_title = false;
@@ -431,7 +489,7 @@ fn walk(text: &str) -> Result<Walked, SvgError> {
                 if let (Some(&(_, g)), Ok(s)) = (stack.last(), t.decode())
                     && g > 0
                 {
-                    names[g] = s.trim().to_string();
+                    names[g].name = s.trim().to_string();
                 }
                 continue;
             }
@@ -465,7 +523,7 @@ fn walk(text: &str) -> Result<Walked, SvgError> {
                 }
             }
             b"g" => {
-                names.push(attr(&e, "id").unwrap_or_default());
+                names.push(group_of(&e, parent * own));
                 let g = names.len() - 1;
                 if !empty {
                     stack.push((parent * own, g));
@@ -517,7 +575,11 @@ fn walk(text: &str) -> Result<Walked, SvgError> {
 
 /// The loops as pieces: outer loops (counter-clockwise) with the holes inside them
 /// (clockwise), in metres with the pattern's y up, in the file's order.
-fn nest(mut found: Vec<Found>, names: &[String]) -> Result<Vec<NamedOutline>, SvgError> {
+/// Each piece with its group's origin (mm, SVG axes), where it has one.
+fn nest(
+    mut found: Vec<Found>,
+    names: &[Group],
+) -> Result<Vec<(NamedOutline, Option<Vec2>)>, SvgError> {
     // Ours: a group's cut line is dropped when it has a sewing line.
     let sewn: Vec<usize> = found
         .iter()
@@ -563,12 +625,13 @@ fn nest(mut found: Vec<Found>, names: &[String]) -> Result<Vec<NamedOutline>, Sv
             if area2(&l) < 0.0 {
                 l.reverse();
             }
-            let name = names.get(loops[i].1).cloned().unwrap_or_default();
+            let group = names.get(loops[i].1);
             pieces.push((
                 NamedOutline {
-                    name,
+                    name: group.map(|g| g.name.clone()).unwrap_or_default(),
                     outline: Outline { loops: vec![l] },
                     marks: Vec::new(),
+                    saved: group.map(|g| g.saved.clone()).unwrap_or_default(),
                 },
                 i,
             ));
@@ -586,7 +649,13 @@ fn nest(mut found: Vec<Found>, names: &[String]) -> Result<Vec<NamedOutline>, Sv
     for (k, p) in (1..).zip(&mut pieces).filter(|(_, p)| p.0.name.is_empty()) {
         p.0.name = format!("piece {k}");
     }
-    Ok(pieces.into_iter().map(|(p, _)| p).collect())
+    Ok(pieces
+        .into_iter()
+        .map(|(p, i)| {
+            let origin = names.get(loops[i].1).and_then(|g| g.origin);
+            (p, origin)
+        })
+        .collect())
 }
 
 /// Reads the pieces of an SVG file.

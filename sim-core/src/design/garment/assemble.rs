@@ -106,15 +106,15 @@ pub fn assemble(
             offset,
             outline,
             parts: Vec::new(),
+            frame: p.start.as_ref().map(|s| Box::new(s.bounds)),
         })
         .collect();
     let mut starts = vec![Vec3::ZERO; mesh.positions.len()];
-    for (((p, r), range), placement) in spec
-        .pieces
-        .iter()
+    for (i, (((p, r), range), placement)) in (spec.pieces.iter())
         .zip(&mut records)
         .zip(ranges.iter().cloned())
         .zip(placements)
+        .enumerate()
     {
         r.placement = Some(placement);
         let own: Vec<Vec2> = mesh.positions[range.clone()]
@@ -124,7 +124,7 @@ pub fn assemble(
         let x = place(
             &p.name,
             &own,
-            bounds2(&r.outline.loops[0]),
+            spec.start_bounds(i, &r.outline),
             &placement,
             marks,
         )?;
@@ -147,7 +147,7 @@ fn seam_sides(
     marks: &Landmarks,
 ) -> Result<Vec<SeamSides>, PlaceError> {
     let ends = |e: &EdgeRef| -> Result<Vec<Vec3>, PlaceError> {
-        let bounds = bounds2(&outlines[e.piece].loops[0]);
+        let bounds = spec.start_bounds(e.piece, &outlines[e.piece]);
         let name = &spec.pieces[e.piece].name;
         place(name, &[e.from, e.to], bounds, &placements[e.piece], marks)
     };

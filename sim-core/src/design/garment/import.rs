@@ -11,7 +11,9 @@ use super::conform::{arc, point_at, project};
 use super::garmentcode::read_garmentcode;
 use super::place::Landmarks;
 use super::spec::{DEFAULT_FABRIC, EdgeRef, PatternSpec, PieceSpec, SeamSpec, SpecError};
+use super::start::PieceStart;
 use crate::collision::BodyKind;
+use crate::design::MAX_NAME;
 use crate::mesh::dxf::{DxfError, load_dxf};
 use crate::mesh::sets::Sets;
 use crate::mesh::svg::{NamedOutline, SeamMark, SvgError, load_svg};
@@ -82,6 +84,8 @@ pub fn load_pattern(
         path: path.into(),
         source,
     })?;
+    let mut notices = notices;
+    notices.extend(spec.start_where_saved(marks));
     spec.arrange(marks);
     Ok((spec, notices))
 }
@@ -90,6 +94,7 @@ pub fn load_pattern(
 /// along its x; each seam label marked on exactly two stretches of outline is a seam.
 pub fn pattern_from_outlines(pieces: Vec<NamedOutline>) -> (PatternSpec, Vec<String>) {
     let mut spec = PatternSpec::default();
+    let mut unread: Vec<String> = Vec::new();
     let mut runs: Vec<(String, EdgeRef)> = Vec::new();
     let mut apexes: HashMap<String, Vec2> = HashMap::new();
     for (k, p) in pieces.into_iter().enumerate() {
@@ -103,15 +108,30 @@ pub fn pattern_from_outlines(pieces: Vec<NamedOutline>) -> (PatternSpec, Vec<Str
             }
             runs.push((label, EdgeRef { piece: k, from, to }));
         }
+        let start = match p.saved.start.as_deref().map(PieceStart::parse) {
+            Some(Ok(start)) => Some(start),
+            Some(Err(why)) => {
+                unread.push(format!(
+                    "piece {}: its start on the body could not be read ({why}); it is placed by its name",
+                    p.name
+                ));
+                None
+            }
+            None => None,
+        };
+        let fabric = (p.saved.fabric)
+            .filter(|f| !f.trim().is_empty() && f.len() <= MAX_NAME && f != "cloth")
+            .unwrap_or_else(|| DEFAULT_FABRIC.into());
         spec.pieces.push(PieceSpec {
             name: p.name,
             outline,
-            fabric: DEFAULT_FABRIC.into(),
-            grain: 0.0,
+            fabric,
+            grain: p.saved.grain.unwrap_or(0.0),
             placement: None,
+            start,
         });
     }
-    let mut notices = Vec::new();
+    let mut notices = unread;
     // Each label's stretches, in label order (a map: thousands of labels cost no more
     // than sorting them).
     let mut by_label: std::collections::BTreeMap<String, Vec<EdgeRef>> = Default::default();
@@ -435,6 +455,7 @@ mod tests {
             name: name.into(),
             outline: Outline::rectangle(1.0, 1.0),
             marks,
+            saved: Default::default(),
         }
     }
 
@@ -557,6 +578,7 @@ mod tests {
                     loops: vec![notched.clone()],
                 },
                 marks,
+                saved: Default::default(),
             };
             let back = square("back", vec![mark("A", (0.0, 1.0), (0.0, 0.0))]);
             let (spec, notices) = pattern_from_outlines(vec![front, back]);
@@ -637,6 +659,7 @@ mod tests {
                 loops: vec![l.clone()],
             },
             marks,
+            saved: Default::default(),
         };
         let e = || {
             vec![
@@ -658,5 +681,37 @@ mod tests {
             (spec.seams[0].a.from, spec.seams[0].a.to),
             (v(0.45, 0.0), v(0.55, 0.0))
         );
+    }
+
+    /// A start that is not ours to read (not JSON, or a number out of range) is said and
+    /// dropped: the piece is arranged by its name, the pattern still reads.
+    #[test]
+    fn a_start_that_cannot_be_read_is_said_and_the_piece_arranged_by_name() {
+        let with = |start: &str| {
+            let mut p = square("front", Vec::new());
+            p.saved.start = Some(start.into());
+            p.saved.fabric = Some("denim".into());
+            p
+        };
+        let good = r#"{"placement":{"kind":"around","angle":0.0,"top":1.5,"mirrored":false,"out":0.0},"bounds":[0,0,1,1],"body":[]}"#;
+        let (spec, notices) = pattern_from_outlines(vec![with(good)]);
+        assert!(notices.is_empty(), "{notices:?}");
+        assert!(spec.pieces[0].start.is_some());
+        assert_eq!(spec.pieces[0].fabric, "denim");
+        for (bad, why) in [
+            ("{not json", "could not be read ("),
+            (&good.replace("1.5", "1e30"), "beyond 100"),
+            (&good.replace("[0,0,1,1]", "[0,0,-1,1]"), "not a box"),
+        ] {
+            let (spec, notices) = pattern_from_outlines(vec![with(bad)]);
+            assert_eq!(spec.pieces[0].start, None, "{bad}");
+            assert_eq!(spec.pieces[0].placement, None, "{bad}");
+            assert!(
+                notices.len() == 1
+                    && notices[0].starts_with("piece front: its start on the body")
+                    && notices[0].contains(why),
+                "{bad}: {notices:?}"
+            );
+        }
     }
 }

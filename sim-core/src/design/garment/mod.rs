@@ -17,6 +17,7 @@ mod garmentcode;
 mod import;
 mod place;
 mod spec;
+mod start;
 mod waist;
 
 pub use assemble::LAYER;
@@ -26,4 +27,6 @@ pub use garmentcode::read_garmentcode;
 pub use import::{ImportError, load_pattern, own_body, pattern_from_outlines};
 pub use place::{GC_RAISE, Landmarks, MAX_DROP, Place, PlaceError, Placement, Start, place};
 pub use spec::{DEFAULT_FABRIC, EdgeRef, HoldSpec, PatternSpec, PieceSpec, SeamSpec, SpecError};
+pub(crate) use start::record_start;
+pub use start::{PieceStart, signature};
 pub use waist::{HIPS_BELOW, Waist, cloth_top};

@@ -18,6 +18,10 @@ pub struct PieceSpec {
     pub grain: f32,
     /// `None`: arranged by [`PatternSpec::arrange`].
     pub placement: Option<Placement>,
+    /// Where a pattern file of ours says the piece started; [`load_pattern`](super::load_pattern)
+    /// keeps it (as the placement, measured from its bounds) when the pattern is draped on
+    /// the body it was placed for, and drops it otherwise.
+    pub start: Option<super::start::PieceStart>,
 }
 
 /// A stretch of a piece's outer loop: from the outline point nearest `from` to the one
@@ -135,6 +139,42 @@ impl PatternSpec {
             }
         }
         Ok(())
+    }
+
+    /// Starts every piece whose file saved its start (ours) where it started. On
+    /// another body (landmarks more than 1 cm apart) the start is carried over: round
+    /// the torso at the same angle, round the arm as it was, its height moved by as much
+    /// as the shoulders differ (and a transform by as much as the axes do too); the
+    /// notice returned says so.
+    pub fn start_where_saved(&mut self, marks: &Landmarks) -> Option<String> {
+        let mut moved = (0, 0.0f32);
+        for p in &mut self.pieces {
+            let Some(s) = &p.start else { continue };
+            if s.fits(marks) {
+                p.placement = Some(s.placement);
+            } else {
+                let (placement, dy) = s.carried(marks);
+                p.placement = Some(placement);
+                moved = (moved.0 + 1, dy);
+            }
+        }
+        (moved.0 > 0).then(|| {
+            format!(
+                "{} of the pattern's pieces were placed for another body: they start as \
+                 they did there, {:+.1} cm higher",
+                moved.0,
+                100.0 * moved.1
+            )
+        })
+    }
+
+    /// The bounds piece `i`'s placement measures from: its saved start's, or those of
+    /// `outline` (the piece's outline as meshed).
+    pub fn start_bounds(&self, i: usize, outline: &Outline) -> (Vec2, Vec2) {
+        match self.pieces.get(i).and_then(|p| p.start.as_ref()) {
+            Some(s) => s.bounds(),
+            None => crate::mesh::bounds2(&outline.loops[0]),
+        }
     }
 
     /// Places every piece that has no placement, by its name: "front", "back", "left"
@@ -313,6 +353,7 @@ mod tests {
             fabric: DEFAULT_FABRIC.into(),
             grain: 0.0,
             placement: None,
+            start: None,
         }
     }
 

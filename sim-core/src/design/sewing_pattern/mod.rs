@@ -27,6 +27,7 @@ use glam::{DVec2, DVec3, Vec3};
 
 use super::document::Design;
 use super::export::ExportError;
+use super::garment::{Landmarks, PieceStart};
 use crate::mesh::sets::Sets;
 
 pub(crate) use dart::line_hit;
@@ -74,6 +75,10 @@ pub struct Piece {
     /// middle of the dart's mouth toward the leg its intake is pressed to. The studio
     /// draws it; the SVG and DXF do not (the cap says it).
     pub presses: Vec<(String, DVec2, DVec2)>,
+    /// Where the piece started on the body (its record's placement), and where its
+    /// own pattern coordinates' origin lies among its points: the SVG carries both, so
+    /// that the pattern draped again starts the piece there.
+    pub start: Option<(PieceStart, DVec2)>,
 }
 
 impl Piece {
@@ -106,6 +111,9 @@ impl Piece {
         for (_, a, b) in &mut self.presses {
             *a *= k;
             *b *= k;
+        }
+        if let Some((_, o)) = &mut self.start {
+            *o *= k;
         }
     }
 
@@ -273,6 +281,7 @@ fn pieces_in(
         .flat_map(|s| &s.eased)
         .copied()
         .collect();
+    let marks = Landmarks::of(design.sim.body.as_ref());
     let mut out = Vec::new();
     for (part, info) in parts.iter().zip(names) {
         let mut c = Corners::default();
@@ -332,6 +341,14 @@ fn pieces_in(
                 press_second.push(label.clone());
             }
         }
+        let rest_y = part
+            .first()
+            .and_then(|&s| live.tri(s))
+            .map_or(0.0, |t| t.rest[0].y);
+        let start = info.record.and_then(|r| {
+            let (start, origin) = super::garment::record_start(design, r, &marks, rest_y)?;
+            Some((start, to2(origin)))
+        });
         out.push(Piece {
             name: info.name,
             cut: loops.clone(),
@@ -344,6 +361,7 @@ fn pieces_in(
             drills: Vec::new(),
             press_second,
             presses: Vec::new(),
+            start,
         });
     }
     out
@@ -629,6 +647,9 @@ pub fn finish(mut pieces: Vec<Piece>, allowance_mm: f64) -> Vec<Piece> {
         }
         p.grain.0 += shift;
         p.grain.1 += shift;
+        if let Some((_, o)) = &mut p.start {
+            *o += shift;
+        }
         x += hi.x - lo.x + LAYOUT_GAP_MM;
     }
     pieces

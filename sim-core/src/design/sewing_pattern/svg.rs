@@ -84,14 +84,40 @@ fn marks(s: &mut String, p: &Piece, h: f64) {
     }
 }
 
+/// What a piece's group carries for Saiho to read back (other readers ignore `data-`
+/// attributes): its fabric, its grain's angle (radians from the pattern's x, y up), and,
+/// where the design placed it, its start on the body (JSON) and where its own pattern
+/// coordinates' origin lies in the group's units (mm, y flipped about `h`).
+fn ours(p: &Piece, h: f64) -> String {
+    let (a, b) = p.grain;
+    let grain = (b.y - a.y).atan2(b.x - a.x);
+    let mut s = format!(
+        " data-fabric=\"{}\" data-grain=\"{grain:.6}\"",
+        xml(&p.fabric)
+    );
+    if let Some((start, o)) = &p.start
+        && let Ok(json) = serde_json::to_string(start)
+    {
+        let _ = write!(
+            s,
+            " data-start=\"{}\" data-origin=\"{:.3} {:.3}\"",
+            xml(&json),
+            o.x,
+            h - o.y
+        );
+    }
+    s
+}
+
 /// The SVG document of laid-out pieces (`super::finish`).
 pub fn svg_string(pieces: &[Piece]) -> String {
     let (mut s, h) = page(pieces);
     for (i, p) in pieces.iter().enumerate() {
         let _ = writeln!(
             s,
-            "<g id=\"piece-{}\" class=\"piece\">\n<title>{}</title>",
+            "<g id=\"piece-{}\" class=\"piece\"{}>\n<title>{}</title>",
             i + 1,
+            ours(p, h),
             xml(&p.name)
         );
         let _ = writeln!(

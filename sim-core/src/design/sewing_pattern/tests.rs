@@ -340,6 +340,7 @@ fn both_sides_of_a_seam_get_the_same_notches() {
             drills: vec![],
             press_second: vec![],
             presses: vec![],
+            start: None,
         }
     };
     let short = QUARTER_NOTCHES_MM - 10.0;
@@ -381,6 +382,7 @@ fn a_slit_is_cut_along_and_a_hole_round() {
         drills: vec![],
         press_second: vec![],
         presses: vec![],
+        start: None,
     };
     let f = finish(vec![piece], 10.0).remove(0);
     let shift = f.loops[0][0];

@@ -640,6 +640,7 @@ pub fn read_garmentcode(text: &str, marks: &Landmarks) -> Result<PatternSpec, St
             },
             fabric: DEFAULT_FABRIC.into(),
             grain: 0.0,
+            start: None,
         });
         edges_of.push((name.clone(), ends, flipped));
     }

@@ -30,6 +30,7 @@ fn dart_at_hem() -> Piece {
         drills: vec![],
         press_second: vec![],
         presses: vec![],
+        start: None,
     }
 }
 
