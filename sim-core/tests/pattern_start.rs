@@ -4,10 +4,10 @@
 //! arranged by their names, and a GarmentCode garment's ("skirt_front", "left_ftorso")
 //! started at the shoulders or through the body.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use sim_core::collision::BodyKind;
 use sim_core::design::Design;
-use sim_core::design::garment::{Landmarks, assemble, load_pattern};
+use sim_core::design::garment::{Landmarks, SeamSpec, assemble, load_pattern, own_body};
 use sim_core::design::sewing_pattern::export_pattern;
 use sim_core::scenario::{ScenarioConfig, ScenarioName, build_scene};
 
@@ -41,15 +41,15 @@ fn boxes_of(d: &Design) -> Vec<(String, Vec3, Vec3)> {
 /// GarmentCode's circle skirt (its panels on cones, its waistband held) as the scenario
 /// starts it on `human`, one piece given denim and its grain turned; its pattern out read
 /// back for the same body starts every piece within 1 cm of where the design started
-/// it, in its fabric and grain, and for another body carries the starts over and says
-/// so. Arranged by their names, the skirt's panels started at the shoulders, 0.4 m up.
+/// it, in its fabric and grain, its seams sewn the way round the JSON sews them, and
+/// for another body carries the starts over and says so. Arranged by their names, the skirt's panels started at the shoulders, 0.4 m up.
 #[test]
 fn a_pattern_read_back_starts_its_pieces_where_they_started() {
     let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
     cfg.pattern = Some(SKIRT.into());
     cfg.body = Some(BodyKind::Human);
     let (mut d, spec) = build_scene(&cfg).unwrap();
-    assert!(spec.is_some());
+    sim_core::design::garment::sew(&mut d, &spec.unwrap(), 45.0).unwrap();
     let first = d.piece_list()[0].name.clone();
     d.set_piece_fabric(0, "denim").unwrap();
     let k = (d.pieces.iter()).position(|r| r.name == first).unwrap();
@@ -61,6 +61,9 @@ fn a_pattern_read_back_starts_its_pieces_where_they_started() {
     let (spec, notices) = load_pattern(&svg, &human).unwrap();
     let mannequin = BodyKind::Mannequin.build().unwrap();
     let (_, elsewhere) = load_pattern(&svg, &Landmarks::of(Some(&mannequin))).unwrap();
+    // The body its starts name is the pattern's own (it drapes there by default, with
+    // its fabric's strain limit, as a GarmentCode pattern does on `human`).
+    assert_eq!(own_body(&svg), Some(BodyKind::Human));
     std::fs::remove_dir_all(&dir).ok();
     assert!(
         notices.iter().all(|n| !n.contains("another body")),
@@ -72,6 +75,40 @@ fn a_pattern_read_back_starts_its_pieces_where_they_started() {
             .any(|n| n.contains("placed for another body")),
         "{elsewhere:?}"
     );
+    // Every seam sewn the same way round as the design sewed it: the file says which
+    // ends meet (before, `None`: paired by where the pieces start).
+    let (from_json, _) = load_pattern(std::path::Path::new(SKIRT), &human).unwrap();
+    assert_eq!(spec.seams.len(), from_json.seams.len());
+    let meets = |s: &SeamSpec| {
+        let r = s.reversed.expect("the file says which ends meet");
+        let (b0, b1) = if r {
+            (s.b.to, s.b.from)
+        } else {
+            (s.b.from, s.b.to)
+        };
+        [
+            (s.a.piece, s.a.from, s.b.piece, b0),
+            (s.a.piece, s.a.to, s.b.piece, b1),
+        ]
+    };
+    let near = |p: Vec2, q: Vec2| p.distance(q) < 0.01;
+    for s in &spec.seams {
+        let got = meets(s);
+        let same = from_json.seams.iter().map(meets).any(|want| {
+            let hit = |(pa, a, pb, b): (usize, Vec2, usize, Vec2)| {
+                want.iter().any(|&(qa, c, qb, d)| {
+                    (pa == qa && pb == qb && near(a, c) && near(b, d))
+                        || (pa == qb && pb == qa && near(a, d) && near(b, c))
+                })
+            };
+            got.iter().all(|&m| hit(m))
+        });
+        assert!(
+            same,
+            "seam {}: {got:?} is sewn otherwise in the JSON",
+            s.label
+        );
+    }
     let made = assemble(&spec, &human, cfg.piece_edge).unwrap();
     let was = boxes_of(&d);
     assert_eq!(spec.pieces.len(), was.len());

@@ -457,6 +457,7 @@ fn seam_marks(d: &Drawn) -> Vec<SeamMark> {
                 label: label[i].clone()?,
                 a: (a * 0.001).as_vec2(),
                 b: (b * 0.001).as_vec2(),
+                start: false,
             })
         })
         .collect()

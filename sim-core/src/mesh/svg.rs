@@ -47,6 +47,9 @@ pub struct SeamMark {
     pub label: String,
     pub a: Vec2,
     pub b: Vec2,
+    /// Ours: the first segment of a side drawn from the end that meets the start of
+    /// the seam's other side (`data-seam-pairs="from-start"`): `a` is that end.
+    pub start: bool,
 }
 
 impl NamedOutline {
@@ -368,6 +371,7 @@ pub fn read_svg(text: &str) -> Result<Vec<NamedOutline>, SvgError> {
             label: m.label,
             a: to_m(m.a),
             b: to_m(m.b),
+            start: m.start,
         })
         .collect();
     NamedOutline::take_marks(&mut pieces, marks, 1e-4);
@@ -540,12 +544,17 @@ fn walk(text: &str) -> Result<Walked, SvgError> {
                 } else {
                     shape_of(&e)?
                 };
+                let paired = attr(&e, "data-seam-pairs").as_deref() == Some("from-start");
                 if let Some(path) = path {
-                    for (a, b) in segments(placed(&path, parent * own)?) {
+                    for (k, (a, b)) in segments(placed(&path, parent * own)?)
+                        .into_iter()
+                        .enumerate()
+                    {
                         marks.push(SeamMark {
                             label: label.clone(),
                             a,
                             b,
+                            start: paired && k == 0,
                         });
                     }
                 }

@@ -38,12 +38,28 @@ pub enum ImportError {
 }
 
 /// The body a pattern file is cut for, where its format says: GarmentCode's (a `.json`
-/// specification) is cut and placed for GarmentCode's average body, ours as `human`.
-/// `None`: a pattern of ours or from elsewhere, for whatever body it is draped on.
+/// specification) is cut and placed for GarmentCode's average body, ours as `human`;
+/// an SVG of ours whose pieces' saved starts all name one of our bodies, that body.
+/// `None`: a pattern from elsewhere, for whatever body it is draped on.
 pub fn own_body(path: &Path) -> Option<BodyKind> {
-    path.extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("json"))
-        .then_some(BodyKind::Human)
+    let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+    match ext.as_str() {
+        "json" => Some(BodyKind::Human),
+        "svg" => {
+            let pieces = load_svg(path).ok()?;
+            let mut names = (pieces.iter())
+                .map(|p| PieceStart::parse(p.saved.start.as_deref()?).ok()?.body_name);
+            let first = names.next()??;
+            // Ours only: a file naming an OBJ path does not choose what is loaded.
+            let body = BodyKind::parse(&first)
+                .ok()
+                .filter(|b| !matches!(b, BodyKind::Obj(_)))?;
+            names
+                .all(|n| n.as_deref() == Some(first.as_str()))
+                .then_some(body)
+        }
+        _ => None,
+    }
 }
 
 /// Reads the pattern in `path` for a body with `marks`: normalised, every piece placed.
@@ -95,6 +111,7 @@ pub fn load_pattern(
 pub fn pattern_from_outlines(pieces: Vec<NamedOutline>) -> (PatternSpec, Vec<String>) {
     let mut spec = PatternSpec::default();
     let mut unread: Vec<String> = Vec::new();
+    let mut seam_starts: Vec<(String, usize, Vec2)> = Vec::new();
     let mut runs: Vec<(String, EdgeRef)> = Vec::new();
     let mut apexes: HashMap<String, Vec2> = HashMap::new();
     for (k, p) in pieces.into_iter().enumerate() {
@@ -102,6 +119,12 @@ pub fn pattern_from_outlines(pieces: Vec<NamedOutline>) -> (PatternSpec, Vec<Str
         if crate::mesh::mesher::signed_area2(&outline.loops[0]) < 0.0 {
             outline.loops[0].reverse();
         }
+        // Ours: where a side starts that meets the start of its seam's other side.
+        (seam_starts).extend(
+            (p.marks.iter())
+                .filter(|m| m.start)
+                .map(|m| (m.label.clone(), k, m.a)),
+        );
         for (label, from, to, apex) in stretches(&outline.loops[0], &p.marks) {
             if let Some(apex) = apex {
                 apexes.insert(label.clone(), apex);
@@ -183,11 +206,18 @@ pub fn pattern_from_outlines(pieces: Vec<NamedOutline>) -> (PatternSpec, Vec<Str
                     gap * 1000.0
                 ));
             }
+            let reversed = match (
+                at_from(&seam_starts, &label, &a),
+                at_from(&seam_starts, &label, &b),
+            ) {
+                (Some(x), Some(y)) => Some(x != y),
+                _ => None,
+            };
             spec.seams.push(SeamSpec {
                 label,
                 a,
                 b,
-                reversed: None,
+                reversed,
             });
         } else if let Some((halves, gap)) = split_across(&label, &sides, &loops, &darts) {
             notices.push(format!(
@@ -205,6 +235,19 @@ pub fn pattern_from_outlines(pieces: Vec<NamedOutline>) -> (PatternSpec, Vec<Str
         }
     }
     (spec, notices)
+}
+
+/// Whether side `e` of seam `label` starts, as our file drew it to meet its other side's
+/// start, at its `from` end (`Some(false)`: at its `to`); `None` where the file does not
+/// say (or its mark lies more than 1 mm from both ends). `starts`: each such mark's
+/// label, piece and point.
+fn at_from(starts: &[(String, usize, Vec2)], label: &str, e: &EdgeRef) -> Option<bool> {
+    let near = |q: Vec2| q.distance(e.from).min(q.distance(e.to));
+    let q = (starts.iter())
+        .filter(|(l, k, _)| l == label && *k == e.piece)
+        .map(|s| s.2)
+        .min_by(|p, q| near(*p).total_cmp(&near(*q)))?;
+    (near(q) < 1e-3).then(|| q.distance(e.from) <= q.distance(e.to))
 }
 
 /// A seam marked on three stretches, two of them on one piece either side of a gap too
@@ -464,6 +507,7 @@ mod tests {
             label: label.into(),
             a: Vec2::new(a.0, a.1),
             b: Vec2::new(b.0, b.1),
+            start: false,
         }
     }
 

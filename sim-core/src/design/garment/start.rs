@@ -22,6 +22,10 @@ pub struct PieceStart {
     pub bounds: [f32; 4],
     /// The landmarks of the body it was placed for ([`signature`]).
     pub body: Vec<f32>,
+    /// That body's name (`human`, `mannequin`, ...): the pattern's own body
+    /// ([`own_body`](super::own_body)).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub body_name: Option<String>,
 }
 
 impl PieceStart {
@@ -149,6 +153,7 @@ pub(crate) fn record_start(
             .copied()
             .unwrap_or([lo.x, lo.y, hi.x, hi.y]),
         body: signature(marks),
+        body_name: design.sim.body.as_ref().map(|b| b.name.clone()),
     };
     Some((start, Vec3::new(rec.offset.x, rest_y, -rec.offset.y)))
 }

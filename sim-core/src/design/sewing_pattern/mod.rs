@@ -15,7 +15,9 @@
 pub(crate) mod dart;
 mod dxf;
 mod labels;
+mod meet;
 mod notches;
+mod offset;
 mod shut;
 mod svg;
 mod untangle;
@@ -38,6 +40,8 @@ use labels::seam_labels;
 pub use notches::QUARTER_NOTCHES_MM;
 pub(crate) use notches::in_material;
 use notches::notches;
+pub use offset::offset;
+use offset::offset_tagged;
 pub use svg::svg_string;
 
 /// One piece of the pattern, in millimetres in its pattern plane (x right, y up).
@@ -79,6 +83,9 @@ pub struct Piece {
     /// own pattern coordinates' origin lies among its points: the SVG carries both, so
     /// that the pattern draped again starts the piece there.
     pub start: Option<(PieceStart, DVec2)>,
+    /// For a seam's side whose ends the design's pairs tell apart: its label and the end
+    /// that meets the start of the seam's other side (`meet`).
+    pub seam_starts: Vec<(String, DVec2)>,
 }
 
 impl Piece {
@@ -114,6 +121,9 @@ impl Piece {
         }
         if let Some((_, o)) = &mut self.start {
             *o *= k;
+        }
+        for (_, q) in &mut self.seam_starts {
+            *q *= k;
         }
     }
 
@@ -282,6 +292,7 @@ fn pieces_in(
         .copied()
         .collect();
     let marks = Landmarks::of(design.sim.body.as_ref());
+    let mut sides = Vec::new();
     let mut out = Vec::new();
     for (part, info) in parts.iter().zip(names) {
         let mut c = Corners::default();
@@ -315,9 +326,11 @@ fn pieces_in(
                 l.reverse();
             }
         }
-        let seams: Vec<(String, DVec2, DVec2)> = key_loops
-            .iter()
+        let keyed: Vec<(String, Key, Key)> = (key_loops.iter())
             .flat_map(|l| seam_segments(l, &places, &seam_of))
+            .collect();
+        sides.extend(meet::sides(out.len(), &keyed, &places));
+        let seams: Vec<(String, DVec2, DVec2)> = (keyed.into_iter())
             .map(|(label, a, b)| (label, places[&a], places[&b]))
             .collect();
         // The grain line through the middle, along the piece's warp, 60% of its extent.
@@ -362,8 +375,10 @@ fn pieces_in(
             press_second,
             presses: Vec::new(),
             start,
+            seam_starts: Vec::new(),
         });
     }
+    meet::seam_starts(design, sides, &mut out);
     out
 }
 
@@ -545,38 +560,6 @@ fn bounds(l: &[DVec2]) -> (DVec2, DVec2) {
     )
 }
 
-/// Loop `l` offset by `d` to the right of its direction (away from the material, for
-/// an outer loop counter-clockwise and a hole clockwise), with mitred corners; a corner
-/// sharper than the mitre limit (4 d) is bevelled.
-pub fn offset(l: &[DVec2], d: f64) -> Vec<DVec2> {
-    offset_tagged(l, d).into_iter().map(|(_, p)| p).collect()
-}
-
-/// [`offset`], each point with the index of the corner of `l` it is offset from (two
-/// points for a bevelled corner).
-fn offset_tagged(l: &[DVec2], d: f64) -> Vec<(usize, DVec2)> {
-    let n = l.len();
-    let mut out = Vec::with_capacity(n);
-    for i in 0..n {
-        let (p, c, q) = (l[(i + n - 1) % n], l[i], l[(i + 1) % n]);
-        let right = |a: DVec2, b: DVec2| {
-            let t = (b - a).normalize_or_zero();
-            DVec2::new(t.y, -t.x)
-        };
-        let (n1, n2) = (right(p, c), right(c, q));
-        let m = n1 + n2;
-        let cos_half = (m.length() * 0.5).max(1e-9);
-        let miter = d / cos_half;
-        if miter <= 4.0 * d && m.length() > 1e-9 {
-            out.push((i, c + m.normalize() * miter));
-        } else {
-            out.push((i, c + n1 * d));
-            out.push((i, c + n2 * d));
-        }
-    }
-    out
-}
-
 /// The width the pattern's layout keeps to, mm: a wide fabric's (150 cm), so the pattern
 /// prints and lays on the cloth in rows instead of one strip (a jumpsuit's was 5 m long).
 pub const LAYOUT_WIDTH_MM: f64 = 1500.0;
@@ -649,6 +632,9 @@ pub fn finish(mut pieces: Vec<Piece>, allowance_mm: f64) -> Vec<Piece> {
         p.grain.1 += shift;
         if let Some((_, o)) = &mut p.start {
             *o += shift;
+        }
+        for (_, q) in &mut p.seam_starts {
+            *q += shift;
         }
         x += hi.x - lo.x + LAYOUT_GAP_MM;
     }

@@ -109,6 +109,25 @@ fn ours(p: &Piece, h: f64) -> String {
     s
 }
 
+/// A seam's side drawn from the end that meets the start of the seam's other side, and
+/// whether that is known (`Piece::seam_starts`).
+fn from_its_start(p: &Piece, label: &str, side: &[DVec2]) -> (Vec<DVec2>, bool) {
+    let start = (p.seam_starts.iter())
+        .find(|(l, _)| l == label)
+        .map(|s| s.1);
+    let at = |q: Option<&DVec2>| match (q, start) {
+        (Some(q), Some(s)) => q.distance(s) < 1e-6,
+        _ => false,
+    };
+    if at(side.first()) {
+        (side.to_vec(), true)
+    } else if at(side.last()) {
+        (side.iter().rev().copied().collect(), true)
+    } else {
+        (side.to_vec(), false)
+    }
+}
+
 /// The SVG document of laid-out pieces (`super::finish`).
 pub fn svg_string(pieces: &[Piece]) -> String {
     let (mut s, h) = page(pieces);
@@ -136,11 +155,17 @@ pub fn svg_string(pieces: &[Piece]) -> String {
         // renderer draws a few paths, not hundreds of lines).
         let sides = super::notches::seam_sides(p);
         for (label, side) in &sides {
+            let (side, paired) = from_its_start(p, label, side);
             let _ = writeln!(
                 s,
-                "<path class=\"seam\" data-seam=\"{}\" d=\"{}\" fill=\"none\" stroke=\"#c02030\" stroke-width=\"1\"/>",
+                "<path class=\"seam\" data-seam=\"{}\"{} d=\"{}\" fill=\"none\" stroke=\"#c02030\" stroke-width=\"1\"/>",
                 xml(label),
-                line_d(side, h)
+                if paired {
+                    " data-seam-pairs=\"from-start\""
+                } else {
+                    ""
+                },
+                line_d(&side, h)
             );
         }
         marks(&mut s, p, h);

@@ -341,6 +341,7 @@ fn both_sides_of_a_seam_get_the_same_notches() {
             press_second: vec![],
             presses: vec![],
             start: None,
+            seam_starts: vec![],
         }
     };
     let short = QUARTER_NOTCHES_MM - 10.0;
@@ -383,6 +384,7 @@ fn a_slit_is_cut_along_and_a_hole_round() {
         press_second: vec![],
         presses: vec![],
         start: None,
+        seam_starts: vec![],
     };
     let f = finish(vec![piece], 10.0).remove(0);
     let shift = f.loops[0][0];

@@ -31,6 +31,7 @@ fn dart_at_hem() -> Piece {
         press_second: vec![],
         presses: vec![],
         start: None,
+        seam_starts: vec![],
     }
 }
 
