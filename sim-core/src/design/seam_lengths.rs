@@ -102,6 +102,18 @@ impl Design {
                 .filter(on_side)
                 .filter(|p| !taken.contains(p))
                 .collect();
+            // Of those, the places an edge of the side's own triangles leads on from
+            // to the next vertex, where any does: a set-in sleeve's armpit, welded to
+            // the underarm seam too, has a place at each end of the cap, and the walk
+            // from the far one jumped 335 mm across the sleeve (a 222 mm cap half read
+            // 555 mm).
+            let edges: Vec<(Vec3, Vec3)> = path
+                .get(1)
+                .map_or(Vec::new(), |&n| self.edge_places(path[0], n));
+            let linked: Vec<&Vec3> = (free.iter().copied())
+                .filter(|p| edges.iter().any(|(a, _)| a == *p))
+                .collect();
+            let free = if linked.is_empty() { free } else { linked };
             let far = (!taken.is_empty())
                 .then(|| {
                     free.iter()
