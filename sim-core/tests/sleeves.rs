@@ -149,6 +149,15 @@ fn the_sleeved_dress_sews_whole_on_the_mannequin_arms_out_or_hanging() {
                 notices.iter().all(|n| !n.contains("unsewn")),
                 "{body:?}, {what}: {notices:?}"
             );
+            // Our SVG says which ends of every seam meet, the sleeves' underarm seams
+            // (both sides on one piece) too.
+            if what == "svg" {
+                let unsaid: Vec<&str> = (spec.seams.iter())
+                    .filter(|s| s.reversed.is_none())
+                    .map(|s| s.label.as_str())
+                    .collect();
+                assert!(unsaid.is_empty(), "{body:?}: {unsaid:?}");
+            }
         }
         assert_eq!((r.ops.pieces, r.ops.seams), (Some(4), Some(10)), "{body:?}");
         assert_eq!(r.ops.seam_pairs_welded, r.ops.seam_pairs, "{body:?}");

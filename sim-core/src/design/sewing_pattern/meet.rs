@@ -20,7 +20,8 @@ pub(super) struct Side {
 }
 
 /// The sides of piece `piece` (its seams' segments `segs`, each a label and two corner
-/// keys, placed by `places`): one for each label whose segments make one open chain.
+/// keys, placed by `places`): one for each open chain of a label's segments (a tube's
+/// seam has two on one piece).
 pub(super) fn sides(
     piece: usize,
     segs: &[(String, Key, Key)],
@@ -31,19 +32,25 @@ pub(super) fn sides(
     labels.dedup();
     let mut out = Vec::new();
     for label in labels {
-        let here: Vec<(Key, Key)> = (segs.iter())
+        let next: HashMap<Key, Key> = (segs.iter())
             .filter(|s| &s.0 == label)
             .map(|s| (s.1, s.2))
             .collect();
-        let froms: FxHashSet<Key> = here.iter().map(|s| s.0).collect();
-        let tos: FxHashSet<Key> = here.iter().map(|s| s.1).collect();
-        let starts: Vec<Key> = froms.difference(&tos).copied().collect();
-        let ends: Vec<Key> = tos.difference(&froms).copied().collect();
-        if let ([a], [b]) = (&starts[..], &ends[..]) {
+        let tos: FxHashSet<Key> = next.values().copied().collect();
+        for &a in next.keys().filter(|k| !tos.contains(k)) {
+            let mut b = a;
+            // (At most as many steps as segments: a chain cannot loop back into itself
+            // past its start, which nothing leads to.)
+            for _ in 0..next.len() {
+                match next.get(&b) {
+                    Some(&c) => b = c,
+                    None => break,
+                }
+            }
             out.push(Side {
                 piece,
                 label: label.clone(),
-                ends: [(a.0, places[a]), (b.0, places[b])],
+                ends: [(a.0, places[&a]), (b.0, places[&b])],
             });
         }
     }

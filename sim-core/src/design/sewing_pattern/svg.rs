@@ -112,12 +112,9 @@ fn ours(p: &Piece, h: f64) -> String {
 /// A seam's side drawn from the end that meets the start of the seam's other side, and
 /// whether that is known (`Piece::seam_starts`).
 fn from_its_start(p: &Piece, label: &str, side: &[DVec2]) -> (Vec<DVec2>, bool) {
-    let start = (p.seam_starts.iter())
-        .find(|(l, _)| l == label)
-        .map(|s| s.1);
-    let at = |q: Option<&DVec2>| match (q, start) {
-        (Some(q), Some(s)) => q.distance(s) < 1e-6,
-        _ => false,
+    // (A tube's seam has both its sides on one piece: a start each.)
+    let at = |q: Option<&DVec2>| {
+        q.is_some_and(|q| (p.seam_starts.iter()).any(|(l, s)| l == label && q.distance(*s) < 1e-6))
     };
     if at(side.first()) {
         (side.to_vec(), true)
