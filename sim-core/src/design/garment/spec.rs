@@ -18,9 +18,9 @@ pub struct PieceSpec {
     pub grain: f32,
     /// `None`: arranged by [`PatternSpec::arrange`].
     pub placement: Option<Placement>,
-    /// Where a pattern file of ours says the piece started; [`load_pattern`](super::load_pattern)
-    /// keeps it (as the placement, measured from its bounds) when the pattern is draped on
-    /// the body it was placed for, and drops it otherwise.
+    /// Where a pattern file of ours says the piece started: [`load_pattern`](super::load_pattern)
+    /// makes it the placement, measured from its bounds (carried over to another body:
+    /// [`PatternSpec::start_where_saved`]).
     pub start: Option<super::start::PieceStart>,
 }
 

@@ -7,6 +7,7 @@
 use glam::{Vec2, Vec3};
 
 use super::place::{Landmarks, Placement};
+use crate::design::MAX_NAME;
 
 /// How far apart two bodies' landmarks may be and the bodies still be the same, m.
 const SAME_BODY: f32 = 0.01;
@@ -35,15 +36,20 @@ impl PieceStart {
         (Vec2::new(b[0], b[1]), Vec2::new(b[2], b[3]))
     }
 
-    /// Reads a file's record: JSON, every number finite, bounds not inverted.
+    /// Reads a file's record: JSON, every number within 100 (m or radians), bounds a box,
+    /// at most 64 landmarks.
     pub fn parse(text: &str) -> Result<Self, String> {
         let s: Self = serde_json::from_str(text).map_err(|e| e.to_string())?;
         let (lo, hi) = s.bounds();
-        if !(lo.is_finite() && hi.is_finite() && lo.x <= hi.x && lo.y <= hi.y) {
+        let within = |v: &f32| v.abs() <= MAX_NUMBER;
+        if !(s.bounds.iter().all(within) && lo.x <= hi.x && lo.y <= hi.y) {
             return Err(format!("bounds {:?} are not a box", s.bounds));
         }
-        if !s.body.iter().all(|v| v.is_finite()) {
-            return Err("its body's landmarks are not numbers".into());
+        if s.body.len() > MAX_LANDMARKS || !s.body.iter().all(within) {
+            return Err("its body's landmarks are not a body's".into());
+        }
+        if s.body_name.as_ref().is_some_and(|n| n.len() > MAX_NAME) {
+            return Err("its body's name is too long".into());
         }
         if !placement_numbers(&s.placement)
             .iter()
@@ -102,6 +108,9 @@ pub fn signature(marks: &Landmarks) -> Vec<f32> {
     }
     s
 }
+
+/// The most landmarks a start may give its body ([`signature`] gives 17).
+const MAX_LANDMARKS: usize = 64;
 
 /// The largest number a start's placement may hold (metres or radians): a body's
 /// landmarks lie within a few metres, and a start far beyond them is no start.

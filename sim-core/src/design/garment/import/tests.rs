@@ -254,6 +254,11 @@ fn a_start_that_cannot_be_read_is_said_and_the_piece_arranged_by_name() {
         ("{not json", "could not be read ("),
         (&good.replace("1.5", "1e30"), "beyond 100"),
         (&good.replace("[0,0,1,1]", "[0,0,-1,1]"), "not a box"),
+        (&good.replace("[0,0,1,1]", "[0,0,1,1e30]"), "not a box"),
+        (
+            &good.replace(r#""body":[]"#, r#""body":[1e30]"#),
+            "not a body's",
+        ),
     ] {
         let (spec, notices) = pattern_from_outlines(vec![with(bad)]);
         assert_eq!(spec.pieces[0].start, None, "{bad}");
