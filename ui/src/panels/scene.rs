@@ -321,9 +321,11 @@ impl ScenePanel {
             )
             .labelled_by(label.id);
         });
-        let cut_for_human =
-            sim_core::design::garment::own_body(std::path::Path::new(self.pattern.trim()))
-                == Some(sim_core::collision::BodyKind::Human);
+        // A GarmentCode specification (`own_body` also reads an SVG of ours for the body
+        // it names: too slow for every frame, and the warning is GarmentCode's).
+        let cut_for_human = std::path::Path::new(self.pattern.trim())
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("json"));
         if !square && cut_for_human && self.body != BodyChoice::Human {
             self.garmentcode_off_its_body(ui);
         } else if !square && matches!(self.body, BodyChoice::Cube | BodyChoice::Sphere) {
