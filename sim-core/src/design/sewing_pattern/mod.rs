@@ -231,7 +231,7 @@ pub fn pattern_parts(design: &Design) -> Vec<Vec<u32>> {
 /// named as [`Design::piece_list`] names them.
 pub fn pieces(design: &Design) -> Vec<Piece> {
     let (origin, u, v) = plane(design);
-    pieces_in(design, &pattern_parts(design), |p: Vec3| {
+    pieces_in(design, &pattern_parts(design), true, |p: Vec3| {
         let d = p.as_dvec3() - origin;
         DVec2::new(d.dot(u), d.dot(v)) * 1000.0
     })
@@ -248,7 +248,7 @@ pub fn view_pieces(design: &Design) -> Vec<Piece> {
 
 /// [`view_pieces`] of the parts `parts` (as [`pattern_parts`] finds them).
 pub(crate) fn view_of(design: &Design, parts: &[Vec<u32>]) -> Vec<Piece> {
-    let mut pieces = pieces_in(design, parts, |p: Vec3| {
+    let mut pieces = pieces_in(design, parts, false, |p: Vec3| {
         DVec2::new(p.x as f64, -p.z as f64) * 1000.0
     });
     let longest = notches::longest_sides(&pieces);
@@ -263,10 +263,13 @@ pub(crate) fn view_of(design: &Design, parts: &[Vec<u32>]) -> Vec<Piece> {
 }
 
 /// [`pieces`] of the parts `parts`, with each rest position mapped into the plane by
-/// `to2`.
+/// `to2`; with their starts on the body (`Piece::start`) when `starts` (the pattern out:
+/// finding the body's landmarks takes a pass over its mesh, which the pattern view,
+/// sent after edits, does without).
 fn pieces_in(
     design: &Design,
     parts: &[Vec<u32>],
+    starts: bool,
     to2: impl Fn(Vec3) -> DVec2 + Copy,
 ) -> Vec<Piece> {
     // The designer's names of the seams that have one, by label.
@@ -291,7 +294,7 @@ fn pieces_in(
         .flat_map(|s| &s.eased)
         .copied()
         .collect();
-    let marks = Landmarks::of(design.sim.body.as_ref());
+    let marks = starts.then(|| Landmarks::of(design.sim.body.as_ref()));
     let mut sides = Vec::new();
     let mut out = Vec::new();
     for (part, info) in parts.iter().zip(names) {
@@ -358,8 +361,8 @@ fn pieces_in(
             .first()
             .and_then(|&s| live.tri(s))
             .map_or(0.0, |t| t.rest[0].y);
-        let start = info.record.and_then(|r| {
-            let (start, origin) = super::garment::record_start(design, r, &marks, rest_y)?;
+        let start = info.record.zip(marks.as_ref()).and_then(|(r, marks)| {
+            let (start, origin) = super::garment::record_start(design, r, marks, rest_y)?;
             Some((start, to2(origin)))
         });
         out.push(Piece {
