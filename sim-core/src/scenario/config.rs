@@ -352,7 +352,10 @@ fn placed_garment(
                 which: match super::garment::crossed_pieces(&made, body) {
                     w if w.is_empty() => w,
                     w => format!(" ({w})"),
-                },
+                } + &(said.iter())
+                    .filter(|n| n.contains("placed for another body"))
+                    .map(|n| format!("; {n}"))
+                    .collect::<String>(),
             });
         }
         if clear {

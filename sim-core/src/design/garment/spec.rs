@@ -148,6 +148,7 @@ impl PatternSpec {
     /// notice returned says so.
     pub fn start_where_saved(&mut self, marks: &Landmarks) -> Option<String> {
         let mut moved = (0, 0.0f32);
+        let mut theirs: Option<String> = None;
         for p in &mut self.pieces {
             let Some(s) = &p.start else { continue };
             if s.fits(marks) {
@@ -156,13 +157,15 @@ impl PatternSpec {
                 let (placement, dy) = s.carried(marks);
                 p.placement = Some(placement);
                 moved = (moved.0 + 1, dy);
+                theirs = theirs.or_else(|| s.body_name.clone());
             }
         }
         (moved.0 > 0).then(|| {
             format!(
-                "{} of the pattern's pieces were placed for another body: they start as \
+                "{} of the pattern's pieces were placed for another body{}: they start as \
                  they did there, {:+.1} cm higher",
                 moved.0,
+                theirs.map_or(String::new(), |b| format!(" ({b})")),
                 100.0 * moved.1
             )
         })
