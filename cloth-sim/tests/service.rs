@@ -53,7 +53,7 @@ fn commands_are_carried_out_and_answered() {
     drop(states);
     STOP.store(true, Ordering::Relaxed);
     let stats = handle.join().unwrap();
-    assert_eq!(stats.commands, 50);
+    assert_eq!(stats.commands, 52);
     assert_eq!(stats.rejected, 11);
     let _ = std::fs::remove_file(&path);
     // The autosave, its previous good version, and the design the load replaced.
@@ -173,7 +173,15 @@ fn edits_refusals_and_save(ask: Ask<'_>, path: &std::path::Path, autosave: &std:
     );
     let r = ask(undo());
     assert!(r.ok == 1 && r.message() == "Undone: cut line" && r.undo_depth == 0);
-    // A dart in the pattern plane: one step, undone as one; off the cloth, refused.
+    // A dart in the pattern plane: one step, undone as one; off the cloth, refused. Paused
+    // meanwhile: on the running cloth the dart's stitches can close and weld (each weld
+    // an undo step of its own) between one command and the next, on a busy machine.
+    let r = ask(simulating(0));
+    assert!(
+        r.ok == 1 && r.message().starts_with("Paused"),
+        "{}",
+        r.message()
+    );
     let dart = |point: [f32; 2]| shared::command::Command::DartPlane {
         point,
         toward: [0.0, -0.9],
@@ -210,6 +218,8 @@ fn edits_refusals_and_save(ask: Ask<'_>, path: &std::path::Path, autosave: &std:
         "{}",
         r.message()
     );
+    let r = ask(simulating(1));
+    assert_eq!(r.ok, 1, "{}", r.message());
     let mut save = ToolCommand {
         op: op::SAVE,
         ..Default::default()
