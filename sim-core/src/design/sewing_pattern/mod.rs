@@ -263,9 +263,9 @@ pub(crate) fn view_of(design: &Design, parts: &[Vec<u32>]) -> Vec<Piece> {
 }
 
 /// [`pieces`] of the parts `parts`, with each rest position mapped into the plane by
-/// `to2`; with their starts on the body (`Piece::start`) when `starts` (the pattern out:
-/// finding the body's landmarks takes a pass over its mesh, which the pattern view,
-/// sent after edits, does without).
+/// `to2`; with their starts on the body (`Piece::start`) and their seams' meeting ends
+/// (`Piece::seam_starts`) when `starts` (the pattern out: finding the body's landmarks
+/// takes a pass over its mesh, which the pattern view, sent after edits, does without).
 fn pieces_in(
     design: &Design,
     parts: &[Vec<u32>],
@@ -332,7 +332,9 @@ fn pieces_in(
         let keyed: Vec<(String, Key, Key)> = (key_loops.iter())
             .flat_map(|l| seam_segments(l, &places, &seam_of))
             .collect();
-        sides.extend(meet::sides(out.len(), &keyed, &places));
+        if starts {
+            sides.extend(meet::sides(out.len(), &keyed, &places));
+        }
         let seams: Vec<(String, DVec2, DVec2)> = (keyed.into_iter())
             .map(|(label, a, b)| (label, places[&a], places[&b]))
             .collect();
@@ -357,14 +359,7 @@ fn pieces_in(
                 press_second.push(label.clone());
             }
         }
-        let rest_y = part
-            .first()
-            .and_then(|&s| live.tri(s))
-            .map_or(0.0, |t| t.rest[0].y);
-        let start = info.record.zip(marks.as_ref()).and_then(|(r, marks)| {
-            let (start, origin) = super::garment::record_start(design, r, marks, rest_y)?;
-            Some((start, to2(origin)))
-        });
+        let start = start_of(design, part, info.record, marks.as_ref(), to2);
         out.push(Piece {
             name: info.name,
             cut: loops.clone(),
@@ -381,8 +376,28 @@ fn pieces_in(
             seam_starts: Vec::new(),
         });
     }
-    meet::seam_starts(design, sides, &mut out);
+    if starts {
+        meet::seam_starts(design, sides, &mut out);
+    }
     out
+}
+
+/// Part `part`'s start on the body (its record `record`'s, for the body with `marks`), and
+/// where its own coordinates' origin lies, mapped by `to2`.
+fn start_of(
+    design: &Design,
+    part: &[u32],
+    record: Option<usize>,
+    marks: Option<&Landmarks>,
+    to2: impl Fn(Vec3) -> DVec2,
+) -> Option<(PieceStart, DVec2)> {
+    let live = &design.sim.cloth.live;
+    let rest_y = part
+        .first()
+        .and_then(|&s| live.tri(s))
+        .map_or(0.0, |t| t.rest[0].y);
+    let (start, origin) = super::garment::record_start(design, record?, marks?, rest_y)?;
+    Some((start, to2(origin)))
 }
 
 /// A part's triangles by corner number, and each number's key and pattern place.
