@@ -229,7 +229,11 @@ pub(super) fn corner_face(
 /// One energy per (body corner, cloth edge) among the corner-face pairs of `pairs`: the
 /// pair from the triangle whose corners, in order, come first keeps it, whatever order
 /// the pairs are in (an update appends its pairs at the end).
-pub(super) fn one_energy_per_corner(pairs: &mut [Pair], keys: &mut Vec<(u32, u64, [u32; 3], u32)>) {
+pub(super) fn one_energy_per_corner(
+    pairs: &mut [Pair],
+    keys: &mut Vec<(u32, u64, [u32; 3], u32)>,
+    flips: &mut Vec<(u32, bool)>,
+) {
     keys.clear();
     for (k, q) in pairs.iter().enumerate() {
         if q.kind != PairKind::BodyCornerFace {
@@ -251,6 +255,10 @@ pub(super) fn one_energy_per_corner(pairs: &mut [Pair], keys: &mut Vec<(u32, u64
     keys.sort_unstable();
     for k in 0..keys.len() {
         let first = k == 0 || (keys[k - 1].0, keys[k - 1].1) != (keys[k].0, keys[k].1);
-        pairs[keys[k].3 as usize].energy = first;
+        let q = &mut pairs[keys[k].3 as usize];
+        if q.energy != first {
+            flips.push((keys[k].3, q.energy));
+            q.energy = first;
+        }
     }
 }

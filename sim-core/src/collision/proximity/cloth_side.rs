@@ -201,7 +201,7 @@ impl ClothSearch {
 
     /// The cloth pairs of the primitives that moved, appended to `out`: every
     /// vertex-face pair of vertices `moved`, those of the vertices and triangles `near`
-    /// (their energy: whether they may carry it; [`nearest_feature_energy`] chooses), and
+    /// (their energy: whether they may carry it; [`super::incremental::nearest_feature_energy`] chooses), and
     /// every edge-edge pair of edges `dirty` (`is_dirty` of an edge says whether it is
     /// listed; a pair of two listed edges comes once).
     #[allow(clippy::too_many_arguments)]
@@ -344,61 +344,6 @@ impl ClothSearch {
                 });
             }
         });
-    }
-}
-
-/// Gives out the energy of the vertex-face pairs of vertices `affected` in `pairs` again,
-/// as a search does: for each vertex, to its nearest pair per feature of the cloth (face,
-/// edge or corner) among those that may carry energy. `scratch`: (vertex, distance,
-/// feature, pair).
-pub(super) fn nearest_feature_energy(
-    c: &ClothView<'_>,
-    p: &ProximityParams,
-    pairs: &mut [Pair],
-    affected: &[bool],
-    scratch: &mut Vec<(u32, f32, [u32; 3], u32)>,
-) {
-    scratch.clear();
-    for (k, q) in pairs.iter_mut().enumerate() {
-        let i = q.v[0];
-        if q.kind != PairKind::VertexFace || !affected[i as usize] {
-            continue;
-        }
-        let tri = [q.v[1], q.v[2], q.v[3]];
-        let gap_max = c.boxes[i as usize].min_along(q.n) - max_along(c.boxes, &tri, q.n);
-        q.energy = gap_max < p.radius && !c.rest_near(&[i], &tri, p.rest_exclusion);
-        if q.energy {
-            let xi = c.x[i as usize];
-            let [a, b, cc] = tri.map(|v| c.x[v as usize]);
-            let (at, w) = point_triangle(xi, a, b, cc);
-            // The feature by its corners, in order (unused places last).
-            let mut f = tri;
-            for j in 0..3 {
-                if w[j] <= 0.0 {
-                    f[j] = NONE;
-                }
-            }
-            f.sort_unstable();
-            scratch.push((i, (xi - at).length(), f, k as u32));
-        }
-    }
-    scratch.sort_unstable_by(|a, b| {
-        (a.0.cmp(&b.0))
-            .then(a.1.total_cmp(&b.1))
-            .then(a.3.cmp(&b.3))
-    });
-    let mut start = 0;
-    while start < scratch.len() {
-        let end = start
-            + scratch[start..]
-                .iter()
-                .take_while(|e| e.0 == scratch[start].0)
-                .count();
-        for k in start..end {
-            let first = !scratch[start..k].iter().any(|e| e.2 == scratch[k].2);
-            pairs[scratch[k].3 as usize].energy = first;
-        }
-        start = end;
     }
 }
 

@@ -46,8 +46,9 @@ use glam::Vec3;
 
 use super::body_pairs;
 use super::body_side::BodyGrids;
-use super::cloth_side::{self, ClothSearch, Items, Part, join_parts, run_parts};
+use super::cloth_side::{ClothSearch, Items, Part, join_parts, run_parts};
 use super::grid::Aabb;
+use super::incremental::{self, Changed, RoleIndex};
 use super::pair::{ClothView, NONE, Pair, PairCounts, PairKind, ProximityParams, keep};
 use crate::collision::body::Body;
 
@@ -55,17 +56,21 @@ use crate::collision::body::Body;
 #[derive(Clone, Debug, Default)]
 pub struct Proximity {
     pub pairs: Vec<Pair>,
-    /// Vertex `i` is in pairs `roles[start[i]..start[i + 1]]`, each `pair * 4 + slot`.
-    start: Vec<u32>,
-    roles: Vec<u32>,
+    /// Each vertex's pairs, `pair * 4 + slot`.
+    roles: RoleIndex,
     pub counts: PairCounts,
+    /// What the last update changed (an update keeps every other pair in its place).
+    changed: Changed,
+    /// Scratch for updates: the new pairs, and the energies given again.
+    fresh: Vec<Pair>,
+    flips: Vec<(u32, bool)>,
     /// The cloth against itself: its trees (built for the mesh when it is first searched
     /// and after [`Proximity::clear`]) and scratch.
     cloth: ClothSearch,
     /// The body side's threads' shares and scratch.
     body_parts: Vec<Part>,
     /// Scratch for updates: vertices against moved triangles, and
-    /// [`cloth_side::nearest_feature_energy`]'s.
+    /// [`incremental::nearest_feature_energy`]'s.
     near: Vec<(u32, u32)>,
     nearest: Vec<(u32, f32, [u32; 3], u32)>,
     /// Scratch for [`body_pairs::one_energy_per_corner`].
@@ -111,10 +116,7 @@ impl Proximity {
     /// The pairs vertex `i` is in, each as `pair * 4 + slot`.
     #[inline]
     pub fn roles(&self, i: usize) -> &[u32] {
-        match (self.start.get(i), self.start.get(i + 1)) {
-            (Some(&a), Some(&b)) => &self.roles[a as usize..b as usize],
-            _ => &[],
-        }
+        self.roles.of(i)
     }
 
     /// Forgets every pair and the mesh (the cloth was edited, or there is nothing to
@@ -144,7 +146,7 @@ impl Proximity {
             // in it.
             let gone = |q: &Pair| (0..4).any(|k| q.side[k] != 0 && q.v[k] as usize >= n);
             self.pairs.retain(|q| !gone(q));
-            index_roles(&self.pairs, n, &mut self.start, &mut self.roles);
+            self.roles.build(&self.pairs, n);
         }
     }
 
@@ -187,7 +189,6 @@ impl Proximity {
     fn clear_pairs(&mut self) {
         self.searched = None;
         self.pairs.clear();
-        self.start.clear();
         self.roles.clear();
         self.counts = PairCounts::default();
     }
@@ -211,18 +212,21 @@ impl Proximity {
         self.cloth.search(cloth, p, reach, &mut self.pairs);
         let n = cloth.x.len();
         if let Some(body) = body {
-            let tris = Items::All(cloth.tris.len());
-            self.body(
+            let (es, ts) = (Items::All(cloth.edges.len()), Items::All(cloth.tris.len()));
+            let parts = &mut self.body_parts;
+            Self::body(
+                parts,
                 cloth,
                 body,
                 p,
                 Items::All(n),
-                Items::All(cloth.edges.len()),
-                tris,
+                es,
+                ts,
+                &mut self.pairs,
             );
         }
         if let Some(floor) = p.floor {
-            self.floor(cloth, floor, p, Items::All(n));
+            Self::floor(cloth, floor, p, Items::All(n), &mut self.pairs);
         }
         self.finish(n, p.threads, also);
         self.searched = Some(Searched::of(cloth, p, body));
@@ -230,12 +234,17 @@ impl Proximity {
 
     /// Updates the pairs after the boxes of the vertices `moved` changed, the others'
     /// boxes being those of the last search, which was of this mesh with these settings
-    /// (else this is [`Proximity::detect`]). The pairs of every primitive with a moved
-    /// corner are searched again, and so are the cloth vertex-face pairs of the vertices
-    /// near a moved triangle (each vertex's nearest feature gets the energy); the others
-    /// are kept, their primitives' boxes and so what they can reach being as they were.
-    /// The pairs come out as a full search's, in another order. `also` is given them as
-    /// [`Proximity::detect_with`] gives them.
+    /// (else this is [`Proximity::detect_with`]). The pairs of every primitive with a
+    /// moved corner are searched again, and so are the cloth vertex-face pairs of the
+    /// vertices near a moved triangle (each vertex's nearest feature gets the energy);
+    /// the others are kept, their primitives' boxes and so what they can reach being as
+    /// they were. The pairs are a full search's, in another order.
+    ///
+    /// When few vertices moved, the others' pairs keep their places in the list (but for
+    /// a few moved down from its end), `also` is not called, the answer is true and
+    /// [`Proximity::changed`] says where the update put things. Otherwise the list is
+    /// made again, `also` is given it as [`Proximity::detect_with`] gives it, and the
+    /// answer is false.
     pub fn update(
         &mut self,
         cloth: &ClothView<'_>,
@@ -243,14 +252,15 @@ impl Proximity {
         p: &ProximityParams,
         moved: &[bool],
         also: impl FnOnce(&[Pair]) + Send,
-    ) {
+    ) -> bool {
         let n = cloth.x.len();
         let same = self
             .searched
             .as_ref()
             .is_some_and(|s| s.matches(cloth, p, body));
         if !same || moved.len() != n {
-            return self.detect_with(cloth, body, p, also);
+            self.detect_with(cloth, body, p, also);
+            return false;
         }
         let reach = 0.5 * p.radius;
         let is_moved = |v: u32| moved.get(v as usize) == Some(&true);
@@ -262,8 +272,8 @@ impl Proximity {
             .filter(|&e| cloth.edges[e as usize].iter().any(|&v| is_moved(v)))
             .collect();
         // The vertices that did not move whose vertex-face pairs change: over a moved
-        // triangle before (found through the moved corners' pairs, indexed at the last
-        // search), or near one now. Their nearest features are chosen again.
+        // triangle before (found through the moved corners' pairs), or near one now.
+        // Their nearest features are chosen again.
         let mut affected = vec![false; n];
         for &v in &moved_list {
             for &r in self.roles(v as usize) {
@@ -279,29 +289,75 @@ impl Proximity {
         for &(i, _) in &near {
             affected[i as usize] = true;
         }
-        self.pairs
-            .retain(|q| !(0..4).any(|k| q.side[k] != 0 && is_moved(q.v[k])));
+        let mut fresh = std::mem::take(&mut self.fresh);
+        fresh.clear();
         let is_dirty = |e: u32| cloth.edges[e as usize].iter().any(|&v| is_moved(v));
-        self.cloth.update(
-            cloth,
-            p,
-            reach,
-            &moved_list,
-            &near,
-            &dirty_edges,
-            is_dirty,
-            &mut self.pairs,
-        );
+        let (vs, es) = (&moved_list, &dirty_edges);
+        self.cloth
+            .update(cloth, p, reach, vs, &near, es, is_dirty, &mut fresh);
         self.near = near;
-        cloth_side::nearest_feature_energy(cloth, p, &mut self.pairs, &affected, &mut self.nearest);
         if let Some(body) = body {
-            let (vs, es) = (Items::Only(&moved_list), Items::Only(&dirty_edges));
-            self.body(cloth, body, p, vs, es, Items::Only(&dirty_tris));
+            let (vs, es, ts) = (Items::Only(vs), Items::Only(es), Items::Only(&dirty_tris));
+            Self::body(&mut self.body_parts, cloth, body, p, vs, es, ts, &mut fresh);
         }
         if let Some(floor) = p.floor {
-            self.floor(cloth, floor, p, Items::Only(&moved_list));
+            Self::floor(cloth, floor, p, Items::Only(&moved_list), &mut fresh);
         }
-        self.finish(n, p.threads, also);
+        if moved_list.len() * IN_PLACE_UP_TO > n || !self.roles.covers(n) {
+            // Many renewed (a cloth still falling): the list is made again in the
+            // search's order, which keeps the guard's passes over it near in memory.
+            // So it is after an edit that added vertices.
+            let is_gone = |q: &Pair| (0..4).any(|k| q.side[k] != 0 && is_moved(q.v[k]));
+            self.pairs.retain(|q| !is_gone(q));
+            self.pairs.append(&mut fresh);
+            self.fresh = fresh;
+            let each = self.pairs.iter().enumerate();
+            let face = |q: &Pair| q.kind == PairKind::VertexFace && affected[q.v[0] as usize];
+            let ks: Vec<u32> = each
+                .filter_map(|(k, q)| face(q).then_some(k as u32))
+                .collect();
+            let (scratch, flips) = (&mut self.nearest, &mut self.flips);
+            incremental::nearest_feature_energy(cloth, p, &mut self.pairs, &ks, scratch, flips);
+            self.finish(n, p.threads, also);
+            return false;
+        }
+        let (pairs, counts, ch) = (&mut self.pairs, &mut self.counts, &mut self.changed);
+        incremental::splice(
+            pairs,
+            &mut self.roles,
+            n,
+            vs,
+            is_moved,
+            &mut fresh,
+            counts,
+            ch,
+        );
+        self.fresh = fresh;
+        // The energies: each affected vertex's vertex-face pairs (its own, slot 0), then
+        // one per body corner and cloth edge.
+        let mut ks = Vec::new();
+        for i in (0..n).filter(|&i| affected[i]) {
+            let own = self.roles.of(i).iter().filter(|&&r| r % 4 == 0);
+            let face = |&&r: &&u32| self.pairs[(r / 4) as usize].kind == PairKind::VertexFace;
+            ks.extend(own.filter(face).map(|&r| r / 4));
+        }
+        let flips = &mut self.flips;
+        flips.clear();
+        let scratch = &mut self.nearest;
+        incremental::nearest_feature_energy(cloth, p, &mut self.pairs, &ks, scratch, flips);
+        body_pairs::one_energy_per_corner(&mut self.pairs, &mut self.corner_keys, flips);
+        incremental::settle_energy(&self.pairs, flips, &mut self.counts, &mut self.changed);
+        #[cfg(debug_assertions)]
+        {
+            debug_assert_eq!(self.counts, PairCounts::of(&self.pairs));
+            debug_assert!(self.roles.same_as_built(&self.pairs, n));
+        }
+        true
+    }
+
+    /// Where the last [`Proximity::update`] that kept pairs put them.
+    pub fn changed(&self) -> &Changed {
+        &self.changed
     }
 
     /// After a search: one energy per body corner and cloth edge, then the counts and
@@ -309,10 +365,11 @@ impl Proximity {
     /// thread when there are enough pairs to be worth the handoff: the caller's pass over
     /// them, the guard's reach, costs about what the indexing does).
     fn finish(&mut self, n: usize, threads: usize, also: impl FnOnce(&[Pair]) + Send) {
-        body_pairs::one_energy_per_corner(&mut self.pairs, &mut self.corner_keys);
-        let (pairs, start, roles) = (&self.pairs, &mut self.start, &mut self.roles);
+        self.flips.clear();
+        body_pairs::one_energy_per_corner(&mut self.pairs, &mut self.corner_keys, &mut self.flips);
+        let (pairs, roles) = (&self.pairs, &mut self.roles);
         let mut index = || {
-            index_roles(pairs, n, start, roles);
+            roles.build(pairs, n);
             PairCounts::of(pairs)
         };
         self.counts = if threads > 1 && pairs.len() >= FINISH_PARALLEL_FROM {
@@ -327,44 +384,52 @@ impl Proximity {
     }
 
     /// Cloth vertices `vs`, edges `es` and triangles `ts` against the body's triangles,
-    /// creases and corners, each kind split over the threads and joined in order.
+    /// creases and corners, each kind split over the threads and joined in order to
+    /// `out`.
+    #[allow(clippy::too_many_arguments)]
     fn body(
-        &mut self,
+        parts: &mut Vec<Part>,
         c: &ClothView<'_>,
         body: &Body,
         p: &ProximityParams,
         vs: Items<'_>,
         es: Items<'_>,
         ts: Items<'_>,
+        out: &mut Vec<Pair>,
     ) {
         let reach = 0.5 * p.radius;
-        let parts = &mut self.body_parts;
         run_parts(parts, p.threads, vs.len(), |part, range| {
             vs.each(range, |i| {
                 body_pairs::vertex_face(c, body, p, reach, part, i)
             })
         });
-        join_parts(parts, &mut self.pairs);
+        join_parts(parts, out);
         run_parts(parts, p.threads, es.len(), |part, range| {
             es.each(range, |e| body_pairs::edge_edge(c, body, p, reach, part, e))
         });
-        join_parts(parts, &mut self.pairs);
+        join_parts(parts, out);
         run_parts(parts, p.threads, ts.len(), |part, range| {
             ts.each(range, |t| {
                 body_pairs::corner_face(c, body, p, reach, part, t)
             })
         });
-        join_parts(parts, &mut self.pairs);
+        join_parts(parts, out);
     }
 
-    fn floor(&mut self, c: &ClothView<'_>, floor: f32, p: &ProximityParams, vs: Items<'_>) {
+    fn floor(
+        c: &ClothView<'_>,
+        floor: f32,
+        p: &ProximityParams,
+        vs: Items<'_>,
+        out: &mut Vec<Pair>,
+    ) {
         vs.each(0..vs.len(), |i| {
             let b = c.boxes[i];
             if !c.free[i] || !b.is_finite() || b.lo.y - floor >= p.radius {
                 return;
             }
             let sep0 = c.x[i].y - floor;
-            self.pairs.push(Pair {
+            out.push(Pair {
                 v: [i as u32, NONE, NONE, NONE],
                 w: [1.0, 0.0, 0.0, 0.0],
                 side: [1, 0, 0, 0],
@@ -385,39 +450,16 @@ impl Proximity {
     }
 }
 
+/// An update that renews at most one vertex in this many changes the pair list in place
+/// ([`incremental::splice`]); one renewing more lists the pairs again in the search's
+/// order. (In place throughout, the 128 x 128 drape's 200 landing frames took 20-35%
+/// longer: docs/collision.md.)
+const IN_PLACE_UP_TO: usize = 32;
+
 /// Pairs from which [`Proximity::finish`] hands its caller's pass to a second thread
 /// (a handoff costs 36-126 µs on the development VM; the guard's reach, about 12 ns a
 /// pair).
 const FINISH_PARALLEL_FROM: usize = 20_000;
-
-/// Each vertex's pairs (`pair * 4 + slot`, `roles[start[i]..start[i + 1]]`), by counting
-/// sort.
-fn index_roles(pairs: &[Pair], n: usize, start: &mut Vec<u32>, roles: &mut Vec<u32>) {
-    start.clear();
-    start.resize(n + 1, 0);
-    for q in pairs {
-        for k in 0..4 {
-            if q.side[k] != 0 && (q.v[k] as usize) < n {
-                start[q.v[k] as usize + 1] += 1;
-            }
-        }
-    }
-    for i in 0..n {
-        start[i + 1] += start[i];
-    }
-    roles.clear();
-    roles.resize(start[n] as usize, 0);
-    let mut fill = start.clone();
-    for (pi, q) in pairs.iter().enumerate() {
-        for k in 0..4 {
-            if q.side[k] != 0 && (q.v[k] as usize) < n {
-                let v = q.v[k] as usize;
-                roles[fill[v] as usize] = (pi * 4 + k) as u32;
-                fill[v] += 1;
-            }
-        }
-    }
-}
 
 /// A hash cell for a set of boxes: about their mean size, at least 2 mm.
 pub(super) fn grid_cell(boxes: impl Iterator<Item = Aabb>) -> f32 {
@@ -461,157 +503,4 @@ pub(super) fn sheet_over_a_sphere(side: usize) -> (Vec<Vec3>, Vec<[u32; 3]>, Vec
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::collision::body::sphere;
-    use crate::collision::proximity::{Reach, unique_edges};
-
-    /// A 70 x 70 sheet (1 cm cells) lying 1-3 mm over the top of a 30 cm sphere, falling
-    /// 2 mm onto it.
-    fn sheet_on_a_sphere() -> (Vec<Vec3>, Vec<Aabb>, Vec<[u32; 3]>, Vec<Vec3>) {
-        let (x, tris, pattern) = sheet_over_a_sphere(70);
-        let boxes = x
-            .iter()
-            .map(|&p| Aabb::point(p).with(p - Vec3::Y * 0.002).grown(0.0005))
-            .collect();
-        (x, boxes, tris, pattern)
-    }
-
-    /// A pair without its energy, comparable: kind, vertices, and the rest to 1e-6.
-    fn key(q: &Pair) -> (u8, [u32; 4], [i64; 4]) {
-        let r = |f: f32| (f as f64 * 1e6).round() as i64;
-        (
-            q.kind as u8,
-            q.v,
-            [r(q.n.x), r(q.n.y), r(q.n.z), r(q.delta + q.offset + q.w[1])],
-        )
-    }
-
-    #[test]
-    fn an_update_finds_what_a_full_search_would() {
-        let body = sphere(Vec3::ZERO, 0.3, 3).expect("a sphere");
-        let (mut x, mut boxes, tris, pattern) = sheet_on_a_sphere();
-        // A second layer over part of the sheet, so that cloth pairs come too: the first
-        // rows folded back 3 mm over the rows under them.
-        for j in 0..10 {
-            for i in 0..70 {
-                let k = j * 70 + i;
-                let under = x[(19 - j) * 70 + i];
-                x[k] = under + Vec3::Y * 0.003;
-                boxes[k] = Aabb::point(x[k]).with(x[k] - Vec3::Y * 0.002).grown(0.0005);
-            }
-        }
-        let edges = unique_edges(&tris);
-        let free = vec![true; x.len()];
-        let params = ProximityParams::for_tests(2, Some(-0.5));
-        let mut prox = Proximity::default();
-        let (x0, b0) = (x.clone(), boxes.clone());
-        let mesh = (tris.as_slice(), edges.as_slice());
-        let before = ClothView::unwelded((&x0, &b0), mesh, &pattern, &free);
-        prox.detect(&before, Some(&body), &params);
-        // Some vertices move (in the layer and on the sphere) and get new boxes.
-        let mut moved = vec![false; x.len()];
-        for k in (0..x.len()).filter(|k| k % 37 == 0 || (k / 70 == 15 && k % 70 < 30)) {
-            moved[k] = true;
-            x[k] += Vec3::new(0.001, -0.0015, 0.0005);
-            boxes[k] = Aabb::point(x[k]).with(x[k] - Vec3::Y * 0.004).grown(0.001);
-        }
-        let now = ClothView::unwelded((&x, &boxes), mesh, &pattern, &free);
-        prox.update(&now, Some(&body), &params, &moved, |_| {});
-        let mut full = Proximity::default();
-        full.detect(&now, Some(&body), &params);
-        let sorted = |p: &Proximity| {
-            let mut k: Vec<_> = p.pairs.iter().map(key).collect();
-            k.sort_unstable();
-            k
-        };
-        assert!(full.counts.vertex_face > 100 && full.counts.edge_edge > 100);
-        assert!(full.counts.body_corner_face > 100 && full.counts.floor == 0);
-        assert_eq!(sorted(&prox), sorted(&full));
-        // The energy is given out alike: once per vertex and feature, once per corner and
-        // edge.
-        assert_eq!(prox.counts, full.counts);
-        for i in [0, 15 * 70 + 3, 2000, x.len() - 1] {
-            assert_eq!(prox.roles(i).len(), full.roles(i).len(), "vertex {i}");
-        }
-        // Another body, or none: a full search.
-        prox.update(&now, None, &params, &moved, |_| {});
-        full.detect(&now, None, &params);
-        assert_eq!(sorted(&prox), sorted(&full));
-    }
-
-    #[test]
-    fn what_is_done_beside_the_indexing_sees_the_final_pairs() {
-        // Boxes of 8 mm round 1 cm cells: enough pairs for the second thread.
-        let body = sphere(Vec3::ZERO, 0.3, 3).expect("a sphere");
-        let (x, tris, pattern) = sheet_over_a_sphere(70);
-        let boxes: Vec<Aabb> = x.iter().map(|&p| Aabb::point(p).grown(0.004)).collect();
-        let edges = unique_edges(&tris);
-        let free = vec![true; x.len()];
-        let cloth = ClothView::unwelded((&x, &boxes), (&tris, &edges), &pattern, &free);
-        let search = |threads: usize| {
-            let params = ProximityParams::for_tests(threads, None);
-            let mut prox = Proximity::default();
-            let mut seen = (Vec::new(), Reach::default());
-            prox.detect_with(&cloth, Some(&body), &params, |pairs| {
-                seen.0 = pairs.to_vec();
-                seen.1.compute(pairs, &x);
-            });
-            (prox, seen)
-        };
-        let (one, (seen_one, reach_one)) = search(1);
-        let (two, (seen_two, reach_two)) = search(2);
-        assert!(
-            two.pairs.len() >= FINISH_PARALLEL_FROM,
-            "{}",
-            two.pairs.len()
-        );
-        // Given the pairs as they are kept, energies and all, on either path.
-        assert_eq!(seen_one, one.pairs);
-        assert_eq!(seen_two, two.pairs);
-        assert_eq!(one.pairs, two.pairs);
-        assert_eq!(one.counts, two.counts);
-        for i in (0..x.len()).step_by(97) {
-            assert_eq!(one.roles(i), two.roles(i), "vertex {i}");
-            let t = x[i] + Vec3::Y * 1e-4;
-            assert_eq!(
-                reach_one.in_reach(i, t),
-                reach_two.in_reach(i, t),
-                "vertex {i}"
-            );
-        }
-    }
-
-    #[test]
-    fn the_body_search_is_the_same_on_any_number_of_threads() {
-        let body = sphere(Vec3::ZERO, 0.3, 3).expect("a sphere");
-        let (x, boxes, tris, pattern) = sheet_on_a_sphere();
-        let edges = unique_edges(&tris);
-        let free = vec![true; x.len()];
-        let cloth = ClothView::unwelded((&x, &boxes), (&tris, &edges), &pattern, &free);
-        let search = |threads: usize| {
-            let params = ProximityParams::for_tests(threads, None);
-            let mut prox = Proximity::default();
-            prox.detect(&cloth, Some(&body), &params);
-            (prox.pairs, prox.counts)
-        };
-        let (pairs, counts) = search(1);
-        assert!(
-            counts.body_vertex_face > 100
-                && counts.body_edge_edge > 100
-                && counts.body_corner_face > 100,
-            "{counts:?}"
-        );
-        // The same corner of the sphere against one cloth edge, found from both its
-        // triangles, carries one energy.
-        let corner_pairs = pairs.iter().filter(|q| q.side == [1, 1, 1, 0]);
-        assert!(corner_pairs.clone().any(|q| q.energy));
-        assert!(corner_pairs.clone().any(|q| !q.energy));
-        for threads in [2, 3] {
-            let (many, many_counts) = search(threads);
-            assert_eq!(counts, many_counts, "{threads} threads");
-            assert_eq!(pairs, many, "{threads} threads");
-        }
-        assert!(pairs.iter().all(|q| q.holds(&x, 1e-6)));
-    }
-}
+mod tests;

@@ -65,6 +65,8 @@ pub struct Reach {
     /// Each vertex's list in `order`.
     part: Vec<u8>,
     mid: usize,
+    /// Scratch for the second thread of [`Reach::compute_on`]: its reach and lists.
+    other: (Vec<f32>, Vec<u8>),
 }
 
 /// Flags two threads may set at once, each its own.
@@ -142,6 +144,55 @@ fn squared(room: f32) -> f32 {
     if room > 0.0 { room * room } else { -1.0 }
 }
 
+/// Pairs from which [`Reach::compute_on`] shares them between two threads (a handoff
+/// costs 36-126 µs on the development VM; a pair, about 12 ns).
+const PARALLEL_FROM: usize = 20_000;
+
+/// Each of `pairs`' rooms (`rooms`, four each), the least of them for each vertex
+/// (`reach`), and the vertices of pairs that straddle `mid` put in the last list (`part`),
+/// the cloth standing at `x`.
+fn rooms_of(
+    pairs: &[Pair],
+    x: &[Vec3],
+    mid: usize,
+    rooms: &mut [f32],
+    reach: &mut [f32],
+    part: &mut [u8],
+) {
+    let n = x.len();
+    for (q, rooms) in pairs.iter().zip(rooms.chunks_exact_mut(4)) {
+        let cloth = q.v.iter().filter(|&&v| v != NONE && (v as usize) < n);
+        if cloth.clone().any(|&v| v as usize >= mid) && cloth.clone().any(|&v| (v as usize) < mid) {
+            cloth.for_each(|&v| part[v as usize] = 2);
+        }
+        let live = |k: usize| q.side[k] != 0 && q.v[k] != NONE && (q.v[k] as usize) < n;
+        if q.body_bound > f32::NEG_INFINITY {
+            for k in (0..4).filter(|&k| live(k)) {
+                let v = q.v[k] as usize;
+                let room = q.side[k] as f32 * q.n.dot(x[v]) - q.body_bound - q.delta;
+                rooms[k] = squared(room);
+                reach[v] = reach[v].min(rooms[k]);
+            }
+            continue;
+        }
+        let (mut first, mut second) = (f32::INFINITY, f32::NEG_INFINITY);
+        for k in (0..4).filter(|&k| live(k)) {
+            let h = q.n.dot(x[q.v[k] as usize]);
+            if q.side[k] > 0 {
+                first = first.min(h);
+            } else {
+                second = second.max(h);
+            }
+        }
+        let share = squared(0.5 * (first - second - q.delta));
+        for k in (0..4).filter(|&k| live(k)) {
+            rooms[k] = share;
+            let v = q.v[k] as usize;
+            reach[v] = reach[v].min(share);
+        }
+    }
+}
+
 impl Reach {
     /// Forgets every reach (the pairs are gone): every move is checked.
     pub fn clear(&mut self) {
@@ -152,6 +203,12 @@ impl Reach {
 
     /// Each vertex's reach over `pairs` (a search's), the cloth standing at `x`.
     pub fn compute(&mut self, pairs: &[Pair], x: &[Vec3]) {
+        self.compute_on(pairs, x, 1);
+    }
+
+    /// [`Reach::compute`], the pairs shared between two threads when `threads` says so
+    /// and they are many (each half's reach and lists are kept apart, then joined).
+    pub fn compute_on(&mut self, pairs: &[Pair], x: &[Vec3], threads: usize) {
         let n = x.len();
         self.anchor.clear();
         self.anchor.extend_from_slice(x);
@@ -163,47 +220,49 @@ impl Reach {
         self.broken.reset(pairs.len());
         let mid = n / 2;
         // Each vertex's list: its half, or the rest once a pair of it straddles `mid`.
-        let part = &mut self.part;
-        part.clear();
-        part.extend((0..n).map(|v| u8::from(v >= mid)));
-        let reach = &mut self.reach2;
-        for (q, rooms) in pairs.iter().zip(self.room2.chunks_exact_mut(4)) {
-            let cloth = q.v.iter().filter(|&&v| v != NONE && (v as usize) < n);
-            if cloth.clone().any(|&v| v as usize >= mid)
-                && cloth.clone().any(|&v| (v as usize) < mid)
-            {
-                cloth.for_each(|&v| part[v as usize] = 2);
+        self.part.clear();
+        self.part.extend((0..n).map(|v| u8::from(v >= mid)));
+        if threads > 1 && pairs.len() >= PARALLEL_FROM {
+            let h = pairs.len() / 2;
+            let (a, b) = pairs.split_at(h);
+            let (ra, rb) = self.room2.split_at_mut(4 * h);
+            let (reach, part) = (&mut self.reach2, &mut self.part);
+            let other = &mut self.other;
+            other.0.clear();
+            other.0.resize(n, f32::INFINITY);
+            other.1.clear();
+            other.1.extend_from_slice(part);
+            std::thread::scope(|s| {
+                s.spawn(|| rooms_of(b, x, mid, rb, &mut other.0, &mut other.1));
+                rooms_of(a, x, mid, ra, reach, part);
+            });
+            for (r, &o) in reach.iter_mut().zip(&other.0) {
+                *r = r.min(o);
             }
-            let live = |k: usize| q.side[k] != 0 && q.v[k] != NONE && (q.v[k] as usize) < n;
-            if q.body_bound > f32::NEG_INFINITY {
-                for k in (0..4).filter(|&k| live(k)) {
-                    let v = q.v[k] as usize;
-                    let room = q.side[k] as f32 * q.n.dot(x[v]) - q.body_bound - q.delta;
-                    rooms[k] = squared(room);
-                    reach[v] = reach[v].min(rooms[k]);
-                }
-                continue;
+            for (p, &o) in part.iter_mut().zip(&other.1) {
+                *p = (*p).max(o);
             }
-            let (mut first, mut second) = (f32::INFINITY, f32::NEG_INFINITY);
-            for k in (0..4).filter(|&k| live(k)) {
-                let h = q.n.dot(x[q.v[k] as usize]);
-                if q.side[k] > 0 {
-                    first = first.min(h);
-                } else {
-                    second = second.max(h);
-                }
-            }
-            let share = squared(0.5 * (first - second - q.delta));
-            for k in (0..4).filter(|&k| live(k)) {
-                rooms[k] = share;
-                let v = q.v[k] as usize;
-                reach[v] = reach[v].min(share);
-            }
+        } else {
+            rooms_of(
+                pairs,
+                x,
+                mid,
+                &mut self.room2,
+                &mut self.reach2,
+                &mut self.part,
+            );
         }
-        let far = reach.iter().map(|&r| AtomicU32::new(r.max(0.0).to_bits()));
+        let far = self
+            .reach2
+            .iter()
+            .map(|&r| AtomicU32::new(r.max(0.0).to_bits()));
         self.farthest2.0.clear();
         self.farthest2.0.extend(far);
         self.mid = mid;
+        self.sort_order();
+    }
+
+    fn sort_order(&mut self) {
         self.order.iter_mut().for_each(Vec::clear);
         for (v, &list) in self.part.iter().enumerate() {
             self.order[list as usize].push(v as u32);
@@ -365,6 +424,33 @@ pub(super) mod tests {
             .wrapping_mul(6364136223846793005)
             .wrapping_add(1442695040888963407);
         ((*seed >> 40) as f32 / (1u64 << 24) as f32) * 2.0 - 1.0
+    }
+
+    /// Shared between two threads, the reach, rooms and lists are those one thread
+    /// finds (the sheet's pairs between pairs of no vertex, past where two threads
+    /// start, so that each thread has half of them).
+    #[test]
+    fn two_threads_work_out_the_reach_one_does() {
+        let (x, prox) = folded_sheet();
+        let mut none = prox.pairs[0];
+        none.side = [0; 4];
+        let pad = vec![none; PARALLEL_FROM / 2];
+        let pairs = [&pad[..], &prox.pairs, &pad[..]].concat();
+        let (mut one, mut two) = (Reach::default(), Reach::default());
+        one.compute(&pairs, &x);
+        two.compute_on(&pairs, &x, 2);
+        assert_eq!(one.reach2, two.reach2);
+        assert_eq!(one.room2, two.room2);
+        assert_eq!(one.part, two.part);
+        assert_eq!(one.order, two.order);
+        let (fa, fb) = (&one.farthest2, &two.farthest2);
+        assert!((0..x.len()).all(|i| fa.get(i) == fb.get(i)));
+        let straddling = one.part.iter().filter(|&&p| p == 2).count();
+        let limited = one.reach2.iter().filter(|r| r.is_finite()).count();
+        assert!(
+            straddling > 0 && limited > x.len() / 2,
+            "{straddling}, {limited}"
+        );
     }
 
     #[test]

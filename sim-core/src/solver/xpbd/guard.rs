@@ -17,7 +17,7 @@ use glam::Vec3;
 use super::guard_pass::{Counts, GUARD_PARALLEL_FROM, Moves, ONLY_PARALLEL_FROM, each};
 use crate::collision::Body;
 use crate::collision::proximity::{
-    Aabb, ClothView, NONE, Pair, Proximity, ProximityParams, Reach, unique_edges,
+    Aabb, Changed, ClothView, NONE, Pair, Proximity, ProximityParams, Reach, unique_edges,
 };
 use crate::mesh::{edge_ends, edge_key};
 use crate::solver::model::{ContactStats, Drive, Environment};
@@ -45,6 +45,39 @@ const MAX_UPDATES: usize = 16;
 /// (`Drive::heartbeat`): 2 ms, a tenth of the haptic loop's staleness limit.
 const SLOW_SEARCH_US: u64 = 2_000;
 
+/// Whether [`Guard::respond`] pushes pair `q`: a cloth pair that carries energy. The
+/// body's pairs are left to its contact planes: pushed by both along different normals at
+/// the cube's rims, resting cloth jittered (2 cm/s).
+fn pushes(q: &Pair) -> bool {
+    q.energy && q.body_bound == f32::NEG_INFINITY
+}
+
+/// The pushed pairs (in order) after an update that changed the list only where `ch`
+/// says: the places it changed are looked at again, the others kept.
+fn follow_pushed(pushed: &mut Vec<u32>, pairs: &[Pair], ch: &Changed, changed: &mut Vec<u32>) {
+    changed.clear();
+    changed.extend_from_slice(&ch.fresh);
+    changed.extend(ch.relocated.iter().flat_map(|&(a, b)| [a, b]));
+    changed.extend_from_slice(&ch.energy);
+    changed.sort_unstable();
+    changed.dedup();
+    let len = pairs.len() as u32;
+    pushed.retain(|&k| k < len && changed.binary_search(&k).is_err());
+    let again = changed
+        .iter()
+        .filter(|&&k| k < len && pushes(&pairs[k as usize]));
+    pushed.extend(again);
+    pushed.sort_unstable();
+    #[cfg(debug_assertions)]
+    {
+        let each = pairs.iter().enumerate();
+        let all: Vec<u32> = each
+            .filter_map(|(k, q)| pushes(q).then_some(k as u32))
+            .collect();
+        debug_assert_eq!(*pushed, all, "the pushed pairs after an update");
+    }
+}
+
 #[derive(Clone, Debug, Default)]
 pub struct Guard {
     tris: Vec<[u32; 3]>,
@@ -63,6 +96,8 @@ pub struct Guard {
     /// The cloth pairs that carry energy, which [`Guard::respond`] pushes apart (the
     /// body's are its contact planes').
     pushed: Vec<u32>,
+    /// Scratch for [`follow_pushed`].
+    pushed_scratch: Vec<u32>,
     /// The boxes the pairs were searched in: the guard keeps each vertex in its box.
     boxes: Vec<Aabb>,
     /// This frame's (or search span's) motion boxes.
@@ -356,11 +391,8 @@ impl Guard {
         let after = move |pairs: &[Pair]| {
             reach.compute(pairs, x);
             pushed.clear();
-            pushed.extend(pairs.iter().enumerate().filter_map(|(k, q)| {
-                // The body's pairs are left to its contact planes: pushed by both along
-                // different normals at the cube's rims, resting cloth jittered (2 cm/s).
-                (q.energy && q.body_bound == f32::NEG_INFINITY).then_some(k as u32)
-            }));
+            let each = pairs.iter().enumerate();
+            pushed.extend(each.filter_map(|(k, q)| pushes(q).then_some(k as u32)));
         };
         let view = ClothView {
             x: &cloth.x,
@@ -378,7 +410,15 @@ impl Guard {
                 // lists, or built again for one of another length).
                 self.prox.follow_mesh(&view);
             }
-            self.prox.update(&view, body, &params, &self.moved, after);
+            if self.prox.update(&view, body, &params, &self.moved, after) {
+                let ch = self.prox.changed();
+                // Each vertex's reach worked out again (anchored where every vertex
+                // stands now, every room as wide as it now is), and the pushed pairs
+                // followed where the update changed them.
+                let pairs = &self.prox.pairs;
+                self.reach.compute_on(pairs, &cloth.x, threads);
+                follow_pushed(&mut self.pushed, pairs, ch, &mut self.pushed_scratch);
+            }
             self.stats.updates += 1;
             #[cfg(debug_assertions)]
             if after_edit {
