@@ -414,10 +414,18 @@ impl Guard {
                 let ch = self.prox.changed();
                 // Each vertex's reach worked out again (anchored where every vertex
                 // stands now, every room as wide as it now is), and the pushed pairs
-                // followed where the update changed them.
+                // followed where the update changed them (listed again after an edit).
                 let pairs = &self.prox.pairs;
                 self.reach.compute_on(pairs, &cloth.x, threads);
-                follow_pushed(&mut self.pushed, pairs, ch, &mut self.pushed_scratch);
+                if after_edit {
+                    // An edit let the pushed list go (and may have moved pairs).
+                    self.pushed.clear();
+                    let each = pairs.iter().enumerate();
+                    self.pushed
+                        .extend(each.filter_map(|(k, q)| pushes(q).then_some(k as u32)));
+                } else {
+                    follow_pushed(&mut self.pushed, pairs, ch, &mut self.pushed_scratch);
+                }
             }
             self.stats.updates += 1;
             #[cfg(debug_assertions)]
