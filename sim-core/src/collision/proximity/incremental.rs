@@ -1,28 +1,26 @@
 //! An update's changes to the pair list, made in place: the pairs of the renewed vertices
 //! go, the new ones take their places, and every other pair keeps its place in the list
-//! (unless it is moved down from the end into a place left over). So what is kept per
-//! pair and per vertex (each vertex's pairs here, each pair's rooms and each vertex's
-//! reach in [`super::Reach`], the pairs the guard pushes) changes only where the update
-//! did, rather than being worked out again over every pair: at rest the 128 x 128 drape
+//! (unless it is moved down from the end into a place left over). So each vertex's pairs
+//! here, the counts and the pairs the guard pushes change only where the update did,
+//! rather than being worked out again over every pair: at rest the 128 x 128 drape
 //! renews about 120 of its 16,641 vertices an update, among 196,000 pairs, and the passes
-//! over all of them took 4 of an update's 7 ms (docs/collision.md).
+//! over all of them took 4 of an update's 7 ms (docs/collision.md). The guard's reach is
+//! still worked out over every pair ([`super::Reach::compute_on`]): kept in step with the
+//! list, its rooms only shrank between full searches and the guard checked more.
 
 use super::distance::point_triangle;
 use super::pair::{ClothView, NONE, Pair, PairCounts, PairKind, ProximityParams, max_along};
 
-/// Where an update put things: what its callers keep per pair follows from this.
+/// Where an update put things: what its callers keep per pair follows from this (the
+/// places a pair left, if not filled again, are past the list's end).
 #[derive(Clone, Debug, Default)]
 pub struct Changed {
-    /// The list's length before the update: places from here on are new.
-    pub old_len: usize,
     /// The places that now hold a new pair.
     pub fresh: Vec<u32>,
     /// Kept pairs moved down from the end: (from, to).
     pub relocated: Vec<(u32, u32)>,
-    /// Kept pairs whose energy the update gave or took.
+    /// Pairs whose energy the update gave or took after they were placed.
     pub energy: Vec<u32>,
-    /// The vertices whose pairs were all searched again.
-    pub renewed: Vec<u32>,
 }
 
 /// Each vertex's pairs, `pair * 4 + slot`: vertex `i`'s are `roles[start[i]..][..len[i]]`,
@@ -182,12 +180,9 @@ pub(super) fn splice(
     counts: &mut PairCounts,
     ch: &mut Changed,
 ) {
-    ch.old_len = pairs.len();
     ch.fresh.clear();
     ch.relocated.clear();
     ch.energy.clear();
-    ch.renewed.clear();
-    ch.renewed.extend_from_slice(renewed);
     let mut gone: Vec<u32> = (renewed.iter())
         .flat_map(|&v| index.of(v as usize).iter().map(|&r| r / 4))
         .collect();
