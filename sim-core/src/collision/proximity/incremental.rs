@@ -9,7 +9,7 @@
 //! list, its rooms only shrank between full searches and the guard checked more.
 
 use super::distance::point_triangle;
-use super::pair::{ClothView, NONE, Pair, PairCounts, PairKind, ProximityParams, max_along};
+use super::pair::{ClothView, NONE, Pair, PairCounts, ProximityParams, max_along};
 
 /// Where an update put things: what its callers keep per pair follows from this (the
 /// places a pair left, if not filled again, are past the list's end).
@@ -152,14 +152,7 @@ impl RoleIndex {
 
 /// Adds (`sign` 1) or takes away (-1) pair `q` in `counts`.
 fn tally(counts: &mut PairCounts, q: &Pair, sign: isize) {
-    let c = match q.kind {
-        PairKind::VertexFace => &mut counts.vertex_face,
-        PairKind::EdgeEdge => &mut counts.edge_edge,
-        PairKind::BodyVertexFace => &mut counts.body_vertex_face,
-        PairKind::BodyEdgeEdge => &mut counts.body_edge_edge,
-        PairKind::BodyCornerFace => &mut counts.body_corner_face,
-        PairKind::Floor => &mut counts.floor,
-    };
+    let c = counts.of_kind(q.kind);
     *c = c.wrapping_add_signed(sign);
     if q.energy {
         counts.with_energy = counts.with_energy.wrapping_add_signed(sign);

@@ -149,17 +149,22 @@ impl PairCounts {
     pub fn of(pairs: &[Pair]) -> Self {
         let mut c = Self::default();
         for q in pairs {
-            *match q.kind {
-                PairKind::VertexFace => &mut c.vertex_face,
-                PairKind::EdgeEdge => &mut c.edge_edge,
-                PairKind::BodyVertexFace => &mut c.body_vertex_face,
-                PairKind::BodyEdgeEdge => &mut c.body_edge_edge,
-                PairKind::BodyCornerFace => &mut c.body_corner_face,
-                PairKind::Floor => &mut c.floor,
-            } += 1;
+            *c.of_kind(q.kind) += 1;
             c.with_energy += q.energy as usize;
         }
         c
+    }
+
+    /// The count of pairs of `kind`.
+    pub(super) fn of_kind(&mut self, kind: PairKind) -> &mut usize {
+        match kind {
+            PairKind::VertexFace => &mut self.vertex_face,
+            PairKind::EdgeEdge => &mut self.edge_edge,
+            PairKind::BodyVertexFace => &mut self.body_vertex_face,
+            PairKind::BodyEdgeEdge => &mut self.body_edge_edge,
+            PairKind::BodyCornerFace => &mut self.body_corner_face,
+            PairKind::Floor => &mut self.floor,
+        }
     }
 }
 

@@ -52,6 +52,13 @@ fn pushes(q: &Pair) -> bool {
     q.energy && q.body_bound == f32::NEG_INFINITY
 }
 
+/// Lists in `pushed` every pair of `pairs` that [`Guard::respond`] pushes, in order.
+fn list_pushed(pairs: &[Pair], pushed: &mut Vec<u32>) {
+    pushed.clear();
+    let each = pairs.iter().enumerate();
+    pushed.extend(each.filter_map(|(k, q)| pushes(q).then_some(k as u32)));
+}
+
 /// The pushed pairs (in order) after an update that changed the list only where `ch`
 /// says: the places it changed are looked at again, the others kept.
 fn follow_pushed(pushed: &mut Vec<u32>, pairs: &[Pair], ch: &Changed, changed: &mut Vec<u32>) {
@@ -70,10 +77,8 @@ fn follow_pushed(pushed: &mut Vec<u32>, pairs: &[Pair], ch: &Changed, changed: &
     pushed.sort_unstable();
     #[cfg(debug_assertions)]
     {
-        let each = pairs.iter().enumerate();
-        let all: Vec<u32> = each
-            .filter_map(|(k, q)| pushes(q).then_some(k as u32))
-            .collect();
+        let mut all = Vec::new();
+        list_pushed(pairs, &mut all);
         debug_assert_eq!(*pushed, all, "the pushed pairs after an update");
     }
 }
@@ -390,9 +395,7 @@ impl Guard {
         let (reach, pushed, x) = (&mut self.reach, &mut self.pushed, &cloth.x[..]);
         let after = move |pairs: &[Pair]| {
             reach.compute(pairs, x);
-            pushed.clear();
-            let each = pairs.iter().enumerate();
-            pushed.extend(each.filter_map(|(k, q)| pushes(q).then_some(k as u32)));
+            list_pushed(pairs, pushed);
         };
         let view = ClothView {
             x: &cloth.x,
@@ -419,10 +422,7 @@ impl Guard {
                 self.reach.compute_on(pairs, &cloth.x, threads);
                 if after_edit {
                     // An edit let the pushed list go (and may have moved pairs).
-                    self.pushed.clear();
-                    let each = pairs.iter().enumerate();
-                    self.pushed
-                        .extend(each.filter_map(|(k, q)| pushes(q).then_some(k as u32)));
+                    list_pushed(pairs, &mut self.pushed);
                 } else {
                     follow_pushed(&mut self.pushed, pairs, ch, &mut self.pushed_scratch);
                 }

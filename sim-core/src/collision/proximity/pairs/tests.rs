@@ -13,6 +13,27 @@ fn sheet_on_a_sphere() -> (Vec<Vec3>, Vec<Aabb>, Vec<[u32; 3]>, Vec<Vec3>) {
     (x, boxes, tris, pattern)
 }
 
+/// [`sheet_on_a_sphere`] with a second layer over part of it, so that cloth pairs come
+/// too: the first ten rows folded back 3 mm over the rows under them.
+fn folded_sheet_on_a_sphere() -> (Vec<Vec3>, Vec<Aabb>, Vec<[u32; 3]>, Vec<Vec3>) {
+    let (mut x, mut boxes, tris, pattern) = sheet_on_a_sphere();
+    for j in 0..10 {
+        for i in 0..70 {
+            let k = j * 70 + i;
+            x[k] = x[(19 - j) * 70 + i] + Vec3::Y * 0.003;
+            boxes[k] = Aabb::point(x[k]).with(x[k] - Vec3::Y * 0.002).grown(0.0005);
+        }
+    }
+    (x, boxes, tris, pattern)
+}
+
+/// Every pair of `p` by [`key`], in order.
+fn sorted(p: &Proximity) -> Vec<(u8, [u32; 4], [i64; 4])> {
+    let mut k: Vec<_> = p.pairs.iter().map(key).collect();
+    k.sort_unstable();
+    k
+}
+
 /// A pair without its energy, comparable: kind, vertices, and the rest to 1e-6.
 fn key(q: &Pair) -> (u8, [u32; 4], [i64; 4]) {
     let r = |f: f32| (f as f64 * 1e6).round() as i64;
@@ -26,17 +47,7 @@ fn key(q: &Pair) -> (u8, [u32; 4], [i64; 4]) {
 #[test]
 fn an_update_finds_what_a_full_search_would() {
     let body = sphere(Vec3::ZERO, 0.3, 3).expect("a sphere");
-    let (mut x, mut boxes, tris, pattern) = sheet_on_a_sphere();
-    // A second layer over part of the sheet, so that cloth pairs come too: the first
-    // rows folded back 3 mm over the rows under them.
-    for j in 0..10 {
-        for i in 0..70 {
-            let k = j * 70 + i;
-            let under = x[(19 - j) * 70 + i];
-            x[k] = under + Vec3::Y * 0.003;
-            boxes[k] = Aabb::point(x[k]).with(x[k] - Vec3::Y * 0.002).grown(0.0005);
-        }
-    }
+    let (mut x, mut boxes, tris, pattern) = folded_sheet_on_a_sphere();
     let edges = unique_edges(&tris);
     let free = vec![true; x.len()];
     let params = ProximityParams::for_tests(2, Some(-0.5));
@@ -56,11 +67,6 @@ fn an_update_finds_what_a_full_search_would() {
     prox.update(&now, Some(&body), &params, &moved, |_| {});
     let mut full = Proximity::default();
     full.detect(&now, Some(&body), &params);
-    let sorted = |p: &Proximity| {
-        let mut k: Vec<_> = p.pairs.iter().map(key).collect();
-        k.sort_unstable();
-        k
-    };
     assert!(full.counts.vertex_face > 100 && full.counts.edge_edge > 100);
     assert!(full.counts.body_corner_face > 100 && full.counts.floor == 0);
     assert_eq!(sorted(&prox), sorted(&full));
@@ -82,14 +88,7 @@ fn an_update_finds_what_a_full_search_would() {
 #[test]
 fn updates_in_place_find_what_a_full_search_would() {
     let body = sphere(Vec3::ZERO, 0.3, 3).expect("a sphere");
-    let (mut x, mut boxes, tris, pattern) = sheet_on_a_sphere();
-    for j in 0..10 {
-        for i in 0..70 {
-            let k = j * 70 + i;
-            x[k] = x[(19 - j) * 70 + i] + Vec3::Y * 0.003;
-            boxes[k] = Aabb::point(x[k]).with(x[k] - Vec3::Y * 0.002).grown(0.0005);
-        }
-    }
+    let (mut x, mut boxes, tris, pattern) = folded_sheet_on_a_sphere();
     let edges = unique_edges(&tris);
     let free = vec![true; x.len()];
     let params = ProximityParams::for_tests(2, Some(-0.5));
@@ -97,11 +96,6 @@ fn updates_in_place_find_what_a_full_search_would() {
     let mut prox = Proximity::default();
     let first = ClothView::unwelded((&x, &boxes), mesh, &pattern, &free);
     prox.detect(&first, Some(&body), &params);
-    let sorted = |p: &Proximity| {
-        let mut k: Vec<_> = p.pairs.iter().map(key).collect();
-        k.sort_unstable();
-        k
-    };
     let (mut relocated, mut grew) = (0, 0);
     for round in 0..6 {
         // A row of the folded layer and a scatter over the sheet, their boxes grown
