@@ -195,6 +195,12 @@ impl Cloth {
         })
     }
 
+    /// How many live triangle sides are stretched past `by` (`length / rest length - 1`;
+    /// an interior edge once per triangle).
+    pub fn sides_stretched_past(&self, by: f64) -> usize {
+        self.side_strains().filter(|s| s.2 > by).count()
+    }
+
     /// Stretch of the live triangles' sides, `length / rest length - 1`: the mean and the
     /// largest (each interior edge counts once per triangle). Zero for no triangles.
     pub fn strain(&self) -> (f64, f64) {
