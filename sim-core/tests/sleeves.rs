@@ -196,3 +196,32 @@ fn a_welded_sleeve_cap_keeps_its_length_in_the_seam_list() {
     let stretched = d.sim.cloth.sides_stretched_past(0.25);
     assert!(stretched < 20, "{stretched} sides past 1.25x");
 }
+
+/// The sleeved dress, cut for the mannequin's broad shoulders, on `human`: bent round
+/// that torso at the shoulders, the back's top reaches round into the arms, and the start
+/// was refused ("the cloth starts crossing ... the body in 9 (back through the body in
+/// 9)"). Now a piece round the torso that would start through the body starts a layer
+/// further out, and the designer is told. On the mannequin nothing moves out.
+#[test]
+fn a_piece_that_would_start_through_the_body_starts_a_layer_out() {
+    for (body, out) in [(BodyKind::Human, true), (BodyKind::Mannequin, false)] {
+        let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
+        cfg.pattern = Some(SLEEVED.into());
+        cfg.body = Some(body.clone());
+        let (d, _) = build_scene(&cfg).unwrap();
+        let said: Vec<&String> = (d.sim.notices.iter())
+            .filter(|n| n.contains("further out from the body"))
+            .collect();
+        assert_eq!(
+            said.len(),
+            usize::from(out),
+            "{body:?}: {:?}",
+            d.sim.notices
+        );
+        if out {
+            assert!(said[0].starts_with("back starts 1.5 cm"), "{said:?}");
+        }
+        let crossed = d.sim.crossings();
+        assert_eq!((crossed.self_pairs, crossed.body_pairs), (0, 0), "{body:?}");
+    }
+}

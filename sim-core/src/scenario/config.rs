@@ -311,20 +311,29 @@ impl ScenarioConfig {
 /// How many lifts a pattern is tried at, highest first, before it starts unlifted.
 const LIFT_TRIES: usize = 4;
 
+/// How many layers ([`garment::LAYER`]) out a piece round the torso may start, where
+/// nearer it would start through the body, before the pattern is lifted less.
+const OUT_TRIES: usize = 3;
+
 /// The garment scenarios' pattern (the file, or the shipped dress), its pieces placed
 /// round the body. A GarmentCode pattern starts `Landmarks::lift` above where its file
 /// puts it, so that its tops start above the shoulders as ours do; where that would
 /// start a piece through the body or another piece, it starts lower, a quarter of the
-/// lift at a time (a shirt lifted 8 cm met our arms at its armpits).
+/// lift at a time (a shirt lifted 8 cm met our arms at its armpits). Before that, a
+/// piece round the torso that starts through the body starts a layer further out, up to
+/// [`OUT_TRIES`] layers (the sleeved dress's back, cut for the mannequin's broad
+/// shoulders, reached round into `human`'s arms).
 fn placed_garment(
     cfg: &ScenarioConfig,
     body: Option<&Body>,
     notices: &mut Vec<String>,
 ) -> Result<(PatternSpec, garment::Assembled), ScenarioError> {
     let full = Landmarks::of(body);
-    let place = |lift: f32| -> Result<_, ScenarioError> {
+    // `out`: how much further out than the file or the arrangement says each piece round
+    // the torso starts.
+    let place = |lift: f32, out: &[f32]| -> Result<_, ScenarioError> {
         let marks = Landmarks { lift, ..full };
-        let (spec, said) = match &cfg.pattern {
+        let (mut spec, said) = match &cfg.pattern {
             Some(path) => garment::load_pattern(path, &marks)?,
             None => {
                 let spec = super::garment::dress(&marks).map_err(|e| ScenarioError::PieceFile {
@@ -334,17 +343,41 @@ fn placed_garment(
                 (spec, Vec::new())
             }
         };
+        for (p, &more) in spec.pieces.iter_mut().zip(out) {
+            if let Some(garment::Placement::Around { out, .. }) = &mut p.placement {
+                *out += more;
+            }
+        }
         let made = garment::assemble(&spec, &marks, cfg.piece_edge)?;
         let crossed = crossings::count(&made.starts, &made.mesh.triangles, body);
         Ok((spec, said, made, crossed))
     };
+    let around = |spec: &PatternSpec, i: usize| {
+        matches!(
+            spec.pieces[i].placement,
+            Some(garment::Placement::Around { .. })
+        )
+    };
     // The full lift, lower by a quarter of it each time, and last none.
     let tries = if full.lift > 0.0 { LIFT_TRIES } else { 0 };
-    let mut k = 0;
+    let (mut k, mut out) = (0, Vec::new());
     loop {
         let lift = full.lift * (tries - k) as f32 / tries.max(1) as f32;
-        let (spec, said, made, crossed) = place(lift)?;
+        let (spec, said, made, crossed) = place(lift, &out)?;
         let clear = crossed.self_pairs == 0 && crossed.body_pairs == 0;
+        let further: Vec<usize> = if crossed.body_pairs > 0 {
+            out.resize(spec.pieces.len(), 0.0);
+            let room = (OUT_TRIES as f32 - 0.5) * garment::LAYER;
+            (super::garment::pieces_through_body(&made, body).into_iter())
+                .filter(|&i| around(&spec, i) && out[i] < room)
+                .collect()
+        } else {
+            Vec::new()
+        };
+        if !further.is_empty() {
+            further.iter().for_each(|&i| out[i] += garment::LAYER);
+            continue;
+        }
         if !clear && k == tries {
             return Err(ScenarioError::StartsCrossed {
                 self_pairs: crossed.self_pairs,
@@ -360,6 +393,7 @@ fn placed_garment(
         }
         if clear {
             notices.extend(said);
+            notices.extend(further_out(&spec, &out));
             if k > 0 {
                 notices.push(format!(
                     "the pattern starts {:.0} cm above the shoulders rather than {:.0}: higher, a piece would start through the body or another piece",
@@ -371,6 +405,30 @@ fn placed_garment(
         }
         k += 1;
     }
+}
+
+/// What a designer is told of the pieces that start further out than placed (`out`, m
+/// each), one line per distance.
+fn further_out(spec: &PatternSpec, out: &[f32]) -> Vec<String> {
+    let mut by: Vec<(i32, Vec<&str>)> = Vec::new();
+    for (p, &o) in spec.pieces.iter().zip(out).filter(|(_, o)| **o > 0.0) {
+        let mm = (1000.0 * o).round() as i32;
+        match by.iter_mut().find(|(d, _)| *d == mm) {
+            Some((_, names)) => names.push(&p.name),
+            None => by.push((mm, vec![&p.name])),
+        }
+    }
+    (by.into_iter())
+        .map(|(mm, names)| {
+            format!(
+                "{} start{} {:.1} cm further out from the body than placed: nearer, {} would start through it",
+                names.join(", "),
+                if names.len() == 1 { "s" } else { "" },
+                0.1 * mm as f32,
+                if names.len() == 1 { "it" } else { "they" }
+            )
+        })
+        .collect()
 }
 
 #[derive(Debug, thiserror::Error)]

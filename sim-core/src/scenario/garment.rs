@@ -62,18 +62,7 @@ pub fn cut_neckline(design: &mut Design) -> Result<usize, EditError> {
 /// triangles ("front through the body in 2 pairs; left_sleeve_f and right_ftorso in 51").
 pub fn crossed_pieces(made: &Assembled, body: Option<&Body>) -> String {
     let x = &made.starts;
-    let tris: Vec<Vec<[u32; 3]>> = made
-        .ranges
-        .iter()
-        .map(|r| {
-            made.mesh
-                .triangles
-                .iter()
-                .copied()
-                .filter(|t| r.contains(&(t[0] as usize)))
-                .collect()
-        })
-        .collect();
+    let tris = piece_triangles(made);
     let boxes: Vec<(glam::Vec3, glam::Vec3)> = made
         .ranges
         .iter()
@@ -105,6 +94,31 @@ pub fn crossed_pieces(made: &Assembled, body: Option<&Body>) -> String {
         }
     }
     said.join("; ")
+}
+
+/// Each piece's triangles in `made`'s mesh.
+fn piece_triangles(made: &Assembled) -> Vec<Vec<[u32; 3]>> {
+    let tris = &made.mesh.triangles;
+    (made.ranges.iter())
+        .map(|r| {
+            tris.iter()
+                .copied()
+                .filter(|t| r.contains(&(t[0] as usize)))
+                .collect()
+        })
+        .collect()
+}
+
+/// The pieces of `made` that start through `body` (none without one).
+pub(super) fn pieces_through_body(made: &Assembled, body: Option<&Body>) -> Vec<usize> {
+    let Some(b) = body else {
+        return Vec::new();
+    };
+    let x = &made.starts;
+    (piece_triangles(made).iter().enumerate())
+        .filter(|(_, t)| crossings::count_against_body(x, t, b).1 > 0)
+        .map(|(i, _)| i)
+        .collect()
 }
 
 /// Share of 36 directions round the torso at chest height (1.25-1.35 m) in which some

@@ -270,7 +270,7 @@ pub const LAYER: f32 = 0.015;
 
 /// Every piece's placement (the front for one without), each piece round the torso that
 /// would start on or within 1 cm of an earlier one (their arcs and heights overlapping)
-/// moved a layer out, until it starts clear of them all.
+/// moved a layer out from its own, until it starts clear of them all.
 fn layered(spec: &PatternSpec, marks: &Landmarks) -> Vec<Placement> {
     let girth = marks.girth();
     // Arc interval (centre, half width) and height interval of a piece round the torso.
@@ -302,7 +302,12 @@ fn layered(spec: &PatternSpec, marks: &Landmarks) -> Vec<Placement> {
                         && z0 < y1 + 0.01
                 })
             };
-            let mut layer = 0.0;
+            // From where the piece's placement puts it (further out where nearer it
+            // would start through the body: the garment scenarios' `placed_garment`).
+            let mut layer = match pl {
+                Placement::Around { out: o, .. } => o.max(0.0),
+                _ => 0.0,
+            };
             while clash(layer, &out) && layer < 20.0 * LAYER {
                 layer += LAYER;
             }
