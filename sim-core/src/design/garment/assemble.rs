@@ -303,12 +303,14 @@ fn layered(spec: &PatternSpec, marks: &Landmarks) -> Vec<Placement> {
                 })
             };
             // From where the piece's placement puts it (further out where nearer it
-            // would start through the body: the garment scenarios' `placed_garment`).
+            // would start through the body: the garment scenarios' `placed_garment`),
+            // at most as far as layering goes (a file's start says any `out` up to 100 m).
+            let most = 20.0 * LAYER;
             let mut layer = match pl {
-                Placement::Around { out: o, .. } => o.max(0.0),
+                Placement::Around { out: o, .. } => o.max(0.0).min(most),
                 _ => 0.0,
             };
-            while clash(layer, &out) && layer < 20.0 * LAYER {
+            while clash(layer, &out) && layer < most {
                 layer += LAYER;
             }
             if let Placement::Around { out: o, .. } = &mut pl {
