@@ -39,21 +39,30 @@ pub enum ImportError {
 
 /// The body a pattern file is cut for, where its format says: GarmentCode's (a `.json`
 /// specification) is cut and placed for GarmentCode's average body, ours as `human`;
-/// an SVG of ours whose pieces' saved starts all name one of our bodies, that body.
-/// `None`: a pattern from elsewhere, for whatever body it is draped on.
+/// an SVG whose root names one of our bodies (`data-body`, as the patterns we ship
+/// do), that body; an SVG of ours whose pieces' saved starts all name one of our
+/// bodies, that body. `None`: a pattern from elsewhere, for whatever body it is draped
+/// on.
 pub fn own_body(path: &Path) -> Option<BodyKind> {
     let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+    // Ours only: a file naming an OBJ path does not choose what is loaded.
+    let ours = |name: &str| {
+        BodyKind::parse(name)
+            .ok()
+            .filter(|b| !matches!(b, BodyKind::Obj(_)))
+    };
     match ext.as_str() {
         "json" => Some(BodyKind::Human),
         "svg" => {
-            let pieces = load_svg(path).ok()?;
+            let text = std::fs::read_to_string(path).ok()?;
+            if let Some(body) = crate::mesh::svg::cut_for(&text) {
+                return ours(&body);
+            }
+            let pieces = crate::mesh::svg::read_svg(&text).ok()?;
             let mut names = (pieces.iter())
                 .map(|p| PieceStart::parse(p.saved.start.as_deref()?).ok()?.body_name);
             let first = names.next()??;
-            // Ours only: a file naming an OBJ path does not choose what is loaded.
-            let body = BodyKind::parse(&first)
-                .ok()
-                .filter(|b| !matches!(b, BodyKind::Obj(_)))?;
+            let body = ours(&first)?;
             names
                 .all(|n| n.as_deref() == Some(first.as_str()))
                 .then_some(body)

@@ -271,3 +271,33 @@ fn a_start_that_cannot_be_read_is_said_and_the_piece_arranged_by_name() {
         );
     }
 }
+
+/// A pattern may say on its root which body it is cut for (`data-body`), as the dresses
+/// we ship do: one of ours is that body; a body file, a name we do not know or none is
+/// no body (a pattern from elsewhere, draped on whatever body is asked).
+#[test]
+fn a_pattern_says_on_its_root_which_body_it_is_cut_for() {
+    let shipped = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/dress-sleeves.svg");
+    assert_eq!(own_body(Path::new(shipped)), Some(BodyKind::Mannequin));
+    let dir = std::env::temp_dir().join(format!("saiho-cut-for-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let said = |root: &str| {
+        let path = dir.join("p.svg");
+        let text = format!(
+            "<?xml version=\"1.0\"?>\n<!-- a pattern -->\n<svg xmlns=\"http://www.w3.org/2000/svg\" {root} \
+             viewBox=\"0 0 100 100\"><g id=\"front\"><rect width=\"50\" height=\"50\"/></g></svg>"
+        );
+        std::fs::write(&path, text).unwrap();
+        own_body(&path)
+    };
+    let found = [
+        said("data-body=\"human\""),
+        said("data-body=\"mannequin-apose\""),
+        said("data-body=\"/tmp/someone.obj\""),
+        said("data-body=\"a dress form\""),
+        said(""),
+    ];
+    std::fs::remove_dir_all(&dir).ok();
+    let ours = [Some(BodyKind::Human), Some(BodyKind::MannequinAPose)];
+    assert_eq!(found, [ours[0].clone(), ours[1].clone(), None, None, None]);
+}
