@@ -667,9 +667,8 @@ fn nest(
         .collect())
 }
 
-/// Reads the pieces of an SVG file.
 /// The body a pattern says it is cut for: its root element's `data-body` (a name such
-/// as `mannequin`; ours for the patterns we ship). `None` when it says none, or the
+/// as `mannequin`, as the sleeved dress we ship says). `None` when it says none, or the
 /// file cannot be read as XML up to its root.
 pub fn cut_for(text: &str) -> Option<String> {
     let mut reader = quick_xml::Reader::from_str(text);
@@ -686,6 +685,7 @@ pub fn cut_for(text: &str) -> Option<String> {
     }
 }
 
+/// Reads the pieces of an SVG file.
 pub fn load_svg(path: &Path) -> Result<Vec<NamedOutline>, SvgError> {
     let text = std::fs::read_to_string(path).map_err(|source| SvgError::Io {
         path: path.to_owned(),

@@ -39,8 +39,8 @@ pub enum ImportError {
 
 /// The body a pattern file is cut for, where its format says: GarmentCode's (a `.json`
 /// specification) is cut and placed for GarmentCode's average body, ours as `human`;
-/// an SVG whose root names one of our bodies (`data-body`, as the patterns we ship
-/// do), that body; an SVG of ours whose pieces' saved starts all name one of our
+/// an SVG whose root names one of our bodies (`data-body`, as the sleeved dress we
+/// ship does), that body; an SVG of ours whose pieces' saved starts all name one of our
 /// bodies, that body. `None`: a pattern from elsewhere, for whatever body it is draped
 /// on.
 pub fn own_body(path: &Path) -> Option<BodyKind> {

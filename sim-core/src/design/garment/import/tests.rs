@@ -272,8 +272,8 @@ fn a_start_that_cannot_be_read_is_said_and_the_piece_arranged_by_name() {
     }
 }
 
-/// A pattern may say on its root which body it is cut for (`data-body`), as the dresses
-/// we ship do: one of ours is that body; a body file, a name we do not know or none is
+/// A pattern may say on its root which body it is cut for (`data-body`), as the sleeved
+/// dress we ship does: one of ours is that body; a body file, a name we do not know or none is
 /// no body (a pattern from elsewhere, draped on whatever body is asked).
 #[test]
 fn a_pattern_says_on_its_root_which_body_it_is_cut_for() {
