@@ -656,25 +656,6 @@ fn guard_choice(guard: bool, no_guard: bool, model: ModelKind) -> Result<Option<
 mod tests {
     use super::*;
 
-    /// drape-pattern keeps the strain limit on the figure a pattern is cut for: the
-    /// mannequin's two poses are one figure; a pattern that names none has no figure.
-    #[test]
-    fn a_pattern_is_on_its_figure_on_its_body_in_either_pose() {
-        use subcommands::on_its_figure;
-        let (m, a, h) = (
-            BodyKind::Mannequin,
-            BodyKind::MannequinAPose,
-            BodyKind::Human,
-        );
-        assert!(on_its_figure(Some(&m), Some(&a)));
-        assert!(on_its_figure(Some(&a), Some(&m)));
-        assert!(on_its_figure(Some(&h), Some(&h)));
-        assert!(!on_its_figure(Some(&h), Some(&m)));
-        assert!(!on_its_figure(Some(&m), Some(&h)));
-        assert!(!on_its_figure(None, Some(&m)));
-        assert!(!on_its_figure(Some(&m), None));
-    }
-
     #[test]
     fn a_garmentcode_pattern_starts_on_its_own_body_unless_told() {
         let shirt = Path::new("shirt_specification.JSON");

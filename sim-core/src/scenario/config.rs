@@ -312,17 +312,17 @@ impl ScenarioConfig {
 const LIFT_TRIES: usize = 4;
 
 /// How many layers ([`garment::LAYER`]) out a piece round the torso may start, where
-/// nearer it would start through the body, before the pattern is lifted less.
+/// nearer it would start through the body at every lift.
 const OUT_TRIES: usize = 3;
 
 /// The garment scenarios' pattern (the file, or the shipped dress), its pieces placed
 /// round the body. A GarmentCode pattern starts `Landmarks::lift` above where its file
 /// puts it, so that its tops start above the shoulders as ours do; where that would
 /// start a piece through the body or another piece, it starts lower, a quarter of the
-/// lift at a time (a shirt lifted 8 cm met our arms at its armpits). Before that, a
-/// piece round the torso that starts through the body starts a layer further out, up to
-/// [`OUT_TRIES`] layers (the sleeved dress's back, cut for the mannequin's broad
-/// shoulders, reached round into `human`'s arms).
+/// lift at a time (a shirt lifted 8 cm met our arms at its armpits). Where no lift
+/// starts it clear, each piece round the torso that starts through the body at the full
+/// lift starts a layer further out, up to [`OUT_TRIES`] layers (the sleeved dress's back,
+/// cut for the mannequin's broad shoulders, reached round into `human`'s arms).
 fn placed_garment(
     cfg: &ScenarioConfig,
     body: Option<&Body>,
@@ -360,51 +360,67 @@ fn placed_garment(
     };
     // The full lift, lower by a quarter of it each time, and last none.
     let tries = if full.lift > 0.0 { LIFT_TRIES } else { 0 };
-    let (mut k, mut out) = (0, Vec::new());
-    loop {
+    let said_lift = |lift: f32| {
+        format!(
+            "the pattern starts {:.0} cm above the shoulders rather than {:.0}: higher, a piece would start through the body or another piece",
+            100.0 * lift,
+            100.0 * full.lift
+        )
+    };
+    let refuse = |made: &garment::Assembled, said: &[String], crossed: &crossings::Crossings| {
+        ScenarioError::StartsCrossed {
+            self_pairs: crossed.self_pairs,
+            body_pairs: crossed.body_pairs,
+            which: match super::garment::crossed_pieces(made, body) {
+                w if w.is_empty() => w,
+                w => format!(" ({w})"),
+            } + &(said.iter())
+                .filter(|n| n.contains("placed for another body"))
+                .map(|n| format!("; {n}"))
+                .collect::<String>(),
+        }
+    };
+    let (mut k, mut lifted) = (0, None);
+    let refused = loop {
         let lift = full.lift * (tries - k) as f32 / tries.max(1) as f32;
-        let (spec, said, made, crossed) = place(lift, &out)?;
-        let clear = crossed.self_pairs == 0 && crossed.body_pairs == 0;
-        let further: Vec<usize> = if crossed.body_pairs > 0 {
-            out.resize(spec.pieces.len(), 0.0);
-            let room = (OUT_TRIES as f32 - 0.5) * garment::LAYER;
-            (super::garment::pieces_through_body(&made, body).into_iter())
-                .filter(|&i| around(&spec, i) && out[i] < room)
-                .collect()
-        } else {
-            Vec::new()
-        };
-        if !further.is_empty() {
-            further.iter().for_each(|&i| out[i] += garment::LAYER);
-            continue;
-        }
-        if !clear && k == tries {
-            return Err(ScenarioError::StartsCrossed {
-                self_pairs: crossed.self_pairs,
-                body_pairs: crossed.body_pairs,
-                which: match super::garment::crossed_pieces(&made, body) {
-                    w if w.is_empty() => w,
-                    w => format!(" ({w})"),
-                } + &(said.iter())
-                    .filter(|n| n.contains("placed for another body"))
-                    .map(|n| format!("; {n}"))
-                    .collect::<String>(),
-            });
-        }
-        if clear {
+        let (spec, said, made, crossed) = place(lift, &[])?;
+        if crossed.self_pairs == 0 && crossed.body_pairs == 0 {
             notices.extend(said);
-            notices.extend(further_out(&spec, &out));
-            if k > 0 {
-                notices.push(format!(
-                    "the pattern starts {:.0} cm above the shoulders rather than {:.0}: higher, a piece would start through the body or another piece",
-                    100.0 * lift,
-                    100.0 * full.lift
-                ));
-            }
+            notices.extend((k > 0).then(|| said_lift(lift)));
             return Ok((spec, made));
         }
+        let last = (k == tries).then(|| refuse(&made, &said, &crossed));
+        if k == 0 {
+            lifted = Some((spec, made, crossed));
+        }
+        if let Some(e) = last {
+            break e;
+        }
         k += 1;
+    };
+    // No lift starts it clear: at the full lift, each piece round the torso that starts
+    // through the body a layer further out, up to `OUT_TRIES` layers; else refused as it
+    // started unlifted.
+    let Some((mut spec, mut made, mut crossed)) = lifted else {
+        return Err(refused);
+    };
+    let mut out = vec![0.0; spec.pieces.len()];
+    for _ in 0..OUT_TRIES {
+        let through = super::garment::pieces_through_body(&made, body);
+        let further: Vec<usize> = through.into_iter().filter(|&i| around(&spec, i)).collect();
+        if further.is_empty() || crossed.self_pairs > 0 {
+            break;
+        }
+        further.iter().for_each(|&i| out[i] += garment::LAYER);
+        let said;
+        (spec, said, made, crossed) = place(full.lift, &out)?;
+        if crossed.self_pairs == 0 && crossed.body_pairs == 0 {
+            notices.extend(said);
+            notices.extend(further_out(&spec, &out));
+            return Ok((spec, made));
+        }
     }
+    Err(refused)
 }
 
 /// What a designer is told of the pieces that start further out than placed (`out`, m
