@@ -139,8 +139,8 @@ struct RunArgs {
     #[arg(long)]
     domain: Option<String>,
     /// Body of a new design: cube, sphere, mannequin, mannequin-apose, human or a path to
-    /// an .obj. Default: the cube, or the human body for a GarmentCode --pattern (the
-    /// body its patterns are cut for).
+    /// an .obj. Default: the cube, or the body the --pattern is cut for (the human body
+    /// for a GarmentCode pattern; the one an SVG names on its root, `data-body`).
     #[arg(long, value_parser = parse_body)]
     body: Option<BodyKind>,
     /// Cells per side of the square cloth.
@@ -275,7 +275,8 @@ struct ScenarioArgs {
     /// GarmentCode's own body, which its patterns are cut for), a path to an .obj (metres,
     /// Y up, closed, outward winding) or floor (none: the cloth lies on the floor).
     /// Default: the scenario's own (the cube; the mannequin for drape-mannequin and the
-    /// garments, the human body for a GarmentCode pattern; the floor for fold).
+    /// garments, the human body for a GarmentCode pattern, the body an SVG names on its
+    /// root (`data-body`); the floor for fold).
     #[arg(long, value_parser = parse_scenario_body)]
     body: Option<ScenarioBody>,
     /// Substeps per frame (default: 5 for xpbd, 1 for implicit, the stable count for seed).
@@ -418,7 +419,7 @@ fn parse_body(s: &str) -> Result<BodyKind, String> {
     BodyKind::parse(s).map_err(|e| e.to_string())
 }
 /// The body of `run`'s new design: the one asked for, else the one the pattern is cut
-/// for (the human body for a GarmentCode pattern), else the cube.
+/// for (the human body for a GarmentCode pattern, the body an SVG names), else the cube.
 fn new_design_body(asked: Option<BodyKind>, pattern: Option<&Path>) -> BodyKind {
     asked
         .or_else(|| pattern.and_then(own_body))

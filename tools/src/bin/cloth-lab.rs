@@ -41,8 +41,8 @@ struct Cli {
           value_parser = whole_in::<usize>(1, 1999, " cells a side"))]
     grid: usize,
     /// Body: cube, sphere, mannequin, mannequin-apose (arms held out), human (GarmentCode's
-    /// average body) or FILE.obj. Default: the cube, or the human body for a GarmentCode
-    /// --pattern (cloth-sim's choice).
+    /// average body) or FILE.obj. Default: the cube, or the body the --pattern is cut for
+    /// (human for a GarmentCode pattern, the one an SVG names; cloth-sim's choice).
     #[arg(long)]
     body: Option<String>,
     /// Cloth model of a new design (cloth-sim's --model): xpbd (the default: real time,
