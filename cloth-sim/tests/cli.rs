@@ -890,6 +890,10 @@ fn dress_mannequin_sews_two_panels_round_the_torso_without_crossing() {
         assert!(o["gap_m"].as_f64().unwrap() > 0.0, "{o}");
         assert!(o["stalled"].is_boolean(), "{o}");
         assert!(
+            ["nothing", "body", "cloth"].contains(&o["between"].as_str().unwrap_or("")),
+            "{o}"
+        );
+        assert!(
             ["A", "B", "C", "D"].contains(&o["seam"].as_str().unwrap()),
             "{o}"
         );

@@ -118,6 +118,34 @@ fn segment_meets(p: Vec3, q: Vec3, t: &[Vec3; 3], drop: usize) -> bool {
     !(s.contains(&1) && s.contains(&-1))
 }
 
+/// The segment `pq` passes through triangle `t` from one side of its plane to the other,
+/// inside its edges (exact): a segment lying in the plane, or grazing an edge or a
+/// corner, does not. What stands between two points that must meet (`design::stalls`).
+pub fn segment_pierces(p: Vec3, q: Vec3, t: &[Vec3; 3]) -> bool {
+    let (sp, sq) = (o3(t[0], t[1], t[2], p), o3(t[0], t[1], t[2], q));
+    if sp * sq >= 0 {
+        return false;
+    }
+    let s = [
+        o3(p, q, t[0], t[1]),
+        o3(p, q, t[1], t[2]),
+        o3(p, q, t[2], t[0]),
+    ];
+    s[0] != 0 && s[0] == s[1] && s[1] == s[2]
+}
+
+/// The segment `pq` pierces the body's surface ([`segment_pierces`]; the body's OBB
+/// tree finds the candidates).
+pub fn segment_pierces_body(p: Vec3, q: Vec3, body: &Body) -> bool {
+    let mut near = Vec::new();
+    body.tree()
+        .overlap_box(&Obb::aabb(p.min(q), p.max(q)), &mut near);
+    near.iter().any(|&b| {
+        let t = corners(&body.vertices, body.triangles[b as usize]);
+        segment_pierces(p, q, &t)
+    })
+}
+
 /// Two closed triangles intersect (exact). Degenerate (collinear) triangles meet nothing.
 pub fn triangles_intersect(a: &[Vec3; 3], b: &[Vec3; 3]) -> bool {
     let (Some(da), Some(db)) = (projection_axis(a), projection_axis(b)) else {
@@ -428,6 +456,29 @@ mod tests {
 
     fn t(a: [f32; 3], b: [f32; 3], c: [f32; 3]) -> [Vec3; 3] {
         [Vec3::from(a), Vec3::from(b), Vec3::from(c)]
+    }
+
+    /// A segment pierces a triangle only by passing through its inside from one side to
+    /// the other: ending on it, grazing an edge or a corner, or lying in its plane does not.
+    #[test]
+    fn a_segment_pierces_a_triangle_only_through_its_inside() {
+        let tri = t([0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 1.0]);
+        let v = |x: f32, y: f32, z: f32| Vec3::new(x, y, z);
+        let through = (v(0.2, 1.0, 0.2), v(0.2, -1.0, 0.2));
+        assert!(segment_pierces(through.0, through.1, &tri));
+        assert!(
+            segment_pierces(through.1, through.0, &tri),
+            "either way round"
+        );
+        // Beside it, short of it, ending on it.
+        assert!(!segment_pierces(v(0.8, 1.0, 0.8), v(0.8, -1.0, 0.8), &tri));
+        assert!(!segment_pierces(v(0.2, 1.0, 0.2), v(0.2, 0.1, 0.2), &tri));
+        assert!(!segment_pierces(v(0.2, 1.0, 0.2), v(0.2, 0.0, 0.2), &tri));
+        // Through an edge and through a corner: touching, not piercing.
+        assert!(!segment_pierces(v(0.5, 1.0, 0.0), v(0.5, -1.0, 0.0), &tri));
+        assert!(!segment_pierces(v(0.0, 1.0, 0.0), v(0.0, -1.0, 0.0), &tri));
+        // In its plane, across it.
+        assert!(!segment_pierces(v(-1.0, 0.0, 0.2), v(2.0, 0.0, 0.2), &tri));
     }
 
     /// A damaged design's far-flung vertex (its cell keys saturate) is counted, not a

@@ -68,7 +68,7 @@ pub use piece_list::PieceInfo;
 pub use pieces::{MAX_NAME, PartName, PieceRecord};
 pub use prim::{Between, Edit, MergeAt, Prim};
 pub use seam::SEAM_MISMATCH;
-pub use stalls::STALL_TOLD_AFTER;
+pub use stalls::{Across, STALL_TOLD_AFTER};
 pub use texture::{PaintPatch, TILE, Texture};
 pub use unpick::Removed;
 

@@ -17,6 +17,12 @@
 //! it drew 2 frames a second). Sleep moves nothing, and the edit or pinch that may help
 //! the pairs wakes it.
 //!
+//! The notice says what stands between a stalled pair's two ends, where something does
+//! ([`Design::between`]): the body, or cloth. Cloth between them means the pair is
+//! threaded round a fold the wrong way (on the 2 x 8k dress, the back's seam end lies
+//! under a fold of the front's); no pull along the pair closes that without a
+//! crossing, but a pinch that lifts the fold may.
+//!
 //! The stitches keep pulling, as a sewing line that cannot close does in CLO and
 //! Marvelous Designer. Letting them go was tried (docs/garments.md): the open corner
 //! sprang back, and the shipped dress at density 0.15001 was no longer at rest at frame
@@ -24,6 +30,29 @@
 
 use super::document::Design;
 use super::sewing_pattern::seam_label;
+use crate::collision::crossings::{segment_pierces, segment_pierces_body};
+
+/// What lies across the straight line between a stitched pair's two ends (`Design::between`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Across {
+    /// Nothing: the pair is held apart by the cloth's own pull, or friction.
+    Nothing,
+    /// The body's surface.
+    Body,
+    /// Cloth of the piece named (a fold the pair is threaded round).
+    Cloth(String),
+}
+
+impl Across {
+    /// The report's word for it: "nothing", "body" or "cloth".
+    pub fn word(&self) -> &'static str {
+        match self {
+            Self::Nothing => "nothing",
+            Self::Body => "body",
+            Self::Cloth(_) => "cloth",
+        }
+    }
+}
 
 /// Frames without a pair closing after which the open pairs count as stalled: three
 /// seconds at 60 Hz (the xpbd links tighten over the first two, `xpbd::sewing`).
@@ -47,8 +76,15 @@ impl Design {
                 true => ("its stitch still pulls", "it"),
                 false => ("their stitches still pull", "them"),
             };
+            let folded = said.contains(", cloth");
+            let hint = match folded {
+                true => {
+                    "; cloth between a pair means it is threaded round a fold that no pull brings it through: lift the fold with the pen, or unpick the seam and sew it again"
+                }
+                false => "",
+            };
             self.sim.notices.push(format!(
-                "frame {}: {said} stopped closing; {its} (an edit or a pinch may help {pull})",
+                "frame {}: {said} stopped closing; {its} (an edit or a pinch may help {pull}){hint}",
                 self.sim.frame
             ));
         }
@@ -79,20 +115,86 @@ impl Design {
         (n > 0).then_some((n, lo, hi))
     }
 
-    /// The stalled pairs, seam by seam: "3 pairs of seam A (15-41 mm apart)".
+    /// The stalled pairs, seam by seam, and what lies between them: "3 pairs of seam A
+    /// (15-41 mm apart, cloth of the front between 2)".
     fn stalled_pairs(&self) -> String {
         let said: Vec<String> = (0..self.seams.len())
             .filter_map(|i| {
                 let (n, lo, hi) = self.stalled_in(i)?;
                 let (lo, hi, label) = (lo * 1e3, hi * 1e3, seam_label(i));
+                let why = self.seams[i].open_pairs().map(|(a, b)| self.between(a, b));
+                let why = said_between(why.collect(), n);
                 Some(match n {
-                    1 => format!("1 pair of seam {label} ({hi:.0} mm apart)"),
-                    n => format!("{n} pairs of seam {label} ({lo:.0}-{hi:.0} mm apart)"),
+                    1 => format!("1 pair of seam {label} ({hi:.0} mm apart{why})"),
+                    n => format!("{n} pairs of seam {label} ({lo:.0}-{hi:.0} mm apart{why})"),
                 })
             })
             .collect();
         said.join(", ")
     }
+
+    /// What lies across the straight line between vertices `a` and `b` (a stitched
+    /// pair's ends): cloth not next to either end that the line passes through (the
+    /// first such triangle's piece), else the body's surface, else nothing. Touching or
+    /// lying along a triangle is not passing through it.
+    pub fn between(&self, a: u32, b: u32) -> Across {
+        let x = &self.sim.cloth.x;
+        let (Some(&p), Some(&q)) = (x.get(a as usize), x.get(b as usize)) else {
+            return Across::Nothing;
+        };
+        let (lo, hi) = (p.min(q), p.max(q));
+        let live = &self.sim.cloth.live;
+        for t in live.triangles() {
+            if t.contains(&a) || t.contains(&b) || t.iter().any(|&v| v as usize >= x.len()) {
+                continue;
+            }
+            let c = t.map(|v| x[v as usize]);
+            let (tlo, thi) = (c[0].min(c[1]).min(c[2]), c[0].max(c[1]).max(c[2]));
+            if tlo.cmpgt(hi).any() || thi.cmplt(lo).any() {
+                continue;
+            }
+            if segment_pierces(p, q, &c) {
+                return Across::Cloth(self.piece_name_of(t[0]).unwrap_or_default());
+            }
+        }
+        match self.sim.body.as_ref() {
+            Some(body) if segment_pierces_body(p, q, body) => Across::Body,
+            _ => Across::Nothing,
+        }
+    }
+}
+
+/// The notice's words for what lies between a seam's `n` stalled pairs: ", cloth of the
+/// front between 2", ", the body between them"; empty where nothing does.
+fn said_between(why: Vec<Across>, n: usize) -> String {
+    let cloth: Vec<&str> = why
+        .iter()
+        .filter_map(|w| match w {
+            Across::Cloth(name) => Some(name.as_str()),
+            _ => None,
+        })
+        .collect();
+    let body = why.iter().filter(|w| **w == Across::Body).count();
+    let of = |k: usize| match (k == n, n) {
+        (true, 1) => "it".to_string(),
+        (true, _) => "them".to_string(),
+        (false, _) => k.to_string(),
+    };
+    let mut out = String::new();
+    if !cloth.is_empty() {
+        let mut names: Vec<&str> = cloth.iter().copied().filter(|s| !s.is_empty()).collect();
+        names.sort_unstable();
+        names.dedup();
+        let whose = match names.is_empty() {
+            true => String::new(),
+            false => format!(" of the {}", names.join(" and the ")),
+        };
+        out += &format!(", cloth{whose} between {}", of(cloth.len()));
+    }
+    if body > 0 {
+        out += &format!(", the body between {}", of(body));
+    }
+    out
 }
 
 #[cfg(test)]
@@ -134,6 +236,9 @@ mod tests {
             n.contains("2 pairs of seam A (") && n.contains("mm apart) stopped closing"),
             "{n}"
         );
+        // Nothing lies between them (the line runs along the grid's border).
+        assert!(!n.contains("between") && !n.contains("fold"), "{n}");
+        assert_eq!(d.between(0, 8), super::Across::Nothing);
         assert_eq!(d.sim.stitches.len(), 2);
         assert!(d.sim.stitches.iter().all(|s| s.max_force == 0.5));
         // The studio's seam list reads the same pairs: two, the pinned corners' 0.5 m
@@ -149,6 +254,52 @@ mod tests {
         d.step().unwrap();
         assert!(!d.stitches_stalled());
         assert_eq!(d.sim.notices.len(), 1);
+    }
+
+    /// What lies between a pair's ends: the grid's own cloth when one end is folded over
+    /// it and the other under it, the body when a sphere stands between them, and the
+    /// notice's words for a seam's pairs.
+    #[test]
+    fn what_lies_between_a_pairs_ends_is_named() {
+        let mut d = pinned_stitch();
+        // The grid lies at y = 1 from (0, 0) to (0.5, 0.5) in x and z (8 x 8 cells).
+        let (lo, hi) = crate::mesh::bounds(&d.sim.cloth.x);
+        let mid = 0.5 * (lo + hi);
+        let (a, b) = (0u32, 80u32);
+        d.sim.cloth.x[a as usize] = mid + Vec3::new(0.01, 0.1, 0.02);
+        d.sim.cloth.x[b as usize] = mid + Vec3::new(0.01, -0.1, 0.02);
+        let name = d.piece_name_of(40).unwrap_or_default();
+        assert_eq!(d.between(a, b), super::Across::Cloth(name));
+        assert_eq!(d.between(b, a), d.between(a, b), "either way round");
+        // Beside the grid: nothing.
+        // (Off the sphere's axis below: a line through its pole only touches a corner.)
+        d.sim.cloth.x[a as usize] = hi + Vec3::new(0.113, 0.1, 0.007);
+        d.sim.cloth.x[b as usize] = hi + Vec3::new(0.113, -0.1, 0.007);
+        assert_eq!(d.between(a, b), super::Across::Nothing);
+        // A sphere between them, beside the grid: the body.
+        let c = hi + Vec3::new(0.1, 0.0, 0.0);
+        d.sim.body = Some(crate::collision::body::sphere(c, 0.05, 3).unwrap());
+        assert_eq!(d.between(a, b), super::Across::Body);
+        // A line passing above the sphere: nothing.
+        d.sim.cloth.x[a as usize] = c + Vec3::new(0.0, 0.2, 0.0);
+        d.sim.cloth.x[b as usize] = c + Vec3::new(0.06, 0.2, 0.0);
+        assert_eq!(d.between(a, b), super::Across::Nothing);
+        use super::{Across::*, said_between};
+        let front = || Cloth("front".into());
+        assert_eq!(said_between(vec![Nothing, Nothing], 2), "");
+        assert_eq!(
+            said_between(vec![front()], 1),
+            ", cloth of the front between it"
+        );
+        assert_eq!(
+            said_between(vec![front(), Body, Cloth("back".into())], 3),
+            ", cloth of the back and the front between 2, the body between 1"
+        );
+        assert_eq!(said_between(vec![Body, Body], 2), ", the body between them");
+        assert_eq!(
+            said_between(vec![Cloth(String::new())], 1),
+            ", cloth between it"
+        );
     }
 
     #[test]

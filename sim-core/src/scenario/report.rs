@@ -33,7 +33,9 @@ impl Percentiles {
 /// A stitched pair left open: its seam's label (the letter the pattern marks it by), its
 /// place in the seam (0 at the seam's start), the gap between its two ends (m), where
 /// its first end lies (m), and whether the open pairs had stopped closing (none a
-/// millimetre nearer for `STALL_TOLD_AFTER` frames; `design::stalls`).
+/// millimetre nearer for `STALL_TOLD_AFTER` frames; `design::stalls`), and what lies
+/// across the straight line between its ends: "cloth" (it is threaded round a fold),
+/// "body" or "nothing" (`Design::between`).
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct OpenPair {
     pub seam: String,
@@ -41,6 +43,7 @@ pub struct OpenPair {
     pub gap_m: f32,
     pub at: [f32; 3],
     pub stalled: bool,
+    pub between: &'static str,
 }
 
 /// The operation scenarios' part of the report.

@@ -245,6 +245,7 @@ fn open_pairs(design: &Design) -> Vec<super::report::OpenPair> {
                     gap_m: (xa - xb).length(),
                     at: xa.to_array(),
                     stalled: design.stitches_stalled(),
+                    between: design.between(a, b).word(),
                 });
             }
         }
