@@ -86,6 +86,7 @@ pub(super) fn scenario(a: ScenarioArgs) -> Result<(), Box<dyn std::error::Error>
     cfg.check_every = a.check_every;
     cfg.fabric = a.material.fabric.clone();
     cfg.piece_fabrics = a.piece_fabric;
+    cfg.sew_damping = a.sew_damping;
     let r = run_scenario(&cfg, &a.out)?;
     eprintln!(
         "{}: {} model{}, {} vertices, {} frames x {} substeps: frame p50 {:.2} ms p99 {:.2} ms; \

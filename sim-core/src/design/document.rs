@@ -51,6 +51,9 @@ pub struct Design {
     /// Frames left in which the cloth floats (no gravity) while its seams pull
     /// ([`Design::float_while_sewing`]).
     pub(super) afloat: u32,
+    /// How fast the floating cloth's motion dies away, 1/s (0: undamped;
+    /// [`Design::float_while_sewing_damped`]).
+    pub(super) afloat_damping: f32,
     /// Vertices kept on one side of planes while the garment settles, and for how many
     /// more frames
     /// ([`Design::hold_while_draping`]).
@@ -81,6 +84,7 @@ impl Design {
             weld_refused: Vec::new(),
             parting: Vec::new(),
             afloat: 0,
+            afloat_damping: 0.0,
             holds: Vec::new(),
             hold_frames: 0,
             stalls: Default::default(),

@@ -140,6 +140,10 @@ pub struct ScenarioConfig {
     pub fabric: Option<String>,
     /// Pieces of the pattern made of another fabric: (piece name, library fabric).
     pub piece_fabrics: Vec<(String, String)>,
+    /// Garment scenarios: sew in the air with the cloth's motion damped at this rate,
+    /// 1/s, until the seams close (`Design::float_while_sewing_damped`); 0, the default:
+    /// dress-mannequin sews as it falls, drape-pattern in the air undamped.
+    pub sew_damping: f32,
     /// XPBD with its guard: contact that is never crossed (`solver/xpbd/guard.rs`). On
     /// by default; the other models ignore it (vbd's contact is always guarded, the
     /// paper's model and the implicit reference have none).
@@ -270,6 +274,9 @@ impl ScenarioConfig {
                 value: "floor".into(),
             });
         }
+        if self.sew_damping != 0.0 {
+            check_range("sew damping", self.sew_damping, 0.0, 1000.0, " 1/s")?;
+        }
         check_range(
             "tear threshold",
             self.tear_threshold,
@@ -302,6 +309,7 @@ impl ScenarioConfig {
             check_every: None,
             fabric: None,
             piece_fabrics: Vec::new(),
+            sew_damping: 0.0,
             guard: true,
             sleep: false,
         }

@@ -218,8 +218,13 @@ fn sew_pattern(
     // dress-mannequin sews its shipped dress as it falls, as it always has: it
     // closes every pair so, and floating it (2 x 8k vertices) left one drape of
     // three unsettled, a benchmark's worth of frames moving (docs/garments.md).
-    if cfg.scenario == ScenarioName::DrapePattern {
+    // Damped (`--sew-damping`), both sew in the air.
+    if cfg.sew_damping > 0.0 {
+        design.float_while_sewing_damped(cfg.sew_damping);
+    } else if cfg.scenario == ScenarioName::DrapePattern {
         design.float_while_sewing();
+    }
+    if cfg.scenario == ScenarioName::DrapePattern {
         let before = design.sim.notices.len();
         if let Some(said) = hold_pattern(design, spec, cfg.substeps) {
             eprintln!("{}: {said}", cfg.scenario.name());
@@ -425,6 +430,7 @@ fn report(
             crate::solver::ModelKind::Xpbd => sim.material.strain_limit,
             _ => 0.0,
         },
+        sew_damping: cfg.sew_damping,
         body: cfg.body.as_ref().map_or("floor".into(), BodyKind::name),
         grid: cfg.grid,
         vertices: sim.cloth.len(),
