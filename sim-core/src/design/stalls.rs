@@ -70,13 +70,12 @@ impl Design {
         self.stalls.quiet = self.stalls.closing.observe(open, &self.sim.cloth.x);
         if self.stitches_stalled() && !self.stalls.told {
             self.stalls.told = true;
-            let said = self.stalled_pairs();
+            let (said, folded) = self.stalled_pairs();
             let one = self.seams.iter().flat_map(|s| s.open_pairs()).count() == 1;
             let (its, pull) = match one {
                 true => ("its stitch still pulls", "it"),
                 false => ("their stitches still pull", "them"),
             };
-            let folded = said.contains(", cloth");
             let hint = match folded {
                 true => {
                     "; cloth between a pair means it is threaded round a fold that no pull brings it through: lift the fold with the pen, or unpick the seam and sew it again"
@@ -116,21 +115,26 @@ impl Design {
     }
 
     /// The stalled pairs, seam by seam, and what lies between them: "3 pairs of seam A
-    /// (15-41 mm apart, cloth of the front between 2)".
-    fn stalled_pairs(&self) -> String {
+    /// (15-41 mm apart, cloth of the front between 2)"; and whether cloth lies between
+    /// any of them.
+    fn stalled_pairs(&self) -> (String, bool) {
+        let mut folded = false;
         let said: Vec<String> = (0..self.seams.len())
             .filter_map(|i| {
                 let (n, lo, hi) = self.stalled_in(i)?;
                 let (lo, hi, label) = (lo * 1e3, hi * 1e3, seam_label(i));
-                let why = self.seams[i].open_pairs().map(|(a, b)| self.between(a, b));
-                let why = said_between(why.collect(), n);
+                let why: Vec<Across> = (self.seams[i].open_pairs())
+                    .map(|(a, b)| self.between(a, b))
+                    .collect();
+                folded |= why.iter().any(|w| matches!(w, Across::Cloth(_)));
+                let why = said_between(why, n);
                 Some(match n {
                     1 => format!("1 pair of seam {label} ({hi:.0} mm apart{why})"),
                     n => format!("{n} pairs of seam {label} ({lo:.0}-{hi:.0} mm apart{why})"),
                 })
             })
             .collect();
-        said.join(", ")
+        (said.join(", "), folded)
     }
 
     /// What lies across the straight line between vertices `a` and `b` (a stitched
