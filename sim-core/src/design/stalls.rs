@@ -21,7 +21,7 @@
 //! ([`Design::between`]): the body, or cloth. Cloth between them means the pair is
 //! threaded round a fold the wrong way (on the 2 x 8k dress, the back's seam end lies
 //! under a fold of the front's); no pull along the pair closes that without a
-//! crossing, but a pinch that lifts the fold may.
+//! crossing (nor did a pen lifting the fold and carrying it across, docs/garments.md).
 //!
 //! The stitches keep pulling, as a sewing line that cannot close does in CLO and
 //! Marvelous Designer. Letting them go was tried (docs/garments.md): the open corner
@@ -78,7 +78,7 @@ impl Design {
             };
             let hint = match folded {
                 true => {
-                    "; cloth between a pair means it is threaded round a fold that no pull brings it through: lift the fold with the pen, or unpick the seam and sew it again"
+                    "; cloth between a pair means it is threaded round a fold, which no pull brings it through"
                 }
                 false => "",
             };
