@@ -34,9 +34,10 @@ impl Design {
     /// while it floats (its velocities scaled by `exp(-rate dt)` each frame; a rate that
     /// is not a positive number is none). The stitches then draw the pieces together
     /// without the whiplash that, on fine meshes, folds a seam's end under the other
-    /// piece: the 2 x 8k dress at 30 1/s welds every pair and comes to rest, where sewn as
-    /// it falls it leaves three open; the 5k dress at 30 leaves a neck end open instead
-    /// (docs/garments.md, "Why the 2 x 8k dress leaves a shoulder seam's end open").
+    /// piece, and a seam's end pairs wait for the pair beside them (`ENDS_WAIT_FROM`):
+    /// at 30 1/s the 5k and the 2 x 8k dress weld every pair and come to rest, where
+    /// sewn as it falls the 2 x 8k dress leaves three open (docs/garments.md, "Every pair
+    /// of both dresses welded, at rest").
     pub fn float_while_sewing_damped(&mut self, rate: f32) {
         self.float_while_sewing();
         self.afloat_damping = if rate.is_finite() { rate.max(0.0) } else { 0.0 };
@@ -88,7 +89,11 @@ impl Design {
     pub fn step_with(&mut self, pen: &mut PenPath<'_>) -> Result<FrameStats, StepError> {
         let t0 = Instant::now();
         self.sim.stitches.clear();
-        self.sim.stitches.extend(open_stitches(&self.seams));
+        // A garment sewn in the air, damped, sews its seams' ends last (`ENDS_WAIT_FROM`).
+        let ends_wait = self.afloat() && self.afloat_damping > 0.0;
+        self.sim
+            .stitches
+            .extend(open_stitches(&self.seams, ends_wait));
         self.watch_stalls();
         self.sim.stitches_stalled = self.stitches_stalled();
         self.sim.stretch_floor = self.tear_floor();
@@ -177,6 +182,32 @@ mod tests {
             d.float_while_sewing_damped(bad);
             assert_eq!(d.afloat_damping, 0.0, "{bad}");
         }
+    }
+
+    /// Afloat and damped, the tube's seam (9 pairs) pulls all but its two end pairs until
+    /// the pair beside an end welds; undamped, or falling, every pair pulls; once the
+    /// float is over, every open pair pulls.
+    #[test]
+    fn a_seams_ends_wait_only_while_the_garment_floats_damped() {
+        let pulled = |d: &mut Design| {
+            d.step().unwrap();
+            d.sim.stitches.len()
+        };
+        let mut d = tube();
+        assert_eq!(pulled(&mut d), 9, "falling");
+        let mut d = tube();
+        d.float_while_sewing();
+        assert_eq!(pulled(&mut d), 9, "afloat, undamped");
+        let mut d = tube();
+        d.float_while_sewing_damped(30.0);
+        assert_eq!(pulled(&mut d), 7, "afloat, damped");
+        let (a, b) = d.seams[0].pairs[0];
+        assert!(!d.sim.stitches.iter().any(|s| (s.a, s.b) == (a, b)));
+        while d.afloat() {
+            d.step().unwrap();
+        }
+        let open = d.seams[0].open_pairs().count();
+        assert_eq!(pulled(&mut d), open, "the float over");
     }
 
     #[test]
