@@ -26,6 +26,7 @@
 mod coarse;
 mod coloring;
 mod edit;
+mod flutter;
 mod graph;
 mod groups;
 mod guard;

@@ -4,6 +4,7 @@ use rustc_hash::FxHashMap as HashMap;
 
 use glam::Vec3;
 
+use super::flutter::Flutter;
 use super::groups::{Compliance, Group, Loc, solve_bending, solve_membranes, split_groups};
 use super::guard::Guard;
 use super::limits::{CoarseScratch, StretchLimits};
@@ -67,6 +68,8 @@ pub struct Xpbd {
     /// the limit's moves of the vertices lying on it, and where they were before them.
     friction_left: StaticFriction,
     before_limit: Vec<Vec3>,
+    /// Scratch for damping the cloth's flutter once a frame (`flutter`).
+    flutter: Flutter,
     /// This frame's least limit on a triangle's stretch (`Drive::stretch_floor`).
     stretch_floor: StretchFloor,
     /// The membranes the strain limit's pass projected, in the whole cloth's indices
@@ -156,6 +159,7 @@ impl Xpbd {
             start: Vec::new(),
             friction_left: StaticFriction::default(),
             before_limit: Vec::new(),
+            flutter: Flutter::default(),
             stretch_floor: StretchFloor::NONE,
             active: [Vec::new(), Vec::new()],
             groups,
@@ -424,6 +428,7 @@ impl Xpbd {
             }
         }
         self.coarse = coarse;
+        (self.flutter).damp(cloth, &self.normals, env.frame_dt);
         if let Some(g) = &mut self.guard {
             g.end_frame(drive);
         }
