@@ -317,16 +317,11 @@ struct ScenarioArgs {
     #[arg(long, value_name = "PIECE=FABRIC", value_parser = parse_piece_fabric)]
     piece_fabric: Vec<(String, String)>,
     /// dress-mannequin, drape-pattern: sew in the air with the garment's motion dying
-    /// away at RATE per second until its seams close (0, the default: dress-mannequin
-    /// sews as it falls, drape-pattern in the air undamped). At 30 the 2 x 8k dress welds
-    /// every pair and comes to rest; the 5k dress leaves a neck end open (docs/garments.md).
-    #[arg(
-        long,
-        value_name = "RATE",
-        default_value_t = 0.0,
-        allow_negative_numbers = true
-    )]
-    sew_damping: f32,
+    /// away at RATE per second until its seams close [default: 30 for dress-mannequin,
+    /// 0 for drape-pattern]. 0: dress-mannequin sews as it falls, drape-pattern in the
+    /// air undamped (docs/garments.md).
+    #[arg(long, value_name = "RATE", allow_negative_numbers = true)]
+    sew_damping: Option<f32>,
 }
 
 #[derive(Args)]

@@ -15,8 +15,8 @@ mod run;
 pub mod scripts;
 
 pub use config::{
-    MAX_FRAMES, MAX_GRID, MAX_THREADS, PieceShape, ScenarioConfig, ScenarioError, ScenarioName,
-    build_design, build_scene,
+    MAX_FRAMES, MAX_GRID, MAX_THREADS, PieceShape, SEW_DAMPING, ScenarioConfig, ScenarioError,
+    ScenarioName, build_design, build_scene,
 };
 pub use held::{FIRM_SUBSTEPS, hold_pattern};
 pub use realtime::max_realtime_grid;

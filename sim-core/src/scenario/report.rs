@@ -128,8 +128,9 @@ pub struct Report {
     /// The xpbd model's strain limit (`--strain-limit`; 0: none): no side past `1 +`
     /// this times its rest length.
     pub strain_limit: f32,
-    /// Garment scenarios: the damping while sewn in the air, 1/s (`--sew-damping`; 0:
-    /// none).
+    /// Garment scenarios: the damping while sewn in the air, 1/s (`--sew-damping`;
+    /// dress-mannequin 30 by default, drape-pattern 0; 0: none, and dress-mannequin sews
+    /// as it falls).
     pub sew_damping: f32,
     pub body: String,
     pub grid: usize,

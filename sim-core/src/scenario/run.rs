@@ -215,12 +215,11 @@ fn sew_pattern(
         eprintln!("note: {n}");
         design.sim.notices.push(n);
     }
-    // dress-mannequin sews its shipped dress as it falls, as it always has: it
-    // closes every pair so, and floating it (2 x 8k vertices) left one drape of
-    // three unsettled, a benchmark's worth of frames moving (docs/garments.md).
-    // Damped (`--sew-damping`), both sew in the air.
-    if cfg.sew_damping > 0.0 {
-        design.float_while_sewing_damped(cfg.sew_damping);
+    // Both sew in the air: dress-mannequin damped (`SEW_DAMPING`), drape-pattern
+    // undamped, unless `--sew-damping` says otherwise; at 0 dress-mannequin sews as it
+    // falls, as it did until 2026-12-07 (docs/garments.md).
+    if cfg.sew_damping() > 0.0 {
+        design.float_while_sewing_damped(cfg.sew_damping());
     } else if cfg.scenario == ScenarioName::DrapePattern {
         design.float_while_sewing();
     }
@@ -430,7 +429,7 @@ fn report(
             crate::solver::ModelKind::Xpbd => sim.material.strain_limit,
             _ => 0.0,
         },
-        sew_damping: cfg.sew_damping,
+        sew_damping: cfg.sew_damping(),
         body: cfg.body.as_ref().map_or("floor".into(), BodyKind::name),
         grid: cfg.grid,
         vertices: sim.cloth.len(),
