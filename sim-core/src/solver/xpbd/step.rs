@@ -428,9 +428,17 @@ impl Xpbd {
             }
         }
         self.coarse = coarse;
-        (self.flutter).damp(cloth, &self.normals, env.frame_dt);
+        self.damp_flutter(cloth, drive.stitches.is_empty(), env.frame_dt);
         if let Some(g) = &mut self.guard {
             g.end_frame(drive);
+        }
+    }
+
+    /// Damps the cloth's flutter at the frame's end, but not while a stitch pulls
+    /// (`unstitched` false): sewing is left as it was (`flutter`).
+    fn damp_flutter(&mut self, cloth: &mut Cloth, unstitched: bool, dt: f32) {
+        if unstitched {
+            (self.flutter).damp(cloth, &self.normals, dt);
         }
     }
 
