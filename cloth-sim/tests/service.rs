@@ -113,9 +113,9 @@ fn exports_carry_their_seam_allowance(ask: Ask<'_>) {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// A cut, refusals (sewing a vertex to itself, malformed requests), undo, and a save;
-/// returns how many commands it sent beyond the 52 the test counts on (a dart pressed
-/// back to its first leg, where the tailor's rule had pressed it to its second).
+/// A cut, refusals (sewing a vertex to itself, malformed requests), undo, a dart, and a
+/// save; returns how many commands it sent beyond the 52 the test counts on (a dart
+/// pressed back to its first leg, where the tailor's rule had pressed it to its second).
 fn edits_refusals_and_save(
     ask: Ask<'_>,
     path: &std::path::Path,
@@ -179,6 +179,24 @@ fn edits_refusals_and_save(
     );
     let r = ask(undo());
     assert!(r.ok == 1 && r.message() == "Undone: cut line" && r.undo_depth == 0);
+    let extra = dart_pressed_and_undone(ask);
+    let r = ask(simulating(1));
+    assert_eq!(r.ok, 1, "{}", r.message());
+    let mut save = ToolCommand {
+        op: op::SAVE,
+        ..Default::default()
+    };
+    assert!(save.set_text(path.to_str().unwrap()));
+    let r = ask(save);
+    assert_eq!(r.ok, 1, "{}", r.message());
+    assert!(sim_core::design::Design::load_design_file(path).is_ok());
+    extra
+}
+
+/// A dart in the pattern plane, pressed toward its other leg, both undone; a dart off the
+/// cloth refused. Returns the commands sent beyond those counted on (see
+/// `edits_refusals_and_save`). Leaves the cloth paused.
+fn dart_pressed_and_undone(ask: Ask<'_>) -> u64 {
     // A dart in the pattern plane: one step, undone as one; off the cloth, refused. Paused
     // meanwhile: on the running cloth the dart's stitches can close and weld (each weld
     // an undo step of its own) between one command and the next, on a busy machine.
@@ -236,16 +254,6 @@ fn edits_refusals_and_save(
         "{}",
         r.message()
     );
-    let r = ask(simulating(1));
-    assert_eq!(r.ok, 1, "{}", r.message());
-    let mut save = ToolCommand {
-        op: op::SAVE,
-        ..Default::default()
-    };
-    assert!(save.set_text(path.to_str().unwrap()));
-    let r = ask(save);
-    assert_eq!(r.ok, 1, "{}", r.message());
-    assert!(sim_core::design::Design::load_design_file(path).is_ok());
     extra
 }
 
