@@ -89,8 +89,9 @@ impl Design {
     pub fn step_with(&mut self, pen: &mut PenPath<'_>) -> Result<FrameStats, StepError> {
         let t0 = Instant::now();
         self.sim.stitches.clear();
+        let afloat = self.afloat();
         // A garment sewn in the air, damped, sews its seams' ends last (`ENDS_WAIT_FROM`).
-        let ends_wait = self.afloat() && self.afloat_damping > 0.0;
+        let ends_wait = afloat && self.afloat_damping > 0.0;
         self.sim
             .stitches
             .extend(open_stitches(&self.seams, ends_wait));
@@ -104,7 +105,6 @@ impl Design {
             let live = &self.sim.cloth.live;
             (self.sim.holds).extend(self.holds.iter().filter(|h| live.vertex_alive(h.vertex)));
         }
-        let afloat = self.afloat();
         self.afloat = if afloat { self.afloat - 1 } else { 0 };
         let gravity = self.sim.env.gravity;
         if afloat {

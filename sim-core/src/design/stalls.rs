@@ -148,7 +148,7 @@ impl Design {
         };
         let (lo, hi) = (p.min(q), p.max(q));
         let live = &self.sim.cloth.live;
-        for t in live.triangles() {
+        for t in live.iter().map(|(_, t)| t.v) {
             if t.contains(&a) || t.contains(&b) || t.iter().any(|&v| v as usize >= x.len()) {
                 continue;
             }
