@@ -346,6 +346,11 @@ struct MaterialArgs {
     /// Bending rigidity, N m.
     #[arg(long, default_value_t = Material::default().bending, allow_negative_numbers = true)]
     bending: f32,
+    /// XPBD: bending damping time, s (internal friction in bending, across each fold, like
+    /// the shear's; it stops a fine cloth's loose flaps swinging at rest; 0 turns it off).
+    /// Off while a seam is being sewn or the pen holds the cloth.
+    #[arg(long, default_value_t = Material::default().bend_damping, allow_negative_numbers = true)]
+    bend_damping: f32,
     /// Velocity damping, 1/s.
     #[arg(long, default_value_t = Material::default().damping, allow_negative_numbers = true)]
     damping: f32,
@@ -389,6 +394,7 @@ impl MaterialArgs {
             let fabric = f.material();
             return Material {
                 shear_damping: self.shear_damping,
+                bend_damping: self.bend_damping,
                 damping: self.damping,
                 drag: self.drag,
                 seed_stiffness: self.seed_stiffness,
@@ -404,6 +410,7 @@ impl MaterialArgs {
             shear: self.shear,
             shear_damping: self.shear_damping,
             bending: self.bending,
+            bend_damping: self.bend_damping,
             bending_weft: 1.0,
             bending_bias: 1.0,
             damping: self.damping,

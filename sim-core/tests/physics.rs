@@ -466,11 +466,13 @@ fn no_tunnelling_at_two_metres_per_second() {
 #[test]
 fn a_fine_hanging_cloth_comes_to_rest_and_shear_damping_keeps_its_shape() {
     let n = 128;
-    // Shear damping alone: the stretch limits and the strain limit (on by default) also
-    // act on this cloth (the limits bring it to rest without shear damping, 7.9e-9 J).
+    // Shear damping alone: the stretch limits, the strain limit and the bending damping
+    // (on by default) also act on this cloth (the limits bring it to rest without shear
+    // damping, 7.9e-9 J; so does the bending damping).
     let run = |shear_damping: f32| {
         let material = Material {
             shear_damping,
+            bend_damping: 0.0,
             stretch_limits: false,
             strain_limit: 0.0,
             ..Material::default()

@@ -50,6 +50,20 @@ impl ModelKind {
 /// without), and on the mannequin its energy falls 60x.
 pub const DEFAULT_SHEAR_DAMPING: f32 = 0.005;
 
+/// Default [`Material::bend_damping`], s: the hinges damped across their fold like the
+/// shear, at 0.4 of the shear's time. Chosen by measurement (1, 2, 5, 20 and 50 ms tried,
+/// docs/collision.md): without it the 128 x 128 mannequin drape keeps a flap over the
+/// shoulder swinging about once a second for good (its contact search then renews every
+/// frame) and the `dress-mannequin` dress keeps 4e-7 to 2e-6 J; with 2 ms both come to
+/// rest (under 1e-9 J) and the drape's resting frame is cheaper; at 5 ms and more the
+/// drape takes longer to come to rest. Off while a seam is being sewn or the pen holds
+/// the cloth (`xpbd`).
+pub const DEFAULT_BEND_DAMPING: f32 = 0.002;
+
+fn default_bend_damping() -> f32 {
+    DEFAULT_BEND_DAMPING
+}
+
 fn default_on() -> bool {
     true
 }
@@ -104,6 +118,14 @@ pub struct Material {
     /// Bending rigidity, N m, in the warp direction (bending the warp yarns: the fold
     /// line runs along the weft). Cotton: ~1e-6..1e-4 (bending length 1-3 cm).
     pub bending: f32,
+    /// Bending damping time, s: internal friction in bending, like `shear_damping` (XPBD
+    /// constraint damping with `gamma = bend_damping / h` on the hinges). It damps only
+    /// the rate of bending, so the rest shape does not change; without it a fine cloth's
+    /// loose flaps keep swinging at rest. XPBD only: across each hinge's fold, and not
+    /// while a seam is being sewn or the pen holds the cloth. Design files without it
+    /// get the default.
+    #[serde(default = "default_bend_damping")]
+    pub bend_damping: f32,
     /// Weft bending rigidity as a share of `bending` (woven fabrics: 0.3-3). Design files
     /// without it are isotropic.
     #[serde(default = "default_one")]
@@ -146,6 +168,7 @@ impl Default for Material {
             shear: 40.0,
             shear_damping: DEFAULT_SHEAR_DAMPING,
             bending: 1.0e-5,
+            bend_damping: DEFAULT_BEND_DAMPING,
             bending_weft: 1.0,
             bending_bias: 1.0,
             damping: 0.6,
@@ -197,6 +220,7 @@ impl Material {
         check_range_or_zero("shear", self.shear, 1.0e-3, 1.0e7, " N/m")?;
         check_range_or_zero("shear damping", self.shear_damping, 1.0e-6, 1.0, " s")?;
         check_range_or_zero("bending", self.bending, 1.0e-9, 1.0, " N m")?;
+        check_range_or_zero("bend damping", self.bend_damping, 1.0e-6, 1.0, " s")?;
         check_range("weft bending", self.bending_weft, 0.05, 20.0, " x warp")?;
         check_range("bias bending", self.bending_bias, 0.05, 20.0, " x warp")?;
         check_range_or_zero("damping", self.damping, 1.0e-6, 1000.0, " /s")?;
@@ -257,10 +281,11 @@ mod tests {
             m.validate()
         };
         type Set = fn(&mut Material, f32);
-        let fields: [(&str, Set); 6] = [
+        let fields: [(&str, Set); 7] = [
             ("shear", |m, v| m.shear = v),
             ("shear damping", |m, v| m.shear_damping = v),
             ("bending", |m, v| m.bending = v),
+            ("bend damping", |m, v| m.bend_damping = v),
             ("damping", |m, v| m.damping = v),
             ("drag", |m, v| m.drag = v),
             ("friction", |m, v| m.friction = v),

@@ -24,7 +24,9 @@ mod zones;
 
 pub use constraints::{BendConstraint, Membrane, bending_energy, build_bending, build_membranes};
 pub use implicit::{EarlyStop, Implicit, ImplicitError};
-pub use material::{DEFAULT_SHEAR_DAMPING, DEFAULT_THICKNESS, Material, ModelKind};
+pub use material::{
+    DEFAULT_BEND_DAMPING, DEFAULT_SHEAR_DAMPING, DEFAULT_THICKNESS, Material, ModelKind,
+};
 pub use model::{ContactStats, Drive, Environment, FrameInput, Solver, StepError, StretchFloor};
 pub use pinch::{Between, Grip, Held, PenInput, PenPath, Pinch, beating};
 pub(crate) use rest::Rest;

@@ -233,9 +233,10 @@ pub fn membranes8(
     }
 }
 
-/// Isometric bending of eight hinges.
+/// Isometric bending of eight hinges, damped by `gamma` across the hinge (see
+/// `solve_bending`).
 #[inline(never)]
-pub fn bends8(b: &BendBlock, x: &mut [Vec3], a_bend: f32) {
+pub fn bends8(b: &BendBlock, x: &mut [Vec3], prev: &[Vec3], a_bend: f32, gamma: f32) {
     let mut p = [
         gather(x, &b.idx[0]),
         gather(x, &b.idx[1]),
@@ -246,16 +247,58 @@ pub fn bends8(b: &BendBlock, x: &mut [Vec3], a_bend: f32) {
     let cv: [f32x8; 3] = std::array::from_fn(|r| {
         p[0][r] * k[0] + p[1][r] * k[1] + p[2][r] * k[2] + p[3][r] * k[3] - b.rest[r]
     });
-    let denom = f32x8::splat(a_bend) / b.weight + b.wkk;
-    let ok = denom.simd_gt(f32x8::splat(0.0));
-    let inv = ok.select(
-        f32x8::splat(-1.0) / denom.max(f32x8::splat(1e-30)),
-        f32x8::splat(0.0),
-    );
+    let zero = f32x8::splat(0.0);
+    let tiny = f32x8::splat(1e-30);
+    let soft = f32x8::splat(a_bend) / b.weight;
+    let inv_of = |denom: f32x8| {
+        denom
+            .simd_gt(zero)
+            .select(f32x8::splat(-1.0) / denom.max(tiny), zero)
+    };
+    let inv = inv_of(soft + b.wkk);
+    // The positions the pass found.
+    let q = p;
+    // Undamped: the correction -C / (alpha + sum w k^2), for all three components alike.
     for a in 0..4 {
         let s = b.wk[a] * inv;
         for r in 0..3 {
             p[a][r] += cv[r] * s;
+        }
+    }
+    if gamma > 0.0 {
+        // Across the hinge (along n = edge x (wing 2 - wing 3)) the correction is
+        // -(C_n + gamma rate_n) / (alpha + (1 + gamma) sum w k^2) instead, with the rate
+        // sum k_a (x_a - x_prev_a) since the substep began (at the positions the pass
+        // found).
+        let e: [f32x8; 3] = std::array::from_fn(|r| q[1][r] - q[0][r]);
+        let d: [f32x8; 3] = std::array::from_fn(|r| q[2][r] - q[3][r]);
+        let n = [
+            e[1] * d[2] - e[2] * d[1],
+            e[2] * d[0] - e[0] * d[2],
+            e[0] * d[1] - e[1] * d[0],
+        ];
+        let nn = dot(&n, &n);
+        let inv_nn = nn
+            .simd_gt(f32x8::splat(1e-20))
+            .select(f32x8::splat(1.0) / nn.max(tiny), zero);
+        let mut rate = [zero; 3];
+        for a in 0..4 {
+            let o = gather(prev, &b.idx[a]);
+            for r in 0..3 {
+                rate[r] += k[a] * (q[a][r] - o[r]);
+            }
+        }
+        let g = f32x8::splat(gamma);
+        let cn = dot(&n, &cv) * inv_nn;
+        let rn = dot(&n, &rate) * inv_nn;
+        let inv_d = inv_of(soft + (f32x8::splat(1.0) + g) * b.wkk);
+        // The damped normal correction in place of the undamped one.
+        let sn = (cn + g * rn) * inv_d - cn * inv;
+        for a in 0..4 {
+            let s = b.wk[a] * sn;
+            for r in 0..3 {
+                p[a][r] += n[r] * s;
+            }
         }
     }
     for a in 0..4 {

@@ -206,7 +206,7 @@ impl Xpbd {
         self.groups[2].solve(x, prev, w, k);
         solve_membranes(&self.extra_membranes, x, prev, w, k);
         if k.bend.is_finite() {
-            solve_bending(&self.extra_bends, x, w, k.bend);
+            solve_bending(&self.extra_bends, x, prev, w, (k.bend, k.bend_gamma));
         }
         // The stretch limits once more after the membranes, which undo part of the
         // first pass (on the 64 x 64 mannequin drape with patches, mean / largest strain
@@ -331,7 +331,6 @@ impl Xpbd {
         let settling = self.settle.begin_frame(&cloth.v);
         let m = self.material;
         let inv_h2 = 1.0 / (h * h);
-        let compliance = Compliance::of(&m, h);
         super::limits::link_weights(
             &cloth.inv_mass,
             &cloth.x,
@@ -344,6 +343,7 @@ impl Xpbd {
         // their loose lengths (`limits`); not once every open pair has stopped closing.
         let loose = self.sewing.looseness(drive.stitches, &cloth.x);
         (self.limits).node_weights(&self.link_w, loose, &mut coarse);
+        let compliance = Compliance::of(&m, h, loose > 0.0 || drive.grip.pinch.is_some());
         let searches = self
             .guard
             .as_ref()
