@@ -36,7 +36,7 @@ pub mod ui_to_sim;
 use iceoryx2::prelude::ZeroCopySend;
 
 /// Bumped whenever a message's layout or meaning changes.
-pub const PROTOCOL_VERSION: u32 = 26;
+pub const PROTOCOL_VERSION: u32 = 27;
 
 /// The start of every message.
 #[derive(

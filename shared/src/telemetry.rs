@@ -251,9 +251,9 @@ pub struct SimTelemetry {
     /// The design's substeps per frame.
     pub substeps: u32,
     /// Its material: density kg/m^2, stretch N/m, shear N/m, bending N m, friction,
-    /// damping 1/s, shear damping s (the order of a RESET's `uv`; the seventh since
-    /// protocol 17).
-    pub material: [f32; 7],
+    /// damping 1/s, shear damping s, bending damping s (the order of a RESET's `uv`; the
+    /// seventh since protocol 17, the eighth since 27).
+    pub material: [f32; 8],
     /// The body it drapes over ([`scene_body`]).
     pub body: u32,
     /// Cells a side of the cloth it was made from (0: not a square grid, or not known).
@@ -275,6 +275,9 @@ pub struct SimTelemetry {
     /// cloth stays where it is while edits apply; else 0. Since protocol 18, in the place
     /// of padding.
     pub paused: u32,
+    /// Explicit padding (the material's eighth value, since protocol 27, took four
+    /// bytes): every byte of a message is a field.
+    pub _pad: u32,
 }
 
 /// [`SimTelemetry::model`] values.

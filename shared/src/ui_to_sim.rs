@@ -37,9 +37,9 @@ pub mod op {
     /// the body, and `sim-report.json` (what cloth-sim measured).
     pub const EXPORT: u32 = 13;
     /// Start a new design: the scene rebuilt over body `b` (see [`body`]) with grid `a`
-    /// (0 keeps the current one) and material `uv[0..7]` = (density kg/m^2, stretch N/m,
-    /// shear N/m, bending N m, friction, damping 1/s, and since version 17 shear damping
-    /// s), 0 keeping the current value, and
+    /// (0 keeps the current one) and material `uv[0..8]` = (density kg/m^2, stretch N/m,
+    /// shear N/m, bending N m, friction, damping 1/s, since version 17 shear damping s
+    /// and since version 27 bending damping s), 0 keeping the current value, and
     /// `mode` substeps per frame (0: cloth-sim's setting), and since version 8 the cloth
     /// model `rgba[0]` (0: cloth-sim's own, its `--model`; else 1 + a
     /// [`scene_model`](crate::telemetry::scene_model) code), and since version 11 a
@@ -50,7 +50,7 @@ pub mod op {
     /// Load the design file at the path in `text` in place of the current design (which
     /// is saved first, as for RESET).
     pub const LOAD: u32 = 15;
-    /// Change the current design's material in place, `uv[0..7]` as for RESET (0 keeps
+    /// Change the current design's material in place, `uv[0..8]` as for RESET (0 keeps
     /// the current value), and its substeps per frame to `a` (0 keeps them). Positions,
     /// edits, seams and history stay.
     pub const SET_MATERIAL: u32 = 16;

@@ -325,7 +325,7 @@ fn the_material_follows_cloth_sim_and_applies_in_place() {
             ..Default::default()
         }))
     };
-    let m0 = [0.2, 1000.0, 40.0, 1e-5, 0.4, 0.6, 0.005];
+    let m0 = [0.2, 1000.0, 40.0, 1e-5, 0.4, 0.6, 0.005, 0.002];
     h.state_mut().store.sim_tel = heard(5, m0);
     h.run_steps(2);
     assert_eq!(h.state().material.values, m0);
@@ -334,29 +334,31 @@ fn the_material_follows_cloth_sim_and_applies_in_place() {
     h.state_mut().material.substeps = 9;
     h.state_mut().material.values[1] = 500.0;
     h.state_mut().material.values[6] = 0.02;
+    h.state_mut().material.values[7] = 0.004;
     h.run_steps(2);
     press(&mut h, "Apply");
     let c = *commands(&h).last().unwrap();
     assert_eq!((c.op, c.a), (op::SET_MATERIAL, 9));
-    assert_eq!(&c.uv[..7], &[0.2, 500.0, 40.0, 1e-5, 0.4, 0.6, 0.02]);
+    assert_eq!(c.uv, [0.2, 500.0, 40.0, 1e-5, 0.4, 0.6, 0.02, 0.004]);
 
     // A new scene carries the material and substeps too.
     press(&mut h, "New scene");
     press(&mut h, "Click again to reset");
     let c = *commands(&h).last().unwrap();
     assert_eq!((c.op, c.mode), (op::RESET, 9));
-    assert_eq!((c.uv[1], c.uv[6]), (500.0, 0.02));
+    assert_eq!((c.uv[1], c.uv[6], c.uv[7]), (500.0, 0.02, 0.004));
 
     // cloth-sim changed (here: another design loaded): the panel follows it.
-    let m1 = [0.1, 3000.0, 20.0, 1e-4, 0.5, 1.0, 0.02];
+    let m1 = [0.1, 3000.0, 20.0, 1e-4, 0.5, 1.0, 0.02, 0.01];
     h.state_mut().store.sim_tel = heard(12, m1);
     h.run_steps(2);
     assert_eq!(h.state().material.values, m1);
     assert_eq!(h.state().material.substeps, 12);
 
     // Values beyond the sliders' ranges (set by cloth-sim's flags) are shown as they are,
-    // not clamped into a change nobody asked for (the shear damping off, 0, too).
-    let m2 = [1.0, 50_000.0, 20.0, 1e-4, 0.5, 1.0, 0.0];
+    // not clamped into a change nobody asked for (the shear and bending damping off, 0,
+    // too).
+    let m2 = [1.0, 50_000.0, 20.0, 1e-4, 0.5, 1.0, 0.0, 0.0];
     h.state_mut().store.sim_tel = heard(60, m2);
     h.run_steps(2);
     assert_eq!(h.state().material.values, m2);
@@ -376,7 +378,7 @@ fn a_fabric_is_chosen_by_name() {
         let [d, s, g, b, f] = values;
         Some(Box::new(SimTelemetry {
             substeps: 5,
-            material: [d, s, g, b, f, 0.6, 0.005],
+            material: [d, s, g, b, f, 0.6, 0.005, 0.002],
             ..Default::default()
         }))
     };

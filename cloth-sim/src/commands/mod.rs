@@ -331,7 +331,8 @@ fn set_material(
     }
     Ok(format!(
         "Material: density {} kg/m², stretch {} N/m, shear {} N/m, bending {} N m, \
-         friction {}, damping {}/s, shear damping {} ms; {} substeps{said}",
+         friction {}, damping {}/s, shear damping {} ms, bending damping {} ms; {} \
+         substeps{said}",
         m.density,
         m.stretch,
         m.shear,
@@ -340,6 +341,7 @@ fn set_material(
         m.damping,
         // To a ten-thousandth of a ms: 20 ms from the studio is 0.020000001 s.
         (f64::from(m.shear_damping) * 1e7).round() / 1e4,
+        (f64::from(m.bend_damping) * 1e7).round() / 1e4,
         design.sim.substeps
     ))
 }
@@ -515,6 +517,7 @@ fn apply_material(m: &mut Material, c: &MaterialChange) {
     set(&mut m.friction, c.friction);
     set(&mut m.damping, c.damping);
     set(&mut m.shear_damping, c.shear_damping);
+    set(&mut m.bend_damping, c.bend_damping);
 }
 
 /// The model a [`scene_model`](shared::telemetry::scene_model) code names: the code is

@@ -334,11 +334,11 @@ fn mismatched_seam_sides_are_a_warning() {
     assert_eq!(mismatch_warning(0.0, 0.0), "");
 }
 
-/// The studio's internal damping: a shear damping set in place changes only that (the
-/// pieces still hang as their fabric, so their names stay), and one past its range is
-/// refused with the range and changes nothing.
+/// The studio's internal damping: a shear or bending damping set in place changes only
+/// that (the pieces still hang as their fabric, so their names stay), and one past its
+/// range is refused with the range and changes nothing.
 #[test]
-fn shear_damping_is_set_in_place_and_checked() {
+fn internal_damping_is_set_in_place_and_checked() {
     let mut scene = ScenarioConfig::new(ScenarioName::DrapeCube);
     scene.grid = 4;
     let mut d = build_design(&scene).unwrap();
@@ -380,6 +380,27 @@ fn shear_damping_is_set_in_place_and_checked() {
     let before = d.sim.material;
     let err = carry_out(&mut d, &set(5.0)).unwrap_err();
     assert!(err.contains("shear damping"), "{err}");
+    assert_eq!(d.sim.material, before);
+    // The bending's damping likewise.
+    let bend = |s: f32| Command::SetMaterial {
+        material: MaterialChange {
+            bend_damping: Some(s),
+            ..MaterialChange::default()
+        },
+        substeps: None,
+    };
+    let said = carry_out(&mut d, &bend(7.0 * 1e-3)).unwrap();
+    assert!(said.contains("bending damping 7 ms"), "{said}");
+    assert_eq!(
+        d.sim.material,
+        Material {
+            bend_damping: 7.0 * 1e-3,
+            ..before
+        }
+    );
+    let before = d.sim.material;
+    let err = carry_out(&mut d, &bend(2.0)).unwrap_err();
+    assert!(err.contains("bend damping"), "{err}");
     assert_eq!(d.sim.material, before);
 }
 

@@ -50,6 +50,7 @@ impl Service<'_> {
                 m.friction,
                 m.damping,
                 m.shear_damping,
+                m.bend_damping,
             ];
             (tel.body, tel.grid) = scene_of(&self.design);
             tel.model = model_code(sim.model);

@@ -37,6 +37,9 @@ pub struct MaterialChange {
     /// Shear damping time, s: the weave's internal damping in shear (CLO and Marvelous
     /// Designer call it internal damping). Since protocol 17.
     pub shear_damping: Option<f32>,
+    /// Bending damping time, s: the same internal damping on the hinges. Since protocol
+    /// 27.
+    pub bend_damping: Option<f32>,
 }
 
 /// Automatic tearing of overstretched edges.
@@ -254,7 +257,7 @@ pub enum CommandError {
 }
 
 impl MaterialChange {
-    fn to_wire(self) -> [f32; 7] {
+    fn to_wire(self) -> [f32; 8] {
         [
             self.density,
             self.stretch,
@@ -263,6 +266,7 @@ impl MaterialChange {
             self.friction,
             self.damping,
             self.shear_damping,
+            self.bend_damping,
         ]
         .map(|v| v.unwrap_or(0.0))
     }
@@ -278,6 +282,7 @@ impl MaterialChange {
             friction: v(u[4]),
             damping: v(u[5]),
             shear_damping: v(u[6]),
+            bend_damping: v(u[7]),
         }
     }
 }
@@ -425,11 +430,11 @@ impl Command {
                 };
                 c.a = grid.unwrap_or(0);
                 c.mode = substeps.unwrap_or(0);
-                c.uv[..7].copy_from_slice(&material.to_wire());
+                c.uv = material.to_wire();
             }
             Self::SetMaterial { material, substeps } => {
                 c.a = substeps.unwrap_or(0);
-                c.uv[..7].copy_from_slice(&material.to_wire());
+                c.uv = material.to_wire();
             }
             Self::AddPiece { .. } | Self::PlacePiece { .. } | Self::DuplicatePiece { .. } => {
                 self.piece_to_wire(&mut c)?;

@@ -4,12 +4,12 @@ use super::*;
 fn every_variant() -> Vec<Command> {
     let material = MaterialChange {
         density: Some(0.2),
-        stretch: None,
         shear: Some(30.0),
         bending: Some(2e-5),
-        friction: None,
         damping: Some(0.5),
         shear_damping: Some(0.02),
+        bend_damping: Some(0.003),
+        ..MaterialChange::default() // stretch and friction kept
     };
     vec![
         Command::CutVertex {

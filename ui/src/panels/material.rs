@@ -18,8 +18,9 @@ fn close(a: f32, b: f32) -> bool {
 /// A material and substep count as the panel shows them.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct MaterialChoice {
-    /// density, stretch, shear, bending, friction, damping, shear damping.
-    pub values: [f32; 7],
+    /// density, stretch, shear, bending, friction, damping, shear damping, bending
+    /// damping.
+    pub values: [f32; 8],
     pub substeps: u32,
 }
 
@@ -27,7 +28,7 @@ impl Default for MaterialChoice {
     /// cloth-sim's defaults: cotton, 5 substeps.
     fn default() -> Self {
         Self {
-            values: [0.15, 2000.0, 40.0, 1.0e-5, 0.4, 0.6, 0.005],
+            values: [0.15, 2000.0, 40.0, 1.0e-5, 0.4, 0.6, 0.005, 0.002],
             substeps: 5,
         }
     }
@@ -44,6 +45,7 @@ impl MaterialChoice {
             friction,
             damping,
             shear_damping,
+            bend_damping,
         ] = self.values.map(Some);
         MaterialChange {
             density,
@@ -53,6 +55,7 @@ impl MaterialChoice {
             friction,
             damping,
             shear_damping,
+            bend_damping,
         }
     }
 }
@@ -60,8 +63,9 @@ impl MaterialChoice {
 /// The material and solver settings shown: cloth-sim's (from its telemetry) until the
 /// user edits them; Apply sends them for the current design, New scene builds with them.
 pub struct MaterialPanel {
-    /// density, stretch, shear, bending, friction, damping, shear damping, as shown.
-    pub values: [f32; 7],
+    /// density, stretch, shear, bending, friction, damping, shear damping, bending
+    /// damping, as shown.
+    pub values: [f32; 8],
     pub substeps: u32,
     /// The material last read from cloth-sim's telemetry: a different one (a reset, a
     /// load, another UI's change) replaces what is shown.
@@ -250,6 +254,7 @@ impl MaterialPanel {
             friction,
             damping,
             shear_damping,
+            bend_damping,
         ] = &mut self.values;
         ui.add(
             egui::Slider::new(density, 0.03..=0.6)
@@ -307,6 +312,23 @@ impl MaterialPanel {
             );
         if r.changed() {
             *shear_damping = ms * 1e-3;
+        }
+        let mut ms = *bend_damping * 1e3;
+        let r = ui
+            .add(
+                egui::Slider::new(&mut ms, 0.001..=1000.0)
+                    .clamping(keep)
+                    .logarithmic(true)
+                    .text("Bend damping, ms"),
+            )
+            .on_hover_text(
+                "The same internal damping on bending: how long a fold's swing takes to \
+                 die out. It stops a fine cloth's loose flaps swinging at rest (the \
+                 128 x 128 drape rests, and its frames cost less); it is left off while a \
+                 seam is being sewn or the pen holds the cloth. 2 ms by default",
+            );
+        if r.changed() {
+            *bend_damping = ms * 1e-3;
         }
         ui.add(
             egui::Slider::new(&mut self.substeps, 1..=40)
