@@ -358,50 +358,39 @@ fn internal_damping_is_set_in_place_and_checked() {
     )
     .unwrap();
     assert!(!d.pieces.is_empty());
-    let before = d.sim.material;
-    let set = |s: f32| Command::SetMaterial {
-        material: MaterialChange {
-            shear_damping: Some(s),
-            ..MaterialChange::default()
-        },
-        substeps: None,
-    };
-    // 20 ms as the studio sends it (its slider holds ms).
-    let said = carry_out(&mut d, &set(20.0 * 1e-3)).unwrap();
-    assert!(said.contains("shear damping 20 ms"), "{said}");
-    assert_eq!(
-        d.sim.material,
-        Material {
-            shear_damping: 20.0 * 1e-3,
-            ..before
-        }
-    );
-    assert!(d.pieces.iter().all(|p| p.fabric == "denim"));
-    let before = d.sim.material;
-    let err = carry_out(&mut d, &set(5.0)).unwrap_err();
-    assert!(err.contains("shear damping"), "{err}");
-    assert_eq!(d.sim.material, before);
-    // The bending's damping likewise.
-    let bend = |s: f32| Command::SetMaterial {
-        material: MaterialChange {
-            bend_damping: Some(s),
-            ..MaterialChange::default()
-        },
-        substeps: None,
-    };
-    let said = carry_out(&mut d, &bend(7.0 * 1e-3)).unwrap();
-    assert!(said.contains("bending damping 7 ms"), "{said}");
-    assert_eq!(
-        d.sim.material,
-        Material {
-            bend_damping: 7.0 * 1e-3,
-            ..before
-        }
-    );
-    let before = d.sim.material;
-    let err = carry_out(&mut d, &bend(2.0)).unwrap_err();
-    assert!(err.contains("bend damping"), "{err}");
-    assert_eq!(d.sim.material, before);
+    type Field = fn(&mut MaterialChange, &mut Material, f32);
+    let fields: [(&str, &str, Field); 2] = [
+        ("shear damping 20 ms", "shear damping", |c, m, s| {
+            (c.shear_damping, m.shear_damping) = (Some(s), s)
+        }),
+        ("bending damping 20 ms", "bend damping", |c, m, s| {
+            (c.bend_damping, m.bend_damping) = (Some(s), s)
+        }),
+    ];
+    for (reply, name, field) in fields {
+        let before = d.sim.material;
+        let set = |s: f32| {
+            let (mut change, mut m) = (MaterialChange::default(), before);
+            field(&mut change, &mut m, s);
+            (
+                Command::SetMaterial {
+                    material: change,
+                    substeps: None,
+                },
+                m,
+            )
+        };
+        // 20 ms as the studio sends it (its slider holds ms).
+        let (c, expected) = set(20.0 * 1e-3);
+        let said = carry_out(&mut d, &c).unwrap();
+        assert!(said.contains(reply), "{said}");
+        assert_eq!(d.sim.material, expected);
+        assert!(d.pieces.iter().all(|p| p.fabric == "denim"));
+        let before = d.sim.material;
+        let err = carry_out(&mut d, &set(5.0).0).unwrap_err();
+        assert!(err.contains(name), "{err}");
+        assert_eq!(d.sim.material, before);
+    }
 }
 
 /// A piece started 0.42 m below the shoulders (a skirt at the waist) under xpbd raises

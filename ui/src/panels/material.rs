@@ -295,41 +295,24 @@ impl MaterialPanel {
                 .text("Damping, 1/s"),
         )
         .on_hover_text("Velocity damping; higher settles faster and moves more sluggishly");
-        // Shown in ms (the material holds seconds); 0.001 ms to 1 s, cloth-sim's range.
-        let mut ms = *shear_damping * 1e3;
-        let r = ui
-            .add(
-                egui::Slider::new(&mut ms, 0.001..=1000.0)
-                    .clamping(keep)
-                    .logarithmic(true)
-                    .text("Int. damping, ms"),
-            )
-            .on_hover_text(
-                "Damping of the weave in shear (CLO's internal damping): how long the \
-                 cloth's shearing takes to die out. Higher brings a fine garment to rest \
-                 (20 ms stops the 2 x 8k dress swinging); it costs small scenes a little \
-                 frame time. 5 ms by default",
-            );
-        if r.changed() {
-            *shear_damping = ms * 1e-3;
-        }
-        let mut ms = *bend_damping * 1e3;
-        let r = ui
-            .add(
-                egui::Slider::new(&mut ms, 0.001..=1000.0)
-                    .clamping(keep)
-                    .logarithmic(true)
-                    .text("Bend damping, ms"),
-            )
-            .on_hover_text(
-                "The same internal damping on bending: how long a fold's swing takes to \
-                 die out. It stops a fine cloth's loose flaps swinging at rest (the \
-                 128 x 128 drape rests, and its frames cost less); it is left off while a \
-                 seam is being sewn or the pen holds the cloth. 2 ms by default",
-            );
-        if r.changed() {
-            *bend_damping = ms * 1e-3;
-        }
+        damping_ms(
+            ui,
+            shear_damping,
+            "Int. damping, ms",
+            "Damping of the weave in shear (CLO's internal damping): how long the \
+             cloth's shearing takes to die out. Higher brings a fine garment to rest \
+             (20 ms stops the 2 x 8k dress swinging); it costs small scenes a little \
+             frame time. 5 ms by default",
+        );
+        damping_ms(
+            ui,
+            bend_damping,
+            "Bend damping, ms",
+            "The same internal damping on bending: how long a fold's swing takes to \
+             die out. It stops a fine cloth's loose flaps swinging at rest (the \
+             128 x 128 drape rests, and its frames cost less); it is left off while a \
+             seam is being sewn or the pen holds the cloth. 2 ms by default",
+        );
         ui.add(
             egui::Slider::new(&mut self.substeps, 1..=40)
                 .clamping(keep)
@@ -339,5 +322,22 @@ impl MaterialPanel {
             "XPBD substeps per 1/60 s frame: more is stiffer and stretches less where the \
                  cloth hangs, and costs frame time (watch 'sim frame' in the status panel)",
         );
+    }
+}
+
+/// A damping time slider: shown in ms (the material holds seconds), 0.001 ms to 1 s,
+/// cloth-sim's range; a value beyond it (cloth-sim's flags) is kept until moved.
+fn damping_ms(ui: &mut egui::Ui, seconds: &mut f32, label: &str, hover: &str) {
+    let mut ms = *seconds * 1e3;
+    let r = ui
+        .add(
+            egui::Slider::new(&mut ms, 0.001..=1000.0)
+                .clamping(egui::SliderClamping::Edits)
+                .logarithmic(true)
+                .text(label),
+        )
+        .on_hover_text(hover);
+    if r.changed() {
+        *seconds = ms * 1e-3;
     }
 }
