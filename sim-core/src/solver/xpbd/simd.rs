@@ -256,22 +256,13 @@ pub fn bends8(b: &BendBlock, x: &mut [Vec3], prev: &[Vec3], a_bend: f32, gamma: 
             .select(f32x8::splat(-1.0) / denom.max(tiny), zero)
     };
     let inv = inv_of(soft + b.wkk);
-    // The positions the pass found.
-    let q = p;
-    // Undamped: the correction -C / (alpha + sum w k^2), for all three components alike.
-    for a in 0..4 {
-        let s = b.wk[a] * inv;
-        for r in 0..3 {
-            p[a][r] += cv[r] * s;
-        }
-    }
-    if gamma > 0.0 {
-        // Across the hinge (along n = edge x (wing 2 - wing 3)) the correction is
-        // -(C_n + gamma rate_n) / (alpha + (1 + gamma) sum w k^2) instead, with the rate
-        // sum k_a (x_a - x_prev_a) since the substep began (at the positions the pass
-        // found).
-        let e: [f32x8; 3] = std::array::from_fn(|r| q[1][r] - q[0][r]);
-        let d: [f32x8; 3] = std::array::from_fn(|r| q[2][r] - q[3][r]);
+    // Damped, across the hinge (along n = edge x (wing 2 - wing 3)) the correction is
+    // -(C_n + gamma rate_n) / (alpha + (1 + gamma) sum w k^2) in place of the undamped
+    // one, with the rate sum k_a (x_a - x_prev_a) since the substep began: `n` and the
+    // difference of the two, worked out before the positions move.
+    let damped = (gamma > 0.0).then(|| {
+        let e: [f32x8; 3] = std::array::from_fn(|r| p[1][r] - p[0][r]);
+        let d: [f32x8; 3] = std::array::from_fn(|r| p[2][r] - p[3][r]);
         let n = [
             e[1] * d[2] - e[2] * d[1],
             e[2] * d[0] - e[0] * d[2],
@@ -285,15 +276,23 @@ pub fn bends8(b: &BendBlock, x: &mut [Vec3], prev: &[Vec3], a_bend: f32, gamma: 
         for a in 0..4 {
             let o = gather(prev, &b.idx[a]);
             for r in 0..3 {
-                rate[r] += k[a] * (q[a][r] - o[r]);
+                rate[r] += k[a] * (p[a][r] - o[r]);
             }
         }
         let g = f32x8::splat(gamma);
         let cn = dot(&n, &cv) * inv_nn;
         let rn = dot(&n, &rate) * inv_nn;
         let inv_d = inv_of(soft + (f32x8::splat(1.0) + g) * b.wkk);
-        // The damped normal correction in place of the undamped one.
-        let sn = (cn + g * rn) * inv_d - cn * inv;
+        (n, (cn + g * rn) * inv_d - cn * inv)
+    });
+    // Undamped: the correction -C / (alpha + sum w k^2), for all three components alike.
+    for a in 0..4 {
+        let s = b.wk[a] * inv;
+        for r in 0..3 {
+            p[a][r] += cv[r] * s;
+        }
+    }
+    if let Some((n, sn)) = damped {
         for a in 0..4 {
             let s = b.wk[a] * sn;
             for r in 0..3 {
