@@ -6,6 +6,8 @@
 //! vertices' masses, the solver's constraints for the touched triangles and edges
 //! ([`Solver::sync`](crate::solver::Solver::sync)), and the contact cache's size.
 
+use glam::Vec3;
+
 use super::commute;
 use super::document::Design;
 use super::error::EditError;
@@ -70,6 +72,23 @@ fn move_vertices(cloth: &mut Cloth, p: &Prim) -> Result<(), EditError> {
         _ => {}
     }
     Ok(())
+}
+
+/// Where each vertex that `prims` move stands now, and its velocity: what a rolled-back
+/// transaction puts back. (Vertices the primitives add are not there yet, and go again.)
+fn moved_now(cloth: &Cloth, prims: &[Prim]) -> Vec<(u32, Vec3, Vec3)> {
+    let moved = prims.iter().flat_map(|p| match p {
+        Prim::Move { vertex, .. }
+        | Prim::MoveOnto { vertex, .. }
+        | Prim::MoveOff { vertex, .. }
+        | Prim::Nudge { vertex, .. } => [Some(*vertex), None],
+        Prim::Merge { a, b, .. } | Prim::Unmerge { a, b, .. } => [Some(*a), Some(*b)],
+        _ => [None, None],
+    });
+    moved
+        .flatten()
+        .filter_map(|v| Some((v, *cloth.x.get(v as usize)?, *cloth.v.get(v as usize)?)))
+        .collect()
 }
 
 /// What a batch of primitives touched, for the incremental update.
@@ -221,6 +240,7 @@ impl Design {
     /// date. On failure, rolls back and returns the error: nothing changed.
     pub(super) fn apply_prims(&mut self, prims: &[Prim]) -> Result<(), EditError> {
         self.check_editable()?;
+        let before = moved_now(&self.sim.cloth, prims);
         let mut touched = Touched::default();
         for (k, p) in prims.iter().enumerate() {
             if let Err(e) = self.apply_prim(p, &mut touched) {
@@ -229,6 +249,15 @@ impl Design {
                     // The inverse of an applied primitive always applies.
                     let _ = self.apply_prim(&q.inverse(), &mut ignore);
                 }
+                // An inverse puts a vertex where an undo wants it, which need not be where
+                // it was (a zip or a weld undone opens parted off the seam, where it was
+                // zipped from a stitch's length away): put back, and nothing parted.
+                let cloth = &mut self.sim.cloth;
+                for &(v, x, vel) in &before {
+                    cloth.x[v as usize] = x;
+                    cloth.v[v as usize] = vel;
+                }
+                ignore.copies.clear();
                 self.sync(&mut ignore);
                 return Err(e);
             }

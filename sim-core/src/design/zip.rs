@@ -42,6 +42,13 @@ impl Design {
         if tri.corner(p).is_some() {
             return None;
         }
+        // The triangle's third corner: split at `p`, it joins `p` to that corner, which
+        // must not be `p`'s neighbour already (the edge would have three or four
+        // triangles: a jumpsuit's zip refused so by the mesh's check, 2026-12-07).
+        let far = tri.v.into_iter().find(|&c| c != q && c != r)?;
+        if live.neighbours(p).contains(&far) {
+            return None;
+        }
         let x = &self.sim.cloth.x;
         let (xp, xq, xr) = (x[p as usize], x[q as usize], x[r as usize]);
         let qr = xr - xq;
@@ -129,6 +136,7 @@ mod tests {
     use glam::Vec3;
 
     use crate::design::Design;
+    use crate::design::prim::Prim;
     use crate::mesh::ClothMesh;
     use crate::solver::ModelKind;
 
@@ -235,6 +243,54 @@ mod tests {
             x[p],
             on_edge + shift
         );
+    }
+
+    /// A zip or a weld that the mesh refuses changes nothing: its vertices stay where they
+    /// were, at the speed they had. Its moves are recorded to be undone parted off the
+    /// seam, and rolled back so, a refused zip left its vertex on the edge it was to go
+    /// into, 40 µm off it, from a stitch's length away: a jumpsuit's zip that would have
+    /// given an edge a third triangle left 2 crossing pairs (2026-12-07).
+    #[test]
+    fn a_zip_or_weld_the_mesh_refuses_moves_nothing() {
+        use crate::design::prim::{Between, MergeAt};
+        let (mut d, a) = uneven_seam(ModelKind::Xpbd);
+        let far = d.seams[0].pairs[4].1;
+        let (p, m) = (a[1], a[3]);
+        d.sim.cloth.x[p as usize].y -= 0.005;
+        for (k, v) in d.sim.cloth.v.iter_mut().enumerate() {
+            *v = Vec3::new(0.01 * k as f32, -0.02, 0.03);
+        }
+        let (x0, v0) = (d.sim.cloth.x.clone(), d.sim.cloth.v.clone());
+        let part = Vec3::Y * crate::design::cut::PART_M;
+        let prims = vec![
+            Prim::MoveOnto {
+                vertex: p,
+                to: Between {
+                    a: a[0],
+                    b: a[2],
+                    s: 0.5,
+                },
+                back: part,
+            },
+            Prim::Merge {
+                a: m,
+                b: far,
+                at: MergeAt::Middle,
+                apart: [Vec3::ZERO; 2],
+            },
+            // Stale: slot 0 holds a triangle.
+            Prim::Tri {
+                slot: 0,
+                old: None,
+                new: None,
+            },
+        ];
+        let edits = d.history.undo_len();
+        assert!(d.commit_auto("weld", prims).is_err());
+        assert_eq!(d.history.undo_len(), edits);
+        for (k, (x, v)) in d.sim.cloth.x.iter().zip(&d.sim.cloth.v).enumerate() {
+            assert_eq!((*x, *v), (x0[k], v0[k]), "vertex {k}");
+        }
     }
 
     /// A vertex farther than the reach from the edge across the slit waits.
