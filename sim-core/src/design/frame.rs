@@ -24,7 +24,8 @@ impl Design {
     /// Lets the cloth float, without gravity, for the next [`AFLOAT_FRAMES`] frames or
     /// until every seam has closed, whichever comes first: a garment's pieces, placed
     /// round the body, are sewn together before they fall onto it, so that a seam is not
-    /// left to close over a shoulder that friction holds it on.
+    /// left to close over a shoulder that friction holds it on. Meanwhile a seam's end
+    /// pairs wait for the pair beside them ([`ENDS_WAIT_FROM`](super::ENDS_WAIT_FROM)).
     pub fn float_while_sewing(&mut self) {
         self.afloat = AFLOAT_FRAMES;
         self.afloat_damping = 0.0;
@@ -34,10 +35,9 @@ impl Design {
     /// while it floats (its velocities scaled by `exp(-rate dt)` each frame; a rate that
     /// is not a positive number is none). The stitches then draw the pieces together
     /// without the whiplash that, on fine meshes, folds a seam's end under the other
-    /// piece, and a seam's end pairs wait for the pair beside them (`ENDS_WAIT_FROM`):
-    /// at 30 1/s the 5k and the 2 x 8k dress weld every pair and come to rest, where
-    /// sewn as it falls the 2 x 8k dress leaves three open (docs/garments.md, "Every pair
-    /// of both dresses welded, at rest").
+    /// piece: at 30 1/s the 5k and the 2 x 8k dress weld every pair and come to rest,
+    /// where sewn as it falls the 2 x 8k dress leaves three open (docs/garments.md,
+    /// "Every pair of both dresses welded, at rest").
     pub fn float_while_sewing_damped(&mut self, rate: f32) {
         self.float_while_sewing();
         self.afloat_damping = if rate.is_finite() { rate.max(0.0) } else { 0.0 };
@@ -90,8 +90,8 @@ impl Design {
         let t0 = Instant::now();
         self.sim.stitches.clear();
         let afloat = self.afloat();
-        // A garment sewn in the air, damped, sews its seams' ends last (`ENDS_WAIT_FROM`).
-        let ends_wait = afloat && self.afloat_damping > 0.0;
+        // A garment sewn in the air sews its seams' ends last (`ENDS_WAIT_FROM`).
+        let ends_wait = afloat;
         self.sim
             .stitches
             .extend(open_stitches(&self.seams, ends_wait));
@@ -184,30 +184,33 @@ mod tests {
         }
     }
 
-    /// Afloat and damped, the tube's seam (9 pairs) pulls all but its two end pairs until
-    /// the pair beside an end welds; undamped, or falling, every pair pulls; once the
-    /// float is over, every open pair pulls.
+    /// Afloat, damped or not, the tube's seam (9 pairs) pulls all but its two end pairs
+    /// until the pair beside an end welds; falling, every pair pulls; once the float is
+    /// over, every open pair pulls.
     #[test]
-    fn a_seams_ends_wait_only_while_the_garment_floats_damped() {
+    fn a_seams_ends_wait_while_the_garment_floats() {
         let pulled = |d: &mut Design| {
             d.step().unwrap();
             d.sim.stitches.len()
         };
         let mut d = tube();
         assert_eq!(pulled(&mut d), 9, "falling");
-        let mut d = tube();
-        d.float_while_sewing();
-        assert_eq!(pulled(&mut d), 9, "afloat, undamped");
-        let mut d = tube();
-        d.float_while_sewing_damped(30.0);
-        assert_eq!(pulled(&mut d), 7, "afloat, damped");
-        let (a, b) = d.seams[0].pairs[0];
-        assert!(!d.sim.stitches.iter().any(|s| (s.a, s.b) == (a, b)));
-        while d.afloat() {
-            d.step().unwrap();
+        for damped in [false, true] {
+            let mut d = tube();
+            if damped {
+                d.float_while_sewing_damped(30.0);
+            } else {
+                d.float_while_sewing();
+            }
+            assert_eq!(pulled(&mut d), 7, "afloat, damped {damped}");
+            let (a, b) = d.seams[0].pairs[0];
+            assert!(!d.sim.stitches.iter().any(|s| (s.a, s.b) == (a, b)));
+            while d.afloat() {
+                d.step().unwrap();
+            }
+            let open = d.seams[0].open_pairs().count();
+            assert_eq!(pulled(&mut d), open, "the float over, damped {damped}");
         }
-        let open = d.seams[0].open_pairs().count();
-        assert_eq!(pulled(&mut d), open, "the float over");
     }
 
     #[test]

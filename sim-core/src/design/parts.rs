@@ -28,15 +28,16 @@ pub struct Seam {
 }
 
 /// Seams of at least this many pairs sew their two end pairs last while the garment
-/// floats damped (`Design::float_while_sewing_damped`): a pair at either end is pulled
+/// floats (`Design::float_while_sewing`, damped or not): a pair at either end is pulled
 /// only once the pair beside it has welded (`Seam::pulled_pairs`), or the float is over.
 /// A seam's end is a free corner of each piece; pulled from the start by its own stitch,
-/// it was drawn in ahead of the seam, folded, and threaded round the other piece's edge:
-/// the 5k dress sewn in the air, damped, lost the neck end of a shoulder seam in every
-/// run (88, 87, 88 of 90 welded). Drawn in by the seam welded beside it, the end arrives
-/// edge to edge (90 of 90 in every run). Undamped, or as the garment falls, the ends
-/// waiting helped no garment and kept GarmentCode's circle skirt stirring
-/// (docs/garments.md, "Every pair of both dresses welded, at rest").
+/// it was drawn in ahead of the seam, folded, and threaded round the other piece's edge
+/// or the body: the 5k dress sewn in the air, damped, lost the neck end of a shoulder
+/// seam in every run (88, 87, 88 of 90 welded), and sewn undamped with the cotton held
+/// under 1.2x (the studio's way) in two runs of three. Drawn in by the seam welded beside
+/// it, the end arrives edge to edge (90 of 90 in every run, both ways). (docs/garments.md,
+/// "Every pair of both dresses welded, at rest" and "A seam's ends sewn last in every
+/// float".)
 pub const ENDS_WAIT_FROM: usize = 4;
 
 /// The seams' stitches the solver pulls now: each seam's open pairs, but with
