@@ -719,6 +719,35 @@ fn a_piece_starts_as_much_lower_as_asked() {
     assert_eq!((d.history.undo_steps(), &d.sim.cloth.x), (steps, &x));
 }
 
+/// A piece cut, then placed: its cut's two sides, at one pattern place, start parted as
+/// a fresh cut's are (40 µm, each into its own triangles), not lying on each other with
+/// no direction between them but the normal; nothing crosses. Until 2026-12-07 the
+/// placement left them together (4 touching pairs on the fuzzer's small cloth).
+#[test]
+fn a_cut_piece_placed_starts_with_its_cut_parted() {
+    use sim_core::design::garment::Place;
+    let (mut d, pocket) = dress_and_rectangle("pocket", 0.3, 0.2);
+    let n0 = d.sim.cloth.len() as u32;
+    d.add_piece(&pocket, Place::Back, 0.05).unwrap();
+    let live = &d.sim.cloth.live;
+    let inner = (n0..d.sim.cloth.len() as u32)
+        .find(|&v| live.vertex_alive(v) && !live.is_boundary(v))
+        .expect("an inner vertex");
+    let before = d.sim.cloth.len();
+    d.cut_vertex(inner, Vec3::X).unwrap();
+    assert!(d.sim.cloth.len() > before, "the cut made a copy");
+    let at = d.piece_list().len() - 1;
+    d.place_piece(at, Place::Front).unwrap();
+    let c = d.sim.crossings();
+    assert_eq!((c.self_pairs, c.body_pairs), (0, 0));
+    let x = &d.sim.cloth.x;
+    let apart = (before..d.sim.cloth.len())
+        .map(|copy| x[copy].distance(x[inner as usize]))
+        .fold(f32::MAX, f32::min);
+    assert!((3e-5..1e-3).contains(&apart), "{apart} m apart");
+    d.validate().unwrap();
+}
+
 /// A seam to a piece that is deleted before it closed goes with the piece (it could
 /// never close, and the studio went on listing it); the dress's own seams stay; undo
 /// brings piece and seam back.

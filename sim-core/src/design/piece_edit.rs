@@ -207,15 +207,20 @@ impl Design {
     ) -> Result<(Placement, Vec<Vec3>), EditError> {
         let marks = Landmarks::of(self.sim.body.as_ref());
         let index: HashMap<u32, usize> = verts.iter().enumerate().map(|(i, &v)| (v, i)).collect();
+        let copies = copies(own);
         let mut last = 0;
         for pl in tries(base) {
-            let x =
+            let mut x =
                 place(name, own, b, &pl, &marks).map_err(|e| EditError::Piece(e.to_string()))?;
+            part(&mut x, &copies, verts, fan, &index);
             let at = |v: u32| match index.get(&v) {
                 Some(&i) => x.get(i).copied(),
                 None => self.sim.cloth.x.get(v as usize).copied(),
             };
-            last = fan_crossings(at, fan, others, self.sim.body.as_ref());
+            // Against the rest and the body, and against itself (wrapped round an arm
+            // more than once, its layers would meet).
+            last = fan_crossings(at, fan, others, self.sim.body.as_ref())
+                + fan_crossings(at, fan, fan, None);
             if last == 0 {
                 return Ok((pl, x));
             }
@@ -457,6 +462,55 @@ impl Design {
 /// `LAYERS` steps of [`ARM_STEP`] down the arm (a bodice's shoulder covers the top of
 /// the arm, so that no layer out clears a sleeve's top there, but a few centimetres
 /// down does; a sleeve on a sleeve needs a layer out); elsewhere only where asked.
+/// The vertices (by their place in the piece's list) that share their pattern place
+/// `own` with another: a cut's or a split tear's two sides.
+fn copies(own: &[Vec2]) -> Vec<usize> {
+    let key = |p: Vec2| p.to_array().map(f32::to_bits);
+    let mut count: HashMap<[u32; 2], usize> = HashMap::new();
+    for &p in own {
+        *count.entry(key(p)).or_default() += 1;
+    }
+    (0..own.len())
+        .filter(|&i| count[&key(own[i])] > 1)
+        .collect()
+}
+
+/// Each of `copies` (places in `verts`, whose positions `x` are) moved
+/// [`PART_M`](super::cut::PART_M) into its own triangles of `fan`, along the cloth, as a
+/// fresh cut's sides are parted (`Design::part_copies`): placed at its pattern place, a
+/// cut piece's two sides lay together with no direction between them but the normal,
+/// and could slide into each other (4 crossing pairs, found by the commands fuzzer's
+/// crossing check, 2026-12-07).
+fn part(
+    x: &mut [Vec3],
+    copies: &[usize],
+    verts: &[u32],
+    fan: &[[u32; 3]],
+    index: &HashMap<u32, usize>,
+) {
+    let moves: Vec<(usize, Vec3)> = copies
+        .iter()
+        .filter_map(|&i| {
+            let v = verts[i];
+            let (mut centre, mut normal, mut n) = (Vec3::ZERO, Vec3::ZERO, 0.0);
+            for t in fan.iter().filter(|t| t.contains(&v)) {
+                let [a, b, c] = t.map(|u| index.get(&u).and_then(|&j| x.get(j).copied()));
+                let (a, b, c) = (a?, b?, c?);
+                centre += (a + b + c) / 3.0;
+                normal += (b - a).cross(c - a);
+                n += 1.0;
+            }
+            let inward = centre / n - x[i];
+            let normal = normal.try_normalize()?;
+            let along = (inward - normal * normal.dot(inward)).try_normalize()?;
+            Some((i, along * super::cut::PART_M))
+        })
+        .collect();
+    for (i, by) in moves {
+        x[i] += by;
+    }
+}
+
 fn tries(base: Placement) -> Vec<Placement> {
     match base {
         Placement::Around { .. } => (0..LAYERS)
