@@ -457,11 +457,6 @@ impl Design {
     }
 }
 
-/// Where a new or moved piece tries to start, in order, until one crosses nothing: round
-/// the torso, `LAYERS` layers out; round an arm, `ARM_LAYERS` layers out at each of
-/// `LAYERS` steps of [`ARM_STEP`] down the arm (a bodice's shoulder covers the top of
-/// the arm, so that no layer out clears a sleeve's top there, but a few centimetres
-/// down does; a sleeve on a sleeve needs a layer out); elsewhere only where asked.
 /// The vertices (by their place in the piece's list) that share their pattern place
 /// `own` with another: a cut's or a split tear's two sides.
 fn copies(own: &[Vec2]) -> Vec<usize> {
@@ -511,6 +506,11 @@ fn part(
     }
 }
 
+/// Where a new or moved piece tries to start, in order, until one crosses nothing: round
+/// the torso, `LAYERS` layers out; round an arm, `ARM_LAYERS` layers out at each of
+/// `LAYERS` steps of [`ARM_STEP`] down the arm (a bodice's shoulder covers the top of
+/// the arm, so that no layer out clears a sleeve's top there, but a few centimetres
+/// down does; a sleeve on a sleeve needs a layer out); elsewhere only where asked.
 fn tries(base: Placement) -> Vec<Placement> {
     match base {
         Placement::Around { .. } => (0..LAYERS)
