@@ -483,21 +483,7 @@ pub fn commands(data: &[u8]) {
     let scratch = std::env::temp_dir().join(format!("saiho-fuzz-{}", std::process::id()));
     // Whether the design has been stepped since its last change.
     let mut stepped = false;
-    // Under a model that never crosses (vbd, xpbd with its guard), neither an edit nor a
-    // frame makes a crossing pair (ARCHITECTURE.md, the contact guarantee): the count
-    // after each, while the model keeps its guarantee, is no more than before.
-    let crossed = |d: &Design| {
-        let c = d.sim.crossings();
-        c.self_pairs + c.body_pairs
-    };
-    let mut was = (d.sim.never_crosses(), crossed(&d));
-    let mut kept = |d: &Design, what: &dyn std::fmt::Debug| {
-        let now = (d.sim.never_crosses(), crossed(d));
-        if was.0 && now.0 {
-            assert!(now.1 <= was.1, "{what:?} crossed: {} pairs, {} before", now.1, was.1);
-        }
-        was = now;
-    };
+    let mut crossings = NoNewCrossings::of(&d);
     for k in 0..8 {
         let Some((wire_cmd, more)) = wire::<ToolCommand>(rest) else {
             break;
@@ -552,7 +538,7 @@ pub fn commands(data: &[u8]) {
                 d.sim.cloth.live.tri_count()
             );
         }
-        kept(&d, &c);
+        crossings.check(&d, &c);
         match result {
             Ok(_) => {
                 d.validate().expect("an edit leaves a valid design");
@@ -561,7 +547,7 @@ pub fn commands(data: &[u8]) {
                     if d.step().is_err() {
                         break;
                     }
-                    kept(&d, &"the frame after it");
+                    crossings.check(&d, &"the frame after it");
                 }
                 continue;
             }
@@ -580,9 +566,36 @@ pub fn commands(data: &[u8]) {
     // accepted ones the step mask skipped, are one frame: the last (what any hidden change
     // a refusal left would break).
     if !stepped && d.step().is_ok() {
-        kept(&d, &"the last frame");
+        crossings.check(&d, &"the last frame");
     }
     let _ = std::fs::remove_dir_all(&scratch);
+}
+
+/// The contact guarantee as the commands target goes: under a model that never crosses
+/// (vbd, xpbd with its guard), neither an edit nor a frame makes a crossing pair
+/// (ARCHITECTURE.md): the count after each, while the model keeps its guarantee, is no
+/// more than before. (Whether the model never crosses, and the count.)
+struct NoNewCrossings(bool, usize);
+
+impl NoNewCrossings {
+    fn of(d: &Design) -> Self {
+        let c = d.sim.crossings();
+        Self(d.sim.never_crosses(), c.self_pairs + c.body_pairs)
+    }
+
+    /// Panics when `what` (an edit, or a frame) made a crossing under the guarantee.
+    fn check(&mut self, d: &Design, what: &dyn std::fmt::Debug) {
+        let now = Self::of(d);
+        if self.0 && now.0 {
+            assert!(
+                now.1 <= self.1,
+                "{what:?} crossed: {} pairs, {} before",
+                now.1,
+                self.1
+            );
+        }
+        *self = now;
+    }
 }
 
 /// A device log (`--device replay:FILE`) and a simulated pen's script (`--device
