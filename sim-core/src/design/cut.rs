@@ -14,6 +14,25 @@ use crate::mesh::Tri;
 /// is moved into other cloth the guard keeps apart.
 pub(super) const PART_M: f32 = 4e-5;
 
+/// How far a side of a fresh cut at `x` is moved: [`PART_M`] toward the middle of its
+/// own triangles (their corners, `fan`), along the cloth (off their area-weighted
+/// normal). `None` with no triangles, or no such direction.
+pub(super) fn parting(x: Vec3, fan: impl Iterator<Item = [Vec3; 3]>) -> Option<Vec3> {
+    let (mut centre, mut normal, mut n) = (Vec3::ZERO, Vec3::ZERO, 0usize);
+    for [a, b, c] in fan {
+        centre += (a + b + c) / 3.0;
+        normal += (b - a).cross(c - a);
+        n += 1;
+    }
+    if n == 0 {
+        return None;
+    }
+    let inward = centre / n as f32 - x;
+    let normal = normal.normalize_or_zero();
+    let along = (inward - normal * normal.dot(inward)).try_normalize()?;
+    Some(along * PART_M)
+}
+
 impl Design {
     /// Moves the two sides of a fresh cut apart: every copy that lies (within
     /// [`PART_M`]) where the vertex it was made from lies, and that vertex, each
@@ -40,24 +59,14 @@ impl Design {
         sides.sort_unstable();
         sides.dedup();
         // Every direction from the positions as the edit left them, then the moves.
+        let x = &cloth.x;
         let moves: Vec<(usize, Vec3)> = sides
             .iter()
             .filter_map(|&v| {
-                let fan: Vec<&Tri> = cloth
-                    .live
-                    .tris_of(v)
-                    .iter()
+                let fan = (cloth.live.tris_of(v).iter())
                     .filter_map(|&t| cloth.live.tri(t))
-                    .collect();
-                if fan.is_empty() {
-                    return None;
-                }
-                let x = cloth.x[v as usize];
-                let inward =
-                    fan.iter().map(|t| self.centroid(t)).sum::<Vec3>() / fan.len() as f32 - x;
-                let normal = cloth.vertex_normal(v);
-                let along = (inward - normal * normal.dot(inward)).try_normalize()?;
-                Some((v as usize, along * PART_M))
+                    .map(|t| t.v.map(|i| x[i as usize]));
+                Some((v as usize, parting(x[v as usize], fan)?))
             })
             .collect();
         self.parting.clear();

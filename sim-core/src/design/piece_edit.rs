@@ -470,9 +470,8 @@ fn copies(own: &[Vec2]) -> Vec<usize> {
         .collect()
 }
 
-/// Each of `copies` (places in `verts`, whose positions `x` are) moved
-/// [`PART_M`](super::cut::PART_M) into its own triangles of `fan`, along the cloth, as a
-/// fresh cut's sides are parted (`Design::part_copies`): placed at its pattern place, a
+/// Each of `copies` (places in `verts`, whose positions `x` are) moved into its own
+/// triangles of `fan`, as a fresh cut's sides are parted (`cut::parting`): placed at its pattern place, a
 /// cut piece's two sides lay together with no direction between them but the normal,
 /// and could slide into each other (4 crossing pairs, found by the commands fuzzer's
 /// crossing check, 2026-12-07).
@@ -486,19 +485,12 @@ fn part(
     let moves: Vec<(usize, Vec3)> = copies
         .iter()
         .filter_map(|&i| {
-            let v = verts[i];
-            let (mut centre, mut normal, mut n) = (Vec3::ZERO, Vec3::ZERO, 0.0);
-            for t in fan.iter().filter(|t| t.contains(&v)) {
+            let mine = fan.iter().filter(|t| t.contains(&verts[i]));
+            let corners = mine.filter_map(|t| {
                 let [a, b, c] = t.map(|u| index.get(&u).and_then(|&j| x.get(j).copied()));
-                let (a, b, c) = (a?, b?, c?);
-                centre += (a + b + c) / 3.0;
-                normal += (b - a).cross(c - a);
-                n += 1.0;
-            }
-            let inward = centre / n - x[i];
-            let normal = normal.try_normalize()?;
-            let along = (inward - normal * normal.dot(inward)).try_normalize()?;
-            Some((i, along * super::cut::PART_M))
+                Some([a?, b?, c?])
+            });
+            Some((i, super::cut::parting(x[i], corners)?))
         })
         .collect();
     for (i, by) in moves {
