@@ -292,6 +292,9 @@ pub struct LifeWatch {
     map: Option<Mapped>,
     /// The holder last seen to let go.
     seen: u64,
+    /// The holder last seen holding, not yet seen to let go: a release that happens
+    /// between two waits (the field cleared, the file removed) is still reported.
+    last: u64,
 }
 
 // SAFETY: the mapping is process-wide; the watcher takes and releases the mutex within one
@@ -311,7 +314,17 @@ impl LifeWatch {
             path,
             map: None,
             seen: 0,
+            last: 0,
         }
+    }
+
+    /// The holder last seen holding, if it has not been reported: it let go unseen.
+    fn released(&mut self) -> Option<u32> {
+        let last = std::mem::take(&mut self.last);
+        (last != 0 && last != self.seen).then(|| {
+            self.seen = last;
+            (last >> 32) as u32
+        })
     }
 
     /// Waits up to about `wait` for the lock's holder to let go; returns its pid if it did
@@ -320,6 +333,10 @@ impl LifeWatch {
         let ino = std::fs::symlink_metadata(&self.path).ok().map(|m| m.ino());
         if ino.is_none() || ino != self.map.as_ref().map(|m| m.ino) {
             self.map = ino.and_then(|_| Mapped::open(&self.path, false).ok());
+            // The file watched is gone or replaced: a holder seen in it let go.
+            if let Some(pid) = self.released() {
+                return Some(pid);
+            }
         }
         let idle = |d: Duration| {
             std::thread::sleep(d.min(Duration::from_millis(10)));
@@ -333,9 +350,18 @@ impl LifeWatch {
             return idle(wait);
         }
         let before = h.owner.load(Ordering::Acquire);
-        if before == 0 || before == self.seen {
+        if before == 0 {
+            // Let go since the last wait, if a holder was seen then.
+            return self.released().or_else(|| idle(wait));
+        }
+        if self.last != 0 && before != self.last {
+            // Another holder took over since the last wait: the one seen then let go.
+            return self.released();
+        }
+        if before == self.seen {
             return idle(wait);
         }
+        self.last = before;
         match m.lock(wait) {
             Locked::TimedOut => None,
             Locked::Failed(_) => {
@@ -353,6 +379,7 @@ impl LifeWatch {
                     _ => 0,
                 };
                 self.seen = if now == 0 { before } else { now };
+                self.last = 0;
                 (gone != 0).then_some((gone >> 32) as u32)
             }
         }
@@ -395,21 +422,51 @@ mod tests {
         assert_eq!(seen(&mut w), Some(std::process::id()), "a death");
         assert_eq!(w.wait(Duration::from_millis(5)), None, "seen once");
         assert!(path.exists(), "a dead holder leaves its file");
-        // The next holder takes the dead one's lock and file, and lets go cleanly.
+        // The next holder takes the dead one's lock and file, and lets go cleanly; the
+        // watcher sees the release whether it is waiting on the mutex at that moment or
+        // between two waits (then the field is cleared and the file gone before it looks).
         let next = LifeLock::hold_at(&path).expect("a dead holder's lock is taken over");
-        let p2 = path.clone();
-        let waiter = std::thread::spawn(move || {
-            let mut w = LifeWatch::at(p2);
-            seen(&mut w)
-        });
+        assert_eq!(w.wait(Duration::from_millis(5)), None, "held");
+        drop(next);
+        assert!(!path.exists(), "a clean holder removes its file");
+        assert_eq!(
+            w.wait(Duration::from_millis(5)),
+            Some(std::process::id()),
+            "a release between two waits"
+        );
+        assert_eq!(w.wait(Duration::from_millis(5)), None, "seen once");
+        let next = LifeLock::hold_at(&path).expect("a new holder");
+        let mut w = LifeWatch::at(path.clone());
+        assert_eq!(w.wait(Duration::from_millis(5)), None, "held");
+        let waiter = std::thread::spawn(move || seen(&mut w));
         std::thread::sleep(Duration::from_millis(300));
         drop(next);
         assert_eq!(
             waiter.join().unwrap(),
             Some(std::process::id()),
-            "a release"
+            "a release while waiting"
         );
-        assert!(!path.exists(), "a clean holder removes its file");
+        // A holder that dies and is taken over between two waits: its death is reported.
+        let (held, hold_tx) = (std::sync::mpsc::channel(), std::sync::mpsc::channel::<()>());
+        let p = path.clone();
+        let dying = std::thread::spawn(move || {
+            let lock = LifeLock::hold_at(&p).unwrap();
+            held.0.send(()).unwrap();
+            hold_tx.1.recv().unwrap();
+            std::mem::forget(lock);
+        });
+        held.1.recv().unwrap();
+        let mut w = LifeWatch::at(path.clone());
+        assert_eq!(w.wait(Duration::from_millis(5)), None, "held");
+        hold_tx.0.send(()).unwrap();
+        dying.join().unwrap();
+        let next = LifeLock::hold_at(&path).expect("a dead holder's lock is taken over");
+        assert_eq!(
+            w.wait(Duration::from_millis(5)),
+            Some(std::process::id()),
+            "a death taken over between two waits"
+        );
+        drop(next);
         let _ = std::fs::remove_dir_all(path.parent().unwrap());
     }
 
