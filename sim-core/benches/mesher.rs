@@ -38,6 +38,7 @@ fn mesher(c: &mut Criterion) {
         grain: 0.0,
         placement: None,
         start: None,
+        fallback: None,
     };
     let n = d.add_piece(&piece, Place::Back, 0.0105).unwrap();
     let tris = d.piece_list().last().unwrap().triangles;

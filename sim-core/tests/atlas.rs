@@ -49,6 +49,7 @@ fn an_added_piece_gets_its_own_part_of_the_texture() {
         grain: 0.0,
         placement: None,
         start: None,
+        fallback: None,
     };
     d.add_piece(&pocket, Place::Front, 0.05).unwrap();
     d.validate().unwrap();

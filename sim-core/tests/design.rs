@@ -482,6 +482,7 @@ fn dress_and_rectangle(
         grain: 0.0,
         placement: None,
         start: None,
+        fallback: None,
     };
     (build_design(&cfg).unwrap(), spec)
 }
@@ -1912,4 +1913,46 @@ fn a_drag_ending_between_a_curves_vertices_takes_the_nearest() {
         assert!((l - 0.198).abs() < 0.03, "{} vertices, {l} m", side.len());
     }
     assert!(d.seam_on_plane([top, left], [bottom, left], 0.008).unwrap() >= 5);
+}
+
+/// A GarmentCode panel kept flat where its file puts it (a full circle skirt's half
+/// ring, wider at its top than half the way round the body) that would start through
+/// the design's cloth there, added in the studio, starts round the torso instead, as
+/// the scenario starts such a panel; without that fallback it is refused.
+#[test]
+fn a_panel_kept_flat_that_would_cross_starts_round_the_body() {
+    use sim_core::design::garment::{Landmarks, Place, Placement, load_pattern};
+    let (mut d, _) = dress_and_rectangle("unused", 0.1, 0.1);
+    let marks = Landmarks::of(d.sim.body.as_ref());
+    let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fixtures/gc-full-circle-skirt_specification.json");
+    let (spec, _) = load_pattern(&file, &marks).unwrap();
+    let front = (spec.pieces.iter())
+        .find(|p| p.name == "skirt_front")
+        .unwrap();
+    assert!(matches!(front.placement, Some(Placement::Transform { .. })));
+    assert!(matches!(front.fallback, Some(Placement::Around { .. })));
+    // Flat, it would start through the dress.
+    let alone = sim_core::design::garment::PieceSpec {
+        fallback: None,
+        ..front.clone()
+    };
+    let pieces = d.pieces.len();
+    let refused = d.add_piece(&alone, Place::Front, 0.04);
+    assert!(
+        matches!(
+            refused,
+            Err(sim_core::design::EditError::PieceWouldCross { .. })
+        ),
+        "{refused:?}"
+    );
+    assert_eq!(d.pieces.len(), pieces);
+    d.add_piece(front, Place::Front, 0.04).unwrap();
+    let added = d.pieces.last().unwrap();
+    assert!(
+        matches!(added.placement, Some(Placement::Around { .. })),
+        "{:?}",
+        added.placement
+    );
+    assert_eq!(crossings(&d), (0, 0));
 }

@@ -76,6 +76,7 @@ fn sleeves_set_into_a_draped_dress_close_over_the_shoulder() {
             grain: 0.0,
             placement: None,
             start: None,
+            fallback: None,
         };
         d.add_piece(&sleeve, at, cfg.piece_edge).unwrap();
     }

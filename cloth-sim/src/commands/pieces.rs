@@ -174,6 +174,7 @@ pub(super) fn add_piece(
         grain: 0.0,
         placement: None,
         start: None,
+        fallback: None,
     };
     let one = |design: &mut Design, p: PieceSpec| {
         let n = design.add_piece(&p, at, edge).map_err(|e| e.to_string())?;
@@ -201,6 +202,7 @@ pub(super) fn add_piece(
             if spec.pieces.len() == 1 {
                 // One piece goes where the designer asked, not where its name says.
                 spec.pieces[0].placement = None;
+                spec.pieces[0].fallback = None;
                 return one(design, spec.pieces.remove(0));
             }
             let base = design.pieces.len();

@@ -83,21 +83,7 @@ impl Design {
         self.check_piece_size(&spec.name, mesher::estimate_vertices(&outline, edge), edge)?;
         let mesh = mesher::mesh_outline(&outline, edge).map_err(|e| bad(e.to_string()))?;
         self.check_piece_size(&spec.name, mesh.positions.len(), edge)?;
-        let right = self
-            .sim
-            .cloth
-            .live
-            .iter()
-            .flat_map(|(_, t)| t.rest)
-            .map(|p| p.x)
-            .chain(self.pieces.iter().map(|r| r.band().1))
-            .fold(f32::NEG_INFINITY, f32::max);
-        let left = if right.is_finite() {
-            right + PATTERN_GAP
-        } else {
-            0.0
-        };
-        let offset = Vec2::new(left - lo.x, -hi.y);
+        let offset = Vec2::new(self.next_band() - lo.x, -hi.y);
         let mut name = spec.name.clone();
         let mut k = 1;
         while self.name_in_use(&name, &[]) {
@@ -114,8 +100,15 @@ impl Design {
         let tris: Vec<[u32; 3]> = mesh.triangles.iter().map(|t| t.map(|v| v + n0)).collect();
         let verts: Vec<u32> = (n0..n0 + own.len() as u32).collect();
         let others: Vec<[u32; 3]> = self.sim.cloth.live.iter().map(|(_, t)| t.v).collect();
-        let (placement, starts) =
-            self.first_clear(&name, &verts, &own, from, base, &tris, &others)?;
+        let (placement, starts) = self.first_clear(
+            &name,
+            &verts,
+            &own,
+            from,
+            (base, spec.fallback),
+            &tris,
+            &others,
+        )?;
         // Its own part of the texture, the design's parts moved up to make room.
         let uvs: Vec<[Vec2; 3]> = mesh
             .triangles
@@ -190,9 +183,25 @@ impl Design {
         Ok(())
     }
 
+    /// Where a new piece's band of the pattern plane begins: [`PATTERN_GAP`] right of
+    /// the cloth and every piece's band, or at 0 in an empty design.
+    fn next_band(&self) -> f32 {
+        let right = (self.sim.cloth.live.iter())
+            .flat_map(|(_, t)| t.rest)
+            .map(|p| p.x)
+            .chain(self.pieces.iter().map(|r| r.band().1))
+            .fold(f32::NEG_INFINITY, f32::max);
+        if right.is_finite() {
+            right + PATTERN_GAP
+        } else {
+            0.0
+        }
+    }
+
     /// Where a piece starts under `base`: the first of `base` and up to [`LAYERS`]
     /// layers further out at which its triangles `fan` cross neither `others` nor the
-    /// body. Its vertices `verts` (new ones numbered from the cloth's end) have pattern
+    /// body, and failing those, the same of `fallback` (a GarmentCode panel kept flat
+    /// falls back on the torso's cylinder). Its vertices `verts` (new ones numbered from the cloth's end) have pattern
     /// points `own`, whose outline bounds are `b`.
     #[allow(clippy::too_many_arguments)]
     fn first_clear(
@@ -201,7 +210,7 @@ impl Design {
         verts: &[u32],
         own: &[Vec2],
         b: (Vec2, Vec2),
-        base: Placement,
+        (base, fallback): (Placement, Option<Placement>),
         fan: &[[u32; 3]],
         others: &[[u32; 3]],
     ) -> Result<(Placement, Vec<Vec3>), EditError> {
@@ -209,7 +218,10 @@ impl Design {
         let index: HashMap<u32, usize> = verts.iter().enumerate().map(|(i, &v)| (v, i)).collect();
         let copies = copies(own);
         let mut last = 0;
-        for pl in tries(base) {
+        for pl in tries(base)
+            .into_iter()
+            .chain(fallback.into_iter().flat_map(tries))
+        {
             let mut x =
                 place(name, own, b, &pl, &marks).map_err(|e| EditError::Piece(e.to_string()))?;
             part(&mut x, &copies, verts, fan, &index);
@@ -281,7 +293,7 @@ impl Design {
             .map(|(_, t)| t.v)
             .collect();
         let (placement, x) =
-            self.first_clear(&name, &verts, &pattern, bounds, base, &fan, &others)?;
+            self.first_clear(&name, &verts, &pattern, bounds, (base, None), &fan, &others)?;
         let cloth = &self.sim.cloth;
         let moved: Vec<(u32, Vec3)> = verts.iter().copied().zip(x).collect();
         let mut prims: Vec<Prim> = moved
@@ -410,6 +422,7 @@ impl Design {
             },
             placement: None,
             start: None,
+            fallback: None,
         };
         let before = self.pieces.len();
         let vertices = self.add_piece_as("copy piece", &spec, at.into(), edge)?;

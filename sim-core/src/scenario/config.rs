@@ -4,18 +4,18 @@ use std::path::PathBuf;
 
 use glam::Vec3;
 
-use crate::collision::{Body, BodyKind, crossings};
-use crate::design::export::ExportError;
-use crate::design::file::DesignError;
-use crate::design::garment::{self, Landmarks, PatternSpec};
-use crate::design::{Design, EditError, TearMode, TearSettings};
+use crate::collision::{BodyKind, crossings};
+use crate::design::garment::PatternSpec;
+use crate::design::{Design, TearMode, TearSettings};
 use crate::error::{ConfigError, GeometryError, LoadError, check_range};
-use crate::mesh::mesher::{self, EDGE_RANGE, MeshError, Outline};
+use crate::mesh::mesher::{self, EDGE_RANGE, Outline};
 use crate::mesh::svg;
 use crate::mesh::{ClothMesh, obj};
 use crate::solver::{
-    Cloth, Environment, MAX_FRAME_SUBSTEPS, Material, ModelKind, Simulation, SleepRule, StepError,
+    Cloth, Environment, MAX_FRAME_SUBSTEPS, Material, ModelKind, Simulation, SleepRule,
 };
+
+pub use super::error::ScenarioError;
 
 /// The scenarios `cloth-sim scenario` knows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -136,7 +136,7 @@ pub struct ScenarioConfig {
     /// Count the crossings every this many frames too (the report keeps the most seen).
     pub check_every: Option<u64>,
     /// The library fabric `material` came from, which the pattern's pieces are then
-    /// named as (`None`: the design's own material, [`garment::DEFAULT_FABRIC`]).
+    /// named as (`None`: the design's own material, [`crate::design::garment::DEFAULT_FABRIC`]).
     pub fabric: Option<String>,
     /// Pieces of the pattern made of another fabric: (piece name, library fabric).
     pub piece_fabrics: Vec<(String, String)>,
@@ -335,187 +335,6 @@ impl ScenarioConfig {
     }
 }
 
-/// How many lifts a pattern is tried at, highest first, before it starts unlifted.
-const LIFT_TRIES: usize = 4;
-
-/// How many layers ([`garment::LAYER`]) out a piece round the torso may start, where
-/// nearer it would start through the body at every lift.
-const OUT_TRIES: usize = 3;
-
-/// The garment scenarios' pattern (the file, or the shipped dress), its pieces placed
-/// round the body. A GarmentCode pattern starts `Landmarks::lift` above where its file
-/// puts it, so that its tops start above the shoulders as ours do; where that would
-/// start a piece through the body or another piece, it starts lower, a quarter of the
-/// lift at a time (a shirt lifted 8 cm met our arms at its armpits). Where no lift
-/// starts it clear, each piece round the torso that starts through the body at the full
-/// lift starts a layer further out, up to [`OUT_TRIES`] layers (the sleeved dress's back,
-/// cut for the mannequin's broad shoulders, reached round into `human`'s arms).
-fn placed_garment(
-    cfg: &ScenarioConfig,
-    body: Option<&Body>,
-    notices: &mut Vec<String>,
-) -> Result<(PatternSpec, garment::Assembled), ScenarioError> {
-    let full = Landmarks::of(body);
-    // `out`: how much further out than the file or the arrangement says each piece round
-    // the torso starts.
-    let place = |lift: f32, out: &[f32]| -> Result<_, ScenarioError> {
-        let marks = Landmarks { lift, ..full };
-        let (mut spec, said) = match &cfg.pattern {
-            Some(path) => garment::load_pattern(path, &marks)?,
-            None => {
-                let spec = super::garment::dress(&marks).map_err(|e| ScenarioError::PieceFile {
-                    path: "assets/dress.svg".into(),
-                    reason: e.to_string(),
-                })?;
-                (spec, Vec::new())
-            }
-        };
-        for (p, &more) in spec.pieces.iter_mut().zip(out) {
-            if let Some(garment::Placement::Around { out, .. }) = &mut p.placement {
-                *out += more;
-            }
-        }
-        let made = garment::assemble(&spec, &marks, cfg.piece_edge)?;
-        let crossed = crossings::count(&made.starts, &made.mesh.triangles, body);
-        Ok((spec, said, made, crossed))
-    };
-    let around = |spec: &PatternSpec, i: usize| {
-        matches!(
-            spec.pieces[i].placement,
-            Some(garment::Placement::Around { .. })
-        )
-    };
-    // The full lift, lower by a quarter of it each time, and last none.
-    let tries = if full.lift > 0.0 { LIFT_TRIES } else { 0 };
-    let said_lift = |lift: f32| {
-        format!(
-            "the pattern starts {:.0} cm above the shoulders rather than {:.0}: higher, a piece would start through the body or another piece",
-            100.0 * lift,
-            100.0 * full.lift
-        )
-    };
-    let refuse = |made: &garment::Assembled, said: &[String], crossed: &crossings::Crossings| {
-        ScenarioError::StartsCrossed {
-            self_pairs: crossed.self_pairs,
-            body_pairs: crossed.body_pairs,
-            which: match super::garment::crossed_pieces(made, body) {
-                w if w.is_empty() => w,
-                w => format!(" ({w})"),
-            } + &(said.iter())
-                .filter(|n| n.contains("placed for another body"))
-                .map(|n| format!("; {n}"))
-                .collect::<String>(),
-        }
-    };
-    let (mut k, mut lifted) = (0, None);
-    let refused = loop {
-        let lift = full.lift * (tries - k) as f32 / tries.max(1) as f32;
-        let (spec, said, made, crossed) = place(lift, &[])?;
-        if crossed.self_pairs == 0 && crossed.body_pairs == 0 {
-            notices.extend(said);
-            notices.extend((k > 0).then(|| said_lift(lift)));
-            return Ok((spec, made));
-        }
-        let last = (k == tries).then(|| refuse(&made, &said, &crossed));
-        if k == 0 {
-            lifted = Some((spec, made, crossed));
-        }
-        if let Some(e) = last {
-            break e;
-        }
-        k += 1;
-    };
-    // No lift starts it clear: at the full lift, each piece round the torso that starts
-    // through the body a layer further out, up to `OUT_TRIES` layers; else refused as it
-    // started unlifted.
-    let Some((mut spec, mut made, mut crossed)) = lifted else {
-        return Err(refused);
-    };
-    let mut out = vec![0.0; spec.pieces.len()];
-    for _ in 0..OUT_TRIES {
-        let through = super::garment::pieces_through_body(&made, body);
-        let further: Vec<usize> = through.into_iter().filter(|&i| around(&spec, i)).collect();
-        if further.is_empty() || crossed.self_pairs > 0 {
-            break;
-        }
-        further.iter().for_each(|&i| out[i] += garment::LAYER);
-        let said;
-        (spec, said, made, crossed) = place(full.lift, &out)?;
-        if crossed.self_pairs == 0 && crossed.body_pairs == 0 {
-            notices.extend(said);
-            notices.extend(further_out(&spec, &out));
-            return Ok((spec, made));
-        }
-    }
-    Err(refused)
-}
-
-/// What a designer is told of the pieces that start further out than placed (`out`, m
-/// each), one line per distance.
-fn further_out(spec: &PatternSpec, out: &[f32]) -> Vec<String> {
-    let mut by: Vec<(i32, Vec<&str>)> = Vec::new();
-    for (p, &o) in spec.pieces.iter().zip(out).filter(|(_, o)| **o > 0.0) {
-        let mm = (1000.0 * o).round() as i32;
-        match by.iter_mut().find(|(d, _)| *d == mm) {
-            Some((_, names)) => names.push(&p.name),
-            None => by.push((mm, vec![&p.name])),
-        }
-    }
-    (by.into_iter())
-        .map(|(mm, names)| {
-            format!(
-                "{} start{} {:.1} cm further out from the body than placed: nearer, {} would start through it",
-                names.join(", "),
-                if names.len() == 1 { "s" } else { "" },
-                0.1 * mm as f32,
-                if names.len() == 1 { "it" } else { "they" }
-            )
-        })
-        .collect()
-}
-
-#[derive(Debug, thiserror::Error)]
-pub enum ScenarioError {
-    #[error(transparent)]
-    Config(#[from] ConfigError),
-    #[error("body: {0}")]
-    Body(#[from] LoadError),
-    #[error("cloth: {0}")]
-    Cloth(#[from] GeometryError),
-    #[error("cloth: {0}")]
-    ClothFile(LoadError),
-    #[error("piece: {0}")]
-    Piece(#[from] MeshError),
-    #[error("piece {path}: {reason}")]
-    PieceFile { path: PathBuf, reason: String },
-    #[error("pattern {0}")]
-    Pattern(#[from] crate::design::garment::ImportError),
-    #[error("garment: {0}")]
-    Garment(#[from] crate::design::garment::GarmentError),
-    #[error(
-        "the cloth starts crossing itself in {self_pairs} pairs of triangles and the body in {body_pairs}{which}; nothing untangles that, so nothing was run"
-    )]
-    StartsCrossed {
-        self_pairs: usize,
-        body_pairs: usize,
-        /// Which pieces of a pattern, and how many pairs each (empty for a cloth).
-        which: String,
-    },
-    #[error(transparent)]
-    Step(#[from] StepError),
-    #[error("{0}")]
-    Edit(#[from] EditError),
-    #[error(transparent)]
-    Export(#[from] ExportError),
-    #[error(transparent)]
-    Design(#[from] DesignError),
-    #[error("cannot write {path}: {source}")]
-    Write {
-        path: PathBuf,
-        source: std::io::Error,
-    },
-}
-
 /// Builds the scene of a scenario as a new design: the body, and the cloth centred 5 cm
 /// above it; with no body, the cloth lying flat on the floor (its thickness above it).
 pub fn build_design(cfg: &ScenarioConfig) -> Result<Design, ScenarioError> {
@@ -549,7 +368,14 @@ pub fn build_scene(cfg: &ScenarioConfig) -> Result<(Design, Option<PatternSpec>)
     }
     let mut notices = repairs;
     let (cloth, spec, records) = if garment {
-        let (spec, made) = placed_garment(cfg, body.as_ref(), &mut notices)?;
+        let (spec, made) = super::placing::placed_garment(
+            &super::placing::Source {
+                file: cfg.pattern.as_deref(),
+                edge: cfg.piece_edge,
+            },
+            body.as_ref(),
+            &mut notices,
+        )?;
         let mut cloth = Cloth::new(made.mesh, &cfg.material)?;
         // The pieces start round the body; their rest shape stays the flat pattern.
         cloth.x = made.starts;

@@ -96,6 +96,34 @@ pub fn crossed_pieces(made: &Assembled, body: Option<&Body>) -> String {
     said.join("; ")
 }
 
+/// The pieces of `made` that start crossing the body, themselves or another piece (both
+/// of two that cross).
+pub(super) fn pieces_crossing(made: &Assembled, body: Option<&Body>) -> Vec<usize> {
+    let x = &made.starts;
+    let tris = piece_triangles(made);
+    let own: Vec<usize> = tris.iter().map(|t| crossings::count_self(x, t)).collect();
+    let mut bad: Vec<bool> = own.iter().map(|&n| n > 0).collect();
+    for i in pieces_through_body(made, body) {
+        bad[i] = true;
+    }
+    let boxes: Vec<(glam::Vec3, glam::Vec3)> = (made.ranges.iter())
+        .map(|r| crate::mesh::bounds(&x[r.clone()]))
+        .collect();
+    for i in 0..tris.len() {
+        for j in i + 1..tris.len() {
+            let ((alo, ahi), (blo, bhi)) = (boxes[i], boxes[j]);
+            if alo.cmpgt(bhi).any() || blo.cmpgt(ahi).any() {
+                continue;
+            }
+            let both: Vec<[u32; 3]> = tris[i].iter().chain(&tris[j]).copied().collect();
+            if crossings::count_self(x, &both) > own[i] + own[j] {
+                (bad[i], bad[j]) = (true, true);
+            }
+        }
+    }
+    (0..tris.len()).filter(|&i| bad[i]).collect()
+}
+
 /// Each piece's triangles in `made`'s mesh.
 fn piece_triangles(made: &Assembled) -> Vec<Vec<[u32; 3]>> {
     let tris = &made.mesh.triangles;

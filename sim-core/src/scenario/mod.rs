@@ -7,8 +7,10 @@
 //! `report` (the JSON); `realtime` (the largest real-time grid).
 
 mod config;
+mod error;
 pub mod garment;
 mod held;
+mod placing;
 mod realtime;
 mod report;
 mod run;

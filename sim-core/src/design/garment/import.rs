@@ -171,6 +171,7 @@ pub fn pattern_from_outlines(pieces: Vec<NamedOutline>) -> (PatternSpec, Vec<Str
             grain: p.saved.grain.unwrap_or(0.0),
             placement: None,
             start,
+            fallback: None,
         });
     }
     let mut notices = unread;

@@ -22,6 +22,10 @@ pub struct PieceSpec {
     /// makes it the placement, measured from its bounds (carried over to another body:
     /// [`PatternSpec::start_where_saved`]).
     pub start: Option<super::start::PieceStart>,
+    /// Where the piece starts instead if `placement` would start it through the body or
+    /// another piece: a GarmentCode panel kept flat where its file puts it falls back on
+    /// the torso's cylinder (`garmentcode::kept_flat`).
+    pub fallback: Option<Placement>,
 }
 
 /// A stretch of a piece's outer loop: from the outline point nearest `from` to the one
@@ -357,6 +361,7 @@ mod tests {
             grain: 0.0,
             placement: None,
             start: None,
+            fallback: None,
         }
     }
 

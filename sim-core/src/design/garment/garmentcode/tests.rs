@@ -445,3 +445,62 @@ fn a_panel_too_large_to_mesh_is_refused_before_any_work() {
     // At its own size the same pattern meshes.
     assert!(assemble(&back_sized("50", "60"), &marks, 0.05).is_ok());
 }
+
+/// A panel taller than a waistband whose top is two runs with a waist between them, wider
+/// from end to end than half the way round the torso, is kept flat where its file puts
+/// it (a full circle skirt's half ring); an A-line skirt's panel, wide only at its hem,
+/// a waistband and a gathered skirt's panel as wide along one run are not.
+#[test]
+fn only_a_tall_panel_wider_at_its_top_than_half_round_is_kept_flat() {
+    let marks = human_marks();
+    let half = 0.5 * marks.girth();
+    let (rot, trans) = (Mat3::IDENTITY, Vec3::new(-0.13, 1.09, 0.15));
+    // A half ring, 0.97 m along its top (the side seams and the waist between), its
+    // hem 0.49 m below.
+    let ring: Vec<Vec2> = (0..=32)
+        .map(|k| {
+            let a = std::f32::consts::PI * k as f32 / 32.0;
+            Vec2::new(0.13 - 0.49 * a.cos(), -0.49 * a.sin())
+        })
+        .chain((0..=16).map(|k| {
+            let a = std::f32::consts::PI * (16 - k) as f32 / 16.0;
+            Vec2::new(0.13 - 0.134 * a.cos(), -0.134 * a.sin())
+        }))
+        .collect();
+    assert!(0.97 > half);
+    match kept_flat(&ring, rot, trans, &marks) {
+        Some(Placement::Transform {
+            rotation,
+            translation,
+        }) => assert_eq!((rotation, translation), (rot, trans)),
+        other => panic!("{other:?}"),
+    }
+    // An A-line panel: 0.3 m at the waist, 0.9 m at the hem 0.6 m below.
+    let a_line = [
+        Vec2::new(0.0, 0.0),
+        Vec2::new(-0.3, -0.6),
+        Vec2::new(0.6, -0.6),
+        Vec2::new(0.3, 0.0),
+    ];
+    assert_eq!(kept_flat(&a_line, rot, trans, &marks), None);
+    // A waistband 0.8 m long and 8 cm tall.
+    let band = [
+        Vec2::new(0.0, 0.0),
+        Vec2::new(0.0, -0.08),
+        Vec2::new(0.8, -0.08),
+        Vec2::new(0.8, 0.0),
+    ];
+    assert_eq!(kept_flat(&band, rot, trans, &marks), None);
+    // A gathered skirt's panel, 1 m along its top too, but its top is its waist seam:
+    // one run, no waist dipping between two.
+    let gathered = [
+        Vec2::new(0.0, 0.0),
+        Vec2::new(0.0, -0.6),
+        Vec2::new(1.0, -0.6),
+        Vec2::new(1.0, 0.0),
+    ];
+    assert_eq!(kept_flat(&gathered, rot, trans, &marks), None);
+    // The half ring turned upside down is wide at its hem, not its top.
+    let flipped = Mat3::from_rotation_z(std::f32::consts::PI);
+    assert_eq!(kept_flat(&ring, flipped, trans, &marks), None);
+}
