@@ -1916,12 +1916,14 @@ fn a_drag_ending_between_a_curves_vertices_takes_the_nearest() {
 }
 
 /// A GarmentCode panel kept flat where its file puts it (a full circle skirt's half
-/// ring, wider at its top than half the way round the body) that would start through
-/// the design's cloth there, added in the studio, starts round the torso instead, as
-/// the scenario starts such a panel; without that fallback it is refused.
+/// ring, wider at its top than half the way round the body), added in the studio where
+/// that start would cross the design's cloth, starts flat a layer or two further from
+/// the body; where every such start crosses (the panel sunk into the body), it starts
+/// round the torso, its fallback, as the scenario starts such a panel. Without the
+/// fallback the flat start is refused.
 #[test]
-fn a_panel_kept_flat_that_would_cross_starts_round_the_body() {
-    use sim_core::design::garment::{Landmarks, Place, Placement, load_pattern};
+fn a_panel_kept_flat_that_would_cross_starts_further_out_or_round_the_body() {
+    use sim_core::design::garment::{Landmarks, PieceSpec, Place, Placement, load_pattern};
     let (mut d, _) = dress_and_rectangle("unused", 0.1, 0.1);
     let marks = Landmarks::of(d.sim.body.as_ref());
     let file = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -1930,10 +1932,16 @@ fn a_panel_kept_flat_that_would_cross_starts_round_the_body() {
     let front = (spec.pieces.iter())
         .find(|p| p.name == "skirt_front")
         .unwrap();
-    assert!(matches!(front.placement, Some(Placement::Transform { .. })));
+    let Some(Placement::Transform {
+        rotation,
+        translation,
+    }) = front.placement
+    else {
+        panic!("{:?}", front.placement)
+    };
     assert!(matches!(front.fallback, Some(Placement::Around { .. })));
-    // Flat, it would start through the dress.
-    let alone = sim_core::design::garment::PieceSpec {
+    // Where the file puts it, it would start through the dress.
+    let alone = PieceSpec {
         fallback: None,
         ..front.clone()
     };
@@ -1947,12 +1955,36 @@ fn a_panel_kept_flat_that_would_cross_starts_round_the_body() {
         "{refused:?}"
     );
     assert_eq!(d.pieces.len(), pieces);
-    d.add_piece(front, Place::Front, 0.04).unwrap();
+    // Sunk into the body, no flat start is clear: round the torso.
+    let sunk = PieceSpec {
+        placement: Some(Placement::Transform {
+            rotation,
+            translation: translation.with_z(0.0),
+        }),
+        ..front.clone()
+    };
+    d.add_piece(&sunk, Place::Front, 0.04).unwrap();
     let added = d.pieces.last().unwrap();
     assert!(
         matches!(added.placement, Some(Placement::Around { .. })),
         "{:?}",
         added.placement
     );
+    assert_eq!(crossings(&d), (0, 0));
+    // As the file has it, beside the dress: flat, further from the body.
+    let (mut d, _) = dress_and_rectangle("unused", 0.1, 0.1);
+    d.add_piece(front, Place::Front, 0.04).unwrap();
+    let added = d.pieces.last().unwrap();
+    match added.placement {
+        Some(Placement::Transform {
+            rotation: r,
+            translation: t,
+        }) => {
+            assert_eq!(r, rotation);
+            assert!(t.z > translation.z + 0.01, "{t} against {translation}");
+            assert!(t.z <= translation.z + 0.061, "{t} against {translation}");
+        }
+        other => panic!("{other:?}"),
+    }
     assert_eq!(crossings(&d), (0, 0));
 }

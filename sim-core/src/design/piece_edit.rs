@@ -11,8 +11,8 @@ use glam::{Vec2, Vec3};
 use super::document::Design;
 use super::error::EditError;
 use super::garment::{
-    DEFAULT_FABRIC, LAYER, Landmarks, MAX_DROP, PATTERN_GAP, PieceSpec, Place, Placement, SIMPLIFY,
-    Start, place,
+    self, DEFAULT_FABRIC, LAYER, Landmarks, MAX_DROP, PATTERN_GAP, PieceSpec, Place, Placement,
+    SIMPLIFY, Start, place,
 };
 use super::pieces::PieceRecord;
 use super::prim::Prim;
@@ -200,8 +200,9 @@ impl Design {
 
     /// Where a piece starts under `base`: the first of `base` and up to [`LAYERS`]
     /// layers further out at which its triangles `fan` cross neither `others` nor the
-    /// body, and failing those, the same of `fallback` (a GarmentCode panel kept flat
-    /// falls back on the torso's cylinder). Its vertices `verts` (new ones numbered from the cloth's end) have pattern
+    /// body, and failing those, with a `fallback` (a GarmentCode panel kept flat), up to
+    /// [`garment::FLAT_OUT_TRIES`] layers further from the body, then the same of
+    /// `fallback` (the torso's cylinder). Its vertices `verts` (new ones numbered from the cloth's end) have pattern
     /// points `own`, whose outline bounds are `b`.
     #[allow(clippy::too_many_arguments)]
     fn first_clear(
@@ -218,10 +219,12 @@ impl Design {
         let index: HashMap<u32, usize> = verts.iter().enumerate().map(|(i, &v)| (v, i)).collect();
         let copies = copies(own);
         let mut last = 0;
-        for pl in tries(base)
-            .into_iter()
-            .chain(fallback.into_iter().flat_map(tries))
-        {
+        // A piece kept flat: where its file puts it, then layers further from the body.
+        let flat = (1..=garment::FLAT_OUT_TRIES)
+            .filter(|_| fallback.is_some())
+            .map(|k| garment::moved_out(base, b, &marks, k as f32 * LAYER));
+        let fall = fallback.into_iter().flat_map(tries);
+        for pl in tries(base).into_iter().chain(flat).chain(fall) {
             let mut x =
                 place(name, own, b, &pl, &marks).map_err(|e| EditError::Piece(e.to_string()))?;
             part(&mut x, &copies, verts, fan, &index);

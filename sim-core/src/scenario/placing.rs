@@ -37,10 +37,11 @@ pub(super) fn placed_garment(
     notices: &mut Vec<String>,
 ) -> Result<(PatternSpec, garment::Assembled), ScenarioError> {
     let full = Landmarks::of(body);
-    let start_at = |lift: f32, out: &[f32], round: &mut Vec<bool>| {
-        settle(cfg, body, &Landmarks { lift, ..full }, out, round)
+    let start_at = |lift: f32, out: &[f32], flat: &mut Vec<usize>| {
+        settle(cfg, body, &Landmarks { lift, ..full }, out, flat)
     };
-    let mut round = Vec::new();
+    // Each piece's step away from where its file puts it, if it is kept flat (`settle`).
+    let mut flat = Vec::new();
     let around = |spec: &PatternSpec, i: usize| {
         matches!(
             spec.pieces[i].placement,
@@ -72,11 +73,11 @@ pub(super) fn placed_garment(
     let (mut k, mut lifted) = (0, None);
     let refused = loop {
         let lift = full.lift * (tries - k) as f32 / tries.max(1) as f32;
-        let (spec, said, made, crossed) = start_at(lift, &[], &mut round)?;
+        let (spec, said, made, crossed) = start_at(lift, &[], &mut flat)?;
         if crossed.self_pairs == 0 && crossed.body_pairs == 0 {
             notices.extend(said);
             notices.extend((k > 0).then(|| said_lift(lift)));
-            notices.extend(kept_flat(&spec, &round));
+            notices.extend(kept_flat(&spec, &flat));
             return Ok((spec, made));
         }
         let last = (k == tries).then(|| refuse(&made, &said, &crossed));
@@ -103,11 +104,11 @@ pub(super) fn placed_garment(
         }
         further.iter().for_each(|&i| out[i] += garment::LAYER);
         let said;
-        (spec, said, made, crossed) = start_at(full.lift, &out, &mut round)?;
+        (spec, said, made, crossed) = start_at(full.lift, &out, &mut flat)?;
         if crossed.self_pairs == 0 && crossed.body_pairs == 0 {
             notices.extend(said);
             notices.extend(further_out(&spec, &out));
-            notices.extend(kept_flat(&spec, &round));
+            notices.extend(kept_flat(&spec, &flat));
             return Ok((spec, made));
         }
     }
@@ -123,14 +124,18 @@ type Placed = (
     crossings::Crossings,
 );
 
+/// A piece kept flat that is this many steps away from where its file puts it is on its
+/// fallback round the torso; fewer, it is that many layers further from the body.
+const ROUND: usize = garment::FLAT_OUT_TRIES + 1;
+
 /// The pattern placed for `marks` and assembled, each piece round the torso `out` m
-/// further out than placed, each piece kept flat that is `round` on its fallback.
+/// further out than placed, each piece kept flat `flat` steps away ([`ROUND`]).
 fn place(
     cfg: &Source<'_>,
     body: Option<&Body>,
     marks: &Landmarks,
     out: &[f32],
-    round: &[bool],
+    flat: &[usize],
 ) -> Result<Placed, ScenarioError> {
     let (mut spec, said) = match cfg.file {
         Some(path) => garment::load_pattern(path, marks)?,
@@ -142,8 +147,16 @@ fn place(
             (spec, Vec::new())
         }
     };
-    for (p, _) in spec.pieces.iter_mut().zip(round).filter(|(_, r)| **r) {
-        p.placement = p.fallback.or(p.placement);
+    for (p, &k) in spec.pieces.iter_mut().zip(flat) {
+        match (p.fallback, p.placement) {
+            (Some(f), _) if k >= ROUND => p.placement = Some(f),
+            (Some(_), Some(pl)) if k > 0 => {
+                let bounds = crate::mesh::bounds2(&p.outline.loops[0]);
+                let by = k as f32 * garment::LAYER;
+                p.placement = Some(garment::moved_out(pl, bounds, marks, by));
+            }
+            _ => {}
+        }
     }
     for (p, &more) in spec.pieces.iter_mut().zip(out) {
         if let Some(garment::Placement::Around { out, .. }) = &mut p.placement {
@@ -155,49 +168,45 @@ fn place(
     Ok((spec, said, made, crossed))
 }
 
-/// [`place`], each piece kept flat that starts crossing put on its fallback (marked in
-/// `round`), until none that can starts crossing.
+/// [`place`], each piece kept flat that starts crossing a layer further from the body,
+/// and past [`garment::FLAT_OUT_TRIES`] layers on its fallback (its steps in `flat`),
+/// until none that can starts crossing.
 fn settle(
     cfg: &Source<'_>,
     body: Option<&Body>,
     marks: &Landmarks,
     out: &[f32],
-    round: &mut Vec<bool>,
+    flat: &mut Vec<usize>,
 ) -> Result<Placed, ScenarioError> {
     loop {
-        let (spec, said, made, crossed) = place(cfg, body, marks, out, round)?;
-        round.resize(spec.pieces.len(), false);
+        let (spec, said, made, crossed) = place(cfg, body, marks, out, flat)?;
+        flat.resize(spec.pieces.len(), 0);
         let clear = crossed.self_pairs == 0 && crossed.body_pairs == 0;
-        let swap: Vec<usize> = if clear {
+        let step: Vec<usize> = if clear {
             Vec::new()
         } else {
-            let can = |i: &usize| !round[*i] && spec.pieces[*i].fallback.is_some();
+            let can = |i: &usize| flat[*i] < ROUND && spec.pieces[*i].fallback.is_some();
             let crossing = super::garment::pieces_crossing(&made, body);
             crossing.into_iter().filter(can).collect()
         };
-        if swap.is_empty() {
+        if step.is_empty() {
             return Ok((spec, said, made, crossed));
         }
-        swap.into_iter().for_each(|i| round[i] = true);
+        step.into_iter().for_each(|i| flat[i] += 1);
     }
 }
 
-/// What a designer is told of the pieces kept flat where their file puts them, and of
-/// those that start round the torso instead (`round`): flat, they would start crossing.
-fn kept_flat(spec: &PatternSpec, round: &[bool]) -> Vec<String> {
-    let (mut flat, mut fell) = (Vec::new(), Vec::new());
-    for (i, p) in spec
-        .pieces
-        .iter()
-        .enumerate()
-        .filter(|(_, p)| p.fallback.is_some())
-    {
-        let to = if round.get(i) == Some(&true) {
-            &mut fell
-        } else {
-            &mut flat
-        };
-        to.push(p.name.as_str());
+/// What a designer is told of the pieces kept flat where their file puts them (or
+/// layers further from the body: their steps in `flat`), and of those that start round
+/// the torso instead ([`ROUND`]): flat, they would start crossing.
+fn kept_flat(spec: &PatternSpec, flat: &[usize]) -> Vec<String> {
+    let (mut kept, mut out, mut fell) = (Vec::new(), Vec::new(), Vec::new());
+    for (i, p) in (spec.pieces.iter().enumerate()).filter(|(_, p)| p.fallback.is_some()) {
+        match flat.get(i).copied().unwrap_or(0) {
+            0 => kept.push(p.name.as_str()),
+            k if k >= ROUND => fell.push(p.name.as_str()),
+            k => out.push((p.name.as_str(), k)),
+        }
     }
     // One piece's words, or more than one's.
     let say = |names: &[&str], one: &str, more: &str| {
@@ -205,18 +214,25 @@ fn kept_flat(spec: &PatternSpec, round: &[bool]) -> Vec<String> {
         format!("{} {words}", names.join(", "))
     };
     let mut said = Vec::new();
-    if !flat.is_empty() {
+    if !kept.is_empty() {
         said.push(say(
-            &flat,
+            &kept,
             "starts flat where the file puts it: its top is wider than half the way round the body, and bent round it, it would start over the pieces sewn to its sides",
             "start flat where the file puts them: their tops are wider than half the way round the body, and bent round it, they would start over the pieces sewn to their sides",
         ));
     }
+    for (name, k) in out {
+        said.push(format!(
+            "{name} starts flat {:.1} cm further from the body than the file puts it: its top is wider than half the way round the body, and nearer, it would start through the body or another piece",
+            100.0 * k as f32 * garment::LAYER
+        ));
+    }
     if !fell.is_empty() {
+        let cm = 100.0 * garment::FLAT_OUT_TRIES as f32 * garment::LAYER;
         said.push(say(
             &fell,
-            "starts bent round the body: flat where the file puts it, it would start through the body or another piece",
-            "start bent round the body: flat where the file puts them, they would start through the body or another piece",
+            &format!("starts bent round the body: flat, where the file puts it or up to {cm:.1} cm further from the body, it would start through the body or another piece"),
+            &format!("start bent round the body: flat, where the file puts them or up to {cm:.1} cm further from the body, they would start through the body or another piece"),
         ));
     }
     said

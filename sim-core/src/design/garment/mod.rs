@@ -24,6 +24,7 @@ pub use assemble::LAYER;
 pub use assemble::{Assembled, GarmentError, HOLD_PULL, Sewn, assemble, holds, sew};
 pub(crate) use assemble::{PATTERN_GAP, SIMPLIFY};
 pub use garmentcode::read_garmentcode;
+pub(crate) use garmentcode::{FLAT_OUT_TRIES, moved_out};
 pub use import::{ImportError, load_pattern, own_body, pattern_from_outlines};
 pub use place::{GC_RAISE, Landmarks, MAX_DROP, Place, PlaceError, Placement, Start, place};
 pub use spec::{DEFAULT_FABRIC, EdgeRef, HoldSpec, PatternSpec, PieceSpec, SeamSpec, SpecError};

@@ -59,3 +59,39 @@ pub(crate) fn kept_flat(
         translation: trans + marks.garmentcode,
     })
 }
+
+/// How many layers ([`super::super::LAYER`]) further from the body than its file puts it a
+/// panel kept flat may start, where nearer it would start through the body or another
+/// piece, before it falls back on the torso's cylinder: GarmentCode puts a skirt's back
+/// 12.5 cm behind the axis, against `human`'s seat (its simulator lets a start touch the
+/// body), its front 17.5 cm ahead.
+pub(crate) const FLAT_OUT_TRIES: usize = 4;
+
+/// `placement` (a panel kept flat, whose outline's bounds are `bounds`) moved `by` m
+/// along its normal away from the body's axis; any other placement as it is.
+pub(crate) fn moved_out(
+    placement: Placement,
+    bounds: (Vec2, Vec2),
+    marks: &Landmarks,
+    by: f32,
+) -> Placement {
+    let Placement::Transform {
+        rotation,
+        translation,
+    } = placement
+    else {
+        return placement;
+    };
+    let centre = rotation * ((bounds.0 + bounds.1) * 0.5).extend(0.0) + translation;
+    let radial = Vec2::new(centre.x - marks.axis.x, centre.z - marks.axis.y);
+    let n = rotation * Vec3::Z;
+    let away = if Vec2::new(n.x, n.z).dot(radial) < 0.0 {
+        -n
+    } else {
+        n
+    };
+    Placement::Transform {
+        rotation,
+        translation: translation + away * by,
+    }
+}

@@ -25,6 +25,7 @@ use super::spec::{
 };
 use crate::mesh::mesher::{MeshError, Outline, signed_area2};
 use flat::kept_flat;
+pub(crate) use flat::{FLAT_OUT_TRIES, moved_out};
 
 /// The waist of GarmentCode's average body (`assets/bodies/mean_all.yaml`: `height -
 /// head_l - waist_line` = 108.77 cm), m, in that body's coordinates

@@ -504,3 +504,44 @@ fn only_a_tall_panel_wider_at_its_top_than_half_round_is_kept_flat() {
     let flipped = Mat3::from_rotation_z(std::f32::consts::PI);
     assert_eq!(kept_flat(&ring, flipped, trans, &marks), None);
 }
+
+/// A panel kept flat, moved out, goes along its normal away from the body's axis: a
+/// front forward, a back backward, whichever way its face turns; other placements stay.
+#[test]
+fn a_flat_panel_moves_out_away_from_the_body() {
+    let marks = human_marks();
+    let bounds = (Vec2::new(-0.5, -0.5), Vec2::new(0.5, 0.0));
+    for (z, turn) in [
+        (0.175f32, 0.0f32),
+        (-0.125, 0.0),
+        (-0.125, 180.0),
+        (0.175, 180.0),
+    ] {
+        let rotation = Mat3::from_rotation_y(turn.to_radians());
+        let pl = Placement::Transform {
+            rotation,
+            translation: Vec3::new(0.0, 1.0, z),
+        };
+        match moved_out(pl, bounds, &marks, 0.03) {
+            Placement::Transform {
+                rotation: r,
+                translation,
+            } => {
+                assert_eq!(r, rotation);
+                let want = Vec3::new(0.0, 1.0, z + 0.03 * z.signum());
+                assert!(
+                    (translation - want).length() < 1e-5,
+                    "{translation} for {z} {turn}"
+                );
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+    let around = Placement::Around {
+        angle: 0.0,
+        top: 1.0,
+        mirrored: false,
+        out: 0.0,
+    };
+    assert_eq!(moved_out(around, bounds, &marks, 0.03), around);
+}
