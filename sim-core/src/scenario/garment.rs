@@ -57,40 +57,62 @@ pub fn cut_neckline(design: &mut Design) -> Result<usize, EditError> {
     design.trim(&outline)
 }
 
+/// How the pieces of an assembled pattern start crossed: each piece's pairs of triangles
+/// through the body and through itself, and each two pieces' pairs through each other.
+struct StartCrossings {
+    body: Vec<usize>,
+    own: Vec<usize>,
+    /// `(i, j, pairs)`, `i < j`, in order.
+    between: Vec<(usize, usize, usize)>,
+}
+
+impl StartCrossings {
+    fn of(made: &Assembled, body: Option<&Body>) -> Self {
+        let x = &made.starts;
+        let tris = piece_triangles(made);
+        let boxes: Vec<(glam::Vec3, glam::Vec3)> = (made.ranges.iter())
+            .map(|r| crate::mesh::bounds(&x[r.clone()]))
+            .collect();
+        let own: Vec<usize> = tris.iter().map(|t| crossings::count_self(x, t)).collect();
+        let through = |t: &[[u32; 3]]| body.map_or(0, |b| crossings::count_against_body(x, t, b).1);
+        let mut between = Vec::new();
+        for i in 0..tris.len() {
+            for j in i + 1..tris.len() {
+                let ((alo, ahi), (blo, bhi)) = (boxes[i], boxes[j]);
+                if alo.cmpgt(bhi).any() || blo.cmpgt(ahi).any() {
+                    continue;
+                }
+                let both: Vec<[u32; 3]> = tris[i].iter().chain(&tris[j]).copied().collect();
+                let n = crossings::count_self(x, &both).saturating_sub(own[i] + own[j]);
+                if n > 0 {
+                    between.push((i, j, n));
+                }
+            }
+        }
+        Self {
+            body: tris.iter().map(|t| through(t)).collect(),
+            own,
+            between,
+        }
+    }
+}
+
 /// Which pieces of an assembled pattern start crossed, for the refusal's message: each
 /// piece through the body, through itself, or through another, with its pairs of
 /// triangles ("front through the body in 2 pairs; left_sleeve_f and right_ftorso in 51").
 pub fn crossed_pieces(made: &Assembled, body: Option<&Body>) -> String {
-    let x = &made.starts;
-    let tris = piece_triangles(made);
-    let boxes: Vec<(glam::Vec3, glam::Vec3)> = made
-        .ranges
-        .iter()
-        .map(|r| crate::mesh::bounds(&x[r.clone()]))
-        .collect();
-    let own: Vec<usize> = tris.iter().map(|t| crossings::count_self(x, t)).collect();
+    let c = StartCrossings::of(made, body);
     let name = |i: usize| made.records.get(i).map_or("?", |r| r.name.as_str());
     let mut said = Vec::new();
-    for (i, t) in tris.iter().enumerate() {
-        if let Some(b) = body {
-            let (_, pairs) = crossings::count_against_body(x, t, b);
-            if pairs > 0 {
-                said.push(format!("{} through the body in {pairs}", name(i)));
-            }
+    for i in 0..c.own.len() {
+        if c.body[i] > 0 {
+            said.push(format!("{} through the body in {}", name(i), c.body[i]));
         }
-        if own[i] > 0 {
-            said.push(format!("{} through itself in {}", name(i), own[i]));
+        if c.own[i] > 0 {
+            said.push(format!("{} through itself in {}", name(i), c.own[i]));
         }
-        for j in i + 1..tris.len() {
-            let ((alo, ahi), (blo, bhi)) = (boxes[i], boxes[j]);
-            if alo.cmpgt(bhi).any() || blo.cmpgt(ahi).any() {
-                continue;
-            }
-            let both: Vec<[u32; 3]> = t.iter().chain(&tris[j]).copied().collect();
-            let n = crossings::count_self(x, &both).saturating_sub(own[i] + own[j]);
-            if n > 0 {
-                said.push(format!("{} and {} in {n}", name(i), name(j)));
-            }
+        for &(_, j, n) in c.between.iter().filter(|b| b.0 == i) {
+            said.push(format!("{} and {} in {n}", name(i), name(j)));
         }
     }
     said.join("; ")
@@ -99,29 +121,12 @@ pub fn crossed_pieces(made: &Assembled, body: Option<&Body>) -> String {
 /// The pieces of `made` that start crossing the body, themselves or another piece (both
 /// of two that cross).
 pub(super) fn pieces_crossing(made: &Assembled, body: Option<&Body>) -> Vec<usize> {
-    let x = &made.starts;
-    let tris = piece_triangles(made);
-    let own: Vec<usize> = tris.iter().map(|t| crossings::count_self(x, t)).collect();
-    let mut bad: Vec<bool> = own.iter().map(|&n| n > 0).collect();
-    for i in pieces_through_body(made, body) {
-        bad[i] = true;
+    let c = StartCrossings::of(made, body);
+    let mut bad: Vec<bool> = (0..c.own.len()).map(|i| c.own[i] + c.body[i] > 0).collect();
+    for &(i, j, _) in &c.between {
+        (bad[i], bad[j]) = (true, true);
     }
-    let boxes: Vec<(glam::Vec3, glam::Vec3)> = (made.ranges.iter())
-        .map(|r| crate::mesh::bounds(&x[r.clone()]))
-        .collect();
-    for i in 0..tris.len() {
-        for j in i + 1..tris.len() {
-            let ((alo, ahi), (blo, bhi)) = (boxes[i], boxes[j]);
-            if alo.cmpgt(bhi).any() || blo.cmpgt(ahi).any() {
-                continue;
-            }
-            let both: Vec<[u32; 3]> = tris[i].iter().chain(&tris[j]).copied().collect();
-            if crossings::count_self(x, &both) > own[i] + own[j] {
-                (bad[i], bad[j]) = (true, true);
-            }
-        }
-    }
-    (0..tris.len()).filter(|&i| bad[i]).collect()
+    (0..bad.len()).filter(|&i| bad[i]).collect()
 }
 
 /// Each piece's triangles in `made`'s mesh.
