@@ -482,12 +482,31 @@ fn garmentcode_sleeves_go_round_the_arms_of_the_a_posed_mannequin() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
-/// GarmentCode's circle skirt (two fans 1.57 m wide, `tests/fixtures/`): bent round the
-/// torso's cylinder (1.29 m round) its fans could not start; rolled up on cones round the
-/// body from the waist they do, are sewn at both sides, and hang from the waist, where
-/// they stay once its holds let go (frame 400). Before (2026-11-30) the pattern was
-/// refused as too wide; until 2026-12-01 it ran at 5 substeps and slid 0.53 m down the
-/// hips once let go.
+/// A GarmentCode fixture draped on `human` at `edge` m triangles for `frames` frames, in
+/// a scratch directory named by `tag` (the caller removes it): the report, the cloth's
+/// top (m) and the directory.
+fn drape_fixture(
+    fixture: &str,
+    tag: &str,
+    edge: f32,
+    frames: u64,
+) -> (sim_core::scenario::Report, f32, std::path::PathBuf) {
+    let dir = std::env::temp_dir().join(format!("saiho-{tag}-{}", std::process::id()));
+    let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
+    cfg.pattern = Some(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/fixtures")
+            .join(fixture),
+    );
+    cfg.body = Some(sim_core::collision::BodyKind::Human);
+    cfg.piece_edge = edge;
+    cfg.frames = frames;
+    let r = run_scenario(&cfg, &dir.join("out")).unwrap();
+    let cloth = sim_core::mesh::obj::load_obj(&dir.join("out/cloth.obj")).unwrap();
+    let top = cloth.positions.iter().map(|p| p.y).fold(f32::MIN, f32::max);
+    (r, top, dir)
+}
+
 /// A full circle skirt (seed 13's random design 11): two half rings whose side seams run
 /// along their tops, each wider there than half the way round the body. Bent round the
 /// torso's cylinder, as they started until 2026-12-07, each wrapped past the body's sides
@@ -495,16 +514,12 @@ fn garmentcode_sleeves_go_round_the_arms_of_the_a_posed_mannequin() {
 /// never settled); kept flat where GarmentCode puts them, they are sewn in the air.
 #[test]
 fn a_full_circle_skirt_starts_flat_and_sews_every_pair() {
-    let dir = std::env::temp_dir().join(format!("saiho-gc-full-circle-{}", std::process::id()));
-    let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
-    cfg.pattern = Some(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("tests/fixtures/gc-full-circle-skirt_specification.json"),
+    let (r, top, dir) = drape_fixture(
+        "gc-full-circle-skirt_specification.json",
+        "gc-full-circle",
+        0.04,
+        300,
     );
-    cfg.body = Some(sim_core::collision::BodyKind::Human);
-    cfg.piece_edge = 0.04;
-    cfg.frames = 300;
-    let r = run_scenario(&cfg, &dir.join("out")).unwrap();
     assert!(
         r.notices
             .iter()
@@ -517,25 +532,20 @@ fn a_full_circle_skirt_starts_flat_and_sews_every_pair() {
     assert_eq!(welded, pairs, "{welded} of {pairs} pairs welded");
     assert_eq!((r.crossings_self, r.crossings_body), (0, 0));
     assert!(r.settled);
-    let cloth = sim_core::mesh::obj::load_obj(&dir.join("out/cloth.obj")).unwrap();
-    let top = cloth.positions.iter().map(|p| p.y).fold(f32::MIN, f32::max);
     // Held at the waist (1.09 m) while it settles.
     assert!(top > 1.0 && top < 1.16, "the skirt's top is at {top} m");
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// GarmentCode's circle skirt (two fans 1.57 m wide, `tests/fixtures/`): bent round the
+/// torso's cylinder (1.29 m round) its fans could not start; rolled up on cones round the
+/// body from the waist they do, are sewn at both sides, and hang from the waist, where
+/// they stay once its holds let go (frame 400). Before (2026-11-30) the pattern was
+/// refused as too wide; until 2026-12-01 it ran at 5 substeps and slid 0.53 m down the
+/// hips once let go.
 #[test]
 fn a_garmentcode_circle_skirt_starts_on_cones_and_hangs_from_the_waist() {
-    let dir = std::env::temp_dir().join(format!("saiho-gc-circle-{}", std::process::id()));
-    let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
-    cfg.pattern = Some(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("tests/fixtures/gc-circle-skirt_specification.json"),
-    );
-    cfg.body = Some(sim_core::collision::BodyKind::Human);
-    cfg.piece_edge = 0.04;
-    cfg.frames = 560;
-    let r = run_scenario(&cfg, &dir.join("out")).unwrap();
+    let (r, top, dir) = drape_fixture("gc-circle-skirt_specification.json", "gc-circle", 0.04, 560);
     assert_eq!(r.body, "human");
     assert!(
         !r.notices.iter().any(|n| n.contains("slid")),
@@ -553,7 +563,6 @@ fn a_garmentcode_circle_skirt_starts_on_cones_and_hangs_from_the_waist() {
     assert_eq!(r.substeps, sim_core::scenario::FIRM_SUBSTEPS);
     assert_eq!((r.crossings_self, r.crossings_body), (0, 0));
     let cloth = sim_core::mesh::obj::load_obj(&dir.join("out/cloth.obj")).unwrap();
-    let top = cloth.positions.iter().map(|p| p.y).fold(f32::MIN, f32::max);
     let hem = cloth.positions.iter().map(|p| p.y).fold(f32::MAX, f32::min);
     // It stays round the waist (1.09 m) once let go; fallen, its top would be below the
     // hips (0.8 m; at 5 substeps 0.6 m).
