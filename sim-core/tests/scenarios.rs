@@ -523,7 +523,7 @@ fn a_full_circle_skirt_starts_flat_and_sews_every_pair() {
     assert!(
         r.notices
             .iter()
-            .any(|n| n.contains("start flat where the file puts them")),
+            .any(|n| n.contains("start flat where they were placed")),
         "{:?}",
         r.notices
     );
@@ -534,6 +534,37 @@ fn a_full_circle_skirt_starts_flat_and_sews_every_pair() {
     assert!(r.settled);
     // Held at the waist (1.09 m) while it settles.
     assert!(top > 1.0 && top < 1.16, "the skirt's top is at {top} m");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// A half circle skirt drawn in an SVG (two quarter rings as SVG arcs, named "skirt
+/// front" and "skirt back", `tests/fixtures/`): its fans are found in the outlines and
+/// start on cones at the body's waist, held there while it settles, and it is sewn at
+/// both sides. Until 2026-12-07 an SVG's pieces started round the torso's cylinder from
+/// the shoulders by their names, and this skirt started through the body (the same
+/// skirt for the mannequin crossed it in 295 pairs and was refused).
+#[test]
+fn a_circle_skirt_drawn_in_an_svg_starts_on_cones_at_the_waist() {
+    let (r, top, dir) = drape_fixture("half-circle-skirt.svg", "svg-circle", 0.04, 300);
+    let on_cones = (r.notices.iter())
+        .filter(|n| n.contains("starts on a cone round the body, its top at the waist"))
+        .count();
+    assert_eq!(on_cones, 2, "{:?}", r.notices);
+    assert!(
+        r.ops.held_vertices.unwrap() > 10,
+        "{:?}",
+        r.ops.held_vertices
+    );
+    // The release build welds all 30 pairs on this mesh (39 of 40 at 3 cm: one threaded
+    // round a fold of the other panel); the test profile's arithmetic (opt-level 1)
+    // leaves one of seam A threaded so, 21 mm open, and the run says so.
+    let (pairs, welded) = (r.ops.seam_pairs.unwrap(), r.ops.seam_pairs_welded.unwrap());
+    assert!(pairs >= 16, "{pairs} pairs");
+    assert!(welded + 1 >= pairs, "{welded} of {pairs} pairs welded");
+    assert_eq!((r.crossings_self, r.crossings_body), (0, 0));
+    assert!(r.settled);
+    // On the hips below `human`'s waist (1.11 m), not on the floor.
+    assert!(top > 0.95 && top < 1.15, "the skirt's top is at {top} m");
     std::fs::remove_dir_all(&dir).ok();
 }
 

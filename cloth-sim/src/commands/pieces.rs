@@ -3,7 +3,9 @@
 //! piece that hangs below the shoulders needs under xpbd.
 
 use shared::command::{Command, PieceShape};
-use sim_core::design::garment::{Landmarks, PieceSpec, Place, Placement, Start, load_pattern, sew};
+use sim_core::design::garment::{
+    Landmarks, PieceSpec, Place, Placement, Start, holds, load_pattern, sew,
+};
 use sim_core::design::{Design, EditError};
 use sim_core::mesh::mesher::Outline;
 use sim_core::scenario::FIRM_SUBSTEPS;
@@ -220,11 +222,24 @@ pub(super) fn add_piece(
                 s.a.piece += base;
                 s.b.piece += base;
             }
+            for h in &mut spec.holds {
+                h.edge.piece += base;
+            }
             let sewn = sew(design, &spec, SEAM_PULL).map_err(|e| e.to_string())?;
             let mut msg = format!(
                 "Added the {added} pieces of {path}, {} seams stitched ({} pairs)",
                 sewn.seams, sewn.pairs
             );
+            // A skirt's waist held at the body's while it settles, as the scenarios hold it.
+            let held = holds(design, &spec);
+            if !held.is_empty() {
+                msg += &format!(
+                    "; its waist ({} vertices) held for the first {} frames",
+                    held.len(),
+                    sim_core::design::HOLD_FRAMES
+                );
+                design.hold_while_draping(held);
+            }
             for n in notes.iter().chain(&sewn.open) {
                 msg += &format!("; note: {n}");
             }

@@ -438,6 +438,9 @@ impl Design {
                 self.history.push_redo(edit);
             }
         }
+        // A garment's waist held while it settles (an imported skirt's) may be what was
+        // undone: its vertices are not the garment's any more.
+        self.hold_while_draping(Vec::new());
         Ok(label)
     }
 

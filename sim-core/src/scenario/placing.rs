@@ -217,13 +217,13 @@ fn kept_flat(spec: &PatternSpec, flat: &[usize]) -> Vec<String> {
     if !kept.is_empty() {
         said.push(say(
             &kept,
-            "starts flat where the file puts it: its top is wider than half the way round the body, and bent round it, it would start over the pieces sewn to its sides",
-            "start flat where the file puts them: their tops are wider than half the way round the body, and bent round it, they would start over the pieces sewn to their sides",
+            "starts flat where it was placed: its top is wider than half the way round the body, and bent round it, it would start over the pieces sewn to its sides",
+            "start flat where they were placed: their tops are wider than half the way round the body, and bent round it, they would start over the pieces sewn to their sides",
         ));
     }
     for (name, k) in out {
         said.push(format!(
-            "{name} starts flat {:.1} cm further from the body than the file puts it: its top is wider than half the way round the body, and nearer, it would start through the body or another piece",
+            "{name} starts flat {:.1} cm further from the body than placed: its top is wider than half the way round the body, and nearer, it would start through the body or another piece",
             100.0 * k as f32 * garment::LAYER
         ));
     }
@@ -231,8 +231,8 @@ fn kept_flat(spec: &PatternSpec, flat: &[usize]) -> Vec<String> {
         let cm = 100.0 * garment::FLAT_OUT_TRIES as f32 * garment::LAYER;
         said.push(say(
             &fell,
-            &format!("starts bent round the body: flat, where the file puts it or up to {cm:.1} cm further from the body, it would start through the body or another piece"),
-            &format!("start bent round the body: flat, where the file puts them or up to {cm:.1} cm further from the body, they would start through the body or another piece"),
+            &format!("starts bent round the body: flat, where it was placed or up to {cm:.1} cm further from the body, it would start through the body or another piece"),
+            &format!("start bent round the body: flat, where they were placed or up to {cm:.1} cm further from the body, they would start through the body or another piece"),
         ));
     }
     said

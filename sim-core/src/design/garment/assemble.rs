@@ -379,16 +379,16 @@ pub const HOLD_PULL: f32 = 0.05;
 /// vertices: every border vertex along each held stretch, pulled with at most
 /// [`HOLD_PULL`] N. For [`Design::hold_while_draping`].
 ///
-/// None unless the body is `human`: GarmentCode's plane is its body's waist, and another
-/// body's waist is elsewhere. On the mannequin, held 10 cm above its
-/// own (`GC_RAISE`), GarmentCode's pencil dress and jumpsuit were still moving 100
-/// frames after the holds let go, at twice the frame time; they stay on it without.
+/// GarmentCode's holds hold only on `human`: their plane is its body's waist, and
+/// another body's waist is elsewhere. On the mannequin, held 10 cm above its own
+/// (`GC_RAISE`), GarmentCode's pencil dress and jumpsuit were still moving 100 frames
+/// after the holds let go, at twice the frame time; they stay on it without. A hold
+/// measured on this body (a fan's waist: `HoldSpec::measured`) holds on any.
 pub fn holds(design: &Design, spec: &PatternSpec) -> Vec<crate::solver::Hold> {
     let mut out: Vec<crate::solver::Hold> = Vec::new();
-    if design.sim.body.as_ref().map(|b| b.name.as_str()) != Some(crate::collision::body::HUMAN) {
-        return out;
-    }
-    for h in &spec.holds {
+    let human =
+        design.sim.body.as_ref().map(|b| b.name.as_str()) == Some(crate::collision::body::HUMAN);
+    for h in spec.holds.iter().filter(|h| h.measured || human) {
         let Some(normal) = h.normal.try_normalize() else {
             continue;
         };

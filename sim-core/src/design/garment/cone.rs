@@ -96,7 +96,7 @@ impl Profile {
     }
 
     /// The widest reach in the bands between heights `lo` and `hi`.
-    fn widest(&self, lo: f32, hi: f32) -> f32 {
+    pub fn widest(&self, lo: f32, hi: f32) -> f32 {
         let band = |y: f32| ((y - self.base) / BAND).clamp(0.0, (BANDS - 1) as f32) as usize;
         self.radii[band(lo)..=band(hi).max(band(lo))]
             .iter()

@@ -108,6 +108,29 @@ fn torso(x: &[Vec3], tris: &[[u32; 3]], level: f32, axis: Vec2) -> Option<Torso>
     })
 }
 
+/// The waist's height of the body with vertices `x` and triangles `tris` ([`Figure::of`]'s
+/// waist, found alone: where a skirt drawn in a pattern file starts), m; None when it is
+/// no standing figure.
+pub fn waist_height(x: &[Vec3], tris: &[[u32; 3]]) -> Option<f32> {
+    if x.is_empty() {
+        return None;
+    }
+    let (mn, mx) = bounds(x);
+    let tall = mx.y - mn.y;
+    if tall.is_nan() || tall < MIN_HEIGHT_M {
+        return None;
+    }
+    let axis = Vec2::new(0.5 * (mn.x + mx.x), 0.5 * (mn.z + mx.z));
+    let (lo, hi) = (mn.y + WAIST_BAND.0 * tall, mn.y + WAIST_BAND.1 * tall);
+    let n = ((hi - lo) / STEP_M).floor().max(0.0) as usize;
+    (0..=n)
+        .map(|k| lo + k as f32 * STEP_M)
+        .filter_map(|h| torso(x, tris, h, axis).map(|t| (h, t.tape)))
+        // The last of equal girths, as `Figure::of` picks it.
+        .max_by(|a, b| b.1.total_cmp(&a.1))
+        .map(|(h, _)| h)
+}
+
 impl Figure {
     /// The levels of the body with vertices `x` and triangles `tris`; None when it is no
     /// standing figure (under [`MIN_HEIGHT_M`] tall, or no waist found round its axis).
@@ -140,6 +163,7 @@ impl Figure {
                 .map(|(h, t)| (*h, t.hull.clone()))
         };
         let (waist, waist_hull) = pick(&sample(at(WAIST_BAND.0), at(WAIST_BAND.1)), false)?;
+        debug_assert_eq!(Some(waist), waist_height(x, tris), "the waist found alone");
         // Upward from the waist: the bust, under the arms.
         let above = sample(waist + BUST_FROM_M, at(BUST_TOP + 0.1));
         let armed = above.iter().position(|(_, t)| t.beside > 0);

@@ -111,7 +111,7 @@ pub fn load_pattern(
     })?;
     let mut notices = notices;
     notices.extend(spec.start_where_saved(marks));
-    spec.arrange(marks);
+    notices.extend(spec.arrange(marks));
     Ok((spec, notices))
 }
 

@@ -2,7 +2,8 @@
 //! hand) arranged round the body, meshed, and sewn.
 //!
 //! Inside, bottom up: `cone` (a fan rolled up on a cone round the body) <- `place`
-//! (named places, placements, a body's landmarks) <- `spec`
+//! (named places, placements, a body's landmarks) <- `fans` (a fan drawn in a pattern
+//! file, found in its outline and started at the waist) <- `spec`
 //! (the pattern before it is cloth; arrangement by name) <- `assemble` (layout in the
 //! design's pattern plane, meshing, start positions; sewing) and `import` (pattern files
 //! in: `garmentcode`, and the SVG and DXF readers of `mesh`); `waist` (whether a held
@@ -12,6 +13,7 @@
 mod assemble;
 mod cone;
 mod conform;
+mod fans;
 pub mod fit;
 mod garmentcode;
 mod import;

@@ -13,6 +13,7 @@ use std::f32::consts::{FRAC_PI_2, PI, TAU};
 use glam::{Mat3, Vec2, Vec3};
 
 pub use super::cone::Profile;
+use super::fit::waist_height;
 use crate::collision::Body;
 use crate::collision::body::{ARM_RADIUS, HUMAN, Pose};
 
@@ -182,6 +183,10 @@ pub struct Landmarks {
     /// The torso's and legs' widest reach from the axis at each height, for fans
     /// started on cones.
     pub profile: Profile,
+    /// The body's waist height, m, where it is a standing figure (`fit`'s waist: the
+    /// torso's narrowest girth between 56% and 70% of its height): where a skirt drawn in
+    /// a pattern file starts.
+    pub waist: Option<f32>,
 }
 
 /// GarmentCode's average body (our `human`) stands lower than the mannequin (the tops of
@@ -226,7 +231,10 @@ impl Landmarks {
     /// bounds (an ellipse round its box, no arms), or the floor's (a 1 m wide axis).
     pub fn of(body: Option<&Body>) -> Self {
         match body.map(|b| (b, Pose::of_body(&b.name))) {
-            Some((b, _)) if b.name == HUMAN => Self::human(&b.vertices),
+            Some((b, _)) if b.name == HUMAN => Self {
+                waist: waist_height(&b.vertices, &b.triangles),
+                ..Self::human(&b.vertices)
+            },
             Some((b, Some(pose))) => {
                 let (mn, mx) = b.bounds();
                 let axis = Vec2::new(0.5 * (mn.x + mx.x), 0.5 * (mn.z + mx.z));
@@ -257,6 +265,7 @@ impl Landmarks {
                     arms: Some([arm(1.0), arm(-1.0)]),
                     garmentcode: Vec3::new(axis.x, GC_RAISE, axis.y),
                     profile: Profile::of(&b.vertices, axis, torso.x),
+                    waist: waist_height(&b.vertices, &b.triangles),
                 }
             }
             Some((b, None)) => {
@@ -272,6 +281,7 @@ impl Landmarks {
                     arms: None,
                     garmentcode: Vec3::new(axis.x, GC_RAISE, axis.y),
                     profile: Profile::uniform(mn.y, half.length()),
+                    waist: waist_height(&b.vertices, &b.triangles),
                 }
             }
             None => Self {
@@ -282,6 +292,7 @@ impl Landmarks {
                 arms: None,
                 garmentcode: Vec3::Y * GC_RAISE,
                 profile: Profile::uniform(0.0, 0.0),
+                waist: None,
             },
         }
     }
@@ -313,6 +324,7 @@ impl Landmarks {
             arms: Some([arm(1.0), arm(-1.0)]),
             garmentcode: Vec3::ZERO,
             profile: Profile::of(vertices, axis, torso.x),
+            waist: None,
         }
     }
 

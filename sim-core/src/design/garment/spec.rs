@@ -4,6 +4,7 @@
 
 use glam::Vec2;
 
+use super::fans::{FanStart, fan_start};
 use super::place::{Landmarks, Place, Placement};
 use crate::mesh::mesher::{Outline, signed_area2};
 
@@ -61,6 +62,9 @@ pub struct HoldSpec {
     pub edge: EdgeRef,
     pub normal: glam::Vec3,
     pub level: f32,
+    /// Whether `level` was measured on the body the pattern is placed on (a fan's waist,
+    /// [`super::fans`]); GarmentCode's are its own body's, and hold only on it.
+    pub measured: bool,
 }
 
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -190,8 +194,10 @@ impl PatternSpec {
     /// by side there, 2 cm apart, in the order a viewer facing them reads the body's
     /// right and left, in rows no wider than half the way round the torso, each row 2 cm
     /// below the one before. Tops start above the shoulders, sleeves as far up their arms
-    /// past the shoulder.
-    pub fn arrange(&mut self, marks: &Landmarks) {
+    /// past the shoulder; a row of skirts (pieces so named) no higher than the body's
+    /// waist. A fan (a circle skirt's panel, [`super::fans`]) starts at the waist on a
+    /// cone, or flat where no cone clears the body. Says which pieces start so.
+    pub fn arrange(&mut self, marks: &Landmarks) -> Vec<String> {
         let mut at: Vec<Option<Place>> = Vec::with_capacity(self.pieces.len());
         let mut turn = 0;
         for p in &self.pieces {
@@ -226,6 +232,7 @@ impl PatternSpec {
             };
             at.push(Some(place));
         }
+        let said = self.start_fans(&mut at, marks);
         for place in [
             Place::Front,
             Place::Back,
@@ -266,6 +273,10 @@ impl PatternSpec {
             // densities started so; docs/garments.md).
             let mut top = if arm { -marks.lift } else { marks.shoulders };
             for row in rows_within(&group, |i| size(&self.pieces[i].outline), gap, round) {
+                let skirts = (row.iter()).all(|&(i, _)| is_skirt(&self.pieces[i].name));
+                if let (Some(waist), true, false) = (marks.waist, skirts, arm) {
+                    top = top.min(waist);
+                }
                 let total: f32 =
                     row.iter().map(|r| r.1.x).sum::<f32>() + gap * (row.len() - 1) as f32;
                 let mut s = -0.5 * total;
@@ -277,7 +288,62 @@ impl PatternSpec {
                 top -= row.iter().map(|r| r.1.y).fold(0.0, f32::max) + gap;
             }
         }
+        said
     }
+
+    /// Starts each piece of `at` (placed by its name) that is a fan at the body's waist
+    /// ([`fan_start`]), its top arc held there while it settles, and takes it out of
+    /// `at`; says which.
+    fn start_fans(&mut self, at: &mut [Option<Place>], marks: &Landmarks) -> Vec<String> {
+        let mut said = Vec::new();
+        for (i, p) in self.pieces.iter_mut().enumerate() {
+            let Some(fan) = at[i].and_then(|place| fan_start(&p.outline.loops[0], place, marks))
+            else {
+                continue;
+            };
+            at[i] = None;
+            let waist = marks.waist.unwrap_or_default();
+            self.holds.push(HoldSpec {
+                label: format!("{}'s waist", p.name),
+                edge: EdgeRef {
+                    piece: i,
+                    from: fan.top.0,
+                    to: fan.top.1,
+                },
+                normal: glam::Vec3::Y,
+                level: waist - FAN_HOLD_BELOW,
+                measured: true,
+            });
+            let deg = fan.angle.to_degrees();
+            said.push(match fan.start {
+                FanStart::Cone(on) => {
+                    p.placement = Some(on);
+                    format!(
+                        "{} starts on a cone round the body, its top at the waist ({waist:.2} m up): a fan of {deg:.0} degrees",
+                        p.name
+                    )
+                }
+                FanStart::Flat(flat, round) => {
+                    p.placement = Some(flat);
+                    p.fallback = Some(round);
+                    format!(
+                        "{} starts flat at the waist ({waist:.2} m up): a fan of {deg:.0} degrees, which no cone round the body takes without crossing it",
+                        p.name
+                    )
+                }
+            });
+        }
+        said
+    }
+}
+
+/// How far below the waist a fan's top arc is held while the skirt settles, m: it
+/// starts there, and settles onto the body.
+const FAN_HOLD_BELOW: f32 = 0.03;
+
+/// Whether a piece's name says it is a skirt's.
+fn is_skirt(name: &str) -> bool {
+    name.to_ascii_lowercase().contains("skirt")
 }
 
 /// `place` moved `centre` m round the torso (or its arm) from its middle.
@@ -410,6 +476,7 @@ mod tests {
             arms: None,
             garmentcode: glam::Vec3::ZERO,
             profile: super::super::cone::Profile::uniform(0.0, 0.1),
+            waist: None,
         };
         let mut s = PatternSpec {
             pieces: vec![
@@ -450,6 +517,7 @@ mod tests {
             arms: None,
             garmentcode: glam::Vec3::ZERO,
             profile: super::super::cone::Profile::uniform(0.0, 0.1),
+            waist: None,
         };
         assert!((half_round(Vec2::splat(0.1)) - 0.1 * std::f32::consts::PI).abs() < 1e-6);
         let mut s = PatternSpec {

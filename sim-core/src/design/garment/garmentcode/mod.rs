@@ -59,6 +59,7 @@ fn holds<'a>(
             edge: EdgeRef { piece, from, to },
             normal,
             level,
+            measured: false,
         })
     })
 }

@@ -44,6 +44,7 @@ fn armless(garmentcode: Vec3) -> Landmarks {
         arms: None,
         garmentcode,
         profile: Profile::uniform(0.0, 0.15),
+        waist: None,
     }
 }
 
@@ -167,6 +168,7 @@ fn human_marks() -> Landmarks {
         arms: Some([arm(1.0), arm(-1.0)]),
         garmentcode: Vec3::ZERO,
         profile: Profile::uniform(0.0, 0.15),
+        waist: None,
     }
 }
 

@@ -14,6 +14,7 @@ fn marks() -> Landmarks {
         ]),
         garmentcode: Vec3::ZERO,
         profile: Profile::uniform(0.0, 0.1),
+        waist: None,
     }
 }
 
