@@ -276,6 +276,9 @@ impl PatternSpec {
                 let skirts = (row.iter()).all(|&(i, _)| is_skirt(&self.pieces[i].name));
                 if let (Some(waist), true, false) = (marks.waist, skirts, arm) {
                     top = top.min(waist);
+                    for &(i, _) in &row {
+                        self.hold_top(i, top);
+                    }
                 }
                 let total: f32 =
                     row.iter().map(|r| r.1.x).sum::<f32>() + gap * (row.len() - 1) as f32;
@@ -289,6 +292,22 @@ impl PatternSpec {
             }
         }
         said
+    }
+
+    /// Holds piece `i`'s top (the run of its outline within [`TOP_RUN`] of its highest
+    /// point), starting at height `top`, [`FAN_HOLD_BELOW`] under it while the garment
+    /// settles: a skirt's waist.
+    fn hold_top(&mut self, i: usize, top: f32) {
+        let p = &self.pieces[i];
+        if let Some((from, to)) = top_run(&p.outline.loops[0]) {
+            self.holds.push(HoldSpec {
+                label: format!("{}'s waist", p.name),
+                edge: EdgeRef { piece: i, from, to },
+                normal: glam::Vec3::Y,
+                level: top - FAN_HOLD_BELOW,
+                measured: true,
+            });
+        }
     }
 
     /// Starts each piece of `at` (placed by its name) that is a fan at the body's waist
@@ -340,6 +359,35 @@ impl PatternSpec {
 /// How far below the waist a fan's top arc is held while the skirt settles, m: it
 /// starts there, and settles onto the body.
 const FAN_HOLD_BELOW: f32 = 0.03;
+
+/// How far below a piece's highest point its top run reaches, m.
+const TOP_RUN: f32 = 0.01;
+
+/// The longest run of the closed outline `l`'s points (in its order) within [`TOP_RUN`]
+/// of its highest point: its first and last point. None where it is one point (a
+/// peak), or every point (no top to speak of).
+fn top_run(l: &[Vec2]) -> Option<(Vec2, Vec2)> {
+    let n = l.len();
+    let high = l.iter().map(|p| p.y).fold(f32::MIN, f32::max);
+    let near = |k: usize| l[k % n].y >= high - TOP_RUN;
+    // From a point below the band, so that no run is cut at the loop's start.
+    let low = (0..n).find(|&k| !near(k))?;
+    let (mut best, mut run): (Option<(usize, usize)>, Option<usize>) = (None, None);
+    for k in low..=low + n {
+        match (near(k), run) {
+            (true, None) => run = Some(k),
+            (false, Some(a)) => {
+                if best.is_none_or(|(b0, b1)| k - a > b1 - b0) {
+                    best = Some((a, k));
+                }
+                run = None;
+            }
+            _ => {}
+        }
+    }
+    let (a, b) = best.filter(|(a, b)| b - a >= 2)?;
+    Some((l[a % n], l[(b - 1) % n]))
+}
 
 /// Whether a piece's name says it is a skirt's.
 fn is_skirt(name: &str) -> bool {
@@ -464,6 +512,39 @@ mod tests {
         };
         assert!(matches!(s.normalise(), Err(SpecError::EmptySide { .. })));
         assert_eq!(PatternSpec::default().normalise(), Err(SpecError::NoPieces));
+    }
+
+    /// A piece's top run: the longest run of its outline along its top, in the outline's
+    /// order, wherever the loop starts; none for a peak.
+    #[test]
+    fn a_top_run_is_the_outline_along_the_top_in_its_order() {
+        let v = Vec2::new;
+        // A trapezoid whose top has a point in its middle, counter-clockwise.
+        let mut l = vec![
+            v(0.0, 0.0),
+            v(0.6, 0.0),
+            v(0.5, 0.5),
+            v(0.3, 0.505),
+            v(0.1, 0.5),
+        ];
+        for _ in 0..l.len() {
+            assert_eq!(top_run(&l), Some((v(0.5, 0.5), v(0.1, 0.5))), "{l:?}");
+            l.rotate_left(1);
+        }
+        // A triangle's apex is no run; a waist dipping 5 cm between two stretches of the
+        // top leaves the longer.
+        assert_eq!(top_run(&[v(0.0, 0.0), v(1.0, 0.0), v(0.5, 1.0)]), None);
+        let dip = [
+            v(0.0, 0.0),
+            v(1.0, 0.0),
+            v(1.0, 0.5),
+            v(0.85, 0.5),
+            v(0.7, 0.5),
+            v(0.5, 0.45),
+            v(0.4, 0.5),
+            v(0.0, 0.5),
+        ];
+        assert_eq!(top_run(&dip), Some((v(1.0, 0.5), v(0.7, 0.5))));
     }
 
     #[test]

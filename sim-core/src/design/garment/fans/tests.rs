@@ -149,7 +149,8 @@ fn a_half_ring_starts_flat_at_the_waist_or_else_round_the_body() {
 
 /// The shipped test fixture (SVG arcs, flattened by the reader) arranged on a body with a
 /// waist: both fans on cones at the waist, each with its top arc held just below it; a
-/// rectangle named as a skirt's starts at the waist too, and other pieces as before.
+/// rectangle named as a skirt's starts at the waist too, its top held, and other pieces
+/// as before.
 #[test]
 fn an_svg_circle_skirt_is_arranged_on_cones_with_its_waist_held() {
     let path = concat!(
@@ -189,8 +190,8 @@ fn an_svg_circle_skirt_is_arranged_on_cones_with_its_waist_held() {
         assert_eq!(top, 1.05);
         assert_eq!(angle, if i == 0 { 0.0 } else { PI });
     }
-    assert_eq!(spec.holds.len(), 2);
-    for h in &spec.holds {
+    assert_eq!(spec.holds.len(), 3);
+    for h in &spec.holds[..2] {
         assert!(h.measured && h.normal == Vec3::Y && (h.level - 1.02).abs() < 1e-6);
         // Its ends on the fan's top arc (0.90 m / pi round its centre).
         let outline = &spec.pieces[h.edge.piece].outline.loops[0];
@@ -202,6 +203,14 @@ fn an_svg_circle_skirt_is_arranged_on_cones_with_its_waist_held() {
             );
         }
     }
+    // The skirt's rectangle held by its top side, the way round its outline runs.
+    let h = &spec.holds[2];
+    assert_eq!(h.edge.piece, 2);
+    assert_eq!(
+        (h.edge.from, h.edge.to),
+        (Vec2::new(0.3, 0.4), Vec2::new(0.0, 0.4))
+    );
+    assert!(h.measured && (h.level - 1.02).abs() < 1e-6);
     // The skirt's rectangle at the waist, the yoke from the shoulders.
     let top = |s: &super::super::PatternSpec, i: usize| match s.pieces[i].placement {
         Some(Placement::Around { top, .. }) => top,
