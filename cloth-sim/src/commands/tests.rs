@@ -668,3 +668,33 @@ fn a_removed_seam_says_what_was_unpicked() {
         "{said}"
     );
 }
+
+/// A skirt added from a file in the studio is held by its waist while it settles, as the
+/// scenarios hold it; undoing the import ends the hold (its vertices are gone).
+#[test]
+fn a_skirt_added_from_a_file_is_held_at_the_waist_until_undone() {
+    let mut scene = ScenarioConfig::new(ScenarioName::DrapeMannequin);
+    scene.grid = 4;
+    scene.body = Some(sim_core::collision::BodyKind::Human);
+    let mut d = build_design(&scene).unwrap();
+    let skirt = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../sim-core/tests/fixtures/half-circle-skirt.svg"
+    );
+    let shape = PieceShape::File { path: skirt.into() };
+    let at = sim_core::design::garment::Place::Front.into();
+    let said = add_piece(&mut d, &shape, at, 0.05).unwrap();
+    assert!(said.contains("held for the first 400 frames"), "{said}");
+    assert!(said.contains("starts on a cone round the body"), "{said}");
+    let (held, frames) = d.held();
+    assert!(held.len() > 10 && frames == 400, "{} {frames}", held.len());
+    // Every held vertex is on the skirt's pieces, at their tops.
+    let tops = held.iter().map(|h| d.sim.cloth.x[h.vertex as usize].y);
+    assert!(
+        tops.clone().all(|y| y > 1.0 && y < 1.2),
+        "{:?}",
+        tops.collect::<Vec<_>>()
+    );
+    d.undo().unwrap();
+    assert!(d.held().0.is_empty());
+}
