@@ -67,7 +67,8 @@ pub(super) fn placed_garment(
             } + &(said.iter())
                 .filter(|n| n.contains("placed for another body"))
                 .map(|n| format!("; {n}"))
-                .collect::<String>(),
+                .collect::<String>()
+                + arms_hint(&made, body),
         }
     };
     let (mut k, mut lifted) = (0, None);
@@ -113,6 +114,20 @@ pub(super) fn placed_garment(
         }
     }
     Err(refused)
+}
+
+/// What a refusal adds where a piece on a cone (a circle skirt's) starts through a body
+/// whose arms hang beside its hips: a cone round the torso passes them.
+fn arms_hint(made: &garment::Assembled, body: Option<&Body>) -> &'static str {
+    let hanging = body.is_some_and(|b| b.name == "mannequin");
+    let on_cone =
+        (made.records.iter()).any(|r| matches!(r.placement, Some(garment::Placement::Cone { .. })));
+    if hanging && on_cone {
+        "; a skirt on a cone round the body passes the mannequin's hanging arms: \
+         `--body mannequin-apose` holds them clear"
+    } else {
+        ""
+    }
 }
 
 /// A pattern placed and assembled: its spec, what its reading said, the cloth, and how

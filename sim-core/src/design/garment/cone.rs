@@ -26,8 +26,8 @@ pub const CLEARANCE: f32 = 0.015;
 /// The longest fan, and the highest top above the feet, a cone is sought for, m.
 const MOST: f32 = 10.0;
 
-/// How far round the body a fan may go, as a share of half the way: a circle skirt's
-/// front and back each go less than half way round, with a gap at either side.
+/// How far round the body a fan may go, as a share of the way allotted to it (half of
+/// it for each of a circle skirt's front and back): a gap is left at either side.
 const HALF_ROUND: f32 = 0.95;
 
 /// The least angle of a fan (radians) for it to start on a cone: 45 degrees. A narrower
@@ -188,6 +188,20 @@ pub fn extent(outline: &[Vec2], centre: Vec2, m: Vec2) -> (f32, f32) {
 /// [`HALF_ROUND`] of half the way round. None if no cone does (a fan whose top is tighter
 /// than the body's waist: even laid flat, a ring at `top`, it would start inside it).
 pub fn cone_sine(angle: f32, inner: f32, outer: f32, top: f32, profile: &Profile) -> Option<f32> {
+    cone_sine_within(angle, inner, outer, top, profile, 0.5)
+}
+
+/// [`cone_sine`] for a fan that may go `share` of the way round (a half for one of a
+/// front and a back; nearly all of it for a skirt of one fan sewn to itself), at most
+/// [`HALF_ROUND`] of that.
+pub fn cone_sine_within(
+    angle: f32,
+    inner: f32,
+    outer: f32,
+    top: f32,
+    profile: &Profile,
+    share: f32,
+) -> Option<f32> {
     let clears = |s: f32| {
         let c = (1.0 - s * s).max(0.0).sqrt();
         let bottom = top - (outer - inner) * c;
@@ -212,7 +226,7 @@ pub fn cone_sine(angle: f32, inner: f32, outer: f32, top: f32, profile: &Profile
             y = lo;
         }
     };
-    let least = angle / (HALF_ROUND * std::f32::consts::PI);
+    let least = angle / (HALF_ROUND * std::f32::consts::TAU * share.clamp(0.0, 1.0));
     // A fan longer, or a top higher above the feet, than any garment's (a file's
     // nonsense) has no cone: and the bands walked down it stay few.
     let sane = inner > 0.0 && outer > inner && outer - inner < MOST && top - profile.base < MOST;

@@ -185,11 +185,33 @@ pub struct FanAt {
     pub top: (Vec2, Vec2),
 }
 
+/// How near a seam's end must be to a fan's top arc and to its hem, m, for the seam to
+/// join the fan's two sides ([`closes_itself`]).
+const ON_ARC: f32 = 0.01;
+
+/// Whether a seam of a fan with itself, its two sides `sides` (each its ends), joins the
+/// fan's two straight sides: each runs from the top arc (radius `fan.inner`) to the hem
+/// (`outer`), as a circle skirt of one piece is sewn at its back. A dart's legs do not.
+pub fn closes_itself(fan: &Fan, outer: f32, sides: [(Vec2, Vec2); 2]) -> bool {
+    let at = |p: Vec2, r: f32| ((p - fan.centre).length() - r).abs() < ON_ARC;
+    let spans = |(a, b): (Vec2, Vec2)| {
+        (at(a, fan.inner) && at(b, outer)) || (at(b, fan.inner) && at(a, outer))
+    };
+    sides.into_iter().all(spans)
+}
+
 /// Where piece `outline` (its own coordinates, y up), placed by its name at `place`,
 /// starts if it is a fan that opens downward (a circle skirt's panel) of at least
-/// [`cone::FAN_MIN`] on a body whose waist is known. None for any other piece, or at an
-/// arm.
-pub fn fan_start(outline: &[Vec2], place: Place, marks: &Landmarks) -> Option<FanAt> {
+/// [`cone::FAN_MIN`] on a body whose waist is known. A fan sewn to itself (`seams`: the
+/// piece's seams with itself, each side's ends; [`closes_itself`]) is a skirt of one
+/// piece, and may go nearly all the way round; another, half of it. None for any other
+/// piece, or at an arm.
+pub fn fan_start(
+    outline: &[Vec2],
+    place: Place,
+    marks: &Landmarks,
+    seams: &[[(Vec2, Vec2); 2]],
+) -> Option<FanAt> {
     let phi = match place {
         Place::Front => 0.0,
         Place::LeftSide => FRAC_PI_2,
@@ -208,7 +230,11 @@ pub fn fan_start(outline: &[Vec2], place: Place, marks: &Landmarks) -> Option<Fa
     if angle < cone::FAN_MIN {
         return None;
     }
-    if let Some(sine) = cone::cone_sine(angle, fan.inner, outer, waist, &marks.profile) {
+    let alone = seams.iter().any(|&s| closes_itself(&fan, outer, s));
+    let share = if alone { 1.0 } else { 0.5 };
+    if let Some(sine) =
+        cone::cone_sine_within(angle, fan.inner, outer, waist, &marks.profile, share)
+    {
         let on = Placement::Cone {
             angle: phi,
             top: waist,

@@ -316,8 +316,12 @@ impl PatternSpec {
     fn start_fans(&mut self, at: &mut [Option<Place>], marks: &Landmarks) -> Vec<String> {
         let mut said = Vec::new();
         for (i, p) in self.pieces.iter_mut().enumerate() {
-            let Some(fan) = at[i].and_then(|place| fan_start(&p.outline.loops[0], place, marks))
-            else {
+            let own: Vec<[(Vec2, Vec2); 2]> = (self.seams.iter())
+                .filter(|s| s.a.piece == i && s.b.piece == i)
+                .map(|s| [(s.a.from, s.a.to), (s.b.from, s.b.to)])
+                .collect();
+            let outline = &p.outline.loops[0];
+            let Some(fan) = at[i].and_then(|place| fan_start(outline, place, marks, &own)) else {
                 continue;
             };
             at[i] = None;

@@ -92,7 +92,7 @@ fn started(outline: &[Vec2], placement: &Placement, marks: &Landmarks) -> Vec<Ve
 fn a_quarter_ring_starts_on_a_cone_at_the_waist() {
     let marks = body();
     let outline = fan(Vec2::new(0.3, 0.0), 0.24, 0.84, 90.0, 48);
-    let fan = fan_start(&outline, Place::Back, &marks).unwrap();
+    let fan = fan_start(&outline, Place::Back, &marks, &[]).unwrap();
     assert!((fan.angle.to_degrees() - 90.0).abs() < 0.5, "{}", fan.angle);
     let FanStart::Cone(on) = fan.start else {
         panic!("{:?}", fan.start)
@@ -116,7 +116,7 @@ fn a_half_ring_starts_flat_at_the_waist_or_else_round_the_body() {
     let marks = body();
     let outline = fan(Vec2::new(0.7, 0.0), 0.12, 0.67, 180.0, 96);
     for (place, side) in [(Place::Front, 1.0), (Place::Back, -1.0)] {
-        let fan = fan_start(&outline, place, &marks).unwrap();
+        let fan = fan_start(&outline, place, &marks, &[]).unwrap();
         let FanStart::Flat(flat, round) = fan.start else {
             panic!("{:?}", fan.start)
         };
@@ -140,11 +140,11 @@ fn a_half_ring_starts_flat_at_the_waist_or_else_round_the_body() {
         waist: None,
         ..marks
     };
-    assert_eq!(fan_start(&outline, Place::Front, &no_waist), None);
+    assert_eq!(fan_start(&outline, Place::Front, &no_waist, &[]), None);
     // Nor at an arm, nor for a fan that opens upward.
-    assert_eq!(fan_start(&outline, Place::LeftArm, &marks), None);
+    assert_eq!(fan_start(&outline, Place::LeftArm, &marks, &[]), None);
     let up: Vec<Vec2> = outline.iter().map(|p| Vec2::new(p.x, -p.y)).rev().collect();
-    assert_eq!(fan_start(&up, Place::Front, &marks), None);
+    assert_eq!(fan_start(&up, Place::Front, &marks, &[]), None);
 }
 
 /// The shipped test fixture (SVG arcs, flattened by the reader) arranged on a body with a
@@ -229,4 +229,58 @@ fn an_svg_circle_skirt_is_arranged_on_cones_with_its_waist_held() {
     );
     assert!(spec.holds.is_empty());
     assert_eq!(top(&spec, 0), 1.5);
+}
+
+/// A half circle skirt cut in one piece, a fan of 180 degrees sewn to itself at the back,
+/// goes nearly all the way round on a cone; the same fan not sewn to itself (one of a
+/// front and a back) cannot go more than half way, and starts flat. A dart's legs are no
+/// such seam.
+#[test]
+fn a_fan_sewn_to_itself_goes_round_on_one_cone() {
+    let marks = body();
+    let centre = Vec2::new(0.9, 0.0);
+    let (r, big) = (0.9 / PI, 0.9 / PI + 0.55);
+    let outline = fan(centre, r, big, 180.0, 96);
+    let side = |s: f32| {
+        (
+            centre + Vec2::new(s * r, 0.0),
+            centre + Vec2::new(s * big, 0.0),
+        )
+    };
+    let back = [side(-1.0), side(1.0)];
+    assert!(closes_itself(&fan_in(&outline).unwrap().0, big, back));
+    let dart = [
+        (
+            centre + Vec2::new(0.0, -0.4),
+            centre + Vec2::new(0.02, -0.6),
+        ),
+        (
+            centre + Vec2::new(0.04, -0.4),
+            centre + Vec2::new(0.02, -0.6),
+        ),
+    ];
+    assert!(!closes_itself(&fan_in(&outline).unwrap().0, big, dart));
+    let one = fan_start(&outline, Place::Front, &marks, &[back]).unwrap();
+    let FanStart::Cone(on) = one.start else {
+        panic!("{:?}", one.start)
+    };
+    let x = started(&outline, &on, &marks);
+    // Round the body from the front on the narrowest cone that clears it (here 312
+    // degrees round, where one of two fans goes at most 171): its two sides near the
+    // back.
+    let round = |p: &Vec3| (p.x - marks.axis.x).atan2(p.z - marks.axis.y);
+    // The hem's two ends (the outline's first point and its 97th).
+    let (a, b) = (round(&x[0]), round(&x[96]));
+    assert!(
+        a.abs() > 0.85 * PI && b.abs() > 0.85 * PI && a * b < 0.0,
+        "{a} {b}"
+    );
+    for (seams, what) in [(&[][..], "no seam"), (&[dart][..], "a dart")] {
+        let other = fan_start(&outline, Place::Front, &marks, seams).unwrap();
+        assert!(
+            matches!(other.start, FanStart::Flat(..)),
+            "{what}: {:?}",
+            other.start
+        );
+    }
 }
