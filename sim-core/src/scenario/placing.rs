@@ -68,7 +68,7 @@ pub(super) fn placed_garment(
                 .filter(|n| n.contains("placed for another body"))
                 .map(|n| format!("; {n}"))
                 .collect::<String>()
-                + arms_hint(&made, body),
+                + arms_hint(made, body),
         }
     };
     let (mut k, mut lifted) = (0, None);
