@@ -568,6 +568,47 @@ fn a_circle_skirt_drawn_in_an_svg_starts_on_cones_at_the_waist() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// A half circle skirt cut in one piece (a fan of 180 degrees sewn to itself at the back,
+/// `tests/fixtures/`) goes round `human` on one cone from the waist, more than half way,
+/// and is sewn closed at the back; until 2026-12-07 it started flat in front and before
+/// that it was refused as too wide. On the mannequin whose arms hang beside its hips the
+/// cone starts through them: refused, the A-posed mannequin named as the way out.
+#[test]
+fn a_circle_skirt_cut_in_one_piece_goes_round_on_one_cone() {
+    let (r, top, dir) = drape_fixture("one-piece-circle-skirt.svg", "svg-one-fan", 0.04, 300);
+    assert!(
+        (r.notices.iter()).any(|n| n.contains("skirt starts on a cone round the body")),
+        "{:?}",
+        r.notices
+    );
+    let (pairs, welded) = (r.ops.seam_pairs.unwrap(), r.ops.seam_pairs_welded.unwrap());
+    assert!(
+        pairs >= 10 && welded == pairs,
+        "{welded} of {pairs} pairs welded"
+    );
+    assert_eq!((r.crossings_self, r.crossings_body), (0, 0));
+    assert!(top > 0.95 && top < 1.15, "the skirt's top is at {top} m");
+    std::fs::remove_dir_all(&dir).ok();
+
+    let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
+    cfg.pattern = Some(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/fixtures/one-piece-circle-skirt.svg"),
+    );
+    cfg.body = Some(sim_core::collision::BodyKind::Mannequin);
+    cfg.piece_edge = 0.04;
+    cfg.frames = 1;
+    let out = dir.join("hanging");
+    let e = run_scenario(&cfg, &out).unwrap_err().to_string();
+    assert!(e.contains("(skirt through the body in "), "{e}");
+    assert!(
+        e.contains("`--body mannequin-apose` holds them clear"),
+        "{e}"
+    );
+    assert!(!out.join("report.json").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
 /// GarmentCode's circle skirt (two fans 1.57 m wide, `tests/fixtures/`): bent round the
 /// torso's cylinder (1.29 m round) its fans could not start; rolled up on cones round the
 /// body from the waist they do, are sewn at both sides, and hang from the waist, where
