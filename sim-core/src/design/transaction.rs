@@ -439,8 +439,10 @@ impl Design {
             }
         }
         // A garment's waist held while it settles (an imported skirt's) may be what was
-        // undone: its vertices are not the garment's any more.
-        self.hold_while_draping(Vec::new());
+        // undone: the holds of vertices gone with it go too, so that a piece added later
+        // in their places is not held.
+        let live = &self.sim.cloth.live;
+        self.holds.retain(|h| live.vertex_alive(h.vertex));
         Ok(label)
     }
 
