@@ -201,8 +201,10 @@ pub(super) fn add_piece(
             let marks = Landmarks::of(design.sim.body.as_ref());
             let (mut spec, notes) =
                 load_pattern(std::path::Path::new(path), &marks).map_err(|e| e.to_string())?;
-            if spec.pieces.len() == 1 {
-                // One piece goes where the designer asked, not where its name says.
+            if spec.pieces.len() == 1 && spec.seams.is_empty() && spec.holds.is_empty() {
+                // One piece goes where the designer asked, not where its name says (a
+                // circle skirt cut in one piece, sewn to itself and held at the waist,
+                // goes where its fan does, below).
                 spec.pieces[0].placement = None;
                 spec.pieces[0].fallback = None;
                 return one(design, spec.pieces.remove(0));
@@ -226,8 +228,13 @@ pub(super) fn add_piece(
                 h.edge.piece += base;
             }
             let sewn = sew(design, &spec, SEAM_PULL).map_err(|e| e.to_string())?;
+            let pieces = if added == 1 {
+                "the piece".to_string()
+            } else {
+                format!("the {added} pieces")
+            };
             let mut msg = format!(
-                "Added the {added} pieces of {path}, {} seams stitched ({} pairs)",
+                "Added {pieces} of {path}, {} seams stitched ({} pairs)",
                 sewn.seams, sewn.pairs
             );
             // A skirt's waist held at the body's while it settles, as the scenarios hold it.

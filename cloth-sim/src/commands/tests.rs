@@ -695,7 +695,23 @@ fn a_skirt_added_from_a_file_is_held_at_the_waist_until_undone() {
         "{:?}",
         tops.collect::<Vec<_>>()
     );
-    // Undone to before the import: the pieces are gone, and their holds with them.
+    // A circle skirt cut in one piece goes round on its cone, sewn at its back and held,
+    // not where a single piece added goes (bent round the torso it was too wide).
+    let one = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../sim-core/tests/fixtures/one-piece-circle-skirt.svg"
+    );
+    let shape = PieceShape::File { path: one.into() };
+    let mut fresh = build_design(&scene).unwrap();
+    let said = add_piece(&mut fresh, &shape, at, 0.05).unwrap();
+    assert!(said.starts_with("Added the piece of"), "{said}");
+    assert!(said.contains("1 seams stitched"), "{said}");
+    assert!(
+        said.contains("skirt starts on a cone round the body"),
+        "{said}"
+    );
+    assert!(said.contains("held for the first 400 frames"), "{said}");
+    // Undone to before the imports: the pieces are gone, and their holds with them.
     let pieces = d.pieces.len();
     while d.undo().is_ok() {}
     assert!(d.pieces.len() < pieces);
