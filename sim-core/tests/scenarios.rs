@@ -568,6 +568,34 @@ fn a_circle_skirt_drawn_in_an_svg_starts_on_cones_at_the_waist() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// GarmentCode's circle skirt on the mannequin: its waistband, which GarmentCode holds at
+/// its own body's waist, is held at the mannequin's (1.17 m) while it settles, since the
+/// skirt hangs from it. Unheld, as until 2026-12-07, it fell to the mannequin's feet.
+#[test]
+fn a_garmentcode_skirt_on_another_body_is_held_at_that_bodys_waist() {
+    let dir = std::env::temp_dir().join(format!("saiho-gc-held-{}", std::process::id()));
+    let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
+    cfg.pattern = Some(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/fixtures/gc-circle-skirt_specification.json"),
+    );
+    cfg.body = Some(sim_core::collision::BodyKind::Mannequin);
+    cfg.piece_edge = 0.05;
+    cfg.frames = 120;
+    let r = run_scenario(&cfg, &dir.join("out")).unwrap();
+    let cloth = sim_core::mesh::obj::load_obj(&dir.join("out/cloth.obj")).unwrap();
+    let low = cloth.positions.iter().map(|p| p.y).fold(f32::MAX, f32::min);
+    std::fs::remove_dir_all(&dir).ok();
+    assert!(
+        r.ops.held_vertices.unwrap_or(0) > 20,
+        "{:?}",
+        r.ops.held_vertices
+    );
+    assert_eq!((r.crossings_self, r.crossings_body), (0, 0));
+    // Hanging from the waist, not lying on the floor.
+    assert!(low > 0.2, "the skirt's lowest point is at {low} m");
+}
+
 /// A half circle skirt cut in one piece (a fan of 180 degrees sewn to itself at the back,
 /// `tests/fixtures/`) goes round `human` on one cone from the waist, more than half way,
 /// and is sewn closed at the back; until 2026-12-07 it started flat in front and before

@@ -5,7 +5,8 @@ use glam::{Vec2, Vec3};
 
 use super::conform::{self, SeamSides, arc, project};
 use super::place::{Landmarks, Place, PlaceError, Placement, place};
-use super::spec::{EdgeRef, PatternSpec, PieceSpec, SpecError};
+use super::spec::{EdgeRef, HOLD_BELOW_WAIST, PatternSpec, PieceSpec, SpecError};
+use super::waist::{ABOVE, cloth_top};
 use crate::design::{Design, EditError, PieceRecord};
 use crate::mesh::mesher::{self, Border, MeshError, Outline};
 use crate::mesh::{ClothMesh, MAX_VERTICES, bounds2};
@@ -379,25 +380,45 @@ pub const HOLD_PULL: f32 = 0.05;
 /// vertices: every border vertex along each held stretch, pulled with at most
 /// [`HOLD_PULL`] N. For [`Design::hold_while_draping`].
 ///
-/// GarmentCode's holds hold only on `human`: their plane is its body's waist, and
-/// another body's waist is elsewhere. On the mannequin, held 10 cm above its own
-/// (`GC_RAISE`), GarmentCode's pencil dress and jumpsuit were still moving 100 frames
-/// after the holds let go, at twice the frame time; they stay on it without. A hold
-/// measured on this body (a fan's waist: `HoldSpec::measured`) holds on any.
+/// A hold measured on this body (a fan's or a skirt's waist: `HoldSpec::measured`) holds
+/// as it is. GarmentCode's plane is its own body's waist, `human`'s; on another body
+/// whose waist is known, a garment that hangs from the held stretch (a skirt, trousers:
+/// none of its cloth more than [`ABOVE`] higher) is held at that body's waist instead
+/// (GarmentCode's circle skirts fell to the mannequin's feet unheld), and one that does
+/// not is not held: on the mannequin, held 10 cm above its own waist (`GC_RAISE`),
+/// GarmentCode's pencil dress and jumpsuit were still moving 100 frames after the holds
+/// let go, at twice the frame time; they stay on it without.
 pub fn holds(design: &Design, spec: &PatternSpec) -> Vec<crate::solver::Hold> {
     let mut out: Vec<crate::solver::Hold> = Vec::new();
     let human =
         design.sim.body.as_ref().map(|b| b.name.as_str()) == Some(crate::collision::body::HUMAN);
-    for h in spec.holds.iter().filter(|h| h.measured || human) {
+    let waist = if human {
+        None
+    } else {
+        Landmarks::of(design.sim.body.as_ref()).waist
+    };
+    let top = cloth_top(design);
+    let x = &design.sim.cloth.x;
+    for h in &spec.holds {
         let Some(normal) = h.normal.try_normalize() else {
             continue;
         };
-        for vertex in stretch(design, &h.edge).0 {
+        let held = stretch(design, &h.edge).0;
+        let level = if h.measured || human {
+            h.level
+        } else {
+            let mean = held.iter().map(|&v| x[v as usize].y).sum::<f32>() / held.len() as f32;
+            match waist {
+                Some(w) if !held.is_empty() && top <= mean + ABOVE => w - HOLD_BELOW_WAIST,
+                _ => continue,
+            }
+        };
+        for vertex in held {
             if !out.iter().any(|o| o.vertex == vertex) {
                 out.push(crate::solver::Hold {
                     vertex,
                     normal,
-                    level: h.level,
+                    level,
                     max_force: HOLD_PULL,
                 });
             }

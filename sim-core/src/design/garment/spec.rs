@@ -62,8 +62,9 @@ pub struct HoldSpec {
     pub edge: EdgeRef,
     pub normal: glam::Vec3,
     pub level: f32,
-    /// Whether `level` was measured on the body the pattern is placed on (a fan's waist,
-    /// [`super::fans`]); GarmentCode's are its own body's, and hold only on it.
+    /// Whether `level` was measured on the body the pattern is placed on (a fan's or a
+    /// skirt's waist, [`super::fans`]); GarmentCode's are its own body's, and on another
+    /// body move to that body's waist (`assemble::holds`).
     pub measured: bool,
 }
 
@@ -295,7 +296,7 @@ impl PatternSpec {
     }
 
     /// Holds piece `i`'s top (the run of its outline within [`TOP_RUN`] of its highest
-    /// point), starting at height `top`, [`FAN_HOLD_BELOW`] under it while the garment
+    /// point), starting at height `top`, [`HOLD_BELOW_WAIST`] under it while the garment
     /// settles: a skirt's waist.
     fn hold_top(&mut self, i: usize, top: f32) {
         let p = &self.pieces[i];
@@ -304,7 +305,7 @@ impl PatternSpec {
                 label: format!("{}'s waist", p.name),
                 edge: EdgeRef { piece: i, from, to },
                 normal: glam::Vec3::Y,
-                level: top - FAN_HOLD_BELOW,
+                level: top - HOLD_BELOW_WAIST,
                 measured: true,
             });
         }
@@ -334,7 +335,7 @@ impl PatternSpec {
                     to: fan.top.1,
                 },
                 normal: glam::Vec3::Y,
-                level: waist - FAN_HOLD_BELOW,
+                level: waist - HOLD_BELOW_WAIST,
                 measured: true,
             });
             let deg = fan.angle.to_degrees();
@@ -360,9 +361,9 @@ impl PatternSpec {
     }
 }
 
-/// How far below the waist a fan's top arc is held while the skirt settles, m: it
-/// starts there, and settles onto the body.
-const FAN_HOLD_BELOW: f32 = 0.03;
+/// How far below the waist a skirt's waist is held while it settles, m: it starts
+/// there, and settles onto the body.
+pub(super) const HOLD_BELOW_WAIST: f32 = 0.03;
 
 /// How far below a piece's highest point its top run reaches, m.
 const TOP_RUN: f32 = 0.01;
