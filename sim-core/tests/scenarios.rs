@@ -346,7 +346,9 @@ fn a_garmentcode_waistband_is_held_at_the_waist_while_the_skirt_settles() {
     assert_eq!(n, Some(0));
     assert!(!said.iter().any(|n| n.contains("waist")), "{said:?}");
     assert!(free < 0.95, "the free skirt's top is at {free} m");
-    // Their waist is their body's: on the mannequin nothing is held.
+    // Their waist is their body's: on the mannequin the skirt, which hangs from it, is held
+    // at the mannequin's own waist (until 2026-12-07 nothing was held there, and
+    // GarmentCode's circle skirts fell to its feet).
     let (r, dir) = drape_gc(
         None,
         "waistband-mannequin",
@@ -359,9 +361,11 @@ fn a_garmentcode_waistband_is_held_at_the_waist_while_the_skirt_settles() {
         1,
     );
     let r = r.unwrap();
-    assert_eq!(
-        (r.body.as_str(), r.ops.held_vertices),
-        ("mannequin", Some(0))
+    assert_eq!(r.body, "mannequin");
+    assert!(
+        r.ops.held_vertices.unwrap() >= 2 * 60 / 4,
+        "{:?}",
+        r.ops.held_vertices
     );
     std::fs::remove_dir_all(&dir).ok();
 }
