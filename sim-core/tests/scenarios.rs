@@ -3,6 +3,7 @@
 // Test helpers: a failed unwrap is a failed test, with its location.
 #![allow(clippy::unwrap_used)]
 
+use sim_core::collision::BodyKind;
 use sim_core::design::Design;
 use sim_core::design::garment::Placement;
 use sim_core::scenario::{Report, ScenarioConfig, ScenarioName, run_scenario};
@@ -486,6 +487,21 @@ fn garmentcode_sleeves_go_round_the_arms_of_the_a_posed_mannequin() {
     std::fs::remove_dir_all(&dir).ok();
 }
 
+/// `drape-pattern` of the fixture `fixture` (`tests/fixtures/`) on `body` at `edge` m
+/// triangles for `frames` frames.
+fn fixture_cfg(fixture: &str, body: BodyKind, edge: f32, frames: u64) -> ScenarioConfig {
+    let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
+    cfg.pattern = Some(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/fixtures")
+            .join(fixture),
+    );
+    cfg.body = Some(body);
+    cfg.piece_edge = edge;
+    cfg.frames = frames;
+    cfg
+}
+
 /// A GarmentCode fixture draped on `human` at `edge` m triangles for `frames` frames, in
 /// a scratch directory named by `tag` (the caller removes it): the report, the cloth's
 /// top (m) and the directory.
@@ -496,15 +512,7 @@ fn drape_fixture(
     frames: u64,
 ) -> (sim_core::scenario::Report, f32, std::path::PathBuf) {
     let dir = std::env::temp_dir().join(format!("saiho-{tag}-{}", std::process::id()));
-    let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
-    cfg.pattern = Some(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("tests/fixtures")
-            .join(fixture),
-    );
-    cfg.body = Some(sim_core::collision::BodyKind::Human);
-    cfg.piece_edge = edge;
-    cfg.frames = frames;
+    let cfg = fixture_cfg(fixture, BodyKind::Human, edge, frames);
     let r = run_scenario(&cfg, &dir.join("out")).unwrap();
     let cloth = sim_core::mesh::obj::load_obj(&dir.join("out/cloth.obj")).unwrap();
     let top = cloth.positions.iter().map(|p| p.y).fold(f32::MIN, f32::max);
@@ -578,14 +586,12 @@ fn a_circle_skirt_drawn_in_an_svg_starts_on_cones_at_the_waist() {
 #[test]
 fn a_garmentcode_skirt_on_another_body_is_held_at_that_bodys_waist() {
     let dir = std::env::temp_dir().join(format!("saiho-gc-held-{}", std::process::id()));
-    let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
-    cfg.pattern = Some(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("tests/fixtures/gc-circle-skirt_specification.json"),
+    let cfg = fixture_cfg(
+        "gc-circle-skirt_specification.json",
+        BodyKind::Mannequin,
+        0.05,
+        120,
     );
-    cfg.body = Some(sim_core::collision::BodyKind::Mannequin);
-    cfg.piece_edge = 0.05;
-    cfg.frames = 120;
     let r = run_scenario(&cfg, &dir.join("out")).unwrap();
     let cloth = sim_core::mesh::obj::load_obj(&dir.join("out/cloth.obj")).unwrap();
     let low = cloth.positions.iter().map(|p| p.y).fold(f32::MAX, f32::min);
@@ -622,14 +628,7 @@ fn a_circle_skirt_cut_in_one_piece_goes_round_on_one_cone() {
     assert!(top > 0.95 && top < 1.15, "the skirt's top is at {top} m");
     std::fs::remove_dir_all(&dir).ok();
 
-    let mut cfg = ScenarioConfig::new(ScenarioName::DrapePattern);
-    cfg.pattern = Some(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("tests/fixtures/one-piece-circle-skirt.svg"),
-    );
-    cfg.body = Some(sim_core::collision::BodyKind::Mannequin);
-    cfg.piece_edge = 0.04;
-    cfg.frames = 1;
+    let cfg = fixture_cfg("one-piece-circle-skirt.svg", BodyKind::Mannequin, 0.04, 1);
     let out = dir.join("hanging");
     let e = run_scenario(&cfg, &out).unwrap_err().to_string();
     assert!(e.contains("(skirt through the body in "), "{e}");

@@ -108,10 +108,10 @@ fn torso(x: &[Vec3], tris: &[[u32; 3]], level: f32, axis: Vec2) -> Option<Torso>
     })
 }
 
-/// The waist's height of the body with vertices `x` and triangles `tris` ([`Figure::of`]'s
-/// waist, found alone: where a skirt drawn in a pattern file starts), m; None when it is
-/// no standing figure.
-pub fn waist_height(x: &[Vec3], tris: &[[u32; 3]]) -> Option<f32> {
+/// The vertical extent and axis of the body with vertices `x`: its lowest point, its
+/// height and its axis (x, z), m; None when it is no standing figure (under
+/// [`MIN_HEIGHT_M`] tall).
+fn standing(x: &[Vec3]) -> Option<(f32, f32, Vec2)> {
     if x.is_empty() {
         return None;
     }
@@ -120,31 +120,42 @@ pub fn waist_height(x: &[Vec3], tris: &[[u32; 3]]) -> Option<f32> {
     if tall.is_nan() || tall < MIN_HEIGHT_M {
         return None;
     }
-    let axis = Vec2::new(0.5 * (mn.x + mx.x), 0.5 * (mn.z + mx.z));
-    let (lo, hi) = (mn.y + WAIST_BAND.0 * tall, mn.y + WAIST_BAND.1 * tall);
+    Some((
+        mn.y,
+        tall,
+        Vec2::new(0.5 * (mn.x + mx.x), 0.5 * (mn.z + mx.z)),
+    ))
+}
+
+/// The waist of a standing body (`standing`'s `base`, `tall`, `axis`): the torso's
+/// narrowest section within [`WAIST_BAND`] of its height (the last of equal girths), and
+/// its height.
+fn waist_of(
+    x: &[Vec3],
+    tris: &[[u32; 3]],
+    (base, tall, axis): (f32, f32, Vec2),
+) -> Option<(f32, Torso)> {
+    let (lo, hi) = (base + WAIST_BAND.0 * tall, base + WAIST_BAND.1 * tall);
     let n = ((hi - lo) / STEP_M).floor().max(0.0) as usize;
     (0..=n)
         .map(|k| lo + k as f32 * STEP_M)
-        .filter_map(|h| torso(x, tris, h, axis).map(|t| (h, t.tape)))
-        // The last of equal girths, as `Figure::of` picks it.
-        .max_by(|a, b| b.1.total_cmp(&a.1))
-        .map(|(h, _)| h)
+        .filter_map(|h| torso(x, tris, h, axis).map(|t| (h, t)))
+        .max_by(|a, b| b.1.tape.total_cmp(&a.1.tape))
+}
+
+/// The waist's height of the body with vertices `x` and triangles `tris` ([`Figure::of`]'s
+/// waist, found alone: where a skirt drawn in a pattern file starts), m; None when it is
+/// no standing figure.
+pub fn waist_height(x: &[Vec3], tris: &[[u32; 3]]) -> Option<f32> {
+    waist_of(x, tris, standing(x)?).map(|(h, _)| h)
 }
 
 impl Figure {
     /// The levels of the body with vertices `x` and triangles `tris`; None when it is no
     /// standing figure (under [`MIN_HEIGHT_M`] tall, or no waist found round its axis).
     pub fn of(x: &[Vec3], tris: &[[u32; 3]]) -> Option<Self> {
-        if x.is_empty() {
-            return None;
-        }
-        let (mn, mx) = bounds(x);
-        let tall = mx.y - mn.y;
-        if tall.is_nan() || tall < MIN_HEIGHT_M {
-            return None;
-        }
-        let axis = Vec2::new(0.5 * (mn.x + mx.x), 0.5 * (mn.z + mx.z));
-        let at = |share: f32| mn.y + share * tall;
+        let (base, tall, axis) = standing(x)?;
+        let at = |share: f32| base + share * tall;
         let steps = |lo: f32, hi: f32| {
             let n = ((hi - lo) / STEP_M).floor().max(0.0) as usize;
             (0..=n).map(move |k| lo + k as f32 * STEP_M)
@@ -154,16 +165,13 @@ impl Figure {
                 .filter_map(|h| torso(x, tris, h, axis).map(|t| (h, t)))
                 .collect()
         };
-        let pick = |s: &[(f32, Torso)], widest: bool| {
+        let widest = |s: &[(f32, Torso)]| {
             s.iter()
-                .max_by(|a, b| {
-                    let o = a.1.tape.total_cmp(&b.1.tape);
-                    if widest { o } else { o.reverse() }
-                })
+                .max_by(|a, b| a.1.tape.total_cmp(&b.1.tape))
                 .map(|(h, t)| (*h, t.hull.clone()))
         };
-        let (waist, waist_hull) = pick(&sample(at(WAIST_BAND.0), at(WAIST_BAND.1)), false)?;
-        debug_assert_eq!(Some(waist), waist_height(x, tris), "the waist found alone");
+        let (waist, waist_torso) = waist_of(x, tris, (base, tall, axis))?;
+        let waist_hull = waist_torso.hull;
         // Upward from the waist: the bust, under the arms.
         let above = sample(waist + BUST_FROM_M, at(BUST_TOP + 0.1));
         let armed = above.iter().position(|(_, t)| t.beside > 0);
@@ -174,8 +182,8 @@ impl Figure {
             None => at(BUST_TOP),
         };
         let under: Vec<(f32, Torso)> = above.into_iter().filter(|(h, _)| *h <= top).collect();
-        let bust = pick(&under, true);
-        let hips = pick(&sample(waist - HIPS_BAND_M.1, waist - HIPS_BAND_M.0), true);
+        let bust = widest(&under);
+        let hips = widest(&sample(waist - HIPS_BAND_M.1, waist - HIPS_BAND_M.0));
         let mut levels = Vec::new();
         if let Some((h, hull)) = bust {
             levels.push(("bust", h, hull));

@@ -300,14 +300,9 @@ impl PatternSpec {
     /// settles: a skirt's waist.
     fn hold_top(&mut self, i: usize, top: f32) {
         let p = &self.pieces[i];
-        if let Some((from, to)) = top_run(&p.outline.loops[0]) {
-            self.holds.push(HoldSpec {
-                label: format!("{}'s waist", p.name),
-                edge: EdgeRef { piece: i, from, to },
-                normal: glam::Vec3::Y,
-                level: top - HOLD_BELOW_WAIST,
-                measured: true,
-            });
+        if let Some(ends) = top_run(&p.outline.loops[0]) {
+            let hold = waist_hold(&p.name, i, ends, top);
+            self.holds.push(hold);
         }
     }
 
@@ -327,17 +322,7 @@ impl PatternSpec {
             };
             at[i] = None;
             let waist = marks.waist.unwrap_or_default();
-            self.holds.push(HoldSpec {
-                label: format!("{}'s waist", p.name),
-                edge: EdgeRef {
-                    piece: i,
-                    from: fan.top.0,
-                    to: fan.top.1,
-                },
-                normal: glam::Vec3::Y,
-                level: waist - HOLD_BELOW_WAIST,
-                measured: true,
-            });
+            self.holds.push(waist_hold(&p.name, i, fan.top, waist));
             let deg = fan.angle.to_degrees();
             said.push(match fan.start {
                 FanStart::Cone(on) => {
@@ -364,6 +349,18 @@ impl PatternSpec {
 /// How far below the waist a skirt's waist is held while it settles, m: it starts
 /// there, and settles onto the body.
 pub(super) const HOLD_BELOW_WAIST: f32 = 0.03;
+
+/// The hold of piece `piece` (named `name`) by its stretch from `ends.0` to `ends.1`,
+/// its waist, started at height `top`: kept above [`HOLD_BELOW_WAIST`] under it.
+fn waist_hold(name: &str, piece: usize, (from, to): (Vec2, Vec2), top: f32) -> HoldSpec {
+    HoldSpec {
+        label: format!("{name}'s waist"),
+        edge: EdgeRef { piece, from, to },
+        normal: glam::Vec3::Y,
+        level: top - HOLD_BELOW_WAIST,
+        measured: true,
+    }
+}
 
 /// How far below a piece's highest point its top run reaches, m.
 const TOP_RUN: f32 = 0.01;
