@@ -606,6 +606,29 @@ fn a_garmentcode_skirt_on_another_body_is_held_at_that_bodys_waist() {
     assert!(low > 0.2, "the skirt's lowest point is at {low} m");
 }
 
+/// A circle skirt draped from the pattern our scenario exported (its pieces start where
+/// the pattern saved them, `data-start`) is held at the waist while its seams close, as
+/// it was when first draped; until 2026-12-07 it went unheld and was on the floor by
+/// frame 150 (its top at 0.28 m).
+#[test]
+fn a_circle_skirt_draped_again_from_its_pattern_out_is_held_at_the_waist() {
+    let (_, _, dir) = drape_fixture("half-circle-skirt.svg", "svg-skirt-again", 0.05, 2);
+    let mut cfg = fixture_cfg("half-circle-skirt.svg", BodyKind::Human, 0.05, 150);
+    cfg.pattern = Some(dir.join("out/pattern.svg"));
+    let r = run_scenario(&cfg, &dir.join("again")).unwrap();
+    let cloth = sim_core::mesh::obj::load_obj(&dir.join("again/cloth.obj")).unwrap();
+    std::fs::remove_dir_all(&dir).ok();
+    let ys = cloth.positions.iter().map(|p| p.y);
+    let (low, top) = ys.fold((f32::MAX, f32::MIN), |(l, t), y| (l.min(y), t.max(y)));
+    assert!(
+        r.ops.held_vertices.unwrap_or(0) > 20,
+        "{:?}",
+        r.ops.held_vertices
+    );
+    assert_eq!((r.crossings_self, r.crossings_body), (0, 0));
+    assert!(top > 0.9 && low > 0.2, "the skirt spans {low}-{top} m");
+}
+
 /// A half circle skirt cut in one piece (a fan of 180 degrees sewn to itself at the back,
 /// `tests/fixtures/`) goes round `human` on one cone from the waist, more than half way,
 /// and is sewn closed at the back; until 2026-12-07 it started flat in front and before

@@ -381,7 +381,8 @@ pub const HOLD_PULL: f32 = 0.05;
 /// [`HOLD_PULL`] N. For [`Design::hold_while_draping`].
 ///
 /// A hold measured on this body (a fan's or a skirt's waist: `HoldSpec::measured`) holds
-/// as it is. GarmentCode's plane is its own body's waist, `human`'s; on another body
+/// as it is, or [`HOLD_BELOW_WAIST`] under where its stretch starts if that is lower (a
+/// skirt started lower where its file saved it). GarmentCode's plane is its own body's waist, `human`'s; on another body
 /// whose waist is known, a garment that hangs from the held stretch (a skirt, trousers:
 /// none of its cloth more than [`ABOVE`] higher) is held at that body's waist instead
 /// (GarmentCode's circle skirts fell to the mannequin's feet unheld), and one that does
@@ -404,12 +405,19 @@ pub fn holds(design: &Design, spec: &PatternSpec) -> Vec<crate::solver::Hold> {
             continue;
         };
         let held = stretch(design, &h.edge).0;
-        let level = if h.measured || human {
+        if held.is_empty() {
+            continue;
+        }
+        let mean = held.iter().map(|&v| x[v as usize].y).sum::<f32>() / held.len() as f32;
+        let level = if h.measured {
+            // Never above where the stretch starts: a skirt started where its file saved
+            // it, lower than the waist, is not pulled up to it.
+            h.level.min(mean - HOLD_BELOW_WAIST)
+        } else if human {
             h.level
         } else {
-            let mean = held.iter().map(|&v| x[v as usize].y).sum::<f32>() / held.len() as f32;
             match waist {
-                Some(w) if !held.is_empty() && top <= mean + ABOVE => w - HOLD_BELOW_WAIST,
+                Some(w) if top <= mean + ABOVE => w - HOLD_BELOW_WAIST,
                 _ => continue,
             }
         };

@@ -201,6 +201,41 @@ pub fn closes_itself(fan: &Fan, outer: f32, sides: [(Vec2, Vec2); 2]) -> bool {
     sides.into_iter().all(spans)
 }
 
+/// A fan that opens downward: a circle skirt's panel.
+struct Downward {
+    fan: Fan,
+    /// Its top arc's ends, in the outline's order.
+    top: (Vec2, Vec2),
+    /// Its angle, radians.
+    angle: f32,
+    /// Its hem's radius, m.
+    outer: f32,
+}
+
+/// The fan in `outline` ([`fan_in`]) if it opens downward and is at least
+/// [`cone::FAN_MIN`] wide.
+fn downward(outline: &[Vec2]) -> Option<Downward> {
+    let (fan, top) = fan_in(outline)?;
+    let m = cone::middle(fan.centre, crate::mesh::bounds2(outline));
+    if m.y > -0.9 {
+        return None;
+    }
+    let (angle, outer) = cone::extent(outline, fan.centre, m);
+    (angle >= cone::FAN_MIN).then_some(Downward {
+        fan,
+        top,
+        angle,
+        outer,
+    })
+}
+
+/// The top arc's ends (the waist, in the outline's order) of `outline` if it is a fan
+/// that opens downward, wherever it starts: a circle skirt's panel whose file saved its
+/// start ([`PatternSpec::start_where_saved`](super::PatternSpec::start_where_saved)).
+pub fn skirt_top(outline: &[Vec2]) -> Option<(Vec2, Vec2)> {
+    downward(outline).map(|d| d.top)
+}
+
 /// Where piece `outline` (its own coordinates, y up), placed by its name at `place`,
 /// starts if it is a fan that opens downward (a circle skirt's panel) of at least
 /// [`cone::FAN_MIN`] on a body whose waist is known. A fan sewn to itself (`seams`: the
@@ -221,16 +256,13 @@ pub fn fan_start(
         Place::LeftArm | Place::RightArm => return None,
     };
     let waist = marks.waist?;
-    let (fan, top) = fan_in(outline)?;
+    let Downward {
+        fan,
+        top,
+        angle,
+        outer,
+    } = downward(outline)?;
     let (lo, hi) = crate::mesh::bounds2(outline);
-    let m = cone::middle(fan.centre, (lo, hi));
-    if m.y > -0.9 {
-        return None;
-    }
-    let (angle, outer) = cone::extent(outline, fan.centre, m);
-    if angle < cone::FAN_MIN {
-        return None;
-    }
     let alone = seams.iter().any(|&s| closes_itself(&fan, outer, s));
     let share = if alone { 1.0 } else { 0.5 };
     if let Some(sine) =

@@ -158,6 +158,11 @@ impl PatternSpec {
     pub fn start_where_saved(&mut self, marks: &Landmarks) -> Option<String> {
         let mut moved = (0, 0.0f32);
         let mut theirs: Option<String> = None;
+        if let Some(waist) = marks.waist {
+            for i in 0..self.pieces.len() {
+                self.hold_saved_skirt(i, waist);
+            }
+        }
         for p in &mut self.pieces {
             let Some(s) = &p.start else { continue };
             if s.fits(marks) {
@@ -302,6 +307,24 @@ impl PatternSpec {
         let p = &self.pieces[i];
         if let Some(ends) = top_run(&p.outline.loops[0]) {
             let hold = waist_hold(&p.name, i, ends, top);
+            self.holds.push(hold);
+        }
+    }
+
+    /// Holds piece `i`, if its file saved its start and it is a skirt's (a fan that opens
+    /// downward, by its top arc; or a piece so named, by its top), at `waist` while the
+    /// garment settles, as the design it was exported from held it. `assemble::holds`
+    /// keeps the hold no higher than where the top starts.
+    fn hold_saved_skirt(&mut self, i: usize, waist: f32) {
+        let p = &self.pieces[i];
+        if p.start.is_none() {
+            return;
+        }
+        let outline = &p.outline.loops[0];
+        let top = super::fans::skirt_top(outline)
+            .or_else(|| is_skirt(&p.name).then(|| top_run(outline)).flatten());
+        if let Some(ends) = top {
+            let hold = waist_hold(&p.name, i, ends, waist);
             self.holds.push(hold);
         }
     }

@@ -231,6 +231,71 @@ fn an_svg_circle_skirt_is_arranged_on_cones_with_its_waist_held() {
     assert_eq!(top(&spec, 0), 1.5);
 }
 
+/// A skirt whose file saved its start (our SVG's `data-start`: a pattern exported and
+/// draped again) starts where it was saved and is held at the waist as it was when first
+/// draped: a fan by its top arc, a piece named as a skirt's by its top; another piece is
+/// not held, and on a body whose waist is not known nothing is.
+#[test]
+fn a_skirt_that_starts_where_its_file_saved_it_is_held_at_the_waist() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/fixtures/half-circle-skirt.svg"
+    );
+    let text = std::fs::read_to_string(path).unwrap();
+    let pieces = crate::mesh::svg::read_svg(&text).unwrap();
+    let (mut spec, _) = super::super::pattern_from_outlines(pieces);
+    spec.normalise().unwrap();
+    let band = |name: &str| super::super::PieceSpec {
+        name: name.into(),
+        outline: crate::mesh::mesher::Outline {
+            loops: vec![vec![
+                Vec2::ZERO,
+                Vec2::new(0.3, 0.0),
+                Vec2::new(0.3, 0.1),
+                Vec2::new(0.0, 0.1),
+            ]],
+        },
+        fabric: "cloth".into(),
+        grain: 0.0,
+        placement: None,
+        start: None,
+        fallback: None,
+    };
+    spec.pieces.push(band("skirt yoke"));
+    spec.pieces.push(band("collar"));
+    let marks = body();
+    spec.arrange(&marks);
+    let first = spec.holds.clone();
+    assert_eq!(first.len(), 3, "{first:?}");
+    // Saved as the pattern out saves it, and read back: no placements, no holds.
+    let mut saved = spec.clone();
+    saved.holds.clear();
+    for p in &mut saved.pieces {
+        let (lo, hi) = crate::mesh::bounds2(&p.outline.loops[0]);
+        p.start = Some(crate::design::garment::start::PieceStart {
+            placement: p.placement.take().unwrap(),
+            bounds: [lo.x, lo.y, hi.x, hi.y],
+            body: crate::design::garment::start::signature(&marks),
+            body_name: None,
+        });
+    }
+    let mut again = saved.clone();
+    assert_eq!(again.start_where_saved(&marks), None);
+    assert!(again.arrange(&marks).is_empty(), "every piece started");
+    assert_eq!(again.holds, first);
+    for (a, b) in again.pieces.iter().zip(&spec.pieces) {
+        assert_eq!(a.placement, b.placement, "{}", a.name);
+    }
+    // No waist, no holds.
+    let mut blind = saved;
+    let no_waist = Landmarks {
+        waist: None,
+        ..marks
+    };
+    blind.start_where_saved(&no_waist);
+    assert!(blind.holds.is_empty());
+}
+
 /// A half circle skirt cut in one piece, a fan of 180 degrees sewn to itself at the back,
 /// goes nearly all the way round on a cone; the same fan not sewn to itself (one of a
 /// front and a back) cannot go more than half way, and starts flat. A dart's legs are no
