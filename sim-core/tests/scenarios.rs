@@ -604,6 +604,13 @@ fn a_garmentcode_skirt_on_another_body_is_held_at_that_bodys_waist() {
     assert_eq!((r.crossings_self, r.crossings_body), (0, 0));
     // Hanging from the waist, not lying on the floor.
     assert!(low > 0.2, "the skirt's lowest point is at {low} m");
+    // Beside the hanging arms, which its sides close round: told, with the way out.
+    assert!(
+        (r.notices.iter()).any(|n| n.contains("beside the mannequin's hanging arms")
+            && n.contains("--body mannequin-apose")),
+        "{:?}",
+        r.notices
+    );
 }
 
 /// A circle skirt draped from the pattern our scenario exported (its pieces start where
@@ -639,6 +646,12 @@ fn a_circle_skirt_cut_in_one_piece_goes_round_on_one_cone() {
     let (r, top, dir) = drape_fixture("one-piece-circle-skirt.svg", "svg-one-fan", 0.04, 300);
     assert!(
         (r.notices.iter()).any(|n| n.contains("skirt starts on a cone round the body")),
+        "{:?}",
+        r.notices
+    );
+    // `human` holds its arms out: nothing said of them.
+    assert!(
+        !(r.notices.iter()).any(|n| n.contains("hanging arms")),
         "{:?}",
         r.notices
     );

@@ -79,6 +79,7 @@ pub(super) fn placed_garment(
             notices.extend(said);
             notices.extend((k > 0).then(|| said_lift(lift)));
             notices.extend(kept_flat(&spec, &flat));
+            notices.extend(arms_inside(&spec, &made, body));
             return Ok((spec, made));
         }
         let last = (k == tries).then(|| refuse(&made, &said, &crossed));
@@ -110,6 +111,7 @@ pub(super) fn placed_garment(
             notices.extend(said);
             notices.extend(further_out(&spec, &out));
             notices.extend(kept_flat(&spec, &flat));
+            notices.extend(arms_inside(&spec, &made, body));
             return Ok((spec, made));
         }
     }
@@ -119,15 +121,39 @@ pub(super) fn placed_garment(
 /// What a refusal adds where a piece on a cone (a circle skirt's) starts through a body
 /// whose arms hang beside its hips: a cone round the torso passes them.
 fn arms_hint(made: &garment::Assembled, body: Option<&Body>) -> &'static str {
-    let hanging = body.is_some_and(|b| b.name == "mannequin");
-    let on_cone =
-        (made.records.iter()).any(|r| matches!(r.placement, Some(garment::Placement::Cone { .. })));
-    if hanging && on_cone {
+    if arms_hang(body) && on_cone(made) {
         "; a skirt on a cone round the body passes the mannequin's hanging arms: \
          `--body mannequin-apose` holds them clear"
     } else {
         ""
     }
+}
+
+/// Whether `body` is the mannequin whose arms hang beside its hips.
+fn arms_hang(body: Option<&Body>) -> bool {
+    body.is_some_and(|b| b.name == "mannequin")
+}
+
+/// Whether a piece of `made` starts on a cone (a circle skirt's).
+fn on_cone(made: &garment::Assembled) -> bool {
+    (made.records.iter()).any(|r| matches!(r.placement, Some(garment::Placement::Cone { .. })))
+}
+
+/// What a garment that hangs from the waist (a piece on a cone, or a skirt held at the
+/// waist measured on this body) is told on the mannequin whose arms hang beside its hips:
+/// a skirt flares out past them and its side seams close round them (GarmentCode's
+/// circle skirt there: 0.40 m out at the hands' height, the hands 0.37 m; 12 of its 104
+/// pairs left open, "the body between").
+fn arms_inside(
+    spec: &PatternSpec,
+    made: &garment::Assembled,
+    body: Option<&Body>,
+) -> Option<String> {
+    (arms_hang(body) && (on_cone(made) || spec.holds.iter().any(|h| h.measured))).then(|| {
+        "the garment hangs from the waist beside the mannequin's hanging arms: a skirt's sides \
+         close round them, the arms inside it (`--body mannequin-apose` holds them clear)"
+            .into()
+    })
 }
 
 /// A pattern placed and assembled: its spec, what its reading said, the cloth, and how
