@@ -382,13 +382,13 @@ pub const HOLD_PULL: f32 = 0.05;
 ///
 /// A hold measured on this body (a fan's or a skirt's waist: `HoldSpec::measured`) holds
 /// as it is, or [`HOLD_BELOW_WAIST`] under where its stretch starts if that is lower (a
-/// skirt started lower where its file saved it). GarmentCode's plane is its own body's waist, `human`'s; on another body
-/// whose waist is known, a garment that hangs from the held stretch (a skirt, trousers:
-/// none of its cloth more than [`ABOVE`] higher) is held at that body's waist instead
-/// (GarmentCode's circle skirts fell to the mannequin's feet unheld), and one that does
-/// not is not held: on the mannequin, held 10 cm above its own waist (`GC_RAISE`),
-/// GarmentCode's pencil dress and jumpsuit were still moving 100 frames after the holds
-/// let go, at twice the frame time; they stay on it without.
+/// skirt started lower where its file saved it). GarmentCode's plane is its own body's
+/// waist, `human`'s; on another body whose waist is known, a garment that hangs from the
+/// held stretch (a skirt, trousers: none of its cloth more than [`ABOVE`] higher) is held
+/// at that body's waist instead (GarmentCode's circle skirts fell to the mannequin's feet
+/// unheld), and one that does not is not held: on the mannequin, held 10 cm above its
+/// own waist (`GC_RAISE`), GarmentCode's pencil dress and jumpsuit were still moving 100
+/// frames after the holds let go, at twice the frame time; they stay on it without.
 pub fn holds(design: &Design, spec: &PatternSpec) -> Vec<crate::solver::Hold> {
     let mut out: Vec<crate::solver::Hold> = Vec::new();
     let human =

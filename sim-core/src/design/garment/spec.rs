@@ -154,7 +154,8 @@ impl PatternSpec {
     /// another body (landmarks more than 1 cm apart) the start is carried over: round
     /// the torso at the same angle, round the arm as it was, its height moved by as much
     /// as the shoulders differ (and a transform by as much as the axes do too); the
-    /// notice returned says so.
+    /// notice returned says so. A skirt's piece among them is held at the waist as
+    /// arranging would hold it ([`Self::hold_saved_skirt`]).
     pub fn start_where_saved(&mut self, marks: &Landmarks) -> Option<String> {
         let mut moved = (0, 0.0f32);
         let mut theirs: Option<String> = None;
