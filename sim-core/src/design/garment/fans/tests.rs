@@ -147,12 +147,9 @@ fn a_half_ring_starts_flat_at_the_waist_or_else_round_the_body() {
     assert_eq!(fan_start(&up, Place::Front, &marks, &[]), None);
 }
 
-/// The shipped test fixture (SVG arcs, flattened by the reader) arranged on a body with a
-/// waist: both fans on cones at the waist, each with its top arc held just below it; a
-/// rectangle named as a skirt's starts at the waist too, its top held, and other pieces
-/// as before.
-#[test]
-fn an_svg_circle_skirt_is_arranged_on_cones_with_its_waist_held() {
+/// The shipped test fixture, a half circle skirt drawn with SVG arcs (flattened by the
+/// reader), read and normalised; its marks make seams and nothing else.
+fn half_circle_skirt() -> super::super::PatternSpec {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/tests/fixtures/half-circle-skirt.svg"
@@ -162,24 +159,31 @@ fn an_svg_circle_skirt_is_arranged_on_cones_with_its_waist_held() {
     let (mut spec, notices) = super::super::pattern_from_outlines(pieces);
     assert!(notices.is_empty(), "{notices:?}");
     spec.normalise().unwrap();
-    let rect = |name: &str| super::super::PieceSpec {
+    spec
+}
+
+/// A piece named `name`, 0.3 m wide and `h` tall, not placed.
+fn rect(name: &str, h: f32) -> super::super::PieceSpec {
+    super::super::PieceSpec {
         name: name.into(),
-        outline: crate::mesh::mesher::Outline {
-            loops: vec![vec![
-                Vec2::ZERO,
-                Vec2::new(0.3, 0.0),
-                Vec2::new(0.3, 0.4),
-                Vec2::new(0.0, 0.4),
-            ]],
-        },
+        outline: crate::mesh::mesher::Outline::rectangle(0.3, h),
         fabric: "cloth".into(),
         grain: 0.0,
         placement: None,
         start: None,
         fallback: None,
-    };
-    spec.pieces.push(rect("skirt left side"));
-    spec.pieces.push(rect("right side yoke"));
+    }
+}
+
+/// The shipped test fixture (SVG arcs, flattened by the reader) arranged on a body with a
+/// waist: both fans on cones at the waist, each with its top arc held just below it; a
+/// rectangle named as a skirt's starts at the waist too, its top held, and other pieces
+/// as before.
+#[test]
+fn an_svg_circle_skirt_is_arranged_on_cones_with_its_waist_held() {
+    let mut spec = half_circle_skirt();
+    spec.pieces.push(rect("skirt left side", 0.4));
+    spec.pieces.push(rect("right side yoke", 0.4));
     let marks = body();
     let said = spec.arrange(&marks);
     assert_eq!(said.len(), 2, "{said:?}");
@@ -237,32 +241,9 @@ fn an_svg_circle_skirt_is_arranged_on_cones_with_its_waist_held() {
 /// not held, and on a body whose waist is not known nothing is.
 #[test]
 fn a_skirt_that_starts_where_its_file_saved_it_is_held_at_the_waist() {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/tests/fixtures/half-circle-skirt.svg"
-    );
-    let text = std::fs::read_to_string(path).unwrap();
-    let pieces = crate::mesh::svg::read_svg(&text).unwrap();
-    let (mut spec, _) = super::super::pattern_from_outlines(pieces);
-    spec.normalise().unwrap();
-    let band = |name: &str| super::super::PieceSpec {
-        name: name.into(),
-        outline: crate::mesh::mesher::Outline {
-            loops: vec![vec![
-                Vec2::ZERO,
-                Vec2::new(0.3, 0.0),
-                Vec2::new(0.3, 0.1),
-                Vec2::new(0.0, 0.1),
-            ]],
-        },
-        fabric: "cloth".into(),
-        grain: 0.0,
-        placement: None,
-        start: None,
-        fallback: None,
-    };
-    spec.pieces.push(band("skirt yoke"));
-    spec.pieces.push(band("collar"));
+    let mut spec = half_circle_skirt();
+    spec.pieces.push(rect("skirt yoke", 0.1));
+    spec.pieces.push(rect("collar", 0.1));
     let marks = body();
     spec.arrange(&marks);
     let first = spec.holds.clone();
