@@ -4,7 +4,7 @@ use std::path::Path;
 
 use shared::telemetry::{Histogram, SimTelemetry};
 use sim_core::design::Design;
-use sim_core::design::export::{export_glb, export_obj};
+use sim_core::design::export::{export_garment_glb, export_glb, export_obj};
 use sim_core::mesh::obj::write_obj;
 use sim_core::scenario::Percentiles;
 use sim_core::scenario::scripts::fit_gap;
@@ -81,6 +81,9 @@ pub(crate) fn export(
     design.refresh_png_cache().map_err(|e| e.to_string())?;
     let mut files = export_obj(design, dir, "cloth").map_err(|e| e.to_string())?;
     files.push(export_glb(design, dir, "cloth").map_err(|e| e.to_string())?);
+    if !design.pieces.is_empty() {
+        files.push(export_garment_glb(design, dir).map_err(|e| e.to_string())?);
+    }
     files.extend(
         sim_core::design::sewing_pattern::export_pattern(design, dir, allowance)
             .map_err(|e| e.to_string())?,

@@ -35,7 +35,8 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Run a scenario headless; writes DIR/report.json, the cloth as DIR/cloth.obj + .mtl +
-    /// .png and DIR/cloth.glb, DIR/body.obj and the design as DIR/design.saiho.
+    /// .png and DIR/cloth.glb (a garment's pieces also as DIR/garment.glb, a mesh each),
+    /// DIR/body.obj and the design as DIR/design.saiho.
     Scenario(ScenarioArgs),
     /// Run the simulation as a process: follow the pen from haptic-loop (button 1 pinches),
     /// publish the local model it renders force from, autosave and resume the design.

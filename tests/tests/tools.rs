@@ -439,6 +439,18 @@ fn lab_headless_dress_mannequin_sews_pulls_and_cuts_across_the_processes() {
     assert!(s["pen_pulled_m"].as_f64().unwrap() > 0.005, "{s}");
     assert!(s["neckline_triangles"].as_u64().unwrap() > 20, "{s}");
     assert!(log.contains("1 pinches"), "{log}");
+    // The garment as its pieces, a named mesh each, beside the one-mesh cloth.glb.
+    let glb = std::fs::read(out_dir.join("garment.glb")).unwrap();
+    assert_eq!(&glb[0..4], b"glTF");
+    let json_len = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+    let gltf: Value = serde_json::from_slice(&glb[20..20 + json_len]).unwrap();
+    let names: Vec<&str> = (gltf["nodes"].as_array().unwrap().iter())
+        .map(|n| n["name"].as_str().unwrap())
+        .collect();
+    assert!(
+        names.contains(&"front") && names.contains(&"back"),
+        "{names:?}"
+    );
     let _ = std::fs::remove_dir_all(&out_dir);
 }
 

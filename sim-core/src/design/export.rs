@@ -127,11 +127,77 @@ fn pad4(v: &mut Vec<u8>, byte: u8) {
 /// the texture stay sharp), one double-sided material whose base colour is the texture.
 pub fn export_glb(design: &Design, dir: &Path, name: &str) -> Result<PathBuf, ExportError> {
     check_name(name)?;
-    let live = &design.sim.cloth.live;
-    if live.tri_count() == 0 {
+    let all: Vec<u32> = design.sim.cloth.live.iter().map(|(s, _)| s).collect();
+    let part = Part {
+        name: name.into(),
+        fabric: None,
+        slots: all,
+    };
+    write_glb(design, &dir.join(format!("{name}.glb")), &[part])
+}
+
+/// Writes `dir/garment.glb`: the garment as its pieces, one named mesh and node each (as
+/// [`Design::piece_list`] names them: "front", "back", "front 2" once cut), their fabric
+/// in the node's `extras`, one material and texture shared, so that a tool opening it
+/// (Blender, a viewer) lists the pieces. A sewn vertex is in both pieces' meshes.
+pub fn export_garment_glb(design: &Design, dir: &Path) -> Result<PathBuf, ExportError> {
+    let parts: Vec<Part> = (design.listed().into_iter())
+        .map(|(info, slots)| Part {
+            name: info.name,
+            fabric: Some(info.fabric),
+            slots,
+        })
+        .collect();
+    write_glb(design, &dir.join("garment.glb"), &parts)
+}
+
+/// A named mesh of a glTF export: the live triangle slots it holds.
+struct Part {
+    name: String,
+    fabric: Option<String>,
+    slots: Vec<u32>,
+}
+
+/// The vertex arrays of one part's mesh: a vertex per distinct position + UV pair.
+#[derive(Default)]
+struct PartMesh {
+    pos: Vec<Vec3>,
+    nrm: Vec<Vec3>,
+    uv: Vec<[f32; 2]>,
+    idx: Vec<u32>,
+}
+
+impl PartMesh {
+    fn of(design: &Design, normals: &[Vec3], slots: &[u32]) -> Self {
+        let mut m = Self::default();
+        let mut index_of: std::collections::HashMap<(u32, u32, u32), u32> =
+            std::collections::HashMap::new();
+        for t in slots.iter().filter_map(|&s| design.sim.cloth.live.tri(s)) {
+            for k in 0..3 {
+                let v = t.v[k];
+                let key = (v, t.uv[k].x.to_bits(), t.uv[k].y.to_bits());
+                let next = index_of.len() as u32;
+                let i = *index_of.entry(key).or_insert_with(|| {
+                    m.pos.push(design.sim.cloth.x[v as usize]);
+                    m.nrm.push(normals[v as usize]);
+                    // glTF's UV origin is the top-left corner.
+                    m.uv.push([t.uv[k].x, 1.0 - t.uv[k].y]);
+                    next
+                });
+                m.idx.push(i);
+            }
+        }
+        m
+    }
+}
+
+/// Writes `parts` to `path` as binary glTF 2.0, a mesh and a node each.
+fn write_glb(design: &Design, path: &Path, parts: &[Part]) -> Result<PathBuf, ExportError> {
+    if design.sim.cloth.live.tri_count() == 0 || parts.iter().all(|p| p.slots.is_empty()) {
         return Err(ExportError::Empty);
     }
-    let path = dir.join(format!("{name}.glb"));
+    let path = path.to_owned();
+    let dir = path.parent().unwrap_or(Path::new("."));
     let io = |source| ExportError::Io {
         path: path.clone(),
         source,
@@ -141,28 +207,6 @@ pub fn export_glb(design: &Design, dir: &Path, name: &str) -> Result<PathBuf, Ex
         source,
     })?;
     let normals = vertex_normals(design);
-    let mut index_of: std::collections::HashMap<(u32, u32, u32), u32> =
-        std::collections::HashMap::new();
-    let (mut pos, mut nrm, mut uv, mut idx) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
-    let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-    for (_, t) in live.iter() {
-        for k in 0..3 {
-            let v = t.v[k];
-            let key = (v, t.uv[k].x.to_bits(), t.uv[k].y.to_bits());
-            let next = index_of.len() as u32;
-            let i = *index_of.entry(key).or_insert_with(|| {
-                let p = design.sim.cloth.x[v as usize];
-                lo = lo.min(p);
-                hi = hi.max(p);
-                pos.push(p);
-                nrm.push(normals[v as usize]);
-                // glTF's UV origin is the top-left corner.
-                uv.push([t.uv[k].x, 1.0 - t.uv[k].y]);
-                next
-            });
-            idx.push(i);
-        }
-    }
     let mut bin: Vec<u8> = Vec::new();
     let mut views = Vec::new();
     let mut view = |bin: &mut Vec<u8>, bytes: &[u8], target: Option<u32>| -> usize {
@@ -178,40 +222,60 @@ pub fn export_glb(design: &Design, dir: &Path, name: &str) -> Result<PathBuf, Ex
         views.len() - 1
     };
     let f32s = |v: &[f32]| v.iter().flat_map(|f| f.to_le_bytes()).collect::<Vec<u8>>();
-    let flat3: Vec<f32> = pos.iter().flat_map(|p| p.to_array()).collect();
-    let flatn: Vec<f32> = nrm.iter().flat_map(|p| p.to_array()).collect();
-    let flatuv: Vec<f32> = uv.iter().flatten().copied().collect();
-    let vp = view(&mut bin, &f32s(&flat3), Some(34962));
-    let vn = view(&mut bin, &f32s(&flatn), Some(34962));
-    let vt = view(&mut bin, &f32s(&flatuv), Some(34962));
-    let ix: Vec<u8> = idx.iter().flat_map(|i| i.to_le_bytes()).collect();
-    let vi = view(&mut bin, &ix, Some(34963));
+    let (mut accessors, mut meshes, mut nodes) = (Vec::new(), Vec::new(), Vec::new());
+    for part in parts.iter().filter(|p| !p.slots.is_empty()) {
+        let m = PartMesh::of(design, &normals, &part.slots);
+        let lo = m
+            .pos
+            .iter()
+            .fold(Vec3::splat(f32::INFINITY), |a, &p| a.min(p));
+        let hi = m
+            .pos
+            .iter()
+            .fold(Vec3::splat(f32::NEG_INFINITY), |a, &p| a.max(p));
+        let flat3: Vec<f32> = m.pos.iter().flat_map(|p| p.to_array()).collect();
+        let flatn: Vec<f32> = m.nrm.iter().flat_map(|p| p.to_array()).collect();
+        let flatuv: Vec<f32> = m.uv.iter().flatten().copied().collect();
+        let vp = view(&mut bin, &f32s(&flat3), Some(34962));
+        let vn = view(&mut bin, &f32s(&flatn), Some(34962));
+        let vt = view(&mut bin, &f32s(&flatuv), Some(34962));
+        let ix: Vec<u8> = m.idx.iter().flat_map(|i| i.to_le_bytes()).collect();
+        let vi = view(&mut bin, &ix, Some(34963));
+        let (n, a) = (m.pos.len(), accessors.len());
+        accessors.extend([
+            serde_json::json!({"bufferView": vp, "componentType": 5126, "count": n,
+                "type": "VEC3", "min": lo.to_array(), "max": hi.to_array()}),
+            serde_json::json!({"bufferView": vn, "componentType": 5126, "count": n, "type": "VEC3"}),
+            serde_json::json!({"bufferView": vt, "componentType": 5126, "count": n, "type": "VEC2"}),
+            serde_json::json!({"bufferView": vi, "componentType": 5125, "count": m.idx.len(),
+                "type": "SCALAR"}),
+        ]);
+        let mut node = serde_json::json!({"mesh": meshes.len(), "name": part.name});
+        if let Some(f) = &part.fabric {
+            node["extras"] = serde_json::json!({"fabric": f});
+        }
+        nodes.push(node);
+        meshes.push(serde_json::json!({"name": part.name, "primitives": [{
+            "attributes": {"POSITION": a, "NORMAL": a + 1, "TEXCOORD_0": a + 2},
+            "indices": a + 3, "material": 0, "mode": 4}]}));
+    }
     let png = png_bytes(&design.texture).map_err(|reason| ExportError::Png {
         path: path.clone(),
         reason,
     })?;
     let vimg = view(&mut bin, &png, None);
-    let n = pos.len();
     let json = serde_json::json!({
         "asset": {"version": "2.0", "generator": "Saiho sim-core"},
         "scene": 0,
-        "scenes": [{"nodes": [0]}],
-        "nodes": [{"mesh": 0, "name": name}],
-        "meshes": [{"name": name, "primitives": [{
-            "attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2},
-            "indices": 3, "material": 0, "mode": 4}]}],
+        "scenes": [{"nodes": (0..nodes.len()).collect::<Vec<_>>()}],
+        "nodes": nodes,
+        "meshes": meshes,
         "materials": [{"name": "cloth", "doubleSided": true, "pbrMetallicRoughness": {
             "baseColorTexture": {"index": 0}, "metallicFactor": 0.0, "roughnessFactor": 1.0}}],
         "textures": [{"source": 0, "sampler": 0}],
         "samplers": [{"magFilter": 9729, "minFilter": 9729, "wrapS": 33071, "wrapT": 33071}],
         "images": [{"bufferView": vimg, "mimeType": "image/png"}],
-        "accessors": [
-            {"bufferView": vp, "componentType": 5126, "count": n, "type": "VEC3",
-             "min": lo.to_array(), "max": hi.to_array()},
-            {"bufferView": vn, "componentType": 5126, "count": n, "type": "VEC3"},
-            {"bufferView": vt, "componentType": 5126, "count": n, "type": "VEC2"},
-            {"bufferView": vi, "componentType": 5125, "count": idx.len(), "type": "SCALAR"},
-        ],
+        "accessors": accessors,
         "bufferViews": views,
         "buffers": [{"byteLength": bin.len()}],
     });
@@ -233,4 +297,63 @@ pub fn export_glb(design: &Design, dir: &Path, name: &str) -> Result<PathBuf, Ex
     out.extend_from_slice(&bin);
     std::fs::write(&path, out).map_err(io)?;
     Ok(path)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The JSON chunk of a binary glTF, after checking its container.
+    fn gltf_json(path: &Path) -> serde_json::Value {
+        let glb = std::fs::read(path).unwrap();
+        assert_eq!(&glb[0..4], b"glTF");
+        let u32_at = |k: usize| u32::from_le_bytes(glb[k..k + 4].try_into().unwrap()) as usize;
+        assert_eq!((u32_at(4), u32_at(8)), (2, glb.len()));
+        let json_len = u32_at(12);
+        assert_eq!(&glb[16..20], b"JSON");
+        let json: serde_json::Value = serde_json::from_slice(&glb[20..20 + json_len]).unwrap();
+        assert_eq!(&glb[24 + json_len..28 + json_len], b"BIN\0");
+        assert_eq!(json["buffers"][0]["byteLength"], u32_at(20 + json_len));
+        json
+    }
+
+    #[test]
+    fn the_garment_glb_has_a_named_mesh_per_piece_and_the_cloth_glb_one() {
+        let d = crate::design::tests::sewn_dress(0.05, 0);
+        let dir = std::env::temp_dir().join(format!("saiho-garment-glb-{}", std::process::id()));
+        let garment = gltf_json(&export_garment_glb(&d, &dir).unwrap());
+        let cloth = gltf_json(&export_glb(&d, &dir, "cloth").unwrap());
+        let _ = std::fs::remove_dir_all(&dir);
+        let names: Vec<&str> = (garment["nodes"].as_array().unwrap().iter())
+            .map(|n| n["name"].as_str().unwrap())
+            .collect();
+        assert_eq!(names, ["front", "back"]);
+        assert_eq!(garment["nodes"][0]["extras"]["fabric"], "cotton");
+        assert_eq!(garment["scenes"][0]["nodes"], serde_json::json!([0, 1]));
+        // Every triangle in one piece's mesh, each mesh's own vertices.
+        let count = |json: &serde_json::Value, mesh: usize, what: &str| {
+            let p = &json["meshes"][mesh]["primitives"][0];
+            let a = if what == "indices" {
+                &p["indices"]
+            } else {
+                &p["attributes"][what]
+            };
+            json["accessors"][a.as_u64().unwrap() as usize]["count"]
+                .as_u64()
+                .unwrap()
+        };
+        let tris = d.sim.cloth.live.tri_count() as u64;
+        assert_eq!(
+            count(&garment, 0, "indices") + count(&garment, 1, "indices"),
+            3 * tris
+        );
+        assert_eq!(count(&cloth, 0, "indices"), 3 * tris);
+        let list = d.piece_list();
+        for (k, info) in list.iter().enumerate() {
+            assert_eq!(count(&garment, k, "indices"), 3 * info.triangles as u64);
+            // A vertex per distinct place and UV: at least the piece's vertices.
+            assert!(count(&garment, k, "POSITION") >= info.vertices as u64);
+        }
+        assert_eq!(cloth["nodes"].as_array().unwrap().len(), 1);
+    }
 }

@@ -13,7 +13,7 @@ use super::scripts;
 use crate::collision::crossings::Crossings;
 use crate::collision::{Body, BodyKind};
 use crate::design::Design;
-use crate::design::export::{export_glb, export_obj};
+use crate::design::export::{export_garment_glb, export_glb, export_obj};
 use crate::design::garment::PatternSpec;
 use crate::mesh::obj;
 use crate::solver::{Rest, SleepRule};
@@ -321,6 +321,9 @@ fn export(
 ) -> Result<Vec<PathBuf>, ScenarioError> {
     let mut exported = export_obj(design, out, "cloth")?;
     exported.push(export_glb(design, out, "cloth")?);
+    if !design.pieces.is_empty() {
+        exported.push(export_garment_glb(design, out)?);
+    }
     exported.extend(crate::design::sewing_pattern::export_pattern(
         design,
         out,
