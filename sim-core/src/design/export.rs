@@ -151,6 +151,30 @@ pub fn export_garment_glb(design: &Design, dir: &Path) -> Result<PathBuf, Export
     write_glb(design, &dir.join("garment.glb"), &parts)
 }
 
+/// The JSON chunk of the binary glTF `glb`, once its container checks out: the magic,
+/// version 2, the length it declares, a JSON chunk and then a BIN chunk as long as the
+/// JSON's buffer says (what a reader checks before it trusts the file).
+pub fn glb_json(glb: &[u8]) -> Result<serde_json::Value, String> {
+    let u32_at = |k: usize| {
+        (glb.get(k..k + 4)).map(|b| u32::from_le_bytes(b.try_into().unwrap_or_default()) as usize)
+    };
+    if glb.get(0..4) != Some(&b"glTF"[..]) || u32_at(4) != Some(2) || u32_at(8) != Some(glb.len()) {
+        return Err("not a binary glTF 2.0 of its declared length".into());
+    }
+    let json_len = u32_at(12).ok_or("no JSON chunk")?;
+    let json = (glb.get(20..20 + json_len))
+        .filter(|_| glb.get(16..20) == Some(&b"JSON"[..]))
+        .ok_or("no JSON chunk")?;
+    let json: serde_json::Value = serde_json::from_slice(json).map_err(|e| e.to_string())?;
+    let bin_len = u32_at(20 + json_len).ok_or("no BIN chunk")?;
+    if glb.get(24 + json_len..28 + json_len) != Some(&b"BIN\0"[..])
+        || json["buffers"][0]["byteLength"] != bin_len
+    {
+        return Err("the BIN chunk is not the buffer the JSON declares".into());
+    }
+    Ok(json)
+}
+
 /// A named mesh of a glTF export: the live triangle slots it holds.
 struct Part {
     name: String,
@@ -303,18 +327,8 @@ fn write_glb(design: &Design, path: &Path, parts: &[Part]) -> Result<PathBuf, Ex
 mod tests {
     use super::*;
 
-    /// The JSON chunk of a binary glTF, after checking its container.
     fn gltf_json(path: &Path) -> serde_json::Value {
-        let glb = std::fs::read(path).unwrap();
-        assert_eq!(&glb[0..4], b"glTF");
-        let u32_at = |k: usize| u32::from_le_bytes(glb[k..k + 4].try_into().unwrap()) as usize;
-        assert_eq!((u32_at(4), u32_at(8)), (2, glb.len()));
-        let json_len = u32_at(12);
-        assert_eq!(&glb[16..20], b"JSON");
-        let json: serde_json::Value = serde_json::from_slice(&glb[20..20 + json_len]).unwrap();
-        assert_eq!(&glb[24 + json_len..28 + json_len], b"BIN\0");
-        assert_eq!(json["buffers"][0]["byteLength"], u32_at(20 + json_len));
-        json
+        glb_json(&std::fs::read(path).unwrap()).unwrap()
     }
 
     #[test]
@@ -355,5 +369,11 @@ mod tests {
             assert!(count(&garment, k, "POSITION") >= info.vertices as u64);
         }
         assert_eq!(cloth["nodes"].as_array().unwrap().len(), 1);
+        // Cut short or not glTF, a file is refused.
+        let mut bytes = b"glTF".to_vec();
+        bytes.extend_from_slice(&2u32.to_le_bytes());
+        bytes.extend_from_slice(&99u32.to_le_bytes());
+        assert!(glb_json(&bytes).is_err());
+        assert!(glb_json(b"not glTF at all").is_err());
     }
 }
